@@ -1,0 +1,3 @@
+//! The grammar language: syntax tree, parser, expression evaluation.
+
+pub mod ast;

@@ -1,0 +1,338 @@
+//! The scene model: the SVG's structure kept as a tree (groups with transform, opacity, clip
+//! path and mask; paths with fills and strokes; gradients and patterns), plus the list of
+//! animated units ("shapes") that the grammars act on.
+//!
+//! Importers build a [`Scene`]; the engine never sees a file format. Every coordinate here
+//! is in user units after usvg's normalisation: gradients and patterns are in user space,
+//! `viewBox` is folded into the root group's transform.
+
+use std::sync::Arc;
+
+use kurbo::{Affine, BezPath, Point, Rect};
+
+use crate::color::Color;
+
+/// A whole picture: its canvas size, the node tree and the animated shapes.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// Canvas width in user units (the SVG's `width`).
+    pub width: f64,
+    /// Canvas height in user units.
+    pub height: f64,
+    /// The node tree; its transform holds the `viewBox` mapping.
+    pub root: Group,
+    /// The animated units in document order; `Node::unit` indexes into this list.
+    pub shapes: Vec<Shape>,
+}
+
+/// An animated unit: a leaf path, or a whole group that carries a tag.
+#[derive(Clone, Debug)]
+pub struct Shape {
+    /// The tag rules select on (never empty; `all` matches every shape anyway).
+    pub tag: String,
+    /// Unique within the tag, in document order, from 0.
+    pub id: usize,
+    /// The group grammar's group id (0 for imported shapes).
+    pub group: usize,
+    /// Paint order position among all shapes (0 = drawn first).
+    pub z: usize,
+    /// Child indices from the root to the unit's node.
+    pub node_path: Vec<usize>,
+    /// Transform from the unit node's parent coordinates to the canvas.
+    pub parent_transform: Affine,
+    /// Centroid (area centroid of the filled geometry) in canvas coordinates.
+    pub centroid: Point,
+    /// Bounding box of the geometry in canvas coordinates.
+    pub bbox: Rect,
+    /// The unit's representative fill colour (first solid fill; black if none).
+    pub fill: Color,
+    /// The unit's representative stroke colour (first solid stroke; black if none).
+    pub stroke: Color,
+    /// The unit's representative stroke width (first stroke's; 1 if none).
+    pub stroke_width: f64,
+}
+
+/// A node of the tree.
+#[derive(Clone, Debug)]
+pub enum Node {
+    /// A group of nodes.
+    Group(Group),
+    /// A painted path.
+    Path(PathNode),
+}
+
+impl Node {
+    /// The node's id (may be empty).
+    pub fn id(&self) -> &str {
+        match self {
+            Node::Group(g) => &g.id,
+            Node::Path(p) => &p.id,
+        }
+    }
+
+    /// The index of the animated unit this node is, if it is one.
+    pub fn unit(&self) -> Option<usize> {
+        match self {
+            Node::Group(g) => g.unit,
+            Node::Path(p) => p.unit,
+        }
+    }
+}
+
+/// A group: its children drawn into a layer with a transform, opacity, clip path and mask.
+#[derive(Clone, Debug, Default)]
+pub struct Group {
+    /// Element id (may be empty).
+    pub id: String,
+    /// Transform relative to the parent.
+    pub transform: Affine,
+    /// Group opacity in `0..=1`.
+    pub opacity: f32,
+    /// Clip path applied to the group.
+    pub clip_path: Option<Arc<ClipPath>>,
+    /// Mask applied to the group.
+    pub mask: Option<Arc<Mask>>,
+    /// Children in paint order.
+    pub children: Vec<Node>,
+    /// Set when this group is an animated unit.
+    pub unit: Option<usize>,
+}
+
+impl Group {
+    /// An empty, opaque group with an identity transform.
+    pub fn new() -> Group {
+        Group {
+            opacity: 1.0,
+            ..Group::default()
+        }
+    }
+}
+
+/// A path with its paint.
+#[derive(Clone, Debug)]
+pub struct PathNode {
+    /// Element id (may be empty).
+    pub id: String,
+    /// Geometry in the parent group's coordinates.
+    pub path: BezPath,
+    /// Fill, if any.
+    pub fill: Option<Fill>,
+    /// Stroke, if any.
+    pub stroke: Option<Stroke>,
+    /// Whether the stroke is painted before the fill.
+    pub stroke_first: bool,
+    /// Set when this path is an animated unit.
+    pub unit: Option<usize>,
+}
+
+/// Fill rule.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum FillRule {
+    /// `nonzero`.
+    #[default]
+    NonZero,
+    /// `evenodd`.
+    EvenOdd,
+}
+
+/// How a path's interior is painted.
+#[derive(Clone, Debug)]
+pub struct Fill {
+    /// What is painted.
+    pub paint: Paint,
+    /// Fill opacity in `0..=1`.
+    pub opacity: f32,
+    /// Fill rule.
+    pub rule: FillRule,
+}
+
+/// Line cap.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum LineCap {
+    /// `butt`.
+    #[default]
+    Butt,
+    /// `round`.
+    Round,
+    /// `square`.
+    Square,
+}
+
+/// Line join.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum LineJoin {
+    /// `miter`.
+    #[default]
+    Miter,
+    /// `miter-clip`.
+    MiterClip,
+    /// `round`.
+    Round,
+    /// `bevel`.
+    Bevel,
+}
+
+/// How a path's outline is painted.
+#[derive(Clone, Debug)]
+pub struct Stroke {
+    /// What is painted.
+    pub paint: Paint,
+    /// Stroke opacity in `0..=1`.
+    pub opacity: f32,
+    /// Line width in user units.
+    pub width: f64,
+    /// Line cap.
+    pub cap: LineCap,
+    /// Line join.
+    pub join: LineJoin,
+    /// Miter limit.
+    pub miter_limit: f64,
+    /// Dash lengths (an even count), if dashed.
+    pub dash: Option<Vec<f64>>,
+    /// Dash offset.
+    pub dash_offset: f64,
+}
+
+/// A paint server.
+#[derive(Clone, Debug)]
+pub enum Paint {
+    /// A solid colour (its alpha is 1; opacity lives on the fill or stroke).
+    Solid(Color),
+    /// A linear gradient.
+    Linear(Arc<LinearGradient>),
+    /// A radial gradient.
+    Radial(Arc<RadialGradient>),
+    /// A pattern tile.
+    Pattern(Arc<Pattern>),
+}
+
+/// What a gradient does outside its `0..1` range.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Spread {
+    /// Extend the end colours.
+    #[default]
+    Pad,
+    /// Mirror.
+    Reflect,
+    /// Repeat.
+    Repeat,
+}
+
+/// A gradient stop; `color.a` holds the stop opacity.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stop {
+    /// Position in `0..=1`.
+    pub offset: f32,
+    /// Colour with the stop opacity as alpha.
+    pub color: Color,
+}
+
+/// A linear gradient in user space.
+#[derive(Clone, Debug)]
+pub struct LinearGradient {
+    /// Element id.
+    pub id: String,
+    /// Start point.
+    pub start: Point,
+    /// End point.
+    pub end: Point,
+    /// Gradient transform.
+    pub transform: Affine,
+    /// Spread method.
+    pub spread: Spread,
+    /// Stops, sorted by offset.
+    pub stops: Vec<Stop>,
+}
+
+/// A radial gradient in user space.
+#[derive(Clone, Debug)]
+pub struct RadialGradient {
+    /// Element id.
+    pub id: String,
+    /// Centre of the end circle.
+    pub center: Point,
+    /// Radius of the end circle.
+    pub radius: f64,
+    /// Centre of the focal (start) circle.
+    pub focal: Point,
+    /// Radius of the focal circle.
+    pub focal_radius: f64,
+    /// Gradient transform.
+    pub transform: Affine,
+    /// Spread method.
+    pub spread: Spread,
+    /// Stops, sorted by offset.
+    pub stops: Vec<Stop>,
+}
+
+/// A pattern tile in user space.
+#[derive(Clone, Debug)]
+pub struct Pattern {
+    /// Element id.
+    pub id: String,
+    /// The tile rectangle.
+    pub rect: Rect,
+    /// Pattern transform.
+    pub transform: Affine,
+    /// The tile's content.
+    pub root: Group,
+}
+
+/// A clip path.
+#[derive(Clone, Debug)]
+pub struct ClipPath {
+    /// Element id.
+    pub id: String,
+    /// Transform applied to the clip content.
+    pub transform: Affine,
+    /// A clip path applied to this clip path.
+    pub clip_path: Option<Arc<ClipPath>>,
+    /// The clip geometry.
+    pub root: Group,
+}
+
+/// Whether a mask uses luminance or alpha.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum MaskKind {
+    /// Luminance mask.
+    #[default]
+    Luminance,
+    /// Alpha mask.
+    Alpha,
+}
+
+/// A mask.
+#[derive(Clone, Debug)]
+pub struct Mask {
+    /// Element id.
+    pub id: String,
+    /// The mask region in user space.
+    pub rect: Rect,
+    /// Luminance or alpha.
+    pub kind: MaskKind,
+    /// A mask applied to this mask.
+    pub mask: Option<Arc<Mask>>,
+    /// The mask content.
+    pub root: Group,
+}
+
+impl Scene {
+    /// The node of an animated unit.
+    pub fn unit_node(&self, shape: usize) -> Option<&Node> {
+        let path = &self.shapes.get(shape)?.node_path;
+        let (last, parents) = path.split_last()?;
+        let mut group = &self.root;
+        for &i in parents {
+            match group.children.get(i)? {
+                Node::Group(g) => group = g,
+                Node::Path(_) => return None,
+            }
+        }
+        group.children.get(*last)
+    }
+
+    /// The canvas rectangle.
+    pub fn canvas(&self) -> Rect {
+        Rect::new(0.0, 0.0, self.width, self.height)
+    }
+}
