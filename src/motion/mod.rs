@@ -8,6 +8,12 @@
 //! the segment contributes `F(f(t))·F(f(t₀))⁻¹` on top of the state the shape was in at `t₀`.
 //! Consecutive windows of one motion therefore telescope back to the whole motion, and a
 //! reversed motion (an `inv_` slice) runs `f` backwards so it undoes its forward twin.
+//!
+//! Several motions may share one window (a slice animated by two rules): such segments
+//! are adjacent in the list and compose with the earlier-listed one outermost, so a shape's
+//! transform is `X(t) = Rᵢ(t)·Rᵢ₊₁(t)·…·R_j(t)·start_i` for the window group `i..=j` holding
+//! `t`, each `R` being identity before its window and holding its end value after it. In
+//! exporter terms: one nested group per segment, earlier segments outside.
 
 pub mod alexa;
 pub mod component;
@@ -105,7 +111,7 @@ pub struct MotionSeg {
     pub timing: Timing,
     /// What moves.
     pub kind: MotionKind,
-    /// The shape's accumulated transform at `t0` (for rigid motions).
+    /// The shape's accumulated transform at `t0`, before every segment of this window.
     pub start: Affine,
 }
 
@@ -268,23 +274,17 @@ impl ShapeState {
 impl Track {
     /// The rigid transform at `t`.
     pub fn transform_at(&self, t: f64) -> Affine {
-        let i = self.motions.partition_point(|s| s.t0 <= t);
-        if i == 0 {
+        let end = self.motions.partition_point(|s| s.t0 <= t);
+        if end == 0 {
             return Affine::IDENTITY;
         }
-        let seg = &self.motions[i - 1];
-        if t >= seg.t1 {
-            return self.end_transform(i - 1);
-        }
-        seg.relative_at(t) * seg.start
-    }
-
-    fn end_transform(&self, i: usize) -> Affine {
-        let seg = &self.motions[i];
-        match self.motions.get(i + 1) {
-            Some(next) => next.start,
-            None => seg.relative_at(seg.t1) * seg.start,
-        }
+        let t0 = self.motions[end - 1].t0;
+        let first = self.motions[..end].partition_point(|s| s.t0 < t0);
+        let group = &self.motions[first..end];
+        group
+            .iter()
+            .fold(Affine::IDENTITY, |acc, seg| acc * seg.relative_at(t))
+            * group[0].start
     }
 
     /// Every channel at `t`.
