@@ -10,3 +10,4 @@ pub mod grammar;
 pub mod motion;
 pub mod scene;
 pub mod signals;
+pub mod tangle;
