@@ -1,0 +1,277 @@
+//! Errors in a grammar file, with their location and a caret rendering.
+//!
+//! The parser collects every error it can recover from into one [`Diagnostics`], so a user
+//! fixes a file in one round instead of one error per run.
+
+use std::fmt;
+
+use super::ast::Span;
+
+/// One error: where it is, what is wrong, what would have been accepted, and a hint.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Diagnostic {
+    /// The offending source range.
+    pub span: Span,
+    /// What is wrong, in one sentence without a trailing period.
+    pub message: String,
+    /// What would have been accepted at this point (already quoted, e.g. "`->`").
+    pub expected: Vec<String>,
+    /// A suggestion for the fix.
+    pub help: Option<String>,
+}
+
+impl Diagnostic {
+    /// An error with a message and nothing else.
+    pub fn new(span: Span, message: impl Into<String>) -> Diagnostic {
+        Diagnostic {
+            span,
+            message: message.into(),
+            expected: Vec::new(),
+            help: None,
+        }
+    }
+
+    /// The same error with a list of accepted alternatives.
+    pub fn with_expected<S: Into<String>>(
+        mut self,
+        expected: impl IntoIterator<Item = S>,
+    ) -> Diagnostic {
+        self.expected = expected.into_iter().map(Into::into).collect();
+        self
+    }
+
+    /// The same error with a hint.
+    pub fn with_help(mut self, help: impl Into<String>) -> Diagnostic {
+        self.help = Some(help.into());
+        self
+    }
+
+    /// Renders this error as `file:line:col: error: message`, the source line, a caret line
+    /// under the span, then the expected alternatives and the hint.
+    pub fn render(&self, file_name: &str, src: &str) -> String {
+        let Span { line, col, .. } = self.span;
+        let mut out = format!("{file_name}:{line}:{col}: error: {}\n", self.message);
+        let text = source_line(src, line);
+        let gutter = line.to_string().len();
+        let pad = " ".repeat(gutter);
+        out.push_str(&format!("{pad} |\n{line} | {text}\n"));
+        out.push_str(&format!(
+            "{pad} | {}\n",
+            caret_line(text, col, self.caret_len(src))
+        ));
+        match self.expected.len() {
+            0 => {}
+            1 => out.push_str(&format!("{pad} = expected {}\n", self.expected[0])),
+            _ => out.push_str(&format!(
+                "{pad} = expected one of {}\n",
+                self.expected.join(", ")
+            )),
+        }
+        if let Some(help) = &self.help {
+            out.push_str(&format!("{pad} = help: {help}\n"));
+        }
+        out
+    }
+
+    /// How many characters of the span lie on its first line (at least one, so an empty span
+    /// such as "end of file" still gets a caret).
+    fn caret_len(&self, src: &str) -> usize {
+        let end = self.span.end.min(src.len()).max(self.span.start);
+        let text = src.get(self.span.start..end).unwrap_or("");
+        text.split('\n').next().unwrap_or("").chars().count().max(1)
+    }
+}
+
+/// The text of 1-based line `line` without its line terminator (empty past the end).
+fn source_line(src: &str, line: u32) -> &str {
+    let text = src
+        .split('\n')
+        .nth(line.saturating_sub(1) as usize)
+        .unwrap_or("");
+    text.strip_suffix('\r').unwrap_or(text)
+}
+
+/// Spaces up to column `col` (tabs kept, so the caret lines up with the source above it),
+/// then `len` carets.
+fn caret_line(text: &str, col: u32, len: usize) -> String {
+    let lead: String = text
+        .chars()
+        .take(col.saturating_sub(1) as usize)
+        .map(|c| if c == '\t' { '\t' } else { ' ' })
+        .collect();
+    let missing = (col.saturating_sub(1) as usize).saturating_sub(lead.chars().count());
+    format!("{lead}{}{}", " ".repeat(missing), "^".repeat(len))
+}
+
+/// The candidate closest to `name` by edit distance, when it is close enough to be a likely
+/// typo (at most a third of the name's length, and at least one edit allowed).
+pub fn did_you_mean<'a>(
+    name: &str,
+    candidates: impl IntoIterator<Item = &'a str>,
+) -> Option<&'a str> {
+    let limit = (name.chars().count() / 3).max(1);
+    candidates
+        .into_iter()
+        .map(|c| (edit_distance(name, c), c))
+        .filter(|(d, _)| *d <= limit)
+        .min_by_key(|(d, _)| *d)
+        .map(|(_, c)| c)
+}
+
+/// Levenshtein distance over characters.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut diag = row[0];
+        row[0] = i + 1;
+        for (j, cb) in b.iter().enumerate() {
+            let next = (row[j + 1] + 1)
+                .min(row[j] + 1)
+                .min(diag + usize::from(ca != *cb));
+            diag = row[j + 1];
+            row[j + 1] = next;
+        }
+    }
+    row[b.len()]
+}
+
+impl fmt::Display for Diagnostic {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}:{}: {}", self.span.line, self.span.col, self.message)?;
+        match self.expected.len() {
+            0 => {}
+            1 => write!(f, " (expected {})", self.expected[0])?,
+            _ => write!(f, " (expected one of {})", self.expected.join(", "))?,
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for Diagnostic {}
+
+/// Every error found in one grammar file, in source order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Diagnostics {
+    /// The errors.
+    pub items: Vec<Diagnostic>,
+}
+
+impl Diagnostics {
+    /// Adds an error.
+    pub fn push(&mut self, diagnostic: Diagnostic) {
+        self.items.push(diagnostic);
+    }
+
+    /// Number of errors.
+    pub fn len(&self) -> usize {
+        self.items.len()
+    }
+
+    /// True when there are no errors.
+    pub fn is_empty(&self) -> bool {
+        self.items.is_empty()
+    }
+
+    /// The errors in source order.
+    pub fn iter(&self) -> std::slice::Iter<'_, Diagnostic> {
+        self.items.iter()
+    }
+
+    /// Renders every error (see [`Diagnostic::render`]), separated by blank lines and
+    /// followed by a count when there are several.
+    pub fn render(&self, file_name: &str, src: &str) -> String {
+        let mut out: Vec<String> = self
+            .items
+            .iter()
+            .map(|d| d.render(file_name, src))
+            .collect();
+        if self.items.len() > 1 {
+            out.push(format!("{} errors in {file_name}\n", self.items.len()));
+        }
+        out.join("\n")
+    }
+}
+
+impl From<Diagnostic> for Diagnostics {
+    fn from(diagnostic: Diagnostic) -> Diagnostics {
+        Diagnostics {
+            items: vec![diagnostic],
+        }
+    }
+}
+
+impl<'a> IntoIterator for &'a Diagnostics {
+    type Item = &'a Diagnostic;
+    type IntoIter = std::slice::Iter<'a, Diagnostic>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.items.iter()
+    }
+}
+
+impl fmt::Display for Diagnostics {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (i, d) in self.items.iter().enumerate() {
+            if i > 0 {
+                writeln!(f)?;
+            }
+            write!(f, "{d}")?;
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for Diagnostics {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn span(line: u32, col: u32, start: usize, end: usize) -> Span {
+        Span {
+            line,
+            col,
+            start,
+            end,
+        }
+    }
+
+    #[test]
+    fn suggestions_catch_typos_only() {
+        let names = ["duration", "fps", "grid", "seed"];
+        assert_eq!(did_you_mean("durration", names), Some("duration"));
+        assert_eq!(did_you_mean("sed", names), Some("seed"));
+        assert_eq!(did_you_mean("colour", names), None);
+    }
+
+    #[test]
+    fn caret_sits_under_the_span() {
+        let src = "duration 6s\nfoo bar baz\n";
+        let d = Diagnostic::new(span(2, 5, 16, 19), "unknown thing")
+            .with_expected(["`a`", "`b`"])
+            .with_help("try harder");
+        let text = d.render("g.gm", src);
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines[0], "g.gm:2:5: error: unknown thing");
+        assert_eq!(lines[2], "2 | foo bar baz");
+        assert_eq!(lines[3], "  |     ^^^");
+        assert_eq!(lines[4], "  = expected one of `a`, `b`");
+        assert_eq!(lines[5], "  = help: try harder");
+    }
+
+    #[test]
+    fn tabs_are_kept_and_empty_spans_get_one_caret() {
+        let src = "\tab";
+        let d = Diagnostic::new(span(1, 3, 2, 2), "x");
+        let caret = d.render("f", src).lines().nth(3).unwrap().to_string();
+        assert_eq!(caret, "  | \t ^");
+    }
+
+    #[test]
+    fn multi_line_span_underlines_its_first_line_only() {
+        let src = "ab(\ncd)";
+        let d = Diagnostic::new(span(1, 3, 2, 7), "x");
+        let caret = d.render("f", src).lines().nth(3).unwrap().to_string();
+        assert_eq!(caret, "  |   ^");
+    }
+}

@@ -1,0 +1,858 @@
+//! Recursive-descent parser from tokens to the [`ast`](super::ast).
+//!
+//! A file is a list of statements, one per line: header directives and rules. When a
+//! statement has an error the parser records it, skips to the start of the next statement
+//! and goes on, so one run reports every independent error.
+//!
+//! Line structure: a newline ends a statement, except inside `(…)` and `[…]`, and except
+//! before a line that starts with `:`, `->`/`→` or an indented `priority=`/`weight=`, which
+//! continue the rule above. Inside brackets, a line whose first token is a name at column 1
+//! is taken as a new statement, so a forgotten `)` costs one error, not the rest of the file.
+
+use std::collections::HashMap;
+
+use super::ast::{Arg, BinOp, Directive, Expr, ExprKind, Grammar, Rule, Span, TagRef};
+use super::diagnostics::{Diagnostic, Diagnostics, did_you_mean};
+use super::directives::{DIRECTIVES, DirectiveKind, DirectiveSpec, directive_spec};
+use super::lexer::{Tok, Token, tokenize};
+
+/// How deep an expression tree may get before the parser refuses it: parsing, evaluation
+/// and every later walk recurse once per level, so this bounds their stack use. Each
+/// bracket, call, unary minus and operator in a chain counts one level.
+const MAX_NESTING: usize = 256;
+
+/// The prefix that marks an inverted tag.
+const INV_PREFIX: &str = "inv_";
+
+/// Parses a grammar file. Returns every error found when there is at least one.
+pub fn parse(src: &str) -> Result<Grammar, Diagnostics> {
+    let mut parser = Parser {
+        src,
+        toks: tokenize(src),
+        pos: 0,
+        open: Vec::new(),
+        nesting: 0,
+        diags: Diagnostics::default(),
+    };
+    let grammar = parser.file();
+    if parser.diags.is_empty() {
+        Ok(grammar)
+    } else {
+        Err(parser.diags)
+    }
+}
+
+type PResult<T> = Result<T, Diagnostic>;
+
+/// A span from the start of `a` to the end of `b`.
+fn join(a: Span, b: Span) -> Span {
+    Span {
+        end: b.end.max(a.end),
+        ..a
+    }
+}
+
+fn quoted(names: &[&str]) -> Vec<String> {
+    names.iter().map(|n| format!("`{n}`")).collect()
+}
+
+struct Parser<'a> {
+    src: &'a str,
+    toks: Vec<Token>,
+    pos: usize,
+    /// Spans of the brackets opened and not yet closed in the current statement.
+    open: Vec<Span>,
+    /// Current expression nesting depth.
+    nesting: usize,
+    diags: Diagnostics,
+}
+
+impl Parser<'_> {
+    // ----- token access -----
+
+    /// True when token `i` is a newline that ends the statement even inside brackets: the
+    /// next line starts with a name at column 1.
+    fn is_hard_newline(&self, i: usize) -> bool {
+        self.toks[i].tok == Tok::Newline
+            && self
+                .toks
+                .get(i + 1)
+                .is_some_and(|t| matches!(t.tok, Tok::Ident(_)) && t.span.col == 1)
+    }
+
+    /// The current token, skipping newlines inside brackets.
+    fn peek(&mut self) -> &Token {
+        if !self.open.is_empty() {
+            while self.toks[self.pos].tok == Tok::Newline && !self.is_hard_newline(self.pos) {
+                self.pos += 1;
+            }
+        }
+        &self.toks[self.pos]
+    }
+
+    /// The token right after the current one (no newline skipping).
+    fn peek_next(&mut self) -> &Tok {
+        self.peek();
+        &self.toks[(self.pos + 1).min(self.toks.len() - 1)].tok
+    }
+
+    fn at(&mut self, tok: &Tok) -> bool {
+        self.peek().tok == *tok
+    }
+
+    /// Consumes the current token, tracking bracket nesting.
+    fn bump(&mut self) -> Token {
+        let token = self.peek().clone();
+        match token.tok {
+            Tok::Eof => return token,
+            Tok::LParen | Tok::LBracket => self.open.push(token.span),
+            Tok::RParen | Tok::RBracket => {
+                self.open.pop();
+            }
+            _ => {}
+        }
+        self.pos += 1;
+        token
+    }
+
+    fn eat(&mut self, tok: &Tok) -> Option<Token> {
+        if self.at(tok) {
+            Some(self.bump())
+        } else {
+            None
+        }
+    }
+
+    fn expect(&mut self, tok: &Tok, expected: &[&str]) -> PResult<Token> {
+        match self.eat(tok) {
+            Some(t) => Ok(t),
+            None => Err(self.unexpected(expected)),
+        }
+    }
+
+    /// End of the last consumed token.
+    fn prev_span(&self) -> Span {
+        self.toks[self.pos.saturating_sub(1)].span
+    }
+
+    /// If the statement continues on a following line whose first token satisfies `starts`,
+    /// moves to that token.
+    fn continue_line_if(&mut self, starts: impl Fn(&[Token], usize) -> bool) {
+        let mut i = self.pos;
+        while self.toks[i].tok == Tok::Newline {
+            i += 1;
+        }
+        if i != self.pos && starts(&self.toks, i) {
+            self.pos = i;
+        }
+    }
+
+    /// An error at the current token: "unexpected X", or the lexer's own message for a bad
+    /// token, or "unclosed `(`" when a bracket is still open at a statement's end.
+    fn unexpected(&mut self, expected: &[&str]) -> Diagnostic {
+        let token = self.peek().clone();
+        match token.tok {
+            Tok::Error { message, help } => {
+                let d = Diagnostic::new(token.span, message);
+                match help {
+                    Some(h) => d.with_help(h),
+                    None => d,
+                }
+            }
+            Tok::Newline | Tok::Eof if !self.open.is_empty() => {
+                let opener = *self.open.last().unwrap_or(&token.span);
+                let which = if self.src.get(opener.start..opener.end) == Some("[") {
+                    "["
+                } else {
+                    "("
+                };
+                let d = Diagnostic::new(opener, format!("unclosed `{which}`"))
+                    .with_expected(expected.iter().copied());
+                if token.tok == Tok::Newline {
+                    d.with_help("a line that starts with a name at column 1 begins a new statement; indent continuation lines")
+                } else {
+                    d
+                }
+            }
+            ref tok => {
+                let found = match tok {
+                    Tok::Num(_) | Tok::Size(..) | Tok::Color(_) => {
+                        format!("`{}`", &self.src[token.span.start..token.span.end])
+                    }
+                    _ => tok.describe(),
+                };
+                Diagnostic::new(token.span, format!("unexpected {found}"))
+                    .with_expected(expected.iter().copied())
+            }
+        }
+    }
+
+    // ----- statements -----
+
+    fn file(&mut self) -> Grammar {
+        let mut grammar = Grammar::default();
+        let mut seen: HashMap<String, u32> = HashMap::new();
+        loop {
+            self.open.clear();
+            self.nesting = 0;
+            while self.toks[self.pos].tok == Tok::Newline {
+                self.pos += 1;
+            }
+            if self.toks[self.pos].tok == Tok::Eof {
+                return grammar;
+            }
+            if let Err(d) = self.statement(&mut grammar, &mut seen) {
+                self.diags.push(d);
+                self.recover();
+            }
+        }
+    }
+
+    /// Skips the rest of a broken statement: to the next newline outside the brackets it
+    /// opened that is followed by something that can start a statement (a name not followed
+    /// by `=`, or any token at column 1 that cannot continue a rule), or to any line starting
+    /// with a name at column 1.
+    fn recover(&mut self) {
+        let mut depth = self.open.len() as i64;
+        loop {
+            match self.toks[self.pos].tok {
+                Tok::Eof => return,
+                Tok::Newline => {
+                    let next = &self.toks[self.pos + 1];
+                    let starts_statement = match next.tok {
+                        Tok::Ident(_) => {
+                            self.toks.get(self.pos + 2).is_none_or(|t| t.tok != Tok::Eq)
+                        }
+                        Tok::Eof => true,
+                        Tok::Colon
+                        | Tok::Arrow
+                        | Tok::RParen
+                        | Tok::RBracket
+                        | Tok::Comma
+                        | Tok::Newline => false,
+                        _ => next.span.col == 1,
+                    };
+                    if self.is_hard_newline(self.pos) || (depth <= 0 && starts_statement) {
+                        return;
+                    }
+                }
+                Tok::LParen | Tok::LBracket => depth += 1,
+                Tok::RParen | Tok::RBracket => depth -= 1,
+                _ => {}
+            }
+            self.pos += 1;
+        }
+    }
+
+    fn statement(&mut self, grammar: &mut Grammar, seen: &mut HashMap<String, u32>) -> PResult<()> {
+        let token = self.peek().clone();
+        match &token.tok {
+            Tok::Ident(name) => {
+                if matches!(self.peek_next(), Tok::LParen | Tok::Colon) {
+                    let rule = self.rule(name.clone())?;
+                    self.end_of_statement(&["`priority=`", "`weight=`"])?;
+                    grammar.rules.push(rule);
+                } else {
+                    let directive = self.directive(name.clone())?;
+                    self.end_of_statement(&[])?;
+                    if let Some(line) = seen.insert(directive.name.clone(), directive.span.line) {
+                        return Err(Diagnostic::new(directive.span, format!("`{}` is set twice", directive.name))
+                            .with_help(format!("it is first set on line {line}")));
+                    }
+                    grammar.directives.push(directive);
+                }
+                Ok(())
+            }
+            Tok::Color(_) => Err(Diagnostic::new(token.span, "a colour cannot start a statement")
+                .with_help("`#` followed by 3, 6 or 8 hex digits is a colour; write comments as `# text`, with a space")),
+            _ => Err(self.unexpected(&["a directive", "a rule"])),
+        }
+    }
+
+    fn end_of_statement(&mut self, more: &[&str]) -> PResult<()> {
+        if matches!(self.peek().tok, Tok::Newline | Tok::Eof) {
+            return Ok(());
+        }
+        let mut expected = vec!["end of line"];
+        expected.extend_from_slice(more);
+        Err(self.unexpected(&expected))
+    }
+
+    // ----- directives -----
+
+    fn directive(&mut self, name: String) -> PResult<Directive> {
+        let name_tok = self.bump();
+        let Some(spec) = directive_spec(&name) else {
+            let mut d = Diagnostic::new(name_tok.span, format!("unknown directive `{name}`"))
+                .with_expected(DIRECTIVES.iter().map(|d| format!("`{}`", d.name)));
+            if let Some(close) = did_you_mean(&name, DIRECTIVES.iter().map(|d| d.name)) {
+                d = d.with_help(format!("did you mean `{close}`?"));
+            } else if matches!(name.as_str(), "priority" | "weight") {
+                d = d.with_help(format!(
+                    "`{name}=` belongs on its rule's line, or on an indented line after it"
+                ));
+            } else {
+                d = d.with_help(
+                    "a rule is written `op(args) : [slice_tags, shape_tags] -> [outputs]`",
+                );
+            }
+            return Err(d);
+        };
+        let mut values = Vec::new();
+        if spec.kind == DirectiveKind::Path
+            && !matches!(self.peek().tok, Tok::Str(_) | Tok::Newline | Tok::Eof)
+        {
+            values.push(self.bare_path());
+        } else {
+            while !matches!(self.peek().tok, Tok::Newline | Tok::Eof) {
+                values.push(self.expr()?);
+                self.eat(&Tok::Comma);
+            }
+        }
+        let span = join(name_tok.span, self.prev_span());
+        check_directive(spec, &values, span)?;
+        Ok(Directive { name, values, span })
+    }
+
+    /// Reads a path without quotes: the characters up to the next whitespace. Tokens the
+    /// lexer made of them (a path is not made of tokens) are skipped.
+    fn bare_path(&mut self) -> Expr {
+        let start = self.peek().span;
+        let len = self.src[start.start..]
+            .find(char::is_whitespace)
+            .unwrap_or(self.src.len() - start.start);
+        let end = start.start + len;
+        while self.toks[self.pos].tok != Tok::Eof && self.toks[self.pos].span.start < end {
+            self.pos += 1;
+        }
+        let span = Span { end, ..start };
+        Expr {
+            kind: ExprKind::Str(self.src[start.start..end].to_string()),
+            span,
+        }
+    }
+
+    // ----- rules -----
+
+    fn rule(&mut self, op: String) -> PResult<Rule> {
+        let op_tok = self.bump();
+        let args = if self.eat(&Tok::LParen).is_some() {
+            self.args()?
+        } else {
+            Vec::new()
+        };
+        self.continue_line_if(|t, i| t[i].tok == Tok::Colon);
+        if self.eat(&Tok::Colon).is_none() {
+            return Err(self.unexpected(&["`:`"]).with_help(
+                "a rule is written `op(args) : [slice_tags, shape_tags] -> [outputs]`",
+            ));
+        }
+        let (slice_tags, shape_tags, spatial) = self.matched_tags()?;
+        self.continue_line_if(|t, i| t[i].tok == Tok::Arrow);
+        if self.eat(&Tok::Arrow).is_none() {
+            let d = self.unexpected(&["`->`", "`→`"]);
+            return Err(Diagnostic {
+                message: "missing `->` before the output tags".into(),
+                ..d
+            }
+            .with_help("a rule is written `op(args) : [slice_tags, shape_tags] -> [outputs]`"));
+        }
+        let outputs = self.outputs()?;
+        let mut rule = Rule {
+            op,
+            op_span: op_tok.span,
+            args,
+            slice_tags,
+            shape_tags,
+            outputs,
+            priority: 0,
+            weight: 1.0,
+            spatial,
+            span: op_tok.span,
+        };
+        self.rule_options(&mut rule)?;
+        rule.span = join(op_tok.span, self.prev_span());
+        check_inversions(&rule)?;
+        Ok(rule)
+    }
+
+    /// Parses what follows `:`: `[slice, shape]` (timeslice rule), `[shape]` or a bare tag
+    /// group (spatial rule). Returns (slice tags, shape tags, spatial).
+    fn matched_tags(&mut self) -> PResult<(Vec<TagRef>, Vec<TagRef>, bool)> {
+        if self.eat(&Tok::LBracket).is_none() {
+            return Ok((Vec::new(), self.tag_group()?, true));
+        }
+        let mut groups = vec![self.tag_group()?];
+        while self.eat(&Tok::Comma).is_some() {
+            let start = self.peek().span;
+            let group = self.tag_group()?;
+            if groups.len() == 2 {
+                let span = join(start, self.prev_span());
+                return Err(Diagnostic::new(
+                    span,
+                    "a rule matches at most two tag lists: [slice tags, shape tags]",
+                )
+                .with_help("to match several tags, group them in parentheses: `[(a, b), s]`"));
+            }
+            groups.push(group);
+        }
+        self.expect(&Tok::RBracket, &["`,`", "`]`"])?;
+        let shape = groups.pop().unwrap_or_default();
+        match groups.pop() {
+            Some(slice) => Ok((slice, shape, false)),
+            None => Ok((Vec::new(), shape, true)),
+        }
+    }
+
+    /// A tag or a parenthesised list of tags.
+    fn tag_group(&mut self) -> PResult<Vec<TagRef>> {
+        if self.eat(&Tok::LParen).is_none() {
+            return Ok(vec![self.tag()?]);
+        }
+        let mut tags = vec![self.tag()?];
+        while self.eat(&Tok::Comma).is_some() {
+            tags.push(self.tag()?);
+        }
+        self.expect(&Tok::RParen, &["`,`", "`)`"])?;
+        Ok(tags)
+    }
+
+    /// A tag: a name or a string, `inv_` prefix for inverted.
+    fn tag(&mut self) -> PResult<TagRef> {
+        let token = self.peek().clone();
+        let written = match &token.tok {
+            Tok::Ident(name) | Tok::Str(name) => name.clone(),
+            _ => return Err(self.unexpected(&["a tag"])),
+        };
+        self.bump();
+        let (name, inverted) = match written.strip_prefix(INV_PREFIX) {
+            Some(rest) => (rest.to_string(), true),
+            None => (written.clone(), false),
+        };
+        if name.is_empty() {
+            return Err(Diagnostic::new(
+                token.span,
+                format!("empty tag name `{written}`"),
+            ));
+        }
+        if inverted && name.starts_with(INV_PREFIX) {
+            return Err(
+                Diagnostic::new(token.span, format!("`{written}` is inverted twice")).with_help(
+                    format!(
+                        "`inv_` undoes itself: write `{}`",
+                        &name[INV_PREFIX.len()..]
+                    ),
+                ),
+            );
+        }
+        Ok(TagRef {
+            name,
+            inverted,
+            span: token.span,
+        })
+    }
+
+    /// The output list `[a, b, …]` (possibly empty) or a single tag.
+    fn outputs(&mut self) -> PResult<Vec<TagRef>> {
+        if self.eat(&Tok::LBracket).is_none() {
+            return Ok(vec![self.tag()?]);
+        }
+        let mut tags = Vec::new();
+        while !self.at(&Tok::RBracket) {
+            tags.push(self.tag()?);
+            if self.eat(&Tok::Comma).is_none() {
+                break;
+            }
+        }
+        self.expect(&Tok::RBracket, &["`,`", "`]`"])?;
+        Ok(tags)
+    }
+
+    /// `priority=P` and `weight=W`, in any order, each at most once.
+    fn rule_options(&mut self, rule: &mut Rule) -> PResult<()> {
+        let mut seen: Vec<&str> = Vec::new();
+        loop {
+            self.continue_line_if(|t, i| {
+                matches!(&t[i].tok, Tok::Ident(n) if n == "priority" || n == "weight")
+                    && t[i].span.col > 1
+                    && t.get(i + 1).is_some_and(|n| n.tok == Tok::Eq)
+            });
+            let token = self.peek().clone();
+            let Tok::Ident(name) = &token.tok else {
+                return Ok(());
+            };
+            let option = match name.as_str() {
+                "priority" => "priority",
+                "weight" => "weight",
+                _ => {
+                    let mut d =
+                        Diagnostic::new(token.span, format!("unknown rule option `{name}`"))
+                            .with_expected(["`priority=`", "`weight=`"]);
+                    if let Some(close) = did_you_mean(name, ["priority", "weight"]) {
+                        d = d.with_help(format!("did you mean `{close}`?"));
+                    }
+                    return Err(d);
+                }
+            };
+            self.bump();
+            if seen.contains(&option) {
+                return Err(Diagnostic::new(
+                    token.span,
+                    format!("`{option}` is given twice"),
+                ));
+            }
+            seen.push(option);
+            self.expect(&Tok::Eq, &["`=`"])?;
+            if option == "priority" {
+                rule.priority = self.priority()?;
+            } else {
+                rule.weight = self.weight()?;
+            }
+        }
+    }
+
+    /// An integer literal, possibly negative.
+    fn priority(&mut self) -> PResult<i64> {
+        let minus = self.eat(&Tok::Minus);
+        let token = self.peek().clone();
+        let span = minus
+            .as_ref()
+            .map_or(token.span, |m| join(m.span, token.span));
+        let text = &self.src[token.span.start..token.span.end];
+        if !matches!(token.tok, Tok::Num(_)) {
+            return Err(self.unexpected(&["a whole number"]));
+        }
+        self.bump();
+        if !text.bytes().all(|b| b.is_ascii_digit()) {
+            return Err(Diagnostic::new(
+                span,
+                format!("priority must be a whole number, found `{text}`"),
+            ));
+        }
+        let signed = if minus.is_some() {
+            format!("-{text}")
+        } else {
+            text.to_string()
+        };
+        signed.parse::<i64>().map_err(|_| {
+            Diagnostic::new(span, "priority is too large")
+                .with_help("priorities must fit in 64 bits")
+        })
+    }
+
+    /// A positive number literal.
+    fn weight(&mut self) -> PResult<f64> {
+        let token = self.peek().clone();
+        match token.tok {
+            Tok::Num(w) if w > 0.0 => {
+                self.bump();
+                Ok(w)
+            }
+            Tok::Num(_) | Tok::Minus => {
+                self.bump();
+                let span = if token.tok == Tok::Minus { join(token.span, self.peek().span) } else { token.span };
+                Err(Diagnostic::new(span, "weight must be positive")
+                    .with_help("a weight of 0 would never be chosen; remove the rule instead"))
+            }
+            _ => Err(self.unexpected(&["a positive number"])),
+        }
+    }
+
+    // ----- arguments and expressions -----
+
+    /// Arguments after `(` up to and including `)`: positional, then `name = value`.
+    fn args(&mut self) -> PResult<Vec<Arg>> {
+        let mut args: Vec<Arg> = Vec::new();
+        while !self.at(&Tok::RParen) {
+            let start = self.peek().span;
+            let named = match self.peek().tok.clone() {
+                Tok::Ident(name) if *self.peek_next() == Tok::Eq => Some(name),
+                _ => None,
+            };
+            if let Some(name) = &named {
+                self.bump();
+                self.bump();
+                if args.iter().any(|a| a.name.as_ref() == Some(name)) {
+                    return Err(Diagnostic::new(
+                        start,
+                        format!("argument `{name}` is given twice"),
+                    ));
+                }
+            }
+            let value = self.expr()?;
+            let span = join(start, value.span);
+            if named.is_none() && args.iter().any(|a| a.name.is_some()) {
+                return Err(
+                    Diagnostic::new(span, "positional argument after a named one")
+                        .with_help("put positional arguments first, then `name = value` ones"),
+                );
+            }
+            args.push(Arg {
+                name: named,
+                value,
+                span,
+            });
+            if self.eat(&Tok::Comma).is_none() {
+                break;
+            }
+        }
+        if self.eat(&Tok::RParen).is_none() {
+            let d = self.unexpected(&["`,`", "`)`"]);
+            let starts_expr = matches!(
+                self.peek().tok,
+                Tok::Num(_)
+                    | Tok::Str(_)
+                    | Tok::Ident(_)
+                    | Tok::Color(_)
+                    | Tok::Size(..)
+                    | Tok::LParen
+            );
+            return Err(if starts_expr {
+                d.with_help("separate arguments with commas")
+            } else {
+                d
+            });
+        }
+        Ok(args)
+    }
+
+    /// An expression: `+ -` over `* / %` (and juxtaposed calls) over unary `-` over `^`.
+    fn expr(&mut self) -> PResult<Expr> {
+        let base = self.nesting;
+        let mut lhs = self.product()?;
+        loop {
+            let op = match self.peek().tok {
+                Tok::Plus => BinOp::Add,
+                Tok::Minus => BinOp::Sub,
+                _ => break,
+            };
+            self.deeper()?;
+            self.bump();
+            let rhs = self.product()?;
+            lhs = binary(op, lhs, rhs);
+        }
+        self.nesting = base;
+        Ok(lhs)
+    }
+
+    fn product(&mut self) -> PResult<Expr> {
+        let base = self.nesting;
+        let mut lhs = self.unary()?;
+        loop {
+            // A call right after an operand multiplies it: `translate(1, 0) rotate(30)`.
+            let juxtaposed = matches!(self.peek().tok, Tok::Ident(_)) && *self.peek_next() == Tok::LParen;
+            let op = match self.peek().tok {
+                _ if juxtaposed => BinOp::Mul,
+                Tok::Star => BinOp::Mul,
+                Tok::Slash => BinOp::Div,
+                Tok::Percent => BinOp::Rem,
+                _ => break,
+            };
+            self.deeper()?;
+            if !juxtaposed {
+                self.bump();
+            }
+            let rhs = self.unary()?;
+            lhs = binary(op, lhs, rhs);
+        }
+        self.nesting = base;
+        Ok(lhs)
+    }
+
+    /// Counts one more level of expression depth (see [`MAX_NESTING`]).
+    fn deeper(&mut self) -> PResult<()> {
+        self.nesting += 1;
+        if self.nesting > MAX_NESTING {
+            let span = self.peek().span;
+            return Err(Diagnostic::new(span, format!("expression nested more than {MAX_NESTING} levels deep"))
+                .with_help("split it into smaller expressions"));
+        }
+        Ok(())
+    }
+
+    fn unary(&mut self) -> PResult<Expr> {
+        let base = self.nesting;
+        self.deeper()?;
+        let expr = match self.eat(&Tok::Minus) {
+            Some(minus) => {
+                let inner = self.unary()?;
+                let span = join(minus.span, inner.span);
+                match inner.kind {
+                    ExprKind::Num(v) => Expr { kind: ExprKind::Num(-v), span },
+                    _ => Expr { kind: ExprKind::Neg(Box::new(inner)), span },
+                }
+            }
+            None => self.power()?,
+        };
+        self.nesting = base;
+        Ok(expr)
+    }
+
+    fn power(&mut self) -> PResult<Expr> {
+        let base = self.primary()?;
+        if self.eat(&Tok::Caret).is_none() {
+            return Ok(base);
+        }
+        let exponent = self.unary()?;
+        Ok(binary(BinOp::Pow, base, exponent))
+    }
+
+    fn primary(&mut self) -> PResult<Expr> {
+        let token = self.peek().clone();
+        let kind = match token.tok {
+            Tok::Num(v) => ExprKind::Num(v),
+            Tok::Size(c, r) => ExprKind::Size(c, r),
+            Tok::Str(s) => ExprKind::Str(s),
+            Tok::Color(c) => ExprKind::Color(c),
+            Tok::Ident(name) => {
+                self.bump();
+                if self.toks[self.pos].tok != Tok::LParen {
+                    return Ok(Expr {
+                        kind: ExprKind::Ident(name),
+                        span: token.span,
+                    });
+                }
+                self.bump();
+                let args = self.args()?;
+                return Ok(Expr {
+                    kind: ExprKind::Call { name, args },
+                    span: join(token.span, self.prev_span()),
+                });
+            }
+            Tok::LParen => return self.parenthesised(),
+            _ => return Err(self.unexpected(&["an expression"])),
+        };
+        self.bump();
+        Ok(Expr {
+            kind,
+            span: token.span,
+        })
+    }
+
+    /// `(e)` or a tuple `(a, b, …)`.
+    fn parenthesised(&mut self) -> PResult<Expr> {
+        let open = self.bump();
+        let first = self.expr()?;
+        let mut items = vec![first];
+        while self.eat(&Tok::Comma).is_some() {
+            if self.at(&Tok::RParen) {
+                break;
+            }
+            items.push(self.expr()?);
+        }
+        self.expect(&Tok::RParen, &["`,`", "`)`"])?;
+        let span = join(open.span, self.prev_span());
+        let kind = if items.len() == 1 {
+            items.remove(0).kind
+        } else {
+            ExprKind::Tuple(items)
+        };
+        Ok(Expr { kind, span })
+    }
+}
+
+fn binary(op: BinOp, lhs: Expr, rhs: Expr) -> Expr {
+    let span = join(lhs.span, rhs.span);
+    Expr {
+        kind: ExprKind::Binary {
+            op,
+            lhs: Box::new(lhs),
+            rhs: Box::new(rhs),
+        },
+        span,
+    }
+}
+
+/// Checks that a directive has one value of the form its spec asks for.
+fn check_directive(spec: &DirectiveSpec, values: &[Expr], span: Span) -> PResult<()> {
+    let name = spec.name;
+    let what = match spec.kind {
+        DirectiveKind::Seconds => "a positive duration such as `6s` or `500ms`".to_string(),
+        DirectiveKind::Positive => "a positive number".to_string(),
+        DirectiveKind::Count => "a positive whole number".to_string(),
+        DirectiveKind::Seed => "a whole number from 0 to 2^53".to_string(),
+        DirectiveKind::Size => "a size such as `4x4`".to_string(),
+        DirectiveKind::Path => "a file path".to_string(),
+        DirectiveKind::OneOf(words) => format!("one of {}", quoted(words).join(", ")),
+        DirectiveKind::Expr => "an expression".to_string(),
+    };
+    let [value] = values else {
+        let at = values.get(1).map_or(span, |v| v.span);
+        let message = if values.is_empty() {
+            format!("`{name}` needs a value")
+        } else {
+            format!("`{name}` takes one value")
+        };
+        return Err(Diagnostic::new(at, message).with_expected([what]));
+    };
+    let ok = match (&spec.kind, &value.kind) {
+        (DirectiveKind::Seconds | DirectiveKind::Positive, ExprKind::Num(v)) => *v > 0.0,
+        (DirectiveKind::Count, ExprKind::Num(v)) => {
+            *v >= 1.0 && v.fract() == 0.0 && *v <= f64::from(u32::MAX)
+        }
+        (DirectiveKind::Seed, ExprKind::Num(v)) => {
+            *v >= 0.0 && v.fract() == 0.0 && *v <= 2f64.powi(53)
+        }
+        (DirectiveKind::Size, ExprKind::Size(c, r)) => *c >= 1 && *r >= 1,
+        (DirectiveKind::Path, ExprKind::Str(s)) => !s.is_empty(),
+        (DirectiveKind::OneOf(words), ExprKind::Ident(w) | ExprKind::Str(w)) => {
+            words.contains(&w.as_str())
+        }
+        (DirectiveKind::Expr, _) => true,
+        _ => false,
+    };
+    if ok {
+        return Ok(());
+    }
+    let mut d =
+        Diagnostic::new(value.span, format!("invalid value for `{name}`")).with_expected([what]);
+    if let (DirectiveKind::OneOf(words), ExprKind::Ident(w) | ExprKind::Str(w)) =
+        (&spec.kind, &value.kind)
+    {
+        if let Some(close) = did_you_mean(w, words.iter().copied()) {
+            d = d.with_help(format!("did you mean `{close}`?"));
+        }
+    }
+    if matches!(
+        value.kind,
+        ExprKind::Neg(_) | ExprKind::Binary { .. } | ExprKind::Call { .. }
+    ) && spec.kind != DirectiveKind::Expr
+    {
+        d = d.with_help("header values are literals; nothing is computed before the shapes exist");
+    }
+    Err(d)
+}
+
+/// `inv_` marks a timeslice played backwards, so it is meaningful only on the tags a
+/// timeslice rule gives its outputs. Rules match a slice together with its `inv_` twin, and
+/// shapes have no direction, so `inv_` anywhere else is a mistake.
+fn check_inversions(rule: &Rule) -> PResult<()> {
+    let first_inverted = |tags: &[TagRef]| {
+        tags.iter()
+            .find(|t| t.inverted)
+            .map(|t| (t.span, t.name.clone()))
+    };
+    if let Some((span, name)) = first_inverted(&rule.slice_tags) {
+        return Err(
+            Diagnostic::new(span, format!("match `{name}`, not `inv_{name}`")).with_help(format!(
+                "a rule for `{name}` also expands its `inv_{name}` twin, played backwards"
+            )),
+        );
+    }
+    if let Some((span, _)) = first_inverted(&rule.shape_tags) {
+        let help = if rule.spatial {
+            "spatial rules match shape tags; only timeslice tags have `inv_` twins"
+        } else {
+            "the second list matches shape tags; only timeslice tags have `inv_` twins"
+        };
+        return Err(Diagnostic::new(span, "shape tags cannot be inverted").with_help(help));
+    }
+    if rule.spatial {
+        if let Some((span, _)) = first_inverted(&rule.outputs) {
+            return Err(Diagnostic::new(span, "shape tags cannot be inverted")
+                .with_help("a spatial rule's outputs are shape tags; only timeslice tags have `inv_` twins"));
+        }
+    }
+    Ok(())
+}
+
