@@ -9,7 +9,9 @@ pub mod diagnostics;
 pub mod directives;
 mod lexer;
 pub mod parser;
+pub mod value;
 
 pub use diagnostics::{Diagnostic, Diagnostics};
 pub use directives::{DIRECTIVES, DirectiveKind, DirectiveSpec};
 pub use parser::parse;
+pub use value::{Env, EvalError, TypeError, Value, eval};

@@ -16,10 +16,15 @@ use super::diagnostics::{Diagnostic, Diagnostics, did_you_mean};
 use super::directives::{DIRECTIVES, DirectiveKind, DirectiveSpec, directive_spec};
 use super::lexer::{Tok, Token, tokenize};
 
-/// How deep an expression tree may get before the parser refuses it: parsing, evaluation
-/// and every later walk recurse once per level, so this bounds their stack use. Each
-/// bracket, call, unary minus and operator in a chain counts one level.
+/// The nesting budget of one expression. Parsing, evaluation and every later walk of the
+/// tree recurse once per level, so this bounds their stack use (debug builds spend about
+/// 10 KiB of stack per bracket level in the parser). A bracket, call or unary minus costs
+/// [`NEST_COST`]; each operator in a chain `a + b + …` deepens the tree by one and costs 1.
+/// So 64 nested brackets, or a chain of 256 operators, is the limit.
 const MAX_NESTING: usize = 256;
+
+/// What one level of recursion in the parser costs of [`MAX_NESTING`].
+const NEST_COST: usize = 4;
 
 /// The prefix that marks an inverted tag.
 const INV_PREFIX: &str = "inv_";
@@ -550,7 +555,11 @@ impl Parser<'_> {
             }
             Tok::Num(_) | Tok::Minus => {
                 self.bump();
-                let span = if token.tok == Tok::Minus { join(token.span, self.peek().span) } else { token.span };
+                let span = if token.tok == Tok::Minus {
+                    join(token.span, self.peek().span)
+                } else {
+                    token.span
+                };
                 Err(Diagnostic::new(span, "weight must be positive")
                     .with_help("a weight of 0 would never be chosen; remove the rule instead"))
             }
@@ -626,7 +635,7 @@ impl Parser<'_> {
                 Tok::Minus => BinOp::Sub,
                 _ => break,
             };
-            self.deeper()?;
+            self.deeper(1)?;
             self.bump();
             let rhs = self.product()?;
             lhs = binary(op, lhs, rhs);
@@ -640,7 +649,8 @@ impl Parser<'_> {
         let mut lhs = self.unary()?;
         loop {
             // A call right after an operand multiplies it: `translate(1, 0) rotate(30)`.
-            let juxtaposed = matches!(self.peek().tok, Tok::Ident(_)) && *self.peek_next() == Tok::LParen;
+            let juxtaposed =
+                matches!(self.peek().tok, Tok::Ident(_)) && *self.peek_next() == Tok::LParen;
             let op = match self.peek().tok {
                 _ if juxtaposed => BinOp::Mul,
                 Tok::Star => BinOp::Mul,
@@ -648,7 +658,7 @@ impl Parser<'_> {
                 Tok::Percent => BinOp::Rem,
                 _ => break,
             };
-            self.deeper()?;
+            self.deeper(1)?;
             if !juxtaposed {
                 self.bump();
             }
@@ -659,12 +669,12 @@ impl Parser<'_> {
         Ok(lhs)
     }
 
-    /// Counts one more level of expression depth (see [`MAX_NESTING`]).
-    fn deeper(&mut self) -> PResult<()> {
-        self.nesting += 1;
+    /// Spends `cost` of the nesting budget (see [`MAX_NESTING`]).
+    fn deeper(&mut self, cost: usize) -> PResult<()> {
+        self.nesting += cost;
         if self.nesting > MAX_NESTING {
             let span = self.peek().span;
-            return Err(Diagnostic::new(span, format!("expression nested more than {MAX_NESTING} levels deep"))
+            return Err(Diagnostic::new(span, "expression nested too deeply")
                 .with_help("split it into smaller expressions"));
         }
         Ok(())
@@ -672,14 +682,20 @@ impl Parser<'_> {
 
     fn unary(&mut self) -> PResult<Expr> {
         let base = self.nesting;
-        self.deeper()?;
+        self.deeper(NEST_COST)?;
         let expr = match self.eat(&Tok::Minus) {
             Some(minus) => {
                 let inner = self.unary()?;
                 let span = join(minus.span, inner.span);
                 match inner.kind {
-                    ExprKind::Num(v) => Expr { kind: ExprKind::Num(-v), span },
-                    _ => Expr { kind: ExprKind::Neg(Box::new(inner)), span },
+                    ExprKind::Num(v) => Expr {
+                        kind: ExprKind::Num(-v),
+                        span,
+                    },
+                    _ => Expr {
+                        kind: ExprKind::Neg(Box::new(inner)),
+                        span,
+                    },
                 }
             }
             None => self.power()?,
@@ -808,10 +824,9 @@ fn check_directive(spec: &DirectiveSpec, values: &[Expr], span: Span) -> PResult
         Diagnostic::new(value.span, format!("invalid value for `{name}`")).with_expected([what]);
     if let (DirectiveKind::OneOf(words), ExprKind::Ident(w) | ExprKind::Str(w)) =
         (&spec.kind, &value.kind)
+        && let Some(close) = did_you_mean(w, words.iter().copied())
     {
-        if let Some(close) = did_you_mean(w, words.iter().copied()) {
-            d = d.with_help(format!("did you mean `{close}`?"));
-        }
+        d = d.with_help(format!("did you mean `{close}`?"));
     }
     if matches!(
         value.kind,
@@ -847,12 +862,14 @@ fn check_inversions(rule: &Rule) -> PResult<()> {
         };
         return Err(Diagnostic::new(span, "shape tags cannot be inverted").with_help(help));
     }
-    if rule.spatial {
-        if let Some((span, _)) = first_inverted(&rule.outputs) {
-            return Err(Diagnostic::new(span, "shape tags cannot be inverted")
-                .with_help("a spatial rule's outputs are shape tags; only timeslice tags have `inv_` twins"));
-        }
+    if rule.spatial
+        && let Some((span, _)) = first_inverted(&rule.outputs)
+    {
+        return Err(
+            Diagnostic::new(span, "shape tags cannot be inverted").with_help(
+                "a spatial rule's outputs are shape tags; only timeslice tags have `inv_` twins",
+            ),
+        );
     }
     Ok(())
 }
-
