@@ -5,5 +5,7 @@
 //! made of polygons with holes ([`polygon::Region`]) and an orientation vector.
 
 pub mod boolean;
+pub mod field;
 pub mod noise;
+pub mod place;
 pub mod polygon;

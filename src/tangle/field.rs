@@ -1,0 +1,520 @@
+//! Direction fields inside a shape, interpolated from boundary vectors with mean value
+//! coordinates, and evenly spaced streamlines traced through them with Euler steps
+//! (gTangle sec. 4.2, "streamline split").
+//!
+//! Mean value coordinates (Floater 2003; Hormann & Floater 2006 for arbitrary polygons with
+//! holes — the interpolation gTangle cites from Meyer et al. 2002) blend the boundary
+//! values smoothly into the interior and reproduce them exactly on the boundary.
+//!
+//! The fields are *line* fields: a streamline has no preferred sense, and on a ring the
+//! outer boundary and a hole run in opposite senses, so oriented vectors would cancel
+//! half-way. Each boundary direction θ is therefore interpolated as the doubled-angle vector
+//! (cos 2θ, sin 2θ) and halved back, which needs none of the paper's sign fixing and is
+//! smooth wherever the boundary data agree.
+
+use kurbo::{Point, Vec2};
+
+use super::polygon::{Region, ring_area};
+
+/// Which boundary directions a field is built from (gTangle's three splits).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FieldKind {
+    /// Boundary tangents: streamlines run parallel to the outline, as nested rings.
+    Outline,
+    /// Boundary normals: streamlines run across the shape, cutting it into strips that
+    /// follow its bends (a band becomes a ladder of tiles).
+    Strip,
+    /// Perpendiculars to the direction towards a centre: streamlines are near-circles
+    /// around it.
+    Circular(Point),
+}
+
+/// A line field inside a region.
+#[derive(Clone, Debug)]
+pub struct Field {
+    rings: Vec<Ring>,
+}
+
+#[derive(Clone, Debug)]
+struct Ring {
+    points: Vec<Point>,
+    /// Doubled-angle unit vectors of the boundary directions.
+    values: Vec<Vec2>,
+}
+
+/// The boundary is resampled so no edge is longer than the perimeter over this: enough for
+/// smooth interpolation of varying data, bounded so one evaluation stays cheap.
+const SAMPLES: f64 = 256.0;
+
+fn doubled(v: Vec2) -> Vec2 {
+    let a = 2.0 * v.y.atan2(v.x);
+    Vec2::new(a.cos(), a.sin())
+}
+
+fn resample(ring: &[Point], max_len: f64) -> Vec<Point> {
+    let mut out = Vec::with_capacity(ring.len());
+    for i in 0..ring.len() {
+        let (a, b) = (ring[i], ring[(i + 1) % ring.len()]);
+        let n = ((b - a).hypot() / max_len).ceil().max(1.0) as usize;
+        out.extend((0..n).map(|k| a.lerp(b, k as f64 / n as f64)));
+    }
+    out
+}
+
+impl Field {
+    /// The field of `kind` inside `region`.
+    pub fn new(region: &Region, kind: FieldKind) -> Field {
+        let max_len = (region.perimeter() / SAMPLES).max(1e-9);
+        let mut rings = Vec::new();
+        for poly in &region.polygons {
+            for r in poly.rings() {
+                if r.len() < 3 || ring_area(r) == 0.0 {
+                    continue;
+                }
+                let points = resample(r, max_len);
+                let n = points.len();
+                let values = (0..n)
+                    .map(|i| {
+                        let (prev, next) = (points[(i + n - 1) % n], points[(i + 1) % n]);
+                        let t = next - prev;
+                        let dir = match kind {
+                            FieldKind::Outline => t,
+                            FieldKind::Strip => Vec2::new(-t.y, t.x),
+                            FieldKind::Circular(c) => {
+                                let r = c - points[i];
+                                Vec2::new(-r.y, r.x)
+                            }
+                        };
+                        if dir.hypot2() > 0.0 {
+                            doubled(dir)
+                        } else {
+                            Vec2::ZERO
+                        }
+                    })
+                    .collect();
+                rings.push(Ring { points, values });
+            }
+        }
+        Field { rings }
+    }
+
+    /// The unit line direction at `p` (either sense), or `None` near a singularity where the
+    /// boundary data cancel.
+    pub fn at(&self, p: Point) -> Option<Vec2> {
+        let mut num = Vec2::ZERO;
+        let mut den = 0.0;
+        for ring in &self.rings {
+            let n = ring.points.len();
+            let d: Vec<Vec2> = ring.points.iter().map(|&q| q - p).collect();
+            let r: Vec<f64> = d.iter().map(|v| v.hypot()).collect();
+            // tan(αᵢ/2) for the edge i → i+1, with αᵢ the signed angle it subtends at p.
+            let mut tans = Vec::with_capacity(n);
+            for i in 0..n {
+                let j = (i + 1) % n;
+                if r[i] < 1e-9 {
+                    return halve(ring.values[i]);
+                }
+                let cross = d[i].cross(d[j]);
+                let denom = r[i] * r[j] + d[i].dot(d[j]);
+                if denom <= 1e-12 * r[i] * r[j] && r[j] >= 1e-9 {
+                    // p lies on the edge: interpolate along it.
+                    let t = r[i] / (r[i] + r[j]);
+                    return halve(ring.values[i].lerp(ring.values[j], t));
+                }
+                tans.push(cross / denom);
+            }
+            for i in 0..n {
+                let w = (tans[(i + n - 1) % n] + tans[i]) / r[i];
+                num += ring.values[i] * w;
+                den += w;
+            }
+        }
+        if den.abs() < 1e-300 {
+            return None;
+        }
+        halve(num / den)
+    }
+}
+
+/// The unit direction whose doubled angle is `u`; `None` when `u` is too short to tell.
+fn halve(u: Vec2) -> Option<Vec2> {
+    if u.hypot() < 1e-3 {
+        return None;
+    }
+    let a = 0.5 * u.y.atan2(u.x);
+    Some(Vec2::new(a.cos(), a.sin()))
+}
+
+/// How a traced streamline ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum End {
+    /// It left the region; the last point is just outside.
+    Exit,
+    /// It came back to its seed; the last point is the seed.
+    Closed,
+    /// It hit a singularity or ran too long.
+    Stalled,
+}
+
+/// Traces one streamline from `seed` with steps of `step`, starting in the sense of
+/// `initial`, keeping each step's sense consistent with the previous one. With
+/// `close = Some(snap)`, a streamline that comes back across the line through the seed
+/// perpendicular to its start, within `snap` of the seed, is closed there.
+fn trace(
+    field: &Field,
+    region: &Region,
+    seed: Point,
+    initial: Vec2,
+    step: f64,
+    max_len: f64,
+    close: Option<f64>,
+) -> (Vec<Point>, End) {
+    let oriented = |v: Vec2, along: Vec2| if v.dot(along) < 0.0 { -v } else { v };
+    let mut pts = vec![seed];
+    let mut p = seed;
+    let mut prev = initial;
+    let normal = Vec2::new(-initial.y, initial.x);
+    let mut travelled = 0.0;
+    while travelled < max_len {
+        // The improved Euler (midpoint) step: plain Euler drifts outwards by about πh per
+        // turn of a circle, which keeps loops from closing.
+        let Some(v0) = field.at(p) else {
+            return (pts, End::Stalled);
+        };
+        let v0 = oriented(v0, prev);
+        let Some(v) = field.at(p + v0 * (0.5 * step)) else {
+            return (pts, End::Stalled);
+        };
+        let v = oriented(v, v0);
+        let q = p + v * step;
+        travelled += step;
+        if !region.contains(q) {
+            pts.push(q);
+            return (pts, End::Exit);
+        }
+        if let Some(snap) = close
+            && travelled > 4.0 * step
+        {
+            let (sp, sq) = ((p - seed).dot(initial), (q - seed).dot(initial));
+            if sp < 0.0 && sq >= 0.0 {
+                // Crossing the seed's line: where, along it?
+                let x = p.lerp(q, sp / (sp - sq));
+                if (x - seed).dot(normal).abs() <= snap {
+                    pts.push(seed);
+                    return (pts, End::Closed);
+                }
+            }
+        }
+        pts.push(q);
+        p = q;
+        prev = v;
+    }
+    (pts, End::Stalled)
+}
+
+/// A streamline through `seed` traced both ways: a closed loop, or a curve whose two ends
+/// lie just outside the region. `None` when neither happens (it stalls inside).
+fn full_streamline(
+    field: &Field,
+    region: &Region,
+    seed: Point,
+    step: f64,
+    snap: f64,
+    max_len: f64,
+) -> Option<Vec<Point>> {
+    let dir = field.at(seed)?;
+    let (fwd, end) = trace(field, region, seed, dir, step, max_len, Some(snap));
+    match end {
+        End::Closed => Some(fwd),
+        End::Stalled => None,
+        End::Exit => {
+            let (mut back, end) = trace(field, region, seed, -dir, step, max_len, None);
+            if end != End::Exit {
+                return None;
+            }
+            back.reverse();
+            back.pop();
+            back.extend(fwd);
+            Some(back)
+        }
+    }
+}
+
+/// Points every `spacing` along a polyline, starting half a spacing in.
+fn along(line: &[Point], spacing: f64) -> Vec<Point> {
+    let mut out = Vec::new();
+    let mut next = 0.5 * spacing;
+    let mut at = 0.0;
+    for w in line.windows(2) {
+        let len = (w[1] - w[0]).hypot();
+        while next <= at + len && len > 0.0 {
+            out.push(w[0].lerp(w[1], (next - at) / len));
+            next += spacing;
+        }
+        at += len;
+    }
+    out
+}
+
+/// The interior point farthest from the boundary (approximately): the centre of the
+/// largest inscribed circle, by a coarse search refined locally.
+pub fn pole(region: &Region) -> Option<(Point, f64)> {
+    let bb = region.bbox();
+    let mut best: Option<(Point, f64)> = region
+        .interior_point()
+        .map(|p| (p, region.boundary_distance(p)));
+    let n = 16;
+    for i in 0..n {
+        for j in 0..n {
+            let p = Point::new(
+                bb.x0 + bb.width() * (i as f64 + 0.5) / n as f64,
+                bb.y0 + bb.height() * (j as f64 + 0.5) / n as f64,
+            );
+            if region.contains(p) {
+                let d = region.boundary_distance(p);
+                if best.is_none_or(|(_, bd)| d > bd) {
+                    best = Some((p, d));
+                }
+            }
+        }
+    }
+    let (mut p, mut d) = best?;
+    let mut h = bb.width().max(bb.height()) / n as f64;
+    while h > 1e-3 * d.max(1e-9) {
+        let mut moved = false;
+        for off in [
+            Vec2::new(h, 0.0),
+            Vec2::new(-h, 0.0),
+            Vec2::new(0.0, h),
+            Vec2::new(0.0, -h),
+        ] {
+            let q = p + off;
+            if region.contains(q) {
+                let dq = region.boundary_distance(q);
+                if dq > d {
+                    (p, d, moved) = (q, dq, true);
+                }
+            }
+        }
+        if !moved {
+            h *= 0.5;
+        }
+    }
+    Some((p, d))
+}
+
+/// Eight directions around the compass.
+fn compass() -> impl Iterator<Item = Vec2> {
+    (0..8).map(|k| Vec2::from_angle(std::f64::consts::FRAC_PI_4 * k as f64))
+}
+
+/// Seeds for nested rings, keyed by ring number: along rays from `centre`, the points where
+/// the distance to the boundary first falls to each multiple of `spacing`.
+fn depth_seeds(region: &Region, centre: Point, spacing: f64) -> Vec<(usize, Point)> {
+    let reach = region.bbox().width() + region.bbox().height();
+    let walk = spacing / 8.0;
+    let mut out = Vec::new();
+    for dir in compass() {
+        let mut level = (region.boundary_distance(centre) / spacing).floor() as usize;
+        let mut t = walk;
+        while t < reach {
+            let p = centre + dir * t;
+            if !region.contains(p) {
+                break;
+            }
+            let l = (region.boundary_distance(p) / spacing).floor() as usize;
+            if l < level {
+                if l >= 1 {
+                    out.push((l, p));
+                }
+                level = l;
+            }
+            t += walk;
+        }
+    }
+    out
+}
+
+/// Seeds for circles about `centre`, keyed by ring number: `spacing` apart along rays.
+fn radial_seeds(region: &Region, centre: Point, spacing: f64) -> Vec<(usize, Point)> {
+    let reach = {
+        let bb = region.bbox();
+        [
+            bb.origin(),
+            Point::new(bb.x1, bb.y0),
+            Point::new(bb.x0, bb.y1),
+            Point::new(bb.x1, bb.y1),
+        ]
+        .iter()
+        .map(|&q| (q - centre).hypot())
+        .fold(0.0, f64::max)
+    };
+    let mut out = Vec::new();
+    for dir in compass() {
+        for k in 1..=((reach / spacing) as usize) {
+            let p = centre + dir * (k as f64 * spacing);
+            if region.contains(p) {
+                out.push((k, p));
+            }
+        }
+    }
+    out
+}
+
+/// Distance from `p` to a polyline.
+fn polyline_distance(line: &[Point], p: Point) -> f64 {
+    line.windows(2)
+        .map(|w| super::polygon::segment_distance(p, w[0], w[1]))
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Evenly spaced streamlines of a field of `kind` inside `region`, `spacing` apart along
+/// a seed curve, traced with steps of `step`. Each is a closed loop or a curve whose ends
+/// lie just outside the region, ready to cut it.
+pub fn streamlines(region: &Region, kind: FieldKind, spacing: f64, step: f64) -> Vec<Vec<Point>> {
+    if !(spacing > 0.0 && step > 0.0) || region.is_empty() {
+        return Vec::new();
+    }
+    let field = Field::new(region, kind);
+    // A loop is closed when it comes back within a third of the spacing of its seed.
+    let snap = (spacing / 3.0).max(step);
+    let max_len = 2.0 * region.perimeter() + region.bbox().width() + region.bbox().height();
+    let seeds: Vec<Point> = match kind {
+        FieldKind::Outline | FieldKind::Circular(_) => {
+            let mut keyed = match kind {
+                FieldKind::Circular(c) => radial_seeds(region, c, spacing),
+                _ => {
+                    let Some((c, _)) = pole(region) else {
+                        return Vec::new();
+                    };
+                    depth_seeds(region, c, spacing)
+                }
+            };
+            // Ring by ring, so a ring's seeds on other rays find it already traced.
+            keyed.sort_by_key(|&(k, _)| k);
+            keyed.into_iter().map(|(_, p)| p).collect()
+        }
+        FieldKind::Strip => {
+            // The seed curve runs along the strips, across the streamlines: a streamline of
+            // the perpendicular field through the shape's middle.
+            let Some((c, _)) = pole(region) else {
+                return Vec::new();
+            };
+            let across = Field {
+                rings: field
+                    .rings
+                    .iter()
+                    .map(|r| Ring {
+                        points: r.points.clone(),
+                        values: r.values.iter().map(|&u| -u).collect(),
+                    })
+                    .collect(),
+            };
+            let Some(dir) = across.at(c) else {
+                return Vec::new();
+            };
+            let (fwd, end) = trace(&across, region, c, dir, step, max_len, Some(snap));
+            let curve = if end == End::Closed {
+                fwd
+            } else {
+                let (mut back, _) = trace(&across, region, c, -dir, step, max_len, None);
+                back.reverse();
+                back.pop();
+                back.extend(fwd);
+                back
+            };
+            along(&curve, spacing)
+                .into_iter()
+                .filter(|&p| region.contains(p))
+                .collect()
+        }
+    };
+    let mut lines: Vec<Vec<Point>> = Vec::new();
+    for seed in seeds {
+        // A seed on (or next to) a streamline already traced would only trace it again.
+        if lines
+            .iter()
+            .any(|l| polyline_distance(l, seed) < 0.5 * spacing)
+        {
+            continue;
+        }
+        if let Some(l) = full_streamline(&field, region, seed, step, snap, max_len) {
+            lines.push(l);
+        }
+    }
+    lines
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rect(w: f64, h: f64) -> Region {
+        Region::from_polygon(Polygon {
+            outer: vec![
+                Point::new(0.0, 0.0),
+                Point::new(w, 0.0),
+                Point::new(w, h),
+                Point::new(0.0, h),
+            ],
+            holes: vec![],
+        })
+    }
+
+    #[test]
+    fn interpolation_reproduces_constant_boundary_data() {
+        // Circular field about a far-away centre: nearly constant direction on a small square.
+        let region = rect(10.0, 10.0);
+        let field = Field::new(&region, FieldKind::Circular(Point::new(5.0, 1e6)));
+        for p in [
+            Point::new(5.0, 5.0),
+            Point::new(1.0, 9.0),
+            Point::new(9.9, 0.1),
+        ] {
+            let v = field.at(p).unwrap();
+            assert!(v.y.abs() < 1e-3, "{v:?} at {p:?}");
+        }
+    }
+
+    #[test]
+    fn outline_field_is_tangent_near_the_boundary() {
+        let region = rect(40.0, 20.0);
+        let field = Field::new(&region, FieldKind::Outline);
+        let v = field.at(Point::new(20.0, 0.5)).unwrap();
+        assert!(v.x.abs() > 0.99, "{v:?}");
+        let v = field.at(Point::new(0.5, 10.0)).unwrap();
+        assert!(v.y.abs() > 0.99, "{v:?}");
+    }
+
+    #[test]
+    fn circular_streamlines_close_around_the_centre() {
+        let region = rect(100.0, 100.0);
+        let lines = streamlines(
+            &region,
+            FieldKind::Circular(Point::new(50.0, 50.0)),
+            10.0,
+            1.0,
+        );
+        assert!(lines.len() >= 4, "{}", lines.len());
+        let first = &lines[0];
+        assert_eq!(first.first(), first.last());
+        assert!(lines.len() >= 8, "{}", lines.len());
+        for p in first {
+            assert!(
+                ((*p - Point::new(50.0, 50.0)).hypot() - 10.0).abs() < 2.0,
+                "{p:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn strip_streamlines_cross_a_long_rectangle() {
+        let region = rect(200.0, 20.0);
+        let lines = streamlines(&region, FieldKind::Strip, 20.0, 1.0);
+        assert!(lines.len() >= 8, "{}", lines.len());
+        for l in &lines {
+            let (a, b) = (l[0], *l.last().unwrap());
+            assert!(!region.contains(a) && !region.contains(b));
+        }
+    }
+}
