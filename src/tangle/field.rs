@@ -448,6 +448,7 @@ pub fn streamlines(region: &Region, kind: FieldKind, spacing: f64, step: f64) ->
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::tangle::polygon::Polygon;
 
     fn rect(w: f64, h: f64) -> Region {
         Region::from_polygon(Polygon {
