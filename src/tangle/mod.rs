@@ -7,5 +7,6 @@
 pub mod boolean;
 pub mod field;
 pub mod noise;
+pub mod ops;
 pub mod place;
 pub mod polygon;

@@ -8,7 +8,7 @@
 //! is snapped to the nearest cell that is its own.
 
 use std::cmp::Ordering;
-use std::collections::BinaryHeap;
+use std::collections::{BinaryHeap, HashMap};
 
 use kurbo::{Affine, Point, Rect, Vec2};
 
@@ -201,39 +201,61 @@ fn dijkstra(
     }
 }
 
-/// Poisson dart throwing: random cells among `eligible`, kept when no earlier site is
-/// closer than `distance`.
+/// Points kept at least a minimum distance apart, with a bucket grid for the test.
+pub(crate) struct DiskSet {
+    min: f64,
+    buckets: HashMap<(i64, i64), Vec<Point>>,
+}
+
+impl DiskSet {
+    /// An empty set whose points stay `min` apart.
+    pub(crate) fn new(min: f64) -> DiskSet {
+        DiskSet {
+            min,
+            buckets: HashMap::new(),
+        }
+    }
+
+    fn bucket(&self, p: Point) -> (i64, i64) {
+        (
+            (p.x / self.min).floor() as i64,
+            (p.y / self.min).floor() as i64,
+        )
+    }
+
+    /// Adds `p` if no point in the set is closer than the minimum; says whether it did.
+    pub(crate) fn try_insert(&mut self, p: Point) -> bool {
+        let (bx, by) = self.bucket(p);
+        for y in by - 1..=by + 1 {
+            for x in bx - 1..=bx + 1 {
+                if self
+                    .buckets
+                    .get(&(x, y))
+                    .is_some_and(|v| v.iter().any(|q| (*q - p).hypot() < self.min))
+                {
+                    return false;
+                }
+            }
+        }
+        self.buckets.entry((bx, by)).or_default().push(p);
+        true
+    }
+}
+
+/// Poisson dart throwing: random points in cells among `eligible`, kept when no earlier
+/// site is closer than `distance`.
 fn dart_throw(raster: &Raster, eligible: &[usize], distance: f64, rng: &mut Rng) -> Vec<Point> {
     let expected = eligible.len() as f64 * raster.h * raster.h / (0.7 * distance * distance);
     let attempts = ((30.0 * expected) as usize).clamp(60, 400_000);
-    let bucket = distance / std::f64::consts::SQRT_2;
-    let bw = ((raster.cols as f64 * raster.h) / bucket).ceil() as usize + 1;
-    let bh = ((raster.rows as f64 * raster.h) / bucket).ceil() as usize + 1;
-    let mut buckets: Vec<Option<usize>> = vec![None; bw * bh];
-    let mut sites: Vec<Point> = Vec::new();
+    let mut set = DiskSet::new(distance);
+    let mut sites = Vec::new();
     for _ in 0..attempts {
-        let cell = eligible[rng.index(eligible.len())];
-        let c = raster.center(cell);
+        let c = raster.center(eligible[rng.index(eligible.len())]);
         let p = Point::new(
             c.x + (rng.next_f64() - 0.5) * raster.h,
             c.y + (rng.next_f64() - 0.5) * raster.h,
         );
-        let bx = ((p.x - raster.origin.x) / bucket).floor().max(0.0) as usize;
-        let by = ((p.y - raster.origin.y) / bucket).floor().max(0.0) as usize;
-        let (bx, by) = (bx.min(bw - 1), by.min(bh - 1));
-        let mut ok = true;
-        'scan: for yy in by.saturating_sub(2)..=(by + 2).min(bh - 1) {
-            for xx in bx.saturating_sub(2)..=(bx + 2).min(bw - 1) {
-                if let Some(s) = buckets[yy * bw + xx]
-                    && (sites[s] - p).hypot() < distance
-                {
-                    ok = false;
-                    break 'scan;
-                }
-            }
-        }
-        if ok && buckets[by * bw + bx].is_none() {
-            buckets[by * bw + bx] = Some(sites.len());
+        if set.try_insert(p) {
             sites.push(p);
         }
     }
