@@ -446,6 +446,7 @@ smoothing spring(0.3, 0.1)
         ]
     );
     assert_eq!(ok("scene \"my art/toy.svg\"").directives[0].values.len(), 1);
+    assert_eq!(sexp(&ok("grid 3").directives[0].values[0]), "3");
 }
 
 #[test]
@@ -627,5 +628,23 @@ mod never_panics {
                 }
             }
         }
+    }
+}
+
+#[test]
+fn every_directive_is_documented() {
+    let doc =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/grammar.md")).unwrap();
+    for d in DIRECTIVES {
+        let row = format!("| `{}` |", d.name);
+        let line = doc.lines().find(|l| l.starts_with(&row));
+        let line =
+            line.unwrap_or_else(|| panic!("docs/grammar.md has no table row for `{}`", d.name));
+        assert!(
+            line.contains(&format!("`{}`", d.default)) || line.contains(d.default),
+            "`{}`: default `{}` not in {line}",
+            d.name,
+            d.default
+        );
     }
 }

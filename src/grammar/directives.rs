@@ -17,7 +17,7 @@ pub enum DirectiveKind {
     Count,
     /// A whole number from 0 to 2^53 (so it survives the trip through `f64` exactly).
     Seed,
-    /// A grid size `NxM` with N, M ≥ 1.
+    /// A grid size `NxM` with N, M ≥ 1, or a whole number N for `NxN`.
     Size,
     /// A file path: a string, or a bare path without spaces (`scene art/toy.svg`).
     Path,
@@ -45,7 +45,7 @@ pub const DIRECTIVES: &[DirectiveSpec] = &[
     DirectiveSpec {
         name: "duration",
         kind: DirectiveKind::Seconds,
-        default: "4s",
+        default: "5s",
         summary: "length of every shape's timeline",
     },
     DirectiveSpec {
@@ -69,7 +69,7 @@ pub const DIRECTIVES: &[DirectiveSpec] = &[
     DirectiveSpec {
         name: "scene",
         kind: DirectiveKind::Path,
-        default: "none (given on the command line)",
+        default: "none: given on the command line",
         summary: "SVG or Lottie file to animate, relative to the grammar file",
     },
     DirectiveSpec {
@@ -81,7 +81,7 @@ pub const DIRECTIVES: &[DirectiveSpec] = &[
     DirectiveSpec {
         name: "height",
         kind: DirectiveKind::Count,
-        default: "the scene's height",
+        default: "follows width and the scene's aspect ratio",
         summary: "output height in pixels",
     },
     DirectiveSpec {
@@ -99,7 +99,7 @@ pub const DIRECTIVES: &[DirectiveSpec] = &[
     DirectiveSpec {
         name: "loop",
         kind: DirectiveKind::OneOf(&["true", "false"]),
-        default: "false",
+        default: "true",
         summary: "whether players repeat the animation",
     },
     DirectiveSpec {
@@ -130,7 +130,7 @@ pub const DIRECTIVES: &[DirectiveSpec] = &[
         name: "smoothing",
         kind: DirectiveKind::Expr,
         default: "none",
-        summary: "filter applied to every motion signal, e.g. `spring(0.3, 0.1)`",
+        summary: "filter applied to every sampled channel, e.g. `spring(0.3, 0.1)`",
     },
 ];
 

@@ -810,6 +810,7 @@ fn check_directive(spec: &DirectiveSpec, values: &[Expr], span: Span) -> PResult
             *v >= 0.0 && v.fract() == 0.0 && *v <= 2f64.powi(53)
         }
         (DirectiveKind::Size, ExprKind::Size(c, r)) => *c >= 1 && *r >= 1,
+        (DirectiveKind::Size, ExprKind::Num(v)) => *v >= 1.0 && v.fract() == 0.0,
         (DirectiveKind::Path, ExprKind::Str(s)) => !s.is_empty(),
         (DirectiveKind::OneOf(words), ExprKind::Ident(w) | ExprKind::Str(w)) => {
             words.contains(&w.as_str())
