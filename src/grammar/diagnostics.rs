@@ -68,6 +68,8 @@ impl Diagnostic {
             )),
         }
         if let Some(help) = &self.help {
+            // Further lines of a long hint line up under its first line.
+            let help = help.replace('\n', &format!("\n{pad}         "));
             out.push_str(&format!("{pad} = help: {help}\n"));
         }
         out
@@ -257,6 +259,16 @@ mod tests {
         assert_eq!(lines[3], "  |     ^^^");
         assert_eq!(lines[4], "  = expected one of `a`, `b`");
         assert_eq!(lines[5], "  = help: try harder");
+    }
+
+    #[test]
+    fn multi_line_help_is_indented() {
+        let d = Diagnostic::new(span(1, 1, 0, 1), "x").with_help("first\nsecond");
+        let text = d.render("f", "a");
+        assert!(
+            text.ends_with("  = help: first\n          second\n"),
+            "{text}"
+        );
     }
 
     #[test]

@@ -184,7 +184,8 @@ impl Lexer<'_> {
 
     fn run(&mut self) {
         loop {
-            self.bump_while(|c| c == ' ' || c == '\t' || c == '\r');
+            // A byte-order mark, which some Windows editors write, is whitespace too.
+            self.bump_while(|c| matches!(c, ' ' | '\t' | '\r' | '\u{feff}'));
             let start = (self.pos, self.line, self.col);
             let Some(c) = self.peek() else {
                 self.push(Tok::Eof, start);
@@ -543,6 +544,14 @@ mod tests {
             assert!(matches!(toks[0].tok, Tok::Error { .. }), "{src}: {toks:?}");
             assert_eq!(toks.len(), 2, "{src}: {toks:?}");
         }
+    }
+
+    #[test]
+    fn byte_order_mark_and_crlf_are_whitespace() {
+        assert_eq!(
+            kinds("\u{feff}a\r\nb"),
+            vec![ident("a"), Tok::Newline, ident("b"), Tok::Eof]
+        );
     }
 
     #[test]
