@@ -1,0 +1,95 @@
+//! Baking: sampling what SMIL cannot say exactly and keeping only the samples that linear
+//! interpolation needs to stay within an error bound.
+
+/// Sample times over `[a, b]`: uniform at `rate` per second (at least `min` intervals),
+/// plus `extra` instants that fall inside (where the motion changes character).
+pub fn sample_times(a: f64, b: f64, rate: f64, min: usize, extra: &[f64]) -> Vec<f64> {
+    if b <= a {
+        return vec![a];
+    }
+    let n = (((b - a) * rate).ceil() as usize).max(min).min(1 << 16);
+    let mut ts: Vec<f64> = (0..=n).map(|i| a + (b - a) * i as f64 / n as f64).collect();
+    ts.extend(extra.iter().copied().filter(|t| *t > a && *t < b));
+    ts.sort_by(f64::total_cmp);
+    ts.dedup_by(|x, y| (*x - *y).abs() < 1e-9);
+    ts
+}
+
+/// Indices of the samples to keep (always the first and the last) so that at every dropped
+/// sample `k`, interpolating between its kept neighbours `i < k < j` errs by at most `tol`
+/// as `err(k, i, j)` measures it. Ramer–Douglas–Peucker: split at the worst sample until
+/// every span fits.
+pub fn reduce(n: usize, tol: f64, err: impl Fn(usize, usize, usize) -> f64) -> Vec<usize> {
+    if n <= 2 {
+        return (0..n).collect();
+    }
+    let mut keep = vec![false; n];
+    keep[0] = true;
+    keep[n - 1] = true;
+    let mut stack = vec![(0, n - 1)];
+    while let Some((i, j)) = stack.pop() {
+        let mut worst = (0.0, 0);
+        for k in i + 1..j {
+            let e = err(k, i, j);
+            if e > worst.0 {
+                worst = (e, k);
+            }
+        }
+        if worst.0 > tol {
+            let k = worst.1;
+            keep[k] = true;
+            stack.push((i, k));
+            stack.push((k, j));
+        }
+    }
+    (0..n).filter(|&k| keep[k]).collect()
+}
+
+/// Where sample `k` falls between samples `i` and `j`, as a fraction.
+pub fn fraction(ts: &[f64], k: usize, i: usize, j: usize) -> f64 {
+    let span = ts[j] - ts[i];
+    if span <= 0.0 {
+        0.0
+    } else {
+        (ts[k] - ts[i]) / span
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn straight_lines_keep_their_ends() {
+        let ts = sample_times(0.0, 1.0, 100.0, 4, &[]);
+        let v: Vec<f64> = ts.iter().map(|t| 3.0 * t).collect();
+        let keep = reduce(ts.len(), 1e-9, |k, i, j| {
+            let s = fraction(&ts, k, i, j);
+            (v[i] + (v[j] - v[i]) * s - v[k]).abs()
+        });
+        assert_eq!(keep, vec![0, ts.len() - 1]);
+    }
+
+    #[test]
+    fn curves_stay_within_tolerance() {
+        let ts = sample_times(0.0, 1.0, 200.0, 4, &[0.123]);
+        assert!(ts.contains(&0.123));
+        let v: Vec<f64> = ts.iter().map(|t| (6.0 * t).sin() * 100.0).collect();
+        let err = |k: usize, i: usize, j: usize| {
+            let s = fraction(&ts, k, i, j);
+            (v[i] + (v[j] - v[i]) * s - v[k]).abs()
+        };
+        let keep = reduce(ts.len(), 0.25, err);
+        assert!(
+            keep.len() > 2 && keep.len() < ts.len() / 3,
+            "{} of {}",
+            keep.len(),
+            ts.len()
+        );
+        for w in keep.windows(2) {
+            for k in w[0] + 1..w[1] {
+                assert!(err(k, w[0], w[1]) <= 0.25);
+            }
+        }
+    }
+}

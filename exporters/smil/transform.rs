@@ -1,0 +1,417 @@
+//! A track's transform as nested SMIL groups.
+//!
+//! The model composes a shape's transform from windows (see [`crate::motion`]): segments
+//! sharing a window nest with the earlier-listed one outside, and each later window sits
+//! outside every earlier one, since it acts on the state they left. Every segment becomes one
+//! group: `R(t) = T(pivot)·Πcᵢ(f(t))·Πcᵢ(f(t₀))⁻¹·T(−pivot)`, with the animated product as
+//! additive `animateTransform`s on the group and the static factors folded into the
+//! `transform` attributes of this group and the next inner one. A segment SMIL cannot say
+//! exactly (Alexa interpolation, a blend of several cells, a matrix or two-axis skew
+//! component, a non-cubic easing) is sampled and written as `translate·rotate·skewX·scale`
+//! keys, reduced to a tolerance measured in canvas units at the shape's corners.
+//!
+//! The segments' `start` transforms are checked against what the nesting produces; where
+//! they differ (the state jumps), a group with discrete keys applies the difference.
+
+use kurbo::{Affine, Point};
+
+use super::bake::{fraction, reduce, sample_times};
+use super::curve::{Key, progress_keys};
+use super::decompose::Decomposed;
+use crate::motion::component::product_at;
+use crate::motion::{Component, Interp, MotionKind, MotionSeg, Track};
+
+/// A SMIL `animateTransform` type.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// `translate`: two numbers.
+    Translate,
+    /// `rotate`: an angle in degrees.
+    Rotate,
+    /// `scale`: two factors.
+    Scale,
+    /// `skewX`: an angle in degrees.
+    SkewX,
+    /// `skewY`: an angle in degrees.
+    SkewY,
+}
+
+impl Kind {
+    /// The SMIL `type` attribute value.
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Translate => "translate",
+            Kind::Rotate => "rotate",
+            Kind::Scale => "scale",
+            Kind::SkewX => "skewX",
+            Kind::SkewY => "skewY",
+        }
+    }
+}
+
+/// One `animateTransform` (additive, post-multiplied onto its group's transform).
+#[derive(Clone, Debug)]
+pub struct TransformAnim {
+    /// Which transform type.
+    pub kind: Kind,
+    /// Keys; one-number types use the first entry.
+    pub keys: Vec<Key<[f64; 2]>>,
+    /// Jump from key to key instead of interpolating.
+    pub discrete: bool,
+}
+
+/// One nested group: a static transform and the animations multiplied onto it.
+#[derive(Clone, Debug)]
+pub struct Layer {
+    /// The group's `transform` attribute.
+    pub base: Affine,
+    /// Animations in application order (the first is outermost).
+    pub anims: Vec<TransformAnim>,
+}
+
+/// The groups that wrap a unit node, outermost first, and the static transform of the
+/// innermost group that holds the node itself.
+#[derive(Clone, Debug)]
+pub struct Plan {
+    /// Animated groups.
+    pub layers: Vec<Layer>,
+    /// The innermost group's transform.
+    pub inner: Affine,
+    /// Segments written exactly.
+    pub exact: usize,
+    /// Segments that were sampled and reduced.
+    pub baked: usize,
+}
+
+/// Settings for planning.
+#[derive(Clone, Copy, Debug)]
+pub struct Ctx {
+    /// The animation's duration; nothing after it is written.
+    pub dur: f64,
+    /// Largest allowed error of baked motion, in canvas units.
+    pub tolerance: f64,
+    /// Samples per second when baking.
+    pub rate: f64,
+}
+
+/// A group before its static factors are folded into its neighbours.
+struct RawLayer {
+    prefix: Affine,
+    anims: Vec<TransformAnim>,
+    suffix: Affine,
+}
+
+/// How a segment turned out.
+enum SegLayer {
+    /// It never moves within the document.
+    Identity,
+    /// Written exactly.
+    Exact(RawLayer),
+}
+
+/// Plans the groups for a rigid track whose unit node sits under `parent` (its parent's
+/// transform to the canvas); `corners` are the shape's rest bounding box corners on the
+/// canvas. `None` when nothing moves; an error when `parent` cannot be inverted.
+pub fn plan(
+    track: &Track,
+    parent: Affine,
+    corners: &[Point; 4],
+    ctx: &Ctx,
+) -> Result<Option<Plan>, &'static str> {
+    let n = track.motions.partition_point(|s| s.t0 < ctx.dur);
+    let segs = &track.motions[..n];
+    if segs.is_empty() {
+        return Ok(None);
+    }
+    let parent_inv = invert(parent).ok_or("its parent transform is singular")?;
+    let groups: Vec<&[MotionSeg]> = segs.chunk_by(|a, b| a.t0 == b.t0).collect();
+    let (mut exact, mut baked) = (0, 0);
+    let mut acc = Affine::IDENTITY;
+    let mut nested: Vec<Vec<RawLayer>> = Vec::with_capacity(groups.len());
+    for (gi, group) in groups.iter().enumerate() {
+        let next_t0 = groups.get(gi + 1).map_or(ctx.dur, |g| g[0].t0.min(ctx.dur));
+        let ends: Vec<f64> = group.iter().map(|s| s.t1.min(next_t0).max(s.t0)).collect();
+        let mut layers = Vec::with_capacity(group.len() + 1);
+        for (k, seg) in group.iter().enumerate() {
+            let a = seg.t0.max(0.0);
+            let b = ends[k].max(a);
+            match exact_layer(seg, a, b) {
+                Some(SegLayer::Identity) => {}
+                Some(SegLayer::Exact(l)) => {
+                    exact += 1;
+                    layers.push(l);
+                }
+                None => {
+                    baked += 1;
+                    layers.push(baked_layer(group, k, a, b, corners, ctx));
+                }
+            }
+        }
+        let start = group[0].start;
+        if max_gap(start, acc, corners) > 1e-7 {
+            let Some(c) = invert(acc).map(|inv| start * inv) else {
+                return Ok(Some(whole_track(track, parent, parent_inv, corners, ctx)));
+            };
+            layers.push(jump_layer(c, group[0].t0));
+        }
+        acc = group
+            .iter()
+            .zip(&ends)
+            .fold(Affine::IDENTITY, |m, (s, &e)| m * s.relative_at(e))
+            * start;
+        nested.push(layers);
+    }
+    let (layers, inner) = fold(nested.into_iter().rev().flatten(), parent_inv, parent);
+    Ok(Some(Plan {
+        layers,
+        inner,
+        exact,
+        baked,
+    }))
+}
+
+/// Folds each layer's static factors into its group and the next inner one.
+fn fold(
+    raw: impl Iterator<Item = RawLayer>,
+    outer: Affine,
+    parent: Affine,
+) -> (Vec<Layer>, Affine) {
+    let mut pre = outer;
+    let mut layers = Vec::new();
+    for l in raw {
+        if l.anims.is_empty() {
+            pre = pre * l.prefix * l.suffix;
+            continue;
+        }
+        layers.push(Layer {
+            base: pre * l.prefix,
+            anims: l.anims,
+        });
+        pre = l.suffix;
+    }
+    (layers, pre * parent)
+}
+
+/// The inverse of `m`, unless it is (numerically) singular.
+fn invert(m: Affine) -> Option<Affine> {
+    let det = m.determinant();
+    let scale = m.as_coeffs()[..4]
+        .iter()
+        .fold(0.0f64, |s, v| s.max(v.abs()));
+    (det.is_finite() && det.abs() > 1e-12 * scale.max(1e-300) * scale.max(1e-300))
+        .then(|| m.inverse())
+}
+
+/// Largest distance between where `a` and `b` put the corners.
+fn max_gap(a: Affine, b: Affine, corners: &[Point; 4]) -> f64 {
+    corners
+        .iter()
+        .map(|&q| (a * q - b * q).hypot())
+        .fold(0.0, f64::max)
+}
+
+/// The component's SMIL type and value at progress `p`, if SMIL has a type for it.
+fn smil_component(c: &Component) -> Option<(Kind, Box<dyn Fn(f64) -> [f64; 2]>)> {
+    Some(match *c {
+        Component::Translate(d) => (Kind::Translate, Box::new(move |p| [d.x * p, d.y * p])),
+        Component::Rotate(a) => (Kind::Rotate, Box::new(move |p| [a * p, 0.0])),
+        Component::Scale(k) => (
+            Kind::Scale,
+            Box::new(move |p| [1.0 + (k.x - 1.0) * p, 1.0 + (k.y - 1.0) * p]),
+        ),
+        Component::Skew(ax, 0.0) => (Kind::SkewX, Box::new(move |p| [ax * p, 0.0])),
+        Component::Skew(0.0, ay) => (Kind::SkewY, Box::new(move |p| [ay * p, 0.0])),
+        Component::Skew(..) | Component::Matrix(_) => return None,
+    })
+}
+
+/// The exact layer of a single-entry linear rigid segment; `None` when it needs baking.
+fn exact_layer(seg: &MotionSeg, a: f64, b: f64) -> Option<SegLayer> {
+    let MotionKind::Rigid {
+        pivot,
+        blend,
+        interp: Interp::Linear,
+    } = &seg.kind
+    else {
+        return None;
+    };
+    let [(_, comps)] = blend.as_slice() else {
+        return None;
+    };
+    let comps: Vec<Component> = comps.iter().filter(|c| !c.is_identity()).copied().collect();
+    let smil: Vec<_> = comps.iter().map(smil_component).collect::<Option<_>>()?;
+    let keys = progress_keys(&seg.timing, a, b)?;
+    let p_ref = seg.timing.progress(seg.t0);
+    if comps.is_empty() || keys.iter().all(|k| (k.v - p_ref).abs() <= 1e-12) {
+        return Some(SegLayer::Identity);
+    }
+    let held = invert(product_at(&comps, p_ref))?;
+    let anims = smil
+        .into_iter()
+        .map(|(kind, value)| TransformAnim {
+            kind,
+            keys: keys
+                .iter()
+                .map(|k| Key {
+                    t: k.t,
+                    v: value(k.v),
+                    ease: k.ease,
+                })
+                .collect(),
+            discrete: false,
+        })
+        .collect();
+    let to_pivot = Affine::translate(pivot.to_vec2());
+    Some(SegLayer::Exact(RawLayer {
+        prefix: to_pivot,
+        anims,
+        suffix: held * to_pivot.inverse(),
+    }))
+}
+
+/// Samples segment `k` of `group` over `[a, b]` and keeps what the tolerance needs,
+/// measuring the error where the shape's corners are on the canvas at each sample.
+fn baked_layer(
+    group: &[MotionSeg],
+    k: usize,
+    a: f64,
+    b: f64,
+    corners: &[Point; 4],
+    ctx: &Ctx,
+) -> RawLayer {
+    let seg = &group[k];
+    let (act0, act1) = seg.timing.active();
+    let ts = sample_times(a, b, ctx.rate, 8, &[act0, act1]);
+    let product = |segs: &[MotionSeg], t: f64| {
+        segs.iter()
+            .fold(Affine::IDENTITY, |m, s| m * s.relative_at(t))
+    };
+    let outer: Vec<Affine> = ts.iter().map(|&t| product(&group[..k], t)).collect();
+    let truth: Vec<Affine> = ts.iter().map(|&t| seg.relative_at(t)).collect();
+    let points: Vec<[Point; 4]> = ts
+        .iter()
+        .map(|&t| {
+            let inner = product(&group[k + 1..], t) * group[0].start;
+            corners.map(|q| inner * q)
+        })
+        .collect();
+    let dec = decompose_all(&truth);
+    let keep = reduce(ts.len(), ctx.tolerance, |i, lo, hi| {
+        let m = dec[lo].lerp(dec[hi], fraction(&ts, i, lo, hi)).to_affine();
+        points[i]
+            .iter()
+            .map(|&q| (outer[i] * (m * q) - outer[i] * (truth[i] * q)).hypot())
+            .fold(0.0, f64::max)
+    });
+    let keys: Vec<(f64, Decomposed)> = keep.iter().map(|&i| (ts[i], dec[i])).collect();
+    RawLayer {
+        prefix: Affine::IDENTITY,
+        anims: decomposed_anims(&keys, false),
+        suffix: Affine::IDENTITY,
+    }
+}
+
+/// Decompositions of consecutive samples, with rotations unwrapped to be continuous.
+fn decompose_all(ms: &[Affine]) -> Vec<Decomposed> {
+    let mut prev = Decomposed::IDENTITY;
+    ms.iter()
+        .map(|&m| {
+            let d = lossy(m).unwrapped_after(&prev);
+            prev = d;
+            d
+        })
+        .collect()
+}
+
+/// The decomposition of `m`, nudging a singular map (which paints nothing visible) to the
+/// nearest one that has one.
+fn lossy(m: Affine) -> Decomposed {
+    Decomposed::of(m).unwrap_or_else(|| {
+        let [a, b, c, d, e, f] = m.as_coeffs();
+        Decomposed::of(Affine::new([a + 1e-6, b, c, d + 1e-6, e, f])).unwrap_or(Decomposed {
+            translate: [e, f],
+            scale: [1e-6, 1e-6],
+            ..Decomposed::IDENTITY
+        })
+    })
+}
+
+/// `translate`, `rotate`, `skewX` and `scale` animations through the given keys.
+fn decomposed_anims(keys: &[(f64, Decomposed)], discrete: bool) -> Vec<TransformAnim> {
+    let channel = |kind: Kind, get: &dyn Fn(&Decomposed) -> [f64; 2]| TransformAnim {
+        kind,
+        keys: keys.iter().map(|(t, d)| Key::linear(*t, get(d))).collect(),
+        discrete,
+    };
+    [
+        channel(Kind::Translate, &|d| d.translate),
+        channel(Kind::Rotate, &|d| [d.rotate, 0.0]),
+        channel(Kind::SkewX, &|d| [d.skew_x, 0.0]),
+        channel(Kind::Scale, &|d| d.scale),
+    ]
+    .into_iter()
+    .filter(|a| {
+        let neutral = if a.kind == Kind::Scale {
+            [1.0, 1.0]
+        } else {
+            [0.0, 0.0]
+        };
+        a.keys
+            .iter()
+            .any(|k| (k.v[0] - neutral[0]).abs() > 1e-12 || (k.v[1] - neutral[1]).abs() > 1e-12)
+    })
+    .collect()
+}
+
+/// A jump by `c` at `t0` (static when the jump is at or before the document start).
+fn jump_layer(c: Affine, t0: f64) -> RawLayer {
+    if t0 <= 0.0 {
+        return RawLayer {
+            prefix: c,
+            anims: Vec::new(),
+            suffix: Affine::IDENTITY,
+        };
+    }
+    let keys = [(0.0, Decomposed::IDENTITY), (t0, lossy(c))];
+    RawLayer {
+        prefix: Affine::IDENTITY,
+        anims: decomposed_anims(&keys, true),
+        suffix: Affine::IDENTITY,
+    }
+}
+
+/// The fallback for a state that jumps from a singular transform: the whole track's
+/// transform sampled into one group.
+fn whole_track(
+    track: &Track,
+    parent: Affine,
+    parent_inv: Affine,
+    corners: &[Point; 4],
+    ctx: &Ctx,
+) -> Plan {
+    let mut extra: Vec<f64> = Vec::new();
+    for s in &track.motions {
+        let (x, y) = s.timing.active();
+        extra.extend([s.t0, s.t1, x, y]);
+    }
+    let ts = sample_times(0.0, ctx.dur, ctx.rate, 8, &extra);
+    let truth: Vec<Affine> = ts.iter().map(|&t| track.transform_at(t)).collect();
+    let dec = decompose_all(&truth);
+    let keep = reduce(ts.len(), ctx.tolerance, |i, lo, hi| {
+        let m = dec[lo].lerp(dec[hi], fraction(&ts, i, lo, hi)).to_affine();
+        max_gap(m, truth[i], corners)
+    });
+    let keys: Vec<(f64, Decomposed)> = keep.iter().map(|&i| (ts[i], dec[i])).collect();
+    let raw = RawLayer {
+        prefix: Affine::IDENTITY,
+        anims: decomposed_anims(&keys, false),
+        suffix: Affine::IDENTITY,
+    };
+    let (layers, inner) = fold(std::iter::once(raw), parent_inv, parent);
+    Plan {
+        layers,
+        inner,
+        exact: 0,
+        baked: track.motions.len(),
+    }
+}

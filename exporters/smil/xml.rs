@@ -1,0 +1,197 @@
+//! Writing SMIL animation elements: number formatting, key compaction and the
+//! `keyTimes`/`values`/`keySplines` attributes.
+
+use std::fmt::Write;
+
+use kurbo::Affine;
+
+use super::curve::{Ease, Key};
+
+/// Decimals for coordinates and angles: 1e-4 user units is far below a pixel.
+pub const COORD: usize = 4;
+/// Decimals for scale factors and matrix entries, which multiply coordinates.
+pub const FACTOR: usize = 6;
+/// Decimals for `keyTimes` and `keySplines`.
+const TIME: usize = 6;
+
+/// The document clock every animation shares.
+#[derive(Clone, Copy, Debug)]
+pub struct Clock {
+    /// Simple duration in seconds.
+    pub dur: f64,
+    /// Repeat forever instead of freezing on the last value.
+    pub looping: bool,
+}
+
+/// `x` rounded to `decimals`, without trailing zeros and without `-0`.
+pub fn num(x: f64, decimals: usize) -> String {
+    let mut s = format!("{x:.decimals$}");
+    if s.contains('.') {
+        while s.ends_with('0') {
+            s.pop();
+        }
+        if s.ends_with('.') {
+            s.pop();
+        }
+    }
+    if s == "-0" { "0".to_string() } else { s }
+}
+
+/// A static transform attribute value, `None` for the identity.
+pub fn transform_value(m: Affine) -> Option<String> {
+    let [a, b, c, d, e, f] = m.as_coeffs();
+    let [sa, sb, sc, sd] = [a, b, c, d].map(|v| num(v, FACTOR));
+    let (se, sf) = (num(e, COORD), num(f, COORD));
+    if (sa.as_str(), sb.as_str(), sc.as_str(), sd.as_str()) == ("1", "0", "0", "1") {
+        if se == "0" && sf == "0" {
+            return None;
+        }
+        return Some(format!("translate({se} {sf})"));
+    }
+    Some(format!("matrix({sa} {sb} {sc} {sd} {se} {sf})"))
+}
+
+/// Drops keys that change nothing: the middle of three equal values, and a key repeating
+/// its predecessor's time and value. The first and last key always stay.
+fn compact(keys: &[Key<String>]) -> Vec<Key<String>> {
+    let mut out: Vec<Key<String>> = Vec::with_capacity(keys.len());
+    for k in keys {
+        if let Some(last) = out.last()
+            && last.t == k.t
+            && last.v == k.v
+        {
+            continue;
+        }
+        if out.len() >= 2 {
+            let n = out.len();
+            if out[n - 2].v == out[n - 1].v && out[n - 1].v == k.v {
+                out.pop();
+                out.push(Key::linear(k.t, k.v.clone()));
+                continue;
+            }
+        }
+        out.push(k.clone());
+    }
+    out
+}
+
+/// Appends one animation element. `head` holds the element's own attributes (name, type,
+/// additive); `keys` span `[0, clock.dur]` (holds are added at either end when they don't).
+/// Returns false, writing nothing, when the value never changes.
+pub fn animation(
+    out: &mut String,
+    element: &str,
+    head: &str,
+    keys: &[Key<String>],
+    discrete: bool,
+    clock: Clock,
+) -> bool {
+    let Some(first) = keys.first() else {
+        return false;
+    };
+    let mut full: Vec<Key<String>> = Vec::with_capacity(keys.len() + 2);
+    if first.t > 0.0 {
+        full.push(Key::linear(0.0, first.v.clone()));
+    }
+    full.extend(keys.iter().cloned());
+    let last = full[full.len() - 1].clone();
+    if last.t < clock.dur && !discrete {
+        full.push(Key::linear(clock.dur, last.v));
+    }
+    let keys = compact(&full);
+    if keys.iter().all(|k| k.v == keys[0].v) {
+        return false;
+    }
+    let time = |k: &Key<String>, i: usize| {
+        if i == 0 {
+            "0".to_string()
+        } else if i == keys.len() - 1 && !discrete {
+            "1".to_string()
+        } else {
+            num((k.t / clock.dur).clamp(0.0, 1.0), TIME)
+        }
+    };
+    let key_times: Vec<String> = keys.iter().enumerate().map(|(i, k)| time(k, i)).collect();
+    let values: Vec<&str> = keys.iter().map(|k| k.v.as_str()).collect();
+    let _ = write!(
+        out,
+        "<{element} {head} begin=\"0s\" dur=\"{}s\"",
+        num(clock.dur, TIME)
+    );
+    let _ = write!(
+        out,
+        " keyTimes=\"{}\" values=\"{}\"",
+        key_times.join(";"),
+        values.join(";")
+    );
+    if discrete {
+        out.push_str(" calcMode=\"discrete\"");
+    } else if keys[1..].iter().any(|k| matches!(k.ease, Ease::Spline(_))) {
+        let splines: Vec<String> = keys[1..]
+            .iter()
+            .map(|k| match k.ease {
+                Ease::Linear => "0 0 1 1".to_string(),
+                Ease::Spline(s) => s.map(|v| num(v.clamp(0.0, 1.0), TIME)).join(" "),
+            })
+            .collect();
+        let _ = write!(
+            out,
+            " calcMode=\"spline\" keySplines=\"{}\"",
+            splines.join(";")
+        );
+    }
+    out.push_str(if clock.looping {
+        " repeatCount=\"indefinite\"/>"
+    } else {
+        " fill=\"freeze\"/>"
+    });
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_are_short() {
+        assert_eq!(num(1.0, 4), "1");
+        assert_eq!(num(-0.00001, 4), "0");
+        assert_eq!(num(2.50, 4), "2.5");
+        assert_eq!(num(-12.345678, 4), "-12.3457");
+    }
+
+    #[test]
+    fn holds_collapse() {
+        let k = |t: f64, v: &str| Key::linear(t, v.to_string());
+        let keys = compact(&[
+            k(0.0, "a"),
+            k(1.0, "a"),
+            k(2.0, "a"),
+            k(3.0, "b"),
+            k(3.0, "b"),
+        ]);
+        let got: Vec<(f64, &str)> = keys.iter().map(|k| (k.t, k.v.as_str())).collect();
+        assert_eq!(got, vec![(0.0, "a"), (2.0, "a"), (3.0, "b")]);
+    }
+
+    #[test]
+    fn constant_channels_write_nothing() {
+        let mut s = String::new();
+        let keys = [
+            Key::linear(0.0, "1".to_string()),
+            Key::linear(2.0, "1".to_string()),
+        ];
+        assert!(!animation(
+            &mut s,
+            "animate",
+            "attributeName=\"opacity\"",
+            &keys,
+            false,
+            Clock {
+                dur: 2.0,
+                looping: false
+            }
+        ));
+        assert!(s.is_empty());
+    }
+}
