@@ -1,63 +1,219 @@
-//! Easing functions: maps from linear progress `u ∈ [0,1]` to eased progress.
+//! Easing functions (paper, Definition 1): maps from linear progress `u ∈ [0, 1]` to
+//! eased progress, and [`Ease`], an easing stretched to any duration.
+//!
+//! Besides the CSS curves, two families come from the paper's discussion (sec. 9):
+//! B-spline windows ("equivalent to box filters connected in series", symmetric motion)
+//! and cascades of one-pole filters (sec. 8.2, fast-in slow-out motion). Both are the
+//! step responses of low-pass filters, so they are convex easings: monotone, within
+//! `[0, 1]`, and with zero initial velocity from order 2 on (the hypothesis of Claim 1).
+
+use super::error::{SignalError, finite, positive, whole};
+
+/// Largest B-spline order accepted by [`Easing::BSpline`].
+pub const MAX_BSPLINE_ORDER: u32 = 32;
+/// Largest number of poles accepted by [`Easing::Poles`].
+pub const MAX_POLES: u32 = 16;
+/// The step-response tail cut off by [`Easing::poles`]'s default time constant.
+pub const POLES_DEFAULT_TAIL: f64 = 1e-3;
 
 /// An easing curve. `apply(0) = 0` and `apply(1) = 1` for every variant.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Easing {
     /// Identity.
     Linear,
-    /// CSS `cubic-bezier(x1, y1, x2, y2)`.
+    /// CSS `cubic-bezier(x1, y1, x2, y2)` (CSS Easing Functions Level 1).
     CubicBezier([f64; 4]),
+    /// The integral of the cardinal B-spline window of order `k` (degree `k − 1`)
+    /// stretched onto `[0, 1]`: the step response of `k` equal box filters in series
+    /// (paper sec. 9). `k = 1` is linear; order `k` is `C^(k−1)` smooth. Evaluated with
+    /// the Cox–de Boor recursion (all terms positive, so stable for every order).
+    BSpline(u32),
+    /// The step response of `n` one-pole low-pass filters `ẋ = (u − x)/τ` in series
+    /// (paper sec. 8.2), i.e. the Erlang CDF `P(n, u/τ)`, truncated at `u = 1` and
+    /// renormalised so that it ends at exactly 1: `s(u) = P(n, u/τ) / P(n, 1/τ)`.
+    /// `tau` is in units of the easing's duration.
+    Poles {
+        /// Number of poles (`1..=16`).
+        n: u32,
+        /// Time constant of each pole as a fraction of the duration (`> 0`).
+        tau: f64,
+    },
 }
 
 impl Easing {
     /// Eased progress at linear progress `u` (clamped to `[0,1]`).
     pub fn apply(&self, u: f64) -> f64 {
-        let u = u.clamp(0.0, 1.0);
+        let u = if u.is_nan() { 0.0 } else { u.clamp(0.0, 1.0) };
+        if u == 0.0 || u == 1.0 {
+            return u;
+        }
         match self {
             Easing::Linear => u,
             Easing::CubicBezier(p) => cubic_bezier(*p, u),
+            Easing::BSpline(k) => bspline_cdf(*k, u),
+            Easing::Poles { n, tau } => erlang_cdf(*n, u / tau) / erlang_cdf(*n, 1.0 / tau),
         }
     }
 
     /// The CSS cubic-bezier control points, when the curve is one (exporters use them as
-    /// keyframe tangents).
+    /// keyframe tangents). B-spline and pole easings are not cubic Béziers (except the
+    /// linear `bspline(1)`), so exporters must sample them.
     pub fn as_cubic_bezier(&self) -> Option<[f64; 4]> {
         match self {
-            Easing::Linear => Some([0.0, 0.0, 1.0, 1.0]),
+            Easing::Linear | Easing::BSpline(1) => Some([0.0, 0.0, 1.0, 1.0]),
             Easing::CubicBezier(p) => Some(*p),
+            Easing::BSpline(_) | Easing::Poles { .. } => None,
         }
     }
 
-    /// Builds an easing from its grammar spelling: a name and numeric arguments, e.g.
-    /// `cubic(0.4, 0, 0.2, 1)`, `ease-in-out`, `linear`.
+    /// The B-spline window easing of order `k` (`1..=32`).
+    pub fn bspline(k: u32) -> Result<Easing, SignalError> {
+        whole(
+            "B-spline order",
+            f64::from(k),
+            1,
+            MAX_BSPLINE_ORDER,
+            "1..=32",
+        )?;
+        Ok(Easing::BSpline(k))
+    }
+
+    /// The `n`-pole cascade easing with the default time constant: the one whose
+    /// truncated tail `1 − P(n, 1/τ)` is [`POLES_DEFAULT_TAIL`] (0.1 %), so the curve
+    /// ends with a velocity jump of at most a few tenths of a percent of its peak speed.
+    pub fn poles(n: u32) -> Result<Easing, SignalError> {
+        whole("number of poles", f64::from(n), 1, MAX_POLES, "1..=16")?;
+        Ok(Easing::Poles {
+            n,
+            tau: 1.0 / erlang_quantile(n, POLES_DEFAULT_TAIL),
+        })
+    }
+
+    /// The `n`-pole cascade easing with time constant `tau` (a fraction of the duration).
+    pub fn poles_with_tau(n: u32, tau: f64) -> Result<Easing, SignalError> {
+        whole("number of poles", f64::from(n), 1, MAX_POLES, "1..=16")?;
+        positive("pole time constant", tau)?;
+        Ok(Easing::Poles { n, tau })
+    }
+
+    /// Builds an easing from its grammar spelling: a name and numeric arguments.
+    ///
+    /// | spelling | curve |
+    /// |---|---|
+    /// | `linear` | identity |
+    /// | `ease`, `ease-in`, `ease-out`, `ease-in-out` (or with `_`) | the CSS keywords |
+    /// | `cubic(x1, y1, x2, y2)` (also `cubic-bezier`, `cubic_bezier`) | CSS cubic Bézier, `x1, x2 ∈ [0, 1]` |
+    /// | `bspline(k)` | B-spline window of order `k ∈ 1..=32` (`bspline(3)`: quadratic B-spline, C²) |
+    /// | `poles(n)` | `n` one-pole filters in series, `n ∈ 1..=16`, default time constant (0.1 % tail) |
+    /// | `poles(n, tau)` | the same with time constant `tau` as a fraction of the duration |
     pub fn from_call(name: &str, args: &[f64]) -> Result<Easing, String> {
-        let none = |e: Easing| {
-            if args.is_empty() {
-                Ok(e)
+        Easing::try_from_call(name, args).map_err(|e| e.to_string())
+    }
+
+    /// [`Easing::from_call`] with a typed error.
+    pub fn try_from_call(name: &str, args: &[f64]) -> Result<Easing, SignalError> {
+        let arity = |n: usize, usage: &str| {
+            if args.len() == n {
+                Ok(())
             } else {
-                Err(format!("easing `{name}` takes no arguments"))
+                Err(SignalError::Invalid(format!(
+                    "easing `{name}` takes {usage}, got {} argument(s)",
+                    args.len()
+                )))
             }
         };
-        match name {
-            "linear" => none(Easing::Linear),
-            "ease" => none(Easing::CubicBezier([0.25, 0.1, 0.25, 1.0])),
-            "ease_in" | "ease-in" => none(Easing::CubicBezier([0.42, 0.0, 1.0, 1.0])),
-            "ease_out" | "ease-out" => none(Easing::CubicBezier([0.0, 0.0, 0.58, 1.0])),
-            "ease_in_out" | "ease-in-out" => none(Easing::CubicBezier([0.42, 0.0, 0.58, 1.0])),
-            "cubic" | "cubic_bezier" | "cubic-bezier" => {
-                let [x1, y1, x2, y2] = args else {
-                    return Err(format!("`{name}` takes four numbers x1, y1, x2, y2"));
-                };
-                if !(0.0..=1.0).contains(x1) || !(0.0..=1.0).contains(x2) {
-                    return Err(format!("`{name}`: x1 and x2 must lie in [0, 1]"));
-                }
-                if args.iter().any(|v| !v.is_finite()) {
-                    return Err(format!("`{name}`: control points must be finite"));
-                }
-                Ok(Easing::CubicBezier([*x1, *y1, *x2, *y2]))
-            }
-            _ => Err(format!("unknown easing `{name}`")),
+        for &a in args {
+            finite("easing argument", a)?;
         }
+        let keyword = |e: Easing| arity(0, "no arguments").map(|_| e);
+        match name {
+            "linear" => keyword(Easing::Linear),
+            "ease" => keyword(Easing::CubicBezier([0.25, 0.1, 0.25, 1.0])),
+            "ease_in" | "ease-in" => keyword(Easing::CubicBezier([0.42, 0.0, 1.0, 1.0])),
+            "ease_out" | "ease-out" => keyword(Easing::CubicBezier([0.0, 0.0, 0.58, 1.0])),
+            "ease_in_out" | "ease-in-out" => keyword(Easing::CubicBezier([0.42, 0.0, 0.58, 1.0])),
+            "cubic" | "cubic_bezier" | "cubic-bezier" => {
+                arity(4, "four numbers x1, y1, x2, y2")?;
+                for (what, x) in [("cubic-bezier x1", args[0]), ("cubic-bezier x2", args[2])] {
+                    if !(0.0..=1.0).contains(&x) {
+                        return Err(SignalError::OutOfRange {
+                            what,
+                            range: "[0, 1]",
+                            value: x,
+                        });
+                    }
+                }
+                Ok(Easing::CubicBezier([args[0], args[1], args[2], args[3]]))
+            }
+            "bspline" => {
+                arity(1, "one number, the order k")?;
+                Easing::bspline(whole(
+                    "B-spline order",
+                    args[0],
+                    1,
+                    MAX_BSPLINE_ORDER,
+                    "1..=32",
+                )?)
+            }
+            "poles" => {
+                if args.len() == 2 {
+                    let n = whole("number of poles", args[0], 1, MAX_POLES, "1..=16")?;
+                    return Easing::poles_with_tau(n, args[1]);
+                }
+                arity(
+                    1,
+                    "the number of poles n and optionally the time constant tau",
+                )?;
+                Easing::poles(whole("number of poles", args[0], 1, MAX_POLES, "1..=16")?)
+            }
+            _ => Err(SignalError::Unknown {
+                kind: "easing",
+                name: name.to_string(),
+                expected: "linear, ease, ease-in, ease-out, ease-in-out, cubic, bspline, poles",
+            }),
+        }
+    }
+}
+
+/// An easing function with a duration (paper, Definition 1): `s(t) = 0` for `t ≤ 0`,
+/// `s(t) = 1` for `t ≥ d`, and `s(t) = easing(t/d)` in between.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Ease {
+    easing: Easing,
+    duration: f64,
+}
+
+impl Ease {
+    /// `easing` stretched over `duration` seconds (must be finite and `> 0`).
+    pub fn new(easing: Easing, duration: f64) -> Result<Ease, SignalError> {
+        positive("easing duration", duration)?;
+        if let Easing::CubicBezier(p) = &easing {
+            for &v in p {
+                finite("cubic-bezier control point", v)?;
+            }
+        }
+        Ok(Ease { easing, duration })
+    }
+
+    /// `s(t)`.
+    pub fn at(&self, t: f64) -> f64 {
+        if t <= 0.0 {
+            0.0
+        } else if t >= self.duration {
+            1.0
+        } else {
+            self.easing.apply(t / self.duration)
+        }
+    }
+
+    /// The duration `d` in seconds.
+    pub fn duration(&self) -> f64 {
+        self.duration
+    }
+
+    /// The normalised curve.
+    pub fn easing(&self) -> &Easing {
+        &self.easing
     }
 }
 
@@ -74,7 +230,7 @@ fn cubic_bezier([x1, y1, x2, y2]: [f64; 4], x: f64) -> f64 {
     let mut t = x;
     for _ in 0..8 {
         let err = bez(x1, x2, t) - x;
-        if err.abs() < 1e-9 {
+        if err.abs() < 1e-12 {
             return bez(y1, y2, t);
         }
         let d = dbez(x1, x2, t);
@@ -94,4 +250,159 @@ fn cubic_bezier([x1, y1, x2, y2]: [f64; 4], x: f64) -> f64 {
         t = 0.5 * (lo + hi);
     }
     bez(y1, y2, t)
+}
+
+/// The CDF of the cardinal B-spline of order `k` stretched onto `[0, 1]`, at `u ∈ (0, 1)`.
+///
+/// The window `M_k` on `[0, k]` integrates to the sum of the order-`k+1` basis functions
+/// `N_j` with `j ≥ 0`; those are evaluated at `x = k·u` by Cox–de Boor on integer knots.
+fn bspline_cdf(k: u32, u: f64) -> f64 {
+    let x = f64::from(k) * u;
+    let m = x.floor();
+    // b[i] holds N_{j, r}(x) for j = m − r + 1 + i.
+    let mut b = vec![1.0];
+    for r in 2..=k as usize + 1 {
+        let rf = r as f64;
+        let next: Vec<f64> = (0..r)
+            .map(|i| {
+                let j = m - rf + 1.0 + i as f64;
+                let left = if i >= 1 { b[i - 1] } else { 0.0 };
+                let right = if i < r - 1 { b[i] } else { 0.0 };
+                ((x - j) * left + (j + rf - x) * right) / (rf - 1.0)
+            })
+            .collect();
+        b = next;
+    }
+    // With r = k + 1, index i is j = m − k + i; keep j ≥ 0.
+    let first = (f64::from(k) - m).max(0.0) as usize;
+    b[first..].iter().sum::<f64>().clamp(0.0, 1.0)
+}
+
+/// The regularised lower incomplete gamma function `P(n, x)` for integer `n`: the
+/// probability that a sum of `n` unit exponentials is at most `x` (Erlang CDF).
+pub(crate) fn erlang_cdf(n: u32, x: f64) -> f64 {
+    if x <= 0.0 {
+        return 0.0;
+    }
+    if x < f64::from(n) {
+        // Positive series e^{-x} Σ_{i≥n} x^i/i!, no cancellation for small x.
+        let mut term = (-x).exp();
+        for i in 1..=n {
+            term *= x / f64::from(i);
+        }
+        let mut sum = 0.0;
+        let mut i = n;
+        while term > sum * 1e-17 {
+            sum += term;
+            i += 1;
+            term *= x / f64::from(i);
+        }
+        sum.min(1.0)
+    } else {
+        1.0 - erlang_tail(n, x)
+    }
+}
+
+/// `Q(n, x) = 1 − P(n, x) = e^{-x} Σ_{i<n} x^i/i!`.
+fn erlang_tail(n: u32, x: f64) -> f64 {
+    let mut term = (-x).exp();
+    let mut sum = 0.0;
+    for i in 0..n {
+        if i > 0 {
+            term *= x / f64::from(i);
+        }
+        sum += term;
+    }
+    sum
+}
+
+/// The `x` where the Erlang tail `Q(n, x)` falls to `tail` (bisection; `Q` decreases).
+fn erlang_quantile(n: u32, tail: f64) -> f64 {
+    let (mut lo, mut hi) = (0.0, 1.0);
+    while erlang_tail(n, hi) > tail {
+        hi *= 2.0;
+    }
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if erlang_tail(n, mid) > tail {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn endpoints_hold_for_every_variant() {
+        let all = [
+            Easing::Linear,
+            Easing::CubicBezier([0.42, 0.0, 0.58, 1.0]),
+            Easing::bspline(1).unwrap(),
+            Easing::bspline(4).unwrap(),
+            Easing::bspline(32).unwrap(),
+            Easing::poles(1).unwrap(),
+            Easing::poles(16).unwrap(),
+            Easing::poles_with_tau(4, 5.0).unwrap(),
+        ];
+        for e in &all {
+            assert_eq!(e.apply(0.0), 0.0, "{e:?}");
+            assert_eq!(e.apply(1.0), 1.0, "{e:?}");
+            assert_eq!(e.apply(-3.0), 0.0);
+            assert_eq!(e.apply(7.0), 1.0);
+        }
+    }
+
+    #[test]
+    fn bspline_orders_match_closed_forms() {
+        // Order 2: the triangle window; its CDF is 2u² below one half.
+        let e = Easing::BSpline(2);
+        assert!((e.apply(0.25) - 2.0 * 0.25 * 0.25).abs() < 1e-14);
+        assert!((e.apply(0.75) - (1.0 - 2.0 * 0.25 * 0.25)).abs() < 1e-14);
+        // Order 3: Irwin–Hall CDF of the mean of three uniforms at x = 3u ∈ [0, 1]: x³/6.
+        let u = 0.2;
+        assert!((Easing::BSpline(3).apply(u) - (3.0 * u).powi(3) / 6.0).abs() < 1e-14);
+        // Symmetry s(1 − u) = 1 − s(u) for a high order.
+        let e = Easing::BSpline(20);
+        assert!((e.apply(0.3) + e.apply(0.7) - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn pole_easing_is_the_normalised_erlang_cdf() {
+        // One pole: (1 − e^{−u/τ}) / (1 − e^{−1/τ}).
+        let e = Easing::poles_with_tau(1, 0.25).unwrap();
+        let want = (1.0 - (-0.5f64 / 0.25).exp()) / (1.0 - (-4.0f64).exp());
+        assert!((e.apply(0.5) - want).abs() < 1e-14);
+        // Two poles, both branches of erlang_cdf: P(2, x) = 1 − e^{−x}(1 + x).
+        for x in [0.3, 1.9, 2.0, 7.5] {
+            assert!((erlang_cdf(2, x) - (1.0 - (-x).exp() * (1.0 + x))).abs() < 1e-14);
+        }
+        let Easing::Poles { tau, .. } = Easing::poles(4).unwrap() else {
+            unreachable!()
+        };
+        assert!((erlang_tail(4, 1.0 / tau) - POLES_DEFAULT_TAIL).abs() < 1e-12);
+    }
+
+    #[test]
+    fn from_call_spellings_and_errors() {
+        assert_eq!(Easing::from_call("bspline", &[3.0]), Ok(Easing::BSpline(3)));
+        assert_eq!(
+            Easing::from_call("poles", &[4.0, 0.2]),
+            Ok(Easing::Poles { n: 4, tau: 0.2 })
+        );
+        assert!(Easing::from_call("bspline", &[0.0]).is_err());
+        assert!(Easing::from_call("bspline", &[2.5]).is_err());
+        assert!(Easing::from_call("poles", &[4.0, -1.0]).is_err());
+        assert!(Easing::from_call("poles", &[f64::NAN]).is_err());
+        assert!(Easing::from_call("cubic", &[1.5, 0.0, 0.5, 1.0]).is_err());
+        assert!(Easing::from_call("linear", &[1.0]).is_err());
+        let msg = Easing::from_call("bounce", &[]).unwrap_err();
+        assert!(msg.contains("unknown easing `bounce`"), "{msg}");
+        assert!(Ease::new(Easing::Linear, 0.0).is_err());
+        assert!(Ease::new(Easing::Linear, f64::INFINITY).is_err());
+    }
 }
