@@ -497,6 +497,10 @@ fn unterminated_string() {
     let d = errors(src);
     assert_eq!(positions(&d), [(1, 25), (3, 5)]);
     assert_eq!(d.items[0].message, "unterminated string");
+    assert_eq!(
+        errors("scene \"art/toy.svg\n").items[0].message,
+        "unterminated string"
+    );
     let text = d.render("g", src);
     // The caret runs from the quote to the end of the line.
     let rest = src.lines().next().unwrap().len() - 24;
@@ -608,7 +612,25 @@ fn lexer_errors_are_reported_in_place() {
 }
 
 mod never_panics {
+    use gmotion::grammar::{Env, eval};
     use proptest::prelude::*;
+
+    /// A shape with every variable set to 2 and a fixed random draw.
+    struct Shape;
+
+    impl Env for Shape {
+        fn var(&self, name: &str) -> Option<f64> {
+            ["id", "n", "cx", "cy", "w", "h"]
+                .contains(&name)
+                .then_some(2.0)
+        }
+        fn rand(&mut self) -> f64 {
+            0.5
+        }
+        fn noise(&self, _: f64, _: f64) -> f64 {
+            0.0
+        }
+    }
 
     proptest! {
         /// Any text parses or fails with errors whose spans lie inside the source, and
@@ -625,6 +647,32 @@ mod never_panics {
                     }
                     let text = d.render("fuzz", &src);
                     prop_assert!(text.contains("fuzz:"));
+                }
+            }
+        }
+
+        /// Any expression built from the language's pieces evaluates or fails with an
+        /// error inside the source.
+        #[test]
+        fn when_evaluating(
+            parts in prop::collection::vec(
+                prop::sample::select(vec![
+                    "1", "0", "-", "+", "*", "/", "%", "^", "(", ")", ",", "id", "w-h", "1e300",
+                    "50%", "#f80", "red", "\"s\"", "translate(1, 2)", "rotate(", "scale(",
+                    "rgb(", "hsl(", "lerp(", "rand(", "min(", "sqrt(", "ln(", "(1, 2)", "4x4",
+                    "cubic(", "point(", "pi",
+                ]),
+                1..12,
+            )
+        ) {
+            let expr = parts.join(" ");
+            let src = format!("op({expr}) : a -> []");
+            if let Ok(g) = gmotion::grammar::parse(&src) {
+                for arg in &g.rules[0].args {
+                    if let Err(e) = eval(&arg.value, &mut Shape) {
+                        prop_assert!(e.span.end <= src.len(), "{e:?}");
+                        prop_assert!(!e.message.is_empty());
+                    }
                 }
             }
         }

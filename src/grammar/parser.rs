@@ -135,7 +135,7 @@ impl Parser<'_> {
         }
     }
 
-    /// End of the last consumed token.
+    /// The span of the last consumed token.
     fn prev_span(&self) -> Span {
         self.toks[self.pos.saturating_sub(1)].span
     }
@@ -304,8 +304,10 @@ impl Parser<'_> {
             return Err(d);
         };
         let mut values = Vec::new();
+        let quoted = self.src[self.peek().span.start..].starts_with('"');
         if spec.kind == DirectiveKind::Path
-            && !matches!(self.peek().tok, Tok::Str(_) | Tok::Newline | Tok::Eof)
+            && !quoted
+            && !matches!(self.peek().tok, Tok::Newline | Tok::Eof)
         {
             values.push(self.bare_path());
         } else {

@@ -578,7 +578,8 @@ fn lerp(a: &Args) -> Result<Value, EvalError> {
         (Value::Num(x), Value::Num(y)) => Value::Num(x + (y - x) * t),
         (Value::Point(p), Value::Point(q)) => Value::Point(p.lerp(*q, t)),
         (x, y) => match (x.as_color(), y.as_color()) {
-            (Ok(c), Ok(d)) => Value::Color(c.lerp(d, t as f32)),
+            // Clamped: colour components must stay in [0, 1].
+            (Ok(c), Ok(d)) => Value::Color(c.lerp(d, t.clamp(0.0, 1.0) as f32)),
             _ => {
                 return Err(a.error(format!(
                     "`lerp` blends two numbers, points or colours, found {} and {}",
