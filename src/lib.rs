@@ -6,7 +6,13 @@
 #![warn(missing_docs)]
 
 pub mod color;
+/// Exporters: scenes and animations out as SVG text, pixels, PNG, GIF and APNG.
+#[path = "../exporters/mod.rs"]
+pub mod exporters;
 pub mod grammar;
+/// Importers: SVG files in, scenes out.
+#[path = "../importers/mod.rs"]
+pub mod importers;
 pub mod motion;
 pub mod scene;
 pub mod signals;

@@ -1,0 +1,225 @@
+//! The resvg static corpus through gmotion's own path: import → scene model → SVG text →
+//! resvg, against each file's reference rendering. A file passes when at most 1% of its
+//! pixels differ by more than 32/255 in some channel.
+//!
+//! Text is drawn with the fonts installed here, and the references were made with Noto
+//! Sans. Where resvg itself, rendering the source file directly with the fonts here, does
+//! not reproduce the reference either, the reference cannot be reached on this machine; such
+//! a file passes when gmotion's rendering matches resvg's direct one instead (reported as
+//! a separate count, so it is visible how many files were judged that way).
+//!
+//! The corpus is `../shared/corpus/resvg-static` beside the crate, or `$GMOTION_CORPUS`.
+//! Set `GMOTION_CORPUS_OUT` to a directory to get each failing file's rendering there.
+
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, OnceLock};
+use std::time::{Duration, Instant};
+
+use gmotion::exporters::frame::scene_svg;
+use gmotion::exporters::raster::{Pixmap, compare, render, save_png};
+use gmotion::importers::svg::{ImportOptions, load};
+use rayon::prelude::*;
+
+const TOLERANCE: u8 = 32;
+const MAX_DIFFERING: f64 = 0.01;
+const REQUIRED_PASS_RATE: f64 = 0.98;
+
+fn corpus_dir() -> PathBuf {
+    match std::env::var_os("GMOTION_CORPUS") {
+        Some(dir) => PathBuf::from(dir),
+        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/resvg-static"),
+    }
+}
+
+/// How a file was judged.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Oracle {
+    /// Against the reference PNG.
+    Reference,
+    /// Against resvg's direct rendering of the source, the reference being out of reach
+    /// with the fonts installed here.
+    Resvg,
+}
+
+struct Outcome {
+    name: String,
+    /// The differing fraction, or why there is none.
+    result: Result<f64, String>,
+    oracle: Oracle,
+    import: Duration,
+    write: Duration,
+    render: Duration,
+}
+
+impl Outcome {
+    fn passed(&self) -> bool {
+        matches!(self.result, Ok(d) if d <= MAX_DIFFERING)
+    }
+}
+
+fn check(svg: &Path, out_dir: Option<&Path>) -> Outcome {
+    let name = svg
+        .file_name()
+        .unwrap_or_default()
+        .to_string_lossy()
+        .into_owned();
+    let mut o = Outcome {
+        name,
+        result: Err(String::new()),
+        oracle: Oracle::Reference,
+        import: Duration::ZERO,
+        write: Duration::ZERO,
+        render: Duration::ZERO,
+    };
+    let reference = match Pixmap::load_png(svg.with_extension("png")) {
+        Ok(p) => p,
+        Err(e) => {
+            o.result = Err(format!("no reference PNG: {e}"));
+            return o;
+        }
+    };
+    let t = Instant::now();
+    let imported = load(svg, &ImportOptions::default());
+    o.import = t.elapsed();
+    let scene = match imported {
+        Ok(i) => i.scene,
+        Err(e) => {
+            o.result = Err(format!("import failed: {e}"));
+            return o;
+        }
+    };
+    let t = Instant::now();
+    let text = scene_svg(&scene);
+    o.write = t.elapsed();
+    let t = Instant::now();
+    // The references are 300 px wide except a few whose size resvg derives itself; render
+    // at the reference's width and require the height to agree up to rounding.
+    let rendered = render(&text, reference.width());
+    o.render = t.elapsed();
+    let pixmap = match rendered {
+        Ok(p) => p,
+        Err(e) => {
+            o.result = Err(format!("render failed: {e}"));
+            return o;
+        }
+    };
+    if pixmap.height().abs_diff(reference.height()) > 1 {
+        o.result = Err(format!(
+            "size {}x{} vs reference {}x{}",
+            pixmap.width(),
+            pixmap.height(),
+            reference.width(),
+            reference.height()
+        ));
+    } else {
+        o.result = Ok(compare(&pixmap, &reference, TOLERANCE));
+    }
+    if !o.passed()
+        && let Some(direct) = resvg_direct(svg, &pixmap)
+        && compare(&direct, &reference, TOLERANCE) > MAX_DIFFERING
+    {
+        o.oracle = Oracle::Resvg;
+        o.result = Ok(compare(&pixmap, &direct, TOLERANCE));
+    }
+    if let (Some(dir), false) = (out_dir, o.passed()) {
+        let stem = svg.file_stem().unwrap_or_default().to_string_lossy();
+        save_png(&pixmap, &dir.join(format!("{stem}.png"))).expect("write the failing rendering");
+        std::fs::write(dir.join(format!("{stem}.svg")), &text).expect("write the failing SVG");
+    }
+    o
+}
+
+/// resvg's own rendering of the source file, at the size of `like`, with the system fonts.
+fn resvg_direct(svg: &Path, like: &Pixmap) -> Option<Pixmap> {
+    static FONTS: OnceLock<Arc<usvg::fontdb::Database>> = OnceLock::new();
+    let fontdb = FONTS.get_or_init(|| {
+        let mut db = usvg::fontdb::Database::new();
+        db.load_system_fonts();
+        Arc::new(db)
+    });
+    let opt = usvg::Options {
+        fontdb: fontdb.clone(),
+        resources_dir: svg.parent().map(Path::to_path_buf),
+        ..Default::default()
+    };
+    let tree = usvg::Tree::from_data(&std::fs::read(svg).ok()?, &opt).ok()?;
+    let scale = like.width() as f32 / tree.size().width();
+    let mut pixmap = Pixmap::new(like.width(), like.height())?;
+    resvg::render(
+        &tree,
+        resvg::tiny_skia::Transform::from_scale(scale, scale),
+        &mut pixmap.as_mut(),
+    );
+    Some(pixmap)
+}
+
+#[test]
+fn corpus_round_trips_through_the_scene_model() {
+    let dir = corpus_dir();
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| {
+            panic!(
+                "corpus {} not readable ({e}); set GMOTION_CORPUS",
+                dir.display()
+            )
+        })
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "svg"))
+        .collect();
+    files.sort();
+    assert!(!files.is_empty(), "no SVG files in {}", dir.display());
+    let out_dir = std::env::var_os("GMOTION_CORPUS_OUT").map(PathBuf::from);
+    if let Some(d) = &out_dir {
+        std::fs::create_dir_all(d).expect("create GMOTION_CORPUS_OUT");
+    }
+
+    let wall = Instant::now();
+    let outcomes: Vec<Outcome> = files
+        .par_iter()
+        .map(|f| check(f, out_dir.as_deref()))
+        .collect();
+    let wall = wall.elapsed();
+
+    let failed: Vec<&Outcome> = outcomes.iter().filter(|o| !o.passed()).collect();
+    for o in outcomes
+        .iter()
+        .filter(|o| o.passed() && o.oracle == Oracle::Resvg)
+    {
+        println!(
+            "via resvg: {} (resvg here does not reproduce the reference either)",
+            o.name
+        );
+    }
+    for o in &failed {
+        match &o.result {
+            Ok(d) => println!("FAIL {}: {:.2}% of pixels differ", o.name, d * 100.0),
+            Err(e) => println!("FAIL {}: {e}", o.name),
+        }
+    }
+    let n = outcomes.len() as f64;
+    let per_file = |f: fn(&Outcome) -> Duration| {
+        outcomes.iter().map(f).sum::<Duration>().as_secs_f64() * 1e3 / n
+    };
+    let rate = (outcomes.len() - failed.len()) as f64 / n;
+    let via_resvg = outcomes
+        .iter()
+        .filter(|o| o.passed() && o.oracle == Oracle::Resvg)
+        .count();
+    println!(
+        "corpus: {}/{} passed ({:.1}%), {} of them against resvg's direct rendering; per file: import {:.2} ms, write {:.3} ms, render {:.2} ms; wall {:.1} s",
+        outcomes.len() - failed.len(),
+        outcomes.len(),
+        rate * 100.0,
+        via_resvg,
+        per_file(|o| o.import),
+        per_file(|o| o.write),
+        per_file(|o| o.render),
+        wall.as_secs_f64()
+    );
+    assert!(
+        rate >= REQUIRED_PASS_RATE,
+        "pass rate {:.1}% is below {:.0}%",
+        rate * 100.0,
+        REQUIRED_PASS_RATE * 100.0
+    );
+}
