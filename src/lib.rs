@@ -6,6 +6,7 @@
 #![warn(missing_docs)]
 
 pub mod color;
+pub mod engine;
 /// Exporters: scenes and animations out as SVG text, pixels, PNG, GIF and APNG.
 #[path = "../exporters/mod.rs"]
 pub mod exporters;

@@ -1,2 +1,8 @@
+//! The `gmotion` command: a thin layer over the library (see `src/cli/`).
 #![forbid(unsafe_code)]
-fn main() {}
+
+mod cli;
+
+fn main() -> std::process::ExitCode {
+    cli::main()
+}

@@ -1,0 +1,151 @@
+//! Command-line interface: argument definitions and dispatch.
+
+mod commands;
+mod output;
+mod report;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+/// Procedural motion graphics from still vector art: timeslice and group grammars, signal
+/// filters, and export to Lottie, animated SVG (SMIL), PNG, GIF and APNG.
+#[derive(Parser, Debug)]
+#[command(name = "gmotion", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Run the bundled example and write its frames, preview, Lottie and SMIL.
+    Demo {
+        /// Output directory.
+        #[arg(short, long, default_value = "out/demo")]
+        output: PathBuf,
+        /// Which bundled example (a name in grammars/).
+        #[arg(long, default_value = "abstract")]
+        example: String,
+    },
+    /// Convert a still SVG: to PNG (render), Lottie JSON, or a clean SVG.
+    Convert {
+        /// Input SVG.
+        input: PathBuf,
+        /// Output file(s): .png, .json (Lottie) or .svg.
+        #[arg(short, long, required = true)]
+        output: Vec<PathBuf>,
+        #[command(flatten)]
+        render: RenderArgs,
+        #[command(flatten)]
+        import: ImportArgs,
+    },
+    /// Run a grammar on a scene and write the animation.
+    Animate {
+        /// The scene (SVG).
+        scene: PathBuf,
+        /// The grammar (.gm).
+        grammar: PathBuf,
+        /// Output(s): .json (Lottie), .svg (SMIL), .png (one frame at --time), .gif or
+        /// .apng (preview), or a directory (one PNG per frame).
+        #[arg(short, long, required = true)]
+        output: Vec<PathBuf>,
+        /// Time of the frame written to a .png output, in seconds.
+        #[arg(long, default_value_t = 0.0)]
+        time: f64,
+        #[command(flatten)]
+        run: RunArgs,
+        #[command(flatten)]
+        render: RenderArgs,
+        #[command(flatten)]
+        import: ImportArgs,
+    },
+    /// Parse and validate a grammar without rendering; with a scene, also expand it and
+    /// print rule, tag and expansion statistics.
+    Check {
+        /// The grammar (.gm).
+        grammar: PathBuf,
+        /// Optional scene to expand the grammar on.
+        scene: Option<PathBuf>,
+        /// Write the grammar graph as Graphviz DOT.
+        #[arg(long)]
+        dot: Option<PathBuf>,
+        #[command(flatten)]
+        run: RunArgs,
+        #[command(flatten)]
+        import: ImportArgs,
+    },
+}
+
+/// Options of the grammar run.
+#[derive(Args, Debug, Clone)]
+struct RunArgs {
+    /// Random seed (overrides the grammar's `seed`).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Frames per second (overrides the grammar's `fps`).
+    #[arg(long)]
+    fps: Option<f64>,
+    /// Stop expansion after this many steps with an error (overrides `max_steps`).
+    #[arg(long)]
+    max_steps: Option<usize>,
+}
+
+/// Options of rendered and exported output.
+#[derive(Args, Debug, Clone)]
+struct RenderArgs {
+    /// Width in pixels of rendered PNG/GIF/APNG output (height follows the aspect ratio).
+    #[arg(long)]
+    width: Option<u32>,
+    /// Error bound in canvas pixels when an exporter must bake motion into keyframes.
+    #[arg(long, default_value_t = 0.25)]
+    tolerance: f64,
+}
+
+/// How SVG elements become tagged shapes.
+#[derive(Args, Debug, Clone)]
+struct ImportArgs {
+    /// Where tags come from.
+    #[arg(long, value_enum, default_value_t = TagFromArg::Auto)]
+    tag_from: TagFromArg,
+    /// What the animated units are.
+    #[arg(long, value_enum, default_value_t = UnitsArg::Auto)]
+    units: UnitsArg,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
+enum TagFromArg {
+    /// data-tag, then class, then inkscape:label, then the enclosing layer's id.
+    Auto,
+    /// Only `data-tag`.
+    DataTag,
+    /// Only the first `class`.
+    Class,
+    /// Only `inkscape:label`.
+    Label,
+    /// Only the enclosing layer's (group's) id.
+    Layer,
+}
+
+#[derive(ValueEnum, Clone, Copy, Debug)]
+enum UnitsArg {
+    /// Tagged groups move as one; other paths move alone.
+    Auto,
+    /// Every path is its own unit.
+    Paths,
+    /// Tagged groups are the units.
+    Groups,
+}
+
+/// Parses arguments, runs the command, prints errors; the exit code says how it went.
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match commands::run(cli.command) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("{e}");
+            ExitCode::FAILURE
+        }
+    }
+}

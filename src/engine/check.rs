@@ -1,0 +1,146 @@
+//! `gmotion check`: what a grammar contains and how it expands, without rendering.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::fmt::Write as _;
+
+use crate::grammar::ast::Grammar;
+use crate::scene::Scene;
+
+use super::rules::Program;
+use super::{EngineError, RunOptions, settings};
+
+/// A readable report of a grammar (and its expansion on a scene, when given).
+#[derive(Clone, Debug, Default)]
+pub struct Report {
+    /// Problems that do not stop a run but probably are mistakes.
+    pub warnings: Vec<String>,
+    /// The report text.
+    pub text: String,
+}
+
+/// Checks a grammar, and expands it on `scene` when given.
+pub fn check(grammar: &Grammar, scene: Option<&Scene>, opts: &RunOptions) -> Result<Report, EngineError> {
+    let settings = settings::from_grammar(grammar)?;
+    let program = Program::new(grammar)?;
+    let mut r = Report::default();
+    let mut out = String::new();
+    let time_rules = program.rules.len();
+    let _ = writeln!(out, "rules: {} ({} timeslice, {} spatial)", grammar.rules.len(), time_rules, program.spatial.len());
+    let _ = writeln!(
+        out,
+        "header: duration {}s, fps {}, grid {}x{}, seed {}, lookup {:?}, interp {:?}, loop {}, max_steps {}",
+        settings.duration,
+        settings.fps,
+        settings.grid.0,
+        settings.grid.1,
+        opts.seed.unwrap_or(settings.seed),
+        settings.lookup,
+        settings.interp,
+        settings.looping,
+        settings.max_steps
+    );
+
+    // Slice tags: where produced, where consumed.
+    let mut produced: BTreeMap<String, usize> = BTreeMap::new();
+    let mut consumed: BTreeMap<String, usize> = BTreeMap::new();
+    let mut shape_tags: BTreeSet<String> = BTreeSet::new();
+    produced.insert("all".into(), 0);
+    for rule in &program.rules {
+        for t in &rule.outputs {
+            *produced.entry(t.name.clone()).or_default() += 1;
+        }
+        for t in &rule.slice_tags {
+            *consumed.entry(t.clone()).or_default() += 1;
+        }
+        shape_tags.extend(rule.shape_tags.iter().cloned());
+    }
+    let terminal: Vec<_> = produced.keys().filter(|t| !consumed.contains_key(*t)).cloned().collect();
+    let _ = writeln!(out, "slice tags: {} ({} terminal: {})", produced.len(), terminal.len(), terminal.join(", "));
+    for rule in &program.rules {
+        let unreachable: Vec<_> = rule.slice_tags.iter().filter(|t| !produced.contains_key(*t)).collect();
+        if unreachable.len() == rule.slice_tags.len() {
+            r.warnings.push(format!(
+                "line {}: rule is unreachable: no rule produces its slice tag(s) {}",
+                rule.span.line,
+                rule.slice_tags.join(", ")
+            ));
+        }
+    }
+    let _ = writeln!(out, "shape tags used by rules: {}", shape_tags.iter().cloned().collect::<Vec<_>>().join(", "));
+
+    if let Some(scene) = scene {
+        let mut counts: BTreeMap<&str, usize> = BTreeMap::new();
+        for s in &scene.shapes {
+            *counts.entry(s.tag.as_str()).or_default() += 1;
+        }
+        let list: Vec<_> = counts.iter().map(|(t, n)| format!("{t} ×{n}")).collect();
+        let _ = writeln!(out, "scene: {} shapes, tags: {}", scene.shapes.len(), list.join(", "));
+        for t in &shape_tags {
+            if t != "all" && !counts.contains_key(t.as_str()) {
+                r.warnings.push(format!("shape tag `{t}` is used by rules but no shape in the scene has it"));
+            }
+        }
+        for t in counts.keys() {
+            if !shape_tags.contains(*t) && !shape_tags.contains("all") {
+                r.warnings.push(format!("shapes tagged `{t}` match no rule and stay still"));
+            }
+        }
+        let mut s = settings.clone();
+        if let Some(seed) = opts.seed {
+            s.seed = seed;
+        }
+        if let Some(m) = opts.max_steps {
+            s.max_steps = m;
+        }
+        if !scene.shapes.is_empty() {
+            let exp = super::expand::expand(scene, &program, &s)?;
+            let slices: usize = exp.timelines.iter().map(Vec::len).sum();
+            let _ = writeln!(
+                out,
+                "expansion: {} steps, {} slices ({:.1} per shape), {} slice tags created",
+                exp.steps,
+                slices,
+                slices as f64 / scene.shapes.len() as f64,
+                exp.slice_tags.len()
+            );
+            for rule in &program.rules {
+                let uses = exp.rule_uses.get(rule.index).copied().unwrap_or(0);
+                if uses == 0 {
+                    r.warnings.push(format!("line {}: rule was never applied on this scene", rule.span.line));
+                }
+            }
+            let used = exp.rule_uses.iter().filter(|&&u| u > 0).count();
+            let _ = writeln!(out, "rules applied: {used} of {time_rules}");
+        }
+    }
+    for w in &r.warnings {
+        let _ = writeln!(out, "warning: {w}");
+    }
+    r.text = out;
+    Ok(r)
+}
+
+/// The timeslice grammar as a Graphviz graph: one node per slice tag, one edge per rule
+/// from each tag it matches to each tag it produces, labelled with the operator and line.
+pub fn dot(grammar: &Grammar) -> String {
+    let mut out = String::from("digraph grammar {\n  rankdir=LR;\n  node [shape=box, style=rounded, fontname=\"sans-serif\"];\n");
+    for rule in grammar.rules.iter().filter(|r| !r.spatial) {
+        for from in &rule.slice_tags {
+            for to in &rule.outputs {
+                let to_name = if to.inverted { format!("inv_{}", to.name) } else { to.name.clone() };
+                let shapes: Vec<_> = rule.shape_tags.iter().map(|t| t.name.as_str()).collect();
+                let _ = writeln!(
+                    out,
+                    "  \"{}\" -> \"{}\" [label=\"{} [{}] l.{}\"];",
+                    from.name,
+                    to_name,
+                    rule.op,
+                    shapes.join(","),
+                    rule.span.line
+                );
+            }
+        }
+    }
+    out.push_str("}\n");
+    out
+}

@@ -1,0 +1,155 @@
+//! Timelines → keyframed tracks. Walks each shape's slices in time order, keeping the state
+//! the shape is in at every slice boundary, so each motion knows its pivot (the centroid
+//! where it began) and each attribute change knows the value it starts from.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use kurbo::{Affine, Point};
+use rayon::prelude::*;
+
+use crate::motion::{AttrSeg, Lookup, MotionKind, MotionSeg, Timing, Tint, Track};
+use crate::scene::{Scene, Shape};
+
+use super::expand::{AnimInst, AnimSpec, Expansion};
+use super::settings::Settings;
+
+/// A shape's state at a slice boundary.
+#[derive(Clone, Copy, Debug)]
+struct State {
+    transform: Affine,
+    fill: Tint,
+    stroke: Tint,
+    opacity: f64,
+    width: f64,
+}
+
+const REST: State = State { transform: Affine::IDENTITY, fill: Tint::NONE, stroke: Tint::NONE, opacity: 1.0, width: 1.0 };
+
+/// Compiles every timeline (in parallel; the result does not depend on thread count).
+pub fn compile(scene: &Scene, exp: &Expansion, _settings: &Settings) -> Vec<Track> {
+    exp.timelines
+        .par_iter()
+        .zip(scene.shapes.par_iter())
+        .map(|(slices, shape)| compile_one(shape, slices))
+        .collect()
+}
+
+fn timing(a: &AnimInst) -> Timing {
+    Timing { start: a.start, end: a.end, delay: a.delay, ease: a.ease.clone(), reversed: a.reversed }
+}
+
+fn compile_one(shape: &Shape, slices: &[super::expand::Slice]) -> Track {
+    let mut track = Track::default();
+    let mut state = REST;
+    // States at slice starts, to find where a split motion began.
+    let mut history: Vec<(f64, State)> = Vec::with_capacity(slices.len());
+    // Pivots and lookups already resolved for a motion instance (shared by its pieces).
+    let mut resolved: HashMap<*const AnimInst, MotionKind> = HashMap::new();
+    // Values a forward attribute change started from, by (step, channel), for its inv_ twin.
+    let mut before: HashMap<(usize, u8), State> = HashMap::new();
+
+    for slice in slices {
+        history.push((slice.t0, state));
+        if slice.anims.is_empty() {
+            continue;
+        }
+        let (t0, t1) = (slice.t0, slice.t0 + slice.dur);
+        let at_start = |tau: f64| {
+            history
+                .iter()
+                .rev()
+                .find(|(t, _)| (*t - tau).abs() <= 1e-9)
+                .map(|(_, s)| *s)
+                .unwrap_or(state)
+        };
+        let window_start = state.transform;
+        let mut motions_here = 0;
+        for a in &slice.anims {
+            let begun = at_start(a.start);
+            let tm = timing(a);
+            match &a.spec {
+                AnimSpec::Motion { grid, world, lookup, interp } => {
+                    let kind = resolved
+                        .entry(Arc::as_ptr(a))
+                        .or_insert_with(|| {
+                            let centroid = begun.transform * shape.centroid;
+                            if *lookup == Lookup::Vertex {
+                                return MotionKind::Vertex { grid: grid.clone(), pivot: (!world).then_some(centroid) };
+                            }
+                            let blend = grid.lookup(centroid, *lookup);
+                            let mut pivot = if *world { Point::ORIGIN } else { centroid };
+                            if a.reversed && !world {
+                                // The shape arrives here at the end of the forward motion: pivot
+                                // where the forward one would have begun.
+                                let m = crate::motion::grid::blend_at(&blend, Point::ORIGIN, 1.0);
+                                pivot -= m.translation();
+                            }
+                            MotionKind::Rigid { pivot, blend, interp: *interp }
+                        })
+                        .clone();
+                    track.motions.push(MotionSeg { t0, t1, timing: tm, kind, start: window_start });
+                    motions_here += 1;
+                }
+                AnimSpec::Fill(c) => {
+                    let (from, to) = tint_change(a, 0, begun.fill, Tint::full(*c), &mut before, begun, |s| s.fill);
+                    track.fill.push(AttrSeg { t0, t1, timing: tm, from, to });
+                }
+                AnimSpec::Border(c) => {
+                    let (from, to) = tint_change(a, 1, begun.stroke, Tint::full(*c), &mut before, begun, |s| s.stroke);
+                    track.stroke.push(AttrSeg { t0, t1, timing: tm, from, to });
+                }
+                AnimSpec::Opacity(x) => {
+                    let (from, to) = tint_change(a, 2, begun.opacity, *x, &mut before, begun, |s| s.opacity);
+                    track.opacity.push(AttrSeg { t0, t1, timing: tm, from, to });
+                }
+                AnimSpec::StrokeWidth(w) => {
+                    let target = if shape.stroke_width > 0.0 { w / shape.stroke_width } else { 1.0 };
+                    let (from, to) = tint_change(a, 3, begun.width, target, &mut before, begun, |s| s.width);
+                    track.stroke_width.push(AttrSeg { t0, t1, timing: tm, from, to });
+                }
+            }
+        }
+        // The state at the slice end, read back from what was just emitted.
+        if motions_here > 0 {
+            let n = track.motions.len();
+            let group = &track.motions[n - motions_here..];
+            state.transform = group.iter().fold(Affine::IDENTITY, |acc, s| acc * s.relative_at(t1)) * window_start;
+        }
+        if let Some(s) = track.fill.last().filter(|s| s.t0 == t0) {
+            state.fill = s.value_at(t1);
+        }
+        if let Some(s) = track.stroke.last().filter(|s| s.t0 == t0) {
+            state.stroke = s.value_at(t1);
+        }
+        if let Some(s) = track.opacity.last().filter(|s| s.t0 == t0) {
+            state.opacity = s.value_at(t1);
+        }
+        if let Some(s) = track.stroke_width.last().filter(|s| s.t0 == t0) {
+            state.width = s.value_at(t1);
+        }
+    }
+    track
+}
+
+/// The endpoints of an attribute change. Forward: from the value where the change began to
+/// the target. Reversed: from that value back to what the forward twin (same step) started
+/// from — the shape's original value when there is no twin before it — so `[a, b, inv_a]`
+/// closes the loop for colours, opacity and width just as for motion.
+fn tint_change<T: Copy>(
+    a: &AnimInst,
+    channel: u8,
+    begun: T,
+    target: T,
+    before: &mut HashMap<(usize, u8), State>,
+    begun_state: State,
+    get: impl Fn(&State) -> T,
+) -> (T, T) {
+    if a.reversed {
+        let back = before.get(&(a.step, channel)).map(&get).unwrap_or_else(|| get(&REST));
+        (back, begun)
+    } else {
+        before.entry((a.step, channel)).or_insert(begun_state);
+        (begun, target)
+    }
+}

@@ -1,0 +1,468 @@
+//! Timeslice expansion (gMotion sec. 3.4/3.6): every shape starts with one slice tagged
+//! `all` covering the whole duration; each step picks the non-terminal slices with the
+//! lowest slice tag (tags numbered by first creation, so expansion is breadth-first) on the
+//! shapes with the lowest shape tag (lexicographic), together with their `inv_` twins,
+//! chooses one rule among the highest-priority matches and applies it to all of them.
+
+use std::collections::{BTreeMap, HashMap};
+use std::sync::Arc;
+
+use kurbo::{BezPath, Point};
+
+use crate::color::Color;
+use crate::grammar::ast::{Expr, TagRef};
+use crate::grammar::value::{Env, Value, eval};
+use crate::motion::{Component, Field, Grid, Interp, Lookup};
+use crate::scene::{Scene, Shape};
+use crate::signals::Easing;
+
+use super::random::{hash_str, key, noise2, unit};
+use super::rules::{AnimType, CRule, Op, Program};
+use super::settings::{Choice, Settings};
+use super::EngineError;
+
+/// What an `animate` rule set on a slice, resolved for one shape.
+#[derive(Clone, Debug)]
+pub enum AnimSpec {
+    /// A motion read from a grid.
+    Motion {
+        /// The grid of transforms.
+        grid: Arc<Grid>,
+        /// `world` (true) or `local`.
+        world: bool,
+        /// Grid lookup.
+        lookup: Lookup,
+        /// Temporal interpolation.
+        interp: Interp,
+    },
+    /// Fill colour target.
+    Fill(Color),
+    /// Stroke colour target.
+    Border(Color),
+    /// Opacity target.
+    Opacity(f64),
+    /// Stroke width target (user units).
+    StrokeWidth(f64),
+}
+
+/// One application of `animate` to one slice of one shape.
+#[derive(Clone, Debug)]
+pub struct AnimInst {
+    /// Expansion step that set it (shared by a slice and its `inv_` twin).
+    pub step: usize,
+    /// What changes.
+    pub spec: AnimSpec,
+    /// The slice it was set on: start time.
+    pub start: f64,
+    /// The slice it was set on: end time.
+    pub end: f64,
+    /// Delay before it starts.
+    pub delay: f64,
+    /// Easing.
+    pub ease: Easing,
+    /// True on inverted slices.
+    pub reversed: bool,
+}
+
+/// A timeslice.
+#[derive(Clone, Debug)]
+pub struct Slice {
+    /// Slice tag id (into [`Expansion::slice_tags`]).
+    pub tag: u32,
+    /// Inverted (`inv_`) version of the tag.
+    pub inverted: bool,
+    /// Start time.
+    pub t0: f64,
+    /// Duration.
+    pub dur: f64,
+    /// Animations on this slice (or on the slice it was split from), in the order set.
+    pub anims: Vec<Arc<AnimInst>>,
+}
+
+/// The result of expansion.
+#[derive(Clone, Debug)]
+pub struct Expansion {
+    /// One timeline per shape, slices in time order.
+    pub timelines: Vec<Vec<Slice>>,
+    /// Slice tag names by id (creation order; `all` is 0).
+    pub slice_tags: Vec<String>,
+    /// Steps taken.
+    pub steps: usize,
+    /// Uses per grammar rule index.
+    pub rule_uses: Vec<usize>,
+}
+
+/// Per-shape expression environment.
+struct ShapeEnv<'a> {
+    shape: &'a Shape,
+    n: usize,
+    canvas: (f64, f64),
+    t0: f64,
+    d: f64,
+    step: usize,
+    seed: u64,
+    draws: u64,
+}
+
+impl Env for ShapeEnv<'_> {
+    fn var(&self, name: &str) -> Option<f64> {
+        let s = self.shape;
+        Some(match name {
+            "id" => s.id as f64,
+            "n" => self.n as f64,
+            "cx" => s.centroid.x,
+            "cy" => s.centroid.y,
+            "w" => s.bbox.width(),
+            "h" => s.bbox.height(),
+            "x0" => s.bbox.x0,
+            "y0" => s.bbox.y0,
+            "z" => s.z as f64,
+            "group" => s.group as f64,
+            "t0" => self.t0,
+            "d" => self.d,
+            "step" => self.step as f64,
+            "W" => self.canvas.0,
+            "H" => self.canvas.1,
+            _ => return None,
+        })
+    }
+
+    fn rand(&mut self) -> f64 {
+        self.draws += 1;
+        unit(key(&[self.seed, hash_str(&self.shape.tag), self.shape.id as u64, self.step as u64, self.draws]))
+    }
+
+    fn noise(&self, x: f64, y: f64) -> f64 {
+        noise2(self.seed, x, y)
+    }
+}
+
+/// Slice tag registry: ids in order of first creation.
+struct Tags {
+    names: Vec<String>,
+    ids: HashMap<String, u32>,
+}
+
+impl Tags {
+    fn id(&mut self, name: &str) -> u32 {
+        if let Some(&i) = self.ids.get(name) {
+            return i;
+        }
+        let i = self.names.len() as u32;
+        self.names.push(name.to_string());
+        self.ids.insert(name.to_string(), i);
+        i
+    }
+}
+
+/// Caches which rules match a (slice tag, shape tag) pair.
+struct Matcher<'a> {
+    program: &'a Program,
+    cache: HashMap<(u32, u32), Arc<[usize]>>,
+}
+
+impl Matcher<'_> {
+    fn get(&mut self, slice_tag: u32, shape_tag: u32, tags: &Tags, shape_tags: &[String]) -> Arc<[usize]> {
+        self.cache
+            .entry((slice_tag, shape_tag))
+            .or_insert_with(|| {
+                self.program
+                    .candidates(&tags.names[slice_tag as usize], &shape_tags[shape_tag as usize])
+                    .into()
+            })
+            .clone()
+    }
+}
+
+fn pick(program: &Program, cands: &[usize], r: f64) -> usize {
+    let total: f64 = cands.iter().map(|&i| program.rules[i].weight).sum();
+    let mut x = r * total;
+    for &i in cands {
+        x -= program.rules[i].weight;
+        if x < 0.0 {
+            return i;
+        }
+    }
+    *cands.last().expect("candidates are never empty")
+}
+
+/// Expands every timeline.
+pub fn expand(scene: &Scene, program: &Program, settings: &Settings) -> Result<Expansion, EngineError> {
+    let mut shape_tag_names: Vec<String> = scene.shapes.iter().map(|s| s.tag.clone()).collect();
+    shape_tag_names.sort();
+    shape_tag_names.dedup();
+    let shape_tag_of: Vec<u32> = scene
+        .shapes
+        .iter()
+        .map(|s| shape_tag_names.binary_search(&s.tag).expect("tag listed") as u32)
+        .collect();
+    let mut shapes_by_tag: Vec<Vec<usize>> = vec![Vec::new(); shape_tag_names.len()];
+    for (i, &t) in shape_tag_of.iter().enumerate() {
+        shapes_by_tag[t as usize].push(i);
+    }
+
+    let mut tags = Tags { names: Vec::new(), ids: HashMap::new() };
+    let all = tags.id("all");
+    let mut matcher = Matcher { program, cache: HashMap::new() };
+    let mut timelines: Vec<Vec<Slice>> = scene
+        .shapes
+        .iter()
+        .map(|_| vec![Slice { tag: all, inverted: false, t0: 0.0, dur: settings.duration, anims: Vec::new() }])
+        .collect();
+
+    // Count of non-terminal slices per (shape tag, slice tag); the first key is the next step.
+    let mut pending: BTreeMap<(u32, u32), usize> = BTreeMap::new();
+    for (st, shapes) in shapes_by_tag.iter().enumerate() {
+        if !matcher.get(all, st as u32, &tags, &shape_tag_names).is_empty() {
+            pending.insert((st as u32, all), shapes.len());
+        }
+    }
+
+    let mut rule_uses = vec![0; program.rules.iter().map(|r| r.index + 1).max().unwrap_or(0)];
+    let mut history: Vec<usize> = Vec::new();
+    let mut steps = 0;
+    let canvas = (scene.width, scene.height);
+    while let Some((&(shape_tag, slice_tag), _)) = pending.iter().next() {
+        pending.remove(&(shape_tag, slice_tag));
+        if steps >= settings.max_steps {
+            return Err(cycle_error(program, &history, settings.max_steps));
+        }
+        let cands = matcher.get(slice_tag, shape_tag, &tags, &shape_tag_names);
+        let step_rule = pick(program, &cands, unit(key(&[settings.seed, 0x5EED, steps as u64])));
+        let shapes = &shapes_by_tag[shape_tag as usize];
+        let n = shapes.len();
+        let mut applied = Vec::new();
+        for &si in shapes {
+            let shape = &scene.shapes[si];
+            let rule_i = match settings.choice {
+                Choice::Group => step_rule,
+                Choice::Shape => pick(
+                    program,
+                    &cands,
+                    unit(key(&[settings.seed, 0x5EED, steps as u64, hash_str(&shape.tag), shape.id as u64])),
+                ),
+            };
+            let rule = &program.rules[rule_i];
+            let old = std::mem::take(&mut timelines[si]);
+            let mut new = Vec::with_capacity(old.len() + 2);
+            for slice in old {
+                if slice.tag != slice_tag {
+                    new.push(slice);
+                    continue;
+                }
+                let mut env = ShapeEnv { shape, n, canvas, t0: slice.t0, d: slice.dur, step: steps, seed: settings.seed, draws: 0 };
+                let first_new = new.len();
+                apply(rule, &slice, &mut env, &mut tags, settings, scene, steps, &mut new)?;
+                for s in &new[first_new..] {
+                    if !matcher.get(s.tag, shape_tag, &tags, &shape_tag_names).is_empty() {
+                        *pending.entry((shape_tag, s.tag)).or_insert(0) += 1;
+                    }
+                }
+            }
+            timelines[si] = new;
+            if !applied.contains(&rule_i) {
+                applied.push(rule_i);
+            }
+        }
+        for r in applied {
+            rule_uses[program.rules[r].index] += 1;
+            history.push(r);
+        }
+        steps += 1;
+    }
+    Ok(Expansion { timelines, slice_tags: tags.names, steps, rule_uses })
+}
+
+/// The shortest repeating tail of the rule history, named, as the error for a grammar that
+/// does not terminate.
+fn cycle_error(program: &Program, history: &[usize], max: usize) -> EngineError {
+    let tail = &history[history.len().saturating_sub(64)..];
+    let period = (1..=tail.len() / 2)
+        .find(|&p| tail.windows(p + 1).all(|w| w[0] == w[p]))
+        .unwrap_or(tail.len().min(8));
+    let mut cycle: Vec<usize> = tail[tail.len() - period..].to_vec();
+    cycle.dedup();
+    let first = cycle.first().map(|&r| program.rules[r].span);
+    let mut e = EngineError {
+        span: first,
+        message: format!("the grammar did not terminate within {max} expansion steps (raise `max_steps` or --max-steps if it is just large); these rules keep rewriting each other's output"),
+        notes: Vec::new(),
+    };
+    for r in cycle {
+        let rule = &program.rules[r];
+        let outs: Vec<_> = rule.outputs.iter().map(tag_text).collect();
+        e.notes.push(format!(
+            "line {}: {} : [{}, {}] -> [{}]",
+            rule.span.line,
+            op_name(&rule.op),
+            rule.slice_tags.join("|"),
+            rule.shape_tags.join("|"),
+            outs.join(", ")
+        ));
+    }
+    e
+}
+
+fn op_name(op: &Op) -> &'static str {
+    match op {
+        Op::Timesplit { .. } => "timesplit",
+        Op::Animate { .. } => "animate",
+    }
+}
+
+fn tag_text(t: &TagRef) -> String {
+    if t.inverted { format!("inv_{}", t.name) } else { t.name.clone() }
+}
+
+fn num(e: &Expr, env: &mut ShapeEnv) -> Result<f64, EngineError> {
+    let v = eval(e, env)?;
+    let x = v.as_num().map_err(|m| EngineError::at(e.span, m.to_string()))?;
+    if !x.is_finite() {
+        return Err(EngineError::at(e.span, format!("value is not a finite number ({x})")));
+    }
+    Ok(x)
+}
+
+fn shape_note(shape: &Shape) -> String {
+    format!("for shape `{}` #{}", shape.tag, shape.id)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn apply(
+    rule: &CRule,
+    slice: &Slice,
+    env: &mut ShapeEnv,
+    tags: &mut Tags,
+    settings: &Settings,
+    scene: &Scene,
+    step: usize,
+    out: &mut Vec<Slice>,
+) -> Result<(), EngineError> {
+    match &rule.op {
+        Op::Timesplit { fractions } => {
+            let mut cs = Vec::with_capacity(fractions.len());
+            for f in fractions {
+                let c = num(f, env)?;
+                if c <= 0.0 {
+                    let mut e = EngineError::at(f.span, format!("split fractions must be greater than zero, found {c}"));
+                    e.notes.push(shape_note(env.shape));
+                    return Err(e);
+                }
+                cs.push(c);
+            }
+            let sum: f64 = cs.iter().sum();
+            if (sum - 1.0).abs() > 1e-6 {
+                let mut e = EngineError::at(rule.span, format!("split fractions must sum to 1, they sum to {sum}"));
+                e.notes.push(shape_note(env.shape));
+                return Err(e);
+            }
+            let k = cs.len();
+            let mut t = slice.t0;
+            for j in 0..k {
+                // On an inverted slice the split is mirrored: pieces in reverse, tags inverted.
+                let (c, out_tag) = if slice.inverted { (cs[k - 1 - j], &rule.outputs[k - 1 - j]) } else { (cs[j], &rule.outputs[j]) };
+                let dur = if j + 1 == k { slice.t0 + slice.dur - t } else { slice.dur * c };
+                out.push(Slice {
+                    tag: tags.id(&out_tag.name),
+                    inverted: out_tag.inverted ^ slice.inverted,
+                    t0: t,
+                    dur,
+                    anims: slice.anims.clone(),
+                });
+                t += dur;
+            }
+        }
+        Op::Animate { kind, world, offset, value, ease, grid, lookup, interp } => {
+            let delay = num(offset, env)?;
+            if delay < 0.0 {
+                return Err(EngineError::at(offset.span, format!("the offset is a delay and cannot be negative, found {delay}")));
+            }
+            let ease = match ease {
+                None => Easing::Linear,
+                Some(e) => easing(e, env)?,
+            };
+            let v = eval(value, env)?;
+            let bad = |m: crate::grammar::value::TypeError| EngineError::from(m.at(value.span));
+            let spec = match kind {
+                AnimType::Affine | AnimType::Towards | AnimType::Path => {
+                    let field = match kind {
+                        AnimType::Affine => {
+                            let cs: Vec<Component> = v.as_transform().map_err(bad)?.to_vec();
+                            if let Some(c) = cs.iter().find(|c| !c.is_finite()) {
+                                return Err(EngineError::at(value.span, format!("transform has a non-finite parameter: {c:?}")));
+                            }
+                            Field::Constant(cs.into())
+                        }
+                        AnimType::Towards => {
+                            let p: Point = v.as_point().map_err(bad)?;
+                            Field::Towards(p)
+                        }
+                        _ => {
+                            let d = v.as_str().map_err(bad)?.to_string();
+                            let path = BezPath::from_svg(&d).map_err(|e| EngineError::at(value.span, format!("invalid SVG path data: {e}")))?;
+                            if path.elements().is_empty() {
+                                return Err(EngineError::at(value.span, "the path is empty"));
+                            }
+                            Field::Path(Arc::new(path))
+                        }
+                    };
+                    let (cols, rows) = grid.unwrap_or(settings.grid);
+                    AnimSpec::Motion {
+                        grid: Arc::new(Grid::new(cols, rows, scene.canvas(), field)),
+                        world: *world,
+                        lookup: lookup.unwrap_or(settings.lookup),
+                        interp: interp.unwrap_or(settings.interp),
+                    }
+                }
+                AnimType::Fill => AnimSpec::Fill(v.as_color().map_err(bad)?),
+                AnimType::Border => AnimSpec::Border(v.as_color().map_err(bad)?),
+                AnimType::Opacity => {
+                    let x = v.as_num().map_err(bad)?;
+                    if !(0.0..=1.0).contains(&x) {
+                        return Err(EngineError::at(value.span, format!("opacity lies in [0, 1], found {x}")));
+                    }
+                    AnimSpec::Opacity(x)
+                }
+                AnimType::StrokeWidth => {
+                    let x = v.as_num().map_err(bad)?;
+                    if !(x.is_finite() && x >= 0.0) {
+                        return Err(EngineError::at(value.span, format!("stroke width must be ≥ 0, found {x}")));
+                    }
+                    AnimSpec::StrokeWidth(x)
+                }
+            };
+            let out_tag = &rule.outputs[0];
+            let inverted = out_tag.inverted ^ slice.inverted;
+            let mut anims = slice.anims.clone();
+            anims.push(Arc::new(AnimInst {
+                step,
+                spec,
+                start: slice.t0,
+                end: slice.t0 + slice.dur,
+                delay: delay.min(slice.dur),
+                ease,
+                reversed: inverted,
+            }));
+            out.push(Slice { tag: tags.id(&out_tag.name), inverted, t0: slice.t0, dur: slice.dur, anims });
+        }
+    }
+    Ok(())
+}
+
+/// An easing from `ease = name` or `ease = name(args…)`.
+fn easing(e: &Expr, env: &mut ShapeEnv) -> Result<Easing, EngineError> {
+    let v = eval(e, env)?;
+    let (name, args) = match v {
+        Value::Keyword(k) => (k, Vec::new()),
+        Value::Call { name, args } => {
+            let mut nums = Vec::with_capacity(args.len());
+            for a in args {
+                nums.push(a.as_num().map_err(|m| EngineError::at(e.span, m.to_string()))?);
+            }
+            (name, nums)
+        }
+        _ => return Err(EngineError::at(e.span, "an easing is a name such as `ease-in-out` or a call such as `cubic(0.4, 0, 0.2, 1)`")),
+    };
+    Easing::from_call(&name, &args).map_err(|m| EngineError::at(e.span, m.to_string()))
+}
+

@@ -1,0 +1,270 @@
+//! Rules checked and indexed for expansion: operators resolved, argument counts and output
+//! counts validated once, before any shape is touched.
+
+use std::collections::HashMap;
+
+use crate::grammar::ast::{Arg, Expr, ExprKind, Grammar, Rule, Span, TagRef};
+
+use super::EngineError;
+
+/// What an `animate` rule changes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AnimType {
+    /// A product of transforms.
+    Affine,
+    /// Translation towards a point.
+    Towards,
+    /// Translation to the closest point of a path.
+    Path,
+    /// Fill colour.
+    Fill,
+    /// Stroke colour.
+    Border,
+    /// Opacity.
+    Opacity,
+    /// Stroke width.
+    StrokeWidth,
+}
+
+impl AnimType {
+    /// Every type with its grammar spelling.
+    pub const ALL: [(&'static str, AnimType); 7] = [
+        ("affine", AnimType::Affine),
+        ("towards", AnimType::Towards),
+        ("path", AnimType::Path),
+        ("fill", AnimType::Fill),
+        ("border", AnimType::Border),
+        ("opacity", AnimType::Opacity),
+        ("stroke-width", AnimType::StrokeWidth),
+    ];
+
+    /// True for the types that move the shape.
+    pub fn is_motion(self) -> bool {
+        matches!(self, AnimType::Affine | AnimType::Towards | AnimType::Path)
+    }
+}
+
+/// The operator of a timeslice rule, with its arguments checked.
+#[derive(Clone, Debug)]
+pub enum Op {
+    /// `timesplit(c0, …, ck)`.
+    Timesplit {
+        /// The fractions (expressions over the shape).
+        fractions: Vec<Expr>,
+    },
+    /// `animate(type, ref, offset, value, named…)`.
+    Animate {
+        /// Animation type.
+        kind: AnimType,
+        /// True for `world`, false for `local`.
+        world: bool,
+        /// Delay within the slice.
+        offset: Expr,
+        /// The value (transform, point, path, colour, number).
+        value: Expr,
+        /// `ease = …`.
+        ease: Option<Expr>,
+        /// `grid = NxM`.
+        grid: Option<(usize, usize)>,
+        /// `lookup = …`.
+        lookup: Option<crate::motion::Lookup>,
+        /// `interp = …`.
+        interp: Option<crate::motion::Interp>,
+    },
+}
+
+/// A checked timeslice rule.
+#[derive(Clone, Debug)]
+pub struct CRule {
+    /// Index in `Grammar::rules`.
+    pub index: usize,
+    /// The operator.
+    pub op: Op,
+    /// Slice tags matched (base names; `inv_` versions match too).
+    pub slice_tags: Vec<String>,
+    /// Shape tags matched; contains `all` to match every shape.
+    pub shape_tags: Vec<String>,
+    /// Output tags.
+    pub outputs: Vec<TagRef>,
+    /// Priority.
+    pub priority: i64,
+    /// Weight.
+    pub weight: f64,
+    /// Where the rule is.
+    pub span: Span,
+}
+
+/// All rules of a grammar, checked: timeslice rules for [`super::expand`], spatial ones
+/// kept aside for the group grammar.
+#[derive(Clone, Debug)]
+pub struct Program {
+    /// Timeslice rules.
+    pub rules: Vec<CRule>,
+    /// Indices (in `Grammar::rules`) of spatial rules.
+    pub spatial: Vec<usize>,
+    by_slice_tag: HashMap<String, Vec<usize>>,
+}
+
+/// Operators of the timeslice grammar.
+pub const TIME_OPERATORS: [&str; 2] = ["timesplit", "animate"];
+
+fn keyword(e: &Expr) -> Option<&str> {
+    match &e.kind {
+        ExprKind::Ident(s) | ExprKind::Str(s) => Some(s),
+        _ => None,
+    }
+}
+
+fn named<'a>(args: &'a [Arg], name: &str) -> Option<&'a Arg> {
+    args.iter().find(|a| a.name.as_deref() == Some(name))
+}
+
+impl Program {
+    /// Checks every rule.
+    pub fn new(grammar: &Grammar) -> Result<Program, EngineError> {
+        let mut rules = Vec::new();
+        let mut spatial = Vec::new();
+        for (index, r) in grammar.rules.iter().enumerate() {
+            if r.spatial {
+                spatial.push(index);
+                continue;
+            }
+            rules.push(check_rule(index, r)?);
+        }
+        let mut by_slice_tag: HashMap<String, Vec<usize>> = HashMap::new();
+        for (i, r) in rules.iter().enumerate() {
+            for t in &r.slice_tags {
+                let v = by_slice_tag.entry(t.clone()).or_default();
+                if !v.contains(&i) {
+                    v.push(i);
+                }
+            }
+        }
+        Ok(Program { rules, spatial, by_slice_tag })
+    }
+
+    /// Rules whose tags match a slice tag (base name) on a shape tag, highest priority
+    /// only.
+    pub fn candidates(&self, slice_tag: &str, shape_tag: &str) -> Vec<usize> {
+        let Some(list) = self.by_slice_tag.get(slice_tag) else {
+            return Vec::new();
+        };
+        let matching: Vec<usize> = list
+            .iter()
+            .copied()
+            .filter(|&i| self.rules[i].shape_tags.iter().any(|t| t == "all" || t == shape_tag))
+            .collect();
+        let Some(top) = matching.iter().map(|&i| self.rules[i].priority).max() else {
+            return Vec::new();
+        };
+        matching.into_iter().filter(|&i| self.rules[i].priority == top).collect()
+    }
+}
+
+fn positional(r: &Rule) -> Vec<&Arg> {
+    r.args.iter().filter(|a| a.name.is_none()).collect()
+}
+
+fn check_rule(index: usize, r: &Rule) -> Result<CRule, EngineError> {
+    let pos = positional(r);
+    let op = match r.op.as_str() {
+        "timesplit" => {
+            if let Some(a) = r.args.iter().find(|a| a.name.is_some()) {
+                return Err(EngineError::at(a.span, "`timesplit` takes no named arguments"));
+            }
+            if pos.len() < 2 {
+                return Err(EngineError::at(r.op_span, "`timesplit` needs at least two fractions"));
+            }
+            if pos.len() != r.outputs.len() {
+                return Err(EngineError::at(
+                    r.span,
+                    format!("`timesplit` has {} fractions but {} output tags; they must match", pos.len(), r.outputs.len()),
+                ));
+            }
+            Op::Timesplit { fractions: pos.iter().map(|a| a.value.clone()).collect() }
+        }
+        "animate" => {
+            if pos.len() != 4 {
+                return Err(EngineError::at(
+                    r.op_span,
+                    format!("`animate` takes 4 arguments (type, ref, offset, value), found {}", pos.len()),
+                ));
+            }
+            let kind = keyword(&pos[0].value)
+                .and_then(|k| AnimType::ALL.iter().find(|(n, _)| *n == k).map(|(_, t)| *t))
+                .ok_or_else(|| {
+                    let names: Vec<_> = AnimType::ALL.iter().map(|(n, _)| format!("`{n}`")).collect();
+                    EngineError::at(pos[0].span, format!("unknown animation type; expected one of {}", names.join(", ")))
+                })?;
+            let world = match keyword(&pos[1].value) {
+                Some("world") => true,
+                Some("local") => false,
+                _ => return Err(EngineError::at(pos[1].span, "the reference is `local` or `world`")),
+            };
+            if r.outputs.len() != 1 {
+                return Err(EngineError::at(r.span, "`animate` has exactly one output tag"));
+            }
+            for a in &r.args {
+                if let Some(n) = &a.name
+                    && !["ease", "grid", "lookup", "interp"].contains(&n.as_str())
+                {
+                    return Err(EngineError::at(a.span, format!("unknown argument `{n}`; `animate` accepts ease, grid, lookup, interp")));
+                }
+            }
+            let grid = match named(&r.args, "grid") {
+                Some(a) => Some(super::settings::size_of(&a.value).ok_or_else(|| EngineError::at(a.span, "grid is written `NxM`, e.g. `grid = 4x4`"))?),
+                None => None,
+            };
+            let lookup = match named(&r.args, "lookup") {
+                Some(a) => Some(match keyword(&a.value) {
+                    Some("nearest") => crate::motion::Lookup::Nearest,
+                    Some("bilinear") => crate::motion::Lookup::Bilinear,
+                    Some("exact") => crate::motion::Lookup::Exact,
+                    Some("vertex") => crate::motion::Lookup::Vertex,
+                    _ => return Err(EngineError::at(a.span, "lookup is one of nearest, bilinear, exact, vertex")),
+                }),
+                None => None,
+            };
+            let interp = match named(&r.args, "interp") {
+                Some(a) => Some(match keyword(&a.value) {
+                    Some("linear") => crate::motion::Interp::Linear,
+                    Some("alexa") => crate::motion::Interp::Alexa,
+                    _ => return Err(EngineError::at(a.span, "interp is `linear` or `alexa`")),
+                }),
+                None => None,
+            };
+            Op::Animate {
+                kind,
+                world,
+                offset: pos[2].value.clone(),
+                value: pos[3].value.clone(),
+                ease: named(&r.args, "ease").map(|a| a.value.clone()),
+                grid,
+                lookup,
+                interp,
+            }
+        }
+        other => {
+            return Err(EngineError::at(
+                r.op_span,
+                format!("unknown timeslice operator `{other}`; expected `timesplit` or `animate` (spatial operators take a single tag list)"),
+            ));
+        }
+    };
+    if r.slice_tags.is_empty() || r.shape_tags.is_empty() {
+        return Err(EngineError::at(r.span, "a timeslice rule matches `[slice tags, shape tags]`"));
+    }
+    if !(r.weight.is_finite() && r.weight > 0.0) {
+        return Err(EngineError::at(r.span, "weight must be a positive number"));
+    }
+    Ok(CRule {
+        index,
+        op,
+        slice_tags: r.slice_tags.iter().map(|t| t.name.clone()).collect(),
+        shape_tags: r.shape_tags.iter().map(|t| t.name.clone()).collect(),
+        outputs: r.outputs.clone(),
+        priority: r.priority,
+        weight: r.weight,
+        span: r.span,
+    })
+}

@@ -1,0 +1,189 @@
+//! Header directives turned into typed settings, with defaults and validation.
+
+use crate::grammar::ast::{Directive, ExprKind, Grammar, Span};
+use crate::grammar::value::{Env, Value, eval};
+use crate::motion::{Interp, Lookup};
+
+use super::EngineError;
+
+/// How a rule is chosen among the candidates of one expansion step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Choice {
+    /// One draw per step for every matched slice (the paper's expansion).
+    #[default]
+    Group,
+    /// One draw per shape, so shapes of one tag vary.
+    Shape,
+}
+
+/// Everything the header can set.
+#[derive(Clone, Debug)]
+pub struct Settings {
+    /// Animation length in seconds.
+    pub duration: f64,
+    /// Frames per second.
+    pub fps: f64,
+    /// Default grid columns × rows.
+    pub grid: (usize, usize),
+    /// Random seed.
+    pub seed: u64,
+    /// Scene file named by the grammar (relative to the grammar file).
+    pub scene: Option<String>,
+    /// Output width in pixels (renders); `None` = the scene's own width.
+    pub width: Option<u32>,
+    /// Grid lookup.
+    pub lookup: Lookup,
+    /// Temporal interpolation of transforms.
+    pub interp: Interp,
+    /// Whether the animation loops.
+    pub looping: bool,
+    /// Expansion bound.
+    pub max_steps: usize,
+    /// Rule choice granularity.
+    pub choice: Choice,
+    /// `tag_from` for the importer, as written.
+    pub tag_from: Option<String>,
+    /// `units` for the importer, as written.
+    pub units: Option<String>,
+    /// The `smoothing` directive's value, if any.
+    pub smoothing: Option<(Value, Span)>,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            duration: 5.0,
+            fps: 30.0,
+            grid: (1, 1),
+            seed: 0,
+            scene: None,
+            width: None,
+            lookup: Lookup::Nearest,
+            interp: Interp::Linear,
+            looping: true,
+            max_steps: 10_000,
+            choice: Choice::Group,
+            tag_from: None,
+            units: None,
+            smoothing: None,
+        }
+    }
+}
+
+/// Directives need no shape variables; randomness in them is an error.
+struct NoEnv;
+
+impl Env for NoEnv {
+    fn var(&self, _: &str) -> Option<f64> {
+        None
+    }
+    fn rand(&mut self) -> f64 {
+        0.5
+    }
+    fn noise(&self, _: f64, _: f64) -> f64 {
+        0.0
+    }
+}
+
+fn one(d: &Directive) -> Result<&crate::grammar::ast::Expr, EngineError> {
+    match d.values.as_slice() {
+        [v] => Ok(v),
+        _ => Err(EngineError::at(d.span, format!("`{}` takes exactly one value", d.name))),
+    }
+}
+
+fn num(d: &Directive) -> Result<f64, EngineError> {
+    let e = one(d)?;
+    let v = eval(e, &mut NoEnv).map_err(EngineError::from)?;
+    let x = v.as_num().map_err(|m| EngineError::at(e.span, m.to_string()))?;
+    if !x.is_finite() {
+        return Err(EngineError::at(e.span, format!("`{}` must be a finite number", d.name)));
+    }
+    Ok(x)
+}
+
+fn positive(d: &Directive) -> Result<f64, EngineError> {
+    let x = num(d)?;
+    if x <= 0.0 {
+        return Err(EngineError::at(d.span, format!("`{}` must be greater than zero, found {x}", d.name)));
+    }
+    Ok(x)
+}
+
+fn word(d: &Directive) -> Result<String, EngineError> {
+    let e = one(d)?;
+    match &e.kind {
+        ExprKind::Ident(s) | ExprKind::Str(s) => Ok(s.clone()),
+        ExprKind::Num(x) => Ok(x.to_string()),
+        _ => Err(EngineError::at(e.span, format!("`{}` expects a word", d.name))),
+    }
+}
+
+fn choose<T: Copy>(d: &Directive, options: &[(&str, T)]) -> Result<T, EngineError> {
+    let w = word(d)?;
+    options
+        .iter()
+        .find(|(n, _)| *n == w)
+        .map(|(_, v)| *v)
+        .ok_or_else(|| {
+            let names: Vec<_> = options.iter().map(|(n, _)| format!("`{n}`")).collect();
+            EngineError::at(d.span, format!("`{}`: unknown value `{w}`, expected one of {}", d.name, names.join(", ")))
+        })
+}
+
+/// Reads every directive of `grammar` into settings.
+pub fn from_grammar(grammar: &Grammar) -> Result<Settings, EngineError> {
+    let mut s = Settings::default();
+    for d in &grammar.directives {
+        match d.name.as_str() {
+            "duration" => s.duration = positive(d)?,
+            "fps" => s.fps = positive(d)?,
+            "seed" => {
+                let x = num(d)?;
+                if x < 0.0 || x.fract() != 0.0 {
+                    return Err(EngineError::at(d.span, "`seed` must be a non-negative integer"));
+                }
+                s.seed = x as u64;
+            }
+            "grid" => s.grid = grid_size(d)?,
+            "scene" => s.scene = Some(word(d)?),
+            "width" => s.width = Some(positive(d)?.round() as u32),
+            "height" => {
+                positive(d)?;
+            }
+            "lookup" => {
+                s.lookup = choose(
+                    d,
+                    &[("nearest", Lookup::Nearest), ("bilinear", Lookup::Bilinear), ("exact", Lookup::Exact), ("vertex", Lookup::Vertex)],
+                )?
+            }
+            "interp" => s.interp = choose(d, &[("linear", Interp::Linear), ("alexa", Interp::Alexa)])?,
+            "loop" => s.looping = choose(d, &[("true", true), ("false", false), ("yes", true), ("no", false)])?,
+            "max_steps" => s.max_steps = positive(d)?.round() as usize,
+            "choice" => s.choice = choose(d, &[("group", Choice::Group), ("shape", Choice::Shape)])?,
+            "tag_from" => s.tag_from = Some(word(d)?),
+            "units" => s.units = Some(word(d)?),
+            "smoothing" => {
+                let e = one(d)?;
+                s.smoothing = Some((eval(e, &mut NoEnv).map_err(EngineError::from)?, e.span));
+            }
+            other => return Err(EngineError::at(d.span, format!("unknown directive `{other}`"))),
+        }
+    }
+    Ok(s)
+}
+
+/// A grid size from `4x4`, `(4, 4)` or a single number.
+pub fn grid_size(d: &Directive) -> Result<(usize, usize), EngineError> {
+    let e = one(d)?;
+    size_of(e).ok_or_else(|| EngineError::at(e.span, "a grid size is written `NxM` with N, M ≥ 1, e.g. `4x4`"))
+}
+
+/// A grid size expression (`4x4`), if it is one.
+pub fn size_of(e: &crate::grammar::ast::Expr) -> Option<(usize, usize)> {
+    match &e.kind {
+        ExprKind::Size(a, b) if *a >= 1 && *b >= 1 && *a <= 4096 && *b <= 4096 => Some((*a as usize, *b as usize)),
+        ExprKind::Num(n) if *n >= 1.0 && n.fract() == 0.0 && *n <= 4096.0 => Some((*n as usize, *n as usize)),
+        _ => None,
+    }
+}
