@@ -4,3 +4,4 @@
 pub mod atomic;
 pub mod frame;
 pub mod raster;
+pub mod smil;

@@ -1,12 +1,14 @@
-//! Affine maps as the SMIL transform types: `translate · rotate · skewX · scale`.
+//! Affine maps as the SMIL transform types: `translate · rotate · scale · skewX`.
 //!
-//! SMIL has no matrix animation, but every 2D affine map is such a product (a QR
-//! factorisation of its linear part), so a sampled or jumping transform can still be written
-//! as four `animateTransform`s on one group.
+//! SMIL has no matrix animation, but every 2D affine map with a non-degenerate first column
+//! is such a product (a QR factorisation of its linear part), so a sampled or jumping
+//! transform can still be written as four `animateTransform`s on one group. Putting the skew
+//! innermost keeps every parameter finite and continuous when the map passes through a
+//! reflection (`sy` just changes sign), which a `skewX · scale` order would not.
 
 use kurbo::Affine;
 
-/// An affine map as `translate(tx, ty) · rotate(angle) · skewX(skew) · scale(sx, sy)`,
+/// An affine map as `translate(tx, ty) · rotate(angle) · scale(sx, sy) · skewX(skew)`,
 /// angles in degrees.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Decomposed {
@@ -29,7 +31,7 @@ impl Decomposed {
         scale: [1.0; 2],
     };
 
-    /// Splits `m`; `None` when its linear part is singular (no unique rotation).
+    /// Splits `m`; `None` when its first column vanishes (no unique rotation).
     pub fn of(m: Affine) -> Option<Decomposed> {
         let [a, b, c, d, e, f] = m.as_coeffs();
         let sx = a.hypot(b);
@@ -37,16 +39,13 @@ impl Decomposed {
             return None;
         }
         let (cos, sin) = (a / sx, b / sx);
-        // R⁻¹·(c, d) = (tan(skew)·sy, sy).
+        // R⁻¹·(c, d) = (sx·tan(skew), sy).
         let sy = -sin * c + cos * d;
-        let shear = cos * c + sin * d;
-        if sy.abs() <= 1e-12 {
-            return None;
-        }
+        let shear = (cos * c + sin * d) / sx;
         Some(Decomposed {
             translate: [e, f],
             rotate: b.atan2(a).to_degrees(),
-            skew_x: (shear / sy).atan().to_degrees(),
+            skew_x: shear.atan().to_degrees(),
             scale: [sx, sy],
         })
     }
@@ -55,8 +54,8 @@ impl Decomposed {
     pub fn to_affine(self) -> Affine {
         Affine::translate((self.translate[0], self.translate[1]))
             * Affine::rotate(self.rotate.to_radians())
-            * Affine::skew(self.skew_x.to_radians().tan(), 0.0)
             * Affine::scale_non_uniform(self.scale[0], self.scale[1])
+            * Affine::skew(self.skew_x.to_radians().tan(), 0.0)
     }
 
     /// Linear blend of the parameters (what a player does between two keys).
@@ -106,9 +105,11 @@ mod tests {
     }
 
     #[test]
-    fn singular_maps_have_no_decomposition() {
-        assert!(Decomposed::of(Affine::scale_non_uniform(1.0, 0.0)).is_none());
+    fn only_a_vanishing_first_column_has_no_decomposition() {
+        assert!(Decomposed::of(Affine::scale_non_uniform(0.0, 1.0)).is_none());
         assert!(Decomposed::of(Affine::scale(0.0)).is_none());
+        let flat = Decomposed::of(Affine::new([1.0, 0.0, 2.0, 0.0, 0.0, 0.0])).unwrap();
+        assert!(flat.scale[1] == 0.0 && flat.skew_x.is_finite());
     }
 
     #[test]

@@ -7,7 +7,7 @@
 //! additive `animateTransform`s on the group and the static factors folded into the
 //! `transform` attributes of this group and the next inner one. A segment SMIL cannot say
 //! exactly (Alexa interpolation, a blend of several cells, a matrix or two-axis skew
-//! component, a non-cubic easing) is sampled and written as `translate·rotate·skewX·scale`
+//! component, a non-cubic easing) is sampled and written as `translate·rotate·scale·skewX`
 //! keys, reduced to a tolerance measured in canvas units at the shape's corners.
 //!
 //! The segments' `start` transforms are checked against what the nesting produces; where
@@ -336,7 +336,7 @@ fn lossy(m: Affine) -> Decomposed {
     })
 }
 
-/// `translate`, `rotate`, `skewX` and `scale` animations through the given keys.
+/// `translate`, `rotate`, `scale` and `skewX` animations through the given keys.
 fn decomposed_anims(keys: &[(f64, Decomposed)], discrete: bool) -> Vec<TransformAnim> {
     let channel = |kind: Kind, get: &dyn Fn(&Decomposed) -> [f64; 2]| TransformAnim {
         kind,
@@ -346,8 +346,8 @@ fn decomposed_anims(keys: &[(f64, Decomposed)], discrete: bool) -> Vec<Transform
     [
         channel(Kind::Translate, &|d| d.translate),
         channel(Kind::Rotate, &|d| [d.rotate, 0.0]),
-        channel(Kind::SkewX, &|d| [d.skew_x, 0.0]),
         channel(Kind::Scale, &|d| d.scale),
+        channel(Kind::SkewX, &|d| [d.skew_x, 0.0]),
     ]
     .into_iter()
     .filter(|a| {

@@ -1,0 +1,103 @@
+#!/usr/bin/env node
+// Plays animated SVG (SMIL) documents in headless Chromium and screenshots chosen instants.
+//
+//   node smil.mjs FILE.svg WIDTH OUT_PREFIX T1 [T2 …]
+//       writes OUT_PREFIX-<i>.png (i = index of the time, from 0) for each time in seconds
+//   node smil.mjs --jobs JOBS.json
+//       one browser for many files; JOBS.json is [{"svg", "width", "out_prefix", "times"}]
+//
+// Each frame: the document is loaded, its animations paused, the clock set with
+// `svg.pauseAnimations(); svg.setCurrentTime(t)` (the SMIL DOM), two animation frames
+// awaited, then the page shot WIDTH px wide (height from the document's aspect ratio) on
+// a transparent background. Prints one line per file: `<svg> <frames written>`.
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { pathToFileURL } from 'node:url';
+import { chromium } from 'playwright-core';
+
+const CHROMIUM = process.env.CHROMIUM || '/usr/bin/chromium';
+const ARGS = [
+  '--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+  '--disable-background-networking', '--disable-component-update', '--disable-sync',
+];
+
+function usage(msg) {
+  console.error(`smil.mjs: ${msg}\nusage: node smil.mjs FILE.svg WIDTH OUT_PREFIX T1 [T2 …]\n       node smil.mjs --jobs JOBS.json`);
+  process.exit(2);
+}
+
+function parseJobs(argv) {
+  if (argv[0] === '--jobs') {
+    if (argv.length !== 2) usage('--jobs takes one file');
+    let jobs;
+    try {
+      jobs = JSON.parse(fs.readFileSync(argv[1], 'utf8'));
+    } catch (e) {
+      usage(`cannot read ${argv[1]}: ${e.message}`);
+    }
+    if (!Array.isArray(jobs)) usage(`${argv[1]}: expected a JSON array of jobs`);
+    return jobs;
+  }
+  if (argv.length < 4) usage('expected FILE.svg WIDTH OUT_PREFIX and at least one time');
+  return [{ svg: argv[0], width: Number(argv[1]), out_prefix: argv[2], times: argv.slice(3).map(Number) }];
+}
+
+function check(job, i) {
+  const where = `job ${i} (${job.svg})`;
+  if (typeof job.svg !== 'string' || !fs.existsSync(job.svg)) usage(`${where}: no such SVG file`);
+  if (!Number.isInteger(job.width) || job.width < 1 || job.width > 8192) usage(`${where}: width must be a whole number of pixels in 1..8192`);
+  if (typeof job.out_prefix !== 'string' || job.out_prefix === '') usage(`${where}: out_prefix missing`);
+  if (!Array.isArray(job.times) || job.times.length === 0 || !job.times.every(Number.isFinite)) usage(`${where}: times must be finite numbers of seconds`);
+}
+
+const jobs = parseJobs(process.argv.slice(2));
+jobs.forEach(check);
+
+const profile = fs.mkdtempSync(path.join(os.tmpdir(), 'gmotion-smil-'));
+const context = await chromium.launchPersistentContext(profile, {
+  executablePath: CHROMIUM,
+  headless: true,
+  args: ARGS,
+  deviceScaleFactor: 1,
+  viewport: { width: 300, height: 300 },
+});
+let failed = false;
+try {
+  const page = context.pages()[0] ?? (await context.newPage());
+  for (const job of jobs) {
+    await page.goto(pathToFileURL(path.resolve(job.svg)).href);
+    const size = await page.evaluate((width) => {
+      const svg = document.documentElement;
+      if (!(svg instanceof SVGSVGElement)) return null;
+      svg.pauseAnimations();
+      const vb = svg.viewBox.baseVal;
+      const w = vb && vb.width > 0 ? vb.width : svg.width.baseVal.value;
+      const h = vb && vb.height > 0 ? vb.height : svg.height.baseVal.value;
+      const height = Math.max(1, Math.round((width * h) / w));
+      svg.setAttribute('width', String(width));
+      svg.setAttribute('height', String(height));
+      return { width, height };
+    }, job.width);
+    if (!size) {
+      console.error(`smil.mjs: ${job.svg}: not an SVG document`);
+      failed = true;
+      continue;
+    }
+    await page.setViewportSize(size);
+    for (const [i, t] of job.times.entries()) {
+      await page.evaluate(async (t) => {
+        const svg = document.documentElement;
+        svg.pauseAnimations();
+        svg.setCurrentTime(t);
+        await new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r)));
+      }, t);
+      await page.screenshot({ path: `${job.out_prefix}-${i}.png`, omitBackground: true });
+    }
+    console.log(`${job.svg} ${job.times.length}`);
+  }
+} finally {
+  await context.close();
+  fs.rmSync(profile, { recursive: true, force: true });
+}
+process.exit(failed ? 1 : 0);

@@ -1,0 +1,693 @@
+//! SMIL export: structure of every animation element, and exactness checked by playing the
+//! document with a small SMIL evaluator (the subset the exporter writes: additive
+//! `animateTransform` of the five types, `animate` of colours, numbers and path data, with
+//! `keyTimes`, `keySplines` and discrete steps) against the animation model itself.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use gmotion::color::Color;
+use gmotion::exporters::smil::{SmilError, SmilOptions, smil_document, to_smil};
+use gmotion::motion::{
+    Animation, AttrSeg, Blend, Component, Field, Grid, Interp, MotionKind, MotionSeg, Timing, Tint,
+    Track,
+};
+use gmotion::scene::{
+    Fill, FillRule, Group, LineCap, LineJoin, LinearGradient, Node, Paint, PathNode, Scene, Shape,
+    Spread, Stop, Stroke,
+};
+use gmotion::signals::Easing;
+use kurbo::{Affine, BezPath, Point, Rect, Shape as _, Vec2};
+
+// ---------------------------------------------------------------------------------------
+// Hand-built animations
+
+/// One shape of a test scene.
+pub struct Item {
+    /// Node id.
+    pub id: &'static str,
+    /// Geometry in the parent's coordinates.
+    pub path: BezPath,
+    /// Fill paint.
+    pub fill: Paint,
+    /// Stroke colour and width.
+    pub stroke: Option<(Color, f64)>,
+    /// Transform of a group around the path (identity: no group).
+    pub parent: Affine,
+}
+
+/// A path unit `rect` filled with `c`.
+pub fn item(id: &'static str, rect: Rect, c: Color) -> Item {
+    Item {
+        id,
+        path: rect.to_path(0.1),
+        fill: Paint::Solid(c),
+        stroke: None,
+        parent: Affine::IDENTITY,
+    }
+}
+
+/// A scene of path units, each optionally inside its own transformed group.
+pub fn scene(width: f64, height: f64, items: Vec<Item>) -> Scene {
+    let mut root = Group::new();
+    let mut shapes = Vec::new();
+    for (i, it) in items.into_iter().enumerate() {
+        let fill_color = match &it.fill {
+            Paint::Solid(c) => *c,
+            _ => Color::BLACK,
+        };
+        let node = Node::Path(PathNode {
+            id: it.id.to_string(),
+            path: it.path.clone(),
+            fill: Some(Fill { paint: it.fill, opacity: 1.0, rule: FillRule::NonZero }),
+            stroke: it.stroke.map(|(c, w)| Stroke {
+                paint: Paint::Solid(c),
+                opacity: 1.0,
+                width: w,
+                cap: LineCap::Butt,
+                join: LineJoin::Miter,
+                miter_limit: 4.0,
+                dash: None,
+                dash_offset: 0.0,
+            }),
+            stroke_first: false,
+            unit: Some(i),
+        });
+        let node_path = if it.parent == Affine::IDENTITY {
+            root.children.push(node);
+            vec![root.children.len() - 1]
+        } else {
+            let mut g = Group::new();
+            g.id = format!("{}-parent", it.id);
+            g.transform = it.parent;
+            g.children.push(node);
+            root.children.push(Node::Group(g));
+            vec![root.children.len() - 1, 0]
+        };
+        let bbox = (it.parent * it.path.clone()).bounding_box();
+        shapes.push(Shape {
+            tag: "s".into(),
+            id: i,
+            group: 0,
+            z: i,
+            node_path,
+            parent_transform: it.parent,
+            centroid: bbox.center(),
+            bbox,
+            fill: fill_color,
+            stroke: it.stroke.map_or(Color::BLACK, |s| s.0),
+            stroke_width: it.stroke.map_or(1.0, |s| s.1),
+        });
+    }
+    Scene { width, height, root, shapes }
+}
+
+/// A timing over `[start, end]`.
+pub fn timing(start: f64, end: f64, ease: Easing) -> Timing {
+    Timing { start, end, delay: 0.0, ease, reversed: false }
+}
+
+/// A single-entry rigid motion about `pivot`.
+pub fn rigid(pivot: Point, comps: &[Component], interp: Interp) -> MotionKind {
+    MotionKind::Rigid { pivot, blend: vec![(1.0, Arc::from(comps))], interp }
+}
+
+/// Appends one motion played in the windows between consecutive `cuts`, each window
+/// starting from the state the model gives at its start.
+pub fn windows(track: &mut Track, kind: &MotionKind, timing: &Timing, cuts: &[f64]) {
+    for w in cuts.windows(2) {
+        let start = track.transform_at(w[0]);
+        track.motions.push(MotionSeg {
+            t0: w[0],
+            t1: w[1],
+            timing: timing.clone(),
+            kind: kind.clone(),
+            start,
+        });
+    }
+}
+
+fn anim(scene: Scene, duration: f64, looping: bool, tracks: Vec<Track>) -> Animation {
+    Animation { scene, duration, fps: 30.0, looping, tracks }
+}
+
+fn ease_in_out() -> Easing {
+    Easing::CubicBezier([0.42, 0.0, 0.58, 1.0])
+}
+
+fn red() -> Color {
+    Color::rgb8(220, 40, 40)
+}
+
+fn blue() -> Color {
+    Color::rgb8(30, 80, 200)
+}
+
+fn square(x: f64, y: f64, s: f64) -> Rect {
+    Rect::new(x, y, x + s, y + s)
+}
+
+/// The hand-built animations, by name; `true` when SMIL should play them exactly.
+pub fn cases() -> Vec<(&'static str, bool, Animation)> {
+    let mut out = Vec::new();
+    let c = |r: Rect| r.center();
+
+    // A square turning half a turn about its centre, eased.
+    let r = square(70.0, 70.0, 60.0);
+    let mut t = Track::default();
+    windows(
+        &mut t,
+        &rigid(c(r), &[Component::Rotate(180.0)], Interp::Linear),
+        &timing(0.5, 2.5, ease_in_out()),
+        &[0.5, 2.5],
+    );
+    out.push(("rotate-pivot", true, anim(scene(200.0, 200.0, vec![item("a", r, red())]), 3.0, false, vec![t])));
+
+    // Scale and move a stroked rectangle.
+    let r = Rect::new(40.0, 80.0, 100.0, 120.0);
+    let mut it = item("a", r, blue());
+    it.stroke = Some((Color::BLACK, 4.0));
+    let mut t = Track::default();
+    let comps = [Component::Translate(Vec2::new(30.0, 10.0)), Component::Scale(Vec2::new(2.0, 0.5))];
+    windows(&mut t, &rigid(c(r), &comps, Interp::Linear), &timing(0.0, 2.0, Easing::CubicBezier([0.0, 0.0, 0.58, 1.0])), &[0.0, 2.0]);
+    out.push(("scale", true, anim(scene(200.0, 200.0, vec![it]), 2.5, false, vec![t])));
+
+    // One motion cut into two windows by a later timesplit, then another motion.
+    let r = square(20.0, 20.0, 40.0);
+    let mut t = Track::default();
+    let comps = [Component::Translate(Vec2::new(80.0, 0.0)), Component::Rotate(90.0)];
+    windows(&mut t, &rigid(c(r), &comps, Interp::Linear), &timing(0.0, 2.0, ease_in_out()), &[0.0, 0.8, 2.0]);
+    let moved = t.transform_at(2.0) * c(r);
+    windows(&mut t, &rigid(moved, &[Component::Scale(Vec2::new(0.5, 0.5))], Interp::Linear), &timing(2.0, 3.0, Easing::Linear), &[2.0, 3.0]);
+    out.push(("chained", true, anim(scene(200.0, 200.0, vec![item("a", r, red())]), 3.0, false, vec![t])));
+
+    // A motion and its inverse slice, looping.
+    let r = square(30.0, 60.0, 50.0);
+    let kind = rigid(c(r), &[Component::Translate(Vec2::new(90.0, 30.0)), Component::Rotate(120.0)], Interp::Linear);
+    let ease = Easing::CubicBezier([0.6, 0.0, 0.9, 0.4]);
+    let mut t = Track::default();
+    windows(&mut t, &kind, &timing(0.0, 1.5, ease.clone()), &[0.0, 1.5]);
+    let back = Timing { reversed: true, ..timing(1.5, 3.0, ease) };
+    windows(&mut t, &kind, &back, &[1.5, 2.2, 3.0]);
+    out.push(("reversed", true, anim(scene(200.0, 200.0, vec![item("a", r, blue())]), 3.0, true, vec![t])));
+
+    // Tints: a solid fill, a stroke, and a gradient fill.
+    let mut a = item("a", square(20.0, 20.0, 70.0), red());
+    a.stroke = Some((Color::rgb8(20, 160, 60), 6.0));
+    let grad = LinearGradient {
+        id: "grad".into(),
+        start: Point::new(110.0, 0.0),
+        end: Point::new(190.0, 0.0),
+        transform: Affine::IDENTITY,
+        spread: Spread::Pad,
+        stops: vec![
+            Stop { offset: 0.0, color: Color::rgb8(250, 220, 40) },
+            Stop { offset: 1.0, color: Color::rgb8(40, 200, 220) },
+        ],
+    };
+    let mut b = item("b", square(110.0, 110.0, 80.0), Color::BLACK);
+    b.fill = Paint::Linear(Arc::new(grad));
+    let tint = |t0: f64, t1: f64, to: Color| AttrSeg { t0, t1, timing: timing(t0, t1, ease_in_out()), from: Tint::NONE, to: Tint::full(to) };
+    let ta = Track { fill: vec![tint(0.5, 1.5, blue())], stroke: vec![tint(1.0, 2.5, Color::rgb8(250, 250, 0))], ..Track::default() };
+    let tb = Track { fill: vec![tint(0.0, 2.0, red())], ..Track::default() };
+    out.push(("tint", true, anim(scene(200.0, 200.0, vec![a, b]), 3.0, false, vec![ta, tb])));
+
+    // Opacity down and back up, stroke width growing.
+    let mut a = item("a", square(50.0, 50.0, 100.0), blue());
+    a.stroke = Some((Color::BLACK, 3.0));
+    let num = |t0: f64, t1: f64, from: f64, to: f64| AttrSeg { t0, t1, timing: timing(t0, t1, ease_in_out()), from, to };
+    let t = Track {
+        opacity: vec![num(0.0, 1.0, 1.0, 0.2), num(1.5, 2.5, 0.2, 1.0)],
+        stroke_width: vec![num(0.0, 2.0, 1.0, 4.0)],
+        ..Track::default()
+    };
+    out.push(("opacity", true, anim(scene(200.0, 200.0, vec![a]), 3.0, false, vec![t])));
+
+    // A shape inside a rotated, squashed group.
+    let r = square(-20.0, -20.0, 40.0);
+    let mut a = item("a", r, red());
+    a.parent = Affine::translate((100.0, 90.0)) * Affine::rotate(0.5) * Affine::scale_non_uniform(1.5, 0.8);
+    let centre = (a.parent * r.to_path(0.1)).bounding_box().center();
+    let mut t = Track::default();
+    let comps = [Component::Translate(Vec2::new(50.0, 30.0)), Component::Rotate(45.0)];
+    windows(&mut t, &rigid(centre, &comps, Interp::Linear), &timing(0.0, 2.0, ease_in_out()), &[0.0, 2.0]);
+    out.push(("parent", true, anim(scene(200.0, 200.0, vec![a]), 2.0, false, vec![t])));
+
+    // Two motions sharing one window, the second with a delay and its own easing.
+    let r = square(60.0, 60.0, 40.0);
+    let mut t = Track::default();
+    let first = MotionSeg {
+        t0: 0.0,
+        t1: 2.0,
+        timing: timing(0.0, 2.0, ease_in_out()),
+        kind: rigid(c(r), &[Component::Rotate(90.0)], Interp::Linear),
+        start: Affine::IDENTITY,
+    };
+    let second = MotionSeg {
+        timing: Timing { delay: 0.5, ..timing(0.0, 2.0, Easing::CubicBezier([0.2, 0.8, 0.4, 1.0])) },
+        kind: rigid(Point::ORIGIN, &[Component::Translate(Vec2::new(60.0, 0.0))], Interp::Linear),
+        ..first.clone()
+    };
+    t.motions = vec![first, second];
+    out.push(("shared-window", true, anim(scene(200.0, 200.0, vec![item("a", r, blue())]), 2.0, false, vec![t])));
+
+    // An easing that overshoots, and skews on either axis.
+    let r = square(20.0, 80.0, 40.0);
+    let mut t = Track::default();
+    windows(
+        &mut t,
+        &rigid(c(r), &[Component::Translate(Vec2::new(100.0, 0.0)), Component::Skew(20.0, 0.0), Component::Skew(0.0, -15.0)], Interp::Linear),
+        &timing(0.0, 2.0, Easing::CubicBezier([0.3, -0.6, 0.4, 1.7])),
+        &[0.0, 2.0],
+    );
+    out.push(("overshoot-skew", true, anim(scene(200.0, 200.0, vec![item("a", r, red())]), 2.0, false, vec![t])));
+
+    // A window whose start does not continue the previous one: the state jumps.
+    let r = square(30.0, 30.0, 40.0);
+    let mut t = Track::default();
+    windows(&mut t, &rigid(c(r), &[Component::Rotate(60.0)], Interp::Linear), &timing(0.0, 1.0, Easing::Linear), &[0.0, 1.0]);
+    let start = Affine::translate((40.0, 50.0)) * t.transform_at(1.0);
+    t.motions.push(MotionSeg {
+        t0: 1.5,
+        t1: 2.5,
+        timing: timing(1.5, 2.5, Easing::Linear),
+        kind: rigid(Point::ORIGIN, &[Component::Translate(Vec2::new(50.0, 0.0))], Interp::Linear),
+        start,
+    });
+    out.push(("jump", true, anim(scene(200.0, 200.0, vec![item("a", r, blue())]), 3.0, false, vec![t])));
+
+    // What SMIL cannot say: Alexa interpolation, B-spline easing, a bilinear blend.
+    let r = square(70.0, 70.0, 50.0);
+    let mut t = Track::default();
+    windows(&mut t, &rigid(c(r), &[Component::Rotate(200.0), Component::Scale(Vec2::new(1.6, 0.7))], Interp::Alexa), &timing(0.0, 2.0, Easing::Linear), &[0.0, 2.0]);
+    out.push(("baked-alexa", false, anim(scene(200.0, 200.0, vec![item("a", r, red())]), 2.0, false, vec![t])));
+
+    let r = square(30.0, 70.0, 50.0);
+    let mut t = Track::default();
+    windows(&mut t, &rigid(c(r), &[Component::Translate(Vec2::new(100.0, 0.0)), Component::Rotate(90.0)], Interp::Linear), &timing(0.0, 2.0, Easing::BSpline(4)), &[0.0, 2.0]);
+    out.push(("baked-easing", false, anim(scene(200.0, 200.0, vec![item("a", r, blue())]), 2.0, false, vec![t])));
+
+    let r = square(70.0, 70.0, 50.0);
+    let blend: Blend = vec![
+        (0.5, Arc::from([Component::Translate(Vec2::new(100.0, 0.0))])),
+        (0.5, Arc::from([Component::Rotate(120.0)])),
+    ];
+    let mut t = Track::default();
+    windows(&mut t, &MotionKind::Rigid { pivot: c(r), blend, interp: Interp::Linear }, &timing(0.0, 2.0, ease_in_out()), &[0.0, 2.0]);
+    out.push(("baked-bilinear", false, anim(scene(200.0, 200.0, vec![item("a", r, red())]), 2.0, false, vec![t])));
+
+    // Per-vertex deformation towards the canvas centre.
+    let r = Rect::new(20.0, 20.0, 180.0, 60.0);
+    let grid = Grid::new(4, 4, Rect::new(0.0, 0.0, 200.0, 200.0), Field::Towards(Point::new(100.0, 100.0)));
+    let mut t = Track::default();
+    windows(&mut t, &MotionKind::Vertex { grid: Arc::new(grid), pivot: None }, &timing(0.0, 2.0, ease_in_out()), &[0.0, 2.0]);
+    out.push(("deform", false, anim(scene(200.0, 200.0, vec![item("a", r, blue())]), 2.0, false, vec![t])));
+
+    out
+}
+
+// ---------------------------------------------------------------------------------------
+// A small SVG DOM and SMIL player
+
+#[derive(Debug)]
+struct El {
+    name: String,
+    attrs: HashMap<String, String>,
+    children: Vec<usize>,
+    parent: Option<usize>,
+}
+
+struct Doc {
+    els: Vec<El>,
+}
+
+impl Doc {
+    fn parse(svg: &str) -> Doc {
+        use svg::node::element::tag::Type;
+        use svg::parser::Event;
+        let mut els: Vec<El> = Vec::new();
+        let mut stack: Vec<usize> = Vec::new();
+        for ev in svg::read(svg).expect("parse") {
+            match ev {
+                Event::Tag(name, ty, attrs) => {
+                    if ty == Type::End {
+                        let open = stack.pop().expect("balanced");
+                        assert_eq!(els[open].name, name);
+                        continue;
+                    }
+                    let i = els.len();
+                    let parent = stack.last().copied();
+                    els.push(El {
+                        name: name.to_string(),
+                        attrs: attrs.iter().map(|(k, v)| (k.clone(), v.to_string())).collect(),
+                        children: Vec::new(),
+                        parent,
+                    });
+                    if let Some(p) = parent {
+                        els[p].children.push(i);
+                    }
+                    if ty == Type::Start {
+                        stack.push(i);
+                    }
+                }
+                Event::Error(e) => panic!("bad SVG: {e}"),
+                _ => {}
+            }
+        }
+        assert!(stack.is_empty(), "unclosed elements");
+        Doc { els }
+    }
+
+    fn by_id(&self, id: &str) -> usize {
+        self.els.iter().position(|e| e.attrs.get("id").is_some_and(|v| v == id)).unwrap_or_else(|| panic!("no #{id}"))
+    }
+
+    fn anims(&self) -> impl Iterator<Item = &El> {
+        self.els.iter().filter(|e| e.name.starts_with("animate"))
+    }
+
+    /// The animation children of `e` animating `attr`.
+    fn anims_of(&self, e: usize, attr: &str) -> Vec<&El> {
+        self.els[e]
+            .children
+            .iter()
+            .map(|&c| &self.els[c])
+            .filter(|c| c.name.starts_with("animate") && c.attrs["attributeName"] == attr)
+            .collect()
+    }
+
+    /// The element's own transform at `t`: its attribute, then its animations in order.
+    fn local(&self, e: usize, t: f64) -> Affine {
+        let mut m = self.els[e].attrs.get("transform").map_or(Affine::IDENTITY, |v| {
+            let ts: svgtypes::Transform = v.parse().expect("transform");
+            Affine::new([ts.a, ts.b, ts.c, ts.d, ts.e, ts.f])
+        });
+        for a in self.anims_of(e, "transform") {
+            let v = play(a, t);
+            let value = match a.attrs["type"].as_str() {
+                "translate" => Affine::translate((v[0], v.get(1).copied().unwrap_or(0.0))),
+                "rotate" => Affine::rotate(v[0].to_radians()),
+                "scale" => Affine::scale_non_uniform(v[0], v.get(1).copied().unwrap_or(v[0])),
+                "skewX" => Affine::skew(v[0].to_radians().tan(), 0.0),
+                "skewY" => Affine::skew(0.0, v[0].to_radians().tan()),
+                other => panic!("unexpected type {other}"),
+            };
+            m = if a.attrs.get("additive").is_some_and(|v| v == "sum") { m * value } else { value };
+        }
+        m
+    }
+
+    /// The transform from `e`'s content to the canvas at `t`.
+    fn total(&self, e: usize, t: f64) -> Affine {
+        let mut m = self.local(e, t);
+        let mut at = self.els[e].parent;
+        while let Some(p) = at {
+            m = self.local(p, t) * m;
+            at = self.els[p].parent;
+        }
+        m
+    }
+
+    /// The value of `attr` on `e` at `t`: the played animation, else the attribute.
+    fn value(&self, e: usize, attr: &str, t: f64) -> Option<Vec<f64>> {
+        match self.anims_of(e, attr).last() {
+            Some(a) => Some(play(a, t)),
+            None => self.els[e].attrs.get(attr).map(|v| numbers(v)),
+        }
+    }
+}
+
+/// Numbers in a value: a `#rrggbb` colour as three 0..255 channels, else every number.
+fn numbers(v: &str) -> Vec<f64> {
+    let v = v.trim();
+    if let Some(h) = v.strip_prefix('#') {
+        return (0..3).map(|i| u8::from_str_radix(&h[2 * i..2 * i + 2], 16).unwrap() as f64).collect();
+    }
+    v.split(|c: char| c.is_whitespace() || c == ',' || c.is_ascii_alphabetic())
+        .filter(|s| !s.is_empty())
+        .map(|s| s.parse().unwrap_or_else(|_| panic!("number {s:?}")))
+        .collect()
+}
+
+fn list(v: &str) -> Vec<&str> {
+    v.split(';').map(str::trim).collect()
+}
+
+/// The CSS/SMIL cubic timing function, by bisection.
+fn spline(s: [f64; 4], x: f64) -> f64 {
+    let bez = |a: f64, b: f64, u: f64| 3.0 * (1.0 - u) * (1.0 - u) * u * a + 3.0 * (1.0 - u) * u * u * b + u * u * u;
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for _ in 0..80 {
+        let mid = 0.5 * (lo + hi);
+        if bez(s[0], s[2], mid) < x { lo = mid } else { hi = mid }
+    }
+    bez(s[1], s[3], 0.5 * (lo + hi))
+}
+
+/// An animation element's value at document time `t` (SMIL 3 simple-time semantics).
+fn play(a: &El, t: f64) -> Vec<f64> {
+    let dur: f64 = a.attrs["dur"].trim_end_matches('s').parse().unwrap();
+    let looping = a.attrs.get("repeatCount").is_some_and(|v| v == "indefinite");
+    let values: Vec<Vec<f64>> = list(&a.attrs["values"]).into_iter().map(numbers).collect();
+    let times: Vec<f64> = list(&a.attrs["keyTimes"]).into_iter().map(|v| v.parse().unwrap()).collect();
+    let tau = if looping { (t / dur).fract() } else { (t / dur).min(1.0) };
+    let mode = a.attrs.get("calcMode").map_or("linear", String::as_str);
+    let i = times.partition_point(|&k| k <= tau).saturating_sub(1);
+    if mode == "discrete" {
+        return values[i].clone();
+    }
+    if i + 1 >= values.len() {
+        return values[values.len() - 1].clone();
+    }
+    let span = times[i + 1] - times[i];
+    let x = if span > 0.0 { ((tau - times[i]) / span).clamp(0.0, 1.0) } else { 1.0 };
+    let y = if mode == "spline" {
+        let s = numbers(list(&a.attrs["keySplines"])[i]);
+        spline([s[0], s[1], s[2], s[3]], x)
+    } else {
+        x
+    };
+    values[i].iter().zip(&values[i + 1]).map(|(p, q)| p + (q - p) * y).collect()
+}
+
+/// Instants to compare at: a fine grid plus just before and after every key boundary.
+fn instants(a: &Animation) -> Vec<f64> {
+    let d = a.duration;
+    let mut ts: Vec<f64> = (0..=200).map(|i| d * i as f64 / 200.0 * 0.9999).collect();
+    for tr in &a.tracks {
+        for s in &tr.motions {
+            for b in [s.t0, s.t1, s.timing.start + s.timing.delay] {
+                ts.extend([b - 1e-3, b + 1e-3]);
+            }
+        }
+    }
+    ts.retain(|t| (0.0..d).contains(t));
+    ts
+}
+
+// ---------------------------------------------------------------------------------------
+// Tests
+
+#[test]
+fn every_animation_element_is_well_formed() {
+    for (name, _, a) in cases() {
+        let (svg, warnings) = to_smil(&a, &SmilOptions::default()).unwrap();
+        assert!(warnings.is_empty(), "{name}: {warnings:?}");
+        let doc = Doc::parse(&svg);
+        let mut count = 0;
+        for el in doc.anims() {
+            count += 1;
+            let at = &el.attrs;
+            let n = list(&at["values"]).len();
+            let times: Vec<f64> = list(&at["keyTimes"]).iter().map(|v| v.parse().unwrap()).collect();
+            assert_eq!(times.len(), n, "{name}: keyTimes and values differ in count");
+            assert!(n >= 2, "{name}: an animation needs two values");
+            assert_eq!(times[0], 0.0, "{name}: keyTimes must start at 0");
+            assert!(times.windows(2).all(|w| w[0] <= w[1]), "{name}: keyTimes must not decrease: {times:?}");
+            let discrete = at.get("calcMode").is_some_and(|m| m == "discrete");
+            if !discrete {
+                assert_eq!(times[n - 1], 1.0, "{name}: keyTimes must end at 1");
+            }
+            if at.get("calcMode").is_some_and(|m| m == "spline") {
+                let splines = list(&at["keySplines"]);
+                assert_eq!(splines.len(), n - 1, "{name}: one keySpline per interval");
+                for s in splines {
+                    let v = numbers(s);
+                    assert_eq!(v.len(), 4);
+                    assert!(v.iter().all(|x| (0.0..=1.0).contains(x)), "{name}: keySplines {s} outside [0, 1]");
+                }
+            } else {
+                assert!(!at.contains_key("keySplines"), "{name}: keySplines without calcMode spline");
+            }
+            assert_eq!(at["begin"], "0s");
+            assert_eq!(at["dur"].trim_end_matches('s').parse::<f64>().unwrap(), a.duration);
+            assert_eq!(at.get("repeatCount").map(String::as_str), a.looping.then_some("indefinite"), "{name}");
+            assert_eq!(at.get("fill").map(String::as_str), (!a.looping).then_some("freeze"), "{name}");
+            if el.name == "animateTransform" {
+                assert_eq!(at["attributeName"], "transform");
+                assert_eq!(at["additive"], "sum");
+            }
+        }
+        assert!(count > 0, "{name}: nothing animated");
+        // The document still renders as a still picture.
+        usvg::Tree::from_str(&svg, &usvg::Options::default()).unwrap_or_else(|e| panic!("{name}: {e}"));
+    }
+}
+
+#[test]
+fn transforms_play_as_the_model_moves() {
+    for (name, exact, a) in cases() {
+        if a.tracks.iter().any(Track::deforms) {
+            continue;
+        }
+        let tol = if exact { 2e-3 } else { SmilOptions::default().tolerance + 0.02 };
+        let (svg, _) = to_smil(&a, &SmilOptions::default()).unwrap();
+        let doc = Doc::parse(&svg);
+        for (u, shape) in a.scene.shapes.iter().enumerate() {
+            let Node::Path(p) = a.scene.unit_node(u).unwrap() else { unreachable!() };
+            let e = doc.by_id(&p.id);
+            let b = shape.bbox;
+            let back = shape.parent_transform.inverse();
+            let corners = [(b.x0, b.y0), (b.x1, b.y0), (b.x1, b.y1), (b.x0, b.y1)].map(|c| back * Point::from(c));
+            let mut worst: f64 = 0.0;
+            for t in instants(&a) {
+                let got = doc.total(e, t);
+                let want = a.tracks[u].transform_at(t) * shape.parent_transform;
+                for q in corners {
+                    worst = worst.max((got * q - want * q).hypot());
+                }
+            }
+            assert!(worst <= tol, "{name}: shape {u} off by {worst} (allowed {tol})");
+        }
+    }
+}
+
+#[test]
+fn colours_opacity_and_widths_play_as_the_model_changes() {
+    for (name, _, a) in cases() {
+        let (svg, _) = to_smil(&a, &SmilOptions::default()).unwrap();
+        let doc = Doc::parse(&svg);
+        for (u, shape) in a.scene.shapes.iter().enumerate() {
+            let Node::Path(p) = a.scene.unit_node(u).unwrap() else { unreachable!() };
+            let e = doc.by_id(&p.id);
+            for t in instants(&a) {
+                let st = a.tracks[u].state_at(t);
+                let close = |got: Vec<f64>, want: Color, what: &str| {
+                    let w = want.to_rgba8();
+                    for i in 0..3 {
+                        assert!((got[i] - w[i] as f64).abs() <= 1.5, "{name}: {what} at {t}: {got:?} vs {w:?}");
+                    }
+                };
+                match &p.fill.as_ref().unwrap().paint {
+                    Paint::Solid(c) => close(doc.value(e, "fill", t).unwrap(), st.fill.apply(*c), "fill"),
+                    Paint::Linear(g) => {
+                        let url = &doc.els[e].attrs["fill"];
+                        let id = url.trim_start_matches("url(#").trim_end_matches(')');
+                        let def = doc.by_id(id);
+                        for (&s, stop) in doc.els[def].children.iter().zip(&g.stops) {
+                            close(doc.value(s, "stop-color", t).unwrap(), st.fill.apply(stop.color), "stop");
+                        }
+                    }
+                    _ => unreachable!(),
+                }
+                if let Some(s) = &p.stroke {
+                    let Paint::Solid(c) = s.paint else { unreachable!() };
+                    close(doc.value(e, "stroke", t).unwrap(), st.stroke.apply(c), "stroke");
+                    let w = doc.value(e, "stroke-width", t).unwrap()[0];
+                    assert!((w - s.width * st.stroke_width).abs() < 1e-3, "{name}: width at {t}");
+                }
+                // Opacity sits on the outermost wrapper: the product along the ancestors.
+                let mut opacity = 1.0;
+                let mut at = Some(e);
+                while let Some(i) = at {
+                    opacity *= doc.value(i, "opacity", t).map_or(1.0, |v| v[0]);
+                    at = doc.els[i].parent;
+                }
+                assert!((opacity - st.opacity).abs() < 1e-3, "{name}: opacity at {t}: {opacity} vs {}", st.opacity);
+            }
+            let _ = shape;
+        }
+    }
+}
+
+#[test]
+fn deformation_plays_within_tolerance() {
+    let (name, _, a) = cases().into_iter().find(|c| c.0 == "deform").unwrap();
+    let tol = SmilOptions::default().tolerance;
+    let (svg, _) = to_smil(&a, &SmilOptions::default()).unwrap();
+    let doc = Doc::parse(&svg);
+    let Node::Path(p) = a.scene.unit_node(0).unwrap() else { unreachable!() };
+    let e = doc.by_id(&p.id);
+    let rest: Vec<Point> = p.path.elements().iter().filter_map(|el| el.end_point()).collect();
+    for t in instants(&a).into_iter().chain((0..40).map(|i| i as f64 * 0.0497)) {
+        let got = doc.value(e, "d", t).unwrap();
+        let want: Vec<Point> = rest.iter().map(|&q| a.tracks[0].deform(q, t)).collect();
+        // The rectangle's path is all moves and lines: two numbers per point.
+        assert_eq!(got.len(), 2 * want.len(), "{name}");
+        for (i, w) in want.iter().enumerate() {
+            let d = (Point::new(got[2 * i], got[2 * i + 1]) - *w).hypot();
+            assert!(d <= tol + 0.02, "{name}: point {i} at {t} off by {d}");
+        }
+    }
+}
+
+#[test]
+fn exact_motion_is_written_exactly_and_baked_motion_is_reduced() {
+    for (name, exact, a) in cases() {
+        let doc = smil_document(&a, &SmilOptions::default()).unwrap();
+        if exact {
+            assert_eq!(doc.baked_segments, 0, "{name}");
+        } else {
+            assert!(doc.baked_segments > 0, "{name}");
+            // Far fewer keys than samples: at most one per 4 samples at 120 per second.
+            let keys = doc.svg.matches("keyTimes=\"").count().max(1);
+            let max_values = Doc::parse(&doc.svg).anims().map(|e| list(&e.attrs["values"]).len()).max().unwrap();
+            assert!(max_values < (a.duration * 120.0 / 4.0) as usize, "{name}: {max_values} keys in {keys} animations");
+        }
+    }
+}
+
+#[test]
+fn looser_tolerance_writes_fewer_keys() {
+    let (_, _, a) = cases().into_iter().find(|c| c.0 == "baked-alexa").unwrap();
+    let keys = |tolerance: f64| {
+        let (svg, _) = to_smil(&a, &SmilOptions { tolerance, ..SmilOptions::default() }).unwrap();
+        Doc::parse(&svg).anims().map(|e| list(&e.attrs["values"]).len()).sum::<usize>()
+    };
+    assert!(keys(2.0) < keys(0.05));
+}
+
+#[test]
+fn output_is_deterministic() {
+    for (name, _, a) in cases() {
+        let one = to_smil(&a, &SmilOptions::default()).unwrap().0;
+        let two = to_smil(&a, &SmilOptions::default()).unwrap().0;
+        assert!(one == two, "{name}");
+    }
+}
+
+#[test]
+fn bad_input_is_an_error() {
+    let (_, _, a) = cases().into_iter().next().unwrap();
+    let opts = SmilOptions::default();
+    let zero = Animation { duration: 0.0, ..a.clone() };
+    assert!(matches!(to_smil(&zero, &opts), Err(SmilError::Duration(_))));
+    let missing = Animation { tracks: Vec::new(), ..a.clone() };
+    assert!(matches!(to_smil(&missing, &opts), Err(SmilError::TrackCount { .. })));
+    let mut nan = a.clone();
+    nan.tracks[0].motions[0].kind = rigid(Point::ORIGIN, &[Component::Rotate(f64::NAN)], Interp::Linear);
+    let err = to_smil(&nan, &opts).unwrap_err();
+    assert!(err.to_string().contains("s:0"), "{err}");
+    let bad_opts = SmilOptions { tolerance: -1.0, ..opts };
+    assert!(matches!(to_smil(&a, &bad_opts), Err(SmilError::Option { .. })));
+}
+
+#[test]
+fn ids_of_unnamed_nodes_do_not_leak() {
+    let (_, _, mut a) = cases().into_iter().next().unwrap();
+    let Node::Path(p) = &mut a.scene.root.children[0] else { unreachable!() };
+    p.id.clear();
+    let (svg, _) = to_smil(&a, &SmilOptions::default()).unwrap();
+    assert!(!svg.contains("id=\""), "{svg}");
+    assert!(svg.contains("<animateTransform"));
+}
