@@ -1,0 +1,219 @@
+//! Frame documents: an animated frame must show the same picture as an SVG written by hand
+//! with the state applied, whatever groups and viewBox the unit sits in.
+
+use std::sync::Arc;
+
+use gmotion::color::Color;
+use gmotion::exporters::frame::{frame_svg, scene_svg};
+use gmotion::exporters::raster::{compare, render};
+use gmotion::importers::svg::{ImportOptions, parse};
+use gmotion::motion::grid::{Field, Grid};
+use gmotion::motion::{
+    Animation, AttrSeg, Component, Interp, MotionKind, MotionSeg, Timing, Tint, Track,
+};
+use gmotion::scene::Scene;
+use gmotion::signals::Easing;
+use kurbo::{Affine, Point, Vec2};
+
+/// A 200×100 canvas showing a 100×50 viewBox, the unit inside a translated group.
+fn scene_with(unit: &str) -> Scene {
+    let text = format!(
+        r##"<svg xmlns="http://www.w3.org/2000/svg" width="200" height="100" viewBox="0 0 100 50">
+        <defs><linearGradient id="g" x1="0" x2="1"><stop offset="0" stop-color="#00f"/><stop offset="1" stop-color="#0f0"/></linearGradient>
+        <linearGradient id="u" gradientUnits="userSpaceOnUse" x2="100"><stop offset="0" stop-color="#f0f"/><stop offset="1" stop-color="#0ff"/></linearGradient></defs>
+        <rect width="100" height="50" fill="#eee"/>
+        <g transform="translate(10 5)">{unit}</g></svg>"##
+    );
+    parse(&text, "frame.svg", &ImportOptions::default())
+        .unwrap()
+        .scene
+}
+
+fn timing() -> Timing {
+    Timing {
+        start: 0.0,
+        end: 1.0,
+        delay: 0.0,
+        ease: Easing::Linear,
+        reversed: false,
+    }
+}
+
+fn animate(scene: Scene, unit: usize, track: Track) -> Animation {
+    let mut tracks = vec![Track::default(); scene.shapes.len()];
+    tracks[unit] = track;
+    Animation {
+        scene,
+        duration: 1.0,
+        fps: 10.0,
+        looping: false,
+        tracks,
+    }
+}
+
+fn rigid(pivot: Point, components: Vec<Component>) -> Track {
+    let kind = MotionKind::Rigid {
+        pivot,
+        blend: vec![(1.0, Arc::from(components))],
+        interp: Interp::Linear,
+    };
+    Track {
+        motions: vec![MotionSeg {
+            t0: 0.0,
+            t1: 1.0,
+            timing: timing(),
+            kind,
+            start: Affine::IDENTITY,
+        }],
+        ..Track::default()
+    }
+}
+
+/// The fraction of differing pixels between the frame and the hand-written picture.
+fn differs(frame: &str, unit: &str) -> f64 {
+    let expected = scene_svg(&scene_with(unit));
+    compare(
+        &render(frame, 200).unwrap(),
+        &render(&expected, 200).unwrap(),
+        32,
+    )
+}
+
+const RECT: &str = r##"<rect class="r" width="20" height="10" fill="#00f"/>"##;
+
+#[test]
+fn rest_frames_are_the_scene() {
+    let anim = animate(scene_with(RECT), 1, Track::default());
+    let frame = frame_svg(&anim, 0.5);
+    assert_eq!(differs(&frame, RECT), 0.0);
+}
+
+#[test]
+fn canvas_translation_lands_in_canvas_pixels() {
+    // 60 canvas px right is 30 user units at the viewBox's scale of 2.
+    let anim = animate(
+        scene_with(RECT),
+        1,
+        rigid(
+            Point::ORIGIN,
+            vec![Component::Translate(Vec2::new(60.0, 0.0))],
+        ),
+    );
+    assert!(
+        differs(
+            &frame_svg(&anim, 1.0),
+            r##"<rect x="30" width="20" height="10" fill="#00f"/>"##
+        ) < 1e-3
+    );
+    assert!(
+        differs(
+            &frame_svg(&anim, 0.5),
+            r##"<rect x="15" width="20" height="10" fill="#00f"/>"##
+        ) < 1e-3
+    );
+    assert!(
+        differs(&frame_svg(&anim, 0.5), RECT) > 0.01,
+        "the frame must move"
+    );
+}
+
+#[test]
+fn local_rotation_turns_about_the_centroid() {
+    let scene = scene_with(RECT);
+    let centroid = scene.shapes[1].centroid;
+    // The rect's centre in its own coordinates is (10, 5); on the canvas (40, 20).
+    assert!(centroid.distance(Point::new(40.0, 20.0)) < 1e-6);
+    let anim = animate(scene, 1, rigid(centroid, vec![Component::Rotate(90.0)]));
+    let want = r##"<rect transform="rotate(90 10 5)" width="20" height="10" fill="#00f"/>"##;
+    assert!(differs(&frame_svg(&anim, 1.0), want) < 1e-3);
+}
+
+#[test]
+fn tints_reach_solid_colours_and_gradient_stops() {
+    let red = Tint::full(Color::rgb(1.0, 0.0, 0.0));
+    let tint = |from, to| {
+        vec![AttrSeg {
+            t0: 0.0,
+            t1: 1.0,
+            timing: timing(),
+            from,
+            to,
+        }]
+    };
+    let unit = r##"<g class="u"><rect width="20" height="10" fill="#00f"/><rect y="12" width="20" height="10" fill="url(#g)" stroke="#0f0" stroke-width="2"/></g>"##;
+    let track = Track {
+        fill: tint(Tint::NONE, red),
+        stroke: tint(red, red),
+        ..Track::default()
+    };
+    let anim = animate(scene_with(unit), 1, track);
+    let want = r##"<rect width="20" height="10" fill="#f00"/><rect y="12" width="20" height="10" fill="#f00" stroke="#f00" stroke-width="2"/>"##;
+    let frame = frame_svg(&anim, 1.0);
+    assert!(differs(&frame, want) < 1e-3);
+    // Half way the solid fill is the even mix of blue and red.
+    let frame = frame_svg(&anim, 0.5);
+    assert!(frame.contains("fill=\"#800080\""), "{frame}");
+    assert!(!frame.contains("fill=\"#0000ff\""), "{frame}");
+}
+
+#[test]
+fn opacity_and_stroke_width_factors_apply() {
+    let unit = r##"<rect width="20" height="10" fill="#00f" stroke="#000" stroke-width="2"/>"##;
+    let factor = |v| {
+        vec![AttrSeg {
+            t0: 0.0,
+            t1: 1.0,
+            timing: timing(),
+            from: 1.0,
+            to: v,
+        }]
+    };
+    let track = Track {
+        opacity: factor(0.5),
+        stroke_width: factor(3.0),
+        ..Track::default()
+    };
+    let anim = animate(scene_with(unit), 1, track);
+    let want = r##"<rect width="20" height="10" fill="#00f" stroke="#000" stroke-width="6" opacity="0.5"/>"##;
+    assert!(differs(&frame_svg(&anim, 1.0), want) < 1e-3);
+}
+
+#[test]
+fn vertex_deformation_moves_every_point() {
+    let scene = scene_with(RECT);
+    let field = Field::Constant(Arc::from([Component::Translate(Vec2::new(60.0, 0.0))]));
+    let grid = Arc::new(Grid::new(2, 2, scene.canvas(), field));
+    let kind = MotionKind::Vertex { grid, pivot: None };
+    let track = Track {
+        motions: vec![MotionSeg {
+            t0: 0.0,
+            t1: 1.0,
+            timing: timing(),
+            kind,
+            start: Affine::IDENTITY,
+        }],
+        ..Track::default()
+    };
+    assert!(track.deforms());
+    let anim = animate(scene, 1, track);
+    assert!(
+        differs(
+            &frame_svg(&anim, 1.0),
+            r##"<rect x="30" width="20" height="10" fill="#00f"/>"##
+        ) < 1e-3
+    );
+}
+
+#[test]
+fn frames_are_deterministic_and_share_definitions() {
+    let unit = r##"<rect class="a" width="20" height="10" fill="url(#u)"/><rect class="a" y="12" width="20" height="10" fill="url(#u)"/>"##;
+    let scene = scene_with(unit);
+    let text = scene_svg(&scene);
+    assert_eq!(text.matches("<linearGradient").count(), 1, "{text}");
+    let anim = animate(
+        scene,
+        1,
+        rigid(Point::ORIGIN, vec![Component::Rotate(33.0)]),
+    );
+    assert_eq!(frame_svg(&anim, 0.37), frame_svg(&anim, 0.37));
+}

@@ -1,0 +1,292 @@
+//! SVG import: tags from each source, unit selection, geometry in canvas coordinates, and
+//! errors that say where the file is wrong.
+
+use gmotion::importers::svg::{ImportError, ImportOptions, Imported, TagFrom, Units, load, parse};
+use gmotion::scene::{Node, Scene};
+use kurbo::{Affine, Point, Rect, Shape as _};
+
+fn import(body: &str, opts: ImportOptions) -> Imported {
+    let text = format!(
+        r#"<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape" width="200" height="200">{body}</svg>"#
+    );
+    parse(&text, "test.svg", &opts).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn tags(scene: &Scene) -> Vec<(String, usize)> {
+    scene.shapes.iter().map(|s| (s.tag.clone(), s.id)).collect()
+}
+
+fn with(tag_from: TagFrom, units: Units) -> ImportOptions {
+    ImportOptions { tag_from, units }
+}
+
+fn close(a: Point, b: Point) -> bool {
+    a.distance(b) < 1e-3
+}
+
+const SOURCES: &str = r#"
+    <g id="Wheels_3" class="car">
+        <rect data-tag="bolt" class="x" width="10" height="10"/>
+        <rect width="10" height="10"/>
+    </g>
+    <g id="Trees_2">
+        <circle inkscape:label="oak" r="5"/>
+        <circle class="pine  tall" r="5"/>
+        <circle r="5"/>
+    </g>
+    <path d="M0 0 L5 5 Z" stroke="black"/>
+"#;
+
+#[test]
+fn tags_come_from_the_nearest_source() {
+    let scene = import(SOURCES, with(TagFrom::Auto, Units::Paths)).scene;
+    let want = [
+        ("bolt", 0),
+        ("car", 0),
+        ("oak", 0),
+        ("pine", 0),
+        ("Trees", 0),
+        ("path", 0),
+    ];
+    assert_eq!(tags(&scene), want.map(|(t, i)| (t.to_string(), i)));
+    // With group units the tagged `car` group is one shape; the untagged layer is not.
+    let auto = import(SOURCES, ImportOptions::default()).scene;
+    let want = [
+        ("car", 0),
+        ("oak", 0),
+        ("pine", 0),
+        ("Trees", 0),
+        ("path", 0),
+    ];
+    assert_eq!(tags(&auto), want.map(|(t, i)| (t.to_string(), i)));
+}
+
+#[test]
+fn a_single_source_ignores_the_others() {
+    let by = |from| {
+        tags(&import(SOURCES, with(from, Units::Paths)).scene)
+            .into_iter()
+            .map(|(t, _)| t)
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(
+        by(TagFrom::DataTag),
+        ["bolt", "rect", "circle", "circle", "circle", "path"]
+    );
+    assert_eq!(
+        by(TagFrom::Class),
+        ["x", "car", "circle", "pine", "circle", "path"]
+    );
+    assert_eq!(
+        by(TagFrom::Label),
+        ["rect", "rect", "oak", "circle", "circle", "path"]
+    );
+    assert_eq!(
+        by(TagFrom::Layer),
+        ["Wheels", "Wheels", "Trees", "Trees", "Trees", "path"]
+    );
+}
+
+#[test]
+fn use_instances_take_the_referenced_element_tag() {
+    let body = r##"
+        <defs><path id="leaf" class="leaf" d="M0 0 L10 0 L10 10 Z"/>
+              <g id="pair"><rect class="a" width="5" height="5"/><rect class="b" x="5" width="5" height="5"/></g></defs>
+        <use href="#leaf" x="20"/><use href="#leaf" x="40"/>
+        <use href="#pair" y="50"/>
+    "##;
+    let scene = import(body, ImportOptions::default()).scene;
+    let got = tags(&scene);
+    let want = [("leaf", 0), ("leaf", 1), ("a", 0), ("b", 0)].map(|(t, i)| (t.to_string(), i));
+    assert_eq!(got, want);
+    // The instances sit where `x` puts them.
+    assert!(
+        close(scene.shapes[1].bbox.origin(), Point::new(40.0, 0.0)),
+        "{:?}",
+        scene.shapes[1].bbox
+    );
+}
+
+#[test]
+fn a_tagged_group_is_one_unit() {
+    let body = r#"
+        <g class="hero" transform="translate(100 0)">
+            <rect width="10" height="10"/><circle cx="20" r="5"/>
+            <g class="hat"><rect y="-10" width="10" height="5"/></g>
+        </g>
+        <rect class="x" width="1" height="1"/><rect class="y" width="1" height="1"/><rect class="x" width="1" height="1"/>
+    "#;
+    let auto = import(body, ImportOptions::default()).scene;
+    assert_eq!(
+        tags(&auto),
+        [("hero", 0), ("x", 0), ("y", 0), ("x", 1)].map(|(t, i)| (t.to_string(), i))
+    );
+    let hero = &auto.shapes[0];
+    let node = auto.unit_node(0).expect("unit node");
+    assert!(matches!(node, Node::Group(g) if g.unit == Some(0) && g.children.len() == 3));
+    assert_eq!(hero.bbox, Rect::new(100.0, -10.0, 125.0, 10.0));
+    for (i, s) in auto.shapes.iter().enumerate() {
+        assert_eq!(auto.unit_node(i).and_then(Node::unit), Some(i), "{}", s.tag);
+        assert_eq!(s.z, i);
+    }
+
+    let paths = import(body, with(TagFrom::Auto, Units::Paths)).scene;
+    assert_eq!(paths.shapes.len(), 6);
+    assert_eq!(
+        tags(&paths)[..3],
+        [("hero", 0), ("hero", 1), ("hat", 0)].map(|(t, i)| (t.to_string(), i))
+    );
+}
+
+#[test]
+fn groups_mode_takes_outermost_layers() {
+    let body = r#"
+        <g id="Layer_1"><rect width="1" height="1"/><g id="Sub_1"><rect width="2" height="2"/></g></g>
+        <g><rect class="loose" width="3" height="3"/></g>
+    "#;
+    let scene = import(body, with(TagFrom::Auto, Units::Groups)).scene;
+    assert_eq!(
+        tags(&scene),
+        [("Layer", 0), ("loose", 0)].map(|(t, i)| (t.to_string(), i))
+    );
+    // Auto units do not treat a bare layer id as a tag that groups.
+    let auto = import(body, ImportOptions::default()).scene;
+    assert_eq!(auto.shapes.len(), 3);
+}
+
+#[test]
+fn centroids_are_area_centroids_in_canvas_space() {
+    let body = r#"
+        <rect x="10" y="20" width="40" height="20"/>
+        <g transform="translate(100 100) scale(2)"><circle cx="5" cy="-5" r="10"/></g>
+        <path d="M0 0 H30 V10 H10 V30 H0 Z"/>
+        <line x1="0" y1="0" x2="10" y2="4" stroke="black"/>
+    "#;
+    let scene = import(body, ImportOptions::default()).scene;
+    let c: Vec<Point> = scene.shapes.iter().map(|s| s.centroid).collect();
+    assert!(close(c[0], Point::new(30.0, 30.0)), "{:?}", c[0]);
+    assert!(close(c[1], Point::new(110.0, 90.0)), "{:?}", c[1]);
+    // An L: 300 at (15, 5) plus 200 at (5, 20) → (11, 11); its box centre would be (15, 15).
+    assert!(close(c[2], Point::new(11.0, 11.0)), "{:?}", c[2]);
+    // A stroke alone has no area: the box centre stands in.
+    assert!(close(c[3], Point::new(5.0, 2.0)), "{:?}", c[3]);
+    assert_eq!(scene.shapes[1].bbox, Rect::new(90.0, 70.0, 130.0, 110.0));
+}
+
+#[test]
+fn view_box_and_nested_transforms_map_to_the_canvas() {
+    let text = r#"<svg xmlns="http://www.w3.org/2000/svg" width="400" height="200" viewBox="0 0 100 50">
+        <g transform="translate(10 5)"><g transform="rotate(90)"><rect width="10" height="4"/></g></g></svg>"#;
+    let scene = parse(text, "vb.svg", &ImportOptions::default())
+        .unwrap()
+        .scene;
+    assert_eq!((scene.width, scene.height), (400.0, 200.0));
+    let shape = &scene.shapes[0];
+    // rotate(90) takes the rect to x∈[-4,0], y∈[0,10]; then +(10,5); then ×4.
+    let want = Rect::new(24.0, 20.0, 40.0, 60.0);
+    let got = shape.bbox;
+    assert!(
+        (got.x0 - want.x0).abs() < 1e-4 && (got.y1 - want.y1).abs() < 1e-4,
+        "{got:?}"
+    );
+    // parent_transform places the node's own geometry on the canvas.
+    let Some(Node::Path(p)) = scene.unit_node(0) else {
+        panic!("path unit")
+    };
+    let placed = (shape.parent_transform * p.path.clone()).bounding_box();
+    assert!(
+        (placed.x0 - want.x0).abs() < 1e-4 && (placed.y0 - want.y0).abs() < 1e-4,
+        "{placed:?}"
+    );
+    assert!(close(
+        shape.parent_transform * Point::ORIGIN,
+        Point::new(40.0, 20.0)
+    ));
+    assert_eq!(scene.root.transform, Affine::scale(4.0));
+}
+
+#[test]
+fn synthetic_ids_never_reach_the_scene() {
+    let body = r#"<rect id="real" width="1" height="1"/><rect width="1" height="1"/><rect id="real" width="1" height="1"/>"#;
+    let scene = import(body, ImportOptions::default()).scene;
+    let ids: Vec<&str> = scene.root.children.iter().map(Node::id).collect();
+    assert_eq!(ids, ["real", "", ""]);
+}
+
+#[test]
+fn unsupported_features_are_named_in_warnings() {
+    let body = r#"<filter id="f"><feGaussianBlur stdDeviation="2"/></filter>
+        <g id="shadow" filter="url(#f)"><rect width="5" height="5"/></g>
+        <rect width="5" height="5" style="mix-blend-mode:multiply"/>"#;
+    let imported = import(body, ImportOptions::default());
+    let w = imported.warnings.join("\n");
+    assert!(
+        w.contains("test.svg: <g id=\"shadow\"> (line 2): filter ignored"),
+        "{w}"
+    );
+    assert!(w.contains("mix-blend-mode multiply ignored"), "{w}");
+    assert_eq!(imported.scene.shapes.len(), 2);
+}
+
+#[test]
+fn malformed_xml_reports_line_and_column() {
+    let text = "<svg xmlns=\"http://www.w3.org/2000/svg\">\n  <rect width=\"1\">\n</svg>";
+    let err = parse(text, "bad.svg", &ImportOptions::default()).unwrap_err();
+    match &err {
+        ImportError::Xml { line, column, .. } => assert_eq!((*line, *column), (3, 1)),
+        other => panic!("{other}"),
+    }
+    let msg = err.to_string();
+    assert_eq!(
+        msg,
+        "bad.svg:3:1: malformed XML: expected 'rect' tag, not 'svg'"
+    );
+}
+
+#[test]
+fn other_errors_say_what_is_wrong() {
+    let opts = ImportOptions::default();
+    let missing = load(std::path::Path::new("/no/such/file.svg"), &opts).unwrap_err();
+    assert!(matches!(missing, ImportError::Read { .. }), "{missing}");
+    assert!(
+        missing
+            .to_string()
+            .starts_with("/no/such/file.svg: cannot read")
+    );
+
+    let empty = parse("", "empty.svg", &opts).unwrap_err();
+    assert!(
+        matches!(
+            empty,
+            ImportError::Xml {
+                line: 1,
+                column: 1,
+                ..
+            }
+        ),
+        "{empty}"
+    );
+
+    let html = parse("<html/>", "page.html", &opts).unwrap_err();
+    assert!(
+        matches!(&html, ImportError::NotSvg { found, .. } if found == "html"),
+        "{html}"
+    );
+
+    let zero = parse(
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="0" height="10"/>"#,
+        "z.svg",
+        &opts,
+    )
+    .unwrap_err();
+    assert!(matches!(zero, ImportError::Size { .. }), "{zero}");
+}
+
+#[test]
+fn an_empty_drawing_imports_with_no_shapes() {
+    let imported = import(
+        r#"<rect width="10" height="10" fill="none"/>"#,
+        ImportOptions::default(),
+    );
+    assert!(imported.scene.shapes.is_empty());
+}
