@@ -3,5 +3,6 @@
 
 pub mod atomic;
 pub mod frame;
+pub mod lottie;
 pub mod raster;
 pub mod smil;

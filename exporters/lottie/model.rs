@@ -1,0 +1,612 @@
+//! The subset of the Lottie JSON format gmotion writes, as serde structures.
+//!
+//! Field names follow the format (two-letter keys); the official schema
+//! (`lottie_specs/data/lottie.schema.json`) is what the conformance run validates against.
+//! Numbers are rounded where they are made ([`N::coord`], [`N::fine`]) and written without
+//! a fraction when integral, so output is compact and identical from run to run.
+
+use serde::ser::{SerializeMap, SerializeSeq};
+use serde::{Serialize, Serializer};
+
+/// A number as written: rounded by its constructor, integral values without `.0`.
+#[derive(Clone, Copy, Debug, PartialEq, PartialOrd, Default)]
+pub struct N(pub f64);
+
+impl N {
+    /// A coordinate, angle, percentage or frame time: three decimals.
+    pub fn coord(x: f64) -> N {
+        N(round_to(x, 1e3))
+    }
+
+    /// A colour component, opacity fraction, gradient offset or easing handle: five decimals.
+    pub fn fine(x: f64) -> N {
+        N(round_to(x, 1e5))
+    }
+}
+
+fn round_to(x: f64, scale: f64) -> f64 {
+    let r = (x * scale).round() / scale;
+    // Avoid writing `-0`.
+    if r == 0.0 { 0.0 } else { r }
+}
+
+impl Serialize for N {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let x = self.0;
+        if x.fract() == 0.0 && x.abs() < 1e15 {
+            s.serialize_i64(x as i64)
+        } else if x.is_finite() {
+            s.serialize_f64(x)
+        } else {
+            // Non-finite values never reach the model (callers check), but JSON has no
+            // spelling for them, so write a neutral number rather than invalid JSON.
+            s.serialize_i64(0)
+        }
+    }
+}
+
+/// The top-level animation.
+#[derive(Clone, Debug, Serialize)]
+pub struct Animation {
+    /// Format version the file targets (Bodymovin numbering, read by every player).
+    pub v: &'static str,
+    /// Frame rate.
+    pub fr: N,
+    /// First frame.
+    pub ip: N,
+    /// Frame after the last one.
+    pub op: N,
+    /// Width in pixels.
+    pub w: u32,
+    /// Height in pixels.
+    pub h: u32,
+    /// Name.
+    pub nm: String,
+    /// Precompositions referenced by precomp layers.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub assets: Vec<Asset>,
+    /// Layers, topmost first.
+    pub layers: Vec<Layer>,
+}
+
+/// A precomposition asset.
+#[derive(Clone, Debug, Serialize)]
+pub struct Asset {
+    /// Asset id (referenced by `refId`).
+    pub id: String,
+    /// Layers, topmost first.
+    pub layers: Vec<Layer>,
+}
+
+/// Layer types gmotion writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LayerType {
+    /// A precomposition layer (`ty: 0`).
+    Precomp,
+    /// A null layer (`ty: 3`), a transform others parent to.
+    Null,
+    /// A shape layer (`ty: 4`).
+    Shape,
+}
+
+impl Serialize for LayerType {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_u8(match self {
+            LayerType::Precomp => 0,
+            LayerType::Null => 3,
+            LayerType::Shape => 4,
+        })
+    }
+}
+
+/// A layer.
+#[derive(Clone, Debug, Serialize)]
+pub struct Layer {
+    /// Layer type.
+    pub ty: LayerType,
+    /// Name (`tag:id` for animated shapes).
+    pub nm: String,
+    /// Index, unique within the composition.
+    pub ind: u32,
+    /// Index of the parent layer whose transform this one inherits.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub parent: Option<u32>,
+    /// Precomposition asset id (precomp layers).
+    #[serde(rename = "refId", skip_serializing_if = "Option::is_none")]
+    pub ref_id: Option<String>,
+    /// Precomposition clip width.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub w: Option<u32>,
+    /// Precomposition clip height.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub h: Option<u32>,
+    /// Set on a layer that serves as the track matte of the layer below it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub td: Option<u8>,
+    /// Track matte mode (1 alpha, 3 luma) taken from the layer above.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tt: Option<u8>,
+    /// Index of the matte layer (the newer spelling of "the layer above").
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tp: Option<u32>,
+    /// Whether `masksProperties` is set (lottie-web reads this flag).
+    #[serde(rename = "hasMask", skip_serializing_if = "Option::is_none")]
+    pub has_mask: Option<bool>,
+    /// Layer masks (clip paths).
+    #[serde(rename = "masksProperties", skip_serializing_if = "Vec::is_empty")]
+    pub masks: Vec<Mask>,
+    /// Layer transform.
+    pub ks: Transform,
+    /// Shapes (shape layers), topmost first.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shapes: Option<Vec<Shape>>,
+    /// In point.
+    pub ip: N,
+    /// Out point.
+    pub op: N,
+    /// Start time.
+    pub st: N,
+    /// Blend mode (normal).
+    pub bm: u8,
+}
+
+impl Layer {
+    /// A layer of type `ty` visible from `ip` to `op`, untransformed.
+    pub fn new(ty: LayerType, nm: String, ind: u32, ip: f64, op: f64) -> Layer {
+        Layer {
+            ty,
+            nm,
+            ind,
+            parent: None,
+            ref_id: None,
+            w: None,
+            h: None,
+            td: None,
+            tt: None,
+            tp: None,
+            has_mask: None,
+            masks: Vec::new(),
+            ks: Transform::layer_identity(),
+            shapes: None,
+            ip: N::coord(ip),
+            op: N::coord(op),
+            st: N(0.0),
+            bm: 0,
+        }
+    }
+}
+
+/// A layer mask.
+#[derive(Clone, Debug, Serialize)]
+pub struct Mask {
+    /// Mode: `a` add, `i` intersect.
+    pub mode: &'static str,
+    /// The mask outline.
+    pub pt: Prop,
+    /// Opacity in percent.
+    pub o: Prop,
+    /// Expansion (lottie-web requires the property).
+    pub x: Prop,
+    /// Inverted.
+    pub inv: bool,
+}
+
+/// A transform: `T(p)·R(r)·S(s)·T(-a)` with opacity `o` (never skew: rlottie cannot draw it).
+#[derive(Clone, Debug, Serialize)]
+pub struct Transform {
+    /// Anchor point.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub a: Option<Prop>,
+    /// Position.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub p: Option<Prop>,
+    /// Scale in percent.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub s: Option<Prop>,
+    /// Rotation in degrees, clockwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub r: Option<Prop>,
+    /// Opacity in percent; written as 100 when unset (lottie-web needs it on groups).
+    #[serde(serialize_with = "opacity_or_opaque")]
+    pub o: Option<Prop>,
+}
+
+fn opacity_or_opaque<S: Serializer>(o: &Option<Prop>, s: S) -> Result<S::Ok, S::Error> {
+    match o {
+        Some(p) => p.serialize(s),
+        None => Prop::scalar(N(100.0)).serialize(s),
+    }
+}
+
+impl Transform {
+    /// An identity transform with nothing written.
+    pub fn empty() -> Transform {
+        Transform {
+            a: None,
+            p: None,
+            s: None,
+            r: None,
+            o: None,
+        }
+    }
+
+    /// An identity layer transform with every channel written (some players have no
+    /// defaults for layer transforms).
+    pub fn layer_identity() -> Transform {
+        Transform {
+            a: Some(Prop::fixed(Value::Vec(vec![N(0.0), N(0.0)]))),
+            p: Some(Prop::fixed(Value::Vec(vec![N(0.0), N(0.0)]))),
+            s: Some(Prop::fixed(Value::Vec(vec![N(100.0), N(100.0)]))),
+            r: Some(Prop::fixed(Value::Scalar(N(0.0)))),
+            o: Some(Prop::fixed(Value::Scalar(N(100.0)))),
+        }
+    }
+}
+
+/// A shape item.
+#[derive(Clone, Debug, Serialize)]
+#[serde(tag = "ty")]
+pub enum Shape {
+    /// A group.
+    #[serde(rename = "gr")]
+    Group(Group),
+    /// A Bézier path.
+    #[serde(rename = "sh")]
+    Path(PathShape),
+    /// A solid fill.
+    #[serde(rename = "fl")]
+    Fill(Fill),
+    /// A solid stroke.
+    #[serde(rename = "st")]
+    Stroke(Stroke),
+    /// A gradient fill.
+    #[serde(rename = "gf")]
+    GradientFill(GradientFill),
+    /// A gradient stroke.
+    #[serde(rename = "gs")]
+    GradientStroke(GradientStroke),
+    /// The group's transform (last item of a group).
+    #[serde(rename = "tr")]
+    Transform(Transform),
+}
+
+/// A group of shapes.
+#[derive(Clone, Debug, Serialize)]
+pub struct Group {
+    /// Name.
+    #[serde(skip_serializing_if = "String::is_empty")]
+    pub nm: String,
+    /// Items, topmost first, the transform last.
+    pub it: Vec<Shape>,
+}
+
+/// A path item.
+#[derive(Clone, Debug, Serialize)]
+pub struct PathShape {
+    /// The Bézier outline (static or keyframed).
+    pub ks: Prop,
+}
+
+/// A solid fill.
+#[derive(Clone, Debug, Serialize)]
+pub struct Fill {
+    /// Opacity in percent.
+    pub o: Prop,
+    /// Colour `[r, g, b]` in `0..=1`.
+    pub c: Prop,
+    /// Fill rule: 1 non-zero, 2 even-odd.
+    pub r: u8,
+}
+
+/// Stroke properties shared by solid and gradient strokes.
+#[derive(Clone, Debug, Serialize)]
+pub struct StrokeStyle {
+    /// Width.
+    pub w: Prop,
+    /// Line cap: 1 butt, 2 round, 3 square.
+    pub lc: u8,
+    /// Line join: 1 miter, 2 round, 3 bevel.
+    pub lj: u8,
+    /// Miter limit.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ml: Option<N>,
+    /// Dashes.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub d: Vec<Dash>,
+}
+
+/// A solid stroke.
+#[derive(Clone, Debug, Serialize)]
+pub struct Stroke {
+    /// Opacity in percent.
+    pub o: Prop,
+    /// Colour.
+    pub c: Prop,
+    /// Width, caps, joins, dashes.
+    #[serde(flatten)]
+    pub style: StrokeStyle,
+}
+
+/// One entry of a dash pattern.
+#[derive(Clone, Debug, Serialize)]
+pub struct Dash {
+    /// `d` dash, `g` gap, `o` offset.
+    pub n: &'static str,
+    /// Length.
+    pub v: Prop,
+}
+
+/// Gradient geometry and colours shared by gradient fills and strokes.
+#[derive(Clone, Debug, Serialize)]
+pub struct Gradient {
+    /// 1 linear, 2 radial.
+    pub t: u8,
+    /// Start point (radial: centre).
+    pub s: Prop,
+    /// End point (radial: a point on the circle).
+    pub e: Prop,
+    /// Radial highlight length in percent of the radius.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub h: Option<Prop>,
+    /// Radial highlight angle in degrees from the `s → e` direction.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub a: Option<Prop>,
+    /// Colour (and opacity) stops.
+    pub g: GradientStops,
+}
+
+/// Gradient stops: `p` colour stops `[offset, r, g, b]…` then optional `[offset, alpha]…`.
+#[derive(Clone, Debug, Serialize)]
+pub struct GradientStops {
+    /// Number of colour stops.
+    pub p: usize,
+    /// The flat stop list (static or keyframed).
+    pub k: Prop,
+}
+
+/// A gradient fill.
+#[derive(Clone, Debug, Serialize)]
+pub struct GradientFill {
+    /// Opacity in percent.
+    pub o: Prop,
+    /// Fill rule: 1 non-zero, 2 even-odd.
+    pub r: u8,
+    /// The gradient.
+    #[serde(flatten)]
+    pub grad: Gradient,
+}
+
+/// A gradient stroke.
+#[derive(Clone, Debug, Serialize)]
+pub struct GradientStroke {
+    /// Opacity in percent.
+    pub o: Prop,
+    /// The gradient.
+    #[serde(flatten)]
+    pub grad: Gradient,
+    /// Width, caps, joins, dashes.
+    #[serde(flatten)]
+    pub style: StrokeStyle,
+}
+
+/// A Bézier outline: vertices with in and out tangents relative to them.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Bezier {
+    /// Closed.
+    pub c: bool,
+    /// Vertices.
+    pub v: Vec<[N; 2]>,
+    /// In tangents (relative).
+    pub i: Vec<[N; 2]>,
+    /// Out tangents (relative).
+    pub o: Vec<[N; 2]>,
+}
+
+/// A property value.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Value {
+    /// A number (written bare when static, as `[x]` in keyframes).
+    Scalar(N),
+    /// A vector: point, scale, colour or flat gradient list.
+    Vec(Vec<N>),
+    /// A Bézier outline (written as `[bezier]` in keyframes).
+    Bezier(Bezier),
+}
+
+impl Value {
+    fn write_keyframe_value<S: SerializeMap>(&self, m: &mut S) -> Result<(), S::Error> {
+        match self {
+            Value::Scalar(x) => m.serialize_entry("s", &[x]),
+            Value::Vec(v) => m.serialize_entry("s", v),
+            Value::Bezier(b) => m.serialize_entry("s", std::slice::from_ref(b)),
+        }
+    }
+}
+
+impl Serialize for Value {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            Value::Scalar(x) => x.serialize(s),
+            Value::Vec(v) => v.serialize(s),
+            Value::Bezier(b) => b.serialize(s),
+        }
+    }
+}
+
+/// Keyframe easing: the cubic-bezier handle leaving a keyframe (`o`) and entering the next
+/// (`i`), in the unit square of (time, value) fractions.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ease {
+    /// Out handle of this keyframe.
+    pub out: [N; 2],
+    /// In handle of the next keyframe.
+    pub inn: [N; 2],
+}
+
+impl Ease {
+    /// Linear interpolation.
+    pub const LINEAR: Ease = Ease {
+        out: [N(0.0), N(0.0)],
+        inn: [N(1.0), N(1.0)],
+    };
+
+    /// From CSS `cubic-bezier(x1, y1, x2, y2)` control points.
+    pub fn from_css([x1, y1, x2, y2]: [f64; 4]) -> Ease {
+        Ease {
+            out: [N::fine(x1.clamp(0.0, 1.0)), N::fine(y1)],
+            inn: [N::fine(x2.clamp(0.0, 1.0)), N::fine(y2)],
+        }
+    }
+}
+
+struct Handle([N; 2]);
+
+impl Serialize for Handle {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut m = s.serialize_map(Some(2))?;
+        m.serialize_entry("x", &self.0[0])?;
+        m.serialize_entry("y", &self.0[1])?;
+        m.end()
+    }
+}
+
+/// A keyframe: the value at frame `t` and how it moves on to the next keyframe.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Keyframe {
+    /// Frame.
+    pub t: N,
+    /// Value.
+    pub s: Value,
+    /// Easing to the next keyframe (`None` on the last one and on holds).
+    pub ease: Option<Ease>,
+    /// Hold this value until the next keyframe.
+    pub hold: bool,
+}
+
+impl Serialize for Keyframe {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut m = s.serialize_map(None)?;
+        m.serialize_entry("t", &self.t)?;
+        self.s.write_keyframe_value(&mut m)?;
+        if self.hold {
+            m.serialize_entry("h", &1)?;
+        } else if let Some(e) = self.ease {
+            m.serialize_entry("o", &Handle(e.out))?;
+            m.serialize_entry("i", &Handle(e.inn))?;
+        }
+        m.end()
+    }
+}
+
+/// An animatable property: `{"a":0,"k":value}` or `{"a":1,"k":[keyframes]}`.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Prop {
+    /// A fixed value.
+    Fixed(Value),
+    /// Keyframes in time order (at least two).
+    Animated(Vec<Keyframe>),
+}
+
+impl Prop {
+    /// A fixed value.
+    pub fn fixed(v: Value) -> Prop {
+        Prop::Fixed(v)
+    }
+
+    /// A fixed number.
+    pub fn scalar(x: N) -> Prop {
+        Prop::Fixed(Value::Scalar(x))
+    }
+
+    /// A fixed vector.
+    pub fn vec(v: Vec<N>) -> Prop {
+        Prop::Fixed(Value::Vec(v))
+    }
+
+    /// Keyframes, collapsed to a fixed value when every keyframe holds the same value.
+    pub fn keyed(keys: Vec<Keyframe>) -> Prop {
+        match keys.first() {
+            None => Prop::scalar(N(0.0)),
+            Some(first) if keys.iter().all(|k| k.s == first.s) => Prop::Fixed(first.s.clone()),
+            Some(_) => Prop::Animated(keys),
+        }
+    }
+}
+
+impl Serialize for Prop {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut m = s.serialize_map(Some(2))?;
+        match self {
+            Prop::Fixed(v) => {
+                m.serialize_entry("a", &0)?;
+                m.serialize_entry("k", v)?;
+            }
+            Prop::Animated(keys) => {
+                m.serialize_entry("a", &1)?;
+                m.serialize_entry("k", &KeyList(keys))?;
+            }
+        }
+        m.end()
+    }
+}
+
+struct KeyList<'a>(&'a [Keyframe]);
+
+impl Serialize for KeyList<'_> {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let mut seq = s.serialize_seq(Some(self.0.len()))?;
+        for k in self.0 {
+            seq.serialize_element(k)?;
+        }
+        seq.end()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_are_compact() {
+        let v = serde_json::to_string(&vec![
+            N::coord(1.0),
+            N::coord(2.50004),
+            N::coord(-0.0001),
+            N::fine(1.0 / 3.0),
+        ])
+        .unwrap();
+        assert_eq!(v, "[1,2.5,0,0.33333]");
+    }
+
+    #[test]
+    fn scalar_keyframes_are_arrays() {
+        let k = Keyframe {
+            t: N(0.0),
+            s: Value::Scalar(N(5.0)),
+            ease: Some(Ease::LINEAR),
+            hold: false,
+        };
+        let j = serde_json::to_string(&Prop::Animated(vec![
+            k.clone(),
+            Keyframe {
+                t: N(10.0),
+                ease: None,
+                ..k
+            },
+        ]))
+        .unwrap();
+        assert_eq!(
+            j,
+            r#"{"a":1,"k":[{"t":0,"s":[5],"o":{"x":0,"y":0},"i":{"x":1,"y":1}},{"t":10,"s":[5]}]}"#
+        );
+    }
+
+    #[test]
+    fn shapes_are_tagged_by_ty() {
+        let s = Shape::Transform(Transform::empty());
+        assert_eq!(
+            serde_json::to_string(&s).unwrap(),
+            r#"{"ty":"tr","o":{"a":0,"k":100}}"#
+        );
+    }
+}

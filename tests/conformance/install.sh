@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Installs what the conformance run needs, idempotently: Debian chromium and fonts, npm
+# lottie-web and playwright-core (into tests/conformance/node_modules), PyPI rlottie-python,
+# lottie-specs (the official schema), lottie (python-lottie, the comparison converter),
+# numpy and Pillow (pixel comparisons). Each step is skipped when already satisfied.
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+
+if [ ! -x /usr/bin/chromium ] || ! fc-list 2>/dev/null | grep -qi dejavu; then
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -qq
+    apt-get install -y -qq --no-install-recommends chromium fonts-dejavu-core fonts-liberation fontconfig >/dev/null
+fi
+
+if [ ! -d "$here/node_modules/lottie-web" ] || [ ! -d "$here/node_modules/playwright-core" ]; then
+    (cd "$here" && if [ -f package-lock.json ]; then npm ci --no-audit --no-fund --loglevel=error; else npm install --no-audit --no-fund --loglevel=error; fi)
+fi
+
+if ! python3 -c "import rlottie_python, lottie_specs, lottie, numpy, PIL" 2>/dev/null; then
+    python3 -m pip install -q --disable-pip-version-check -r "$here/requirements.txt"
+fi
+echo "conformance tools ready: $(/usr/bin/chromium --version 2>/dev/null | head -1)"

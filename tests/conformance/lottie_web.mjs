@@ -1,0 +1,61 @@
+// Plays Lottie files in lottie-web (SVG renderer) inside one headless Chromium and writes
+// the requested frames as transparent PNGs.
+//
+//   node lottie_web.mjs JOBS.json
+//
+// JOBS.json: [{"json": "a.json", "width": 300, "frames": [0, 5], "out": ["a-0.png", "a-5.png"]}, …]
+// Jobs run on a few pages in parallel; a job that fails (bad JSON, player exception) is
+// reported on stderr with its file and the run goes on, leaving its PNGs unwritten.
+import { readFileSync } from 'node:fs';
+import { join, dirname } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+
+const here = dirname(fileURLToPath(import.meta.url));
+const player = join(here, 'node_modules/lottie-web/build/player/lottie_svg.min.js');
+const jobs = JSON.parse(readFileSync(process.argv[2], 'utf8'));
+const pages = Number(process.env.PAGES || 3);
+
+const browser = await chromium.launch({
+  executablePath: '/usr/bin/chromium',
+  args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+    '--disable-background-networking', '--disable-component-update', '--disable-sync'],
+  // playwright gives every launch a fresh temporary profile (--user-data-dir).
+});
+
+async function worker(queue) {
+  const page = await browser.newPage({ deviceScaleFactor: 1 });
+  await page.setContent('<!doctype html><html><body style="margin:0;background:transparent"><div id="c"></div></body></html>');
+  await page.addScriptTag({ path: player });
+  for (;;) {
+    const job = queue.shift();
+    if (!job) break;
+    try {
+      const data = JSON.parse(readFileSync(job.json, 'utf8'));
+      const height = Math.max(1, Math.round(job.width * data.h / data.w));
+      await page.setViewportSize({ width: job.width, height });
+      await page.evaluate(({ data, width, height }) => {
+        if (window.anim) window.anim.destroy();
+        const c = document.getElementById('c');
+        c.innerHTML = '';
+        c.style.width = width + 'px';
+        c.style.height = height + 'px';
+        window.anim = lottie.loadAnimation({
+          container: c, renderer: 'svg', loop: false, autoplay: false, animationData: data,
+          rendererSettings: { preserveAspectRatio: 'none' },
+        });
+      }, { data, width: job.width, height });
+      for (let i = 0; i < job.frames.length; i++) {
+        await page.evaluate((f) => window.anim.goToAndStop(f, true), job.frames[i]);
+        await page.locator('#c').screenshot({ path: job.out[i], omitBackground: true });
+      }
+    } catch (e) {
+      console.error(`lottie-web: ${job.json}: ${String(e.message || e).split('\n')[0]}`);
+    }
+  }
+  await page.close();
+}
+
+const queue = jobs.slice();
+await Promise.all(Array.from({ length: pages }, () => worker(queue)));
+await browser.close();
