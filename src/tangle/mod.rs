@@ -1,12 +1,121 @@
-//! Group grammars (gTangle, Santoni & Pellacini): spatial rules that split, outline, place,
-//! fill and regroup shapes, so a few input shapes become thousands of pattern pieces.
+//! Group grammars (gTangle, Santoni & Pellacini 2016): spatial rules that split, outline,
+//! place, fill and regroup shapes, so a few input shapes become thousands of pattern
+//! pieces that timeslice rules can then animate.
 //!
 //! A tangle shape is ⟨t, g, s; Θ, d⟩: a tag, a group id, an id within the group, a boundary
-//! made of polygons with holes ([`polygon::Region`]) and an orientation vector.
+//! of polygons with holes ([`polygon::Region`]) and an orientation vector. [`expand`] runs
+//! the rules on a [`Scene`](crate::scene::Scene); the operators themselves are plain
+//! functions in [`ops`] (with [`place`] and [`field`] holding the placement and streamline
+//! machinery), all built on i_overlay's integer booleans ([`boolean`]) over one common
+//! lattice, so pieces that share an edge share it exactly. [`graph`] gives the grammar
+//! graph of gTangle sec. 5.
+//!
+//! Supported: every operator of the paper (ungroup, regroup, regular split with any curve,
+//! outline, streamline split with its three fields, placement, fill, stippling, invert,
+//! perturbation) on arbitrary polygons with holes. Not supported: operators on open paths
+//! (a shape must enclose area), and the paper's interactive editing.
 
+pub mod bind;
 pub mod boolean;
+pub mod expand;
 pub mod field;
 pub mod noise;
 pub mod ops;
 pub mod place;
 pub mod polygon;
+
+pub use expand::expand;
+
+use crate::grammar::ast::Span;
+
+/// Settings of a spatial expansion.
+#[derive(Clone, Debug)]
+pub struct TangleOptions {
+    /// Seed of every random choice.
+    pub seed: u64,
+    /// Expansion stops with an error after this many steps.
+    pub max_steps: usize,
+    /// Expansion stops with an error when there are more shapes than this.
+    pub max_shapes: usize,
+    /// Polyline resolution in user units: curves are flattened to within it, streamlines
+    /// traced with steps of it, placement rasters finer than it.
+    pub tolerance: f64,
+}
+
+impl Default for TangleOptions {
+    fn default() -> Self {
+        TangleOptions {
+            seed: 0,
+            max_steps: 100_000,
+            max_shapes: 2_000_000,
+            tolerance: 0.5,
+        }
+    }
+}
+
+/// Something an expansion did that the author should know about; the result is still
+/// complete.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TangleWarning {
+    /// The rule concerned, if any.
+    pub span: Option<Span>,
+    /// What happened.
+    pub message: String,
+}
+
+/// What a spatial expansion did.
+#[derive(Clone, Debug, Default)]
+pub struct TangleStats {
+    /// Expansion steps (one rule applied to one group).
+    pub steps: usize,
+    /// Pieces in the result (final tangle shapes).
+    pub shapes: usize,
+    /// Group ids used (the next free id).
+    pub groups: usize,
+    /// How often each spatial rule was applied, in the order given.
+    pub rule_uses: Vec<usize>,
+    /// Warnings.
+    pub warnings: Vec<TangleWarning>,
+}
+
+/// Why a spatial expansion failed.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum TangleError {
+    /// A rule's argument is wrong for its operator.
+    #[error("{}:{}: {message}", span.line, span.col)]
+    Arg {
+        /// Where.
+        span: Span,
+        /// What is wrong.
+        message: String,
+    },
+    /// Expansion did not end within the step budget.
+    #[error("spatial expansion did not end after {steps} steps; still rewriting: {}", rules.iter().map(|(op, s)| format!("`{op}` at {}:{}", s.line, s.col)).collect::<Vec<_>>().join(", "))]
+    MaxSteps {
+        /// Steps taken.
+        steps: usize,
+        /// The rules applied in the last steps, with their places.
+        rules: Vec<(String, Span)>,
+    },
+    /// Expansion produced too many shapes.
+    #[error("spatial expansion produced {shapes} shapes, more than the limit of {limit}")]
+    MaxShapes {
+        /// Shapes alive.
+        shapes: usize,
+        /// The limit.
+        limit: usize,
+    },
+    /// The input geometry cannot be handled.
+    #[error("{0}")]
+    Geometry(String),
+}
+
+impl TangleError {
+    /// An argument error at `span`.
+    pub fn arg(span: Span, message: impl Into<String>) -> TangleError {
+        TangleError::Arg {
+            span,
+            message: message.into(),
+        }
+    }
+}

@@ -1,0 +1,580 @@
+//! Spatial expansion of a scene with group grammar rules (gTangle sec. 3).
+//!
+//! Every shape is ⟨t, g, s⟩: tag, group, id in group. One step takes the non-terminal
+//! shapes with the lowest group id (breadth-first), picks one rule matching their tag
+//! (highest priority, then by weight, seeded by (seed, step)), and applies it to every one
+//! of them; each of the rule's outputs becomes a new group, its shapes numbered in order.
+//! The pieces replace their ancestor in the scene tree, keeping its paint, so timeslice
+//! rules can animate them afterwards.
+
+use std::collections::{BTreeMap, HashMap, HashSet};
+
+use kurbo::{Affine, BezPath, Vec2};
+use rayon::prelude::*;
+
+use super::bind::{ShapeEnv, ShapeVars, bind};
+use super::boolean::normalize;
+use super::noise::{key, unit};
+use super::ops::paint::Paint;
+use super::ops::{Context, Input, Op, Piece};
+use super::polygon::{Grid, Region, flatten_rings};
+use super::{TangleError, TangleOptions, TangleStats, TangleWarning};
+use crate::color::Color;
+use crate::grammar::ast::Rule;
+use crate::scene::{FillRule, Group, Node, PathNode, Scene, Shape};
+
+/// A shape during expansion.
+#[derive(Clone, Debug)]
+struct TShape {
+    tag: String,
+    group: usize,
+    sid: usize,
+    region: Region,
+    dir: Vec2,
+    cell: (i64, i64),
+    paint: Paint,
+    /// Came from the scene (matches `all` rules).
+    imported: bool,
+}
+
+/// The derivation tree: a shape, replaced by its pieces once a rule is applied.
+struct Arena {
+    shapes: Vec<Option<TShape>>,
+    children: Vec<Vec<usize>>,
+}
+
+impl Arena {
+    fn push(&mut self, s: TShape) -> usize {
+        self.shapes.push(Some(s));
+        self.children.push(Vec::new());
+        self.shapes.len() - 1
+    }
+
+    /// The final shapes under `root`, in paint order.
+    fn leaves(&self, root: usize, out: &mut Vec<usize>) {
+        if self.children[root].is_empty() {
+            if self.shapes[root].is_some() {
+                out.push(root);
+            }
+        } else {
+            for &c in &self.children[root] {
+                self.leaves(c, out);
+            }
+        }
+    }
+}
+
+fn hash_str(s: &str) -> u64 {
+    s.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+/// The node at `path` below `root`.
+fn node_at<'a>(root: &'a Group, path: &[usize]) -> Option<&'a Node> {
+    let (last, parents) = path.split_last()?;
+    let mut g = root;
+    for &i in parents {
+        match g.children.get(i)? {
+            Node::Group(c) => g = c,
+            Node::Path(_) => return None,
+        }
+    }
+    g.children.get(*last)
+}
+
+fn node_at_mut<'a>(root: &'a mut Group, path: &[usize]) -> Option<&'a mut Node> {
+    let (last, parents) = path.split_last()?;
+    let mut g = root;
+    for &i in parents {
+        match g.children.get_mut(i)? {
+            Node::Group(c) => g = c,
+            Node::Path(_) => return None,
+        }
+    }
+    g.children.get_mut(*last)
+}
+
+/// Every path under a node with its transform to the node's parent space, in paint order.
+fn collect_paths<'a>(node: &'a Node, m: Affine, out: &mut Vec<(&'a PathNode, Affine)>) {
+    match node {
+        Node::Path(p) => out.push((p, m)),
+        Node::Group(g) => {
+            for c in &g.children {
+                collect_paths(c, m * g.transform, out);
+            }
+        }
+    }
+}
+
+/// The filled region of a scene unit in canvas coordinates, and the paint its pieces get.
+fn unit_geometry(
+    scene: &Scene,
+    shape: &Shape,
+    grid: &Grid,
+    tolerance: f64,
+) -> Option<(Region, Paint)> {
+    let node = node_at(&scene.root, &shape.node_path)?;
+    let mut paths = Vec::new();
+    collect_paths(node, shape.parent_transform, &mut paths);
+    let (first, _) = paths.first()?;
+    let paint = Paint::of(first);
+    let mut rings = Vec::new();
+    let mut rule = FillRule::NonZero;
+    for (p, m) in &paths {
+        rule = p.fill.as_ref().map_or(rule, |f| f.rule);
+        rings.extend(flatten_rings(&p.path, *m, tolerance, grid));
+    }
+    Some((normalize(&rings, rule, grid), paint))
+}
+
+/// The rules applicable to a tag, best priority only.
+fn candidates<'r>(rules: &[&'r Rule], tag: &str, imported: bool) -> Vec<(usize, &'r Rule)> {
+    let matching: Vec<(usize, &Rule)> = rules
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| {
+            r.spatial
+                && r.shape_tags
+                    .iter()
+                    .any(|t| t.name == tag || (imported && t.name == "all"))
+        })
+        .map(|(i, r)| (i, *r))
+        .collect();
+    let Some(best) = matching.iter().map(|(_, r)| r.priority).max() else {
+        return matching;
+    };
+    matching
+        .into_iter()
+        .filter(|(_, r)| r.priority == best)
+        .collect()
+}
+
+/// One candidate by weight, from a uniform draw `u` in [0, 1).
+fn choose<'r>(cands: &[(usize, &'r Rule)], u: f64) -> Option<(usize, &'r Rule)> {
+    let total: f64 = cands.iter().map(|(_, r)| r.weight.max(0.0)).sum();
+    if !(total > 0.0) {
+        return cands.first().copied();
+    }
+    let mut x = u * total;
+    for &(i, r) in cands {
+        x -= r.weight.max(0.0);
+        if x < 0.0 {
+            return Some((i, r));
+        }
+    }
+    cands.last().copied()
+}
+
+/// The canvas-space transform of a unit's children (its parent's, times its own if it is
+/// a group).
+fn inner_transform(node: &Node, shape: &Shape) -> Affine {
+    match node {
+        Node::Group(g) => shape.parent_transform * g.transform,
+        Node::Path(_) => shape.parent_transform,
+    }
+}
+
+/// Expands the scene's shapes with the spatial `rules` and returns the new scene (pieces
+/// in place of the shapes they came from) with statistics.
+///
+/// Shapes whose tag no spatial rule consumes are kept as they are. Shapes with no area are
+/// kept too, with a warning.
+///
+/// # Errors
+/// A rule's argument that does not evaluate or does not fit its operator; more than
+/// `max_steps` steps (naming the rules still rewriting) or `max_shapes` shapes; geometry
+/// too large for the integer engine.
+pub fn expand(
+    scene: &Scene,
+    rules: &[&Rule],
+    opts: &TangleOptions,
+) -> Result<(Scene, TangleStats), TangleError> {
+    let spatial: Vec<&Rule> = rules.iter().copied().filter(|r| r.spatial).collect();
+    let consumed: HashSet<&str> = spatial
+        .iter()
+        .flat_map(|r| r.shape_tags.iter().map(|t| t.name.as_str()))
+        .collect();
+    let mut stats = TangleStats {
+        rule_uses: vec![0; spatial.len()],
+        ..TangleStats::default()
+    };
+    let bounds = scene
+        .shapes
+        .iter()
+        .fold(scene.canvas(), |r, s| r.union(s.bbox));
+    let grid = Grid::for_bounds(bounds)
+        .ok_or_else(|| TangleError::Geometry("the scene's coordinates are not finite".into()))?;
+    let ctx = Context {
+        grid,
+        tolerance: opts.tolerance.max(grid.quantum() * 4.0),
+    };
+
+    let mut arena = Arena {
+        shapes: Vec::new(),
+        children: Vec::new(),
+    };
+    let mut roots: Vec<(usize, usize)> = Vec::new(); // (scene shape, arena node)
+    let mut pending: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
+    let wants_all = consumed.contains("all");
+    for (u, shape) in scene.shapes.iter().enumerate() {
+        if !(wants_all || consumed.contains(shape.tag.as_str())) {
+            continue;
+        }
+        let Some((region, paint)) = unit_geometry(scene, shape, &grid, ctx.tolerance) else {
+            continue;
+        };
+        if region.area() <= 0.0 {
+            stats.warnings.push(TangleWarning {
+                span: None,
+                message: format!(
+                    "shape `{}` #{} encloses no area; left as it is",
+                    shape.tag, shape.id
+                ),
+            });
+            continue;
+        }
+        if !region.edges().all(|(p, _)| grid.holds(p)) {
+            return Err(TangleError::Geometry(format!(
+                "shape `{}` #{} is too far from the origin",
+                shape.tag, shape.id
+            )));
+        }
+        let node = arena.push(TShape {
+            tag: shape.tag.clone(),
+            group: shape.group,
+            sid: shape.id,
+            region,
+            dir: Vec2::new(1.0, 0.0),
+            cell: (shape.id as i64, 0),
+            paint,
+            imported: true,
+        });
+        roots.push((u, node));
+        pending.entry(shape.group).or_default().push(node);
+    }
+    let mut next_group = scene.shapes.iter().map(|s| s.group + 1).max().unwrap_or(1);
+    let mut live = roots.len();
+    let mut recent: Vec<usize> = Vec::new();
+
+    while let Some((group, nodes)) = pending.pop_first() {
+        // One batch per tag, in order of first appearance (a group normally has one tag).
+        let mut batches: Vec<(String, bool, Vec<usize>)> = Vec::new();
+        for n in nodes {
+            let s = arena.shapes[n]
+                .as_ref()
+                .expect("pending shapes are unexpanded");
+            match batches
+                .iter_mut()
+                .find(|(t, imp, _)| *t == s.tag && *imp == s.imported)
+            {
+                Some(b) => b.2.push(n),
+                None => batches.push((s.tag.clone(), s.imported, vec![n])),
+            }
+        }
+        for (tag, imported, batch) in batches {
+            let cands = candidates(&spatial, &tag, imported);
+            let step = stats.steps;
+            let Some((rule_index, rule)) = choose(&cands, unit(key(&[opts.seed, step as u64])))
+            else {
+                continue;
+            };
+            if step >= opts.max_steps {
+                recent.sort_unstable();
+                recent.dedup();
+                let names = recent
+                    .iter()
+                    .map(|&i| (spatial[i].op.clone(), spatial[i].span))
+                    .collect();
+                return Err(TangleError::MaxSteps {
+                    steps: step,
+                    rules: names,
+                });
+            }
+            stats.steps += 1;
+            stats.rule_uses[rule_index] += 1;
+            if recent.len() >= 64 {
+                recent.remove(0);
+            }
+            recent.push(rule_index);
+
+            let n = batch.len();
+            let group_key = key(&[opts.seed, group as u64, 0x6709]);
+            let results: Vec<Result<(Op, Result<Vec<Piece>, String>), TangleError>> = batch
+                .par_iter()
+                .map(|&node| {
+                    let s = arena.shapes[node]
+                        .as_ref()
+                        .expect("batch shapes are unexpanded");
+                    let shape_key = key(&[
+                        opts.seed,
+                        hash_str(&s.tag),
+                        s.group as u64,
+                        s.sid as u64,
+                        step as u64,
+                    ]);
+                    let vars = ShapeVars {
+                        sid: s.sid,
+                        n,
+                        group: s.group,
+                        centroid: s.region.centroid(),
+                        bbox: s.region.bbox(),
+                        canvas: (scene.width, scene.height),
+                        step,
+                    };
+                    let mut env = ShapeEnv::new(vars, shape_key, opts.seed);
+                    let op = bind(rule, &mut env)?;
+                    let input = Input {
+                        region: &s.region,
+                        dir: s.dir,
+                        paint: &s.paint,
+                        cell: s.cell,
+                        sid: s.sid,
+                        key: shape_key,
+                        group_key,
+                    };
+                    let pieces = op.apply(input, &ctx);
+                    Ok((op, pieces))
+                })
+                .collect();
+
+            // New groups: one per output slot used, or one per shape for `ungroup`.
+            let mut slot_group: HashMap<(usize, usize), usize> = HashMap::new();
+            let mut next_sid: HashMap<usize, usize> = HashMap::new();
+            let mut produced: Vec<(usize, Vec<Piece>)> = Vec::with_capacity(n);
+            let mut ungroup = false;
+            for (&node, result) in batch.iter().zip(results) {
+                let (op, pieces) = result?;
+                ungroup = op == Op::Ungroup;
+                let pieces = match pieces {
+                    Ok(p) => p,
+                    Err(message) => {
+                        stats.warnings.push(TangleWarning {
+                            span: Some(rule.op_span),
+                            message,
+                        });
+                        let s = arena.shapes[node]
+                            .as_ref()
+                            .expect("batch shapes are unexpanded");
+                        vec![Piece {
+                            region: s.region.clone(),
+                            slot: 0,
+                            cell: s.cell,
+                            dir: s.dir,
+                            paint: s.paint.clone(),
+                        }]
+                    }
+                };
+                produced.push((node, pieces));
+            }
+            let mut slots: Vec<usize> = produced
+                .iter()
+                .flat_map(|(_, ps)| ps.iter().map(|p| p.slot))
+                .collect();
+            slots.sort_unstable();
+            slots.dedup();
+            if !ungroup {
+                for &slot in &slots {
+                    slot_group.insert((0, slot), next_group);
+                    next_group += 1;
+                }
+            }
+            for (k, (node, pieces)) in produced.into_iter().enumerate() {
+                arena.shapes[node] = None;
+                live -= 1;
+                for piece in pieces {
+                    if rule.outputs.is_empty() {
+                        continue;
+                    }
+                    let g = if ungroup {
+                        *slot_group.entry((k + 1, piece.slot)).or_insert_with(|| {
+                            next_group += 1;
+                            next_group - 1
+                        })
+                    } else {
+                        slot_group[&(0, piece.slot)]
+                    };
+                    let sid = next_sid.entry(g).or_insert(0);
+                    let tag = rule.outputs[piece.slot % rule.outputs.len()].name.clone();
+                    let terminal = !consumed.contains(tag.as_str());
+                    let child = arena.push(TShape {
+                        tag,
+                        group: g,
+                        sid: *sid,
+                        region: piece.region,
+                        dir: piece.dir,
+                        cell: piece.cell,
+                        paint: piece.paint,
+                        imported: false,
+                    });
+                    *sid += 1;
+                    arena.children[node].push(child);
+                    live += 1;
+                    if !terminal {
+                        pending.entry(g).or_default().push(child);
+                    }
+                }
+            }
+            if live > opts.max_shapes {
+                return Err(TangleError::MaxShapes {
+                    shapes: live,
+                    limit: opts.max_shapes,
+                });
+            }
+        }
+    }
+    stats.groups = next_group;
+    let out = rebuild(scene, &arena, &roots, &mut stats);
+    Ok((out, stats))
+}
+
+/// A tangle piece waiting for its place in the new shape list.
+struct PieceShape {
+    tag: String,
+    group: usize,
+    parent_transform: Affine,
+    region: Region,
+    paint: Paint,
+}
+
+/// The scene with every expanded unit replaced by a group of its final pieces, and the
+/// shape list rebuilt in paint order.
+fn rebuild(
+    scene: &Scene,
+    arena: &Arena,
+    roots: &[(usize, usize)],
+    stats: &mut TangleStats,
+) -> Scene {
+    let mut out = scene.clone();
+    let base = scene.shapes.len();
+    let mut pieces: Vec<PieceShape> = Vec::new();
+    for &(u, root) in roots {
+        let shape = &scene.shapes[u];
+        let Some(node) = node_at(&scene.root, &shape.node_path) else {
+            continue;
+        };
+        let to_canvas = inner_transform(node, shape);
+        if to_canvas.determinant().abs() < 1e-12 {
+            stats.warnings.push(TangleWarning {
+                span: None,
+                message: format!(
+                    "shape `{}` #{} has a degenerate transform; left as it is",
+                    shape.tag, shape.id
+                ),
+            });
+            continue;
+        }
+        let back = to_canvas.inverse();
+        let mut leaves = Vec::new();
+        arena.leaves(root, &mut leaves);
+        let mut children = Vec::with_capacity(leaves.len());
+        for leaf in leaves {
+            let Some(s) = arena.shapes[leaf].as_ref() else {
+                continue;
+            };
+            let path: BezPath = back * s.region.to_bezpath();
+            let id = format!("{}-g{}-s{}", s.tag, s.group, s.sid);
+            children.push(Node::Path(s.paint.node(id, path, base + pieces.len())));
+            pieces.push(PieceShape {
+                tag: s.tag.clone(),
+                group: s.group,
+                parent_transform: to_canvas,
+                region: s.region.clone(),
+                paint: s.paint.clone(),
+            });
+        }
+        let wrapper = match node {
+            Node::Group(g) => Group {
+                children,
+                unit: None,
+                ..g.clone()
+            },
+            Node::Path(p) => Group {
+                id: p.id.clone(),
+                children,
+                ..Group::new()
+            },
+        };
+        if let Some(slot) = node_at_mut(&mut out.root, &shape.node_path) {
+            *slot = Node::Group(wrapper);
+        }
+    }
+    stats.shapes = pieces.len();
+    // Walk the tree in paint order: old units keep their data, pieces get theirs.
+    let mut shapes = Vec::new();
+    let mut per_tag: HashMap<String, usize> = HashMap::new();
+    let mut path = Vec::new();
+    renumber(
+        &mut out.root,
+        &mut path,
+        scene,
+        &pieces,
+        base,
+        &mut shapes,
+        &mut per_tag,
+    );
+    out.shapes = shapes;
+    out
+}
+
+fn renumber(
+    g: &mut Group,
+    path: &mut Vec<usize>,
+    scene: &Scene,
+    pieces: &[PieceShape],
+    base: usize,
+    shapes: &mut Vec<Shape>,
+    per_tag: &mut HashMap<String, usize>,
+) {
+    for (i, child) in g.children.iter_mut().enumerate() {
+        path.push(i);
+        let unit = match child {
+            Node::Group(c) => c.unit,
+            Node::Path(p) => p.unit,
+        };
+        if let Some(u) = unit {
+            let mut shape = if u < base {
+                scene.shapes[u].clone()
+            } else {
+                let p = &pieces[u - base];
+                let solid = |c: Option<Color>| c.unwrap_or(Color::BLACK);
+                let fill = p.paint.fill.as_ref().and_then(|f| match f.paint {
+                    crate::scene::Paint::Solid(c) => Some(c),
+                    _ => None,
+                });
+                let stroke = p.paint.stroke.as_ref().and_then(|s| match s.paint {
+                    crate::scene::Paint::Solid(c) => Some(c),
+                    _ => None,
+                });
+                Shape {
+                    tag: p.tag.clone(),
+                    id: 0,
+                    group: p.group,
+                    z: 0,
+                    node_path: Vec::new(),
+                    parent_transform: p.parent_transform,
+                    centroid: p.region.centroid(),
+                    bbox: p.region.bbox(),
+                    fill: solid(fill),
+                    stroke: solid(stroke),
+                    stroke_width: p.paint.stroke_width(),
+                }
+            };
+            let id = per_tag.entry(shape.tag.clone()).or_insert(0);
+            shape.id = *id;
+            *id += 1;
+            shape.z = shapes.len();
+            shape.node_path = path.clone();
+            let index = shapes.len();
+            match child {
+                Node::Group(c) => c.unit = Some(index),
+                Node::Path(p) => p.unit = Some(index),
+            }
+            shapes.push(shape);
+        }
+        if let Node::Group(c) = child {
+            renumber(c, path, scene, pieces, base, shapes, per_tag);
+        }
+        path.pop();
+    }
+}
