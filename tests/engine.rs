@@ -267,3 +267,30 @@ proptest! {
         prop_assert!(moved || trivially_still || kind == 1 || kind == 2, "{src}: nothing happened: {mid:?}");
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// Two motions set on one slice (local then world, or the reverse) are undone by the
+    /// inverted twin in the opposite order, about the pivot the twin began at.
+    #[test]
+    fn stacked_motions_on_one_slice_close_loops(
+        first_local in any::<bool>(), second_local in any::<bool>(),
+        sx in 0.2f64..2.0, sy in 0.2f64..2.0, angle in -90.0f64..90.0,
+        dx in -80.0f64..80.0, dy in -80.0f64..80.0, grid in 1u32..5,
+    ) {
+        let r1 = if first_local { "local" } else { "world" };
+        let r2 = if second_local { "local" } else { "world" };
+        let src = format!(
+            "duration 2s\ngrid {grid}x{grid}\n\
+             timesplit(0.4, 0.2, 0.4) : [all, s] -> [go, hold, inv_go]\n\
+             animate(affine, {r1}, 0, scale({sx}, {sy}) rotate({angle})) : [go, s] -> [a]\n\
+             animate(affine, {r2}, 0, translate({dx}, {dy})) : [a, s] -> [b]\n"
+        );
+        let a = animate(scene(&[("s", (120.0, 90.0), 20.0)]), &src).unwrap();
+        let end = a.tracks[0].transform_at(2.0);
+        for (p, q) in end.as_coeffs().iter().zip(Affine::IDENTITY.as_coeffs()) {
+            prop_assert!((p - q).abs() < 1e-6, "{src}: ends at {end:?}");
+        }
+    }
+}

@@ -65,7 +65,17 @@ fn compile_one(shape: &Shape, slices: &[super::expand::Slice]) -> Track {
         };
         let window_start = state.transform;
         let mut motions_here = 0;
-        for a in &slice.anims {
+        if slice.inverted {
+            resolve_reversed(shape, slice, &at_start, &mut resolved);
+        }
+        // An inverted slice undoes its twin: the twin's innermost change is undone first, so
+        // the order of composition flips.
+        let ordered: Vec<&Arc<AnimInst>> = if slice.inverted {
+            slice.anims.iter().rev().collect()
+        } else {
+            slice.anims.iter().collect()
+        };
+        for a in ordered {
             let begun = at_start(a.start);
             let tm = timing(a);
             match &a.spec {
@@ -78,13 +88,7 @@ fn compile_one(shape: &Shape, slices: &[super::expand::Slice]) -> Track {
                                 return MotionKind::Vertex { grid: grid.clone(), pivot: (!world).then_some(centroid) };
                             }
                             let blend = grid.lookup(centroid, *lookup);
-                            let mut pivot = if *world { Point::ORIGIN } else { centroid };
-                            if a.reversed && !world {
-                                // The shape arrives here at the end of the forward motion: pivot
-                                // where the forward one would have begun.
-                                let m = crate::motion::grid::blend_at(&blend, Point::ORIGIN, 1.0);
-                                pivot -= m.translation();
-                            }
+                            let pivot = if *world { Point::ORIGIN } else { centroid };
                             MotionKind::Rigid { pivot, blend, interp: *interp }
                         })
                         .clone();
@@ -130,6 +134,64 @@ fn compile_one(shape: &Shape, slices: &[super::expand::Slice]) -> Track {
         }
     }
     track
+}
+
+/// Resolves the reversed rigid motions of an inverted slice together. Their forward twins
+/// all pivoted about the centroid `c` the shape had when the twin slice began, and composed
+/// into `F` with `F(c)` = the centroid now. `F(c)` is affine in `c`, so `c` is found by
+/// inverting that affine map; the grid is then read at `c`, as the twin read it.
+fn resolve_reversed(
+    shape: &Shape,
+    slice: &super::expand::Slice,
+    at_start: &dyn Fn(f64) -> State,
+    resolved: &mut HashMap<*const AnimInst, MotionKind>,
+) {
+    let pending: Vec<&Arc<AnimInst>> = slice
+        .anims
+        .iter()
+        .filter(|a| a.reversed && !resolved.contains_key(&Arc::as_ptr(a)))
+        .filter(|a| matches!(&a.spec, AnimSpec::Motion { lookup, .. } if *lookup != Lookup::Vertex))
+        .collect();
+    let Some(first) = pending.first() else {
+        return;
+    };
+    let now = at_start(first.start).transform * shape.centroid;
+    let blends_at = |cell: Point| -> Vec<crate::motion::Blend> {
+        pending
+            .iter()
+            .filter_map(|a| match &a.spec {
+                AnimSpec::Motion { grid, lookup, .. } => Some(grid.lookup(cell, *lookup)),
+                _ => None,
+            })
+            .collect()
+    };
+    // F = F₁∘…∘Fₙ (F₁ outermost), local ones about `c`, applied to `x`.
+    let apply = |blends: &[crate::motion::Blend], c: Point, x: Point| -> Point {
+        pending.iter().zip(blends).rev().fold(x, |x, (a, blend)| {
+            let world = matches!(&a.spec, AnimSpec::Motion { world: true, .. });
+            let pivot = if world { Point::ORIGIN } else { c };
+            crate::motion::grid::blend_at(blend, pivot, 1.0) * x
+        })
+    };
+    // Φ(c) = F_c(c) is affine in c for fixed grid cells: invert it at the centroid now.
+    let solve = |cell: Point| -> Point {
+        let blends = blends_at(cell);
+        let phi = |c: Point| apply(&blends, c, c);
+        let o = phi(Point::ORIGIN);
+        let ex = phi(Point::new(1.0, 0.0)) - o;
+        let ey = phi(Point::new(0.0, 1.0)) - o;
+        let m = Affine::new([ex.x, ex.y, ey.x, ey.y, o.x, o.y]);
+        if m.determinant().abs() < 1e-12 { now } else { m.inverse() * now }
+    };
+    // Read the grid where the shape is now, solve, then read it where the twin began.
+    let c = solve(solve(now));
+    for a in pending {
+        if let AnimSpec::Motion { grid, world, lookup, interp } = &a.spec {
+            let blend = grid.lookup(c, *lookup);
+            let pivot = if *world { Point::ORIGIN } else { c };
+            resolved.insert(Arc::as_ptr(a), MotionKind::Rigid { pivot, blend, interp: *interp });
+        }
+    }
 }
 
 /// The endpoints of an attribute change. Forward: from the value where the change began to
