@@ -43,6 +43,7 @@ pub(super) fn convert(tree: &usvg::Tree, src: &Source, opts: &ImportOptions) -> 
         ids: HashSet::new(),
         linear: HashMap::new(),
         radial: HashMap::new(),
+        gradients: HashMap::new(),
         patterns: HashMap::new(),
         clips: HashMap::new(),
         masks: HashMap::new(),
@@ -125,6 +126,8 @@ struct Converter<'s, 'a> {
     ids: HashSet<String>,
     linear: HashMap<usize, Arc<LinearGradient>>,
     radial: HashMap<usize, Arc<RadialGradient>>,
+    /// Gradients by value (see [`gradient_key`]).
+    gradients: HashMap<Vec<u32>, Paint>,
     patterns: HashMap<usize, Arc<Pattern>>,
     clips: HashMap<usize, Arc<ClipPath>>,
     masks: HashMap<usize, Arc<Mask>>,
@@ -265,11 +268,7 @@ impl<'s, 'a> Converter<'s, 'a> {
     }
 
     fn group(&mut self, g: &usvg::Group, kind: GroupKind, dst: &mut Group, ctx: Ctx<'s>) {
-        let elem = if ctx.units || kind == GroupKind::Text {
-            self.src.element(g.id())
-        } else {
-            None
-        };
+        let elem = self.src.element(g.id());
         let near = elem.map(|e| e.id()).or(ctx.near);
         if !g.filters().is_empty() {
             self.warn(near, "filter ignored (filters are not supported)");
@@ -355,17 +354,15 @@ impl<'s, 'a> Converter<'s, 'a> {
 
     fn path(&mut self, p: &usvg::Path, dst: &mut Group, ctx: Ctx<'s>) {
         let from = self.opts.tag_from;
-        let mut elem = None;
+        let mut elem = self.src.element(p.id());
         let mut limit = None;
-        if ctx.units {
-            elem = self.src.element(p.id());
-            if elem.is_none() {
-                // A path of a `use` instance: take the next shape of the referenced content.
-                if let Some(zip) = &mut self.zip {
-                    elem = zip.shapes.next().and_then(|id| self.src.node(id));
-                    limit = Some(zip.limit);
-                }
-            }
+        if elem.is_none()
+            && ctx.units
+            && let Some(zip) = &mut self.zip
+        {
+            // A path of a `use` instance: take the next shape of the referenced content.
+            elem = zip.shapes.next().and_then(|id| self.src.node(id));
+            limit = Some(zip.limit);
         }
         if !p.is_visible() {
             return;
@@ -426,22 +423,42 @@ impl<'s, 'a> Converter<'s, 'a> {
             usvg::Paint::Color(c) => Paint::Solid(Color::rgb8(c.red, c.green, c.blue)),
             usvg::Paint::LinearGradient(lg) => {
                 let lg: &usvg::LinearGradient = lg;
-                let arc = self.linear.entry(key(lg)).or_insert_with(|| {
-                    Arc::new(LinearGradient {
+                if let Some(arc) = self.linear.get(&key(lg)) {
+                    return Paint::Linear(arc.clone());
+                }
+                let value = [lg.x1(), lg.y1(), lg.x2(), lg.y2(), 0.0, 0.0];
+                let same = gradient_key(0, value, lg);
+                let arc = self.gradients.entry(same).or_insert_with(|| {
+                    Paint::Linear(Arc::new(LinearGradient {
                         id: lg.id().to_string(),
                         start: Point::new(lg.x1() as f64, lg.y1() as f64),
                         end: Point::new(lg.x2() as f64, lg.y2() as f64),
                         transform: affine(lg.transform()),
                         spread: spread(lg.spread_method()),
                         stops: stops(lg.stops()),
-                    })
+                    }))
                 });
-                Paint::Linear(arc.clone())
+                if let Paint::Linear(a) = arc {
+                    self.linear.insert(key(lg), a.clone());
+                }
+                arc.clone()
             }
             usvg::Paint::RadialGradient(rg) => {
                 let rg: &usvg::RadialGradient = rg;
-                let arc = self.radial.entry(key(rg)).or_insert_with(|| {
-                    Arc::new(RadialGradient {
+                if let Some(arc) = self.radial.get(&key(rg)) {
+                    return Paint::Radial(arc.clone());
+                }
+                let value = [
+                    rg.cx(),
+                    rg.cy(),
+                    rg.r().get(),
+                    rg.fx(),
+                    rg.fy(),
+                    rg.fr().get(),
+                ];
+                let same = gradient_key(1, value, rg);
+                let arc = self.gradients.entry(same).or_insert_with(|| {
+                    Paint::Radial(Arc::new(RadialGradient {
                         id: rg.id().to_string(),
                         center: Point::new(rg.cx() as f64, rg.cy() as f64),
                         radius: rg.r().get() as f64,
@@ -450,9 +467,12 @@ impl<'s, 'a> Converter<'s, 'a> {
                         transform: affine(rg.transform()),
                         spread: spread(rg.spread_method()),
                         stops: stops(rg.stops()),
-                    })
+                    }))
                 });
-                Paint::Radial(arc.clone())
+                if let Paint::Radial(a) = arc {
+                    self.radial.insert(key(rg), a.clone());
+                }
+                arc.clone()
             }
             usvg::Paint::Pattern(pat) => Paint::Pattern(self.pattern(pat, near)),
         }
@@ -519,6 +539,26 @@ impl<'s, 'a> Converter<'s, 'a> {
         self.masks.insert(key(m), arc.clone());
         arc
     }
+}
+
+/// Everything that makes two usvg gradients paint the same: usvg copies a gradient for
+/// each element it fills in `objectBoundingBox` units, and copies on equal boxes (repeated
+/// elements, `use` instances) are merged back into one.
+fn gradient_key(kind: u32, geometry: [f32; 6], g: &usvg::BaseGradient) -> Vec<u32> {
+    let t = g.transform();
+    let mut k = vec![kind, g.spread_method() as u32];
+    k.extend(
+        geometry
+            .iter()
+            .chain(&[t.sx, t.ky, t.kx, t.sy, t.tx, t.ty])
+            .map(|v| v.to_bits()),
+    );
+    for s in g.stops() {
+        let c = s.color();
+        k.extend([s.offset().get().to_bits(), s.opacity().get().to_bits()]);
+        k.push(u32::from_be_bytes([0, c.red, c.green, c.blue]));
+    }
+    k
 }
 
 fn spread(s: usvg::SpreadMethod) -> Spread {
