@@ -247,6 +247,63 @@ mod tests {
         assert_eq!(compare(&a, &b, 32), 8.0 / 800.0);
     }
 
+    fn frames() -> Vec<Pixmap> {
+        ["#f00", "#0f0", "#00f"]
+            .iter()
+            .map(|c| {
+                let svg = SQUARE.replace("#f00", c);
+                render(&svg, 20).unwrap()
+            })
+            .collect()
+    }
+
+    fn temp(name: &str) -> PathBuf {
+        std::env::temp_dir().join(format!("gmotion-raster-{}-{name}", std::process::id()))
+    }
+
+    #[test]
+    fn apng_holds_every_frame_with_its_delay() {
+        let path = temp("anim.png");
+        write_apng(&frames(), 25.0, false, &path).unwrap();
+        let mut dec =
+            png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&path).unwrap()))
+                .read_info()
+                .unwrap();
+        let actl = dec.info().animation_control().copied().unwrap();
+        assert_eq!((actl.num_frames, actl.num_plays), (3, 1));
+        let mut buf = vec![0; dec.output_buffer_size().unwrap()];
+        for want in [[255, 0, 0], [0, 255, 0], [0, 0, 255]] {
+            dec.next_frame(&mut buf).unwrap();
+            let fctl = dec.info().frame_control().copied().unwrap();
+            assert_eq!((fctl.delay_num, fctl.delay_den), (1, 25));
+            // Pixel (2, 2) lies in the square: opaque and of the frame's colour.
+            let px = &buf[(2 * 20 + 2) * 4..][..4];
+            assert_eq!(px, [want[0], want[1], want[2], 255]);
+        }
+        std::fs::remove_file(&path).unwrap();
+    }
+
+    #[test]
+    fn gif_holds_every_frame_with_transparency() {
+        let path = temp("anim.gif");
+        write_gif(&frames(), 20.0, true, &path).unwrap();
+        let mut opts = gif::DecodeOptions::new();
+        opts.set_color_output(gif::ColorOutput::RGBA);
+        let mut dec = opts.read_info(std::fs::File::open(&path).unwrap()).unwrap();
+        assert_eq!(dec.repeat(), gif::Repeat::Infinite);
+        let mut seen = 0;
+        while let Some(f) = dec.read_next_frame().unwrap() {
+            assert_eq!(f.delay, 5);
+            let inside = &f.buffer[(2 * 20 + 2) * 4..][..4];
+            let outside = &f.buffer[(2 * 20 + 15) * 4..][..4];
+            assert_eq!(inside[3], 255);
+            assert_eq!(outside[3], 0);
+            seen += 1;
+        }
+        assert_eq!(seen, 3);
+        std::fs::remove_file(&path).unwrap();
+    }
+
     #[test]
     fn bad_input_is_an_error() {
         assert!(matches!(render("<svg", 10), Err(RenderError::Svg(_))));
