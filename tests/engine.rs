@@ -294,3 +294,14 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn rotation_about_a_point_keeps_the_point_fixed_while_playing() {
+    let s = scene(&[("s", (200.0, 50.0), 10.0)]);
+    let a = animate(s, "duration 1s\nanimate(affine, world, 0, rotate(180, 200, 150)) : [all, s] -> [m]\n").unwrap();
+    for t in [0.25, 0.5, 0.75, 1.0] {
+        let p = pos(&a, 0, t);
+        assert!(((p - Point::new(200.0, 150.0)).hypot() - 100.0).abs() < 1e-6, "t = {t}: {p:?}");
+    }
+    assert!(close(pos(&a, 0, 0.5), Point::new(300.0, 150.0)));
+}

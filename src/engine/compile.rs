@@ -46,6 +46,9 @@ fn compile_one(shape: &Shape, slices: &[super::expand::Slice]) -> Track {
     let mut history: Vec<(f64, State)> = Vec::with_capacity(slices.len());
     // Pivots and lookups already resolved for a motion instance (shared by its pieces).
     let mut resolved: HashMap<*const AnimInst, MotionKind> = HashMap::new();
+    // The latest forward motion set at each expansion step: an inverted twin (same step)
+    // reuses its pivot and grid cells, so it undoes exactly that motion.
+    let mut forward_at_step: HashMap<usize, MotionKind> = HashMap::new();
     // Values a forward attribute change started from, by (step, channel), for its inv_ twin.
     let mut before: HashMap<(usize, u8), State> = HashMap::new();
 
@@ -65,33 +68,41 @@ fn compile_one(shape: &Shape, slices: &[super::expand::Slice]) -> Track {
         };
         let window_start = state.transform;
         let mut motions_here = 0;
+        let mut ordered = outermost_first(&slice.anims);
         if slice.inverted {
-            resolve_reversed(shape, slice, &at_start, &mut resolved);
+            for a in &ordered {
+                if a.reversed
+                    && let Some(k) = forward_at_step.get(&a.step)
+                {
+                    resolved.entry(Arc::as_ptr(a)).or_insert_with(|| k.clone());
+                }
+            }
+            resolve_reversed(shape, &ordered, &at_start, &mut resolved);
+            // An inverted slice undoes its twin: the twin's innermost change is undone
+            // first, so the order of composition flips.
+            ordered.reverse();
         }
-        // An inverted slice undoes its twin: the twin's innermost change is undone first, so
-        // the order of composition flips.
-        let ordered: Vec<&Arc<AnimInst>> = if slice.inverted {
-            slice.anims.iter().rev().collect()
-        } else {
-            slice.anims.iter().collect()
-        };
         for a in ordered {
             let begun = at_start(a.start);
             let tm = timing(a);
             match &a.spec {
-                AnimSpec::Motion { grid, world, lookup, interp } => {
+                AnimSpec::Motion { grid, world, pivot_offset, lookup, interp } => {
                     let kind = resolved
                         .entry(Arc::as_ptr(a))
                         .or_insert_with(|| {
                             let centroid = begun.transform * shape.centroid;
                             if *lookup == Lookup::Vertex {
-                                return MotionKind::Vertex { grid: grid.clone(), pivot: (!world).then_some(centroid) };
+                                let pivot = if *world { Point::ORIGIN } else { centroid } + *pivot_offset;
+                                return MotionKind::Vertex { grid: grid.clone(), pivot: Some(pivot) };
                             }
                             let blend = grid.lookup(centroid, *lookup);
-                            let pivot = if *world { Point::ORIGIN } else { centroid };
+                            let pivot = if *world { Point::ORIGIN } else { centroid } + *pivot_offset;
                             MotionKind::Rigid { pivot, blend, interp: *interp }
                         })
                         .clone();
+                    if !a.reversed {
+                        forward_at_step.insert(a.step, kind.clone());
+                    }
                     track.motions.push(MotionSeg { t0, t1, timing: tm, kind, start: window_start });
                     motions_here += 1;
                 }
@@ -136,19 +147,34 @@ fn compile_one(shape: &Shape, slices: &[super::expand::Slice]) -> Track {
     track
 }
 
-/// Resolves the reversed rigid motions of an inverted slice together. Their forward twins
-/// all pivoted about the centroid `c` the shape had when the twin slice began, and composed
+/// The order in which the motions of one slice compose, outermost first. World motions
+/// wrap local ones, so a shape that moves across the canvas while spinning spins about its
+/// own (moving) centre and a world rotation turns the whole path it travels; within each
+/// kind, the rule applied later is outer. Attribute changes do not compose and keep their
+/// order.
+fn outermost_first(anims: &[Arc<AnimInst>]) -> Vec<&Arc<AnimInst>> {
+    let world = |a: &&Arc<AnimInst>| matches!(&a.spec, AnimSpec::Motion { world: true, .. });
+    let local = |a: &&Arc<AnimInst>| matches!(&a.spec, AnimSpec::Motion { world: false, .. });
+    let mut out: Vec<&Arc<AnimInst>> = anims.iter().rev().filter(world).collect();
+    out.extend(anims.iter().rev().filter(local));
+    out.extend(anims.iter().filter(|a| !matches!(&a.spec, AnimSpec::Motion { .. })));
+    out
+}
+
+/// Resolves the reversed rigid motions of an inverted slice that has no forward twin before
+/// it (e.g. `[inv_a, a]`), together. Their forward twins would
+/// have pivoted about the centroid `c` the shape had when the twin slice began, composing
 /// into `F` with `F(c)` = the centroid now. `F(c)` is affine in `c`, so `c` is found by
 /// inverting that affine map; the grid is then read at `c`, as the twin read it.
 fn resolve_reversed(
     shape: &Shape,
-    slice: &super::expand::Slice,
+    forward: &[&Arc<AnimInst>],
     at_start: &dyn Fn(f64) -> State,
     resolved: &mut HashMap<*const AnimInst, MotionKind>,
 ) {
-    let pending: Vec<&Arc<AnimInst>> = slice
-        .anims
+    let pending: Vec<&Arc<AnimInst>> = forward
         .iter()
+        .copied()
         .filter(|a| a.reversed && !resolved.contains_key(&Arc::as_ptr(a)))
         .filter(|a| matches!(&a.spec, AnimSpec::Motion { lookup, .. } if *lookup != Lookup::Vertex))
         .collect();
@@ -168,8 +194,11 @@ fn resolve_reversed(
     // F = F₁∘…∘Fₙ (F₁ outermost), local ones about `c`, applied to `x`.
     let apply = |blends: &[crate::motion::Blend], c: Point, x: Point| -> Point {
         pending.iter().zip(blends).rev().fold(x, |x, (a, blend)| {
-            let world = matches!(&a.spec, AnimSpec::Motion { world: true, .. });
-            let pivot = if world { Point::ORIGIN } else { c };
+            let (world, off) = match &a.spec {
+                AnimSpec::Motion { world, pivot_offset, .. } => (*world, *pivot_offset),
+                _ => (true, kurbo::Vec2::ZERO),
+            };
+            let pivot = if world { Point::ORIGIN } else { c } + off;
             crate::motion::grid::blend_at(blend, pivot, 1.0) * x
         })
     };
@@ -186,9 +215,9 @@ fn resolve_reversed(
     // Read the grid where the shape is now, solve, then read it where the twin began.
     let c = solve(solve(now));
     for a in pending {
-        if let AnimSpec::Motion { grid, world, lookup, interp } = &a.spec {
+        if let AnimSpec::Motion { grid, world, pivot_offset, lookup, interp } = &a.spec {
             let blend = grid.lookup(c, *lookup);
-            let pivot = if *world { Point::ORIGIN } else { c };
+            let pivot = if *world { Point::ORIGIN } else { c } + *pivot_offset;
             resolved.insert(Arc::as_ptr(a), MotionKind::Rigid { pivot, blend, interp: *interp });
         }
     }

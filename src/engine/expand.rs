@@ -7,7 +7,7 @@
 use std::collections::{BTreeMap, HashMap};
 use std::sync::Arc;
 
-use kurbo::{BezPath, Point};
+use kurbo::{BezPath, Point, Vec2};
 
 use crate::color::Color;
 use crate::grammar::ast::{Expr, TagRef};
@@ -30,6 +30,9 @@ pub enum AnimSpec {
         grid: Arc<Grid>,
         /// `world` (true) or `local`.
         world: bool,
+        /// Where the motion pivots relative to the origin (world) or the centroid (local),
+        /// from a transform written about a point, e.g. `rotate(a, cx, cy)`.
+        pivot_offset: Vec2,
         /// Grid lookup.
         lookup: Lookup,
         /// Temporal interpolation.
@@ -385,12 +388,15 @@ fn apply(
             let bad = |m: crate::grammar::value::TypeError| EngineError::from(m.at(value.span));
             let spec = match kind {
                 AnimType::Affine | AnimType::Towards | AnimType::Path => {
+                    let mut pivot_offset = Vec2::ZERO;
                     let field = match kind {
                         AnimType::Affine => {
                             let cs: Vec<Component> = v.as_transform().map_err(bad)?.to_vec();
                             if let Some(c) = cs.iter().find(|c| !c.is_finite()) {
                                 return Err(EngineError::at(value.span, format!("transform has a non-finite parameter: {c:?}")));
                             }
+                            let (cs, offset) = split_conjugation(cs);
+                            pivot_offset = offset;
                             Field::Constant(cs.into())
                         }
                         AnimType::Towards => {
@@ -410,6 +416,7 @@ fn apply(
                     AnimSpec::Motion {
                         grid: Arc::new(Grid::new(cols, rows, scene.canvas(), field)),
                         world: *world,
+                        pivot_offset,
                         lookup: lookup.unwrap_or(settings.lookup),
                         interp: interp.unwrap_or(settings.interp),
                     }
@@ -447,6 +454,19 @@ fn apply(
         }
     }
     Ok(())
+}
+
+/// Splits `translate(c) … translate(-c)` into the middle and the pivot `c`, so a transform
+/// about a point (`rotate(a, cx, cy)`, `scale(s) ` written around a centre) keeps its pivot
+/// fixed while it plays instead of interpolating the two translations.
+fn split_conjugation(cs: Vec<Component>) -> (Vec<Component>, Vec2) {
+    if let [Component::Translate(a), middle @ .., Component::Translate(b)] = cs.as_slice()
+        && !middle.is_empty()
+        && (*a + *b).hypot() <= 1e-9 * (1.0 + a.hypot())
+    {
+        return (middle.to_vec(), *a);
+    }
+    (cs, Vec2::ZERO)
 }
 
 /// An easing from `ease = name` or `ease = name(args…)`.
