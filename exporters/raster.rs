@@ -1,6 +1,6 @@
 //! Pixels: SVG text rendered with resvg on a transparent background, and PNG, GIF and
 //! APNG files of the results. Every file is written whole or not at all
-//! (see [`atomic`](super::atomic)).
+//! (see [`atomic`]).
 
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};

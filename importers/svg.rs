@@ -10,7 +10,12 @@
 //! What is not: filters, blend modes, raster and nested SVG images and `shape-rendering`
 //! hints are dropped with a warning that names the element (see [`Imported::warnings`]).
 //!
-//! Tags are read from the source text (see [`TagFrom`]); the unit rules are in [`Units`].
+//! Tags are read from the source text (see [`TagFrom`]): usvg keeps only ids, so elements
+//! without one get a synthetic id before usvg parses the text, and every usvg node is traced
+//! back to its source element. Paths that usvg instantiates for a `use` lose their ids; they
+//! are matched to the referenced element's shapes in order when the counts agree, and
+//! otherwise take their tags from the `use` and its ancestors. The unit rules are in
+//! [`Units`].
 
 mod convert;
 mod source;
@@ -21,19 +26,22 @@ use crate::importers::measure::{Measure, measure};
 pub use crate::importers::tags::TagFrom;
 use crate::scene::{Scene, Shape};
 
-/// Which nodes become animated units (shapes).
+/// Which nodes become animated units (shapes). Units never nest: inside a unit nothing else
+/// is one. Clip, mask and pattern content is never a unit.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Units {
-    /// A group (`<g>`, `<a>`, or a `use` of one) that carries an explicit tag itself
-    /// (`data-tag`, `class` or `inkscape:label`, as [`TagFrom`] selects) is one unit, so a
-    /// character drawn with many paths moves as one piece; text is one unit per `<text>`;
-    /// every other visible path is its own unit. The outermost tagged group wins.
+    /// A group (`<g>`, `<a>`, or a `use` of a group or symbol) that carries an explicit
+    /// tag itself (`data-tag`, `class` or `inkscape:label`, as [`TagFrom`] selects) is one
+    /// unit, so a character drawn with many paths moves as one piece; the outermost such
+    /// group wins. An Inkscape layer's label names its paths but does not make the layer a
+    /// unit, and neither does an Illustrator layer id. Each `<text>` is one unit. Every
+    /// other visible path is its own unit.
     #[default]
     Auto,
-    /// Every visible path is a unit.
+    /// Every visible path (and every glyph run of a text) is a unit.
     Paths,
-    /// Every outermost group that carries a tag itself, layer ids included, is a unit;
-    /// visible paths outside such groups are units of their own.
+    /// Every outermost group that carries a tag itself, layer ids and Inkscape layer labels
+    /// included, is a unit; visible paths outside such groups are units of their own.
     Groups,
 }
 
@@ -47,11 +55,16 @@ pub struct ImportOptions {
 }
 
 /// An imported scene with what could not be kept.
+///
+/// Shapes are in paint order (`z` is their index). A shape's `fill` and `stroke` carry the
+/// fill and stroke opacity as alpha. Scene node ids are the source's ids, each used once:
+/// elements without one, and later elements repeating one, get an empty id.
 #[derive(Clone, Debug)]
 pub struct Imported {
     /// The scene; it may have no shapes (an empty or invisible drawing).
     pub scene: Scene,
-    /// One line per thing dropped or approximated, naming the element and its line.
+    /// One line per thing dropped or approximated, deduplicated, in the form
+    /// `file: <element id="…"> (line N): what happened`.
     pub warnings: Vec<String>,
 }
 

@@ -290,3 +290,17 @@ fn an_empty_drawing_imports_with_no_shapes() {
     );
     assert!(imported.scene.shapes.is_empty());
 }
+
+#[test]
+fn inkscape_layers_name_but_do_not_group() {
+    let body = r#"
+        <g inkscape:groupmode="layer" inkscape:label="Layer 1" id="layer1">
+            <rect width="1" height="1"/>
+            <g inkscape:label="bird"><rect width="2" height="2"/><rect x="3" width="2" height="2"/></g>
+        </g>"#;
+    let auto = import(body, ImportOptions::default()).scene;
+    let want = [("Layer 1", 0), ("bird", 0)].map(|(t, i)| (t.to_string(), i));
+    assert_eq!(tags(&auto), want);
+    let groups = import(body, with(TagFrom::Auto, Units::Groups)).scene;
+    assert_eq!(tags(&groups), [("Layer 1".to_string(), 0)]);
+}

@@ -211,10 +211,15 @@ impl<'a> Source<'a> {
 
     /// The explicit tag written on `node` itself.
     pub fn explicit_tag<'s>(&'s self, node: Node<'s, 'a>, from: TagFrom) -> Option<&'s str> {
+        self.explicit(node, from, true)
+    }
+
+    /// The explicit tag on `node`, reading `inkscape:label` only with `labels`.
+    fn explicit<'s>(&'s self, node: Node<'s, 'a>, from: TagFrom, labels: bool) -> Option<&'s str> {
         let nonempty = |v: Option<&'s str>| v.map(str::trim).filter(|v| !v.is_empty());
         let data = || nonempty(node.attribute("data-tag"));
         let class = || node.attribute("class").and_then(first_class);
-        let label = || nonempty(node.attribute((INKSCAPE_NS, "label")));
+        let label = || nonempty(node.attribute((INKSCAPE_NS, "label"))).filter(|_| labels);
         match from {
             TagFrom::Auto => data().or_else(class).or_else(label),
             TagFrom::DataTag => data(),
@@ -235,6 +240,8 @@ impl<'a> Source<'a> {
 
     /// The tag a container element carries itself (for units): its explicit tag, with
     /// `layers` its layer name too; a `use` also carries its referenced container's tag.
+    /// The label of an Inkscape layer (`inkscape:groupmode="layer"`) names a layer, like an
+    /// Illustrator layer id, so it counts only with `layers`.
     pub fn own_tag<'s>(
         &'s self,
         node: Node<'s, 'a>,
@@ -242,7 +249,9 @@ impl<'a> Source<'a> {
         layers: bool,
     ) -> Option<&'s str> {
         let here = |n: Node<'s, 'a>| {
-            self.explicit_tag(n, from).or_else(|| {
+            let layer_group = n.attribute((INKSCAPE_NS, "groupmode")) == Some("layer");
+            let explicit = self.explicit(n, from, layers || !layer_group);
+            explicit.or_else(|| {
                 if layers && from.reads_layers() {
                     self.layer_name(n)
                 } else {
