@@ -8,7 +8,8 @@
 //
 // Each frame: the document is loaded, its animations paused, the clock set with
 // `svg.pauseAnimations(); svg.setCurrentTime(t)` (the SMIL DOM), two animation frames
-// awaited, then the page shot WIDTH px wide (height from the document's aspect ratio) on
+// awaited, then the page shot WIDTH px wide (height from the document's aspect ratio,
+// rounded, the picture scaled by WIDTH / width from the top left as gmotion renders it) on
 // a transparent background. Prints one line per file: `<svg> <frames written>`.
 import fs from 'node:fs';
 import os from 'node:os';
@@ -72,11 +73,18 @@ try {
       if (!(svg instanceof SVGSVGElement)) return null;
       svg.pauseAnimations();
       const vb = svg.viewBox.baseVal;
-      const w = vb && vb.width > 0 ? vb.width : svg.width.baseVal.value;
-      const h = vb && vb.height > 0 ? vb.height : svg.height.baseVal.value;
+      const hasBox = vb && vb.width > 0 && vb.height > 0;
+      const [x, y] = hasBox ? [vb.x, vb.y] : [0, 0];
+      const w = hasBox ? vb.width : svg.width.baseVal.value;
+      const h = hasBox ? vb.height : svg.height.baseVal.value;
+      // gmotion renders the picture scaled by width / w from the top left into a canvas of
+      // the rounded height. Sizing the root to whole pixels and stretching the viewBox to
+      // the same aspect does exactly that (a fractional root height would be snapped).
       const height = Math.max(1, Math.round((width * h) / w));
       svg.setAttribute('width', String(width));
       svg.setAttribute('height', String(height));
+      svg.setAttribute('viewBox', `${x} ${y} ${w} ${(height * w) / width}`);
+      svg.setAttribute('preserveAspectRatio', 'xMinYMin meet');
       return { width, height };
     }, job.width);
     if (!size) {
