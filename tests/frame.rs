@@ -217,3 +217,34 @@ fn frames_are_deterministic_and_share_definitions() {
     );
     assert_eq!(frame_svg(&anim, 0.37), frame_svg(&anim, 0.37));
 }
+
+/// `scene_svg` of the imported `src` renders as `src` itself does.
+fn reproduces(src: &str) -> f64 {
+    let scene = parse(src, "src.svg", &ImportOptions::default())
+        .unwrap()
+        .scene;
+    compare(
+        &render(&scene_svg(&scene), 200).unwrap(),
+        &render(src, 200).unwrap(),
+        32,
+    )
+}
+
+#[test]
+fn clip_content_keeps_nested_clips_in_place() {
+    // The inner clip is set on a `use` whose target has a transform of its own: the writer
+    // flattens the two into one path and must move the inner clip to match.
+    let src = r##"<svg xmlns="http://www.w3.org/2000/svg" width="200" height="200">
+        <defs><rect id="r" transform="scale(2)" width="50" height="60"/></defs>
+        <clipPath id="inner"><rect x="0" y="0" width="40" height="200"/></clipPath>
+        <clipPath id="outer"><use href="#r" transform="translate(20 10)" clip-path="url(#inner)"/>
+            <circle cx="150" cy="150" r="30"/></clipPath>
+        <rect width="200" height="200" fill="green" clip-path="url(#outer)"/></svg>"##;
+    assert!(reproduces(src) < 1e-3);
+    let text = scene_svg(
+        &parse(src, "src.svg", &ImportOptions::default())
+            .unwrap()
+            .scene,
+    );
+    assert!(text.matches("<clipPath").count() == 2, "{text}");
+}
