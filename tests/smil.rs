@@ -59,7 +59,11 @@ pub fn scene(width: f64, height: f64, items: Vec<Item>) -> Scene {
         let node = Node::Path(PathNode {
             id: it.id.to_string(),
             path: it.path.clone(),
-            fill: Some(Fill { paint: it.fill, opacity: 1.0, rule: FillRule::NonZero }),
+            fill: Some(Fill {
+                paint: it.fill,
+                opacity: 1.0,
+                rule: FillRule::NonZero,
+            }),
             stroke: it.stroke.map(|(c, w)| Stroke {
                 paint: Paint::Solid(c),
                 opacity: 1.0,
@@ -99,17 +103,32 @@ pub fn scene(width: f64, height: f64, items: Vec<Item>) -> Scene {
             stroke_width: it.stroke.map_or(1.0, |s| s.1),
         });
     }
-    Scene { width, height, root, shapes }
+    Scene {
+        width,
+        height,
+        root,
+        shapes,
+    }
 }
 
 /// A timing over `[start, end]`.
 pub fn timing(start: f64, end: f64, ease: Easing) -> Timing {
-    Timing { start, end, delay: 0.0, ease, reversed: false }
+    Timing {
+        start,
+        end,
+        delay: 0.0,
+        ease,
+        reversed: false,
+    }
 }
 
 /// A single-entry rigid motion about `pivot`.
 pub fn rigid(pivot: Point, comps: &[Component], interp: Interp) -> MotionKind {
-    MotionKind::Rigid { pivot, blend: vec![(1.0, Arc::from(comps))], interp }
+    MotionKind::Rigid {
+        pivot,
+        blend: vec![(1.0, Arc::from(comps))],
+        interp,
+    }
 }
 
 /// Appends one motion played in the windows between consecutive `cuts`, each window
@@ -128,7 +147,13 @@ pub fn windows(track: &mut Track, kind: &MotionKind, timing: &Timing, cuts: &[f6
 }
 
 fn anim(scene: Scene, duration: f64, looping: bool, tracks: Vec<Track>) -> Animation {
-    Animation { scene, duration, fps: 30.0, looping, tracks }
+    Animation {
+        scene,
+        duration,
+        fps: 30.0,
+        looping,
+        tracks,
+    }
 }
 
 fn ease_in_out() -> Easing {
@@ -161,35 +186,101 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
         &timing(0.5, 2.5, ease_in_out()),
         &[0.5, 2.5],
     );
-    out.push(("rotate-pivot", true, anim(scene(200.0, 200.0, vec![item("a", r, red())]), 3.0, false, vec![t])));
+    out.push((
+        "rotate-pivot",
+        true,
+        anim(
+            scene(200.0, 200.0, vec![item("a", r, red())]),
+            3.0,
+            false,
+            vec![t],
+        ),
+    ));
 
     // Scale and move a stroked rectangle.
     let r = Rect::new(40.0, 80.0, 100.0, 120.0);
     let mut it = item("a", r, blue());
     it.stroke = Some((Color::BLACK, 4.0));
     let mut t = Track::default();
-    let comps = [Component::Translate(Vec2::new(30.0, 10.0)), Component::Scale(Vec2::new(2.0, 0.5))];
-    windows(&mut t, &rigid(c(r), &comps, Interp::Linear), &timing(0.0, 2.0, Easing::CubicBezier([0.0, 0.0, 0.58, 1.0])), &[0.0, 2.0]);
-    out.push(("scale", true, anim(scene(200.0, 200.0, vec![it]), 2.5, false, vec![t])));
+    let comps = [
+        Component::Translate(Vec2::new(30.0, 10.0)),
+        Component::Scale(Vec2::new(2.0, 0.5)),
+    ];
+    windows(
+        &mut t,
+        &rigid(c(r), &comps, Interp::Linear),
+        &timing(0.0, 2.0, Easing::CubicBezier([0.0, 0.0, 0.58, 1.0])),
+        &[0.0, 2.0],
+    );
+    out.push((
+        "scale",
+        true,
+        anim(scene(200.0, 200.0, vec![it]), 2.5, false, vec![t]),
+    ));
 
     // One motion cut into two windows by a later timesplit, then another motion.
     let r = square(20.0, 20.0, 40.0);
     let mut t = Track::default();
-    let comps = [Component::Translate(Vec2::new(80.0, 0.0)), Component::Rotate(90.0)];
-    windows(&mut t, &rigid(c(r), &comps, Interp::Linear), &timing(0.0, 2.0, ease_in_out()), &[0.0, 0.8, 2.0]);
+    let comps = [
+        Component::Translate(Vec2::new(80.0, 0.0)),
+        Component::Rotate(90.0),
+    ];
+    windows(
+        &mut t,
+        &rigid(c(r), &comps, Interp::Linear),
+        &timing(0.0, 2.0, ease_in_out()),
+        &[0.0, 0.8, 2.0],
+    );
     let moved = t.transform_at(2.0) * c(r);
-    windows(&mut t, &rigid(moved, &[Component::Scale(Vec2::new(0.5, 0.5))], Interp::Linear), &timing(2.0, 3.0, Easing::Linear), &[2.0, 3.0]);
-    out.push(("chained", true, anim(scene(200.0, 200.0, vec![item("a", r, red())]), 3.0, false, vec![t])));
+    windows(
+        &mut t,
+        &rigid(
+            moved,
+            &[Component::Scale(Vec2::new(0.5, 0.5))],
+            Interp::Linear,
+        ),
+        &timing(2.0, 3.0, Easing::Linear),
+        &[2.0, 3.0],
+    );
+    out.push((
+        "chained",
+        true,
+        anim(
+            scene(200.0, 200.0, vec![item("a", r, red())]),
+            3.0,
+            false,
+            vec![t],
+        ),
+    ));
 
     // A motion and its inverse slice, looping.
     let r = square(30.0, 60.0, 50.0);
-    let kind = rigid(c(r), &[Component::Translate(Vec2::new(90.0, 30.0)), Component::Rotate(120.0)], Interp::Linear);
+    let kind = rigid(
+        c(r),
+        &[
+            Component::Translate(Vec2::new(90.0, 30.0)),
+            Component::Rotate(120.0),
+        ],
+        Interp::Linear,
+    );
     let ease = Easing::CubicBezier([0.6, 0.0, 0.9, 0.4]);
     let mut t = Track::default();
     windows(&mut t, &kind, &timing(0.0, 1.5, ease.clone()), &[0.0, 1.5]);
-    let back = Timing { reversed: true, ..timing(1.5, 3.0, ease) };
+    let back = Timing {
+        reversed: true,
+        ..timing(1.5, 3.0, ease)
+    };
     windows(&mut t, &kind, &back, &[1.5, 2.2, 3.0]);
-    out.push(("reversed", true, anim(scene(200.0, 200.0, vec![item("a", r, blue())]), 3.0, true, vec![t])));
+    out.push((
+        "reversed",
+        true,
+        anim(
+            scene(200.0, 200.0, vec![item("a", r, blue())]),
+            3.0,
+            true,
+            vec![t],
+        ),
+    ));
 
     // Tints: a solid fill, a stroke, and a gradient fill.
     let mut a = item("a", square(20.0, 20.0, 70.0), red());
@@ -201,37 +292,84 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
         transform: Affine::IDENTITY,
         spread: Spread::Pad,
         stops: vec![
-            Stop { offset: 0.0, color: Color::rgb8(250, 220, 40) },
-            Stop { offset: 1.0, color: Color::rgb8(40, 200, 220) },
+            Stop {
+                offset: 0.0,
+                color: Color::rgb8(250, 220, 40),
+            },
+            Stop {
+                offset: 1.0,
+                color: Color::rgb8(40, 200, 220),
+            },
         ],
     };
     let mut b = item("b", square(110.0, 110.0, 80.0), Color::BLACK);
     b.fill = Paint::Linear(Arc::new(grad));
-    let tint = |t0: f64, t1: f64, to: Color| AttrSeg { t0, t1, timing: timing(t0, t1, ease_in_out()), from: Tint::NONE, to: Tint::full(to) };
-    let ta = Track { fill: vec![tint(0.5, 1.5, blue())], stroke: vec![tint(1.0, 2.5, Color::rgb8(250, 250, 0))], ..Track::default() };
-    let tb = Track { fill: vec![tint(0.0, 2.0, red())], ..Track::default() };
-    out.push(("tint", true, anim(scene(200.0, 200.0, vec![a, b]), 3.0, false, vec![ta, tb])));
+    let tint = |t0: f64, t1: f64, to: Color| AttrSeg {
+        t0,
+        t1,
+        timing: timing(t0, t1, ease_in_out()),
+        from: Tint::NONE,
+        to: Tint::full(to),
+    };
+    let ta = Track {
+        fill: vec![tint(0.5, 1.5, blue())],
+        stroke: vec![tint(1.0, 2.5, Color::rgb8(250, 250, 0))],
+        ..Track::default()
+    };
+    let tb = Track {
+        fill: vec![tint(0.0, 2.0, red())],
+        ..Track::default()
+    };
+    out.push((
+        "tint",
+        true,
+        anim(scene(200.0, 200.0, vec![a, b]), 3.0, false, vec![ta, tb]),
+    ));
 
     // Opacity down and back up, stroke width growing.
     let mut a = item("a", square(50.0, 50.0, 100.0), blue());
     a.stroke = Some((Color::BLACK, 3.0));
-    let num = |t0: f64, t1: f64, from: f64, to: f64| AttrSeg { t0, t1, timing: timing(t0, t1, ease_in_out()), from, to };
+    let num = |t0: f64, t1: f64, from: f64, to: f64| AttrSeg {
+        t0,
+        t1,
+        timing: timing(t0, t1, ease_in_out()),
+        from,
+        to,
+    };
     let t = Track {
         opacity: vec![num(0.0, 1.0, 1.0, 0.2), num(1.5, 2.5, 0.2, 1.0)],
         stroke_width: vec![num(0.0, 2.0, 1.0, 4.0)],
         ..Track::default()
     };
-    out.push(("opacity", true, anim(scene(200.0, 200.0, vec![a]), 3.0, false, vec![t])));
+    out.push((
+        "opacity",
+        true,
+        anim(scene(200.0, 200.0, vec![a]), 3.0, false, vec![t]),
+    ));
 
     // A shape inside a rotated, squashed group.
     let r = square(-20.0, -20.0, 40.0);
     let mut a = item("a", r, red());
-    a.parent = Affine::translate((100.0, 90.0)) * Affine::rotate(0.5) * Affine::scale_non_uniform(1.5, 0.8);
+    a.parent = Affine::translate((100.0, 90.0))
+        * Affine::rotate(0.5)
+        * Affine::scale_non_uniform(1.5, 0.8);
     let centre = (a.parent * r.to_path(0.1)).bounding_box().center();
     let mut t = Track::default();
-    let comps = [Component::Translate(Vec2::new(50.0, 30.0)), Component::Rotate(45.0)];
-    windows(&mut t, &rigid(centre, &comps, Interp::Linear), &timing(0.0, 2.0, ease_in_out()), &[0.0, 2.0]);
-    out.push(("parent", true, anim(scene(200.0, 200.0, vec![a]), 2.0, false, vec![t])));
+    let comps = [
+        Component::Translate(Vec2::new(50.0, 30.0)),
+        Component::Rotate(45.0),
+    ];
+    windows(
+        &mut t,
+        &rigid(centre, &comps, Interp::Linear),
+        &timing(0.0, 2.0, ease_in_out()),
+        &[0.0, 2.0],
+    );
+    out.push((
+        "parent",
+        true,
+        anim(scene(200.0, 200.0, vec![a]), 2.0, false, vec![t]),
+    ));
 
     // Two motions sharing one window, the second with a delay and its own easing.
     let r = square(60.0, 60.0, 40.0);
@@ -244,64 +382,200 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
         start: Affine::IDENTITY,
     };
     let second = MotionSeg {
-        timing: Timing { delay: 0.5, ..timing(0.0, 2.0, Easing::CubicBezier([0.2, 0.8, 0.4, 1.0])) },
-        kind: rigid(Point::ORIGIN, &[Component::Translate(Vec2::new(60.0, 0.0))], Interp::Linear),
+        timing: Timing {
+            delay: 0.5,
+            ..timing(0.0, 2.0, Easing::CubicBezier([0.2, 0.8, 0.4, 1.0]))
+        },
+        kind: rigid(
+            Point::ORIGIN,
+            &[Component::Translate(Vec2::new(60.0, 0.0))],
+            Interp::Linear,
+        ),
         ..first.clone()
     };
     t.motions = vec![first, second];
-    out.push(("shared-window", true, anim(scene(200.0, 200.0, vec![item("a", r, blue())]), 2.0, false, vec![t])));
+    out.push((
+        "shared-window",
+        true,
+        anim(
+            scene(200.0, 200.0, vec![item("a", r, blue())]),
+            2.0,
+            false,
+            vec![t],
+        ),
+    ));
 
     // An easing that overshoots, and skews on either axis.
     let r = square(20.0, 80.0, 40.0);
     let mut t = Track::default();
     windows(
         &mut t,
-        &rigid(c(r), &[Component::Translate(Vec2::new(100.0, 0.0)), Component::Skew(20.0, 0.0), Component::Skew(0.0, -15.0)], Interp::Linear),
+        &rigid(
+            c(r),
+            &[
+                Component::Translate(Vec2::new(100.0, 0.0)),
+                Component::Skew(20.0, 0.0),
+                Component::Skew(0.0, -15.0),
+            ],
+            Interp::Linear,
+        ),
         &timing(0.0, 2.0, Easing::CubicBezier([0.3, -0.6, 0.4, 1.7])),
         &[0.0, 2.0],
     );
-    out.push(("overshoot-skew", true, anim(scene(200.0, 200.0, vec![item("a", r, red())]), 2.0, false, vec![t])));
+    out.push((
+        "overshoot-skew",
+        true,
+        anim(
+            scene(200.0, 200.0, vec![item("a", r, red())]),
+            2.0,
+            false,
+            vec![t],
+        ),
+    ));
 
     // A window whose start does not continue the previous one: the state jumps.
     let r = square(30.0, 30.0, 40.0);
     let mut t = Track::default();
-    windows(&mut t, &rigid(c(r), &[Component::Rotate(60.0)], Interp::Linear), &timing(0.0, 1.0, Easing::Linear), &[0.0, 1.0]);
+    windows(
+        &mut t,
+        &rigid(c(r), &[Component::Rotate(60.0)], Interp::Linear),
+        &timing(0.0, 1.0, Easing::Linear),
+        &[0.0, 1.0],
+    );
     let start = Affine::translate((40.0, 50.0)) * t.transform_at(1.0);
     t.motions.push(MotionSeg {
         t0: 1.5,
         t1: 2.5,
         timing: timing(1.5, 2.5, Easing::Linear),
-        kind: rigid(Point::ORIGIN, &[Component::Translate(Vec2::new(50.0, 0.0))], Interp::Linear),
+        kind: rigid(
+            Point::ORIGIN,
+            &[Component::Translate(Vec2::new(50.0, 0.0))],
+            Interp::Linear,
+        ),
         start,
     });
-    out.push(("jump", true, anim(scene(200.0, 200.0, vec![item("a", r, blue())]), 3.0, false, vec![t])));
+    out.push((
+        "jump",
+        true,
+        anim(
+            scene(200.0, 200.0, vec![item("a", r, blue())]),
+            3.0,
+            false,
+            vec![t],
+        ),
+    ));
 
     // What SMIL cannot say: Alexa interpolation, B-spline easing, a bilinear blend.
     let r = square(70.0, 70.0, 50.0);
     let mut t = Track::default();
-    windows(&mut t, &rigid(c(r), &[Component::Rotate(200.0), Component::Scale(Vec2::new(1.6, 0.7))], Interp::Alexa), &timing(0.0, 2.0, Easing::Linear), &[0.0, 2.0]);
-    out.push(("baked-alexa", false, anim(scene(200.0, 200.0, vec![item("a", r, red())]), 2.0, false, vec![t])));
+    windows(
+        &mut t,
+        &rigid(
+            c(r),
+            &[
+                Component::Rotate(200.0),
+                Component::Scale(Vec2::new(1.6, 0.7)),
+            ],
+            Interp::Alexa,
+        ),
+        &timing(0.0, 2.0, Easing::Linear),
+        &[0.0, 2.0],
+    );
+    out.push((
+        "baked-alexa",
+        false,
+        anim(
+            scene(200.0, 200.0, vec![item("a", r, red())]),
+            2.0,
+            false,
+            vec![t],
+        ),
+    ));
 
     let r = square(30.0, 70.0, 50.0);
     let mut t = Track::default();
-    windows(&mut t, &rigid(c(r), &[Component::Translate(Vec2::new(100.0, 0.0)), Component::Rotate(90.0)], Interp::Linear), &timing(0.0, 2.0, Easing::BSpline(4)), &[0.0, 2.0]);
-    out.push(("baked-easing", false, anim(scene(200.0, 200.0, vec![item("a", r, blue())]), 2.0, false, vec![t])));
+    windows(
+        &mut t,
+        &rigid(
+            c(r),
+            &[
+                Component::Translate(Vec2::new(100.0, 0.0)),
+                Component::Rotate(90.0),
+            ],
+            Interp::Linear,
+        ),
+        &timing(0.0, 2.0, Easing::BSpline(4)),
+        &[0.0, 2.0],
+    );
+    out.push((
+        "baked-easing",
+        false,
+        anim(
+            scene(200.0, 200.0, vec![item("a", r, blue())]),
+            2.0,
+            false,
+            vec![t],
+        ),
+    ));
 
     let r = square(70.0, 70.0, 50.0);
     let blend: Blend = vec![
-        (0.5, Arc::from([Component::Translate(Vec2::new(100.0, 0.0))])),
+        (
+            0.5,
+            Arc::from([Component::Translate(Vec2::new(100.0, 0.0))]),
+        ),
         (0.5, Arc::from([Component::Rotate(120.0)])),
     ];
     let mut t = Track::default();
-    windows(&mut t, &MotionKind::Rigid { pivot: c(r), blend, interp: Interp::Linear }, &timing(0.0, 2.0, ease_in_out()), &[0.0, 2.0]);
-    out.push(("baked-bilinear", false, anim(scene(200.0, 200.0, vec![item("a", r, red())]), 2.0, false, vec![t])));
+    windows(
+        &mut t,
+        &MotionKind::Rigid {
+            pivot: c(r),
+            blend,
+            interp: Interp::Linear,
+        },
+        &timing(0.0, 2.0, ease_in_out()),
+        &[0.0, 2.0],
+    );
+    out.push((
+        "baked-bilinear",
+        false,
+        anim(
+            scene(200.0, 200.0, vec![item("a", r, red())]),
+            2.0,
+            false,
+            vec![t],
+        ),
+    ));
 
     // Per-vertex deformation towards the canvas centre.
     let r = Rect::new(20.0, 20.0, 180.0, 60.0);
-    let grid = Grid::new(4, 4, Rect::new(0.0, 0.0, 200.0, 200.0), Field::Towards(Point::new(100.0, 100.0)));
+    let grid = Grid::new(
+        4,
+        4,
+        Rect::new(0.0, 0.0, 200.0, 200.0),
+        Field::Towards(Point::new(100.0, 100.0)),
+    );
     let mut t = Track::default();
-    windows(&mut t, &MotionKind::Vertex { grid: Arc::new(grid), pivot: None }, &timing(0.0, 2.0, ease_in_out()), &[0.0, 2.0]);
-    out.push(("deform", false, anim(scene(200.0, 200.0, vec![item("a", r, blue())]), 2.0, false, vec![t])));
+    windows(
+        &mut t,
+        &MotionKind::Vertex {
+            grid: Arc::new(grid),
+            pivot: None,
+        },
+        &timing(0.0, 2.0, ease_in_out()),
+        &[0.0, 2.0],
+    );
+    out.push((
+        "deform",
+        false,
+        anim(
+            scene(200.0, 200.0, vec![item("a", r, blue())]),
+            2.0,
+            false,
+            vec![t],
+        ),
+    ));
 
     out
 }
@@ -339,7 +613,10 @@ impl Doc {
                     let parent = stack.last().copied();
                     els.push(El {
                         name: name.to_string(),
-                        attrs: attrs.iter().map(|(k, v)| (k.clone(), v.to_string())).collect(),
+                        attrs: attrs
+                            .iter()
+                            .map(|(k, v)| (k.clone(), v.to_string()))
+                            .collect(),
                         children: Vec::new(),
                         parent,
                     });
@@ -359,7 +636,10 @@ impl Doc {
     }
 
     fn by_id(&self, id: &str) -> usize {
-        self.els.iter().position(|e| e.attrs.get("id").is_some_and(|v| v == id)).unwrap_or_else(|| panic!("no #{id}"))
+        self.els
+            .iter()
+            .position(|e| e.attrs.get("id").is_some_and(|v| v == id))
+            .unwrap_or_else(|| panic!("no #{id}"))
     }
 
     fn anims(&self) -> impl Iterator<Item = &El> {
@@ -378,10 +658,13 @@ impl Doc {
 
     /// The element's own transform at `t`: its attribute, then its animations in order.
     fn local(&self, e: usize, t: f64) -> Affine {
-        let mut m = self.els[e].attrs.get("transform").map_or(Affine::IDENTITY, |v| {
-            let ts: svgtypes::Transform = v.parse().expect("transform");
-            Affine::new([ts.a, ts.b, ts.c, ts.d, ts.e, ts.f])
-        });
+        let mut m = self.els[e]
+            .attrs
+            .get("transform")
+            .map_or(Affine::IDENTITY, |v| {
+                let ts: svgtypes::Transform = v.parse().expect("transform");
+                Affine::new([ts.a, ts.b, ts.c, ts.d, ts.e, ts.f])
+            });
         for a in self.anims_of(e, "transform") {
             let v = play(a, t);
             let value = match a.attrs["type"].as_str() {
@@ -392,7 +675,11 @@ impl Doc {
                 "skewY" => Affine::skew(0.0, v[0].to_radians().tan()),
                 other => panic!("unexpected type {other}"),
             };
-            m = if a.attrs.get("additive").is_some_and(|v| v == "sum") { m * value } else { value };
+            m = if a.attrs.get("additive").is_some_and(|v| v == "sum") {
+                m * value
+            } else {
+                value
+            };
         }
         m
     }
@@ -421,7 +708,9 @@ impl Doc {
 fn numbers(v: &str) -> Vec<f64> {
     let v = v.trim();
     if let Some(h) = v.strip_prefix('#') {
-        return (0..3).map(|i| u8::from_str_radix(&h[2 * i..2 * i + 2], 16).unwrap() as f64).collect();
+        return (0..3)
+            .map(|i| u8::from_str_radix(&h[2 * i..2 * i + 2], 16).unwrap() as f64)
+            .collect();
     }
     v.split(|c: char| c.is_whitespace() || c == ',' || c.is_ascii_alphabetic())
         .filter(|s| !s.is_empty())
@@ -435,11 +724,17 @@ fn list(v: &str) -> Vec<&str> {
 
 /// The CSS/SMIL cubic timing function, by bisection.
 fn spline(s: [f64; 4], x: f64) -> f64 {
-    let bez = |a: f64, b: f64, u: f64| 3.0 * (1.0 - u) * (1.0 - u) * u * a + 3.0 * (1.0 - u) * u * u * b + u * u * u;
+    let bez = |a: f64, b: f64, u: f64| {
+        3.0 * (1.0 - u) * (1.0 - u) * u * a + 3.0 * (1.0 - u) * u * u * b + u * u * u
+    };
     let (mut lo, mut hi) = (0.0, 1.0);
     for _ in 0..80 {
         let mid = 0.5 * (lo + hi);
-        if bez(s[0], s[2], mid) < x { lo = mid } else { hi = mid }
+        if bez(s[0], s[2], mid) < x {
+            lo = mid
+        } else {
+            hi = mid
+        }
     }
     bez(s[1], s[3], 0.5 * (lo + hi))
 }
@@ -447,10 +742,20 @@ fn spline(s: [f64; 4], x: f64) -> f64 {
 /// An animation element's value at document time `t` (SMIL 3 simple-time semantics).
 fn play(a: &El, t: f64) -> Vec<f64> {
     let dur: f64 = a.attrs["dur"].trim_end_matches('s').parse().unwrap();
-    let looping = a.attrs.get("repeatCount").is_some_and(|v| v == "indefinite");
+    let looping = a
+        .attrs
+        .get("repeatCount")
+        .is_some_and(|v| v == "indefinite");
     let values: Vec<Vec<f64>> = list(&a.attrs["values"]).into_iter().map(numbers).collect();
-    let times: Vec<f64> = list(&a.attrs["keyTimes"]).into_iter().map(|v| v.parse().unwrap()).collect();
-    let tau = if looping { (t / dur).fract() } else { (t / dur).min(1.0) };
+    let times: Vec<f64> = list(&a.attrs["keyTimes"])
+        .into_iter()
+        .map(|v| v.parse().unwrap())
+        .collect();
+    let tau = if looping {
+        (t / dur).fract()
+    } else {
+        (t / dur).min(1.0)
+    };
     let mode = a.attrs.get("calcMode").map_or("linear", String::as_str);
     let i = times.partition_point(|&k| k <= tau).saturating_sub(1);
     if mode == "discrete" {
@@ -460,14 +765,22 @@ fn play(a: &El, t: f64) -> Vec<f64> {
         return values[values.len() - 1].clone();
     }
     let span = times[i + 1] - times[i];
-    let x = if span > 0.0 { ((tau - times[i]) / span).clamp(0.0, 1.0) } else { 1.0 };
+    let x = if span > 0.0 {
+        ((tau - times[i]) / span).clamp(0.0, 1.0)
+    } else {
+        1.0
+    };
     let y = if mode == "spline" {
         let s = numbers(list(&a.attrs["keySplines"])[i]);
         spline([s[0], s[1], s[2], s[3]], x)
     } else {
         x
     };
-    values[i].iter().zip(&values[i + 1]).map(|(p, q)| p + (q - p) * y).collect()
+    values[i]
+        .iter()
+        .zip(&values[i + 1])
+        .map(|(p, q)| p + (q - p) * y)
+        .collect()
 }
 
 /// Instants to compare at: a fine grid plus just before and after every key boundary.
@@ -499,11 +812,21 @@ fn every_animation_element_is_well_formed() {
             count += 1;
             let at = &el.attrs;
             let n = list(&at["values"]).len();
-            let times: Vec<f64> = list(&at["keyTimes"]).iter().map(|v| v.parse().unwrap()).collect();
-            assert_eq!(times.len(), n, "{name}: keyTimes and values differ in count");
+            let times: Vec<f64> = list(&at["keyTimes"])
+                .iter()
+                .map(|v| v.parse().unwrap())
+                .collect();
+            assert_eq!(
+                times.len(),
+                n,
+                "{name}: keyTimes and values differ in count"
+            );
             assert!(n >= 2, "{name}: an animation needs two values");
             assert_eq!(times[0], 0.0, "{name}: keyTimes must start at 0");
-            assert!(times.windows(2).all(|w| w[0] <= w[1]), "{name}: keyTimes must not decrease: {times:?}");
+            assert!(
+                times.windows(2).all(|w| w[0] <= w[1]),
+                "{name}: keyTimes must not decrease: {times:?}"
+            );
             let discrete = at.get("calcMode").is_some_and(|m| m == "discrete");
             if !discrete {
                 assert_eq!(times[n - 1], 1.0, "{name}: keyTimes must end at 1");
@@ -514,15 +837,32 @@ fn every_animation_element_is_well_formed() {
                 for s in splines {
                     let v = numbers(s);
                     assert_eq!(v.len(), 4);
-                    assert!(v.iter().all(|x| (0.0..=1.0).contains(x)), "{name}: keySplines {s} outside [0, 1]");
+                    assert!(
+                        v.iter().all(|x| (0.0..=1.0).contains(x)),
+                        "{name}: keySplines {s} outside [0, 1]"
+                    );
                 }
             } else {
-                assert!(!at.contains_key("keySplines"), "{name}: keySplines without calcMode spline");
+                assert!(
+                    !at.contains_key("keySplines"),
+                    "{name}: keySplines without calcMode spline"
+                );
             }
             assert_eq!(at["begin"], "0s");
-            assert_eq!(at["dur"].trim_end_matches('s').parse::<f64>().unwrap(), a.duration);
-            assert_eq!(at.get("repeatCount").map(String::as_str), a.looping.then_some("indefinite"), "{name}");
-            assert_eq!(at.get("fill").map(String::as_str), (!a.looping).then_some("freeze"), "{name}");
+            assert_eq!(
+                at["dur"].trim_end_matches('s').parse::<f64>().unwrap(),
+                a.duration
+            );
+            assert_eq!(
+                at.get("repeatCount").map(String::as_str),
+                a.looping.then_some("indefinite"),
+                "{name}"
+            );
+            assert_eq!(
+                at.get("fill").map(String::as_str),
+                (!a.looping).then_some("freeze"),
+                "{name}"
+            );
             if el.name == "animateTransform" {
                 assert_eq!(at["attributeName"], "transform");
                 assert_eq!(at["additive"], "sum");
@@ -530,7 +870,8 @@ fn every_animation_element_is_well_formed() {
         }
         assert!(count > 0, "{name}: nothing animated");
         // The document still renders as a still picture.
-        usvg::Tree::from_str(&svg, &usvg::Options::default()).unwrap_or_else(|e| panic!("{name}: {e}"));
+        usvg::Tree::from_str(&svg, &usvg::Options::default())
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
     }
 }
 
@@ -540,15 +881,22 @@ fn transforms_play_as_the_model_moves() {
         if a.tracks.iter().any(Track::deforms) {
             continue;
         }
-        let tol = if exact { 2e-3 } else { SmilOptions::default().tolerance + 0.02 };
+        let tol = if exact {
+            2e-3
+        } else {
+            SmilOptions::default().tolerance + 0.02
+        };
         let (svg, _) = to_smil(&a, &SmilOptions::default()).unwrap();
         let doc = Doc::parse(&svg);
         for (u, shape) in a.scene.shapes.iter().enumerate() {
-            let Node::Path(p) = a.scene.unit_node(u).unwrap() else { unreachable!() };
+            let Node::Path(p) = a.scene.unit_node(u).unwrap() else {
+                unreachable!()
+            };
             let e = doc.by_id(&p.id);
             let b = shape.bbox;
             let back = shape.parent_transform.inverse();
-            let corners = [(b.x0, b.y0), (b.x1, b.y0), (b.x1, b.y1), (b.x0, b.y1)].map(|c| back * Point::from(c));
+            let corners = [(b.x0, b.y0), (b.x1, b.y0), (b.x1, b.y1), (b.x0, b.y1)]
+                .map(|c| back * Point::from(c));
             let mut worst: f64 = 0.0;
             for t in instants(&a) {
                 let got = doc.total(e, t);
@@ -557,7 +905,10 @@ fn transforms_play_as_the_model_moves() {
                     worst = worst.max((got * q - want * q).hypot());
                 }
             }
-            assert!(worst <= tol, "{name}: shape {u} off by {worst} (allowed {tol})");
+            assert!(
+                worst <= tol,
+                "{name}: shape {u} off by {worst} (allowed {tol})"
+            );
         }
     }
 }
@@ -568,33 +919,53 @@ fn colours_opacity_and_widths_play_as_the_model_changes() {
         let (svg, _) = to_smil(&a, &SmilOptions::default()).unwrap();
         let doc = Doc::parse(&svg);
         for (u, shape) in a.scene.shapes.iter().enumerate() {
-            let Node::Path(p) = a.scene.unit_node(u).unwrap() else { unreachable!() };
+            let Node::Path(p) = a.scene.unit_node(u).unwrap() else {
+                unreachable!()
+            };
             let e = doc.by_id(&p.id);
             for t in instants(&a) {
                 let st = a.tracks[u].state_at(t);
                 let close = |got: Vec<f64>, want: Color, what: &str| {
                     let w = want.to_rgba8();
                     for i in 0..3 {
-                        assert!((got[i] - w[i] as f64).abs() <= 1.5, "{name}: {what} at {t}: {got:?} vs {w:?}");
+                        assert!(
+                            (got[i] - w[i] as f64).abs() <= 1.5,
+                            "{name}: {what} at {t}: {got:?} vs {w:?}"
+                        );
                     }
                 };
                 match &p.fill.as_ref().unwrap().paint {
-                    Paint::Solid(c) => close(doc.value(e, "fill", t).unwrap(), st.fill.apply(*c), "fill"),
+                    Paint::Solid(c) => {
+                        close(doc.value(e, "fill", t).unwrap(), st.fill.apply(*c), "fill")
+                    }
                     Paint::Linear(g) => {
                         let url = &doc.els[e].attrs["fill"];
                         let id = url.trim_start_matches("url(#").trim_end_matches(')');
                         let def = doc.by_id(id);
                         for (&s, stop) in doc.els[def].children.iter().zip(&g.stops) {
-                            close(doc.value(s, "stop-color", t).unwrap(), st.fill.apply(stop.color), "stop");
+                            close(
+                                doc.value(s, "stop-color", t).unwrap(),
+                                st.fill.apply(stop.color),
+                                "stop",
+                            );
                         }
                     }
                     _ => unreachable!(),
                 }
                 if let Some(s) = &p.stroke {
-                    let Paint::Solid(c) = s.paint else { unreachable!() };
-                    close(doc.value(e, "stroke", t).unwrap(), st.stroke.apply(c), "stroke");
+                    let Paint::Solid(c) = s.paint else {
+                        unreachable!()
+                    };
+                    close(
+                        doc.value(e, "stroke", t).unwrap(),
+                        st.stroke.apply(c),
+                        "stroke",
+                    );
                     let w = doc.value(e, "stroke-width", t).unwrap()[0];
-                    assert!((w - s.width * st.stroke_width).abs() < 1e-3, "{name}: width at {t}");
+                    assert!(
+                        (w - s.width * st.stroke_width).abs() < 1e-3,
+                        "{name}: width at {t}"
+                    );
                 }
                 // Opacity sits on the outermost wrapper: the product along the ancestors.
                 let mut opacity = 1.0;
@@ -603,7 +974,11 @@ fn colours_opacity_and_widths_play_as_the_model_changes() {
                     opacity *= doc.value(i, "opacity", t).map_or(1.0, |v| v[0]);
                     at = doc.els[i].parent;
                 }
-                assert!((opacity - st.opacity).abs() < 1e-3, "{name}: opacity at {t}: {opacity} vs {}", st.opacity);
+                assert!(
+                    (opacity - st.opacity).abs() < 1e-3,
+                    "{name}: opacity at {t}: {opacity} vs {}",
+                    st.opacity
+                );
             }
             let _ = shape;
         }
@@ -616,10 +991,20 @@ fn deformation_plays_within_tolerance() {
     let tol = SmilOptions::default().tolerance;
     let (svg, _) = to_smil(&a, &SmilOptions::default()).unwrap();
     let doc = Doc::parse(&svg);
-    let Node::Path(p) = a.scene.unit_node(0).unwrap() else { unreachable!() };
+    let Node::Path(p) = a.scene.unit_node(0).unwrap() else {
+        unreachable!()
+    };
     let e = doc.by_id(&p.id);
-    let rest: Vec<Point> = p.path.elements().iter().filter_map(|el| el.end_point()).collect();
-    for t in instants(&a).into_iter().chain((0..40).map(|i| i as f64 * 0.0497)) {
+    let rest: Vec<Point> = p
+        .path
+        .elements()
+        .iter()
+        .filter_map(|el| el.end_point())
+        .collect();
+    for t in instants(&a)
+        .into_iter()
+        .chain((0..40).map(|i| i as f64 * 0.0497))
+    {
         let got = doc.value(e, "d", t).unwrap();
         let want: Vec<Point> = rest.iter().map(|&q| a.tracks[0].deform(q, t)).collect();
         // The rectangle's path is all moves and lines: two numbers per point.
@@ -641,8 +1026,15 @@ fn exact_motion_is_written_exactly_and_baked_motion_is_reduced() {
             assert!(doc.baked_segments > 0, "{name}");
             // Far fewer keys than samples: at most one per 4 samples at 120 per second.
             let keys = doc.svg.matches("keyTimes=\"").count().max(1);
-            let max_values = Doc::parse(&doc.svg).anims().map(|e| list(&e.attrs["values"]).len()).max().unwrap();
-            assert!(max_values < (a.duration * 120.0 / 4.0) as usize, "{name}: {max_values} keys in {keys} animations");
+            let max_values = Doc::parse(&doc.svg)
+                .anims()
+                .map(|e| list(&e.attrs["values"]).len())
+                .max()
+                .unwrap();
+            assert!(
+                max_values < (a.duration * 120.0 / 4.0) as usize,
+                "{name}: {max_values} keys in {keys} animations"
+            );
         }
     }
 }
@@ -651,8 +1043,18 @@ fn exact_motion_is_written_exactly_and_baked_motion_is_reduced() {
 fn looser_tolerance_writes_fewer_keys() {
     let (_, _, a) = cases().into_iter().find(|c| c.0 == "baked-alexa").unwrap();
     let keys = |tolerance: f64| {
-        let (svg, _) = to_smil(&a, &SmilOptions { tolerance, ..SmilOptions::default() }).unwrap();
-        Doc::parse(&svg).anims().map(|e| list(&e.attrs["values"]).len()).sum::<usize>()
+        let (svg, _) = to_smil(
+            &a,
+            &SmilOptions {
+                tolerance,
+                ..SmilOptions::default()
+            },
+        )
+        .unwrap();
+        Doc::parse(&svg)
+            .anims()
+            .map(|e| list(&e.attrs["values"]).len())
+            .sum::<usize>()
     };
     assert!(keys(2.0) < keys(0.05));
 }
@@ -670,22 +1072,43 @@ fn output_is_deterministic() {
 fn bad_input_is_an_error() {
     let (_, _, a) = cases().into_iter().next().unwrap();
     let opts = SmilOptions::default();
-    let zero = Animation { duration: 0.0, ..a.clone() };
+    let zero = Animation {
+        duration: 0.0,
+        ..a.clone()
+    };
     assert!(matches!(to_smil(&zero, &opts), Err(SmilError::Duration(_))));
-    let missing = Animation { tracks: Vec::new(), ..a.clone() };
-    assert!(matches!(to_smil(&missing, &opts), Err(SmilError::TrackCount { .. })));
+    let missing = Animation {
+        tracks: Vec::new(),
+        ..a.clone()
+    };
+    assert!(matches!(
+        to_smil(&missing, &opts),
+        Err(SmilError::TrackCount { .. })
+    ));
     let mut nan = a.clone();
-    nan.tracks[0].motions[0].kind = rigid(Point::ORIGIN, &[Component::Rotate(f64::NAN)], Interp::Linear);
+    nan.tracks[0].motions[0].kind = rigid(
+        Point::ORIGIN,
+        &[Component::Rotate(f64::NAN)],
+        Interp::Linear,
+    );
     let err = to_smil(&nan, &opts).unwrap_err();
     assert!(err.to_string().contains("s:0"), "{err}");
-    let bad_opts = SmilOptions { tolerance: -1.0, ..opts };
-    assert!(matches!(to_smil(&a, &bad_opts), Err(SmilError::Option { .. })));
+    let bad_opts = SmilOptions {
+        tolerance: -1.0,
+        ..opts
+    };
+    assert!(matches!(
+        to_smil(&a, &bad_opts),
+        Err(SmilError::Option { .. })
+    ));
 }
 
 #[test]
 fn ids_of_unnamed_nodes_do_not_leak() {
     let (_, _, mut a) = cases().into_iter().next().unwrap();
-    let Node::Path(p) = &mut a.scene.root.children[0] else { unreachable!() };
+    let Node::Path(p) = &mut a.scene.root.children[0] else {
+        unreachable!()
+    };
     p.id.clear();
     let (svg, _) = to_smil(&a, &SmilOptions::default()).unwrap();
     assert!(!svg.contains("id=\""), "{svg}");

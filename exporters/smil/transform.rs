@@ -124,7 +124,7 @@ pub fn plan(
         return Ok(None);
     }
     let parent_inv = invert(parent).ok_or("its parent transform is singular")?;
-    let groups: Vec<&[MotionSeg]> = segs.chunk_by(|a, b| a.t0 == b.t0).collect();
+    let groups = merge_windows(segs, corners);
     let (mut exact, mut baked) = (0, 0);
     let mut acc = Affine::IDENTITY;
     let mut nested: Vec<Vec<RawLayer>> = Vec::with_capacity(groups.len());
@@ -168,6 +168,51 @@ pub fn plan(
         exact,
         baked,
     }))
+}
+
+/// The segments grouped by window, with consecutive windows of one motion (a motion cut by
+/// later slices) joined into one segment: such windows telescope, so one group plays them.
+fn merge_windows(segs: &[MotionSeg], corners: &[Point; 4]) -> Vec<Vec<MotionSeg>> {
+    let mut groups: Vec<Vec<MotionSeg>> = Vec::new();
+    for g in segs.chunk_by(|a, b| a.t0 == b.t0) {
+        if let ([next], Some([prev])) = (g, groups.last_mut().map(Vec::as_mut_slice))
+            && prev.t1 == next.t0
+            && prev.timing == next.timing
+            && same_motion(&prev.kind, &next.kind)
+            && max_gap(next.start, prev.relative_at(prev.t1) * prev.start, corners) <= 1e-7
+        {
+            prev.t1 = next.t1;
+            continue;
+        }
+        groups.push(g.to_vec());
+    }
+    groups
+}
+
+/// True when two rigid motions are the same motion.
+fn same_motion(a: &MotionKind, b: &MotionKind) -> bool {
+    match (a, b) {
+        (
+            MotionKind::Rigid {
+                pivot: p,
+                blend: x,
+                interp: i,
+            },
+            MotionKind::Rigid {
+                pivot: q,
+                blend: y,
+                interp: j,
+            },
+        ) => {
+            p == q
+                && i == j
+                && x.len() == y.len()
+                && x.iter()
+                    .zip(y)
+                    .all(|((w, c), (v, d))| w == v && c[..] == d[..])
+        }
+        _ => false,
+    }
 }
 
 /// Folds each layer's static factors into its group and the next inner one.
