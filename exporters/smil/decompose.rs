@@ -35,7 +35,7 @@ impl Decomposed {
     pub fn of(m: Affine) -> Option<Decomposed> {
         let [a, b, c, d, e, f] = m.as_coeffs();
         let sx = a.hypot(b);
-        if !(sx > 1e-12) || !m.as_coeffs().iter().all(|v| v.is_finite()) {
+        if sx.is_nan() || sx <= 1e-12 || !m.as_coeffs().iter().all(|v| v.is_finite()) {
             return None;
         }
         let (cos, sin) = (a / sx, b / sx);

@@ -255,19 +255,27 @@ fn max_gap(a: Affine, b: Affine, corners: &[Point; 4]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// The component's SMIL type and value at progress `p`, if SMIL has a type for it.
-fn smil_component(c: &Component) -> Option<(Kind, Box<dyn Fn(f64) -> [f64; 2]>)> {
-    Some(match *c {
-        Component::Translate(d) => (Kind::Translate, Box::new(move |p| [d.x * p, d.y * p])),
-        Component::Rotate(a) => (Kind::Rotate, Box::new(move |p| [a * p, 0.0])),
-        Component::Scale(k) => (
-            Kind::Scale,
-            Box::new(move |p| [1.0 + (k.x - 1.0) * p, 1.0 + (k.y - 1.0) * p]),
-        ),
-        Component::Skew(ax, 0.0) => (Kind::SkewX, Box::new(move |p| [ax * p, 0.0])),
-        Component::Skew(0.0, ay) => (Kind::SkewY, Box::new(move |p| [ay * p, 0.0])),
-        Component::Skew(..) | Component::Matrix(_) => return None,
-    })
+/// The SMIL type that animates the component exactly, if there is one.
+fn smil_kind(c: &Component) -> Option<Kind> {
+    match *c {
+        Component::Translate(_) => Some(Kind::Translate),
+        Component::Rotate(_) => Some(Kind::Rotate),
+        Component::Scale(_) => Some(Kind::Scale),
+        Component::Skew(_, 0.0) => Some(Kind::SkewX),
+        Component::Skew(0.0, _) => Some(Kind::SkewY),
+        Component::Skew(..) | Component::Matrix(_) => None,
+    }
+}
+
+/// The component's SMIL value at progress `p` (linear in `p`, as the model interpolates).
+fn smil_value(c: &Component, p: f64) -> [f64; 2] {
+    match *c {
+        Component::Translate(d) => [d.x * p, d.y * p],
+        Component::Rotate(a) => [a * p, 0.0],
+        Component::Scale(k) => [1.0 + (k.x - 1.0) * p, 1.0 + (k.y - 1.0) * p],
+        Component::Skew(ax, ay) => [if ay == 0.0 { ax * p } else { ay * p }, 0.0],
+        Component::Matrix(_) => [0.0, 0.0],
+    }
 }
 
 /// The exact layer of a single-entry linear rigid segment; `None` when it needs baking.
@@ -284,22 +292,23 @@ fn exact_layer(seg: &MotionSeg, a: f64, b: f64) -> Option<SegLayer> {
         return None;
     };
     let comps: Vec<Component> = comps.iter().filter(|c| !c.is_identity()).copied().collect();
-    let smil: Vec<_> = comps.iter().map(smil_component).collect::<Option<_>>()?;
+    let kinds: Vec<Kind> = comps.iter().map(smil_kind).collect::<Option<_>>()?;
     let keys = progress_keys(&seg.timing, a, b)?;
     let p_ref = seg.timing.progress(seg.t0);
     if comps.is_empty() || keys.iter().all(|k| (k.v - p_ref).abs() <= 1e-12) {
         return Some(SegLayer::Identity);
     }
     let held = invert(product_at(&comps, p_ref))?;
-    let anims = smil
-        .into_iter()
-        .map(|(kind, value)| TransformAnim {
+    let anims = comps
+        .iter()
+        .zip(kinds)
+        .map(|(c, kind)| TransformAnim {
             kind,
             keys: keys
                 .iter()
                 .map(|k| Key {
                     t: k.t,
-                    v: value(k.v),
+                    v: smil_value(c, k.v),
                     ease: k.ease,
                 })
                 .collect(),
