@@ -106,6 +106,8 @@ pub fn run(scene: Scene, grammar: &Grammar, opts: &RunOptions) -> Result<(Animat
     if scene.shapes.is_empty() {
         return Err(EngineError::general("the scene has no visible shapes to animate"));
     }
+    let tags: Vec<&str> = scene.shapes.iter().map(|s| s.tag.as_str()).collect();
+    rules::check_shape_tags(grammar, &tags)?;
     let expansion = expand::expand(&scene, &program, &settings)?;
     let tracks = compile::compile(&scene, &expansion, &settings);
     let stats = RunStats {

@@ -131,6 +131,7 @@ impl Program {
             }
             rules.push(check_rule(index, r)?);
         }
+        check_slice_tags(grammar)?;
         let mut by_slice_tag: HashMap<String, Vec<usize>> = HashMap::new();
         for (i, r) in rules.iter().enumerate() {
             for t in &r.slice_tags {
@@ -267,4 +268,46 @@ fn check_rule(index: usize, r: &Rule) -> Result<CRule, EngineError> {
         weight: r.weight,
         span: r.span,
     })
+}
+
+/// Every slice tag a timeslice rule matches must be `all` or produced by some rule;
+/// otherwise the rule can never apply, which is almost always a typo.
+fn check_slice_tags(grammar: &Grammar) -> Result<(), EngineError> {
+    let produced: Vec<&str> = std::iter::once("all")
+        .chain(grammar.rules.iter().filter(|r| !r.spatial).flat_map(|r| r.outputs.iter().map(|t| t.name.as_str())))
+        .collect();
+    for r in grammar.rules.iter().filter(|r| !r.spatial) {
+        for t in &r.slice_tags {
+            if !produced.contains(&t.name.as_str()) {
+                let hint = crate::grammar::diagnostics::did_you_mean(&t.name, produced.iter().copied())
+                    .map(|m| format!(" (did you mean `{m}`?)"))
+                    .unwrap_or_default();
+                return Err(EngineError::at(
+                    t.span,
+                    format!("unknown slice tag `{}`: no rule produces it and it is not `all`{hint}", t.name),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Every shape tag a rule names must be `all` or the tag of some shape in the scene.
+pub fn check_shape_tags(grammar: &Grammar, scene_tags: &[&str]) -> Result<(), EngineError> {
+    for r in &grammar.rules {
+        for t in &r.shape_tags {
+            if t.name != "all" && !scene_tags.contains(&t.name.as_str()) {
+                let hint = crate::grammar::diagnostics::did_you_mean(&t.name, scene_tags.iter().copied())
+                    .map(|m| format!(" (did you mean `{m}`?)"))
+                    .unwrap_or_default();
+                let mut known: Vec<&str> = scene_tags.to_vec();
+                known.sort_unstable();
+                known.dedup();
+                let mut e = EngineError::at(t.span, format!("unknown shape tag `{}`: no shape in the scene has it{hint}", t.name));
+                e.notes.push(format!("the scene's tags: {}", known.join(", ")));
+                return Err(e);
+            }
+        }
+    }
+    Ok(())
 }
