@@ -465,6 +465,47 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
         ),
     ));
 
+    // Changes with no duration: a motion and an opacity that happen at one instant, and a
+    // fill change that starts from another colour than the one held before it.
+    let r = square(40.0, 40.0, 50.0);
+    let mut t = Track::default();
+    windows(
+        &mut t,
+        &rigid(
+            c(r),
+            &[Component::Translate(Vec2::new(60.0, 20.0))],
+            Interp::Linear,
+        ),
+        &timing(1.0, 1.0, Easing::Linear),
+        &[0.5, 1.5],
+    );
+    let step = |t0: f64, from: f64, to: f64| AttrSeg {
+        t0,
+        t1: t0 + 0.5,
+        timing: timing(t0 + 0.25, t0 + 0.25, Easing::Linear),
+        from,
+        to,
+    };
+    t.opacity = vec![step(0.0, 1.0, 0.3), step(2.0, 0.6, 1.0)];
+    let tint = |t0: f64, from: Color, to: Color| AttrSeg {
+        t0,
+        t1: t0 + 0.5,
+        timing: timing(t0, t0 + 0.5, Easing::Linear),
+        from: Tint::full(from),
+        to: Tint::full(to),
+    };
+    t.fill = vec![tint(0.5, red(), blue()), tint(1.8, Color::WHITE, red())];
+    out.push((
+        "instant",
+        true,
+        anim(
+            scene(200.0, 200.0, vec![item("a", r, blue())]),
+            3.0,
+            false,
+            vec![t],
+        ),
+    ));
+
     // What SMIL cannot say: Alexa interpolation, B-spline easing, a bilinear blend.
     let r = square(70.0, 70.0, 50.0);
     let mut t = Track::default();
