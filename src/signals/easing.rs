@@ -29,9 +29,14 @@ pub enum Easing {
     /// the Cox–de Boor recursion (all terms positive, so stable for every order).
     BSpline(u32),
     /// The step response of `n` one-pole low-pass filters `ẋ = (u − x)/τ` in series
-    /// (paper sec. 8.2), i.e. the Erlang CDF `P(n, u/τ)`, truncated at `u = 1` and
-    /// renormalised so that it ends at exactly 1: `s(u) = P(n, u/τ) / P(n, 1/τ)`.
-    /// `tau` is in units of the easing's duration.
+    /// (paper sec. 8.2), i.e. the Erlang CDF `g(u) = P(n, u/τ)`, truncated at `u = 1`.
+    /// Truncation leaves a gap `ε = 1 − g(1)` and a final slope `δ = g'(1)`; both are
+    /// closed by two small cubic terms that vanish with their slope at `u = 0`:
+    /// `s(u) = g(u) + ε·(3u² − 2u³) − δ·(u³ − u²)`, so `s(1) = 1` and `s'(1) = 0` — the
+    /// curve ends at rest and FIR transitions built on it keep velocity continuous.
+    /// (For the default time constant `ε` is 0.1 %.) `tau` is in units of the easing's
+    /// duration; the curve is monotone for `tau ≤ 1/(n+1)` (tested), so it makes a
+    /// convex filter.
     Poles {
         /// Number of poles (`1..=16`).
         n: u32,
@@ -51,7 +56,7 @@ impl Easing {
             Easing::Linear => u,
             Easing::CubicBezier(p) => cubic_bezier(*p, u),
             Easing::BSpline(k) => bspline_cdf(*k, u),
-            Easing::Poles { n, tau } => erlang_cdf(*n, u / tau) / erlang_cdf(*n, 1.0 / tau),
+            Easing::Poles { n, tau } => poles_easing(*n, *tau, u),
         }
     }
 
@@ -278,6 +283,23 @@ fn bspline_cdf(k: u32, u: f64) -> f64 {
     b[first..].iter().sum::<f64>().clamp(0.0, 1.0)
 }
 
+/// The pole-cascade easing with its end gap and end slope closed (see [`Easing::Poles`]).
+fn poles_easing(n: u32, tau: f64, u: f64) -> f64 {
+    let x = 1.0 / tau;
+    let gap = erlang_tail(n, x);
+    let slope = x * erlang_density(n, x);
+    erlang_cdf(n, u * x) + gap * u * u * (3.0 - 2.0 * u) - slope * u * u * (u - 1.0)
+}
+
+/// The Erlang density `xⁿ⁻¹e⁻ˣ/(n−1)!`, the derivative of `P(n, x)`.
+fn erlang_density(n: u32, x: f64) -> f64 {
+    let mut d = (-x).exp();
+    for i in 1..n {
+        d *= x / f64::from(i);
+    }
+    d
+}
+
 /// The regularised lower incomplete gamma function `P(n, x)` for integer `n`: the
 /// probability that a sum of `n` unit exponentials is at most `x` (Erlang CDF).
 pub(crate) fn erlang_cdf(n: u32, x: f64) -> f64 {
@@ -372,11 +394,15 @@ mod tests {
     }
 
     #[test]
-    fn pole_easing_is_the_normalised_erlang_cdf() {
-        // One pole: (1 − e^{−u/τ}) / (1 − e^{−1/τ}).
-        let e = Easing::poles_with_tau(1, 0.25).unwrap();
-        let want = (1.0 - (-0.5f64 / 0.25).exp()) / (1.0 - (-4.0f64).exp());
-        assert!((e.apply(0.5) - want).abs() < 1e-14);
+    fn pole_easing_is_the_corrected_erlang_cdf() {
+        // One pole: g(u) = 1 − e^{−u/τ}, gap e^{−1/τ}, end slope e^{−1/τ}/τ.
+        let tau = 0.25;
+        let e = Easing::poles_with_tau(1, tau).unwrap();
+        let u = 0.5f64;
+        let (gap, slope) = ((-1.0 / tau).exp(), (-1.0 / tau).exp() / tau);
+        let want = 1.0 - (-u / tau).exp() + gap * (3.0 * u * u - 2.0 * u.powi(3))
+            - slope * (u.powi(3) - u * u);
+        assert!((e.apply(u) - want).abs() < 1e-14);
         // Two poles, both branches of erlang_cdf: P(2, x) = 1 − e^{−x}(1 + x).
         for x in [0.3, 1.9, 2.0, 7.5] {
             assert!((erlang_cdf(2, x) - (1.0 - (-x).exp() * (1.0 + x))).abs() < 1e-14);
@@ -385,6 +411,27 @@ mod tests {
             unreachable!()
         };
         assert!((erlang_tail(4, 1.0 / tau) - POLES_DEFAULT_TAIL).abs() < 1e-12);
+    }
+
+    #[test]
+    fn pole_easings_end_at_rest_and_are_monotone() {
+        for n in 1..=16 {
+            let mut taus = vec![Easing::poles(n).unwrap()];
+            for tau in [0.02, 0.1, 1.0 / f64::from(n + 1)] {
+                taus.push(Easing::poles_with_tau(n, tau).unwrap());
+            }
+            for e in taus {
+                let h = 1e-6;
+                let end_slope = (e.apply(1.0) - e.apply(1.0 - h)) / h;
+                assert!(end_slope.abs() < 1e-4, "{e:?}: end slope {end_slope}");
+                let mut prev = 0.0;
+                for i in 1..=2000 {
+                    let v = e.apply(f64::from(i) / 2000.0);
+                    assert!(v >= prev - 1e-15, "{e:?} decreases at {i}");
+                    prev = v;
+                }
+            }
+        }
     }
 
     #[test]
