@@ -19,12 +19,14 @@ pub mod bind;
 pub mod boolean;
 pub mod expand;
 pub mod field;
+pub mod graph;
 pub mod noise;
 pub mod ops;
 pub mod place;
 pub mod polygon;
 
 pub use expand::expand;
+pub use graph::{GraphStats, graph_dot, graph_stats, graph_svg};
 
 use crate::grammar::ast::Span;
 

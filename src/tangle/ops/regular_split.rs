@@ -42,8 +42,10 @@ pub struct SplitPiece {
     pub cell: (i64, i64),
 }
 
-/// Copies are capped so a tiny offset on a huge shape cannot exhaust memory.
+/// Copies, and cells of a dual split, are capped so a tiny offset on a huge shape cannot
+/// exhaust memory.
 const MAX_CUTS: usize = 20_000;
+const MAX_CELLS: usize = 250_000;
 
 /// One family of parallel copies: the curve period in its frame (u along the chord, v
 /// across it), and the copies' positions along the family's axis.
@@ -212,6 +214,11 @@ pub fn regular_split(
             Vec2::new(-along.y, along.x),
             &params.offsets,
         )?;
+        if (first.positions.len() + 1) * (f.positions.len() + 1) > MAX_CELLS {
+            return Err(format!(
+                "more than {MAX_CELLS} cells: the offsets are too small for the shape"
+            ));
+        }
         cuts.extend(f.cuts(region));
         Some(f)
     } else {
