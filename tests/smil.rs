@@ -13,8 +13,8 @@ use gmotion::motion::{
     Track,
 };
 use gmotion::scene::{
-    Fill, FillRule, Group, LineCap, LineJoin, LinearGradient, Node, Paint, PathNode, Scene, Shape,
-    Spread, Stop, Stroke,
+    Fill, FillRule, Group, LineCap, LineJoin, LinearGradient, Node, Paint, PathNode, Pattern,
+    Scene, Shape, Spread, Stop, Stroke,
 };
 use gmotion::signals::Easing;
 use kurbo::{Affine, BezPath, Point, Rect, Shape as _, Vec2};
@@ -320,10 +320,47 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
         fill: vec![tint(0.0, 2.0, red())],
         ..Track::default()
     };
+    // A checker pattern: two coloured squares per 20 × 20 tile.
+    let cell = |x: f64, y: f64, c: Color| {
+        Node::Path(PathNode {
+            id: String::new(),
+            path: square(x, y, 10.0).to_path(0.1),
+            fill: Some(Fill {
+                paint: Paint::Solid(c),
+                opacity: 1.0,
+                rule: FillRule::NonZero,
+            }),
+            stroke: None,
+            stroke_first: false,
+            unit: None,
+        })
+    };
+    let mut tile = Group::new();
+    tile.children = vec![
+        cell(0.0, 0.0, Color::rgb8(240, 120, 0)),
+        cell(10.0, 10.0, Color::rgb8(0, 90, 60)),
+    ];
+    let pattern = Pattern {
+        id: "checker".into(),
+        rect: Rect::new(0.0, 0.0, 20.0, 20.0),
+        transform: Affine::IDENTITY,
+        root: tile,
+    };
+    let mut p = item("p", Rect::new(110.0, 20.0, 190.0, 90.0), Color::BLACK);
+    p.fill = Paint::Pattern(Arc::new(pattern));
+    let tp = Track {
+        fill: vec![tint(0.5, 2.5, Color::rgb8(60, 60, 255))],
+        ..Track::default()
+    };
     out.push((
         "tint",
         true,
-        anim(scene(200.0, 200.0, vec![a, b]), 3.0, false, vec![ta, tb]),
+        anim(
+            scene(200.0, 200.0, vec![a, b, p]),
+            3.0,
+            false,
+            vec![ta, tb, tp],
+        ),
     ));
 
     // Opacity down and back up, stroke width growing.
@@ -745,6 +782,11 @@ impl Doc {
     }
 }
 
+/// The id in `url(#id)`.
+fn def_id(url: &str) -> &str {
+    url.trim_start_matches("url(#").trim_end_matches(')')
+}
+
 /// Numbers in a value: a `#rrggbb` colour as three 0..255 channels, else every number.
 fn numbers(v: &str) -> Vec<f64> {
     let v = v.trim();
@@ -980,9 +1022,8 @@ fn colours_opacity_and_widths_play_as_the_model_changes() {
                         close(doc.value(e, "fill", t).unwrap(), st.fill.apply(*c), "fill")
                     }
                     Paint::Linear(g) => {
-                        let url = &doc.els[e].attrs["fill"];
-                        let id = url.trim_start_matches("url(#").trim_end_matches(')');
-                        let def = doc.by_id(id);
+                        let def = doc.by_id(def_id(&doc.els[e].attrs["fill"]));
+                        assert_eq!(doc.els[def].children.len(), g.stops.len());
                         for (&s, stop) in doc.els[def].children.iter().zip(&g.stops) {
                             close(
                                 doc.value(s, "stop-color", t).unwrap(),
@@ -991,7 +1032,22 @@ fn colours_opacity_and_widths_play_as_the_model_changes() {
                             );
                         }
                     }
-                    _ => unreachable!(),
+                    Paint::Pattern(pat) => {
+                        let def = doc.by_id(def_id(&doc.els[e].attrs["fill"]));
+                        assert_eq!(doc.els[def].children.len(), pat.root.children.len());
+                        for (&c, node) in doc.els[def].children.iter().zip(&pat.root.children) {
+                            let Node::Path(cp) = node else { unreachable!() };
+                            let Paint::Solid(own) = cp.fill.as_ref().unwrap().paint else {
+                                unreachable!()
+                            };
+                            close(
+                                doc.value(c, "fill", t).unwrap(),
+                                st.fill.apply(own),
+                                "pattern",
+                            );
+                        }
+                    }
+                    Paint::Radial(_) => unreachable!(),
                 }
                 if let Some(s) = &p.stroke {
                     let Paint::Solid(c) = s.paint else {

@@ -10,13 +10,15 @@
 //!   group also carries the unit's opacity;
 //! - paths inside animated units get `<animate>` children for fill and stroke colours (the
 //!   tint applied to the path's own colour), stroke width, and, for per-vertex deformation,
-//!   `d`; gradients under a tint are copied per path with animated `stop-color`s.
+//!   `d`; gradients and patterns under a tint are copied per path with animated
+//!   `stop-color`s or content colours.
 //!
 //! What SMIL cannot say exactly — Alexa interpolation, blends of several grid cells, matrix
 //! and two-axis skew components, easings that are not cubic Béziers, per-vertex deformation,
 //! tints of nested units — is sampled and reduced to the fewest keys that keep every point
 //! of the shape within [`SmilOptions::tolerance`] canvas units (colours within half an 8-bit
-//! step). Tints of pattern fills are not animated (a [`Warning`] names the shape).
+//! step). Gradients and patterns nested inside a tinted pattern keep their colours (a
+//! [`Warning`] names the shape).
 //!
 //! Output is deterministic byte for byte; numbers are rounded to 1e-4 user units (1e-6 for
 //! factors and key times).
@@ -31,13 +33,13 @@ mod splice;
 mod transform;
 mod xml;
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::fmt;
 
 use kurbo::Point;
 
 use crate::motion::{Animation, Tint, Track};
-use crate::scene::Paint;
+use crate::scene::{Group, Node, Paint, PathNode, Pattern, Stop};
 use attr::Bake;
 use curve::Key;
 use paint::{COLOR_TOL, Chain, OPACITY_TOL, WIDTH_TOL, tint_dist};
@@ -420,7 +422,7 @@ impl Writer<'_> {
         mp: &MarkedPath<'_>,
         el: &Element,
         svg: &str,
-        els: &std::collections::HashMap<String, Element>,
+        els: &HashMap<String, Element>,
     ) {
         let anim = self.anim;
         let dur = self.clock.dur;
@@ -441,6 +443,13 @@ impl Writer<'_> {
                 Chain::new(tracks.iter().copied(), |t| &t.stroke, Tint::NONE, dur),
             ),
         ];
+        let at = |attr| PaintRef {
+            el,
+            tag,
+            attr,
+            svg,
+            els,
+        };
         for (name, paint, chain) in paints {
             let Some(paint) = paint else { continue };
             let Some((keys, baked)) = chain.keys(dur, &tint_bake, paint::compose) else {
@@ -461,12 +470,9 @@ impl Writer<'_> {
                         children.push('\n');
                     }
                 }
-                Paint::Linear(g) => self.tinted_gradient(el, tag, name, &g.stops, &keys, svg, els),
-                Paint::Radial(g) => self.tinted_gradient(el, tag, name, &g.stops, &keys, svg, els),
-                Paint::Pattern(_) => self.warn(
-                    unit,
-                    format!("the {name} tint of a pattern-painted path is not animated"),
-                ),
+                Paint::Linear(g) => self.tinted_gradient(&at(name), &g.stops, &keys),
+                Paint::Radial(g) => self.tinted_gradient(&at(name), &g.stops, &keys),
+                Paint::Pattern(p) => self.tinted_pattern(unit, &at(name), p, &keys),
             }
         }
         if let Some(stroke) = &mp.path.stroke {
@@ -523,60 +529,136 @@ impl Writer<'_> {
     }
 
     /// Points the path's `attr` paint at a copy of its gradient whose stops animate `keys`.
-    #[allow(clippy::too_many_arguments)]
-    fn tinted_gradient(
+    fn tinted_gradient(&mut self, at: &PaintRef<'_>, stops: &[Stop], keys: &[Key<Tint>]) {
+        let clock = self.clock;
+        self.tinted_def(at, |text, edits| {
+            let stop_tags = splice::tags(text)
+                .into_iter()
+                .filter(|t| text[t.start..].starts_with("<stop"));
+            for (t, stop) in stop_tags.zip(stops) {
+                let values = strings(keys, |k| k.apply(stop.color).to_hex());
+                let mut anim = String::new();
+                xml::animation(
+                    &mut anim,
+                    "animate",
+                    "attributeName=\"stop-color\"",
+                    &values,
+                    false,
+                    clock,
+                );
+                edits.replace(t.end - 2..t.end, format!(">{anim}</stop>"));
+            }
+        });
+    }
+
+    /// Points the path's `attr` paint at a copy of its pattern whose content animates its
+    /// solid colours by `keys` (content painted with paint servers keeps its colours).
+    fn tinted_pattern(
         &mut self,
-        el: &Element,
-        tag: &str,
-        attr: &str,
-        stops: &[crate::scene::Stop],
+        unit: usize,
+        at: &PaintRef<'_>,
+        pattern: &Pattern,
         keys: &[Key<Tint>],
-        svg: &str,
-        els: &std::collections::HashMap<String, Element>,
     ) {
-        let Some((range, value)) = tag_attr(tag, attr) else {
+        let clock = self.clock;
+        let mut content = Vec::new();
+        content_paths(&pattern.root, &mut content);
+        let mut servers = false;
+        self.tinted_def(at, |text, edits| {
+            let path_tags = splice::tags(text)
+                .into_iter()
+                .filter(|t| text[t.start..].starts_with("<path"));
+            for (t, p) in path_tags.zip(&content) {
+                let mut anims = String::new();
+                let paints = [
+                    ("fill", p.fill.as_ref().map(|f| &f.paint)),
+                    ("stroke", p.stroke.as_ref().map(|s| &s.paint)),
+                ];
+                for (name, paint) in paints {
+                    match paint {
+                        Some(Paint::Solid(c)) => {
+                            let values = strings(keys, |k| k.apply(*c).to_hex());
+                            xml::animation(
+                                &mut anims,
+                                "animate",
+                                &format!("attributeName=\"{name}\""),
+                                &values,
+                                false,
+                                clock,
+                            );
+                        }
+                        Some(_) => servers = true,
+                        None => {}
+                    }
+                }
+                if !anims.is_empty() {
+                    edits.replace(t.end - 2..t.end, format!(">{anims}</path>"));
+                }
+            }
+        });
+        if servers {
+            self.warn(
+                unit,
+                "gradients and patterns inside a tinted pattern keep their colours".into(),
+            );
+        }
+    }
+
+    /// Copies the definition `at` refers to under a fresh id, lets `body` edit the copy's
+    /// text, and points the reference at the copy.
+    fn tinted_def(&mut self, at: &PaintRef<'_>, body: impl FnOnce(&str, &mut Edits)) {
+        let Some((range, value)) = tag_attr(at.tag, at.attr) else {
             return;
         };
-        let Some(def) = value
+        let Some((name, def)) = value
             .strip_prefix("url(#")
             .and_then(|v| v.strip_suffix(')'))
-            .and_then(|n| els.get(n).map(|d| (n, d)))
+            .and_then(|n| at.els.get(n).map(|d| (n, d)))
         else {
             return;
         };
-        let (name, def) = def;
-        let mut copy_name = format!("{name}-{attr}");
+        let mut copy_name = format!("{name}-{}", at.attr);
         while self.taken.contains(&copy_name) {
             copy_name.push('_');
         }
-        self.taken.insert(copy_name.clone());
-        let text = &svg[def.tag.start..def.end];
+        let text = &at.svg[def.tag.start..def.end];
         let mut edits = Edits::default();
         if let Some((r, _)) = tag_attr(text, "id") {
             edits.replace(r, copy_name.clone());
         }
-        let stop_tags = splice::tags(text)
-            .into_iter()
-            .filter(|t| text[t.start..].starts_with("<stop"));
-        for (t, stop) in stop_tags.zip(stops) {
-            let values = strings(keys, |k| k.apply(stop.color).to_hex());
-            let mut anim = String::new();
-            xml::animation(
-                &mut anim,
-                "animate",
-                "attributeName=\"stop-color\"",
-                &values,
-                false,
-                self.clock,
-            );
-            edits.replace(t.end - 2..t.end, format!(">{anim}</stop>"));
-        }
+        body(text, &mut edits);
+        self.taken.insert(copy_name.clone());
         self.defs.push_str(&edits.apply(text));
         self.defs.push('\n');
+        let start = at.el.tag.start;
         self.edits.replace(
-            el.tag.start + range.start..el.tag.start + range.end,
+            start + range.start..start + range.end,
             format!("url(#{copy_name})"),
         );
+    }
+}
+
+/// A paint attribute of a path element in the static document.
+struct PaintRef<'s> {
+    /// The path element.
+    el: &'s Element,
+    /// Its start tag's text.
+    tag: &'s str,
+    /// `fill` or `stroke`.
+    attr: &'s str,
+    /// The static document.
+    svg: &'s str,
+    /// Its elements by id.
+    els: &'s HashMap<String, Element>,
+}
+
+/// The paths of a group's content in document order (the order the writer writes them).
+fn content_paths<'g>(g: &'g Group, out: &mut Vec<&'g PathNode>) {
+    for child in &g.children {
+        match child {
+            Node::Group(h) => content_paths(h, out),
+            Node::Path(p) => out.push(p),
+        }
     }
 }
 
