@@ -22,6 +22,8 @@ mod source;
 
 use std::path::{Path, PathBuf};
 
+use rayon::prelude::*;
+
 use crate::importers::measure::{Measure, measure};
 pub use crate::importers::tags::TagFrom;
 use crate::scene::{Scene, Shape};
@@ -188,19 +190,25 @@ fn parse_in(
         root: converted.root,
         shapes: Vec::new(),
     };
-    for unit in converted.units {
-        let z = shapes.len();
-        // The converter registers only units that hold a path, so a measure exists; the
-        // fallback keeps `Node::unit` indices aligned should that ever change.
-        let m = unit_node(&scene, &unit.node_path)
-            .and_then(|n| measure(n, unit.parent_transform))
-            .unwrap_or(Measure {
-                centroid: kurbo::Point::ORIGIN,
-                bbox: kurbo::Rect::ZERO,
-                fill: crate::color::Color::BLACK,
-                stroke: crate::color::Color::BLACK,
-                stroke_width: 1.0,
-            });
+    // Units are measured independently (flattening and overlay work dominate an import).
+    let measures: Vec<Measure> = converted
+        .units
+        .par_iter()
+        .map(|unit| {
+            // The converter registers only units that hold a path, so a measure exists;
+            // the fallback keeps `Node::unit` indices aligned should that ever change.
+            unit_node(&scene, &unit.node_path)
+                .and_then(|n| measure(n, unit.parent_transform))
+                .unwrap_or(Measure {
+                    centroid: kurbo::Point::ORIGIN,
+                    bbox: kurbo::Rect::ZERO,
+                    fill: crate::color::Color::BLACK,
+                    stroke: crate::color::Color::BLACK,
+                    stroke_width: 1.0,
+                })
+        })
+        .collect();
+    for (z, (unit, m)) in converted.units.into_iter().zip(measures).enumerate() {
         let count = counts.entry(unit.tag.clone()).or_default();
         shapes.push(Shape {
             id: *count,
