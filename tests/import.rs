@@ -304,3 +304,22 @@ fn inkscape_layers_name_but_do_not_group() {
     let groups = import(body, with(TagFrom::Auto, Units::Groups)).scene;
     assert_eq!(tags(&groups), [("Layer 1".to_string(), 0)]);
 }
+
+#[test]
+fn a_group_unit_is_tagged_by_what_makes_it_one() {
+    let text = r##"<svg xmlns="http://www.w3.org/2000/svg" class="drawing" width="100" height="100">
+        <defs><g id="bird" class="bird"><rect width="2" height="2"/><rect x="3" width="2" height="2"/></g></defs>
+        <g id="Layer_1"><rect width="1" height="1"/></g>
+        <use href="#bird" x="10"/><use href="#bird" x="20"/></svg>"##;
+    let groups = parse(text, "t.svg", &with(TagFrom::Auto, Units::Groups))
+        .unwrap()
+        .scene;
+    let want = [("Layer", 0), ("bird", 0), ("bird", 1)].map(|(t, i)| (t.to_string(), i));
+    assert_eq!(tags(&groups), want);
+    let auto = parse(text, "t.svg", &ImportOptions::default())
+        .unwrap()
+        .scene;
+    let want = [("drawing", 0), ("bird", 0), ("bird", 1)].map(|(t, i)| (t.to_string(), i));
+    assert_eq!(tags(&auto), want);
+    assert!(matches!(auto.unit_node(1), Some(Node::Group(_))));
+}

@@ -256,14 +256,20 @@ impl<'s, 'a> Converter<'s, 'a> {
         }
     }
 
-    /// Whether a source element is a group unit under the chosen unit rule.
-    fn is_unit_group(&self, elem: usvg::roxmltree::Node<'s, 'a>, kind: GroupKind) -> bool {
+    /// The tag that makes a group a unit under the chosen unit rule, if it has one (text is
+    /// a unit whatever its tag: it answers with its scope's).
+    fn unit_tag(
+        &self,
+        elem: usvg::roxmltree::Node<'s, 'a>,
+        kind: GroupKind,
+        scope: Scope<'s>,
+    ) -> Option<&'s str> {
         let from = self.opts.tag_from;
         match (self.opts.units, kind) {
-            (Units::Paths, _) => false,
-            (_, GroupKind::Text) => true,
-            (Units::Auto, GroupKind::Element) => self.src.own_tag(elem, from, false).is_some(),
-            (Units::Groups, GroupKind::Element) => self.src.own_tag(elem, from, true).is_some(),
+            (Units::Paths, _) => None,
+            (_, GroupKind::Text) => Some(scope.tag("text")),
+            (Units::Auto, GroupKind::Element) => self.src.own_tag(elem, from, false),
+            (Units::Groups, GroupKind::Element) => self.src.own_tag(elem, from, true),
         }
     }
 
@@ -287,7 +293,13 @@ impl<'s, 'a> Converter<'s, 'a> {
             Some(e) if ctx.units => self.src.scope(e, ctx.scope, from, None),
             _ => ctx.scope,
         };
-        let is_unit = ctx.units && elem.is_some_and(|e| self.is_unit_group(e, kind));
+        // A group unit is tagged with the tag that makes it one (for a `use`, possibly the
+        // referenced group's), which is the nearest source anyway except for a layer name
+        // under an explicit tag further up.
+        let unit_tag = elem
+            .filter(|_| ctx.units)
+            .and_then(|e| self.unit_tag(e, kind, scope));
+        let is_unit = unit_tag.is_some();
         let transform = affine(g.transform());
         let opacity = g.opacity().get();
         let clip_path = g.clip_path().map(|c| self.clip(c, near));
@@ -335,13 +347,8 @@ impl<'s, 'a> Converter<'s, 'a> {
             self.path.push(index);
             self.children(g, &mut out, inner);
             self.path.pop();
-            if is_unit && has_path(&out) {
-                let name = if kind == GroupKind::Text {
-                    "text"
-                } else {
-                    elem.map_or("g", |e| e.tag_name().name())
-                };
-                out.unit = Some(self.register(scope.tag(name), ctx.abs, index));
+            if let Some(tag) = unit_tag.filter(|_| has_path(&out)) {
+                out.unit = Some(self.register(tag, ctx.abs, index));
             }
             if !out.children.is_empty() {
                 dst.children.push(Node::Group(out));

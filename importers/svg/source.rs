@@ -193,19 +193,17 @@ impl<'a> Source<'a> {
         self.doc.get_node(node)
     }
 
-    /// A short description of an element for messages: `<rect id="a"> (line 4)`.
+    /// A short description of an element for messages: `<rect id="a"> (line 4)`; ids the
+    /// element does not own (duplicates) are left out.
     pub fn describe(&self, node: Node) -> String {
-        let pos = self.doc.text_pos_at(node.range().start);
+        let line = self.doc.text_pos_at(node.range().start).row;
+        let name = node.tag_name().name();
         match node
             .attribute("id")
-            .filter(|_| self.by_id.get(node.attribute("id").unwrap_or("")) == Some(&node.id()))
+            .filter(|id| self.by_id.get(*id) == Some(&node.id()))
         {
-            Some(id) => format!(
-                "<{} id=\"{id}\"> (line {})",
-                node.tag_name().name(),
-                pos.row
-            ),
-            None => format!("<{}> (line {})", node.tag_name().name(), pos.row),
+            Some(id) => format!("<{name} id=\"{id}\"> (line {line})"),
+            None => format!("<{name}> (line {line})"),
         }
     }
 
