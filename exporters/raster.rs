@@ -52,7 +52,9 @@ pub enum RenderError {
 }
 
 /// Renders SVG text `width` pixels wide, the height following the document's aspect ratio
-/// (rounded, at least 1 px), on a transparent background.
+/// (rounded, at least 1 px), on a transparent background. No fonts are loaded: gmotion's
+/// documents hold no text (the importer turns text into outlines), and other text elements
+/// are not drawn.
 pub fn render(svg: &str, width: u32) -> Result<Pixmap, RenderError> {
     let tree = usvg::Tree::from_str(svg, &usvg::Options::default())
         .map_err(|e| RenderError::Svg(e.to_string()))?;
