@@ -38,16 +38,6 @@ struct Params {
 }
 
 impl Params {
-    fn lerp(&self, o: &Params, f: f64) -> Params {
-        let l = |a: f64, b: f64| a + (b - a) * f;
-        Params {
-            p: self.p.lerp(o.p, f),
-            phi: l(self.phi, o.phi),
-            s: self.s.lerp(o.s, f),
-            theta: l(self.theta, o.theta),
-        }
-    }
-
     fn affine(&self, anchor: Point) -> Affine {
         Affine::translate(self.p)
             * Affine::rotate(self.phi)
@@ -124,17 +114,100 @@ pub struct RigidSample {
     pub gain: f64,
 }
 
+/// The parameters as channels: x, y, phi, sx, sy, theta.
+fn channels(p: &Params) -> [f64; 6] {
+    [p.p.x, p.p.y, p.phi, p.s.x, p.s.y, p.theta]
+}
+
+fn from_channels(c: [f64; 6]) -> Params {
+    Params {
+        p: Vec2::new(c[0], c[1]),
+        phi: c[2],
+        s: Vec2::new(c[3], c[4]),
+        theta: c[5],
+    }
+}
+
+/// Channels that share one keyframe easing: position x and y are written split (each
+/// its own), scale is one vector property (one easing for both axes: rlottie reads one).
+const GROUPS: [&[usize]; 5] = [&[0], &[1], &[2], &[3, 4], &[5]];
+
+/// The easing `y(u) = 3(1−u)²u·y1 + 3(1−u)u²·y2 + u³` (a CSS curve with x handles at
+/// 1/3 and 2/3) that fits normalised samples `(u, y)` best in the least-squares sense.
+fn fit_ease(samples: &[(f64, f64)]) -> (f64, f64) {
+    let (mut a11, mut a12, mut a22, mut r1, mut r2) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for &(u, y) in samples {
+        let b1 = 3.0 * (1.0 - u) * (1.0 - u) * u;
+        let b2 = 3.0 * (1.0 - u) * u * u;
+        let t = y - u * u * u;
+        a11 += b1 * b1;
+        a12 += b1 * b2;
+        a22 += b2 * b2;
+        r1 += b1 * t;
+        r2 += b2 * t;
+    }
+    let det = a11 * a22 - a12 * a12;
+    if det.abs() < 1e-18 {
+        return (1.0 / 3.0, 2.0 / 3.0);
+    }
+    ((r1 * a22 - r2 * a12) / det, (a11 * r2 - a12 * r1) / det)
+}
+
+fn ease_at((y1, y2): (f64, f64), u: f64) -> f64 {
+    3.0 * (1.0 - u) * (1.0 - u) * u * y1 + 3.0 * (1.0 - u) * u * u * y2 + u * u * u
+}
+
+/// Per-group easings from sample `i` to sample `j`, and the parameters they give between.
+fn fit_segment(
+    frames: &[f64],
+    ps: &[[f64; 6]],
+    i: usize,
+    j: usize,
+) -> ([(f64, f64); 5], Vec<[f64; 6]>) {
+    let mut eases = [(1.0 / 3.0, 2.0 / 3.0); 5];
+    let span = frames[j] - frames[i];
+    let u = |m: usize| (frames[m] - frames[i]) / span;
+    for (g, chans) in GROUPS.iter().enumerate() {
+        let mut pts = Vec::new();
+        for &c in *chans {
+            let d = ps[j][c] - ps[i][c];
+            if d.abs() > 1e-9 {
+                pts.extend((i + 1..j).map(|m| (u(m), (ps[m][c] - ps[i][c]) / d)));
+            }
+        }
+        if !pts.is_empty() {
+            eases[g] = fit_ease(&pts);
+        }
+    }
+    let rebuilt = (i + 1..j)
+        .map(|m| {
+            let mut v = ps[i];
+            for (g, chans) in GROUPS.iter().enumerate() {
+                let y = ease_at(eases[g], u(m));
+                for &c in *chans {
+                    v[c] = ps[i][c] + (ps[j][c] - ps[i][c]) * y;
+                }
+            }
+            v
+        })
+        .collect();
+    (eases, rebuilt)
+}
+
 /// Bakes sampled transforms into at most two keyframed skew-free levels (outermost first)
 /// that reproduce every sample within `tolerance`; the first sample's transform should be
-/// the identity when the levels must be neutral before the samples begin.
+/// the identity when the levels must be neutral before the samples begin. Between kept
+/// samples every channel follows a fitted Bézier easing, so smooth motion needs few keys.
 pub fn bake_rigid(samples: &[RigidSample], anchor: Point, tolerance: f64) -> Vec<Transform> {
-    let mut ps: Vec<Params> = Vec::with_capacity(samples.len());
+    let mut params_list: Vec<Params> = Vec::with_capacity(samples.len());
     for s in samples {
-        let p = params(s.m, anchor, ps.last());
-        ps.push(p);
+        let p = params(s.m, anchor, params_list.last());
+        params_list.push(p);
     }
-    let err = |m: usize, rec: &Params| {
-        let a = rec.affine(anchor);
+    let ps: Vec<[f64; 6]> = params_list.iter().map(channels).collect();
+    let frames: Vec<f64> = samples.iter().map(|s| s.frame).collect();
+    let err = |m: usize, rec: &[f64; 6]| {
+        let a = from_channels(*rec).affine(anchor);
         let s = &samples[m];
         s.points
             .iter()
@@ -143,51 +216,64 @@ pub fn bake_rigid(samples: &[RigidSample], anchor: Point, tolerance: f64) -> Vec
             * s.gain
     };
     let kept = reduce(samples.len(), |i, j| {
-        (i + 1..j).all(|m| {
-            let f = (samples[m].frame - samples[i].frame) / (samples[j].frame - samples[i].frame);
-            err(m, &ps[i].lerp(&ps[j], f)) <= tolerance
-        })
+        let (_, rebuilt) = fit_segment(&frames, &ps, i, j);
+        rebuilt
+            .iter()
+            .enumerate()
+            .all(|(k, rec)| err(i + 1 + k, rec) <= tolerance)
     });
-    let keys = |f: &dyn Fn(&Params) -> Value| -> Prop {
+    let eases: Vec<[(f64, f64); 5]> = kept
+        .windows(2)
+        .map(|w| fit_segment(&frames, &ps, w[0], w[1]).0)
+        .collect();
+    let keys = |group: usize, f: &dyn Fn(&[f64; 6]) -> Value| -> Prop {
         Prop::keyed(
             kept.iter()
                 .enumerate()
                 .map(|(n, &i)| Keyframe {
-                    t: N::coord(samples[i].frame),
+                    t: N::coord(frames[i]),
                     s: f(&ps[i]),
-                    ease: (n + 1 < kept.len()).then_some(Ease::LINEAR),
+                    ease: eases.get(n).map(|e| {
+                        let (y1, y2) = e[group];
+                        Ease::from_css([1.0 / 3.0, y1, 2.0 / 3.0, y2])
+                    }),
                     hold: false,
                 })
                 .collect(),
         )
     };
-    let v2 = |v: Vec2| Value::Vec(vec![N::coord(v.x), N::coord(v.y)]);
-    let scale = |s: Vec2| Value::Vec(vec![N::coord(s.x * 100.0), N::coord(s.y * 100.0)]);
-    let deg = |r: f64| Value::Scalar(N::coord(r.to_degrees()));
-    let needs_inner = kept.iter().any(|&i| ps[i].theta.abs() > 1e-9);
-    let a = Prop::fixed(v2(anchor.to_vec2()));
+    let x = keys(0, &|c| Value::Scalar(N::coord(c[0])));
+    let y = keys(1, &|c| Value::Scalar(N::coord(c[1])));
+    let position = Prop::Split(Box::new(x), Box::new(y));
+    let scale = keys(3, &|c| {
+        Value::Vec(vec![N::coord(c[3] * 100.0), N::coord(c[4] * 100.0)])
+    });
+    let phi = keys(2, &|c| Value::Scalar(N::coord(c[2].to_degrees())));
+    let a = Prop::fixed(Value::Vec(vec![N::coord(anchor.x), N::coord(anchor.y)]));
+    let needs_inner = kept.iter().any(|&i| ps[i][5].abs() > 1e-9);
     if !needs_inner {
         return vec![Transform {
             a: Some(a),
-            p: Some(keys(&|q| v2(q.p))),
-            s: Some(keys(&|q| scale(q.s))),
-            r: Some(keys(&|q| deg(q.phi))),
+            p: Some(position),
+            s: Some(scale),
+            r: Some(phi),
             o: None,
         }];
     }
+    let theta = keys(4, &|c| Value::Scalar(N::coord(c[5].to_degrees())));
     vec![
         Transform {
             a: None,
-            p: Some(keys(&|q| v2(q.p))),
-            s: Some(keys(&|q| scale(q.s))),
-            r: Some(keys(&|q| deg(q.phi))),
+            p: Some(position),
+            s: Some(scale),
+            r: Some(phi),
             o: None,
         },
         Transform {
             a: Some(a),
             p: None,
             s: None,
-            r: Some(keys(&|q| deg(q.theta))),
+            r: Some(theta),
             o: None,
         },
     ]

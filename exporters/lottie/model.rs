@@ -332,6 +332,8 @@ pub struct Stroke {
 pub struct Dash {
     /// `d` dash, `g` gap, `o` offset.
     pub n: &'static str,
+    /// Name, unique within the pattern.
+    pub nm: String,
     /// Length.
     pub v: Prop,
 }
@@ -505,6 +507,8 @@ pub enum Prop {
     Fixed(Value),
     /// Keyframes in time order (at least two).
     Animated(Vec<Keyframe>),
+    /// A position written as separate x and y properties (each with its own easing).
+    Split(Box<Prop>, Box<Prop>),
 }
 
 impl Prop {
@@ -544,6 +548,11 @@ impl Serialize for Prop {
             Prop::Animated(keys) => {
                 m.serialize_entry("a", &1)?;
                 m.serialize_entry("k", &KeyList(keys))?;
+            }
+            Prop::Split(x, y) => {
+                m.serialize_entry("s", &true)?;
+                m.serialize_entry("x", x)?;
+                m.serialize_entry("y", y)?;
             }
         }
         m.end()

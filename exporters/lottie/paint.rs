@@ -187,17 +187,26 @@ fn stroke_style(
         LineJoin::Bevel => 3,
     };
     let mut d = Vec::new();
+    // Gaps of zero draw a solid line (dashing it would only break its joins).
     if let Some(dash) = &s.dash
-        && dash.iter().any(|v| *v > 0.0)
+        && dash.iter().skip(1).step_by(2).any(|v| *v > 0.0)
     {
         for (k, v) in dash.iter().enumerate() {
+            let (n, kind) = if k % 2 == 0 {
+                ("d", "dash")
+            } else {
+                ("g", "gap")
+            };
+            // lottie-web names each entry as a property: the names must be unique.
             d.push(Dash {
-                n: if k % 2 == 0 { "d" } else { "g" },
+                n,
+                nm: format!("{kind}{}", k / 2),
                 v: Prop::scalar(N::coord(*v)),
             });
         }
         d.push(Dash {
             n: "o",
+            nm: "offset".to_string(),
             v: Prop::scalar(N::coord(s.dash_offset)),
         });
     }
@@ -394,6 +403,7 @@ fn radial(
     };
     let mut stops = g.stops.clone();
     let mut radius = g.radius;
+    let mut center = g.center;
     if g.spread != Spread::Pad {
         let inv = g.transform.inverse();
         let far = [
@@ -403,24 +413,27 @@ fn radial(
             Point::new(bbox.x1, bbox.y1),
         ]
         .iter()
-        .map(|p| ((inv * *p) - g.center).hypot() / g.radius)
+        .map(|p| cone_t(inv * *p, g.focal, g.center, g.radius))
         .fold(0.0, f64::max)
         .ceil();
-        if (g.focal - g.center).hypot() > 1e-9 && far > 1.0 {
-            warn.push(format!("element `{element}`: gradient `{}` repeats with a focal point, which Lottie cannot say; written with pad spread", g.id));
-        } else if far > MAX_PERIODS {
-            warn.push(format!("element `{element}`: gradient `{}` repeats {far} times over the shape; written with pad spread", g.id));
+        if far > MAX_PERIODS || !far.is_finite() {
+            warn.push(format!(
+                "element `{element}`: gradient `{}` repeats {far} times over the shape; written with pad spread",
+                g.id
+            ));
         } else if far > 1.0 {
+            // Period k of the gradient is the circle of radius k·r centred at f + k·(c − f).
             stops = unroll(&g.stops, g.spread, 0, far as i64);
             radius *= far;
+            center = g.focal + (g.center - g.focal) * far;
         }
     }
-    let mut s = to_user * g.center;
-    let mut e = to_user * (g.center + Vec2::new(radius, 0.0));
+    let mut s = to_user * center;
+    let mut e = to_user * (center + Vec2::new(radius, 0.0));
     if !similar && is_stroke {
         // Approximate the ellipse by the circle of the same area.
         let r = radius * g.transform.determinant().abs().sqrt();
-        s = g.transform * g.center;
+        s = g.transform * center;
         e = s + Vec2::new(r, 0.0);
     }
     let f = to_user * g.focal;
@@ -445,6 +458,26 @@ fn radial(
         g: stops_prop(&stops, tint),
     };
     GradOut::Grad(grad, space)
+}
+
+/// The gradient coordinate of `x` for a radial gradient with focal point `f`, centre `c`
+/// and radius `r` (focal radius 0): the `t` whose circle, centred at `f + t·(c − f)` with
+/// radius `t·r`, passes through `x`.
+fn cone_t(x: Point, f: Point, c: Point, r: f64) -> f64 {
+    let q = x - f;
+    let d = c - f;
+    // |q − t·d| = t·r  ⇔  (d² − r²)·t² − 2(q·d)·t + q² = 0, with d² < r² (focal inside).
+    let a = d.hypot2() - r * r;
+    let b = q.dot(d);
+    let disc = (b * b - a * q.hypot2()).max(0.0);
+    if a.abs() < 1e-12 {
+        return if b > 0.0 {
+            q.hypot2() / (2.0 * b)
+        } else {
+            f64::INFINITY
+        };
+    }
+    ((b - disc.sqrt()) / a).max((b + disc.sqrt()) / a)
 }
 
 /// A pattern's stand-in colour: the first solid paint of its content (black if none).

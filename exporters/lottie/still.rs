@@ -119,8 +119,8 @@ impl Comp {
         if run.is_empty() {
             return;
         }
-        let name = match &run[0] {
-            Shape::Group(g) if !g.nm.is_empty() => g.nm.clone(),
+        let name = match run.as_slice() {
+            [Shape::Group(g)] if !g.nm.is_empty() => g.nm.clone(),
             _ => "shapes".to_string(),
         };
         let mut l = self.layer(LayerType::Shape, name, op);
@@ -190,7 +190,27 @@ impl<'a> Builder<'a> {
         let mut comp = Comp::new(0);
         let root = self.scene.root.clone();
         self.node(&Node::Group(root), Affine::IDENTITY, env, &mut comp);
-        comp.into_layers(self.op)
+        let next = comp.next_ind;
+        let mut layers = comp.into_layers(self.op);
+        // Lottie sizes are whole pixels: stretch a fractional canvas onto them, through a
+        // null parent (exact for every layer whatever its own transform).
+        let scale = Vec2::new(
+            size.0 as f64 / self.scene.width,
+            size.1 as f64 / self.scene.height,
+        );
+        if (scale - Vec2::new(1.0, 1.0)).hypot() > 1e-9 {
+            let ind = layers.iter().map(|l| l.ind).max().unwrap_or(next) + 1;
+            for l in layers.iter_mut().filter(|l| l.parent.is_none()) {
+                l.parent = Some(ind);
+            }
+            let mut null = Layer::new(LayerType::Null, "canvas".to_string(), ind, 0.0, self.op);
+            null.ks.s = Some(Prop::vec(vec![
+                N::fine(scale.x * 100.0),
+                N::fine(scale.y * 100.0),
+            ]));
+            layers.push(null);
+        }
+        layers
     }
 
     fn motion(&self, unit: usize) -> Option<&UnitMotion> {
@@ -258,7 +278,23 @@ impl<'a> Builder<'a> {
             });
         let opacity = g.opacity as f64 * env.alpha;
         if opacity < 1.0 {
-            content.ks.o = Some(Prop::scalar(N::coord(opacity * 100.0)));
+            let o = Prop::scalar(N::coord(opacity * 100.0));
+            match content.shapes.as_mut() {
+                // rlottie lets a translucent layer dim everything under it, so shape layers
+                // carry opacity on a group (which lottie-web also draws as group opacity).
+                Some(shapes) => {
+                    let mut it = std::mem::take(shapes);
+                    it.push(Shape::Transform(Transform {
+                        o: Some(o),
+                        ..Transform::empty()
+                    }));
+                    *shapes = vec![Shape::Group(LGroup {
+                        nm: String::new(),
+                        it,
+                    })];
+                }
+                None => content.ks.o = Some(o),
+            }
         }
         let mut matte_group: Option<(Group, u8)> = None;
         match clip {
@@ -470,8 +506,11 @@ impl<'a> Builder<'a> {
                     Shape::Transform(level.clone()),
                 ];
             }
+            // Opacity on the outermost group rather than the layer (see `isolate`).
+            if let Some(Shape::Transform(tr)) = it.last_mut() {
+                tr.o = Some(opacity(env.alpha));
+            }
             let mut l = comp.layer(LayerType::Shape, name.clone(), self.op);
-            l.ks.o = Some(opacity(env.alpha));
             l.shapes = Some(vec![Shape::Group(LGroup { nm: name, it })]);
             comp.items.push(Item::Layers(vec![l]));
             return;
@@ -1073,6 +1112,23 @@ fn shift_prop(p: &mut Option<Prop>, by: Vec2) {
         None => *p = Some(Prop::vec(vec![N::coord(by.x), N::coord(by.y)])),
         Some(Prop::Fixed(v)) => add(v),
         Some(Prop::Animated(keys)) => keys.iter_mut().for_each(|k| add(&mut k.s)),
+        Some(Prop::Split(x, y)) => {
+            shift_scalar(x, by.x);
+            shift_scalar(y, by.y);
+        }
+    }
+}
+
+fn shift_scalar(p: &mut Prop, by: f64) {
+    let add = |v: &mut Value| {
+        if let Value::Scalar(x) = v {
+            *x = N::coord(x.0 + by);
+        }
+    };
+    match p {
+        Prop::Fixed(v) => add(v),
+        Prop::Animated(keys) => keys.iter_mut().for_each(|k| add(&mut k.s)),
+        Prop::Split(..) => {}
     }
 }
 

@@ -1,15 +1,17 @@
 #!/usr/bin/env bash
-# Installs what the conformance run needs, idempotently: Debian chromium and fonts, npm
+# Installs what the conformance run needs, idempotently: Debian chromium and fonts (Noto
+# Sans, which the corpus references use), npm
 # lottie-web and playwright-core (into tests/conformance/node_modules), PyPI rlottie-python,
 # lottie-specs (the official schema), lottie (python-lottie, the comparison converter),
 # numpy and Pillow (pixel comparisons). Each step is skipped when already satisfied.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 
-if [ ! -x /usr/bin/chromium ] || ! fc-list 2>/dev/null | grep -qi dejavu; then
+# Noto Sans is the font the resvg corpus references were drawn with (its text tests).
+if [ ! -x /usr/bin/chromium ] || ! fc-list 2>/dev/null | grep -q "Noto Sans"; then
     export DEBIAN_FRONTEND=noninteractive
     apt-get update -qq
-    apt-get install -y -qq --no-install-recommends chromium fonts-dejavu-core fonts-liberation fontconfig >/dev/null
+    apt-get install -y -qq --no-install-recommends chromium fonts-dejavu-core fonts-liberation fonts-noto-core fontconfig >/dev/null
 fi
 
 if [ ! -d "$here/node_modules/lottie-web" ] || [ ! -d "$here/node_modules/playwright-core" ]; then

@@ -42,7 +42,8 @@ async function worker(queue) {
         c.style.height = height + 'px';
         window.anim = lottie.loadAnimation({
           container: c, renderer: 'svg', loop: false, autoplay: false, animationData: data,
-          rendererSettings: { preserveAspectRatio: 'none' },
+          // Scale uniformly from the top-left corner, as resvg renders the references.
+          rendererSettings: { preserveAspectRatio: 'xMinYMin meet' },
         });
       }, { data, width: job.width, height });
       for (let i = 0; i < job.frames.length; i++) {

@@ -1,0 +1,330 @@
+"""The conformance run's two halves around the players (see run.sh):
+
+    python3 conformance.py prepare OUT GMOTION CORPUS GRAMMARS
+        converts the corpus with gmotion (timed per file, one process per file) and with
+        python-lottie (timed in process), exports every example grammar to Lottie, SMIL and
+        gmotion's own PNG frames, and writes the players' job lists into OUT.
+    python3 conformance.py report OUT
+        compares every player frame with its reference, prints the figures and exits 1
+        when a threshold is missed.
+
+Pixels are compared premultiplied (what shows over black, alpha included): a pixel is off
+when some channel differs by more than 32/255. Thresholds: example frames at most 0.5%
+off in every player; corpus files at most 1% off, and at least 95% of gmotion's Lottie
+files passing in lottie-web.
+"""
+
+import glob
+import json
+import os
+import signal
+import statistics
+import subprocess
+import sys
+import time
+
+import numpy as np
+from PIL import Image
+
+WIDTH = 300
+EXAMPLE_FRAMES = 12
+OFF = 32
+EXAMPLE_MAX = 0.005
+CORPUS_MAX = 0.01
+CORPUS_PASS = 0.95
+
+
+def load(path, size=None):
+    """Premultiplied RGBA as int16 (so differences do not wrap), or None if missing."""
+    if not os.path.exists(path):
+        return None
+    im = Image.open(path).convert("RGBA")
+    if size is not None and im.size != size:
+        return "size"
+    a = np.asarray(im).astype(np.int32)
+    alpha = a[..., 3:4]
+    rgb = (a[..., :3] * alpha + 127) // 255
+    return np.concatenate([rgb, alpha], axis=2).astype(np.int16)
+
+
+def off_fraction(ref_path, got_path):
+    """Fraction of pixels off, or None when the player wrote nothing / a wrong size."""
+    ref = load(ref_path)
+    if ref is None:
+        return None
+    got = load(got_path, (ref.shape[1], ref.shape[0]))
+    if got is None or isinstance(got, str):
+        return None
+    diff = np.abs(ref - got).max(axis=2)
+    return float((diff > OFF).mean())
+
+
+def exact_width(w, h):
+    """A render width near WIDTH at which the height is a whole number of pixels, so every
+    renderer scales by the same factor (players fit the canvas to the viewport)."""
+    best = min(range(WIDTH - 60, WIDTH + 61), key=lambda x: (abs(x * h / w - round(x * h / w)) > 1e-9, abs(x - WIDTH)))
+    return best
+
+
+class Timeout(Exception):
+    pass
+
+
+def _alarm(_sig, _frame):
+    raise Timeout()
+
+
+def prepare(out, gm, corpus, grammars):
+    os.makedirs(out, exist_ok=True)
+    svgs = sorted(glob.glob(os.path.join(corpus, "*.svg")))
+    gm_dir, pl_dir = os.path.join(out, "corpus-gmotion"), os.path.join(out, "corpus-python-lottie")
+    os.makedirs(gm_dir, exist_ok=True)
+    os.makedirs(pl_dir, exist_ok=True)
+    manifest = {"corpus": [], "examples": []}
+    gm_lotties = []
+    lw_jobs, rl_jobs, smil_jobs = [], [], []
+
+    from lottie.parsers.svg import parse_svg_file  # python-lottie, the comparison converter
+
+    signal.signal(signal.SIGALRM, _alarm)
+    for svg in svgs:
+        name = os.path.splitext(os.path.basename(svg))[0]
+        entry = {"name": name, "ref": os.path.splitext(svg)[0] + ".png"}
+        # gmotion: the command a user runs, process start-up included.
+        gj = os.path.join(gm_dir, name + ".json")
+        t = time.perf_counter()
+        r = subprocess.run([gm, "convert", svg, "-o", gj], capture_output=True, text=True)
+        entry["gm_time"] = time.perf_counter() - t
+        entry["gm_ok"] = r.returncode == 0 and os.path.exists(gj)
+        entry["gm_warnings"] = sum(1 for line in r.stderr.splitlines() if "warning" in line.lower())
+        # A reference is 300 px wide, or drawn at the document's own size.
+        width = Image.open(entry["ref"]).size[0]
+        if entry["gm_ok"]:
+            gm_lotties.append(gj)
+            entry["gm_png"] = os.path.join(gm_dir, name + ".lw.png")
+            entry["gm_rl_png"] = os.path.join(gm_dir, name + ".rl.png")
+            lw_jobs.append({"json": gj, "width": width, "frames": [0], "out": [entry["gm_png"]]})
+            rl_jobs.append({"json": gj, "width": width, "frames": [0], "out": [entry["gm_rl_png"]]})
+        else:
+            entry["gm_error"] = (r.stderr.strip().splitlines() or ["no output"])[-1][:200]
+        # python-lottie: parse and serialise in process (its own exporter's JSON).
+        pj = os.path.join(pl_dir, name + ".json")
+        t = time.perf_counter()
+        try:
+            signal.alarm(20)
+            an = parse_svg_file(svg)
+            text = json.dumps(an.to_dict())
+            signal.alarm(0)
+            entry["pl_time"] = time.perf_counter() - t
+            with open(pj, "w", encoding="utf-8") as f:
+                f.write(text)
+            entry["pl_ok"] = True
+            entry["pl_png"] = os.path.join(pl_dir, name + ".lw.png")
+            lw_jobs.append({"json": pj, "width": width, "frames": [0], "out": [entry["pl_png"]]})
+        except BaseException as e:  # noqa: BLE001 - python-lottie may fail on any input
+            signal.alarm(0)
+            if isinstance(e, KeyboardInterrupt):
+                raise
+            entry["pl_time"] = time.perf_counter() - t
+            entry["pl_ok"] = False
+        manifest["corpus"].append(entry)
+
+    for gmf in sorted(glob.glob(os.path.join(grammars, "*.gm"))):
+        name = os.path.splitext(os.path.basename(gmf))[0]
+        scene = os.path.join(grammars, name + ".svg")
+        if not os.path.exists(scene):
+            continue
+        d = os.path.join(out, "examples", name)
+        frames_dir = os.path.join(d, "frames")
+        os.makedirs(frames_dir, exist_ok=True)
+        lj, sj = os.path.join(d, name + ".json"), os.path.join(d, name + ".svg")
+        r = subprocess.run([gm, "animate", scene, gmf, "-o", lj, "-o", sj], capture_output=True, text=True)
+        entry = {"name": name, "ok": r.returncode == 0, "stderr": r.stderr.strip()[-500:]}
+        if entry["ok"]:
+            with open(lj, encoding="utf-8") as f:
+                doc = json.load(f)
+            width = exact_width(doc["w"], doc["h"])
+            r = subprocess.run([gm, "animate", scene, gmf, "-o", frames_dir + "/", "--width", str(width)], capture_output=True, text=True)
+            entry["ok"] = r.returncode == 0
+            entry["width"] = width
+        pngs = sorted(glob.glob(os.path.join(frames_dir, "frame_*.png")))
+        if entry["ok"] and pngs:
+            gm_lotties.append(lj)
+            n = len(pngs)
+            picks = sorted({round(i * (n - 1) / (EXAMPLE_FRAMES - 1)) for i in range(EXAMPLE_FRAMES)}) if n > EXAMPLE_FRAMES else list(range(n))
+            entry["frames"] = picks
+            entry["fps"] = doc["fr"]
+            entry["refs"] = [pngs[i] for i in picks]
+            entry["lw"] = [os.path.join(d, f"lw-{i}.png") for i in picks]
+            entry["rl"] = [os.path.join(d, f"rl-{i}.png") for i in picks]
+            entry["smil"] = [os.path.join(d, f"smil-{k}.png") for k in range(len(picks))]
+            entry["lottie_bytes"] = os.path.getsize(lj)
+            entry["lottie_per_frame_bytes"] = per_frame_size(doc)
+            lw_jobs.append({"json": lj, "width": width, "frames": picks, "out": entry["lw"]})
+            rl_jobs.append({"json": lj, "width": width, "frames": picks, "out": entry["rl"]})
+            if os.path.exists(sj):
+                smil_jobs.append({"svg": sj, "width": width, "out_prefix": os.path.join(d, "smil"), "times": [i / doc["fr"] for i in picks]})
+        manifest["examples"].append(entry)
+
+    def dump(name, obj):
+        with open(os.path.join(out, name), "w", encoding="utf-8") as f:
+            json.dump(obj, f, indent=1)
+
+    dump("manifest.json", manifest)
+    dump("lottie_web_jobs.json", lw_jobs)
+    dump("rlottie_jobs.json", rl_jobs)
+    dump("smil_jobs.json", smil_jobs)
+    with open(os.path.join(out, "gmotion_lottie_files.txt"), "w", encoding="utf-8") as f:
+        f.write("\n".join(gm_lotties) + "\n")
+    return 0
+
+
+# ---- per-frame baking, for the size comparison -------------------------------------------
+
+def bezier_ease(x1, y1, x2, y2, x):
+    """CSS cubic-bezier at x (bisection on the monotone x(s))."""
+    def b(a, c, s):
+        m = 1 - s
+        return 3 * m * m * s * a + 3 * m * s * s * c + s * s * s
+    lo, hi = 0.0, 1.0
+    for _ in range(50):
+        mid = (lo + hi) / 2
+        if b(x1, x2, mid) < x:
+            lo = mid
+        else:
+            hi = mid
+    return b(y1, y2, (lo + hi) / 2)
+
+
+def handle(h, key):
+    v = h[key]
+    return v[0] if isinstance(v, list) else v
+
+
+def value_at(keys, f):
+    """A keyframed value at frame f, as players compute it."""
+    if f <= keys[0]["t"]:
+        return keys[0]["s"]
+    for k0, k1 in zip(keys, keys[1:]):
+        if f < k1["t"]:
+            if k0.get("h"):
+                return k0["s"]
+            u = (f - k0["t"]) / (k1["t"] - k0["t"])
+            y = bezier_ease(handle(k0["o"], "x"), handle(k0["o"], "y"), handle(k0["i"], "x"), handle(k0["i"], "y"), u)
+            return lerp(k0["s"], k1["s"], y)
+    return keys[-1]["s"]
+
+
+def lerp(a, b, y):
+    if isinstance(a, list):
+        return [lerp(p, q, y) for p, q in zip(a, b)]
+    if isinstance(a, dict):
+        return {k: (lerp(a[k], b[k], y) if k != "c" else a[k]) for k in a}
+    return round(a + (b - a) * y, 3)
+
+
+def per_frame_size(doc):
+    """Size of the same document with every animated property keyed at every frame (what
+    an exporter that bakes each frame writes)."""
+    frames = int(doc["op"] - doc["ip"])
+
+    def walk(o):
+        if isinstance(o, dict):
+            if o.get("a") == 1 and isinstance(o.get("k"), list) and o["k"] and isinstance(o["k"][0], dict) and "t" in o["k"][0]:
+                keys = o["k"]
+                o["k"] = [{"t": f, "s": value_at(keys, f), "o": {"x": 0, "y": 0}, "i": {"x": 1, "y": 1}} for f in range(frames + 1)]
+                return
+            for v in o.values():
+                walk(v)
+        elif isinstance(o, list):
+            for v in o:
+                walk(v)
+
+    copy = json.loads(json.dumps(doc))
+    walk(copy)
+    return len(json.dumps(copy, separators=(",", ":")))
+
+
+# ---- report -------------------------------------------------------------------------------
+
+def report(out):
+    with open(os.path.join(out, "manifest.json"), encoding="utf-8") as f:
+        manifest = json.load(f)
+    failures = []
+    smil_ran = os.path.exists(os.path.join(out, "smil.ran"))
+
+    print("== example grammars: player frames vs gmotion's own render (≤ 0.5% of pixels off by > 32/255)")
+    for ex in manifest["examples"]:
+        if not ex.get("ok") or "frames" not in ex:
+            failures.append(f"example {ex['name']}: gmotion animate failed: {ex.get('stderr', '')}")
+            print(f"  {ex['name']}: EXPORT FAILED {ex.get('stderr', '')}")
+            continue
+        players = [("lottie-web", ex["lw"]), ("rlottie", ex["rl"])]
+        if smil_ran:
+            players.append(("chromium-smil", ex["smil"]))
+        ratio = ex["lottie_per_frame_bytes"] / max(1, ex["lottie_bytes"])
+        print(f"  {ex['name']}: frames {ex['frames']}; Lottie {ex['lottie_bytes']} B, "
+              f"{ex['lottie_per_frame_bytes']} B keyed every frame ({ratio:.1f}x)")
+        for player, pngs in players:
+            fr = [off_fraction(r, p) for r, p in zip(ex["refs"], pngs)]
+            worst = max((x if x is not None else 1.0) for x in fr)
+            bad = [ex["frames"][i] for i, x in enumerate(fr) if x is None or x > EXAMPLE_MAX]
+            status = "ok" if not bad else f"FAIL at frames {bad}"
+            print(f"    {player:14s} worst {worst * 100:6.3f}% off  {status}")
+            if bad:
+                failures.append(f"example {ex['name']} in {player}: frames {bad} differ (worst {worst * 100:.3f}%)")
+
+    print(f"== corpus: {len(manifest['corpus'])} files, 300 px wide vs the reference PNG (≤ 1% off by > 32/255)")
+    gm_pass = pl_pass = rl_pass = 0
+    gm_fail = []
+    for e in manifest["corpus"]:
+        g = off_fraction(e["ref"], e["gm_png"]) if e.get("gm_ok") else None
+        r = off_fraction(e["ref"], e["gm_rl_png"]) if e.get("gm_ok") else None
+        p = off_fraction(e["ref"], e["pl_png"]) if e.get("pl_ok") else None
+        e["gm_off"], e["rl_off"], e["pl_off"] = g, r, p
+        gm_pass += g is not None and g <= CORPUS_MAX
+        rl_pass += r is not None and r <= CORPUS_MAX
+        pl_pass += p is not None and p <= CORPUS_MAX
+        if g is None or g > CORPUS_MAX:
+            gm_fail.append((e["name"], g, e.get("gm_error")))
+    n = max(1, len(manifest["corpus"]))
+    print(f"  {'converter':26s} {'player':11s} {'pass':>9s}  rate")
+    print(f"  {'gmotion convert':26s} {'lottie-web':11s} {gm_pass:4d}/{n:<4d}  {gm_pass / n * 100:5.1f}%")
+    print(f"  {'python-lottie parse_svg':26s} {'lottie-web':11s} {pl_pass:4d}/{n:<4d}  {pl_pass / n * 100:5.1f}%")
+    print(f"  {'gmotion convert':26s} {'rlottie':11s} {rl_pass:4d}/{n:<4d}  {rl_pass / n * 100:5.1f}%  (information)")
+    for name, g, err in gm_fail:
+        why = err if err else ("no picture" if g is None else f"{g * 100:.2f}% off")
+        print(f"    gmotion fails {name}: {why}")
+    if gm_pass < CORPUS_PASS * n:
+        failures.append(f"corpus: gmotion passes {gm_pass}/{n}, below {CORPUS_PASS * 100:.0f}%")
+
+    gt = [e["gm_time"] for e in manifest["corpus"] if e.get("gm_ok")]
+    pt = [e["pl_time"] for e in manifest["corpus"] if e.get("pl_ok")]
+    if gt and pt:
+        print("== conversion time per file (gmotion: whole `gmotion convert` process; python-lottie: in process)")
+        print(f"  gmotion       median {statistics.median(gt) * 1000:7.2f} ms  mean {statistics.mean(gt) * 1000:7.2f} ms  total {sum(gt):6.2f} s")
+        print(f"  python-lottie median {statistics.median(pt) * 1000:7.2f} ms  mean {statistics.mean(pt) * 1000:7.2f} ms  total {sum(pt):6.2f} s")
+        print(f"  python-lottie / gmotion: {statistics.median(pt) / statistics.median(gt):.1f}x (median), {statistics.mean(pt) / statistics.mean(gt):.1f}x (mean)")
+
+    with open(os.path.join(out, "results.json"), "w", encoding="utf-8") as f:
+        json.dump(manifest, f, indent=1)
+    if failures:
+        print("== FAILED")
+        for x in failures:
+            print("  " + x)
+        return 1
+    print("== all conformance checks passed")
+    return 0
+
+
+def main(argv):
+    if len(argv) >= 6 and argv[1] == "prepare":
+        return prepare(*argv[2:6])
+    if len(argv) == 3 and argv[1] == "report":
+        return report(argv[2])
+    print(__doc__, file=sys.stderr)
+    return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))

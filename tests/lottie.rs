@@ -1,0 +1,985 @@
+//! Lottie export: structure of the JSON, and exactness checked by playing it back with a
+//! small Lottie evaluator written here from the format (keyframes with Bézier easing and
+//! holds, transform levels `T(p)·R(r)·S(s)·T(-a)`, layer parenting), compared with the
+//! motion model's own `Track::state_at` and `Track::deform`.
+
+use std::sync::Arc;
+
+use gmotion::color::Color;
+use gmotion::exporters::lottie::{LottieOptions, still_to_lottie, to_lottie};
+use gmotion::motion::{
+    Animation, AttrSeg, Blend, Component, Field, Grid, Interp, MotionKind, MotionSeg, Timing, Tint,
+    Track,
+};
+use gmotion::scene::{
+    ClipPath, Fill, FillRule, Group, LineCap, LineJoin, Mask, MaskKind, Node, Paint, PathNode,
+    RadialGradient, Scene, Shape, Spread, Stop, Stroke,
+};
+use gmotion::signals::Easing;
+use kurbo::{Affine, BezPath, Point, Rect, Shape as _, Vec2};
+use serde_json::Value;
+
+// ---- a Lottie evaluator for the subset gmotion writes -------------------------------------
+
+fn num(v: &Value) -> f64 {
+    v.as_f64()
+        .unwrap_or_else(|| panic!("number expected, got {v}"))
+}
+
+/// A value as a vector (a number becomes a one-element vector).
+fn vector(v: &Value) -> Vec<f64> {
+    match v {
+        Value::Array(a) => a.iter().map(num).collect(),
+        other => vec![num(other)],
+    }
+}
+
+fn handle(h: &Value, axis: &str) -> f64 {
+    match &h[axis] {
+        Value::Array(a) => num(&a[0]),
+        other => num(other),
+    }
+}
+
+/// CSS cubic-bezier timing function, solved by bisection.
+fn ease(x1: f64, y1: f64, x2: f64, y2: f64, x: f64) -> f64 {
+    let b = |a: f64, c: f64, s: f64| {
+        let m = 1.0 - s;
+        3.0 * m * m * s * a + 3.0 * m * s * s * c + s * s * s
+    };
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for _ in 0..80 {
+        let mid = 0.5 * (lo + hi);
+        if b(x1, x2, mid) < x {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    b(y1, y2, 0.5 * (lo + hi))
+}
+
+/// A property's value at `frame`; `lerp` interpolates two keyframe values.
+fn prop_at<T>(
+    prop: &Value,
+    frame: f64,
+    fixed: impl Fn(&Value) -> T,
+    lerp: impl Fn(&T, &T, f64) -> T,
+) -> T {
+    if prop["a"] == 0 {
+        return fixed(&prop["k"]);
+    }
+    let keys = prop["k"].as_array().expect("keyframes");
+    assert!(
+        keys.len() >= 2,
+        "an animated property has at least two keyframes"
+    );
+    let kv = |k: &Value| fixed(&k["s"]);
+    if frame <= num(&keys[0]["t"]) {
+        return kv(&keys[0]);
+    }
+    for w in keys.windows(2) {
+        let (t0, t1) = (num(&w[0]["t"]), num(&w[1]["t"]));
+        assert!(t1 >= t0, "keyframes in time order");
+        if frame < t1 {
+            if w[0]["h"] == 1 {
+                return kv(&w[0]);
+            }
+            let u = (frame - t0) / (t1 - t0);
+            let (o, i) = (&w[0]["o"], &w[0]["i"]);
+            let y = ease(
+                handle(o, "x"),
+                handle(o, "y"),
+                handle(i, "x"),
+                handle(i, "y"),
+                u,
+            );
+            return lerp(&kv(&w[0]), &kv(&w[1]), y);
+        }
+    }
+    kv(keys.last().unwrap())
+}
+
+fn vec_at(prop: &Value, frame: f64) -> Vec<f64> {
+    // Keyframe values of scalars are one-element arrays; fixed ones are bare numbers.
+    prop_at(prop, frame, vector, |a, b, y| {
+        a.iter().zip(b).map(|(p, q)| p + (q - p) * y).collect()
+    })
+}
+
+/// A transform object at `frame` (defaults as the format defines them).
+fn transform_at(tr: &Value, frame: f64) -> Affine {
+    assert!(
+        tr.get("sk").is_none_or(|sk| vec_at(sk, frame)[0] == 0.0),
+        "no skew is ever written: {tr}"
+    );
+    let v2 = |key: &str, default: [f64; 2]| {
+        tr.get(key).map_or(Vec2::new(default[0], default[1]), |p| {
+            if p.get("s") == Some(&Value::Bool(true)) {
+                // A split position: x and y animate separately.
+                return Vec2::new(vec_at(&p["x"], frame)[0], vec_at(&p["y"], frame)[0]);
+            }
+            let v = vec_at(p, frame);
+            Vec2::new(v[0], v[1])
+        })
+    };
+    let a = v2("a", [0.0, 0.0]);
+    let p = v2("p", [0.0, 0.0]);
+    let s = v2("s", [100.0, 100.0]) / 100.0;
+    let r = tr.get("r").map_or(0.0, |p| vec_at(p, frame)[0]);
+    Affine::translate(p)
+        * Affine::rotate(r.to_radians())
+        * Affine::scale_non_uniform(s.x, s.y)
+        * Affine::translate(-a)
+}
+
+fn opacity_at(tr: &Value, frame: f64) -> f64 {
+    tr.get("o").map_or(1.0, |p| vec_at(p, frame)[0] / 100.0)
+}
+
+/// A drawn path: its outline at `frame` in canvas space, with the colour and opacity
+/// it is drawn with.
+#[derive(Debug)]
+struct Drawn {
+    points: Vec<Point>,
+    fill: Option<[f64; 3]>,
+    stroke_width: Option<f64>,
+    opacity: f64,
+}
+
+fn bezier_points(b: &Value) -> Vec<Point> {
+    b["v"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| Point::new(num(&p[0]), num(&p[1])))
+        .collect()
+}
+
+fn shape_points(ks: &Value, frame: f64) -> Vec<Point> {
+    prop_at(
+        ks,
+        frame,
+        |v| {
+            let b = if v.is_array() { &v[0] } else { v };
+            bezier_points(b)
+        },
+        |a, b, y| a.iter().zip(b).map(|(p, q)| p.lerp(*q, y)).collect(),
+    )
+}
+
+/// Walks a group's items (topmost first), applying its transform to the paths in it.
+fn walk(items: &[Value], m: Affine, opacity: f64, frame: f64, out: &mut Vec<Drawn>) {
+    let tr = items.iter().find(|it| it["ty"] == "tr");
+    let (m, opacity) = match tr {
+        Some(tr) => (m * transform_at(tr, frame), opacity * opacity_at(tr, frame)),
+        None => (m, opacity),
+    };
+    let fill = items.iter().find(|it| it["ty"] == "fl").map(|f| {
+        let c = vec_at(&f["c"], frame);
+        [c[0], c[1], c[2]]
+    });
+    let stroke_width = items
+        .iter()
+        .find(|it| it["ty"] == "st")
+        .map(|s| vec_at(&s["w"], frame)[0]);
+    for it in items {
+        match it["ty"].as_str().unwrap() {
+            "gr" => walk(it["it"].as_array().unwrap(), m, opacity, frame, out),
+            "sh" => out.push(Drawn {
+                points: shape_points(&it["ks"], frame)
+                    .into_iter()
+                    .map(|p| m * p)
+                    .collect(),
+                fill,
+                stroke_width,
+                opacity,
+            }),
+            _ => {}
+        }
+    }
+}
+
+/// A layer's transform at `frame`, following its parents.
+fn layer_matrix(layers: &[Value], layer: &Value, frame: f64) -> Affine {
+    let own = transform_at(&layer["ks"], frame);
+    match layer.get("parent") {
+        Some(p) => {
+            let parent = layers
+                .iter()
+                .find(|l| l["ind"] == *p)
+                .expect("parent layer exists");
+            layer_matrix(layers, parent, frame) * own
+        }
+        None => own,
+    }
+}
+
+/// Everything the layer named `name` draws at `frame`.
+fn drawn(doc: &Value, name: &str, frame: f64) -> Vec<Drawn> {
+    let layers = doc["layers"].as_array().unwrap();
+    let layer = layers
+        .iter()
+        .find(|l| l["nm"] == name)
+        .unwrap_or_else(|| panic!("no layer named {name}"));
+    let m = layer_matrix(layers, layer, frame);
+    let mut out = Vec::new();
+    walk(
+        layer["shapes"].as_array().unwrap(),
+        m,
+        opacity_at(&layer["ks"], frame),
+        frame,
+        &mut out,
+    );
+    out
+}
+
+fn parse(json: &str) -> Value {
+    serde_json::from_str(json).expect("valid JSON")
+}
+
+/// Every object in the document with its key, for "never written" checks.
+fn keys_anywhere(v: &Value, key: &str) -> usize {
+    match v {
+        Value::Object(m) => {
+            m.get(key).is_some() as usize + m.values().map(|x| keys_anywhere(x, key)).sum::<usize>()
+        }
+        Value::Array(a) => a.iter().map(|x| keys_anywhere(x, key)).sum(),
+        _ => 0,
+    }
+}
+
+// ---- scenes and motions ------------------------------------------------------------------
+
+fn rect_path(r: Rect) -> BezPath {
+    r.to_path(0.1)
+}
+
+fn solid(c: Color) -> Option<Fill> {
+    Some(Fill {
+        paint: Paint::Solid(c),
+        opacity: 1.0,
+        rule: FillRule::NonZero,
+    })
+}
+
+fn stroke(width: f64) -> Option<Stroke> {
+    Some(Stroke {
+        paint: Paint::Solid(Color::BLACK),
+        opacity: 1.0,
+        width,
+        cap: LineCap::Butt,
+        join: LineJoin::Miter,
+        miter_limit: 4.0,
+        dash: None,
+        dash_offset: 0.0,
+    })
+}
+
+/// A scene whose shapes are the given paths (tag `t`), each directly under the root.
+fn scene(paths: Vec<(BezPath, Option<Fill>, Option<Stroke>)>) -> Scene {
+    let mut root = Group::new();
+    let mut shapes = Vec::new();
+    for (i, (path, fill, stroke)) in paths.into_iter().enumerate() {
+        let bbox = path.bounding_box();
+        shapes.push(Shape {
+            tag: "t".into(),
+            id: i,
+            group: 0,
+            z: i,
+            node_path: vec![i],
+            parent_transform: Affine::IDENTITY,
+            centroid: bbox.center(),
+            bbox,
+            fill: Color::BLACK,
+            stroke: Color::BLACK,
+            stroke_width: 1.0,
+        });
+        root.children.push(Node::Path(PathNode {
+            id: format!("p{i}"),
+            path,
+            fill,
+            stroke,
+            stroke_first: false,
+            unit: Some(i),
+        }));
+    }
+    Scene {
+        width: 400.0,
+        height: 300.0,
+        root,
+        shapes,
+    }
+}
+
+fn timing(start: f64, end: f64, delay: f64, ease: Easing, reversed: bool) -> Timing {
+    Timing {
+        start,
+        end,
+        delay,
+        ease,
+        reversed,
+    }
+}
+
+fn rigid(pivot: Point, comps: &[Component], interp: Interp) -> MotionKind {
+    let blend: Blend = vec![(1.0, Arc::from(comps))];
+    MotionKind::Rigid {
+        pivot,
+        blend,
+        interp,
+    }
+}
+
+/// Appends a window of `kind` over `[t0, t1]` of a motion timed by `timing`, starting
+/// from where the track is at `t0`.
+fn push(track: &mut Track, t0: f64, t1: f64, timing: &Timing, kind: &MotionKind) {
+    let start = track.transform_at(t0);
+    track.motions.push(MotionSeg {
+        t0,
+        t1,
+        timing: timing.clone(),
+        kind: kind.clone(),
+        start,
+    });
+}
+
+fn animation(scene: Scene, tracks: Vec<Track>, duration: f64) -> Animation {
+    Animation {
+        scene,
+        duration,
+        fps: 30.0,
+        looping: true,
+        tracks,
+    }
+}
+
+const EASE_IN_OUT: Easing = Easing::CubicBezier([0.42, 0.0, 0.58, 1.0]);
+
+/// The largest distance between the exported outline and the model's, over `samples`
+/// instants per frame, for every path unit of `anim`.
+fn max_error(anim: &Animation, doc: &Value, samples: usize) -> f64 {
+    let frames = anim.frame_count();
+    let mut worst: f64 = 0.0;
+    for (i, shape) in anim.scene.shapes.iter().enumerate() {
+        let Some(Node::Path(p)) = anim.scene.unit_node(i) else {
+            panic!("path units")
+        };
+        let rest: Vec<Point> = p
+            .path
+            .elements()
+            .iter()
+            .filter_map(|e| e.end_point())
+            .collect();
+        for k in 0..=frames * samples {
+            let frame = k as f64 / samples as f64;
+            let t = frame / anim.fps;
+            let got = drawn(doc, &format!("{}:{}", shape.tag, shape.id), frame);
+            let track = &anim.tracks[i];
+            let want: Vec<Point> = if track.deforms() {
+                rest.iter().map(|q| track.deform(*q, t)).collect()
+            } else {
+                let m = track.state_at(t).transform * shape.parent_transform;
+                rest.iter().map(|q| m * *q).collect()
+            };
+            let pts = &got[0].points;
+            // The exported outline drops the duplicate closing vertex; match by nearest.
+            for w in &want {
+                let d = pts
+                    .iter()
+                    .map(|g| (*g - *w).hypot())
+                    .fold(f64::INFINITY, f64::min);
+                worst = worst.max(d);
+            }
+        }
+    }
+    worst
+}
+
+fn animated_keys(doc: &Value) -> usize {
+    fn count(v: &Value) -> usize {
+        match v {
+            Value::Object(m) => {
+                let own = if m.get("a") == Some(&Value::from(1)) {
+                    m["k"].as_array().map_or(0, Vec::len)
+                } else {
+                    0
+                };
+                own + m.values().map(count).sum::<usize>()
+            }
+            Value::Array(a) => a.iter().map(count).sum(),
+            _ => 0,
+        }
+    }
+    count(doc)
+}
+
+// ---- structure ---------------------------------------------------------------------------
+
+#[test]
+fn layers_are_named_tag_id_and_carry_no_skew() {
+    let s = scene(vec![
+        (
+            rect_path(Rect::new(10.0, 10.0, 50.0, 50.0)),
+            solid(Color::rgb(1.0, 0.0, 0.0)),
+            None,
+        ),
+        (
+            rect_path(Rect::new(100.0, 10.0, 150.0, 60.0)),
+            solid(Color::rgb(0.0, 0.0, 1.0)),
+            None,
+        ),
+    ]);
+    let mut tracks = vec![Track::default(), Track::default()];
+    let tm = timing(0.0, 2.0, 0.0, Easing::Linear, false);
+    let kind = rigid(
+        Point::new(125.0, 35.0),
+        &[Component::Skew(30.0, 0.0), Component::Rotate(45.0)],
+        Interp::Linear,
+    );
+    push(&mut tracks[1], 0.0, 2.0, &tm, &kind);
+    let anim = animation(s, tracks, 2.0);
+    let (json, _) = to_lottie(&anim, &LottieOptions::default()).unwrap();
+    let doc = parse(&json);
+    assert_eq!(doc["w"], 400);
+    assert_eq!(doc["h"], 300);
+    assert_eq!(doc["fr"], 30);
+    assert_eq!(doc["op"], 60);
+    let names: Vec<&str> = doc["layers"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| l["nm"].as_str().unwrap())
+        .collect();
+    assert!(names.contains(&"t:1"), "{names:?}");
+    assert_eq!(keys_anywhere(&doc, "sk"), 0);
+    // The skewing motion is sampled, and still lands within the tolerance.
+    assert!(max_error(&anim, &doc, 1) <= 0.25);
+}
+
+#[test]
+fn one_window_has_keyframes_at_the_active_ends_only() {
+    let s = scene(vec![(
+        rect_path(Rect::new(10.0, 10.0, 50.0, 50.0)),
+        solid(Color::BLACK),
+        None,
+    )]);
+    let mut track = Track::default();
+    let tm = timing(0.5, 2.5, 0.5, EASE_IN_OUT, false);
+    let kind = rigid(
+        Point::new(30.0, 30.0),
+        &[
+            Component::Translate(Vec2::new(200.0, 40.0)),
+            Component::Rotate(270.0),
+            Component::Scale(Vec2::new(2.0, 0.5)),
+        ],
+        Interp::Linear,
+    );
+    push(&mut track, 0.5, 2.5, &tm, &kind);
+    let anim = animation(s, vec![track], 3.0);
+    let (json, warnings) = to_lottie(&anim, &LottieOptions::default()).unwrap();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let doc = parse(&json);
+    let mut times = Vec::new();
+    fn collect(v: &Value, times: &mut Vec<Vec<f64>>) {
+        match v {
+            Value::Object(m) => {
+                if m.get("a") == Some(&Value::from(1)) {
+                    times.push(
+                        m["k"]
+                            .as_array()
+                            .unwrap()
+                            .iter()
+                            .map(|k| num(&k["t"]))
+                            .collect(),
+                    );
+                }
+                m.values().for_each(|x| collect(x, times));
+            }
+            Value::Array(a) => a.iter().for_each(|x| collect(x, times)),
+            _ => {}
+        }
+    }
+    collect(&doc, &mut times);
+    // Position, rotation and scale: two keyframes each, at (start + delay)·fps and end·fps.
+    assert_eq!(times.len(), 3, "{times:?}");
+    for t in &times {
+        assert_eq!(t, &vec![30.0, 75.0]);
+    }
+    // The easing handles are the motion's own curve.
+    let eased = json.contains(r#""o":{"x":0.42,"y":0},"i":{"x":0.58,"y":1}"#);
+    assert!(eased, "{json}");
+    assert!(max_error(&anim, &doc, 4) < 0.01, "exact motion");
+}
+
+#[test]
+fn split_reversed_and_shared_windows_are_exact() {
+    let s = scene(vec![
+        (
+            rect_path(Rect::new(20.0, 20.0, 60.0, 80.0)),
+            solid(Color::BLACK),
+            None,
+        ),
+        (
+            rect_path(Rect::new(200.0, 100.0, 260.0, 140.0)),
+            solid(Color::BLACK),
+            None,
+        ),
+    ]);
+    let mut a = Track::default();
+    // A slice [0, 2] animated, split at 0.8 (two windows of one motion), then its inverted
+    // twin over [2, 4] (reversed timing), as `[a, inv_a]` does.
+    let fwd = timing(0.0, 2.0, 0.3, EASE_IN_OUT, false);
+    let back = timing(2.0, 4.0, 0.3, EASE_IN_OUT, true);
+    let kind = rigid(
+        Point::new(40.0, 50.0),
+        &[
+            Component::Rotate(120.0),
+            Component::Scale(Vec2::new(1.5, 0.7)),
+        ],
+        Interp::Linear,
+    );
+    push(&mut a, 0.0, 0.8, &fwd, &kind);
+    push(&mut a, 0.8, 2.0, &fwd, &kind);
+    push(&mut a, 2.0, 4.0, &back, &kind);
+    // Two motions sharing a window, then one that starts elsewhere (a jump).
+    let mut b = Track::default();
+    let t1 = timing(
+        0.5,
+        3.0,
+        0.0,
+        Easing::CubicBezier([0.3, -0.3, 0.6, 1.4]),
+        false,
+    );
+    let k1 = rigid(
+        Point::ORIGIN,
+        &[Component::Translate(Vec2::new(-80.0, 60.0))],
+        Interp::Linear,
+    );
+    let k2 = rigid(
+        Point::new(230.0, 120.0),
+        &[
+            Component::Scale(Vec2::new(0.5, 0.5)),
+            Component::Rotate(-90.0),
+        ],
+        Interp::Linear,
+    );
+    let start = Affine::IDENTITY;
+    b.motions.push(MotionSeg {
+        t0: 0.5,
+        t1: 3.0,
+        timing: t1.clone(),
+        kind: k1,
+        start,
+    });
+    b.motions.push(MotionSeg {
+        t0: 0.5,
+        t1: 3.0,
+        timing: t1,
+        kind: k2,
+        start,
+    });
+    let t2 = timing(3.0, 4.0, 0.0, Easing::Linear, false);
+    let k3 = rigid(
+        Point::ORIGIN,
+        &[Component::Translate(Vec2::new(0.0, -50.0))],
+        Interp::Linear,
+    );
+    b.motions.push(MotionSeg {
+        t0: 3.0,
+        t1: 4.0,
+        timing: t2,
+        kind: k3,
+        start: Affine::translate((30.0, 0.0)),
+    });
+    let anim = animation(s, vec![a, b], 4.0);
+    let (json, warnings) = to_lottie(&anim, &LottieOptions::default()).unwrap();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let doc = parse(&json);
+    let err = max_error(&anim, &doc, 3);
+    // Exact up to the written precision (and the jump landing a thousandth of a frame early).
+    assert!(err < 0.01, "error {err}");
+    // Nothing was sampled: every animated property has few keyframes.
+    assert!(
+        animated_keys(&doc) < 40,
+        "{} keyframes",
+        animated_keys(&doc)
+    );
+}
+
+#[test]
+fn smooth_baked_motion_is_ten_times_smaller_than_per_frame() {
+    let s = scene(vec![(
+        rect_path(Rect::new(50.0, 50.0, 110.0, 90.0)),
+        solid(Color::BLACK),
+        None,
+    )]);
+    let mut track = Track::default();
+    // Alexa interpolation of a rotation with a translation is a spiral, not what Lottie's
+    // component-wise interpolation draws: it must be sampled and reduced.
+    let tm = timing(0.0, 4.0, 0.0, EASE_IN_OUT, false);
+    let kind = rigid(
+        Point::new(80.0, 70.0),
+        &[
+            Component::Translate(Vec2::new(220.0, 120.0)),
+            Component::Rotate(150.0),
+            Component::Scale(Vec2::new(1.6, 1.6)),
+        ],
+        Interp::Alexa,
+    );
+    push(&mut track, 0.0, 4.0, &tm, &kind);
+    let anim = animation(s, vec![track], 4.0);
+    let tolerance = 0.25;
+    let (json, _) = to_lottie(
+        &anim,
+        &LottieOptions {
+            tolerance,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let doc = parse(&json);
+    let err = max_error(&anim, &doc, 1);
+    assert!(err <= tolerance, "error {err}");
+    let frames = anim.frame_count() + 1;
+    let keys = animated_keys(&doc);
+    let props = {
+        fn animated(v: &Value) -> usize {
+            match v {
+                Value::Object(m) => {
+                    (m.get("a") == Some(&Value::from(1))) as usize
+                        + m.values().map(animated).sum::<usize>()
+                }
+                Value::Array(a) => a.iter().map(animated).sum(),
+                _ => 0,
+            }
+        }
+        animated(&doc)
+    };
+    assert!(props > 0);
+    assert!(
+        keys * 10 <= props * frames,
+        "{keys} keyframes on {props} properties over {frames} frames"
+    );
+}
+
+#[test]
+fn bilinear_blend_is_sampled_within_tolerance() {
+    let s = scene(vec![(
+        rect_path(Rect::new(150.0, 120.0, 190.0, 160.0)),
+        solid(Color::BLACK),
+        None,
+    )]);
+    let mut track = Track::default();
+    let tm = timing(0.0, 2.0, 0.0, Easing::Linear, false);
+    let blend: Blend = vec![
+        (0.6, Arc::from([Component::Rotate(90.0)].as_slice())),
+        (
+            0.4,
+            Arc::from([Component::Translate(Vec2::new(100.0, 0.0))].as_slice()),
+        ),
+    ];
+    let kind = MotionKind::Rigid {
+        pivot: Point::new(170.0, 140.0),
+        blend,
+        interp: Interp::Linear,
+    };
+    push(&mut track, 0.0, 2.0, &tm, &kind);
+    let anim = animation(s, vec![track], 2.0);
+    let (json, _) = to_lottie(&anim, &LottieOptions::default()).unwrap();
+    let doc = parse(&json);
+    assert!(max_error(&anim, &doc, 1) <= 0.25);
+}
+
+#[test]
+fn vertex_deformation_becomes_path_keyframes() {
+    let mut p = BezPath::new();
+    p.move_to((100.0, 100.0));
+    p.curve_to((150.0, 60.0), (250.0, 60.0), (300.0, 100.0));
+    p.line_to((300.0, 200.0));
+    p.close_path();
+    let s = scene(vec![(p, solid(Color::BLACK), None)]);
+    let grid = Arc::new(Grid::new(
+        3,
+        3,
+        Rect::new(0.0, 0.0, 400.0, 300.0),
+        Field::Towards(Point::new(200.0, 150.0)),
+    ));
+    let mut track = Track::default();
+    let tm = timing(0.0, 2.0, 0.0, EASE_IN_OUT, false);
+    push(
+        &mut track,
+        0.0,
+        2.0,
+        &tm,
+        &MotionKind::Vertex { grid, pivot: None },
+    );
+    let anim = animation(s, vec![track], 2.0);
+    let (json, _) = to_lottie(&anim, &LottieOptions::default()).unwrap();
+    let doc = parse(&json);
+    assert!(max_error(&anim, &doc, 1) <= 0.25);
+    // The outline is keyframed, not the transform.
+    let sh = json.find(r#""ty":"sh","ks":{"a":1"#);
+    assert!(sh.is_some(), "animated path expected");
+}
+
+#[test]
+fn tints_opacity_and_stroke_width_follow_the_model() {
+    let s = scene(vec![(
+        rect_path(Rect::new(10.0, 10.0, 90.0, 90.0)),
+        solid(Color::rgb(0.2, 0.4, 0.8)),
+        stroke(3.0),
+    )]);
+    let mut track = Track::default();
+    let red = Tint::full(Color::rgb(1.0, 0.0, 0.0));
+    let tm = timing(0.0, 1.0, 0.2, EASE_IN_OUT, false);
+    let back = timing(1.0, 2.0, 0.0, EASE_IN_OUT, true);
+    track.fill.push(AttrSeg {
+        t0: 0.0,
+        t1: 1.0,
+        timing: tm.clone(),
+        from: Tint::NONE,
+        to: red,
+    });
+    track.fill.push(AttrSeg {
+        t0: 1.0,
+        t1: 2.0,
+        timing: back.clone(),
+        from: Tint::NONE,
+        to: red,
+    });
+    track.opacity.push(AttrSeg {
+        t0: 0.0,
+        t1: 1.0,
+        timing: tm.clone(),
+        from: 1.0,
+        to: 0.3,
+    });
+    track.stroke_width.push(AttrSeg {
+        t0: 0.5,
+        t1: 2.0,
+        timing: timing(0.5, 2.0, 0.0, Easing::Linear, false),
+        from: 1.0,
+        to: 4.0,
+    });
+    let anim = animation(s, vec![track], 2.0);
+    let (json, _) = to_lottie(&anim, &LottieOptions::default()).unwrap();
+    let doc = parse(&json);
+    for k in 0..=120 {
+        let frame = k as f64 / 2.0;
+        let t = frame / 30.0;
+        let state = anim.tracks[0].state_at(t);
+        let d = drawn(&doc, "t:0", frame);
+        let want = state.fill.apply(Color::rgb(0.2, 0.4, 0.8));
+        let fill = d.iter().find_map(|x| x.fill).expect("a fill");
+        for (g, w) in fill.iter().zip([want.r, want.g, want.b]) {
+            assert!(
+                (g - w as f64).abs() < 1e-3,
+                "frame {frame}: fill {fill:?} vs {want:?}"
+            );
+        }
+        let width = d.iter().find_map(|x| x.stroke_width).expect("a stroke");
+        assert!(
+            (width - 3.0 * state.stroke_width).abs() < 1e-3,
+            "frame {frame}: width {width}"
+        );
+        assert!(
+            (d[0].opacity - state.opacity).abs() < 1e-3,
+            "frame {frame}: opacity {}",
+            d[0].opacity
+        );
+    }
+}
+
+#[test]
+fn output_is_deterministic() {
+    let s = scene(vec![(
+        rect_path(Rect::new(10.0, 10.0, 50.0, 50.0)),
+        solid(Color::BLACK),
+        None,
+    )]);
+    let mut track = Track::default();
+    let tm = timing(0.0, 2.0, 0.0, EASE_IN_OUT, false);
+    push(
+        &mut track,
+        0.0,
+        2.0,
+        &tm,
+        &rigid(
+            Point::new(30.0, 30.0),
+            &[Component::Rotate(33.0)],
+            Interp::Alexa,
+        ),
+    );
+    let anim = animation(s, vec![track], 2.0);
+    let a = to_lottie(&anim, &LottieOptions::default()).unwrap().0;
+    let b = to_lottie(&anim, &LottieOptions::default()).unwrap().0;
+    assert_eq!(a, b);
+}
+
+// ---- stills --------------------------------------------------------------------------------
+
+fn group_with(children: Vec<Node>) -> Group {
+    Group {
+        children,
+        ..Group::new()
+    }
+}
+
+fn still(root: Group) -> Scene {
+    Scene {
+        width: 200.0,
+        height: 200.0,
+        root,
+        shapes: Vec::new(),
+    }
+}
+
+fn path_node(id: &str, path: BezPath, fill: Option<Fill>) -> Node {
+    Node::Path(PathNode {
+        id: id.into(),
+        path,
+        fill,
+        stroke: None,
+        stroke_first: false,
+        unit: None,
+    })
+}
+
+#[test]
+fn clip_paths_become_layer_masks_and_masks_luma_mattes() {
+    let clip = Arc::new(ClipPath {
+        id: "clip".into(),
+        transform: Affine::IDENTITY,
+        clip_path: None,
+        root: group_with(vec![path_node(
+            "c",
+            kurbo::Circle::new((100.0, 100.0), 50.0).to_path(0.1),
+            solid(Color::BLACK),
+        )]),
+    });
+    let clipped = Group {
+        id: "clipped".into(),
+        clip_path: Some(clip),
+        ..group_with(vec![path_node(
+            "r",
+            rect_path(Rect::new(0.0, 0.0, 200.0, 200.0)),
+            solid(Color::BLACK),
+        )])
+    };
+    let (json, _) = still_to_lottie(
+        &still(group_with(vec![Node::Group(clipped)])),
+        &LottieOptions::default(),
+    )
+    .unwrap();
+    let doc = parse(&json);
+    let layer = &doc["layers"][0];
+    assert_eq!(layer["hasMask"], true);
+    assert_eq!(layer["masksProperties"].as_array().unwrap().len(), 1);
+    assert_eq!(layer["masksProperties"][0]["mode"], "a");
+
+    let mask = Arc::new(Mask {
+        id: "m".into(),
+        rect: Rect::new(0.0, 0.0, 200.0, 200.0),
+        kind: MaskKind::Luminance,
+        mask: None,
+        root: group_with(vec![path_node(
+            "mc",
+            rect_path(Rect::new(50.0, 0.0, 150.0, 200.0)),
+            solid(Color::WHITE),
+        )]),
+    });
+    let masked = Group {
+        id: "masked".into(),
+        mask: Some(mask),
+        ..group_with(vec![path_node(
+            "r",
+            rect_path(Rect::new(0.0, 0.0, 200.0, 200.0)),
+            solid(Color::BLACK),
+        )])
+    };
+    let (json, _) = still_to_lottie(
+        &still(group_with(vec![Node::Group(masked)])),
+        &LottieOptions::default(),
+    )
+    .unwrap();
+    let doc = parse(&json);
+    let layers = doc["layers"].as_array().unwrap();
+    // Topmost first: the matte, then the layer it mattes.
+    assert_eq!(layers[0]["td"], 1);
+    assert_eq!(layers[1]["tt"], 3);
+    assert_eq!(layers[1]["tp"], layers[0]["ind"]);
+}
+
+#[test]
+fn unsupported_paint_features_warn_naming_the_element() {
+    let grad = Arc::new(RadialGradient {
+        id: "rg".into(),
+        center: Point::new(100.0, 100.0),
+        radius: 80.0,
+        focal: Point::new(100.0, 100.0),
+        focal_radius: 20.0,
+        transform: Affine::IDENTITY,
+        spread: Spread::Pad,
+        stops: vec![
+            Stop {
+                offset: 0.0,
+                color: Color::WHITE,
+            },
+            Stop {
+                offset: 1.0,
+                color: Color::BLACK,
+            },
+        ],
+    });
+    let fill = Some(Fill {
+        paint: Paint::Radial(grad),
+        opacity: 1.0,
+        rule: FillRule::EvenOdd,
+    });
+    let root = group_with(vec![path_node(
+        "shape7",
+        rect_path(Rect::new(20.0, 20.0, 180.0, 180.0)),
+        fill,
+    )]);
+    let (json, warnings) = still_to_lottie(&still(root), &LottieOptions::default()).unwrap();
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.contains("shape7") && w.contains("focal radius")),
+        "{warnings:?}"
+    );
+    let doc = parse(&json);
+    let gf = &doc["layers"][0]["shapes"][0]["it"][1];
+    assert_eq!(gf["ty"], "gf");
+    assert_eq!(gf["t"], 2);
+    assert_eq!(gf["r"], 2, "even-odd fill rule");
+}
+
+#[test]
+fn bad_animations_are_errors_not_panics() {
+    let s = scene(vec![(
+        rect_path(Rect::new(10.0, 10.0, 50.0, 50.0)),
+        solid(Color::BLACK),
+        None,
+    )]);
+    let anim = Animation {
+        scene: s.clone(),
+        duration: 0.0,
+        fps: 30.0,
+        looping: true,
+        tracks: vec![Track::default()],
+    };
+    assert!(to_lottie(&anim, &LottieOptions::default()).is_err());
+    let anim = Animation {
+        scene: s.clone(),
+        duration: 1.0,
+        fps: 30.0,
+        looping: true,
+        tracks: vec![],
+    };
+    assert!(to_lottie(&anim, &LottieOptions::default()).is_err());
+    let mut empty = s;
+    empty.width = 0.0;
+    assert!(still_to_lottie(&empty, &LottieOptions::default()).is_err());
+}
