@@ -38,10 +38,10 @@ pub fn run(cmd: Command) -> Result<()> {
         Command::Check {
             grammar,
             scene,
-            dot,
+            graph,
             run,
             import,
-        } => check(&grammar, scene.as_deref(), dot.as_deref(), &run, &import),
+        } => check(&grammar, scene.as_deref(), graph.as_deref(), &run, &import),
     }
 }
 
@@ -229,8 +229,11 @@ fn build(
 ) -> Result<Animation> {
     let (src, g) = load_grammar(grammar_path)?;
     let scene = load_scene(scene_path, import)?;
-    let (anim, _stats) = engine::run(scene, &g, &run_options(run))
+    let (anim, stats) = engine::run(scene, &g, &run_options(run))
         .map_err(|e| engine_error(grammar_path, &src, &e))?;
+    for w in &stats.warnings {
+        eprintln!("{}: warning: {w}", grammar_path.display());
+    }
     Ok(anim)
 }
 
@@ -296,20 +299,30 @@ fn convert(
     Ok(())
 }
 
-fn check(
-    grammar_path: &Path,
-    scene: Option<&Path>,
-    dot: Option<&Path>,
-    run: &RunArgs,
-    import: &ImportArgs,
-) -> Result<()> {
+fn check(grammar_path: &Path, scene: Option<&Path>, graph: Option<&Path>, run: &RunArgs, import: &ImportArgs) -> Result<()> {
     let (src, g) = load_grammar(grammar_path)?;
+    if let Some(out) = graph {
+        check_writable(out)?;
+    }
     let scene = scene.map(|p| load_scene(p, import)).transpose()?;
-    let report = engine::check::check(&g, scene.as_ref(), &run_options(run))
-        .map_err(|e| engine_error(grammar_path, &src, &e))?;
+    let report = engine::check::check(&g, scene.as_ref(), &run_options(run)).map_err(|e| engine_error(grammar_path, &src, &e))?;
     print!("{}", report.text);
-    if let Some(dot) = dot {
-        write_atomic(dot, engine::check::dot(&g).as_bytes())?;
+    if let Some(out) = graph {
+        let rules: Vec<&gmotion::grammar::ast::Rule> = g.rules.iter().collect();
+        let spatial = rules.iter().any(|r| r.spatial);
+        let svg = out.extension().is_some_and(|e| e.eq_ignore_ascii_case("svg"));
+        let text = match (svg, spatial) {
+            (true, true) => gmotion::tangle::graph::graph_svg(&rules),
+            (true, false) => {
+                return Err(CliError::msg(format!(
+                    "{}: drawings are made for group grammars; write the timeslice graph as .dot",
+                    out.display()
+                )));
+            }
+            (_, true) => gmotion::tangle::graph::graph_dot(&rules),
+            (_, false) => engine::check::dot(&g),
+        };
+        write_atomic(out, text.as_bytes())?;
     }
     Ok(())
 }
@@ -362,7 +375,9 @@ fn demo(out: &Path, example: &str) -> Result<()> {
     for n in names {
         write_animation(&anim, &out.join(n), 0.0, &render)?;
     }
-    let html = viewer_html(example);
+    let json = std::fs::read_to_string(out.join(format!("{example}.json")))
+        .map_err(|e| CliError::msg(format!("{}: {e}", out.display())))?;
+    let html = viewer_html(example, &json);
     write_atomic(&out.join("view.html"), html.as_bytes())?;
     println!(
         "wrote {0}/frames/ ({1} PNG frames), {0}/{2}.gif, {0}/{2}.json (Lottie), {0}/{2}.svg (SMIL)\n\
@@ -374,8 +389,10 @@ fn demo(out: &Path, example: &str) -> Result<()> {
     Ok(())
 }
 
-/// A page that plays the Lottie beside the SMIL, for a quick look in a browser.
-fn viewer_html(example: &str) -> String {
+/// A page that plays the Lottie beside the SMIL, for a quick look in a browser. The
+/// Lottie JSON is embedded because browsers refuse `fetch` from `file://` pages.
+fn viewer_html(example: &str, lottie_json: &str) -> String {
+    let data = lottie_json.replace("</", "<\\/");
     format!(
         r#"<!doctype html>
 <meta charset="utf-8"><title>gmotion: {example}</title>
@@ -384,8 +401,8 @@ fn viewer_html(example: &str) -> String {
 <figure><img src="{example}.svg"><figcaption>SMIL ({example}.svg)</figcaption></figure>
 <script src="https://unpkg.com/lottie-web@5/build/player/lottie.min.js"></script>
 <script>
-fetch("{example}.json").then(r => r.json()).then(data =>
-  lottie.loadAnimation({{container: document.getElementById("lottie"), renderer: "svg", loop: true, autoplay: true, animationData: data}}));
+const data = {data};
+lottie.loadAnimation({{container: document.getElementById("lottie"), renderer: "svg", loop: true, autoplay: true, animationData: data}});
 </script>
 "#
     )

@@ -68,9 +68,9 @@ enum Command {
         grammar: PathBuf,
         /// Optional scene to expand the grammar on.
         scene: Option<PathBuf>,
-        /// Write the grammar graph as Graphviz DOT.
+        /// Write the grammar graph: `.dot` (Graphviz) or `.svg` (a drawing; group grammars).
         #[arg(long)]
-        dot: Option<PathBuf>,
+        graph: Option<PathBuf>,
         #[command(flatten)]
         run: RunArgs,
         #[command(flatten)]

@@ -77,8 +77,12 @@ pub struct RunOptions {
 /// Statistics of one run, for `gmotion check` and benchmarks.
 #[derive(Clone, Debug, Default)]
 pub struct RunStats {
-    /// Expansion steps taken.
+    /// Timeslice expansion steps taken.
     pub steps: usize,
+    /// Spatial (group grammar) expansion steps taken.
+    pub spatial_steps: usize,
+    /// Things the author should know (degenerate geometry, approximations).
+    pub warnings: Vec<String>,
     /// How many times each rule (by index in the grammar) was applied.
     pub rule_uses: Vec<usize>,
     /// Total timeslices after expansion.
@@ -106,12 +110,41 @@ pub fn run(scene: Scene, grammar: &Grammar, opts: &RunOptions) -> Result<(Animat
     if scene.shapes.is_empty() {
         return Err(EngineError::general("the scene has no visible shapes to animate"));
     }
-    let tags: Vec<&str> = scene.shapes.iter().map(|s| s.tag.as_str()).collect();
-    rules::check_shape_tags(grammar, &tags)?;
+    let mut warnings = Vec::new();
+    let mut tangle_steps = 0;
+    let scene = if program.spatial.is_empty() {
+        rules::check_shape_tags(grammar, &scene_tags(&scene), false)?;
+        scene
+    } else {
+        // Spatial rules may consume the scene's tags and the tags spatial rules produce.
+        let mut known = scene_tags(&scene);
+        let spatial: Vec<&crate::grammar::ast::Rule> = program.spatial.iter().map(|&i| &grammar.rules[i]).collect();
+        known.extend(spatial.iter().flat_map(|r| r.outputs.iter().map(|t| t.name.as_str())));
+        rules::check_shape_tags(grammar, &known, true)?;
+        let topts = crate::tangle::TangleOptions { seed: settings.seed, ..Default::default() };
+        let (expanded, tstats) = crate::tangle::expand(&scene, &spatial, &topts).map_err(|e| match &e {
+            crate::tangle::TangleError::Arg { span, message } => EngineError::at(*span, message.clone()),
+            other => EngineError::general(other.to_string()),
+        })?;
+        for w in &tstats.warnings {
+            warnings.push(match w.span {
+                Some(s) => format!("{}:{}: {}", s.line, s.col, w.message),
+                None => w.message.clone(),
+            });
+        }
+        tangle_steps = tstats.steps;
+        if expanded.shapes.is_empty() {
+            return Err(EngineError::general("the spatial rules left no shapes to animate"));
+        }
+        rules::check_shape_tags(grammar, &scene_tags(&expanded), false)?;
+        expanded
+    };
     let expansion = expand::expand(&scene, &program, &settings)?;
     let tracks = compile::compile(&scene, &expansion, &settings);
     let stats = RunStats {
         steps: expansion.steps,
+        spatial_steps: tangle_steps,
+        warnings,
         rule_uses: expansion.rule_uses.clone(),
         slices: expansion.timelines.iter().map(Vec::len).sum(),
         shapes: scene.shapes.len(),
@@ -124,4 +157,11 @@ pub fn run(scene: Scene, grammar: &Grammar, opts: &RunOptions) -> Result<(Animat
         tracks,
     };
     Ok((anim, stats))
+}
+
+fn scene_tags(scene: &Scene) -> Vec<&str> {
+    let mut tags: Vec<&str> = scene.shapes.iter().map(|s| s.tag.as_str()).collect();
+    tags.sort_unstable();
+    tags.dedup();
+    tags
 }

@@ -293,8 +293,10 @@ fn check_slice_tags(grammar: &Grammar) -> Result<(), EngineError> {
 }
 
 /// Every shape tag a rule names must be `all` or the tag of some shape in the scene.
-pub fn check_shape_tags(grammar: &Grammar, scene_tags: &[&str]) -> Result<(), EngineError> {
-    for r in &grammar.rules {
+/// `spatial` selects which rules are checked: the spatial ones (against the scene before
+/// the group grammar runs) or the timeslice ones (against the scene it leaves).
+pub fn check_shape_tags(grammar: &Grammar, scene_tags: &[&str], spatial: bool) -> Result<(), EngineError> {
+    for r in grammar.rules.iter().filter(|r| r.spatial == spatial) {
         for t in &r.shape_tags {
             if t.name != "all" && !scene_tags.contains(&t.name.as_str()) {
                 let hint = crate::grammar::diagnostics::did_you_mean(&t.name, scene_tags.iter().copied())
