@@ -169,7 +169,7 @@ fn parse_in(
         ..Default::default()
     };
     if src.has_text {
-        uopt.fontdb_mut().load_system_fonts();
+        uopt.fontdb = system_fonts();
     }
     let tree = usvg::Tree::from_str(&src.prepared, &uopt).map_err(|e| match e {
         usvg::Error::InvalidSize => ImportError::Size {
@@ -232,6 +232,19 @@ fn parse_in(
         .map(|w| format!("{source_name}: {w}"))
         .collect();
     Ok(Imported { scene, warnings })
+}
+
+/// The system fonts, scanned once per process (a scan reads every font file's tables).
+fn system_fonts() -> std::sync::Arc<usvg::fontdb::Database> {
+    static FONTS: std::sync::OnceLock<std::sync::Arc<usvg::fontdb::Database>> =
+        std::sync::OnceLock::new();
+    FONTS
+        .get_or_init(|| {
+            let mut db = usvg::fontdb::Database::new();
+            db.load_system_fonts();
+            std::sync::Arc::new(db)
+        })
+        .clone()
 }
 
 fn unit_node<'s>(scene: &'s Scene, path: &[usize]) -> Option<&'s crate::scene::Node> {
