@@ -18,3 +18,4 @@ pub mod motion;
 pub mod scene;
 pub mod signals;
 pub mod tangle;
+pub mod transitions;

@@ -1,0 +1,282 @@
+//! Smoothed samples into the animation model: per frame, a rigid motion window whose
+//! components carry the shape from its transform at one frame to the next, and
+//! attribute windows for opacity and fill.
+//!
+//! A window from frame `k` to `k+1` starts from the accumulated transform `A_k` and adds
+//! `R = A_{k+1}·A_k⁻¹`, written as components about the anchor's current position
+//! `p = anchor + offset_k`: `R = T(Δoffset) · About(p, Rot(Δθ) · Scale(s_{k+1}/s_k))`. That
+//! product is exact whenever the scale change is uniform or the shape is not rotated
+//! at frame `k`; otherwise the rotation and scale part is one `Matrix` component. Frames
+//! where nothing changes get no window (the track holds).
+
+use std::sync::Arc;
+
+use kurbo::{Affine, Point, Vec2};
+
+use super::samples::{FrameState, Samples, ShapeSamples};
+use crate::motion::{
+    Animation, AttrSeg, Component, Interp, MotionKind, MotionSeg, Timing, Tint, Track,
+};
+use crate::scene::Scene;
+use crate::signals::Easing;
+
+/// The animation for `samples` on `scene` (shapes without samples get empty tracks).
+pub fn animation(scene: &Scene, samples: &Samples) -> Animation {
+    let mut tracks = vec![Track::default(); scene.shapes.len()];
+    for s in &samples.shapes {
+        tracks[s.shape] = track(s, samples);
+    }
+    Animation {
+        scene: scene.clone(),
+        duration: samples.duration(),
+        fps: samples.fps,
+        looping: false,
+        tracks,
+    }
+}
+
+fn timing(t0: f64, t1: f64) -> Timing {
+    Timing {
+        start: t0,
+        end: t1,
+        delay: 0.0,
+        ease: Easing::Linear,
+        reversed: false,
+    }
+}
+
+/// Coefficient-wise equality within `tol` relative to each coefficient's size.
+fn near(a: Affine, b: Affine, tol: f64) -> bool {
+    a.as_coeffs()
+        .iter()
+        .zip(b.as_coeffs())
+        .all(|(x, y)| (x - y).abs() <= tol * (1.0 + x.abs().max(y.abs())))
+}
+
+/// The same transform up to rounding: frames that do not move get no window.
+fn close(a: Affine, b: Affine) -> bool {
+    near(a, b, 1e-12)
+}
+
+/// The track of one shape.
+pub fn track(s: &ShapeSamples, samples: &Samples) -> Track {
+    let states: Vec<FrameState> = (0..samples.frames).map(|k| s.state(k)).collect();
+    let mut track = Track::default();
+    if s.has_transform() {
+        let mats: Vec<Affine> = states.iter().map(|st| st.transform(s.anchor)).collect();
+        for k in 0..samples.frames - 1 {
+            let first = k == 0 && !close(mats[0], Affine::IDENTITY);
+            if !first && close(mats[k], mats[k + 1]) {
+                continue;
+            }
+            let (pivot, comps) = window(s.anchor, &states[k], &states[k + 1], mats[k], mats[k + 1]);
+            track.motions.push(MotionSeg {
+                t0: samples.time(k),
+                t1: samples.time(k + 1),
+                timing: timing(samples.time(k), samples.time(k + 1)),
+                kind: MotionKind::Rigid {
+                    pivot,
+                    blend: vec![(1.0, Arc::from(comps))],
+                    interp: Interp::Linear,
+                },
+                start: mats[k],
+            });
+        }
+    }
+    let opacity: Vec<f64> = states.iter().map(|st| st.opacity.clamp(0.0, 1.0)).collect();
+    track.opacity = attr_windows(&opacity, 1.0, samples, |a, b| a == b);
+    if states.first().is_some_and(|st| st.fill.is_some()) {
+        let tints: Vec<Tint> = states
+            .iter()
+            .map(|st| tint(st.fill.unwrap_or_default()))
+            .collect();
+        track.fill = attr_windows(&tints, Tint::NONE, samples, |a, b| a == b);
+    }
+    track
+}
+
+/// A smoothed `(r·w, g·w, b·w, w)` as a tint, clamped into the tint's valid range
+/// (springs may overshoot it slightly).
+fn tint(v: [f64; 4]) -> Tint {
+    let c = |x: f64| x.clamp(0.0, 1.0) as f32;
+    Tint {
+        sum: [c(v[0]), c(v[1]), c(v[2])],
+        weight: c(v[3]),
+    }
+}
+
+/// One attribute window per frame whose value changes, plus one at frame 0 when the
+/// starting value is not the channel's rest value.
+fn attr_windows<T: Copy>(
+    values: &[T],
+    rest: T,
+    samples: &Samples,
+    same: impl Fn(&T, &T) -> bool,
+) -> Vec<AttrSeg<T>> {
+    let mut out = Vec::new();
+    for k in 0..values.len().saturating_sub(1) {
+        let first = k == 0 && !same(&values[0], &rest);
+        if !first && same(&values[k], &values[k + 1]) {
+            continue;
+        }
+        let (t0, t1) = (samples.time(k), samples.time(k + 1));
+        out.push(AttrSeg {
+            t0,
+            t1,
+            timing: timing(t0, t1),
+            from: values[k],
+            to: values[k + 1],
+        });
+    }
+    out
+}
+
+/// The pivot and components of the window from `a` (transform `ma`) to `b` (`mb`).
+fn window(
+    anchor: Point,
+    a: &FrameState,
+    b: &FrameState,
+    ma: Affine,
+    mb: Affine,
+) -> (Point, Vec<Component>) {
+    let pivot = anchor + a.offset;
+    let about =
+        |m: Affine| Affine::translate(pivot.to_vec2()) * m * Affine::translate(-pivot.to_vec2());
+    let d = b.offset - a.offset;
+    let (sa, sb) = (a.clamped_scale(), b.clamped_scale());
+    let ratio = Vec2::new(sb.x / sa.x, sb.y / sa.y);
+    let uniform = (ratio.x - ratio.y).abs() <= 1e-12 * ratio.x.abs().max(1.0);
+    let mut comps = Vec::new();
+    if d != Vec2::ZERO {
+        comps.push(Component::Translate(d));
+    }
+    if uniform || a.rotate.rem_euclid(360.0) == 0.0 {
+        if b.rotate != a.rotate {
+            comps.push(Component::Rotate(b.rotate - a.rotate));
+        }
+        if ratio != Vec2::new(1.0, 1.0) {
+            comps.push(Component::Scale(ratio));
+        }
+    } else {
+        let rot = |deg: f64| Affine::rotate(deg.to_radians());
+        let m = rot(b.rotate) * Affine::scale_non_uniform(ratio.x, ratio.y) * rot(-a.rotate);
+        comps.push(Component::Matrix(m));
+    }
+    if comps.is_empty() {
+        // The first window of a shape that starts displaced and holds: it only carries
+        // the starting transform.
+        comps.push(Component::Translate(Vec2::ZERO));
+    }
+    let full = about(crate::motion::component::product_at(&comps, 1.0));
+    if near(full * ma, mb, 1e-9) {
+        (pivot, comps)
+    } else {
+        // Rounding in the decomposition: fall back to the exact relative matrix.
+        (Point::ORIGIN, vec![Component::Matrix(mb * ma.inverse())])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::importers::svg::{ImportOptions, parse};
+    use crate::signals::SmoothSpec;
+    use crate::transitions::{Targets, examples, sample};
+
+    /// Every frame of every track reproduces the samples it was built from.
+    fn assert_tracks_reproduce(
+        scene: &Scene,
+        targets: &Targets,
+        system: &SmoothSpec,
+        fps: f64,
+    ) -> usize {
+        let samples = sample(scene, targets, system, fps, None).unwrap();
+        let anim = animation(scene, &samples);
+        assert_eq!(anim.tracks.len(), scene.shapes.len());
+        let mut windows = 0;
+        for s in &samples.shapes {
+            let track = &anim.tracks[s.shape];
+            windows += track.motions.len();
+            for k in 0..samples.frames {
+                let t = samples.time(k);
+                let want = s.state(k);
+                let got = track.state_at(t);
+                let m = want.transform(s.anchor);
+                for (a, b) in got.transform.as_coeffs().iter().zip(m.as_coeffs()) {
+                    assert!(
+                        (a - b).abs() < 1e-6 * (1.0 + b.abs()),
+                        "shape {} frame {k}: {a} vs {b}",
+                        s.shape
+                    );
+                }
+                assert!((got.opacity - want.opacity.clamp(0.0, 1.0)).abs() < 1e-12);
+                if let Some(f) = want.fill {
+                    let tint = super::tint(f);
+                    assert!((got.fill.weight - tint.weight).abs() < 1e-6, "frame {k}");
+                    for c in 0..3 {
+                        assert!((got.fill.sum[c] - tint.sum[c]).abs() < 1e-6);
+                    }
+                }
+            }
+        }
+        windows
+    }
+
+    #[test]
+    fn examples_run_and_tracks_reproduce_samples() {
+        for ex in examples().unwrap() {
+            let scene = parse(&ex.svg, ex.name, &ImportOptions::default())
+                .unwrap()
+                .scene;
+            let targets = Targets::parse(&ex.targets.to_json()).unwrap();
+            let system = targets.default_system(None);
+            let windows = assert_tracks_reproduce(&scene, &targets, &system, 30.0);
+            assert!(windows > 100, "{}: only {windows} motion windows", ex.name);
+        }
+    }
+
+    #[test]
+    fn rotation_with_non_uniform_scale_stays_exact() {
+        let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="200" height="200">
+            <rect class="box" x="20" y="30" width="40" height="20" fill="#f00"/>
+            <rect class="box" x="100" y="100" width="30" height="30" fill="#00f"/></svg>"##;
+        let scene = parse(svg, "test", &ImportOptions::default()).unwrap().scene;
+        let csv = "# anchor.box: 0 1\ntime,tag,id,attr,value\n0,box,0,rotate,30\n0.2,box,*,rotate,-45\n\
+                   0.3,box,0,sx,2\n0.5,box,1,sy,0\n0.6,box,*,x,150\n0.7,box,1,opacity,0.2\n0.8,box,0,fill,#00ff00\n";
+        let targets = Targets::parse(csv).unwrap();
+        for text in ["spring(0.3, 0.4)", "fir(bspline(3), 0.2)", "none"] {
+            let system = SmoothSpec::parse(text).unwrap();
+            assert_tracks_reproduce(&scene, &targets, &system, 24.0);
+        }
+    }
+
+    #[test]
+    fn unknown_shapes_are_reported_with_their_line() {
+        let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="50" height="50">
+            <rect class="box" x="0" y="0" width="10" height="10"/></svg>"##;
+        let scene = parse(svg, "test", &ImportOptions::default()).unwrap().scene;
+        let system = SmoothSpec::Identity;
+        for (csv, needle) in [
+            (
+                "time,tag,id,attr,value\n1,ball,0,x,3\n",
+                "line 2: no shape has the tag `ball`",
+            ),
+            (
+                "time,tag,id,attr,value\n1,box,4,x,3\n",
+                "line 2: shape `box` #4 does not exist",
+            ),
+        ] {
+            let targets = Targets::parse(csv).unwrap();
+            let msg = crate::transitions::run(&scene, &targets, &system, 30.0, None)
+                .unwrap_err()
+                .to_string();
+            assert!(msg.contains(needle), "{msg}");
+        }
+        let targets = Targets::parse("time,tag,id,attr,value\n1,box,0,x,3\n").unwrap();
+        let arc = SmoothSpec::parse("arc(0.5, 1)").unwrap();
+        assert!(crate::transitions::run(&scene, &targets, &system, 0.0, None).is_err());
+        assert!(crate::transitions::run(&scene, &targets, &arc, 30.0, Some(-1.0)).is_err());
+        let ok = crate::transitions::run(&scene, &targets, &arc, 30.0, None).unwrap();
+        assert!(ok.duration > 1.0 && ok.duration < 2.5, "{}", ok.duration);
+    }
+}
