@@ -2,10 +2,10 @@
 //!
 //! An [`AttrSeg`] list holds its last value between segments, so the channel is a chain of
 //! holds, jumps (equal-time keys) and eased runs; every run is exact because the value is
-//! linear in the progress. An easing SMIL cannot say is sampled and reduced instead.
+//! linear in the progress. The progress of an easing SMIL cannot say is sampled and reduced.
 
-use super::bake::{fraction, reduce, sample_times};
-use super::curve::{Key, progress_keys};
+use super::bake::sample_times;
+use super::curve::{Key, progress_keys, sampled_progress};
 use crate::motion::{AttrSeg, Blendable};
 
 /// How baked attribute values are compared.
@@ -48,11 +48,15 @@ pub fn attr_keys<T: Blendable + PartialEq>(
                 baked += 1;
                 let (x, y) = seg.timing.active();
                 let ts = sample_times(a, b, bake.rate, 8, &[x, y]);
-                let vs: Vec<T> = ts.iter().map(|&t| seg.value_at(t)).collect();
-                let keep = reduce(ts.len(), bake.tolerance, |k, lo, hi| {
-                    (bake.dist)(vs[lo].blend(vs[hi], fraction(&ts, k, lo, hi)), vs[k])
+                let value = |p: f64| seg.from.blend(seg.to, p);
+                let ps = sampled_progress(&seg.timing, &ts, bake.tolerance, |_, played, truth| {
+                    (bake.dist)(value(played), value(truth))
                 });
-                keys.extend(keep.iter().map(|&k| Key::linear(ts[k], vs[k])));
+                keys.extend(ps.iter().map(|k| Key {
+                    t: k.t,
+                    v: value(k.v),
+                    ease: k.ease,
+                }));
             }
         }
     }

@@ -192,6 +192,65 @@ fn y_extrema(c: &CubicBez) -> Vec<f64> {
     roots
 }
 
+/// The progress of `timing` at the sample instants `ts` as few keys as keep
+/// `err(i, played, true)` within `tolerance` at every sample `i` (`err` measures what a
+/// progress error costs, e.g. on the canvas). For easings that are not cubic Béziers: each
+/// run between kept samples is a cubic Hermite piece with the curve's own slopes at its ends
+/// (a key spline with `x1 = 1/3, x2 = 2/3`) where that fits the spline box, else straight.
+pub fn sampled_progress(
+    timing: &Timing,
+    ts: &[f64],
+    tolerance: f64,
+    err: impl Fn(usize, f64, f64) -> f64,
+) -> Vec<Key<f64>> {
+    let ps: Vec<f64> = ts.iter().map(|&t| timing.progress(t)).collect();
+    // One-sided slopes: the curve may kink where the change starts and stops.
+    let h = 1e-6 * (timing.end - timing.start).abs().max(1e-3);
+    let slopes: Vec<(f64, f64)> = ts
+        .iter()
+        .zip(&ps)
+        .map(|(&t, &p)| {
+            (
+                (p - timing.progress(t - h)) / h,
+                (timing.progress(t + h) - p) / h,
+            )
+        })
+        .collect();
+    let piece = |i: usize, j: usize| -> Ease {
+        let (dt, dp) = (ts[j] - ts[i], ps[j] - ps[i]);
+        if dt <= TIME_EPS || dp.abs() <= 1e-12 {
+            return Ease::Linear;
+        }
+        let y1 = slopes[i].1 * dt / (3.0 * dp);
+        let y2 = 1.0 - slopes[j].0 * dt / (3.0 * dp);
+        if (0.0..=1.0).contains(&y1) && (0.0..=1.0).contains(&y2) {
+            Ease::Spline([1.0 / 3.0, y1, 2.0 / 3.0, y2])
+        } else {
+            Ease::Linear
+        }
+    };
+    let keep = super::bake::reduce(ts.len(), tolerance, |k, i, j| {
+        let x = super::bake::fraction(ts, k, i, j);
+        let y = match piece(i, j) {
+            // With x1 = 1/3 and x2 = 2/3 the spline's x is its parameter.
+            Ease::Spline([_, y1, _, y2]) => {
+                3.0 * (1.0 - x) * x * ((1.0 - x) * y1 + x * y2) + x * x * x
+            }
+            Ease::Linear => x,
+        };
+        err(k, ps[i] + (ps[j] - ps[i]) * y, ps[k])
+    });
+    let mut keys = vec![Key::linear(ts[keep[0]], ps[keep[0]])];
+    for w in keep.windows(2) {
+        keys.push(Key {
+            t: ts[w[1]],
+            v: ps[w[1]],
+            ease: piece(w[0], w[1]),
+        });
+    }
+    keys
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -293,6 +352,25 @@ mod tests {
         let keys = progress_keys(&tm, 0.0, 2.0).unwrap();
         let jump: Vec<(f64, f64)> = keys.iter().map(|k| (k.t, k.v)).collect();
         assert_eq!(jump, vec![(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (2.0, 1.0)]);
+    }
+
+    #[test]
+    fn sampled_easings_stay_within_tolerance_with_few_keys() {
+        for ease in [Easing::BSpline(4), Easing::poles(3).unwrap()] {
+            for reversed in [false, true] {
+                let tm = timing(ease.clone(), reversed, 0.3);
+                let ts =
+                    crate::exporters::smil::bake::sample_times(0.5, 3.5, 240.0, 8, &[1.3, 3.0]);
+                // An error of one progress unit costs 100 canvas units.
+                let keys = sampled_progress(&tm, &ts, 0.05, |_, a, b| 100.0 * (a - b).abs());
+                assert!(keys.len() < 16, "{ease:?}: {} keys", keys.len());
+                for i in 0..=2000 {
+                    let t = 0.5 + 3.0 * i as f64 / 2000.0;
+                    let err = 100.0 * (play(&keys, t) - tm.progress(t)).abs();
+                    assert!(err < 0.1, "{ease:?} reversed {reversed} at {t}: {err}");
+                }
+            }
+        }
     }
 
     #[test]

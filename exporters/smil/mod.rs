@@ -20,8 +20,8 @@
 //! step). Gradients and patterns nested inside a tinted pattern keep their colours (a
 //! [`Warning`] names the shape).
 //!
-//! Output is deterministic byte for byte; numbers are rounded to 1e-4 user units (1e-6 for
-//! factors and key times).
+//! Output is deterministic byte for byte; numbers are rounded to 1e-4 user units and
+//! degrees, 1e-6 for scale factors, matrix entries and key times, 1e-5 for key splines.
 
 mod attr;
 mod bake;

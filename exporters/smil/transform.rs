@@ -16,7 +16,7 @@
 use kurbo::{Affine, Point};
 
 use super::bake::{fraction, reduce, sample_times};
-use super::curve::{Key, progress_keys};
+use super::curve::{Key, progress_keys, sampled_progress};
 use super::decompose::Decomposed;
 use crate::motion::component::product_at;
 use crate::motion::{Component, Interp, MotionKind, MotionSeg, Track};
@@ -105,8 +105,8 @@ struct RawLayer {
 enum SegLayer {
     /// It never moves within the document.
     Identity,
-    /// Written exactly.
-    Exact(RawLayer),
+    /// Written as its components; `true` when the progress was sampled.
+    Exact(RawLayer, bool),
 }
 
 /// Plans the groups for a rigid track whose unit node sits under `parent` (its parent's
@@ -135,15 +135,27 @@ pub fn plan(
         for (k, seg) in group.iter().enumerate() {
             let a = seg.t0.max(0.0);
             let b = ends[k].max(a);
-            match exact_layer(seg, a, b) {
+            let w = Window {
+                group,
+                k,
+                a,
+                b,
+                corners,
+                ctx,
+            };
+            match exact_layer(&w) {
                 Some(SegLayer::Identity) => {}
-                Some(SegLayer::Exact(l)) => {
-                    exact += 1;
+                Some(SegLayer::Exact(l, sampled)) => {
+                    if sampled {
+                        baked += 1;
+                    } else {
+                        exact += 1;
+                    }
                     layers.push(l);
                 }
                 None => {
                     baked += 1;
-                    layers.push(baked_layer(group, k, a, b, corners, ctx));
+                    layers.push(baked_layer(&w));
                 }
             }
         }
@@ -278,8 +290,82 @@ fn smil_value(c: &Component, p: f64) -> [f64; 2] {
     }
 }
 
-/// The exact layer of a single-entry linear rigid segment; `None` when it needs baking.
-fn exact_layer(seg: &MotionSeg, a: f64, b: f64) -> Option<SegLayer> {
+/// One segment of a window group, over `[a, b]`, with what measuring its error needs.
+struct Window<'g> {
+    group: &'g [MotionSeg],
+    k: usize,
+    a: f64,
+    b: f64,
+    corners: &'g [Point; 4],
+    ctx: &'g Ctx,
+}
+
+/// Sample instants of a window with, at each, the transform of the segments outside this
+/// one and where the shape's corners are before this one acts.
+struct Samples {
+    ts: Vec<f64>,
+    outer: Vec<Affine>,
+    points: Vec<[Point; 4]>,
+}
+
+impl Window<'_> {
+    fn seg(&self) -> &MotionSeg {
+        &self.group[self.k]
+    }
+
+    fn samples(&self) -> Samples {
+        let (act0, act1) = self.seg().timing.active();
+        let ts = sample_times(self.a, self.b, self.ctx.rate, 8, &[act0, act1]);
+        let product = |segs: &[MotionSeg], t: f64| {
+            segs.iter()
+                .fold(Affine::IDENTITY, |m, s| m * s.relative_at(t))
+        };
+        let outer = ts
+            .iter()
+            .map(|&t| product(&self.group[..self.k], t))
+            .collect();
+        let points = ts
+            .iter()
+            .map(|&t| {
+                let inner = product(&self.group[self.k + 1..], t) * self.group[0].start;
+                self.corners.map(|q| inner * q)
+            })
+            .collect();
+        Samples { ts, outer, points }
+    }
+}
+
+impl Samples {
+    /// How far the corners land from the truth at sample `i` when this segment plays `m`.
+    fn error(&self, i: usize, m: Affine, truth: Affine) -> f64 {
+        let o = self.outer[i];
+        self.points[i]
+            .iter()
+            .map(|&q| (o * (m * q) - o * (truth * q)).hypot())
+            .fold(0.0, f64::max)
+    }
+
+    /// Keeps the samples (of values `vs`, played by `play`) that the tolerance needs.
+    fn reduce<V: Copy>(
+        &self,
+        tolerance: f64,
+        vs: &[V],
+        lerp: impl Fn(V, V, f64) -> V,
+        play: impl Fn(V) -> Affine,
+    ) -> Vec<usize> {
+        let truth: Vec<Affine> = vs.iter().map(|&v| play(v)).collect();
+        reduce(self.ts.len(), tolerance, |i, lo, hi| {
+            let v = lerp(vs[lo], vs[hi], fraction(&self.ts, i, lo, hi));
+            self.error(i, play(v), truth[i])
+        })
+    }
+}
+
+/// The layer of a single-entry linear rigid segment, whose components SMIL animates
+/// exactly; the progress is exact for cubic easings and sampled for others. `None` when
+/// the segment needs baking as a whole.
+fn exact_layer(w: &Window<'_>) -> Option<SegLayer> {
+    let seg = w.seg();
     let MotionKind::Rigid {
         pivot,
         blend,
@@ -293,12 +379,25 @@ fn exact_layer(seg: &MotionSeg, a: f64, b: f64) -> Option<SegLayer> {
     };
     let comps: Vec<Component> = comps.iter().filter(|c| !c.is_identity()).copied().collect();
     let kinds: Vec<Kind> = comps.iter().map(smil_kind).collect::<Option<_>>()?;
-    let keys = progress_keys(&seg.timing, a, b)?;
     let p_ref = seg.timing.progress(seg.t0);
+    let held = invert(product_at(&comps, p_ref))?;
+    let (keys, sampled) = match progress_keys(&seg.timing, w.a, w.b) {
+        Some(keys) => (keys, false),
+        None => {
+            let s = w.samples();
+            let about = |m: Affine| {
+                Affine::translate(pivot.to_vec2()) * m * Affine::translate(-pivot.to_vec2())
+            };
+            let play = |p: f64| about(product_at(&comps, p) * held);
+            let keys = sampled_progress(&seg.timing, &s.ts, w.ctx.tolerance, |i, played, truth| {
+                s.error(i, play(played), play(truth))
+            });
+            (keys, true)
+        }
+    };
     if comps.is_empty() || keys.iter().all(|k| (k.v - p_ref).abs() <= 1e-12) {
         return Some(SegLayer::Identity);
     }
-    let held = invert(product_at(&comps, p_ref))?;
     let anims = comps
         .iter()
         .zip(kinds)
@@ -316,48 +415,27 @@ fn exact_layer(seg: &MotionSeg, a: f64, b: f64) -> Option<SegLayer> {
         })
         .collect();
     let to_pivot = Affine::translate(pivot.to_vec2());
-    Some(SegLayer::Exact(RawLayer {
+    let layer = RawLayer {
         prefix: to_pivot,
         anims,
         suffix: held * to_pivot.inverse(),
-    }))
+    };
+    Some(SegLayer::Exact(layer, sampled))
 }
 
-/// Samples segment `k` of `group` over `[a, b]` and keeps what the tolerance needs,
-/// measuring the error where the shape's corners are on the canvas at each sample.
-fn baked_layer(
-    group: &[MotionSeg],
-    k: usize,
-    a: f64,
-    b: f64,
-    corners: &[Point; 4],
-    ctx: &Ctx,
-) -> RawLayer {
-    let seg = &group[k];
-    let (act0, act1) = seg.timing.active();
-    let ts = sample_times(a, b, ctx.rate, 8, &[act0, act1]);
-    let product = |segs: &[MotionSeg], t: f64| {
-        segs.iter()
-            .fold(Affine::IDENTITY, |m, s| m * s.relative_at(t))
-    };
-    let outer: Vec<Affine> = ts.iter().map(|&t| product(&group[..k], t)).collect();
-    let truth: Vec<Affine> = ts.iter().map(|&t| seg.relative_at(t)).collect();
-    let points: Vec<[Point; 4]> = ts
-        .iter()
-        .map(|&t| {
-            let inner = product(&group[k + 1..], t) * group[0].start;
-            corners.map(|q| inner * q)
-        })
-        .collect();
+/// Samples a segment as `translate·rotate·scale·skewX` and keeps what the tolerance needs.
+fn baked_layer(w: &Window<'_>) -> RawLayer {
+    let seg = w.seg();
+    let s = w.samples();
+    let truth: Vec<Affine> = s.ts.iter().map(|&t| seg.relative_at(t)).collect();
     let dec = decompose_all(&truth);
-    let keep = reduce(ts.len(), ctx.tolerance, |i, lo, hi| {
-        let m = dec[lo].lerp(dec[hi], fraction(&ts, i, lo, hi)).to_affine();
-        points[i]
-            .iter()
-            .map(|&q| (outer[i] * (m * q) - outer[i] * (truth[i] * q)).hypot())
-            .fold(0.0, f64::max)
-    });
-    let keys: Vec<(f64, Decomposed)> = keep.iter().map(|&i| (ts[i], dec[i])).collect();
+    let keep = s.reduce(
+        w.ctx.tolerance,
+        &dec,
+        |x, y, f| x.lerp(y, f),
+        |d| d.to_affine(),
+    );
+    let keys: Vec<(f64, Decomposed)> = keep.iter().map(|&i| (s.ts[i], dec[i])).collect();
     RawLayer {
         prefix: Affine::IDENTITY,
         anims: decomposed_anims(&keys, false),
