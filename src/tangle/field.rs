@@ -101,38 +101,146 @@ impl Field {
     /// The unit line direction at `p` (either sense), or `None` near a singularity where the
     /// boundary data cancel.
     pub fn at(&self, p: Point) -> Option<Vec2> {
+        halve(self.doubled_at(p)?)
+    }
+
+    /// The interpolated doubled-angle vector at `p` (`None` only where the weights vanish).
+    fn doubled_at(&self, p: Point) -> Option<Vec2> {
         let mut num = Vec2::ZERO;
         let mut den = 0.0;
         for ring in &self.rings {
-            let n = ring.points.len();
-            let d: Vec<Vec2> = ring.points.iter().map(|&q| q - p).collect();
-            let r: Vec<f64> = d.iter().map(|v| v.hypot()).collect();
-            // tan(αᵢ/2) for the edge i → i+1, with αᵢ the signed angle it subtends at p.
-            let mut tans = Vec::with_capacity(n);
-            for i in 0..n {
-                let j = (i + 1) % n;
-                if r[i] < 1e-9 {
-                    return halve(ring.values[i]);
+            let (pts, vals) = (&ring.points, &ring.values);
+            let n = pts.len();
+            // tan(α/2) of the edge a → b, α the signed angle it subtends at p; or, when p
+            // lies on the vertex a or on the edge, the value there.
+            let tan = |i: usize, j: usize| -> Result<(f64, f64), Vec2> {
+                let (di, dj) = (pts[i] - p, pts[j] - p);
+                let (ri, rj) = (di.hypot(), dj.hypot());
+                if ri < 1e-9 {
+                    return Err(vals[i]);
                 }
-                let cross = d[i].cross(d[j]);
-                let denom = r[i] * r[j] + d[i].dot(d[j]);
-                if denom <= 1e-12 * r[i] * r[j] && r[j] >= 1e-9 {
-                    // p lies on the edge: interpolate along it.
-                    let t = r[i] / (r[i] + r[j]);
-                    return halve(ring.values[i].lerp(ring.values[j], t));
+                let denom = ri * rj + di.dot(dj);
+                if denom <= 1e-12 * ri * rj && rj >= 1e-9 {
+                    return Err(vals[i].lerp(vals[j], ri / (ri + rj)));
                 }
-                tans.push(cross / denom);
-            }
+                Ok((di.cross(dj) / denom, ri))
+            };
+            let mut prev = match tan(n - 1, 0) {
+                Ok((t, _)) => t,
+                Err(v) => return Some(v),
+            };
             for i in 0..n {
-                let w = (tans[(i + n - 1) % n] + tans[i]) / r[i];
-                num += ring.values[i] * w;
+                let (t, r) = match tan(i, (i + 1) % n) {
+                    Ok(x) => x,
+                    Err(v) => return Some(v),
+                };
+                let w = (prev + t) / r;
+                num += vals[i] * w;
                 den += w;
+                prev = t;
             }
         }
-        if den.abs() < 1e-300 {
-            return None;
+        (den.abs() > 1e-300).then(|| num / den)
+    }
+}
+
+/// A field sampled lazily on a grid and interpolated bilinearly (in the doubled-angle
+/// space, where interpolation is meaningful): tracing asks for thousands of nearby
+/// directions, and each exact evaluation costs a pass over the whole boundary.
+struct Sampler<'a> {
+    field: &'a Field,
+    origin: Point,
+    cell: f64,
+    cols: usize,
+    rows: usize,
+    /// Doubled-angle vectors at grid nodes; NaN until computed.
+    cache: Vec<Vec2>,
+    /// Sample the perpendicular field instead (the doubled angle turned by π).
+    across: bool,
+    region: &'a Region,
+    /// Per grid cell: whether the boundary passes near it.
+    edgy: Vec<bool>,
+    /// Per grid cell: 0 unknown, 1 inside, 2 outside (for cells the boundary misses).
+    inside: Vec<u8>,
+}
+
+/// Grid nodes are capped per shape; beyond that the grid coarsens.
+const MAX_NODES: f64 = 250_000.0;
+
+impl<'a> Sampler<'a> {
+    fn new(field: &'a Field, region: &'a Region, cell: f64) -> Sampler<'a> {
+        let bb = region.bbox().inflate(2.0 * cell, 2.0 * cell);
+        let cell = cell.max((bb.area() / MAX_NODES).sqrt());
+        let cols = (bb.width() / cell).ceil() as usize + 2;
+        let rows = (bb.height() / cell).ceil() as usize + 2;
+        let mut edgy = vec![false; cols * rows];
+        for (a, b) in region.edges() {
+            // Walk the edge in half cells, marking each cell met and its neighbours.
+            let n = ((b - a).hypot() / (0.5 * cell)).ceil().max(1.0) as usize;
+            for k in 0..=n {
+                let q = a.lerp(b, k as f64 / n as f64);
+                let c = ((q.x - bb.x0) / cell).floor() as isize;
+                let r = ((q.y - bb.y0) / cell).floor() as isize;
+                for (dc, dr) in (-1..=1).flat_map(|dc| (-1..=1).map(move |dr| (dc, dr))) {
+                    let (cc, rr) = (c + dc, r + dr);
+                    if cc >= 0 && rr >= 0 && (cc as usize) < cols && (rr as usize) < rows {
+                        edgy[rr as usize * cols + cc as usize] = true;
+                    }
+                }
+            }
         }
-        halve(num / den)
+        Sampler {
+            field,
+            origin: bb.origin(),
+            cell,
+            cols,
+            rows,
+            cache: vec![Vec2::new(f64::NAN, f64::NAN); cols * rows],
+            across: false,
+            region,
+            edgy,
+            inside: vec![0; cols * rows],
+        }
+    }
+
+    /// Whether `p` is inside the region: exact near the boundary, cached per cell elsewhere.
+    fn contains(&mut self, p: Point) -> bool {
+        let c = ((p.x - self.origin.x) / self.cell).floor();
+        let r = ((p.y - self.origin.y) / self.cell).floor();
+        if !(c >= 0.0 && r >= 0.0 && c < self.cols as f64 && r < self.rows as f64) {
+            return false;
+        }
+        let i = r as usize * self.cols + c as usize;
+        if self.edgy[i] {
+            return self.region.contains(p);
+        }
+        if self.inside[i] == 0 {
+            self.inside[i] = if self.region.contains(p) { 1 } else { 2 };
+        }
+        self.inside[i] == 1
+    }
+
+    fn node(&mut self, c: usize, r: usize) -> Vec2 {
+        let i = r * self.cols + c;
+        if self.cache[i].x.is_nan() {
+            let p = self.origin + Vec2::new(c as f64, r as f64) * self.cell;
+            self.cache[i] = self.field.doubled_at(p).unwrap_or(Vec2::ZERO);
+        }
+        self.cache[i]
+    }
+
+    fn at(&mut self, p: Point) -> Option<Vec2> {
+        let x = (p.x - self.origin.x) / self.cell;
+        let y = (p.y - self.origin.y) / self.cell;
+        if !(x >= 0.0 && y >= 0.0 && x < (self.cols - 1) as f64 && y < (self.rows - 1) as f64) {
+            return self.field.at(p).map(|v| if self.across { Vec2::new(-v.y, v.x) } else { v });
+        }
+        let (c, r) = (x.floor() as usize, y.floor() as usize);
+        let (fx, fy) = (x - c as f64, y - r as f64);
+        let top = self.node(c, r).lerp(self.node(c + 1, r), fx);
+        let bottom = self.node(c, r + 1).lerp(self.node(c + 1, r + 1), fx);
+        let u = top.lerp(bottom, fy);
+        halve(if self.across { -u } else { u })
     }
 }
 
@@ -161,8 +269,7 @@ enum End {
 /// `close = Some(snap)`, a streamline that comes back across the line through the seed
 /// perpendicular to its start, within `snap` of the seed, is closed there.
 fn trace(
-    field: &Field,
-    region: &Region,
+    field: &mut Sampler,
     seed: Point,
     initial: Vec2,
     step: f64,
@@ -188,7 +295,7 @@ fn trace(
         let v = oriented(v, v0);
         let q = p + v * step;
         travelled += step;
-        if !region.contains(q) {
+        if !field.contains(q) {
             pts.push(q);
             return (pts, End::Exit);
         }
@@ -215,20 +322,19 @@ fn trace(
 /// A streamline through `seed` traced both ways: a closed loop, or a curve whose two ends
 /// lie just outside the region. `None` when neither happens (it stalls inside).
 fn full_streamline(
-    field: &Field,
-    region: &Region,
+    field: &mut Sampler,
     seed: Point,
     step: f64,
     snap: f64,
     max_len: f64,
 ) -> Option<Vec<Point>> {
     let dir = field.at(seed)?;
-    let (fwd, end) = trace(field, region, seed, dir, step, max_len, Some(snap));
+    let (fwd, end) = trace(field, seed, dir, step, max_len, Some(snap));
     match end {
         End::Closed => Some(fwd),
         End::Stalled => None,
         End::Exit => {
-            let (mut back, end) = trace(field, region, seed, -dir, step, max_len, None);
+            let (mut back, end) = trace(field, seed, -dir, step, max_len, None);
             if end != End::Exit {
                 return None;
             }
@@ -361,13 +467,6 @@ fn radial_seeds(region: &Region, centre: Point, spacing: f64) -> Vec<(usize, Poi
     out
 }
 
-/// Distance from `p` to a polyline.
-fn polyline_distance(line: &[Point], p: Point) -> f64 {
-    line.windows(2)
-        .map(|w| super::polygon::segment_distance(p, w[0], w[1]))
-        .fold(f64::INFINITY, f64::min)
-}
-
 /// Evenly spaced streamlines of a field of `kind` inside `region`, `spacing` apart along
 /// a seed curve, traced with steps of `step`. Each is a closed loop or a curve whose ends
 /// lie just outside the region, ready to cut it.
@@ -376,6 +475,8 @@ pub fn streamlines(region: &Region, kind: FieldKind, spacing: f64, step: f64) ->
         return Vec::new();
     }
     let field = Field::new(region, kind);
+    // Grid nodes a third of the spacing apart resolve the field at the scale it is cut.
+    let mut sampler = Sampler::new(&field, region, spacing / 3.0);
     // A loop is closed when it comes back within a third of the spacing of its seed.
     let snap = (spacing / 3.0).max(step);
     let max_len = 2.0 * region.perimeter() + region.bbox().width() + region.bbox().height();
@@ -400,29 +501,21 @@ pub fn streamlines(region: &Region, kind: FieldKind, spacing: f64, step: f64) ->
             let Some((c, _)) = pole(region) else {
                 return Vec::new();
             };
-            let across = Field {
-                rings: field
-                    .rings
-                    .iter()
-                    .map(|r| Ring {
-                        points: r.points.clone(),
-                        values: r.values.iter().map(|&u| -u).collect(),
-                    })
-                    .collect(),
-            };
-            let Some(dir) = across.at(c) else {
+            sampler.across = true;
+            let Some(dir) = sampler.at(c) else {
                 return Vec::new();
             };
-            let (fwd, end) = trace(&across, region, c, dir, step, max_len, Some(snap));
+            let (fwd, end) = trace(&mut sampler, c, dir, step, max_len, Some(snap));
             let curve = if end == End::Closed {
                 fwd
             } else {
-                let (mut back, _) = trace(&across, region, c, -dir, step, max_len, None);
+                let (mut back, _) = trace(&mut sampler, c, -dir, step, max_len, None);
                 back.reverse();
                 back.pop();
                 back.extend(fwd);
                 back
             };
+            sampler.across = false;
             along(&curve, spacing)
                 .into_iter()
                 .filter(|&p| region.contains(p))
@@ -430,19 +523,53 @@ pub fn streamlines(region: &Region, kind: FieldKind, spacing: f64, step: f64) ->
         }
     };
     let mut lines: Vec<Vec<Point>> = Vec::new();
+    let mut traced = SegmentIndex::new(spacing);
     for seed in seeds {
         // A seed on (or next to) a streamline already traced would only trace it again.
-        if lines
-            .iter()
-            .any(|l| polyline_distance(l, seed) < 0.5 * spacing)
-        {
+        if traced.near(seed, 0.5 * spacing) {
             continue;
         }
-        if let Some(l) = full_streamline(&field, region, seed, step, snap, max_len) {
+        if let Some(l) = full_streamline(&mut sampler, seed, step, snap, max_len) {
+            traced.add(&l);
             lines.push(l);
         }
     }
     lines
+}
+
+/// Polyline segments bucketed on a grid, to ask whether a point is near any of them.
+struct SegmentIndex {
+    cell: f64,
+    buckets: std::collections::HashMap<(i64, i64), Vec<(Point, Point)>>,
+}
+
+impl SegmentIndex {
+    fn new(cell: f64) -> SegmentIndex {
+        SegmentIndex { cell, buckets: std::collections::HashMap::new() }
+    }
+
+    fn key(&self, p: Point) -> (i64, i64) {
+        ((p.x / self.cell).floor() as i64, (p.y / self.cell).floor() as i64)
+    }
+
+    fn add(&mut self, line: &[Point]) {
+        for w in line.windows(2) {
+            // Segments are shorter than a cell (steps are), so both ends' cells suffice.
+            for k in [self.key(w[0]), self.key(w[1])] {
+                self.buckets.entry(k).or_default().push((w[0], w[1]));
+            }
+        }
+    }
+
+    /// Whether a segment lies within `d` (at most a cell) of `p`.
+    fn near(&self, p: Point, d: f64) -> bool {
+        let (x, y) = self.key(p);
+        (x - 1..=x + 1).flat_map(|i| (y - 1..=y + 1).map(move |j| (i, j))).any(|k| {
+            self.buckets
+                .get(&k)
+                .is_some_and(|v| v.iter().any(|&(a, b)| super::polygon::segment_distance(p, a, b) < d))
+        })
+    }
 }
 
 #[cfg(test)]
