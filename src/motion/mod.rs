@@ -59,13 +59,21 @@ impl Timing {
     /// 1 at the full end. Forward changes go 0→1, reversed ones 1→0.
     pub fn progress(&self, t: f64) -> f64 {
         let span = (self.end - self.start - self.delay).max(0.0);
-        let local = if self.reversed { t - self.start } else { t - self.start - self.delay };
+        let local = if self.reversed {
+            t - self.start
+        } else {
+            t - self.start - self.delay
+        };
         let u = if span <= 0.0 {
             if local >= 0.0 { 1.0 } else { 0.0 }
         } else {
             (local / span).clamp(0.0, 1.0)
         };
-        if self.reversed { self.ease.apply(1.0 - u) } else { self.ease.apply(u) }
+        if self.reversed {
+            self.ease.apply(1.0 - u)
+        } else {
+            self.ease.apply(u)
+        }
     }
 
     /// The instants where the change starts and stops moving, clamped to `[start, end]`.
@@ -119,7 +127,11 @@ impl MotionSeg {
     /// `F(p)` for a rigid motion.
     pub fn full_at(&self, p: f64) -> Affine {
         match &self.kind {
-            MotionKind::Rigid { pivot, blend, interp } => match interp {
+            MotionKind::Rigid {
+                pivot,
+                blend,
+                interp,
+            } => match interp {
                 Interp::Linear => grid::blend_at(blend, *pivot, p),
                 Interp::Alexa => alexa::power(grid::blend_at(blend, *pivot, 1.0), p),
             },
@@ -134,6 +146,11 @@ impl MotionSeg {
         let p = self.timing.progress(t.clamp(self.t0, self.t1));
         if p == p0 {
             return Affine::IDENTITY;
+        }
+        // F(0) is the identity: a window that starts where its motion starts (the common
+        // case) needs one product, not two and an inverse.
+        if p0 == 0.0 {
+            return self.full_at(p);
         }
         self.full_at(p) * self.full_at(p0).inverse()
     }
@@ -152,11 +169,17 @@ pub struct Tint {
 
 impl Tint {
     /// No change.
-    pub const NONE: Tint = Tint { sum: [0.0; 3], weight: 0.0 };
+    pub const NONE: Tint = Tint {
+        sum: [0.0; 3],
+        weight: 0.0,
+    };
 
     /// Replace the colour fully by `c`.
     pub fn full(c: Color) -> Tint {
-        Tint { sum: [c.r, c.g, c.b], weight: 1.0 }
+        Tint {
+            sum: [c.r, c.g, c.b],
+            weight: 1.0,
+        }
     }
 
     /// Linear blend.
@@ -216,7 +239,8 @@ impl Blendable for Tint {
 impl<T: Blendable> AttrSeg<T> {
     /// The value at time `t` inside the window.
     pub fn value_at(&self, t: f64) -> T {
-        self.from.blend(self.to, self.timing.progress(t.clamp(self.t0, self.t1)))
+        self.from
+            .blend(self.to, self.timing.progress(t.clamp(self.t0, self.t1)))
     }
 }
 
@@ -279,6 +303,12 @@ impl Track {
             return Affine::IDENTITY;
         }
         let t0 = self.motions[end - 1].t0;
+        // Past the window: the next window's start already holds the result.
+        if let Some(next) = self.motions.get(end)
+            && self.motions[end - 1].t1 <= t
+        {
+            return next.start;
+        }
         let first = self.motions[..end].partition_point(|s| s.t0 < t0);
         let group = &self.motions[first..end];
         group
@@ -300,7 +330,9 @@ impl Track {
 
     /// True when some motion deforms the shape per vertex.
     pub fn deforms(&self) -> bool {
-        self.motions.iter().any(|m| matches!(m.kind, MotionKind::Vertex { .. }))
+        self.motions
+            .iter()
+            .any(|m| matches!(m.kind, MotionKind::Vertex { .. }))
     }
 
     /// Where a canvas-space point of the shape is at time `t`, following every motion
@@ -319,7 +351,8 @@ impl Track {
                     let blend = grid.lookup(q, Lookup::Vertex);
                     let p0 = seg.timing.progress(seg.t0);
                     let p1 = seg.timing.progress(te);
-                    let m = grid::blend_at(&blend, pv, p1) * grid::blend_at(&blend, pv, p0).inverse();
+                    let m =
+                        grid::blend_at(&blend, pv, p1) * grid::blend_at(&blend, pv, p0).inverse();
                     q = m * q;
                 }
             }
@@ -372,7 +405,13 @@ mod tests {
     use kurbo::Vec2;
 
     fn timing(start: f64, end: f64, reversed: bool) -> Timing {
-        Timing { start, end, delay: 0.0, ease: Easing::Linear, reversed }
+        Timing {
+            start,
+            end,
+            delay: 0.0,
+            ease: Easing::Linear,
+            reversed,
+        }
     }
 
     #[test]
@@ -385,7 +424,10 @@ mod tests {
 
     #[test]
     fn delay_holds_then_moves() {
-        let t = Timing { delay: 1.0, ..timing(0.0, 2.0, false) };
+        let t = Timing {
+            delay: 1.0,
+            ..timing(0.0, 2.0, false)
+        };
         assert_eq!(t.progress(0.5), 0.0);
         assert_eq!(t.progress(1.5), 0.5);
         assert_eq!(t.active(), (1.0, 2.0));
@@ -401,11 +443,34 @@ mod tests {
 
     #[test]
     fn split_windows_telescope() {
-        let blend: Blend = vec![(1.0, Arc::from([Component::Rotate(90.0), Component::Translate(Vec2::new(5.0, 0.0))]))];
-        let kind = MotionKind::Rigid { pivot: Point::new(10.0, 10.0), blend, interp: Interp::Linear };
-        let whole = MotionSeg { t0: 0.0, t1: 2.0, timing: timing(0.0, 2.0, false), kind: kind.clone(), start: Affine::IDENTITY };
-        let a = MotionSeg { t1: 0.7, ..whole.clone() };
-        let b = MotionSeg { t0: 0.7, start: a.relative_at(0.7), ..whole.clone() };
+        let blend: Blend = vec![(
+            1.0,
+            Arc::from([
+                Component::Rotate(90.0),
+                Component::Translate(Vec2::new(5.0, 0.0)),
+            ]),
+        )];
+        let kind = MotionKind::Rigid {
+            pivot: Point::new(10.0, 10.0),
+            blend,
+            interp: Interp::Linear,
+        };
+        let whole = MotionSeg {
+            t0: 0.0,
+            t1: 2.0,
+            timing: timing(0.0, 2.0, false),
+            kind: kind.clone(),
+            start: Affine::IDENTITY,
+        };
+        let a = MotionSeg {
+            t1: 0.7,
+            ..whole.clone()
+        };
+        let b = MotionSeg {
+            t0: 0.7,
+            start: a.relative_at(0.7),
+            ..whole.clone()
+        };
         let got = b.relative_at(2.0) * b.start;
         let want = whole.relative_at(2.0);
         for (x, y) in got.as_coeffs().iter().zip(want.as_coeffs()) {
