@@ -37,6 +37,9 @@ struct TShape {
     imported: bool,
 }
 
+/// An operator bound for one shape, and its pieces (or why it left the shape whole).
+type Applied = (Op, Result<Vec<Piece>, String>);
+
 /// The derivation tree: a shape, replaced by its pieces once a rule is applied.
 struct Arena {
     shapes: Vec<Option<TShape>>,
@@ -153,7 +156,7 @@ fn candidates<'r>(rules: &[&'r Rule], tag: &str, imported: bool) -> Vec<(usize, 
 /// One candidate by weight, from a uniform draw `u` in [0, 1).
 fn choose<'r>(cands: &[(usize, &'r Rule)], u: f64) -> Option<(usize, &'r Rule)> {
     let total: f64 = cands.iter().map(|(_, r)| r.weight.max(0.0)).sum();
-    if !(total > 0.0) {
+    if total.is_nan() || total <= 0.0 {
         return cands.first().copied();
     }
     let mut x = u * total;
@@ -300,7 +303,7 @@ pub fn expand(
 
             let n = batch.len();
             let group_key = key(&[opts.seed, group as u64, 0x6709]);
-            let results: Vec<Result<(Op, Result<Vec<Piece>, String>), TangleError>> = batch
+            let results: Vec<Result<Applied, TangleError>> = batch
                 .par_iter()
                 .map(|&node| {
                     let s = arena.shapes[node]

@@ -129,13 +129,13 @@ impl Field {
                 Ok((t, _)) => t,
                 Err(v) => return Some(v),
             };
-            for i in 0..n {
+            for (i, &v) in vals.iter().enumerate() {
                 let (t, r) = match tan(i, (i + 1) % n) {
                     Ok(x) => x,
                     Err(v) => return Some(v),
                 };
                 let w = (prev + t) / r;
-                num += vals[i] * w;
+                num += v * w;
                 den += w;
                 prev = t;
             }
@@ -233,7 +233,10 @@ impl<'a> Sampler<'a> {
         let x = (p.x - self.origin.x) / self.cell;
         let y = (p.y - self.origin.y) / self.cell;
         if !(x >= 0.0 && y >= 0.0 && x < (self.cols - 1) as f64 && y < (self.rows - 1) as f64) {
-            return self.field.at(p).map(|v| if self.across { Vec2::new(-v.y, v.x) } else { v });
+            return self
+                .field
+                .at(p)
+                .map(|v| if self.across { Vec2::new(-v.y, v.x) } else { v });
         }
         let (c, r) = (x.floor() as usize, y.floor() as usize);
         let (fx, fy) = (x - c as f64, y - r as f64);
@@ -545,11 +548,17 @@ struct SegmentIndex {
 
 impl SegmentIndex {
     fn new(cell: f64) -> SegmentIndex {
-        SegmentIndex { cell, buckets: std::collections::HashMap::new() }
+        SegmentIndex {
+            cell,
+            buckets: std::collections::HashMap::new(),
+        }
     }
 
     fn key(&self, p: Point) -> (i64, i64) {
-        ((p.x / self.cell).floor() as i64, (p.y / self.cell).floor() as i64)
+        (
+            (p.x / self.cell).floor() as i64,
+            (p.y / self.cell).floor() as i64,
+        )
     }
 
     fn add(&mut self, line: &[Point]) {
@@ -564,11 +573,14 @@ impl SegmentIndex {
     /// Whether a segment lies within `d` (at most a cell) of `p`.
     fn near(&self, p: Point, d: f64) -> bool {
         let (x, y) = self.key(p);
-        (x - 1..=x + 1).flat_map(|i| (y - 1..=y + 1).map(move |j| (i, j))).any(|k| {
-            self.buckets
-                .get(&k)
-                .is_some_and(|v| v.iter().any(|&(a, b)| super::polygon::segment_distance(p, a, b) < d))
-        })
+        (x - 1..=x + 1)
+            .flat_map(|i| (y - 1..=y + 1).map(move |j| (i, j)))
+            .any(|k| {
+                self.buckets.get(&k).is_some_and(|v| {
+                    v.iter()
+                        .any(|&(a, b)| super::polygon::segment_distance(p, a, b) < d)
+                })
+            })
     }
 }
 

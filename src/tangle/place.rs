@@ -156,7 +156,13 @@ impl Raster {
             .collect();
         let (dist, _) = propagate(self, &border);
         dist.iter()
-            .map(|&d| if d == u32::MAX { f64::INFINITY } else { (d as f64 / 5.0 + 0.5) * self.h })
+            .map(|&d| {
+                if d == u32::MAX {
+                    f64::INFINITY
+                } else {
+                    (d as f64 / 5.0 + 0.5) * self.h
+                }
+            })
             .collect()
     }
 }

@@ -69,7 +69,7 @@ impl Family {
                 };
                 let chord = b - a;
                 let len = chord.hypot();
-                if !(len > 1e-9) {
+                if len.is_nan() || len <= 1e-9 {
                     return Err("the split curve must be open: its ends coincide".into());
                 }
                 let (cu, cv) = (chord / len, Vec2::new(-chord.y, chord.x) / len);
