@@ -15,6 +15,7 @@ pub mod grammar;
 #[path = "../importers/mod.rs"]
 pub mod importers;
 pub mod motion;
+pub mod plot;
 pub mod scene;
 pub mod signals;
 pub mod tangle;

@@ -154,6 +154,9 @@ fn rest(channel: Channel) -> [f64; 4] {
     }
 }
 
+/// A target for one shape's channel: when, which attribute, what value.
+type Event = (f64, Attr, TargetValue);
+
 /// Samples and smooths `targets` on `scene` (see [`super::run`] for the rules).
 pub fn sample(
     scene: &Scene,
@@ -196,7 +199,7 @@ pub fn sample(
             None => s.centroid,
         }
     };
-    let mut events: BTreeMap<(usize, Channel), Vec<(f64, Attr, TargetValue)>> = BTreeMap::new();
+    let mut events: BTreeMap<(usize, Channel), Vec<Event>> = BTreeMap::new();
     for t in &targets.targets {
         let shapes: &[usize] = if t.tag == "all" {
             &all

@@ -501,21 +501,21 @@ impl Targets {
     }
 
     fn validate(&mut self) -> Result<(), TransitionError> {
-        if let Some(f) = self.fps {
-            if !(f.is_finite() && f > 0.0 && f <= 1000.0) {
-                return Err(TransitionError::parse(
-                    "fps".into(),
-                    format!("must lie in (0, 1000], got {f}"),
-                ));
-            }
+        if let Some(f) = self.fps
+            && !(f.is_finite() && f > 0.0 && f <= 1000.0)
+        {
+            return Err(TransitionError::parse(
+                "fps".into(),
+                format!("must lie in (0, 1000], got {f}"),
+            ));
         }
-        if let Some(d) = self.duration {
-            if !(d.is_finite() && d > 0.0) {
-                return Err(TransitionError::parse(
-                    "duration".into(),
-                    format!("must be a positive number, got {d}"),
-                ));
-            }
+        if let Some(d) = self.duration
+            && !(d.is_finite() && d > 0.0)
+        {
+            return Err(TransitionError::parse(
+                "duration".into(),
+                format!("must be a positive number, got {d}"),
+            ));
         }
         for (tag, a) in &self.anchors {
             if !a.iter().all(|v| v.is_finite()) {
