@@ -16,7 +16,14 @@ fn scene(items: &[(&str, (f64, f64), f64)]) -> Scene {
     for (i, (tag, (x, y), side)) in items.iter().enumerate() {
         let rect = Rect::from_center_size((*x, *y), (*side, *side));
         let path: BezPath = rect.to_path(0.1);
-        root.children.push(Node::Path(PathNode { id: String::new(), path, fill: None, stroke: None, stroke_first: false, unit: Some(i) }));
+        root.children.push(Node::Path(PathNode {
+            id: String::new(),
+            path,
+            fill: None,
+            stroke: None,
+            stroke_first: false,
+            unit: Some(i),
+        }));
         let id = counts.entry(tag.to_string()).or_default();
         shapes.push(Shape {
             tag: tag.to_string(),
@@ -33,11 +40,17 @@ fn scene(items: &[(&str, (f64, f64), f64)]) -> Scene {
         });
         *id += 1;
     }
-    Scene { width: 400.0, height: 300.0, root, shapes }
+    Scene {
+        width: 400.0,
+        height: 300.0,
+        root,
+        shapes,
+    }
 }
 
 fn animate(scene: Scene, src: &str) -> Result<Animation, EngineError> {
-    let g = gmotion::grammar::parse(src).map_err(|d| EngineError::general(d.render("test.gm", src)))?;
+    let g =
+        gmotion::grammar::parse(src).map_err(|d| EngineError::general(d.render("test.gm", src)))?;
     run(scene, &g, &RunOptions::default()).map(|(a, _)| a)
 }
 
@@ -67,7 +80,10 @@ fn toy_grammar_moves_square_and_loops() {
     assert!(close(pos(&a, 0, 4.0), Point::new(50.0, 150.0)));
     // The circle scales about its own centre, which therefore never moves.
     let m = a.tracks[1].transform_at(2.0);
-    assert!(close(m * Point::new(200.0, 150.0), Point::new(200.0, 150.0)));
+    assert!(close(
+        m * Point::new(200.0, 150.0),
+        Point::new(200.0, 150.0)
+    ));
     assert!((m.determinant() - 0.25).abs() < 1e-9);
     assert_eq!(a.tracks[1].transform_at(4.0), Affine::IDENTITY);
 }
@@ -107,7 +123,15 @@ fn priority_wins_and_seed_chooses_among_equals() {
     let g = gmotion::grammar::parse(&src2).unwrap();
     let mut seen = std::collections::BTreeSet::new();
     for seed in 0..40 {
-        let (a, _) = run(s.clone(), &g, &RunOptions { seed: Some(seed), ..Default::default() }).unwrap();
+        let (a, _) = run(
+            s.clone(),
+            &g,
+            &RunOptions {
+                seed: Some(seed),
+                ..Default::default()
+            },
+        )
+        .unwrap();
         let p = pos(&a, 0, 1.0);
         seen.insert(((p.x - 50.0).round() as i64, (p.y - 50.0).round() as i64));
     }
@@ -116,8 +140,16 @@ fn priority_wins_and_seed_chooses_among_equals() {
 
 #[test]
 fn offsets_delay_and_expressions_stagger() {
-    let s = scene(&[("d", (10.0, 10.0), 4.0), ("d", (30.0, 10.0), 4.0), ("d", (50.0, 10.0), 4.0)]);
-    let a = animate(s, "duration 2s\nanimate(affine, world, 0.5 * id, translate(0, 10)) : [all, d] -> [m]\n").unwrap();
+    let s = scene(&[
+        ("d", (10.0, 10.0), 4.0),
+        ("d", (30.0, 10.0), 4.0),
+        ("d", (50.0, 10.0), 4.0),
+    ]);
+    let a = animate(
+        s,
+        "duration 2s\nanimate(affine, world, 0.5 * id, translate(0, 10)) : [all, d] -> [m]\n",
+    )
+    .unwrap();
     // Shape 2 starts at 1s and has 1s to travel.
     assert!(close(pos(&a, 2, 0.9), Point::new(50.0, 10.0)));
     assert!(close(pos(&a, 2, 1.5), Point::new(50.0, 15.0)));
@@ -143,8 +175,16 @@ fn towards_and_path_reach_their_targets_with_exact_lookup() {
 #[test]
 fn nearest_grid_lookup_moves_a_cell_together() {
     // 2x1 grid over a 400-wide canvas: cell centres at x=100 and x=300.
-    let s = scene(&[("d", (20.0, 150.0), 4.0), ("d", (180.0, 150.0), 4.0), ("d", (250.0, 150.0), 4.0)]);
-    let a = animate(s, "duration 1s\ngrid 2x1\nanimate(towards, world, 0, (200, 150)) : [all, d] -> [m]\n").unwrap();
+    let s = scene(&[
+        ("d", (20.0, 150.0), 4.0),
+        ("d", (180.0, 150.0), 4.0),
+        ("d", (250.0, 150.0), 4.0),
+    ]);
+    let a = animate(
+        s,
+        "duration 1s\ngrid 2x1\nanimate(towards, world, 0, (200, 150)) : [all, d] -> [m]\n",
+    )
+    .unwrap();
     let d0 = pos(&a, 0, 1.0) - Point::new(20.0, 150.0);
     let d1 = pos(&a, 1, 1.0) - Point::new(180.0, 150.0);
     let d2 = pos(&a, 2, 1.0) - Point::new(250.0, 150.0);
@@ -179,7 +219,11 @@ fn a_grammar_that_never_terminates_names_its_cycle() {
     )
     .unwrap_err();
     assert!(err.message.contains("did not terminate within 50"), "{err}");
-    assert!(err.notes.iter().any(|n| n.contains("line 4")) && err.notes.iter().any(|n| n.contains("line 5")), "{err}");
+    assert!(
+        err.notes.iter().any(|n| n.contains("line 4"))
+            && err.notes.iter().any(|n| n.contains("line 5")),
+        "{err}"
+    );
 }
 
 #[test]
@@ -192,14 +236,28 @@ fn split_fractions_must_sum_to_one() {
 
 #[test]
 fn same_seed_same_animation() {
-    let s = scene(&[("s", (10.0, 10.0), 2.0), ("s", (40.0, 10.0), 2.0), ("t", (70.0, 10.0), 2.0)]);
+    let s = scene(&[
+        ("s", (10.0, 10.0), 2.0),
+        ("s", (40.0, 10.0), 2.0),
+        ("t", (70.0, 10.0), 2.0),
+    ]);
     let src = "duration 3s\nchoice shape\n\
                animate(affine, world, rand(0, 1), translate(rand(-50, 50), rand(-50, 50))) : [all, all] -> [m]\n\
                animate(affine, local, 0, rotate(rand(0, 360))) : [all, all] -> [m]\n";
     let g = gmotion::grammar::parse(src).unwrap();
     let eval = |seed| {
-        let (a, _) = run(s.clone(), &g, &RunOptions { seed: Some(seed), ..Default::default() }).unwrap();
-        (0..30).map(|i| a.evaluate(i as f64 * 0.1)).collect::<Vec<Vec<ShapeState>>>()
+        let (a, _) = run(
+            s.clone(),
+            &g,
+            &RunOptions {
+                seed: Some(seed),
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        (0..30)
+            .map(|i| a.evaluate(i as f64 * 0.1))
+            .collect::<Vec<Vec<ShapeState>>>()
     };
     assert_eq!(eval(7), eval(7));
     assert_ne!(eval(7), eval(8));
@@ -298,10 +356,71 @@ proptest! {
 #[test]
 fn rotation_about_a_point_keeps_the_point_fixed_while_playing() {
     let s = scene(&[("s", (200.0, 50.0), 10.0)]);
-    let a = animate(s, "duration 1s\nanimate(affine, world, 0, rotate(180, 200, 150)) : [all, s] -> [m]\n").unwrap();
+    let a = animate(
+        s,
+        "duration 1s\nanimate(affine, world, 0, rotate(180, 200, 150)) : [all, s] -> [m]\n",
+    )
+    .unwrap();
     for t in [0.25, 0.5, 0.75, 1.0] {
         let p = pos(&a, 0, t);
-        assert!(((p - Point::new(200.0, 150.0)).hypot() - 100.0).abs() < 1e-6, "t = {t}: {p:?}");
+        assert!(
+            ((p - Point::new(200.0, 150.0)).hypot() - 100.0).abs() < 1e-6,
+            "t = {t}: {p:?}"
+        );
     }
     assert!(close(pos(&a, 0, 0.5), Point::new(300.0, 150.0)));
+}
+
+/// The largest jump in velocity between consecutive frames of a shape's centre.
+fn max_velocity_jump(a: &Animation, fps: f64) -> f64 {
+    let n = (a.duration * fps).round() as usize;
+    let p: Vec<Point> = (0..=n).map(|i| pos(a, 0, i as f64 / fps)).collect();
+    let v: Vec<kurbo::Vec2> = p.windows(2).map(|w| (w[1] - w[0]) * fps).collect();
+    v.windows(2)
+        .map(|w| (w[1] - w[0]).hypot())
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn smoothing_makes_slice_boundaries_velocity_continuous() {
+    let grammar = |smoothing: &str| {
+        format!(
+            "duration 4s\nfps 60\n{smoothing}\n\
+             timesplit(0.25, 0.25, 0.25, 0.25) : [all, s] -> [a, b, inv_b, inv_a]\n\
+             animate(affine, world, 0, translate(100, 0)) : [a, s] -> [ma]\n\
+             animate(affine, world, 0, translate(0, 100)) : [b, s] -> [mb]\n"
+        )
+    };
+    let raw = animate(scene(&[("s", (50.0, 50.0), 10.0)]), &grammar("")).unwrap();
+    let smooth = animate(
+        scene(&[("s", (50.0, 50.0), 10.0)]),
+        &grammar("smoothing spring(0.4, 0)"),
+    )
+    .unwrap();
+    let (jr, js) = (
+        max_velocity_jump(&raw, 60.0),
+        max_velocity_jump(&smooth, 60.0),
+    );
+    // Unsmoothed, the velocity turns a corner of 100 px/s at once; the spring spreads it.
+    assert!(jr > 99.0, "raw jump {jr}");
+    assert!(js < jr / 5.0, "smoothed jump {js} vs raw {jr}");
+    // The loop still closes and the shape still travels most of the way.
+    assert!(
+        close(pos(&smooth, 0, 4.0), pos(&smooth, 0, 0.0))
+            || (pos(&smooth, 0, 4.0) - pos(&smooth, 0, 0.0)).hypot() < 1.0
+    );
+    let far = (0..=240)
+        .map(|i| pos(&smooth, 0, i as f64 / 60.0).x)
+        .fold(0.0, f64::max);
+    assert!(far > 130.0, "reached x = {far}");
+}
+
+#[test]
+fn bad_smoothing_is_an_error_at_the_directive() {
+    let err = animate(
+        scene(&[("s", (0.0, 0.0), 2.0)]),
+        "duration 1s\nsmoothing spring(-1, 0)\nanimate(opacity, local, 0, 0.5) : [all, s] -> [m]\n",
+    )
+    .unwrap_err();
+    assert_eq!(err.span.map(|s| s.line), Some(2), "{err}");
 }

@@ -19,13 +19,23 @@ pub struct Report {
 }
 
 /// Checks a grammar, and expands it on `scene` when given.
-pub fn check(grammar: &Grammar, scene: Option<&Scene>, opts: &RunOptions) -> Result<Report, EngineError> {
+pub fn check(
+    grammar: &Grammar,
+    scene: Option<&Scene>,
+    opts: &RunOptions,
+) -> Result<Report, EngineError> {
     let settings = settings::from_grammar(grammar)?;
     let program = Program::new(grammar)?;
     let mut r = Report::default();
     let mut out = String::new();
     let time_rules = program.rules.len();
-    let _ = writeln!(out, "rules: {} ({} timeslice, {} spatial)", grammar.rules.len(), time_rules, program.spatial.len());
+    let _ = writeln!(
+        out,
+        "rules: {} ({} timeslice, {} spatial)",
+        grammar.rules.len(),
+        time_rules,
+        program.spatial.len()
+    );
     let _ = writeln!(
         out,
         "header: duration {}s, fps {}, grid {}x{}, seed {}, lookup {:?}, interp {:?}, loop {}, max_steps {}",
@@ -54,10 +64,24 @@ pub fn check(grammar: &Grammar, scene: Option<&Scene>, opts: &RunOptions) -> Res
         }
         shape_tags.extend(rule.shape_tags.iter().cloned());
     }
-    let terminal: Vec<_> = produced.keys().filter(|t| !consumed.contains_key(*t)).cloned().collect();
-    let _ = writeln!(out, "slice tags: {} ({} terminal: {})", produced.len(), terminal.len(), terminal.join(", "));
+    let terminal: Vec<_> = produced
+        .keys()
+        .filter(|t| !consumed.contains_key(*t))
+        .cloned()
+        .collect();
+    let _ = writeln!(
+        out,
+        "slice tags: {} ({} terminal: {})",
+        produced.len(),
+        terminal.len(),
+        terminal.join(", ")
+    );
     for rule in &program.rules {
-        let unreachable: Vec<_> = rule.slice_tags.iter().filter(|t| !produced.contains_key(*t)).collect();
+        let unreachable: Vec<_> = rule
+            .slice_tags
+            .iter()
+            .filter(|t| !produced.contains_key(*t))
+            .collect();
         if unreachable.len() == rule.slice_tags.len() {
             r.warnings.push(format!(
                 "line {}: rule is unreachable: no rule produces its slice tag(s) {}",
@@ -66,7 +90,11 @@ pub fn check(grammar: &Grammar, scene: Option<&Scene>, opts: &RunOptions) -> Res
             ));
         }
     }
-    let _ = writeln!(out, "shape tags used by rules: {}", shape_tags.iter().cloned().collect::<Vec<_>>().join(", "));
+    let _ = writeln!(
+        out,
+        "shape tags used by rules: {}",
+        shape_tags.iter().cloned().collect::<Vec<_>>().join(", ")
+    );
 
     if let Some(scene) = scene {
         let mut counts: BTreeMap<&str, usize> = BTreeMap::new();
@@ -74,15 +102,23 @@ pub fn check(grammar: &Grammar, scene: Option<&Scene>, opts: &RunOptions) -> Res
             *counts.entry(s.tag.as_str()).or_default() += 1;
         }
         let list: Vec<_> = counts.iter().map(|(t, n)| format!("{t} ×{n}")).collect();
-        let _ = writeln!(out, "scene: {} shapes, tags: {}", scene.shapes.len(), list.join(", "));
+        let _ = writeln!(
+            out,
+            "scene: {} shapes, tags: {}",
+            scene.shapes.len(),
+            list.join(", ")
+        );
         for t in &shape_tags {
             if t != "all" && !counts.contains_key(t.as_str()) {
-                r.warnings.push(format!("shape tag `{t}` is used by rules but no shape in the scene has it"));
+                r.warnings.push(format!(
+                    "shape tag `{t}` is used by rules but no shape in the scene has it"
+                ));
             }
         }
         for t in counts.keys() {
             if !shape_tags.contains(*t) && !shape_tags.contains("all") {
-                r.warnings.push(format!("shapes tagged `{t}` match no rule and stay still"));
+                r.warnings
+                    .push(format!("shapes tagged `{t}` match no rule and stay still"));
             }
         }
         let mut s = settings.clone();
@@ -106,7 +142,10 @@ pub fn check(grammar: &Grammar, scene: Option<&Scene>, opts: &RunOptions) -> Res
             for rule in &program.rules {
                 let uses = exp.rule_uses.get(rule.index).copied().unwrap_or(0);
                 if uses == 0 {
-                    r.warnings.push(format!("line {}: rule was never applied on this scene", rule.span.line));
+                    r.warnings.push(format!(
+                        "line {}: rule was never applied on this scene",
+                        rule.span.line
+                    ));
                 }
             }
             let used = exp.rule_uses.iter().filter(|&&u| u > 0).count();
@@ -123,11 +162,17 @@ pub fn check(grammar: &Grammar, scene: Option<&Scene>, opts: &RunOptions) -> Res
 /// The timeslice grammar as a Graphviz graph: one node per slice tag, one edge per rule
 /// from each tag it matches to each tag it produces, labelled with the operator and line.
 pub fn dot(grammar: &Grammar) -> String {
-    let mut out = String::from("digraph grammar {\n  rankdir=LR;\n  node [shape=box, style=rounded, fontname=\"sans-serif\"];\n");
+    let mut out = String::from(
+        "digraph grammar {\n  rankdir=LR;\n  node [shape=box, style=rounded, fontname=\"sans-serif\"];\n",
+    );
     for rule in grammar.rules.iter().filter(|r| !r.spatial) {
         for from in &rule.slice_tags {
             for to in &rule.outputs {
-                let to_name = if to.inverted { format!("inv_{}", to.name) } else { to.name.clone() };
+                let to_name = if to.inverted {
+                    format!("inv_{}", to.name)
+                } else {
+                    to.name.clone()
+                };
                 let shapes: Vec<_> = rule.shape_tags.iter().map(|t| t.name.as_str()).collect();
                 let _ = writeln!(
                     out,

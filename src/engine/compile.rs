@@ -24,7 +24,13 @@ struct State {
     width: f64,
 }
 
-const REST: State = State { transform: Affine::IDENTITY, fill: Tint::NONE, stroke: Tint::NONE, opacity: 1.0, width: 1.0 };
+const REST: State = State {
+    transform: Affine::IDENTITY,
+    fill: Tint::NONE,
+    stroke: Tint::NONE,
+    opacity: 1.0,
+    width: 1.0,
+};
 
 /// Compiles every timeline (in parallel; the result does not depend on thread count).
 pub fn compile(scene: &Scene, exp: &Expansion, _settings: &Settings) -> Vec<Track> {
@@ -36,7 +42,13 @@ pub fn compile(scene: &Scene, exp: &Expansion, _settings: &Settings) -> Vec<Trac
 }
 
 fn timing(a: &AnimInst) -> Timing {
-    Timing { start: a.start, end: a.end, delay: a.delay, ease: a.ease.clone(), reversed: a.reversed }
+    Timing {
+        start: a.start,
+        end: a.end,
+        delay: a.delay,
+        ease: a.ease.clone(),
+        reversed: a.reversed,
+    }
 }
 
 fn compile_one(shape: &Shape, slices: &[super::expand::Slice]) -> Track {
@@ -86,42 +98,104 @@ fn compile_one(shape: &Shape, slices: &[super::expand::Slice]) -> Track {
             let begun = at_start(a.start);
             let tm = timing(a);
             match &a.spec {
-                AnimSpec::Motion { grid, world, pivot_offset, lookup, interp } => {
+                AnimSpec::Motion {
+                    grid,
+                    world,
+                    pivot_offset,
+                    lookup,
+                    interp,
+                } => {
                     let kind = resolved
                         .entry(Arc::as_ptr(a))
                         .or_insert_with(|| {
                             let centroid = begun.transform * shape.centroid;
                             if *lookup == Lookup::Vertex {
-                                let pivot = if *world { Point::ORIGIN } else { centroid } + *pivot_offset;
-                                return MotionKind::Vertex { grid: grid.clone(), pivot: Some(pivot) };
+                                let pivot =
+                                    if *world { Point::ORIGIN } else { centroid } + *pivot_offset;
+                                return MotionKind::Vertex {
+                                    grid: grid.clone(),
+                                    pivot: Some(pivot),
+                                };
                             }
                             let blend = grid.lookup(centroid, *lookup);
-                            let pivot = if *world { Point::ORIGIN } else { centroid } + *pivot_offset;
-                            MotionKind::Rigid { pivot, blend, interp: *interp }
+                            let pivot =
+                                if *world { Point::ORIGIN } else { centroid } + *pivot_offset;
+                            MotionKind::Rigid {
+                                pivot,
+                                blend,
+                                interp: *interp,
+                            }
                         })
                         .clone();
                     if !a.reversed {
                         forward_at_step.insert(a.step, kind.clone());
                     }
-                    track.motions.push(MotionSeg { t0, t1, timing: tm, kind, start: window_start });
+                    track.motions.push(MotionSeg {
+                        t0,
+                        t1,
+                        timing: tm,
+                        kind,
+                        start: window_start,
+                    });
                     motions_here += 1;
                 }
                 AnimSpec::Fill(c) => {
-                    let (from, to) = tint_change(a, 0, begun.fill, Tint::full(*c), &mut before, begun, |s| s.fill);
-                    track.fill.push(AttrSeg { t0, t1, timing: tm, from, to });
+                    let (from, to) =
+                        tint_change(a, 0, begun.fill, Tint::full(*c), &mut before, begun, |s| {
+                            s.fill
+                        });
+                    track.fill.push(AttrSeg {
+                        t0,
+                        t1,
+                        timing: tm,
+                        from,
+                        to,
+                    });
                 }
                 AnimSpec::Border(c) => {
-                    let (from, to) = tint_change(a, 1, begun.stroke, Tint::full(*c), &mut before, begun, |s| s.stroke);
-                    track.stroke.push(AttrSeg { t0, t1, timing: tm, from, to });
+                    let (from, to) = tint_change(
+                        a,
+                        1,
+                        begun.stroke,
+                        Tint::full(*c),
+                        &mut before,
+                        begun,
+                        |s| s.stroke,
+                    );
+                    track.stroke.push(AttrSeg {
+                        t0,
+                        t1,
+                        timing: tm,
+                        from,
+                        to,
+                    });
                 }
                 AnimSpec::Opacity(x) => {
-                    let (from, to) = tint_change(a, 2, begun.opacity, *x, &mut before, begun, |s| s.opacity);
-                    track.opacity.push(AttrSeg { t0, t1, timing: tm, from, to });
+                    let (from, to) =
+                        tint_change(a, 2, begun.opacity, *x, &mut before, begun, |s| s.opacity);
+                    track.opacity.push(AttrSeg {
+                        t0,
+                        t1,
+                        timing: tm,
+                        from,
+                        to,
+                    });
                 }
                 AnimSpec::StrokeWidth(w) => {
-                    let target = if shape.stroke_width > 0.0 { w / shape.stroke_width } else { 1.0 };
-                    let (from, to) = tint_change(a, 3, begun.width, target, &mut before, begun, |s| s.width);
-                    track.stroke_width.push(AttrSeg { t0, t1, timing: tm, from, to });
+                    let target = if shape.stroke_width > 0.0 {
+                        w / shape.stroke_width
+                    } else {
+                        1.0
+                    };
+                    let (from, to) =
+                        tint_change(a, 3, begun.width, target, &mut before, begun, |s| s.width);
+                    track.stroke_width.push(AttrSeg {
+                        t0,
+                        t1,
+                        timing: tm,
+                        from,
+                        to,
+                    });
                 }
             }
         }
@@ -129,7 +203,10 @@ fn compile_one(shape: &Shape, slices: &[super::expand::Slice]) -> Track {
         if motions_here > 0 {
             let n = track.motions.len();
             let group = &track.motions[n - motions_here..];
-            state.transform = group.iter().fold(Affine::IDENTITY, |acc, s| acc * s.relative_at(t1)) * window_start;
+            state.transform = group
+                .iter()
+                .fold(Affine::IDENTITY, |acc, s| acc * s.relative_at(t1))
+                * window_start;
         }
         if let Some(s) = track.fill.last().filter(|s| s.t0 == t0) {
             state.fill = s.value_at(t1);
@@ -157,7 +234,11 @@ fn outermost_first(anims: &[Arc<AnimInst>]) -> Vec<&Arc<AnimInst>> {
     let local = |a: &&Arc<AnimInst>| matches!(&a.spec, AnimSpec::Motion { world: false, .. });
     let mut out: Vec<&Arc<AnimInst>> = anims.iter().rev().filter(world).collect();
     out.extend(anims.iter().rev().filter(local));
-    out.extend(anims.iter().filter(|a| !matches!(&a.spec, AnimSpec::Motion { .. })));
+    out.extend(
+        anims
+            .iter()
+            .filter(|a| !matches!(&a.spec, AnimSpec::Motion { .. })),
+    );
     out
 }
 
@@ -195,7 +276,11 @@ fn resolve_reversed(
     let apply = |blends: &[crate::motion::Blend], c: Point, x: Point| -> Point {
         pending.iter().zip(blends).rev().fold(x, |x, (a, blend)| {
             let (world, off) = match &a.spec {
-                AnimSpec::Motion { world, pivot_offset, .. } => (*world, *pivot_offset),
+                AnimSpec::Motion {
+                    world,
+                    pivot_offset,
+                    ..
+                } => (*world, *pivot_offset),
                 _ => (true, kurbo::Vec2::ZERO),
             };
             let pivot = if world { Point::ORIGIN } else { c } + off;
@@ -210,15 +295,33 @@ fn resolve_reversed(
         let ex = phi(Point::new(1.0, 0.0)) - o;
         let ey = phi(Point::new(0.0, 1.0)) - o;
         let m = Affine::new([ex.x, ex.y, ey.x, ey.y, o.x, o.y]);
-        if m.determinant().abs() < 1e-12 { now } else { m.inverse() * now }
+        if m.determinant().abs() < 1e-12 {
+            now
+        } else {
+            m.inverse() * now
+        }
     };
     // Read the grid where the shape is now, solve, then read it where the twin began.
     let c = solve(solve(now));
     for a in pending {
-        if let AnimSpec::Motion { grid, world, pivot_offset, lookup, interp } = &a.spec {
+        if let AnimSpec::Motion {
+            grid,
+            world,
+            pivot_offset,
+            lookup,
+            interp,
+        } = &a.spec
+        {
             let blend = grid.lookup(c, *lookup);
             let pivot = if *world { Point::ORIGIN } else { c } + *pivot_offset;
-            resolved.insert(Arc::as_ptr(a), MotionKind::Rigid { pivot, blend, interp: *interp });
+            resolved.insert(
+                Arc::as_ptr(a),
+                MotionKind::Rigid {
+                    pivot,
+                    blend,
+                    interp: *interp,
+                },
+            );
         }
     }
 }
@@ -237,7 +340,10 @@ fn tint_change<T: Copy>(
     get: impl Fn(&State) -> T,
 ) -> (T, T) {
     if a.reversed {
-        let back = before.get(&(a.step, channel)).map(&get).unwrap_or_else(|| get(&REST));
+        let back = before
+            .get(&(a.step, channel))
+            .map(&get)
+            .unwrap_or_else(|| get(&REST));
         (back, begun)
     } else {
         before.entry((a.step, channel)).or_insert(begun_state);

@@ -16,10 +16,10 @@ use crate::motion::{Component, Field, Grid, Interp, Lookup};
 use crate::scene::{Scene, Shape};
 use crate::signals::Easing;
 
+use super::EngineError;
 use super::random::{hash_str, key, noise2, unit};
 use super::rules::{AnimType, CRule, Op, Program};
 use super::settings::{Choice, Settings};
-use super::EngineError;
 
 /// What an `animate` rule set on a slice, resolved for one shape.
 #[derive(Clone, Debug)]
@@ -132,7 +132,13 @@ impl Env for ShapeEnv<'_> {
 
     fn rand(&mut self) -> f64 {
         self.draws += 1;
-        unit(key(&[self.seed, hash_str(&self.shape.tag), self.shape.id as u64, self.step as u64, self.draws]))
+        unit(key(&[
+            self.seed,
+            hash_str(&self.shape.tag),
+            self.shape.id as u64,
+            self.step as u64,
+            self.draws,
+        ]))
     }
 
     fn noise(&self, x: f64, y: f64) -> f64 {
@@ -165,12 +171,21 @@ struct Matcher<'a> {
 }
 
 impl Matcher<'_> {
-    fn get(&mut self, slice_tag: u32, shape_tag: u32, tags: &Tags, shape_tags: &[String]) -> Arc<[usize]> {
+    fn get(
+        &mut self,
+        slice_tag: u32,
+        shape_tag: u32,
+        tags: &Tags,
+        shape_tags: &[String],
+    ) -> Arc<[usize]> {
         self.cache
             .entry((slice_tag, shape_tag))
             .or_insert_with(|| {
                 self.program
-                    .candidates(&tags.names[slice_tag as usize], &shape_tags[shape_tag as usize])
+                    .candidates(
+                        &tags.names[slice_tag as usize],
+                        &shape_tags[shape_tag as usize],
+                    )
                     .into()
             })
             .clone()
@@ -190,7 +205,11 @@ fn pick(program: &Program, cands: &[usize], r: f64) -> usize {
 }
 
 /// Expands every timeline.
-pub fn expand(scene: &Scene, program: &Program, settings: &Settings) -> Result<Expansion, EngineError> {
+pub fn expand(
+    scene: &Scene,
+    program: &Program,
+    settings: &Settings,
+) -> Result<Expansion, EngineError> {
     let mut shape_tag_names: Vec<String> = scene.shapes.iter().map(|s| s.tag.clone()).collect();
     shape_tag_names.sort();
     shape_tag_names.dedup();
@@ -204,19 +223,36 @@ pub fn expand(scene: &Scene, program: &Program, settings: &Settings) -> Result<E
         shapes_by_tag[t as usize].push(i);
     }
 
-    let mut tags = Tags { names: Vec::new(), ids: HashMap::new() };
+    let mut tags = Tags {
+        names: Vec::new(),
+        ids: HashMap::new(),
+    };
     let all = tags.id("all");
-    let mut matcher = Matcher { program, cache: HashMap::new() };
+    let mut matcher = Matcher {
+        program,
+        cache: HashMap::new(),
+    };
     let mut timelines: Vec<Vec<Slice>> = scene
         .shapes
         .iter()
-        .map(|_| vec![Slice { tag: all, inverted: false, t0: 0.0, dur: settings.duration, anims: Vec::new() }])
+        .map(|_| {
+            vec![Slice {
+                tag: all,
+                inverted: false,
+                t0: 0.0,
+                dur: settings.duration,
+                anims: Vec::new(),
+            }]
+        })
         .collect();
 
     // Count of non-terminal slices per (shape tag, slice tag); the first key is the next step.
     let mut pending: BTreeMap<(u32, u32), usize> = BTreeMap::new();
     for (st, shapes) in shapes_by_tag.iter().enumerate() {
-        if !matcher.get(all, st as u32, &tags, &shape_tag_names).is_empty() {
+        if !matcher
+            .get(all, st as u32, &tags, &shape_tag_names)
+            .is_empty()
+        {
             pending.insert((st as u32, all), shapes.len());
         }
     }
@@ -231,7 +267,11 @@ pub fn expand(scene: &Scene, program: &Program, settings: &Settings) -> Result<E
             return Err(cycle_error(program, &history, settings.max_steps));
         }
         let cands = matcher.get(slice_tag, shape_tag, &tags, &shape_tag_names);
-        let step_rule = pick(program, &cands, unit(key(&[settings.seed, 0x5EED, steps as u64])));
+        let step_rule = pick(
+            program,
+            &cands,
+            unit(key(&[settings.seed, 0x5EED, steps as u64])),
+        );
         let shapes = &shapes_by_tag[shape_tag as usize];
         let n = shapes.len();
         let mut applied = Vec::new();
@@ -242,7 +282,13 @@ pub fn expand(scene: &Scene, program: &Program, settings: &Settings) -> Result<E
                 Choice::Shape => pick(
                     program,
                     &cands,
-                    unit(key(&[settings.seed, 0x5EED, steps as u64, hash_str(&shape.tag), shape.id as u64])),
+                    unit(key(&[
+                        settings.seed,
+                        0x5EED,
+                        steps as u64,
+                        hash_str(&shape.tag),
+                        shape.id as u64,
+                    ])),
                 ),
             };
             let rule = &program.rules[rule_i];
@@ -253,11 +299,25 @@ pub fn expand(scene: &Scene, program: &Program, settings: &Settings) -> Result<E
                     new.push(slice);
                     continue;
                 }
-                let mut env = ShapeEnv { shape, n, canvas, t0: slice.t0, d: slice.dur, step: steps, seed: settings.seed, draws: 0 };
+                let mut env = ShapeEnv {
+                    shape,
+                    n,
+                    canvas,
+                    t0: slice.t0,
+                    d: slice.dur,
+                    step: steps,
+                    seed: settings.seed,
+                    draws: 0,
+                };
                 let first_new = new.len();
-                apply(rule, &slice, &mut env, &mut tags, settings, scene, steps, &mut new)?;
+                apply(
+                    rule, &slice, &mut env, &mut tags, settings, scene, steps, &mut new,
+                )?;
                 for s in &new[first_new..] {
-                    if !matcher.get(s.tag, shape_tag, &tags, &shape_tag_names).is_empty() {
+                    if !matcher
+                        .get(s.tag, shape_tag, &tags, &shape_tag_names)
+                        .is_empty()
+                    {
                         *pending.entry((shape_tag, s.tag)).or_insert(0) += 1;
                     }
                 }
@@ -273,7 +333,12 @@ pub fn expand(scene: &Scene, program: &Program, settings: &Settings) -> Result<E
         }
         steps += 1;
     }
-    Ok(Expansion { timelines, slice_tags: tags.names, steps, rule_uses })
+    Ok(Expansion {
+        timelines,
+        slice_tags: tags.names,
+        steps,
+        rule_uses,
+    })
 }
 
 /// The shortest repeating tail of the rule history, named, as the error for a grammar that
@@ -288,7 +353,9 @@ fn cycle_error(program: &Program, history: &[usize], max: usize) -> EngineError 
     let first = cycle.first().map(|&r| program.rules[r].span);
     let mut e = EngineError {
         span: first,
-        message: format!("the grammar did not terminate within {max} expansion steps (raise `max_steps` or --max-steps if it is just large); these rules keep rewriting each other's output"),
+        message: format!(
+            "the grammar did not terminate within {max} expansion steps (raise `max_steps` or --max-steps if it is just large); these rules keep rewriting each other's output"
+        ),
         notes: Vec::new(),
     };
     for r in cycle {
@@ -314,14 +381,23 @@ fn op_name(op: &Op) -> &'static str {
 }
 
 fn tag_text(t: &TagRef) -> String {
-    if t.inverted { format!("inv_{}", t.name) } else { t.name.clone() }
+    if t.inverted {
+        format!("inv_{}", t.name)
+    } else {
+        t.name.clone()
+    }
 }
 
 fn num(e: &Expr, env: &mut ShapeEnv) -> Result<f64, EngineError> {
     let v = eval(e, env)?;
-    let x = v.as_num().map_err(|m| EngineError::at(e.span, m.to_string()))?;
+    let x = v
+        .as_num()
+        .map_err(|m| EngineError::at(e.span, m.to_string()))?;
     if !x.is_finite() {
-        return Err(EngineError::at(e.span, format!("value is not a finite number ({x})")));
+        return Err(EngineError::at(
+            e.span,
+            format!("value is not a finite number ({x})"),
+        ));
     }
     Ok(x)
 }
@@ -347,7 +423,10 @@ fn apply(
             for f in fractions {
                 let c = num(f, env)?;
                 if c <= 0.0 {
-                    let mut e = EngineError::at(f.span, format!("split fractions must be greater than zero, found {c}"));
+                    let mut e = EngineError::at(
+                        f.span,
+                        format!("split fractions must be greater than zero, found {c}"),
+                    );
                     e.notes.push(shape_note(env.shape));
                     return Err(e);
                 }
@@ -355,7 +434,10 @@ fn apply(
             }
             let sum: f64 = cs.iter().sum();
             if (sum - 1.0).abs() > 1e-6 {
-                let mut e = EngineError::at(rule.span, format!("split fractions must sum to 1, they sum to {sum}"));
+                let mut e = EngineError::at(
+                    rule.span,
+                    format!("split fractions must sum to 1, they sum to {sum}"),
+                );
                 e.notes.push(shape_note(env.shape));
                 return Err(e);
             }
@@ -363,8 +445,16 @@ fn apply(
             let mut t = slice.t0;
             for j in 0..k {
                 // On an inverted slice the split is mirrored: pieces in reverse, tags inverted.
-                let (c, out_tag) = if slice.inverted { (cs[k - 1 - j], &rule.outputs[k - 1 - j]) } else { (cs[j], &rule.outputs[j]) };
-                let dur = if j + 1 == k { slice.t0 + slice.dur - t } else { slice.dur * c };
+                let (c, out_tag) = if slice.inverted {
+                    (cs[k - 1 - j], &rule.outputs[k - 1 - j])
+                } else {
+                    (cs[j], &rule.outputs[j])
+                };
+                let dur = if j + 1 == k {
+                    slice.t0 + slice.dur - t
+                } else {
+                    slice.dur * c
+                };
                 out.push(Slice {
                     tag: tags.id(&out_tag.name),
                     inverted: out_tag.inverted ^ slice.inverted,
@@ -375,10 +465,22 @@ fn apply(
                 t += dur;
             }
         }
-        Op::Animate { kind, world, offset, value, ease, grid, lookup, interp } => {
+        Op::Animate {
+            kind,
+            world,
+            offset,
+            value,
+            ease,
+            grid,
+            lookup,
+            interp,
+        } => {
             let delay = num(offset, env)?;
             if delay < 0.0 {
-                return Err(EngineError::at(offset.span, format!("the offset is a delay and cannot be negative, found {delay}")));
+                return Err(EngineError::at(
+                    offset.span,
+                    format!("the offset is a delay and cannot be negative, found {delay}"),
+                ));
             }
             let ease = match ease {
                 None => Easing::Linear,
@@ -393,7 +495,10 @@ fn apply(
                         AnimType::Affine => {
                             let cs: Vec<Component> = v.as_transform().map_err(bad)?.to_vec();
                             if let Some(c) = cs.iter().find(|c| !c.is_finite()) {
-                                return Err(EngineError::at(value.span, format!("transform has a non-finite parameter: {c:?}")));
+                                return Err(EngineError::at(
+                                    value.span,
+                                    format!("transform has a non-finite parameter: {c:?}"),
+                                ));
                             }
                             let (cs, offset) = split_conjugation(cs);
                             pivot_offset = offset;
@@ -405,7 +510,9 @@ fn apply(
                         }
                         _ => {
                             let d = v.as_str().map_err(bad)?.to_string();
-                            let path = BezPath::from_svg(&d).map_err(|e| EngineError::at(value.span, format!("invalid SVG path data: {e}")))?;
+                            let path = BezPath::from_svg(&d).map_err(|e| {
+                                EngineError::at(value.span, format!("invalid SVG path data: {e}"))
+                            })?;
                             if path.elements().is_empty() {
                                 return Err(EngineError::at(value.span, "the path is empty"));
                             }
@@ -426,14 +533,20 @@ fn apply(
                 AnimType::Opacity => {
                     let x = v.as_num().map_err(bad)?;
                     if !(0.0..=1.0).contains(&x) {
-                        return Err(EngineError::at(value.span, format!("opacity lies in [0, 1], found {x}")));
+                        return Err(EngineError::at(
+                            value.span,
+                            format!("opacity lies in [0, 1], found {x}"),
+                        ));
                     }
                     AnimSpec::Opacity(x)
                 }
                 AnimType::StrokeWidth => {
                     let x = v.as_num().map_err(bad)?;
                     if !(x.is_finite() && x >= 0.0) {
-                        return Err(EngineError::at(value.span, format!("stroke width must be ≥ 0, found {x}")));
+                        return Err(EngineError::at(
+                            value.span,
+                            format!("stroke width must be ≥ 0, found {x}"),
+                        ));
                     }
                     AnimSpec::StrokeWidth(x)
                 }
@@ -450,7 +563,13 @@ fn apply(
                 ease,
                 reversed: inverted,
             }));
-            out.push(Slice { tag: tags.id(&out_tag.name), inverted, t0: slice.t0, dur: slice.dur, anims });
+            out.push(Slice {
+                tag: tags.id(&out_tag.name),
+                inverted,
+                t0: slice.t0,
+                dur: slice.dur,
+                anims,
+            });
         }
     }
     Ok(())
@@ -460,7 +579,11 @@ fn apply(
 /// about a point (`rotate(a, cx, cy)`, `scale(s) ` written around a centre) keeps its pivot
 /// fixed while it plays instead of interpolating the two translations.
 fn split_conjugation(cs: Vec<Component>) -> (Vec<Component>, Vec2) {
-    if let [Component::Translate(a), middle @ .., Component::Translate(b)] = cs.as_slice()
+    if let [
+        Component::Translate(a),
+        middle @ ..,
+        Component::Translate(b),
+    ] = cs.as_slice()
         && !middle.is_empty()
         && (*a + *b).hypot() <= 1e-9 * (1.0 + a.hypot())
     {
@@ -477,12 +600,19 @@ fn easing(e: &Expr, env: &mut ShapeEnv) -> Result<Easing, EngineError> {
         Value::Call { name, args } => {
             let mut nums = Vec::with_capacity(args.len());
             for a in args {
-                nums.push(a.as_num().map_err(|m| EngineError::at(e.span, m.to_string()))?);
+                nums.push(
+                    a.as_num()
+                        .map_err(|m| EngineError::at(e.span, m.to_string()))?,
+                );
             }
             (name, nums)
         }
-        _ => return Err(EngineError::at(e.span, "an easing is a name such as `ease-in-out` or a call such as `cubic(0.4, 0, 0.2, 1)`")),
+        _ => {
+            return Err(EngineError::at(
+                e.span,
+                "an easing is a name such as `ease-in-out` or a call such as `cubic(0.4, 0, 0.2, 1)`",
+            ));
+        }
     };
     Easing::from_call(&name, &args).map_err(|m| EngineError::at(e.span, m.to_string()))
 }
-

@@ -10,6 +10,7 @@ pub mod expand;
 pub mod random;
 pub mod rules;
 pub mod settings;
+pub mod smooth;
 
 use std::fmt;
 
@@ -33,12 +34,20 @@ pub struct EngineError {
 impl EngineError {
     /// An error at a place in the grammar.
     pub fn at(span: Span, message: impl Into<String>) -> EngineError {
-        EngineError { span: Some(span), message: message.into(), notes: Vec::new() }
+        EngineError {
+            span: Some(span),
+            message: message.into(),
+            notes: Vec::new(),
+        }
     }
 
     /// An error with no place.
     pub fn general(message: impl Into<String>) -> EngineError {
-        EngineError { span: None, message: message.into(), notes: Vec::new() }
+        EngineError {
+            span: None,
+            message: message.into(),
+            notes: Vec::new(),
+        }
     }
 }
 
@@ -92,14 +101,20 @@ pub struct RunStats {
 }
 
 /// Runs `grammar` on `scene`: expansion, then compilation into tracks.
-pub fn run(scene: Scene, grammar: &Grammar, opts: &RunOptions) -> Result<(Animation, RunStats), EngineError> {
+pub fn run(
+    scene: Scene,
+    grammar: &Grammar,
+    opts: &RunOptions,
+) -> Result<(Animation, RunStats), EngineError> {
     let mut settings = settings::from_grammar(grammar)?;
     if let Some(s) = opts.seed {
         settings.seed = s;
     }
     if let Some(f) = opts.fps {
         if !(f.is_finite() && f > 0.0) {
-            return Err(EngineError::general(format!("--fps must be a positive number, found {f}")));
+            return Err(EngineError::general(format!(
+                "--fps must be a positive number, found {f}"
+            )));
         }
         settings.fps = f;
     }
@@ -108,7 +123,9 @@ pub fn run(scene: Scene, grammar: &Grammar, opts: &RunOptions) -> Result<(Animat
     }
     let program = rules::Program::new(grammar)?;
     if scene.shapes.is_empty() {
-        return Err(EngineError::general("the scene has no visible shapes to animate"));
+        return Err(EngineError::general(
+            "the scene has no visible shapes to animate",
+        ));
     }
     let mut warnings = Vec::new();
     let mut tangle_steps = 0;
@@ -118,14 +135,25 @@ pub fn run(scene: Scene, grammar: &Grammar, opts: &RunOptions) -> Result<(Animat
     } else {
         // Spatial rules may consume the scene's tags and the tags spatial rules produce.
         let mut known = scene_tags(&scene);
-        let spatial: Vec<&crate::grammar::ast::Rule> = program.spatial.iter().map(|&i| &grammar.rules[i]).collect();
-        known.extend(spatial.iter().flat_map(|r| r.outputs.iter().map(|t| t.name.as_str())));
+        let spatial: Vec<&crate::grammar::ast::Rule> =
+            program.spatial.iter().map(|&i| &grammar.rules[i]).collect();
+        known.extend(
+            spatial
+                .iter()
+                .flat_map(|r| r.outputs.iter().map(|t| t.name.as_str())),
+        );
         rules::check_shape_tags(grammar, &known, true)?;
-        let topts = crate::tangle::TangleOptions { seed: settings.seed, ..Default::default() };
-        let (expanded, tstats) = crate::tangle::expand(&scene, &spatial, &topts).map_err(|e| match &e {
-            crate::tangle::TangleError::Arg { span, message } => EngineError::at(*span, message.clone()),
-            other => EngineError::general(other.to_string()),
-        })?;
+        let topts = crate::tangle::TangleOptions {
+            seed: settings.seed,
+            ..Default::default()
+        };
+        let (expanded, tstats) =
+            crate::tangle::expand(&scene, &spatial, &topts).map_err(|e| match &e {
+                crate::tangle::TangleError::Arg { span, message } => {
+                    EngineError::at(*span, message.clone())
+                }
+                other => EngineError::general(other.to_string()),
+            })?;
         for w in &tstats.warnings {
             warnings.push(match w.span {
                 Some(s) => format!("{}:{}: {}", s.line, s.col, w.message),
@@ -134,13 +162,26 @@ pub fn run(scene: Scene, grammar: &Grammar, opts: &RunOptions) -> Result<(Animat
         }
         tangle_steps = tstats.steps;
         if expanded.shapes.is_empty() {
-            return Err(EngineError::general("the spatial rules left no shapes to animate"));
+            return Err(EngineError::general(
+                "the spatial rules left no shapes to animate",
+            ));
         }
         rules::check_shape_tags(grammar, &scene_tags(&expanded), false)?;
         expanded
     };
     let expansion = expand::expand(&scene, &program, &settings)?;
-    let tracks = compile::compile(&scene, &expansion, &settings);
+    let mut tracks = compile::compile(&scene, &expansion, &settings);
+    if let Some((value, span)) = &settings.smoothing {
+        let spec = smooth::spec_from_value(value).map_err(|m| EngineError::at(*span, m))?;
+        smooth::smooth_tracks(
+            &mut tracks,
+            &spec,
+            settings.duration,
+            settings.fps,
+            settings.looping,
+        )
+        .map_err(|m| EngineError::at(*span, m))?;
+    }
     let stats = RunStats {
         steps: expansion.steps,
         spatial_steps: tangle_steps,

@@ -17,8 +17,9 @@ pub fn key(parts: &[u64]) -> u64 {
 
 /// FNV-1a of a string, for folding tags into keys.
 pub fn hash_str(s: &str) -> u64 {
-    s.bytes()
-        .fold(0xcbf2_9ce4_8422_2325, |h, b| (h ^ b as u64).wrapping_mul(0x0100_0000_01b3))
+    s.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
+    })
 }
 
 /// A uniform number in `[0, 1)` from a key.

@@ -141,7 +141,11 @@ impl Program {
                 }
             }
         }
-        Ok(Program { rules, spatial, by_slice_tag })
+        Ok(Program {
+            rules,
+            spatial,
+            by_slice_tag,
+        })
     }
 
     /// Rules whose tags match a slice tag (base name) on a shape tag, highest priority
@@ -153,12 +157,20 @@ impl Program {
         let matching: Vec<usize> = list
             .iter()
             .copied()
-            .filter(|&i| self.rules[i].shape_tags.iter().any(|t| t == "all" || t == shape_tag))
+            .filter(|&i| {
+                self.rules[i]
+                    .shape_tags
+                    .iter()
+                    .any(|t| t == "all" || t == shape_tag)
+            })
             .collect();
         let Some(top) = matching.iter().map(|&i| self.rules[i].priority).max() else {
             return Vec::new();
         };
-        matching.into_iter().filter(|&i| self.rules[i].priority == top).collect()
+        matching
+            .into_iter()
+            .filter(|&i| self.rules[i].priority == top)
+            .collect()
     }
 }
 
@@ -171,49 +183,88 @@ fn check_rule(index: usize, r: &Rule) -> Result<CRule, EngineError> {
     let op = match r.op.as_str() {
         "timesplit" => {
             if let Some(a) = r.args.iter().find(|a| a.name.is_some()) {
-                return Err(EngineError::at(a.span, "`timesplit` takes no named arguments"));
+                return Err(EngineError::at(
+                    a.span,
+                    "`timesplit` takes no named arguments",
+                ));
             }
             if pos.len() < 2 {
-                return Err(EngineError::at(r.op_span, "`timesplit` needs at least two fractions"));
+                return Err(EngineError::at(
+                    r.op_span,
+                    "`timesplit` needs at least two fractions",
+                ));
             }
             if pos.len() != r.outputs.len() {
                 return Err(EngineError::at(
                     r.span,
-                    format!("`timesplit` has {} fractions but {} output tags; they must match", pos.len(), r.outputs.len()),
+                    format!(
+                        "`timesplit` has {} fractions but {} output tags; they must match",
+                        pos.len(),
+                        r.outputs.len()
+                    ),
                 ));
             }
-            Op::Timesplit { fractions: pos.iter().map(|a| a.value.clone()).collect() }
+            Op::Timesplit {
+                fractions: pos.iter().map(|a| a.value.clone()).collect(),
+            }
         }
         "animate" => {
             if pos.len() != 4 {
                 return Err(EngineError::at(
                     r.op_span,
-                    format!("`animate` takes 4 arguments (type, ref, offset, value), found {}", pos.len()),
+                    format!(
+                        "`animate` takes 4 arguments (type, ref, offset, value), found {}",
+                        pos.len()
+                    ),
                 ));
             }
             let kind = keyword(&pos[0].value)
                 .and_then(|k| AnimType::ALL.iter().find(|(n, _)| *n == k).map(|(_, t)| *t))
                 .ok_or_else(|| {
-                    let names: Vec<_> = AnimType::ALL.iter().map(|(n, _)| format!("`{n}`")).collect();
-                    EngineError::at(pos[0].span, format!("unknown animation type; expected one of {}", names.join(", ")))
+                    let names: Vec<_> = AnimType::ALL
+                        .iter()
+                        .map(|(n, _)| format!("`{n}`"))
+                        .collect();
+                    EngineError::at(
+                        pos[0].span,
+                        format!(
+                            "unknown animation type; expected one of {}",
+                            names.join(", ")
+                        ),
+                    )
                 })?;
             let world = match keyword(&pos[1].value) {
                 Some("world") => true,
                 Some("local") => false,
-                _ => return Err(EngineError::at(pos[1].span, "the reference is `local` or `world`")),
+                _ => {
+                    return Err(EngineError::at(
+                        pos[1].span,
+                        "the reference is `local` or `world`",
+                    ));
+                }
             };
             if r.outputs.len() != 1 {
-                return Err(EngineError::at(r.span, "`animate` has exactly one output tag"));
+                return Err(EngineError::at(
+                    r.span,
+                    "`animate` has exactly one output tag",
+                ));
             }
             for a in &r.args {
                 if let Some(n) = &a.name
                     && !["ease", "grid", "lookup", "interp"].contains(&n.as_str())
                 {
-                    return Err(EngineError::at(a.span, format!("unknown argument `{n}`; `animate` accepts ease, grid, lookup, interp")));
+                    return Err(EngineError::at(
+                        a.span,
+                        format!(
+                            "unknown argument `{n}`; `animate` accepts ease, grid, lookup, interp"
+                        ),
+                    ));
                 }
             }
             let grid = match named(&r.args, "grid") {
-                Some(a) => Some(super::settings::size_of(&a.value).ok_or_else(|| EngineError::at(a.span, "grid is written `NxM`, e.g. `grid = 4x4`"))?),
+                Some(a) => Some(super::settings::size_of(&a.value).ok_or_else(|| {
+                    EngineError::at(a.span, "grid is written `NxM`, e.g. `grid = 4x4`")
+                })?),
                 None => None,
             };
             let lookup = match named(&r.args, "lookup") {
@@ -222,7 +273,12 @@ fn check_rule(index: usize, r: &Rule) -> Result<CRule, EngineError> {
                     Some("bilinear") => crate::motion::Lookup::Bilinear,
                     Some("exact") => crate::motion::Lookup::Exact,
                     Some("vertex") => crate::motion::Lookup::Vertex,
-                    _ => return Err(EngineError::at(a.span, "lookup is one of nearest, bilinear, exact, vertex")),
+                    _ => {
+                        return Err(EngineError::at(
+                            a.span,
+                            "lookup is one of nearest, bilinear, exact, vertex",
+                        ));
+                    }
                 }),
                 None => None,
             };
@@ -248,12 +304,17 @@ fn check_rule(index: usize, r: &Rule) -> Result<CRule, EngineError> {
         other => {
             return Err(EngineError::at(
                 r.op_span,
-                format!("unknown timeslice operator `{other}`; expected `timesplit` or `animate` (spatial operators take a single tag list)"),
+                format!(
+                    "unknown timeslice operator `{other}`; expected `timesplit` or `animate` (spatial operators take a single tag list)"
+                ),
             ));
         }
     };
     if r.slice_tags.is_empty() || r.shape_tags.is_empty() {
-        return Err(EngineError::at(r.span, "a timeslice rule matches `[slice tags, shape tags]`"));
+        return Err(EngineError::at(
+            r.span,
+            "a timeslice rule matches `[slice tags, shape tags]`",
+        ));
     }
     if !(r.weight.is_finite() && r.weight > 0.0) {
         return Err(EngineError::at(r.span, "weight must be a positive number"));
@@ -274,17 +335,27 @@ fn check_rule(index: usize, r: &Rule) -> Result<CRule, EngineError> {
 /// otherwise the rule can never apply, which is almost always a typo.
 fn check_slice_tags(grammar: &Grammar) -> Result<(), EngineError> {
     let produced: Vec<&str> = std::iter::once("all")
-        .chain(grammar.rules.iter().filter(|r| !r.spatial).flat_map(|r| r.outputs.iter().map(|t| t.name.as_str())))
+        .chain(
+            grammar
+                .rules
+                .iter()
+                .filter(|r| !r.spatial)
+                .flat_map(|r| r.outputs.iter().map(|t| t.name.as_str())),
+        )
         .collect();
     for r in grammar.rules.iter().filter(|r| !r.spatial) {
         for t in &r.slice_tags {
             if !produced.contains(&t.name.as_str()) {
-                let hint = crate::grammar::diagnostics::did_you_mean(&t.name, produced.iter().copied())
-                    .map(|m| format!(" (did you mean `{m}`?)"))
-                    .unwrap_or_default();
+                let hint =
+                    crate::grammar::diagnostics::did_you_mean(&t.name, produced.iter().copied())
+                        .map(|m| format!(" (did you mean `{m}`?)"))
+                        .unwrap_or_default();
                 return Err(EngineError::at(
                     t.span,
-                    format!("unknown slice tag `{}`: no rule produces it and it is not `all`{hint}", t.name),
+                    format!(
+                        "unknown slice tag `{}`: no rule produces it and it is not `all`{hint}",
+                        t.name
+                    ),
                 ));
             }
         }
@@ -295,18 +366,30 @@ fn check_slice_tags(grammar: &Grammar) -> Result<(), EngineError> {
 /// Every shape tag a rule names must be `all` or the tag of some shape in the scene.
 /// `spatial` selects which rules are checked: the spatial ones (against the scene before
 /// the group grammar runs) or the timeslice ones (against the scene it leaves).
-pub fn check_shape_tags(grammar: &Grammar, scene_tags: &[&str], spatial: bool) -> Result<(), EngineError> {
+pub fn check_shape_tags(
+    grammar: &Grammar,
+    scene_tags: &[&str],
+    spatial: bool,
+) -> Result<(), EngineError> {
     for r in grammar.rules.iter().filter(|r| r.spatial == spatial) {
         for t in &r.shape_tags {
             if t.name != "all" && !scene_tags.contains(&t.name.as_str()) {
-                let hint = crate::grammar::diagnostics::did_you_mean(&t.name, scene_tags.iter().copied())
-                    .map(|m| format!(" (did you mean `{m}`?)"))
-                    .unwrap_or_default();
+                let hint =
+                    crate::grammar::diagnostics::did_you_mean(&t.name, scene_tags.iter().copied())
+                        .map(|m| format!(" (did you mean `{m}`?)"))
+                        .unwrap_or_default();
                 let mut known: Vec<&str> = scene_tags.to_vec();
                 known.sort_unstable();
                 known.dedup();
-                let mut e = EngineError::at(t.span, format!("unknown shape tag `{}`: no shape in the scene has it{hint}", t.name));
-                e.notes.push(format!("the scene's tags: {}", known.join(", ")));
+                let mut e = EngineError::at(
+                    t.span,
+                    format!(
+                        "unknown shape tag `{}`: no shape in the scene has it{hint}",
+                        t.name
+                    ),
+                );
+                e.notes
+                    .push(format!("the scene's tags: {}", known.join(", ")));
                 return Err(e);
             }
         }

@@ -88,16 +88,24 @@ impl Env for NoEnv {
 fn one(d: &Directive) -> Result<&crate::grammar::ast::Expr, EngineError> {
     match d.values.as_slice() {
         [v] => Ok(v),
-        _ => Err(EngineError::at(d.span, format!("`{}` takes exactly one value", d.name))),
+        _ => Err(EngineError::at(
+            d.span,
+            format!("`{}` takes exactly one value", d.name),
+        )),
     }
 }
 
 fn num(d: &Directive) -> Result<f64, EngineError> {
     let e = one(d)?;
     let v = eval(e, &mut NoEnv).map_err(EngineError::from)?;
-    let x = v.as_num().map_err(|m| EngineError::at(e.span, m.to_string()))?;
+    let x = v
+        .as_num()
+        .map_err(|m| EngineError::at(e.span, m.to_string()))?;
     if !x.is_finite() {
-        return Err(EngineError::at(e.span, format!("`{}` must be a finite number", d.name)));
+        return Err(EngineError::at(
+            e.span,
+            format!("`{}` must be a finite number", d.name),
+        ));
     }
     Ok(x)
 }
@@ -105,7 +113,10 @@ fn num(d: &Directive) -> Result<f64, EngineError> {
 fn positive(d: &Directive) -> Result<f64, EngineError> {
     let x = num(d)?;
     if x <= 0.0 {
-        return Err(EngineError::at(d.span, format!("`{}` must be greater than zero, found {x}", d.name)));
+        return Err(EngineError::at(
+            d.span,
+            format!("`{}` must be greater than zero, found {x}", d.name),
+        ));
     }
     Ok(x)
 }
@@ -115,7 +126,10 @@ fn word(d: &Directive) -> Result<String, EngineError> {
     match &e.kind {
         ExprKind::Ident(s) | ExprKind::Str(s) => Ok(s.clone()),
         ExprKind::Num(x) => Ok(x.to_string()),
-        _ => Err(EngineError::at(e.span, format!("`{}` expects a word", d.name))),
+        _ => Err(EngineError::at(
+            e.span,
+            format!("`{}` expects a word", d.name),
+        )),
     }
 }
 
@@ -127,7 +141,14 @@ fn choose<T: Copy>(d: &Directive, options: &[(&str, T)]) -> Result<T, EngineErro
         .map(|(_, v)| *v)
         .ok_or_else(|| {
             let names: Vec<_> = options.iter().map(|(n, _)| format!("`{n}`")).collect();
-            EngineError::at(d.span, format!("`{}`: unknown value `{w}`, expected one of {}", d.name, names.join(", ")))
+            EngineError::at(
+                d.span,
+                format!(
+                    "`{}`: unknown value `{w}`, expected one of {}",
+                    d.name,
+                    names.join(", ")
+                ),
+            )
         })
 }
 
@@ -141,7 +162,10 @@ pub fn from_grammar(grammar: &Grammar) -> Result<Settings, EngineError> {
             "seed" => {
                 let x = num(d)?;
                 if x < 0.0 || x.fract() != 0.0 {
-                    return Err(EngineError::at(d.span, "`seed` must be a non-negative integer"));
+                    return Err(EngineError::at(
+                        d.span,
+                        "`seed` must be a non-negative integer",
+                    ));
                 }
                 s.seed = x as u64;
             }
@@ -154,20 +178,44 @@ pub fn from_grammar(grammar: &Grammar) -> Result<Settings, EngineError> {
             "lookup" => {
                 s.lookup = choose(
                     d,
-                    &[("nearest", Lookup::Nearest), ("bilinear", Lookup::Bilinear), ("exact", Lookup::Exact), ("vertex", Lookup::Vertex)],
+                    &[
+                        ("nearest", Lookup::Nearest),
+                        ("bilinear", Lookup::Bilinear),
+                        ("exact", Lookup::Exact),
+                        ("vertex", Lookup::Vertex),
+                    ],
                 )?
             }
-            "interp" => s.interp = choose(d, &[("linear", Interp::Linear), ("alexa", Interp::Alexa)])?,
-            "loop" => s.looping = choose(d, &[("true", true), ("false", false), ("yes", true), ("no", false)])?,
+            "interp" => {
+                s.interp = choose(d, &[("linear", Interp::Linear), ("alexa", Interp::Alexa)])?
+            }
+            "loop" => {
+                s.looping = choose(
+                    d,
+                    &[
+                        ("true", true),
+                        ("false", false),
+                        ("yes", true),
+                        ("no", false),
+                    ],
+                )?
+            }
             "max_steps" => s.max_steps = positive(d)?.round() as usize,
-            "choice" => s.choice = choose(d, &[("group", Choice::Group), ("shape", Choice::Shape)])?,
+            "choice" => {
+                s.choice = choose(d, &[("group", Choice::Group), ("shape", Choice::Shape)])?
+            }
             "tag_from" => s.tag_from = Some(word(d)?),
             "units" => s.units = Some(word(d)?),
             "smoothing" => {
                 let e = one(d)?;
                 s.smoothing = Some((eval(e, &mut NoEnv).map_err(EngineError::from)?, e.span));
             }
-            other => return Err(EngineError::at(d.span, format!("unknown directive `{other}`"))),
+            other => {
+                return Err(EngineError::at(
+                    d.span,
+                    format!("unknown directive `{other}`"),
+                ));
+            }
         }
     }
     Ok(s)
@@ -176,14 +224,23 @@ pub fn from_grammar(grammar: &Grammar) -> Result<Settings, EngineError> {
 /// A grid size from `4x4`, `(4, 4)` or a single number.
 pub fn grid_size(d: &Directive) -> Result<(usize, usize), EngineError> {
     let e = one(d)?;
-    size_of(e).ok_or_else(|| EngineError::at(e.span, "a grid size is written `NxM` with N, M ≥ 1, e.g. `4x4`"))
+    size_of(e).ok_or_else(|| {
+        EngineError::at(
+            e.span,
+            "a grid size is written `NxM` with N, M ≥ 1, e.g. `4x4`",
+        )
+    })
 }
 
 /// A grid size expression (`4x4`), if it is one.
 pub fn size_of(e: &crate::grammar::ast::Expr) -> Option<(usize, usize)> {
     match &e.kind {
-        ExprKind::Size(a, b) if *a >= 1 && *b >= 1 && *a <= 4096 && *b <= 4096 => Some((*a as usize, *b as usize)),
-        ExprKind::Num(n) if *n >= 1.0 && n.fract() == 0.0 && *n <= 4096.0 => Some((*n as usize, *n as usize)),
+        ExprKind::Size(a, b) if *a >= 1 && *b >= 1 && *a <= 4096 && *b <= 4096 => {
+            Some((*a as usize, *b as usize))
+        }
+        ExprKind::Num(n) if *n >= 1.0 && n.fract() == 0.0 && *n <= 4096.0 => {
+            Some((*n as usize, *n as usize))
+        }
         _ => None,
     }
 }

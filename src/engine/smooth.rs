@@ -1,0 +1,189 @@
+//! The `smoothing` stage: every shape's channels — the six transform coefficients, both
+//! tints, opacity and stroke width — sampled once per frame and passed through a signal
+//! system (FIR easing, spring, …; see [`crate::signals::smooth`]), so motion stays
+//! continuous in velocity across slice boundaries (Reach & North, sec. 5–6).
+//!
+//! Filtering the matrix coefficients is a linear operation on affine maps, so the result is
+//! still an affine map per frame. The smoothed samples become one window per frame that
+//! interpolates linearly between consecutive frames; exporters reduce those keyframes to
+//! their error bound. A looping animation is filtered over two periods and the second is
+//! kept, so the loop stays seamless; otherwise the filter starts at rest on the first frame.
+
+use std::sync::Arc;
+
+use kurbo::{Affine, Point};
+use rayon::prelude::*;
+
+use crate::grammar::value::Value;
+use crate::motion::{AttrSeg, Component, Interp, MotionKind, MotionSeg, Timing, Tint, Track};
+use crate::signals::Easing;
+use crate::signals::smooth::{CallArg, SmoothSpec, smooth_samples};
+
+/// Channels per shape: 6 affine coefficients, fill tint (4), stroke tint (4), opacity,
+/// stroke width.
+const N: usize = 16;
+
+/// The system a `smoothing` directive names.
+pub fn spec_from_value(v: &Value) -> Result<SmoothSpec, String> {
+    fn arg(v: &Value) -> Result<CallArg, String> {
+        match v {
+            Value::Num(x) => Ok(CallArg::Num(*x)),
+            Value::Keyword(k) => Ok(CallArg::Call(k.clone(), Vec::new())),
+            Value::Call { name, args } => Ok(CallArg::Call(
+                name.clone(),
+                args.iter().map(arg).collect::<Result<_, _>>()?,
+            )),
+            other => Err(format!(
+                "a smoothing system is written like `spring(0.4, 0)`; found {}",
+                other.describe()
+            )),
+        }
+    }
+    match arg(v)? {
+        CallArg::Call(name, args) => SmoothSpec::from_call(&name, &args).map_err(|e| e.to_string()),
+        CallArg::Num(_) => Err(
+            "a smoothing system is written like `spring(0.4, 0)` or `fir(bspline(3), 0.3)`".into(),
+        ),
+    }
+}
+
+fn pack(track: &Track, t: f64) -> [f64; N] {
+    let s = track.state_at(t);
+    let m = s.transform.as_coeffs();
+    [
+        m[0],
+        m[1],
+        m[2],
+        m[3],
+        m[4],
+        m[5],
+        s.fill.sum[0] as f64,
+        s.fill.sum[1] as f64,
+        s.fill.sum[2] as f64,
+        s.fill.weight as f64,
+        s.stroke.sum[0] as f64,
+        s.stroke.sum[1] as f64,
+        s.stroke.sum[2] as f64,
+        s.stroke.weight as f64,
+        s.opacity,
+        s.stroke_width,
+    ]
+}
+
+fn tint(v: &[f64; N], at: usize) -> Tint {
+    Tint {
+        sum: [v[at] as f32, v[at + 1] as f32, v[at + 2] as f32],
+        weight: v[at + 3].clamp(0.0, 1.0) as f32,
+    }
+}
+
+fn timing(t0: f64, t1: f64) -> Timing {
+    Timing {
+        start: t0,
+        end: t1,
+        delay: 0.0,
+        ease: Easing::Linear,
+        reversed: false,
+    }
+}
+
+/// Smooths every track that changes; tracks that never change are left alone.
+pub fn smooth_tracks(
+    tracks: &mut [Track],
+    spec: &SmoothSpec,
+    duration: f64,
+    fps: f64,
+    looping: bool,
+) -> Result<(), String> {
+    let frames = ((duration * fps).round() as usize).max(1);
+    let time = |i: usize| (i as f64 / fps).min(duration);
+    tracks.par_iter_mut().try_for_each(|track| {
+        if track.motions.is_empty()
+            && track.fill.is_empty()
+            && track.stroke.is_empty()
+            && track.opacity.is_empty()
+            && track.stroke_width.is_empty()
+        {
+            return Ok(());
+        }
+        let raw: Vec<[f64; N]> = (0..=frames).map(|i| pack(track, time(i))).collect();
+        let smoothed = if looping {
+            // Two periods; the second starts from the state the first ended in.
+            let mut twice = raw[..frames].to_vec();
+            twice.extend_from_slice(&raw);
+            let out = smooth_samples(spec, &twice, fps).map_err(|e| e.to_string())?;
+            out[frames..].to_vec()
+        } else {
+            smooth_samples(spec, &raw, fps).map_err(|e| e.to_string())?
+        };
+        *track = rebuild(&smoothed, time);
+        Ok(())
+    })
+}
+
+fn rebuild(v: &[[f64; N]], time: impl Fn(usize) -> f64) -> Track {
+    let mut track = Track::default();
+    let affine = |x: &[f64; N]| Affine::new([x[0], x[1], x[2], x[3], x[4], x[5]]);
+    for i in 0..v.len().saturating_sub(1) {
+        let (t0, t1) = (time(i), time(i + 1));
+        if t1 <= t0 {
+            continue;
+        }
+        let (a, b) = (&v[i], &v[i + 1]);
+        let (ma, mb) = (affine(a), affine(b));
+        if ma != mb && ma.determinant().abs() > 1e-12 {
+            // X(t) = X_a + s·(X_b − X_a): an entry-wise blend of Δ = X_b·X_a⁻¹ from the identity.
+            let delta = mb * ma.inverse();
+            track.motions.push(MotionSeg {
+                t0,
+                t1,
+                timing: timing(t0, t1),
+                kind: MotionKind::Rigid {
+                    pivot: Point::ORIGIN,
+                    blend: vec![(1.0, Arc::from([Component::Matrix(delta)]))],
+                    interp: Interp::Linear,
+                },
+                start: ma,
+            });
+        }
+        let (fa, fb) = (tint(a, 6), tint(b, 6));
+        if fa != fb {
+            track.fill.push(AttrSeg {
+                t0,
+                t1,
+                timing: timing(t0, t1),
+                from: fa,
+                to: fb,
+            });
+        }
+        let (sa, sb) = (tint(a, 10), tint(b, 10));
+        if sa != sb {
+            track.stroke.push(AttrSeg {
+                t0,
+                t1,
+                timing: timing(t0, t1),
+                from: sa,
+                to: sb,
+            });
+        }
+        if a[14] != b[14] {
+            track.opacity.push(AttrSeg {
+                t0,
+                t1,
+                timing: timing(t0, t1),
+                from: a[14].clamp(0.0, 1.0),
+                to: b[14].clamp(0.0, 1.0),
+            });
+        }
+        if a[15] != b[15] {
+            track.stroke_width.push(AttrSeg {
+                t0,
+                t1,
+                timing: timing(t0, t1),
+                from: a[15].max(0.0),
+                to: b[15].max(0.0),
+            });
+        }
+    }
+    track
+}
