@@ -33,14 +33,20 @@ fn out_dir(name: &str) -> PathBuf {
 
 fn run_ok(cmd: &mut Command) -> String {
     let out = cmd.output().unwrap();
-    assert!(out.status.success(), "{cmd:?} failed:\n{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{cmd:?} failed:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
 fn animate(name: &str, outputs: &[&Path], extra: &[&str], threads: Option<&str>) {
     let g = root().join("grammars");
     let mut cmd = bin();
-    cmd.arg("animate").arg(g.join(format!("{name}.svg"))).arg(g.join(format!("{name}.gm")));
+    cmd.arg("animate")
+        .arg(g.join(format!("{name}.svg")))
+        .arg(g.join(format!("{name}.gm")));
     for o in outputs {
         cmd.arg("-o").arg(o);
     }
@@ -62,17 +68,28 @@ fn every_example_writes_every_format_identically_on_every_run() {
         let second: Vec<PathBuf> = files.iter().map(|f| d.join(format!("2-{f}"))).collect();
         let refs1: Vec<&Path> = first.iter().map(|p| p.as_path()).collect();
         let refs2: Vec<&Path> = second.iter().map(|p| p.as_path()).collect();
-        let extra = ["--seed", "11", "--time", "1.3", "--width", "160", "--fps", "6"];
+        let extra = [
+            "--seed", "11", "--time", "1.3", "--width", "160", "--fps", "6",
+        ];
         animate(&name, &refs1, &extra, None);
         animate(&name, &refs2, &extra, Some("1"));
         for (a, b) in first.iter().zip(&second) {
             let (x, y) = (std::fs::read(a).unwrap(), std::fs::read(b).unwrap());
             assert!(!x.is_empty(), "{} is empty", a.display());
-            assert!(x == y, "{name}: {} differs between runs (second run single-threaded)", a.display());
+            assert!(
+                x == y,
+                "{name}: {} differs between runs (second run single-threaded)",
+                a.display()
+            );
         }
         // The frames directory: one PNG per frame, the same count the preview holds.
         let frames = d.join("frames");
-        animate(&name, &[frames.as_path()], &["--width", "80", "--fps", "4"], None);
+        animate(
+            &name,
+            &[frames.as_path()],
+            &["--width", "80", "--fps", "4"],
+            None,
+        );
         let n = std::fs::read_dir(&frames).unwrap().count();
         assert!(n >= 8, "{name}: only {n} frames");
         let _ = std::fs::remove_dir_all(&d);
@@ -85,8 +102,14 @@ fn looping_examples_end_where_they_begin() {
     for name in examples() {
         let d = out_dir(&format!("loop-{name}"));
         let (a, b) = (d.join("start.png"), d.join("end.png"));
-        animate(&name, &[a.as_path()], &["--time", "0", "--width", "200"], None);
-        let src = std::fs::read_to_string(root().join("grammars").join(format!("{name}.gm"))).unwrap();
+        animate(
+            &name,
+            &[a.as_path()],
+            &["--time", "0", "--width", "200"],
+            None,
+        );
+        let src =
+            std::fs::read_to_string(root().join("grammars").join(format!("{name}.gm"))).unwrap();
         let g = gmotion::grammar::parse(&src).unwrap();
         let dur = g
             .directives
@@ -97,11 +120,20 @@ fn looping_examples_end_where_they_begin() {
                 _ => None,
             })
             .expect("examples state their duration");
-        animate(&name, &[b.as_path()], &["--time", &dur.to_string(), "--width", "200"], None);
+        animate(
+            &name,
+            &[b.as_path()],
+            &["--time", &dur.to_string(), "--width", "200"],
+            None,
+        );
         let pa = resvg::tiny_skia::Pixmap::load_png(&a).unwrap();
         let pb = resvg::tiny_skia::Pixmap::load_png(&b).unwrap();
         let off = gmotion::exporters::raster::compare(&pa, &pb, 8);
-        assert!(off < 0.001, "{name}: {:.3}% of pixels differ between the first and last instant", off * 100.0);
+        assert!(
+            off < 0.001,
+            "{name}: {:.3}% of pixels differ between the first and last instant",
+            off * 100.0
+        );
         let _ = std::fs::remove_dir_all(&d);
     }
 }
@@ -111,10 +143,14 @@ fn demo_writes_frames_preview_lottie_and_smil() {
     let d = out_dir("demo");
     let stdout = run_ok(bin().current_dir(root()).arg("demo").arg("-o").arg(&d));
     for f in ["abstract.gif", "abstract.json", "abstract.svg", "view.html"] {
-        assert!(d.join(f).is_file(), "demo did not write {f}; said:\n{stdout}");
+        assert!(
+            d.join(f).is_file(),
+            "demo did not write {f}; said:\n{stdout}"
+        );
     }
     assert!(std::fs::read_dir(d.join("frames")).unwrap().count() > 10);
-    let json: serde_json::Value = serde_json::from_slice(&std::fs::read(d.join("abstract.json")).unwrap()).unwrap();
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(d.join("abstract.json")).unwrap()).unwrap();
     assert!(json["layers"].as_array().is_some_and(|l| !l.is_empty()));
     let _ = std::fs::remove_dir_all(&d);
 }
@@ -123,11 +159,24 @@ fn demo_writes_frames_preview_lottie_and_smil() {
 fn convert_writes_png_lottie_and_svg() {
     let d = out_dir("convert");
     let input = root().join("grammars/toy.svg");
-    run_ok(bin().arg("convert").arg(&input).arg("-o").arg(d.join("t.png")).arg("-o").arg(d.join("t.json")).arg("-o").arg(d.join("t.svg")).args(["--width", "130"]));
+    run_ok(
+        bin()
+            .arg("convert")
+            .arg(&input)
+            .arg("-o")
+            .arg(d.join("t.png"))
+            .arg("-o")
+            .arg(d.join("t.json"))
+            .arg("-o")
+            .arg(d.join("t.svg"))
+            .args(["--width", "130"]),
+    );
     let png = resvg::tiny_skia::Pixmap::load_png(d.join("t.png")).unwrap();
     assert_eq!(png.width(), 130);
     // The clean SVG renders like the original.
-    let again = gmotion::exporters::raster::render(&std::fs::read_to_string(d.join("t.svg")).unwrap(), 130).unwrap();
+    let again =
+        gmotion::exporters::raster::render(&std::fs::read_to_string(d.join("t.svg")).unwrap(), 130)
+            .unwrap();
     assert!(gmotion::exporters::raster::compare(&png, &again, 8) < 0.001);
     let _ = std::fs::remove_dir_all(&d);
 }
@@ -136,10 +185,60 @@ fn convert_writes_png_lottie_and_svg() {
 fn check_prints_statistics_and_writes_the_graph() {
     let d = out_dir("check");
     let g = root().join("grammars");
-    let out = run_ok(bin().arg("check").arg(g.join("toy.gm")).arg(g.join("toy.svg")).arg("--graph").arg(d.join("g.dot")));
+    let out = run_ok(
+        bin()
+            .arg("check")
+            .arg(g.join("toy.gm"))
+            .arg(g.join("toy.svg"))
+            .arg("--graph")
+            .arg(d.join("g.dot")),
+    );
     assert!(out.contains("rules: 5"), "{out}");
     assert!(out.contains("expansion:"), "{out}");
     let dot = std::fs::read_to_string(d.join("g.dot")).unwrap();
-    assert!(dot.starts_with("digraph") && dot.contains("\"a\" -> \"b\""), "{dot}");
+    assert!(
+        dot.starts_with("digraph") && dot.contains("\"a\" -> \"b\""),
+        "{dot}"
+    );
     let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn transitions_run_the_three_applications() {
+    let g = root().join("grammars");
+    for name in ["histogram", "permutation", "revisions"] {
+        let d = out_dir(&format!("tr-{name}"));
+        let (json, svg, png) = (d.join("a.json"), d.join("a.svg"), d.join("a.png"));
+        run_ok(
+            bin()
+                .arg("transitions")
+                .arg(g.join(format!("{name}.svg")))
+                .arg(g.join(format!("{name}.targets.json")))
+                .args(["--fps", "20", "--time", "0.5", "--width", "120"])
+                .arg("-o")
+                .arg(&json)
+                .arg("-o")
+                .arg(&svg)
+                .arg("-o")
+                .arg(&png),
+        );
+        let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
+        assert!(v["op"].as_f64().unwrap() > 20.0, "{name}: too short");
+        assert!(std::fs::read_to_string(&svg).unwrap().contains("<animate"), "{name}: SMIL has no animation");
+        let _ = std::fs::remove_dir_all(&d);
+    }
+    // A bad system is reported, with no output.
+    let d = out_dir("tr-bad");
+    let out = bin()
+        .arg("transitions")
+        .arg(g.join("histogram.svg"))
+        .arg(g.join("histogram.targets.json"))
+        .args(["--system", "spring(-1, 0)"])
+        .arg("-o")
+        .arg(d.join("x.json"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--system"));
+    assert!(!d.join("x.json").exists());
 }

@@ -35,6 +35,9 @@ pub fn run(cmd: Command) -> Result<()> {
             render,
             import,
         } => animate(&scene, &grammar, &output, time, &run, &render, &import),
+        Command::Transitions { scene, targets, output, system, fps, duration, time, render, import } => {
+            transitions(&scene, &targets, &output, system.as_deref(), fps, duration, time, &render, &import)
+        }
         Command::Check {
             grammar,
             scene,
@@ -299,18 +302,27 @@ fn convert(
     Ok(())
 }
 
-fn check(grammar_path: &Path, scene: Option<&Path>, graph: Option<&Path>, run: &RunArgs, import: &ImportArgs) -> Result<()> {
+fn check(
+    grammar_path: &Path,
+    scene: Option<&Path>,
+    graph: Option<&Path>,
+    run: &RunArgs,
+    import: &ImportArgs,
+) -> Result<()> {
     let (src, g) = load_grammar(grammar_path)?;
     if let Some(out) = graph {
         check_writable(out)?;
     }
     let scene = scene.map(|p| load_scene(p, import)).transpose()?;
-    let report = engine::check::check(&g, scene.as_ref(), &run_options(run)).map_err(|e| engine_error(grammar_path, &src, &e))?;
+    let report = engine::check::check(&g, scene.as_ref(), &run_options(run))
+        .map_err(|e| engine_error(grammar_path, &src, &e))?;
     print!("{}", report.text);
     if let Some(out) = graph {
         let rules: Vec<&gmotion::grammar::ast::Rule> = g.rules.iter().collect();
         let spatial = rules.iter().any(|r| r.spatial);
-        let svg = out.extension().is_some_and(|e| e.eq_ignore_ascii_case("svg"));
+        let svg = out
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("svg"));
         let text = match (svg, spatial) {
             (true, true) => gmotion::tangle::graph::graph_svg(&rules),
             (true, false) => {
@@ -323,6 +335,44 @@ fn check(grammar_path: &Path, scene: Option<&Path>, graph: Option<&Path>, run: &
             (_, false) => engine::check::dot(&g),
         };
         write_atomic(out, text.as_bytes())?;
+    }
+    Ok(())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn transitions(
+    scene: &Path,
+    targets: &Path,
+    outputs: &[PathBuf],
+    system: Option<&str>,
+    fps: f64,
+    duration: Option<f64>,
+    time: f64,
+    render: &RenderArgs,
+    import: &ImportArgs,
+) -> Result<()> {
+    validate_render(render)?;
+    if !(fps.is_finite() && fps > 0.0) {
+        return Err(CliError::msg(format!("--fps must be a positive number, found {fps}")));
+    }
+    if let Some(d) = duration
+        && !(d.is_finite() && d > 0.0)
+    {
+        return Err(CliError::msg(format!("--duration must be a positive number of seconds, found {d}")));
+    }
+    for o in outputs {
+        Format::of(o)?;
+        check_writable(o)?;
+    }
+    let spec = system
+        .map(|s| gmotion::signals::smooth::SmoothSpec::parse(s).map_err(|e| CliError::msg(format!("--system: {e}"))))
+        .transpose()?;
+    let t = gmotion::transitions::targets::Targets::load(targets).map_err(|e| CliError::msg(e.to_string()))?;
+    let scene = load_scene(scene, import)?;
+    let system = t.default_system(spec);
+    let anim = gmotion::transitions::run(&scene, &t, &system, fps, duration).map_err(|e| CliError::msg(e.to_string()))?;
+    for o in outputs {
+        write_animation(&anim, o, time, render)?;
     }
     Ok(())
 }

@@ -61,6 +61,35 @@ enum Command {
         #[command(flatten)]
         import: ImportArgs,
     },
+    /// Data-driven transitions: new target values over time for tagged shapes, turned
+    /// into an animation by a signal system (FIR, spring, …), written like `animate`.
+    Transitions {
+        /// The scene (SVG).
+        scene: PathBuf,
+        /// The targets (.json or .csv; see docs/transitions.md).
+        targets: PathBuf,
+        /// Output(s), as for `animate`.
+        #[arg(short, long, required = true)]
+        output: Vec<PathBuf>,
+        /// The system every channel passes through, e.g. `spring(0.5, 0.2)` or
+        /// `fir(bspline(3), 0.3)` (default: the file's `system`, else a critically damped
+        /// spring).
+        #[arg(long)]
+        system: Option<String>,
+        /// Frames per second.
+        #[arg(long, default_value_t = 60.0)]
+        fps: f64,
+        /// Length in seconds (default: the file's, else until every channel settles).
+        #[arg(long)]
+        duration: Option<f64>,
+        /// Time of the frame written to a .png output, in seconds.
+        #[arg(long, default_value_t = 0.0)]
+        time: f64,
+        #[command(flatten)]
+        render: RenderArgs,
+        #[command(flatten)]
+        import: ImportArgs,
+    },
     /// Parse and validate a grammar without rendering; with a scene, also expand it and
     /// print rule, tag and expansion statistics.
     Check {
