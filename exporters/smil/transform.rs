@@ -5,13 +5,16 @@
 //! outside every earlier one, since it acts on the state they left. Every segment becomes one
 //! group: `R(t) = T(pivot)·Πcᵢ(f(t))·Πcᵢ(f(t₀))⁻¹·T(−pivot)`, with the animated product as
 //! additive `animateTransform`s on the group and the static factors folded into the
-//! `transform` attributes of this group and the next inner one. A segment SMIL cannot say
-//! exactly (Alexa interpolation, a blend of several cells, a matrix or two-axis skew
-//! component, a non-cubic easing) is sampled and written as `translate·rotate·scale·skewX`
-//! keys, reduced to a tolerance measured in canvas units at the shape's corners.
+//! `transform` attributes of this group and the next inner one. Consecutive windows of one
+//! motion are joined first. A segment with a non-cubic easing keeps its components and has
+//! its progress sampled; one SMIL cannot say at all (Alexa interpolation, a blend of several
+//! cells, a matrix or two-axis skew component) is sampled and written as
+//! `translate·rotate·scale·skewX` keys. Sampled keys are reduced to a tolerance measured in
+//! canvas units at the shape's corners.
 //!
 //! The segments' `start` transforms are checked against what the nesting produces; where
-//! they differ (the state jumps), a group with discrete keys applies the difference.
+//! they differ (the state jumps), a group with discrete keys applies the difference. A track
+//! with more than [`MAX_GROUPS`] windows is sampled as a whole into one group.
 
 use kurbo::{Affine, Point};
 
@@ -83,6 +86,12 @@ pub struct Plan {
     pub baked: usize,
 }
 
+/// Most window groups written as nested groups. Every group's static transform is rounded
+/// (to 1e-6 and 1e-4 user units), and rounding errors add up with depth: a track with more
+/// windows than this (data-driven transitions have one per frame) is sampled as a whole into
+/// one group instead, which also keeps the document small.
+pub const MAX_GROUPS: usize = 24;
+
 /// Settings for planning.
 #[derive(Clone, Copy, Debug)]
 pub struct Ctx {
@@ -125,12 +134,25 @@ pub fn plan(
     }
     let parent_inv = invert(parent).ok_or("its parent transform is singular")?;
     let groups = merge_windows(segs, corners);
+    if groups.len() > MAX_GROUPS {
+        return Ok(Some(whole_track(track, parent, parent_inv, corners, ctx)));
+    }
     let (mut exact, mut baked) = (0, 0);
+    // The transform the nesting holds after the previous group, and from when.
     let mut acc = Affine::IDENTITY;
+    let mut acc_from = f64::NEG_INFINITY;
     let mut nested: Vec<Vec<RawLayer>> = Vec::with_capacity(groups.len());
     for (gi, group) in groups.iter().enumerate() {
+        // A group plays until the next begins or its last segment ends, whichever is
+        // first; then the model holds the next group's start.
         let next_t0 = groups.get(gi + 1).map_or(ctx.dur, |g| g[0].t0.min(ctx.dur));
-        let ends: Vec<f64> = group.iter().map(|s| s.t1.min(next_t0).max(s.t0)).collect();
+        let last_t1 = group[group.len() - 1].t1;
+        let end = if gi + 1 < groups.len() {
+            last_t1.min(next_t0)
+        } else {
+            next_t0
+        };
+        let ends: Vec<f64> = group.iter().map(|s| s.t1.min(end).max(s.t0)).collect();
         let mut layers = Vec::with_capacity(group.len() + 1);
         for (k, seg) in group.iter().enumerate() {
             let a = seg.t0.max(0.0);
@@ -164,13 +186,14 @@ pub fn plan(
             let Some(c) = invert(acc).map(|inv| start * inv) else {
                 return Ok(Some(whole_track(track, parent, parent_inv, corners, ctx)));
             };
-            layers.push(jump_layer(c, group[0].t0));
+            layers.push(jump_layer(c, group[0].t0.min(acc_from)));
         }
         acc = group
             .iter()
             .zip(&ends)
             .fold(Affine::IDENTITY, |m, (s, &e)| m * s.relative_at(e))
             * start;
+        acc_from = last_t1;
         nested.push(layers);
     }
     let (layers, inner) = fold(nested.into_iter().rev().flatten(), parent_inv, parent);
@@ -512,8 +535,8 @@ fn jump_layer(c: Affine, t0: f64) -> RawLayer {
     }
 }
 
-/// The fallback for a state that jumps from a singular transform: the whole track's
-/// transform sampled into one group.
+/// The whole track's transform sampled into one group: for tracks with very many windows,
+/// and for a state that jumps from a singular transform (no correction group can say that).
 fn whole_track(
     track: &Track,
     parent: Affine,
@@ -524,7 +547,8 @@ fn whole_track(
     let mut extra: Vec<f64> = Vec::new();
     for s in &track.motions {
         let (x, y) = s.timing.active();
-        extra.extend([s.t0, s.t1, x, y]);
+        // Just before each boundary too, so that a jump there stays a jump.
+        extra.extend([s.t0, s.t1, x, y, s.t0 - 1e-6, s.t1 - 1e-6]);
     }
     let ts = sample_times(0.0, ctx.dur, ctx.rate, 8, &extra);
     let truth: Vec<Affine> = ts.iter().map(|&t| track.transform_at(t)).collect();
