@@ -111,15 +111,7 @@ fn looping_examples_end_where_they_begin() {
         let src =
             std::fs::read_to_string(root().join("grammars").join(format!("{name}.gm"))).unwrap();
         let g = gmotion::grammar::parse(&src).unwrap();
-        let dur = g
-            .directives
-            .iter()
-            .find(|d| d.name == "duration")
-            .and_then(|d| match d.values[0].kind {
-                gmotion::grammar::ast::ExprKind::Num(x) => Some(x),
-                _ => None,
-            })
-            .expect("examples state their duration");
+        let dur = gmotion::engine::settings::from_grammar(&g).unwrap().duration;
         animate(
             &name,
             &[b.as_path()],

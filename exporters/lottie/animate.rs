@@ -16,7 +16,7 @@
 use kurbo::{Affine, Point, Rect, Vec2};
 
 use super::bake::{RigidSample, bake_rigid};
-use super::geometry::{Trs, decompose, max_stretch};
+use super::geometry::{Trs, decompose, max_stretch, svd};
 use super::keys::{Key, Near, Piece, progress_keys, to_keyframes};
 use super::model::{Keyframe, N, Prop, Transform, Value};
 use crate::motion::grid::blend_at;
@@ -37,6 +37,9 @@ pub struct UnitMotion {
     pub stroke_width: Vec<Key<f64>>,
     /// Frames at which deformed outlines are sampled (per-vertex motion), else empty.
     pub deform_frames: Vec<f64>,
+    /// Whether the transform ever scales unevenly (strokes then need outlining, since
+    /// rlottie widens strokes evenly).
+    pub anisotropic: bool,
 }
 
 impl UnitMotion {
@@ -83,7 +86,14 @@ pub fn unit_motion(
         out.deform_frames = (0..=frames).map(|f| f as f64).collect();
         return out;
     }
+    out.anisotropic = (0..=frames).any(|f| !is_even(track.transform_at(f as f64 / fps)));
     let windows = windows(&track.motions);
+    // Many windows (smoothed or data-driven motion has one per frame) would nest one group
+    // level each; bake the whole track instead, into at most two levels.
+    if windows.len() > MAX_WINDOW_LEVELS {
+        out.levels = whole_track_levels(track, info, fps, frames, tolerance);
+        return out;
+    }
     let mut prev_end = Affine::IDENTITY;
     let mut per_window: Vec<Vec<Transform>> = Vec::with_capacity(windows.len());
     for (k, w) in windows.iter().enumerate() {
@@ -106,6 +116,37 @@ pub fn unit_motion(
     }
     out.levels = per_window.into_iter().rev().flatten().collect();
     out
+}
+
+/// Above this many motion windows a track is baked as a whole rather than one group level
+/// per window, which keeps the layer tree shallow for players.
+const MAX_WINDOW_LEVELS: usize = 8;
+
+/// The whole track's transform sampled at every frame and at every window boundary, baked
+/// and reduced within `tolerance`.
+fn whole_track_levels(track: &Track, info: UnitInfo, fps: f64, frames: usize, tolerance: f64) -> Vec<Transform> {
+    let corners = [
+        info.bbox.origin(),
+        Point::new(info.bbox.x1, info.bbox.y0),
+        Point::new(info.bbox.x0, info.bbox.y1),
+        Point::new(info.bbox.x1, info.bbox.y1),
+    ];
+    let mut times: Vec<f64> = (0..=frames).map(|f| f as f64 / fps).collect();
+    times.extend(track.motions.iter().flat_map(|m| [m.t0, m.t1]));
+    times.retain(|t| t.is_finite() && *t >= 0.0 && *t <= frames as f64 / fps);
+    times.sort_by(f64::total_cmp);
+    times.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+    let samples: Vec<RigidSample> = times
+        .iter()
+        .map(|&t| RigidSample { frame: t * fps, m: track.transform_at(t), points: corners.to_vec(), gain: 1.0 })
+        .collect();
+    bake_rigid(&samples, info.centroid, tolerance)
+}
+
+/// Whether `m` scales every direction by the same factor (a similarity).
+pub fn is_even(m: Affine) -> bool {
+    let (_, s, _) = svd(m);
+    (s.x.abs() - s.y.abs()).abs() <= 1e-6 * s.x.abs().max(s.y.abs()).max(1e-12)
 }
 
 /// A transform window: segments sharing a start, possibly several windows of one motion
