@@ -34,7 +34,14 @@ fn scene(n: usize, tags: usize) -> Scene {
         path.line_to((rect.x1, rect.y1));
         path.line_to((rect.x0, rect.y1));
         path.close_path();
-        root.children.push(Node::Path(PathNode { id: String::new(), path, fill: None, stroke: None, stroke_first: false, unit: Some(i) }));
+        root.children.push(Node::Path(PathNode {
+            id: String::new(),
+            path,
+            fill: None,
+            stroke: None,
+            stroke_first: false,
+            unit: Some(i),
+        }));
         shapes.push(Shape {
             tag: format!("g{t}"),
             id: per_tag[t],
@@ -50,7 +57,12 @@ fn scene(n: usize, tags: usize) -> Scene {
         });
         per_tag[t] += 1;
     }
-    Scene { width: w, height: h, root, shapes }
+    Scene {
+        width: w,
+        height: h,
+        root,
+        shapes,
+    }
 }
 
 /// A grammar with `1 + 10·tags + extra` rules: a shared split, then per shape tag a chain
@@ -61,15 +73,41 @@ fn grammar(tags: usize, duration: f64, fps: f64) -> String {
     for i in 0..tags {
         let t = format!("g{i}");
         let _ = writeln!(g, "timesplit(0.5, 0.5) : [a, {t}] -> [a{i}x, a{i}y]");
-        let _ = writeln!(g, "animate(affine, local, 0.01 * id, rotate(30 + {i}) scale(1.2)) : [a{i}x, {t}] -> [a{i}r]");
-        let _ = writeln!(g, "animate(fill, local, 0, #ff{:02x}00) : [a{i}r, {t}] -> [a{i}f]", i * 20 % 256);
-        let _ = writeln!(g, "animate(towards, world, rand(0, 0.1), (960, 540)) : [a{i}y, {t}] -> [a{i}t]");
+        let _ = writeln!(
+            g,
+            "animate(affine, local, 0.01 * id, rotate(30 + {i}) scale(1.2)) : [a{i}x, {t}] -> [a{i}r]"
+        );
+        let _ = writeln!(
+            g,
+            "animate(fill, local, 0, #ff{:02x}00) : [a{i}r, {t}] -> [a{i}f]",
+            i * 20 % 256
+        );
+        let _ = writeln!(
+            g,
+            "animate(towards, world, rand(0, 0.1), (960, 540)) : [a{i}y, {t}] -> [a{i}t]"
+        );
         let _ = writeln!(g, "timesplit(0.25, 0.75) : [b, {t}] -> [b{i}x, b{i}y]");
-        let _ = writeln!(g, "animate(affine, world, 0, translate({}, 20)) : [b{i}x, {t}] -> [b{i}m]", 10 * i);
-        let _ = writeln!(g, "animate(opacity, local, 0, 0.5) : [b{i}m, {t}] -> [b{i}o]");
-        let _ = writeln!(g, "timesplit(0.5, 0.5) : [b{i}y, {t}] -> [c{i}x, inv_c{i}x]");
-        let _ = writeln!(g, "animate(affine, local, 0, skew(10, 0) scale(0.8)) : [c{i}x, {t}] -> [c{i}s]");
-        let _ = writeln!(g, "animate(border, local, 0, #0000ff) : [c{i}s, {t}] -> [c{i}b]");
+        let _ = writeln!(
+            g,
+            "animate(affine, world, 0, translate({}, 20)) : [b{i}x, {t}] -> [b{i}m]",
+            10 * i
+        );
+        let _ = writeln!(
+            g,
+            "animate(opacity, local, 0, 0.5) : [b{i}m, {t}] -> [b{i}o]"
+        );
+        let _ = writeln!(
+            g,
+            "timesplit(0.5, 0.5) : [b{i}y, {t}] -> [c{i}x, inv_c{i}x]"
+        );
+        let _ = writeln!(
+            g,
+            "animate(affine, local, 0, skew(10, 0) scale(0.8)) : [c{i}x, {t}] -> [c{i}s]"
+        );
+        let _ = writeln!(
+            g,
+            "animate(border, local, 0, #0000ff) : [c{i}s, {t}] -> [c{i}b]"
+        );
     }
     g
 }
@@ -79,15 +117,20 @@ fn full_run(scene: &Scene, src: &str) -> usize {
     let g = gmotion::grammar::parse(src).expect("bench grammar parses");
     let (anim, stats) = run(scene.clone(), &g, &RunOptions::default()).expect("bench grammar runs");
     let frames = anim.frame_count();
-    (0..frames).into_par_iter().for_each_init(Vec::<ShapeState>::new, |buf, i| {
-        anim.evaluate_into(anim.frame_time(i), buf);
-        black_box(&buf);
-    });
+    (0..frames)
+        .into_par_iter()
+        .for_each_init(Vec::<ShapeState>::new, |buf, i| {
+            anim.evaluate_into(anim.frame_time(i), buf);
+            black_box(&buf);
+        });
     stats.steps
 }
 
 fn table1(c: &mut Criterion) {
-    let cases = [("teaser", 208usize, 6usize, 6.0, 30.0), ("intersections", 8214, 16, 8.0, 60.0)];
+    let cases = [
+        ("teaser", 208usize, 6usize, 6.0, 30.0),
+        ("intersections", 8214, 16, 8.0, 60.0),
+    ];
     let mut group = c.benchmark_group("table1");
     group.sample_size(10);
     for (name, n, tags, dur, fps) in cases {
@@ -95,7 +138,9 @@ fn table1(c: &mut Criterion) {
         let src = grammar(tags, dur, fps);
         let rules = gmotion::grammar::parse(&src).expect("parses").rules.len();
         let steps = full_run(&s, &src);
-        eprintln!("{name}: {n} shapes, {rules} rules, {steps} expansion steps, {dur} s at {fps} fps");
+        eprintln!(
+            "{name}: {n} shapes, {rules} rules, {steps} expansion steps, {dur} s at {fps} fps"
+        );
         group.bench_function(name, |b| b.iter(|| full_run(&s, &src)));
     }
     group.finish();
@@ -108,7 +153,9 @@ fn scaling(c: &mut Criterion) {
         let s = scene(n, 10);
         let src = grammar(10, 2.0, 30.0);
         group.throughput(Throughput::Elements(n as u64));
-        group.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| b.iter(|| full_run(&s, &src)));
+        group.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
+            b.iter(|| full_run(&s, &src))
+        });
     }
     group.finish();
 }

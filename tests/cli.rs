@@ -111,7 +111,9 @@ fn looping_examples_end_where_they_begin() {
         let src =
             std::fs::read_to_string(root().join("grammars").join(format!("{name}.gm"))).unwrap();
         let g = gmotion::grammar::parse(&src).unwrap();
-        let dur = gmotion::engine::settings::from_grammar(&g).unwrap().duration;
+        let dur = gmotion::engine::settings::from_grammar(&g)
+            .unwrap()
+            .duration;
         animate(
             &name,
             &[b.as_path()],
@@ -216,7 +218,10 @@ fn transitions_run_the_three_applications() {
         );
         let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&json).unwrap()).unwrap();
         assert!(v["op"].as_f64().unwrap() > 20.0, "{name}: too short");
-        assert!(std::fs::read_to_string(&svg).unwrap().contains("<animate"), "{name}: SMIL has no animation");
+        assert!(
+            std::fs::read_to_string(&svg).unwrap().contains("<animate"),
+            "{name}: SMIL has no animation"
+        );
         let _ = std::fs::remove_dir_all(&d);
     }
     // A bad system is reported, with no output.

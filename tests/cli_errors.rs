@@ -27,8 +27,19 @@ struct Case {
 fn case(name: &'static str, grammar: &str, expect: &[&'static str]) -> Case {
     Case {
         name,
-        files: vec![("scene.svg", SCENE.into()), ("g.gm", grammar.as_bytes().to_vec())],
-        args: vec!["animate", "{d}/scene.svg", "{d}/g.gm", "-o", "{d}/out.json", "-o", "{d}/out.png"],
+        files: vec![
+            ("scene.svg", SCENE.into()),
+            ("g.gm", grammar.as_bytes().to_vec()),
+        ],
+        args: vec![
+            "animate",
+            "{d}/scene.svg",
+            "{d}/g.gm",
+            "-o",
+            "{d}/out.json",
+            "-o",
+            "{d}/out.png",
+        ],
         expect: expect.to_vec(),
         output: "out.png",
     }
@@ -44,7 +55,12 @@ fn scene_case(name: &'static str, svg: &[u8], expect: &[&'static str]) -> Case {
     }
 }
 
-fn args_case(name: &'static str, args: &[&'static str], expect: &[&'static str], output: &'static str) -> Case {
+fn args_case(
+    name: &'static str,
+    args: &[&'static str],
+    expect: &[&'static str],
+    output: &'static str,
+) -> Case {
     Case {
         name,
         files: vec![("scene.svg", SCENE.into()), ("g.gm", GOOD.into())],
@@ -133,7 +149,9 @@ fn bad_input_is_reported_cleanly() {
         let code = out.status.code();
         let mut problems = Vec::new();
         if code != Some(1) && code != Some(2) {
-            problems.push(format!("exit status {code:?} (1 = error, 2 = usage; anything else is a crash)"));
+            problems.push(format!(
+                "exit status {code:?} (1 = error, 2 = usage; anything else is a crash)"
+            ));
         }
         for e in &c.expect {
             let e = e.replace("{d}", &d);
@@ -159,9 +177,19 @@ fn bad_input_is_reported_cleanly() {
             problems.push(format!("stray files {stray:?}"));
         }
         if !problems.is_empty() {
-            failures.push(format!("{}: {}\n--- stderr ---\n{stderr}", c.name, problems.join("; ")));
+            failures.push(format!(
+                "{}: {}\n--- stderr ---\n{stderr}",
+                c.name,
+                problems.join("; ")
+            ));
         }
         let _ = std::fs::remove_dir_all(&dir);
     }
-    assert!(failures.is_empty(), "{} of {} cases failed:\n\n{}", failures.len(), all.len(), failures.join("\n\n"));
+    assert!(
+        failures.is_empty(),
+        "{} of {} cases failed:\n\n{}",
+        failures.len(),
+        all.len(),
+        failures.join("\n\n")
+    );
 }

@@ -124,7 +124,13 @@ const MAX_WINDOW_LEVELS: usize = 8;
 
 /// The whole track's transform sampled at every frame and at every window boundary, baked
 /// and reduced within `tolerance`.
-fn whole_track_levels(track: &Track, info: UnitInfo, fps: f64, frames: usize, tolerance: f64) -> Vec<Transform> {
+fn whole_track_levels(
+    track: &Track,
+    info: UnitInfo,
+    fps: f64,
+    frames: usize,
+    tolerance: f64,
+) -> Vec<Transform> {
     let corners = [
         info.bbox.origin(),
         Point::new(info.bbox.x1, info.bbox.y0),
@@ -138,7 +144,12 @@ fn whole_track_levels(track: &Track, info: UnitInfo, fps: f64, frames: usize, to
     times.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
     let samples: Vec<RigidSample> = times
         .iter()
-        .map(|&t| RigidSample { frame: t * fps, m: track.transform_at(t), points: corners.to_vec(), gain: 1.0 })
+        .map(|&t| RigidSample {
+            frame: t * fps,
+            m: track.transform_at(t),
+            points: corners.to_vec(),
+            gain: 1.0,
+        })
         .collect();
     bake_rigid(&samples, info.centroid, tolerance)
 }

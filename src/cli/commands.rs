@@ -35,9 +35,27 @@ pub fn run(cmd: Command) -> Result<()> {
             render,
             import,
         } => animate(&scene, &grammar, &output, time, &run, &render, &import),
-        Command::Transitions { scene, targets, output, system, fps, duration, time, render, import } => {
-            transitions(&scene, &targets, &output, system.as_deref(), fps, duration, time, &render, &import)
-        }
+        Command::Transitions {
+            scene,
+            targets,
+            output,
+            system,
+            fps,
+            duration,
+            time,
+            render,
+            import,
+        } => transitions(
+            &scene,
+            &targets,
+            &output,
+            system.as_deref(),
+            fps,
+            duration,
+            time,
+            &render,
+            &import,
+        ),
         Command::Check {
             grammar,
             scene,
@@ -353,24 +371,33 @@ fn transitions(
 ) -> Result<()> {
     validate_render(render)?;
     if !(fps.is_finite() && fps > 0.0) {
-        return Err(CliError::msg(format!("--fps must be a positive number, found {fps}")));
+        return Err(CliError::msg(format!(
+            "--fps must be a positive number, found {fps}"
+        )));
     }
     if let Some(d) = duration
         && !(d.is_finite() && d > 0.0)
     {
-        return Err(CliError::msg(format!("--duration must be a positive number of seconds, found {d}")));
+        return Err(CliError::msg(format!(
+            "--duration must be a positive number of seconds, found {d}"
+        )));
     }
     for o in outputs {
         Format::of(o)?;
         check_writable(o)?;
     }
     let spec = system
-        .map(|s| gmotion::signals::smooth::SmoothSpec::parse(s).map_err(|e| CliError::msg(format!("--system: {e}"))))
+        .map(|s| {
+            gmotion::signals::smooth::SmoothSpec::parse(s)
+                .map_err(|e| CliError::msg(format!("--system: {e}")))
+        })
         .transpose()?;
-    let t = gmotion::transitions::targets::Targets::load(targets).map_err(|e| CliError::msg(e.to_string()))?;
+    let t = gmotion::transitions::targets::Targets::load(targets)
+        .map_err(|e| CliError::msg(e.to_string()))?;
     let scene = load_scene(scene, import)?;
     let system = t.default_system(spec);
-    let anim = gmotion::transitions::run(&scene, &t, &system, fps, duration).map_err(|e| CliError::msg(e.to_string()))?;
+    let anim = gmotion::transitions::run(&scene, &t, &system, fps, duration)
+        .map_err(|e| CliError::msg(e.to_string()))?;
     for o in outputs {
         write_animation(&anim, o, time, render)?;
     }

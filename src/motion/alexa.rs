@@ -98,7 +98,11 @@ fn log(m: &M3) -> Option<M3> {
 
 fn exp(l: &M3) -> M3 {
     let n = norm(l);
-    let k = if n > 0.5 { (n / 0.5).log2().ceil() as i32 } else { 0 };
+    let k = if n > 0.5 {
+        (n / 0.5).log2().ceil() as i32
+    } else {
+        0
+    };
     let x = scale(l, 0.5f64.powi(k));
     let mut term = I3;
     let mut sum = I3;
@@ -139,7 +143,10 @@ mod tests {
     use super::*;
 
     fn close(a: Affine, b: Affine) -> bool {
-        a.as_coeffs().iter().zip(b.as_coeffs()).all(|(x, y)| (x - y).abs() < 1e-7)
+        a.as_coeffs()
+            .iter()
+            .zip(b.as_coeffs())
+            .all(|(x, y)| (x - y).abs() < 1e-7)
     }
 
     #[test]
@@ -150,7 +157,9 @@ mod tests {
 
     #[test]
     fn powers_compose() {
-        let m = Affine::translate((30.0, -4.0)) * Affine::rotate(0.7) * Affine::scale_non_uniform(2.0, 0.5);
+        let m = Affine::translate((30.0, -4.0))
+            * Affine::rotate(0.7)
+            * Affine::scale_non_uniform(2.0, 0.5);
         assert!(close(power(m, 0.25) * power(m, 0.75), m));
         assert!(close(power(m, 1.0 - 1e-12), m));
     }

@@ -28,8 +28,12 @@ impl Component {
         match *self {
             Component::Translate(d) => Affine::translate(d * s),
             Component::Rotate(deg) => Affine::rotate((deg * s).to_radians()),
-            Component::Scale(k) => Affine::scale_non_uniform(1.0 + (k.x - 1.0) * s, 1.0 + (k.y - 1.0) * s),
-            Component::Skew(ax, ay) => Affine::skew((ax * s).to_radians().tan(), (ay * s).to_radians().tan()),
+            Component::Scale(k) => {
+                Affine::scale_non_uniform(1.0 + (k.x - 1.0) * s, 1.0 + (k.y - 1.0) * s)
+            }
+            Component::Skew(ax, ay) => {
+                Affine::skew((ax * s).to_radians().tan(), (ay * s).to_radians().tan())
+            }
             Component::Matrix(m) => {
                 let a = m.as_coeffs();
                 let i = Affine::IDENTITY.as_coeffs();
@@ -86,9 +90,15 @@ mod tests {
 
     #[test]
     fn endpoints_are_identity_and_full() {
-        let cs = [Component::Translate(Vec2::new(3.0, 4.0)), Component::Scale(Vec2::new(2.0, 0.5))];
+        let cs = [
+            Component::Translate(Vec2::new(3.0, 4.0)),
+            Component::Scale(Vec2::new(2.0, 0.5)),
+        ];
         assert_eq!(product_at(&cs, 0.0), Affine::IDENTITY);
         let full = product_at(&cs, 1.0);
-        assert_eq!(full * kurbo::Point::new(1.0, 2.0), kurbo::Point::new(5.0, 5.0));
+        assert_eq!(
+            full * kurbo::Point::new(1.0, 2.0),
+            kurbo::Point::new(5.0, 5.0)
+        );
     }
 }

@@ -92,7 +92,13 @@ impl Grid {
                 .map(|(c, r)| field.sample(cell_center(area, cols, rows, c, r)))
                 .collect(),
         };
-        Grid { cols, rows, area, field, cells }
+        Grid {
+            cols,
+            rows,
+            area,
+            field,
+            cells,
+        }
     }
 
     /// True when every cell holds the same transform.
@@ -173,7 +179,8 @@ fn cell_center(area: Rect, cols: usize, rows: usize, c: usize, r: usize) -> Poin
 
 /// A blended transform at progress `s`: Σ wᵢ·Πcᵢ(s), each about `pivot`.
 pub fn blend_at(blend: &[(f64, Arc<[Component]>)], pivot: Point, s: f64) -> Affine {
-    let about = |m: Affine| Affine::translate(pivot.to_vec2()) * m * Affine::translate(-pivot.to_vec2());
+    let about =
+        |m: Affine| Affine::translate(pivot.to_vec2()) * m * Affine::translate(-pivot.to_vec2());
     if let [(_, c)] = blend {
         return about(product_at(c, s));
     }
@@ -193,7 +200,12 @@ mod tests {
 
     #[test]
     fn towards_cells_point_at_target() {
-        let g = Grid::new(2, 2, Rect::new(0.0, 0.0, 100.0, 100.0), Field::Towards(Point::new(50.0, 50.0)));
+        let g = Grid::new(
+            2,
+            2,
+            Rect::new(0.0, 0.0, 100.0, 100.0),
+            Field::Towards(Point::new(50.0, 50.0)),
+        );
         let b = g.lookup(Point::new(10.0, 10.0), Lookup::Nearest);
         assert_eq!(&*b[0].1, &[Component::Translate(Vec2::new(25.0, 25.0))]);
         let e = g.lookup(Point::new(10.0, 10.0), Lookup::Exact);
@@ -202,8 +214,17 @@ mod tests {
 
     #[test]
     fn bilinear_weights_sum_to_one() {
-        let g = Grid::new(4, 3, Rect::new(0.0, 0.0, 400.0, 300.0), Field::Towards(Point::ZERO));
-        for p in [Point::new(0.0, 0.0), Point::new(130.0, 170.0), Point::new(399.0, 1.0)] {
+        let g = Grid::new(
+            4,
+            3,
+            Rect::new(0.0, 0.0, 400.0, 300.0),
+            Field::Towards(Point::ZERO),
+        );
+        for p in [
+            Point::new(0.0, 0.0),
+            Point::new(130.0, 170.0),
+            Point::new(399.0, 1.0),
+        ] {
             let s: f64 = g.lookup(p, Lookup::Bilinear).iter().map(|x| x.0).sum();
             assert!((s - 1.0).abs() < 1e-12);
         }
