@@ -210,8 +210,9 @@ pub fn expand(
         .ok_or_else(|| TangleError::Geometry("the scene's coordinates are not finite".into()))?;
     let ctx = Context {
         grid,
-        tolerance: opts.tolerance.max(grid.quantum() * 4.0),
+        resolution: opts.resolution.max(grid.quantum() * 16.0),
     };
+    let tolerance = opts.tolerance.max(grid.quantum() * 4.0);
 
     let mut arena = Arena {
         shapes: Vec::new(),
@@ -224,7 +225,7 @@ pub fn expand(
         if !(wants_all || consumed.contains(shape.tag.as_str())) {
             continue;
         }
-        let Some((region, paint)) = unit_geometry(scene, shape, &grid, ctx.tolerance) else {
+        let Some((region, paint)) = unit_geometry(scene, shape, &grid, tolerance) else {
             continue;
         };
         if region.area() <= 0.0 {

@@ -39,9 +39,11 @@ pub struct TangleOptions {
     pub max_steps: usize,
     /// Expansion stops with an error when there are more shapes than this.
     pub max_shapes: usize,
-    /// Polyline resolution in user units: curves are flattened to within it, streamlines
-    /// traced with steps of it, placement rasters finer than it.
+    /// Flattening tolerance in user units: curves become polylines within this distance.
     pub tolerance: f64,
+    /// Working resolution in user units (gTangle's "polyline sample resolution"):
+    /// streamlines are traced in steps of it, placement rasters are twice as fine.
+    pub resolution: f64,
 }
 
 impl Default for TangleOptions {
@@ -50,7 +52,8 @@ impl Default for TangleOptions {
             seed: 0,
             max_steps: 100_000,
             max_shapes: 2_000_000,
-            tolerance: 0.5,
+            tolerance: 0.1,
+            resolution: 1.0,
         }
     }
 }

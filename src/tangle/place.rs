@@ -341,11 +341,11 @@ fn lloyd(raster: &Raster, sites: &mut [Point]) {
 }
 
 /// The unit template of a placed shape, centred at the origin.
-fn template(shape: &PlaceShape, size: f64, tolerance: f64) -> Vec<Vec<Point>> {
+fn template(shape: &PlaceShape, size: f64, resolution: f64) -> Vec<Vec<Point>> {
     match shape {
         PlaceShape::Circle => {
-            let n =
-                ((std::f64::consts::PI * size / tolerance.max(1e-6)).ceil() as usize).clamp(12, 48);
+            let n = ((std::f64::consts::PI * size / (0.5 * resolution).max(1e-6)).ceil() as usize)
+                .clamp(12, 48);
             vec![
                 (0..n)
                     .map(|k| {
@@ -489,14 +489,14 @@ impl EdgeIndex {
 }
 
 /// Places copies of `params.shape` inside `region`, turned to `dir`, with randomness from
-/// `rng`. `tolerance` is the polyline resolution (the raster is finer than it).
+/// `rng`. The raster is twice as fine as `resolution` (or finer, for close placements).
 pub fn place(
     region: &Region,
     params: &PlaceParams,
     dir: Vec2,
     rng: &mut Rng,
     grid: &Grid,
-    tolerance: f64,
+    resolution: f64,
 ) -> Placement {
     let whole = Placement {
         remainder: region.clone(),
@@ -506,13 +506,13 @@ pub fn place(
     if !(params.size > 0.0 && params.distance > 0.0 && area > 0.0) {
         return whole;
     }
-    let unit = template(&params.shape, params.size, tolerance);
+    let unit = template(&params.shape, params.size, resolution);
     if unit.is_empty() {
         return whole;
     }
     let bb = region.bbox();
     let h = (params.distance / 8.0)
-        .min(tolerance.max(1e-6))
+        .min(0.5 * resolution.max(1e-6))
         .max((bb.area() / MAX_CELLS).sqrt());
     let raster = Raster::new(region, h);
     let depth = raster.depth();

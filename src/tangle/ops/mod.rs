@@ -105,8 +105,9 @@ pub struct Input<'a> {
 pub struct Context {
     /// The lattice all geometry lives on.
     pub grid: Grid,
-    /// Polyline resolution: curves are flattened, fields traced and rasters sized by it.
-    pub tolerance: f64,
+    /// Working resolution: fields are traced in steps of it, placement rasters are twice
+    /// as fine, placed circles and dots have edges about half as long.
+    pub resolution: f64,
 }
 
 /// A shape produced by an operator. `slot` indexes the rule's outputs (the tag, and the
@@ -212,7 +213,7 @@ impl Op {
                     input.region,
                     field,
                     *spacing,
-                    ctx.tolerance,
+                    ctx.resolution,
                     input.dir,
                     grid,
                 )?
@@ -232,7 +233,7 @@ impl Op {
                     input.dir,
                     &mut rng,
                     grid,
-                    ctx.tolerance,
+                    ctx.resolution,
                 );
                 let rem = out
                     .remainder
@@ -251,7 +252,7 @@ impl Op {
             Op::Invert => vec![same(input.region.clone(), 0, input.paint.inverted())],
             Op::Stipple(params) => {
                 let mut rng = Rng::new(input.key);
-                let marks = stipple::stipple(input.region, params, &mut rng, grid, ctx.tolerance)?;
+                let marks = stipple::stipple(input.region, params, &mut rng, grid, ctx.resolution)?;
                 let mut out = keep(0);
                 if !marks.is_empty() {
                     out.push(same(marks, 1, input.paint.ink()));

@@ -36,7 +36,7 @@ pub struct StippleParams {
 const MAX_MARKS: f64 = 50_000.0;
 
 /// A mark's outline centred at the origin, pointing along +x.
-fn mark(kind: StippleKind, size: f64, tolerance: f64) -> Vec<Point> {
+fn mark(kind: StippleKind, size: f64, resolution: f64) -> Vec<Point> {
     let arc = |r: f64, a0: f64, a1: f64, n: usize| -> Vec<Point> {
         (0..=n)
             .map(|k| {
@@ -46,7 +46,7 @@ fn mark(kind: StippleKind, size: f64, tolerance: f64) -> Vec<Point> {
     };
     match kind {
         StippleKind::Dots => {
-            let n = ((PI * size / tolerance.max(1e-6)).ceil() as usize).clamp(6, 16);
+            let n = ((PI * size / (0.5 * resolution).max(1e-6)).ceil() as usize).clamp(6, 16);
             let mut pts = arc(0.5 * size, 0.0, TAU, n);
             pts.pop();
             pts
@@ -82,7 +82,7 @@ pub fn stipple(
     params: &StippleParams,
     rng: &mut Rng,
     grid: &Grid,
-    tolerance: f64,
+    resolution: f64,
 ) -> Result<Region, String> {
     if !(params.density > 0.0
         && params.size > 0.0
@@ -100,7 +100,7 @@ pub fn stipple(
         ));
     }
     let spacing = 10.0 / params.density.sqrt();
-    let template = mark(params.kind, params.size, tolerance);
+    let template = mark(params.kind, params.size, resolution);
     let reach = template
         .iter()
         .map(|p| p.to_vec2().hypot())
