@@ -917,7 +917,7 @@ fn unsupported_paint_features_warn_naming_the_element() {
         id: "rg".into(),
         center: Point::new(100.0, 100.0),
         radius: 80.0,
-        focal: Point::new(100.0, 100.0),
+        focal: Point::new(110.0, 100.0),
         focal_radius: 20.0,
         transform: Affine::IDENTITY,
         spread: Spread::Pad,
@@ -982,4 +982,69 @@ fn bad_animations_are_errors_not_panics() {
     let mut empty = s;
     empty.width = 0.0;
     assert!(still_to_lottie(&empty, &LottieOptions::default()).is_err());
+}
+
+// ---- the corpus, in process ----------------------------------------------------------------
+
+/// Every corpus file that imports converts to a Lottie document with its canvas size, and
+/// the time per file (import plus export, as `gmotion convert` spends it) is reported: the
+/// conformance run prints it beside python-lottie's in-process conversion time.
+#[test]
+fn corpus_converts_in_process() {
+    use gmotion::importers::svg::{ImportOptions, load};
+    let dir = match std::env::var_os("GMOTION_CORPUS") {
+        Some(d) => std::path::PathBuf::from(d),
+        None => {
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/resvg-static")
+        }
+    };
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("corpus at {}: {e}", dir.display()))
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "svg"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 500, "{} files", files.len());
+    let mut times = Vec::with_capacity(files.len());
+    let mut export_times = Vec::with_capacity(files.len());
+    let mut unreadable = Vec::new();
+    for f in &files {
+        let start = std::time::Instant::now();
+        let imported = match load(f, &ImportOptions::default()) {
+            Ok(i) => i,
+            Err(e) => {
+                unreadable.push(e.to_string());
+                continue;
+            }
+        };
+        let exporting = std::time::Instant::now();
+        let (json, _) = still_to_lottie(&imported.scene, &LottieOptions::default())
+            .unwrap_or_else(|e| panic!("{}: {e}", f.display()));
+        times.push(start.elapsed().as_secs_f64());
+        export_times.push(exporting.elapsed().as_secs_f64());
+        let doc = parse(&json);
+        assert_eq!(
+            doc["w"],
+            imported.scene.width.round().max(1.0) as u64,
+            "{}",
+            f.display()
+        );
+        assert!(doc["layers"].is_array());
+    }
+    // Only files the importer rejects with a message (a non-UTF-8 one) are left out.
+    assert!(unreadable.len() <= 2, "{unreadable:?}");
+    let stats = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        (
+            v[v.len() / 2] * 1e3,
+            v.iter().sum::<f64>() / v.len() as f64 * 1e3,
+        )
+    };
+    let (median, mean) = stats(&mut times);
+    let (export_median, export_mean) = stats(&mut export_times);
+    eprintln!(
+        "lottie corpus conversion in process: {} files, median {median:.3} ms, mean {mean:.3} ms \
+         (Lottie export alone: median {export_median:.3} ms, mean {export_mean:.3} ms)",
+        times.len(),
+    );
 }

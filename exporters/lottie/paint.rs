@@ -385,8 +385,13 @@ fn radial(
     if g.radius <= 0.0 || !g.transform.determinant().is_normal() {
         return GradOut::Solid(g.stops.last().map_or(Color::BLACK, |s| s.color));
     }
-    if g.focal_radius > 0.0 {
-        warn.push(format!("element `{element}`: gradient `{}` has a focal radius (fr), which Lottie cannot say; drawn with fr = 0", g.id));
+    let concentric = (g.focal - g.center).hypot() <= 1e-9 * g.radius;
+    let fr = g.focal_radius.clamp(0.0, g.radius * 0.999);
+    if fr > 0.0 && !(concentric && g.spread == Spread::Pad) {
+        warn.push(format!(
+            "element `{element}`: gradient `{}` has a focal radius (fr) off its centre or with a repeating spread, which Lottie cannot say; its stops are squeezed as if concentric",
+            g.id
+        ));
     }
     // Where the gradient is drawn: its own space when the transform distorts circles.
     let similar = is_similarity(g.transform);
@@ -401,10 +406,19 @@ fn radial(
     } else {
         (Some(g.transform), Affine::IDENTITY)
     };
-    let mut stops = g.stops.clone();
+    // A focal circle of radius fr around the centre starts the stops at fr/r.
+    let k = fr / g.radius;
+    let mut stops: Vec<Stop> = g
+        .stops
+        .iter()
+        .map(|s| Stop {
+            offset: k as f32 + s.offset * (1.0 - k) as f32,
+            color: s.color,
+        })
+        .collect();
     let mut radius = g.radius;
     let mut center = g.center;
-    if g.spread != Spread::Pad {
+    if g.spread != Spread::Pad && fr == 0.0 {
         let inv = g.transform.inverse();
         let far = [
             bbox.origin(),

@@ -23,7 +23,7 @@ use std::sync::Arc;
 
 use kurbo::{Affine, BezPath, Point, Rect, Shape as _, Vec2};
 
-use super::animate::{UnitMotion, static_level};
+use super::animate::{UnitMotion, is_even, static_level};
 use super::bake::bake_paths;
 use super::geometry::{Contour, contours, decompose, max_stretch};
 use super::keys::to_keyframes;
@@ -35,7 +35,8 @@ use super::paint::{self, PaintAnim, Styled};
 use crate::color::Color;
 use crate::motion::Track;
 use crate::scene::{
-    ClipPath, Fill, FillRule, Group, Mask, MaskKind, Node, Paint, PathNode, Pattern, Scene, Stroke,
+    ClipPath, Fill, FillRule, Group, LineCap, LineJoin, Mask, MaskKind, Node, Paint, PathNode,
+    Pattern, Scene, Stroke,
 };
 
 /// Most pattern tiles drawn for one paint before falling back to a plain colour.
@@ -596,24 +597,60 @@ impl<'a> Builder<'a> {
             .fill
             .as_ref()
             .and_then(|f| paint::fill(f, bbox, anim, id, &mut self.warnings));
-        let stroke = p
-            .stroke
-            .as_ref()
-            .and_then(|s| paint::stroke(s, bbox, anim, id, &mut self.warnings));
-        // Paint order, bottom first.
-        let mut paints: Vec<(Styled, bool)> = Vec::new();
-        let (first, second) = if p.stroke_first {
-            (stroke.map(|s| (s, false)), fill.map(|f| (f, true)))
-        } else {
-            (fill.map(|f| (f, true)), stroke.map(|s| (s, false)))
-        };
-        paints.extend(first);
-        paints.extend(second);
-
         let deform = motion
             .as_ref()
             .filter(|m| !m.deform_frames.is_empty())
             .map(|m| (env.unit.expect("unit"), m.deform_frames.clone()));
+        // A stroke under uneven scaling is drawn as its filled outline: players other than
+        // lottie-web widen strokes by one averaged factor, while an outline transforms
+        // exactly. Not when its width animates or its outline moves per vertex.
+        let uneven = !is_even(acc) || motion.as_ref().is_some_and(|m| m.anisotropic);
+        let outline = p
+            .stroke
+            .as_ref()
+            .filter(|s| {
+                uneven
+                    && deform.is_none()
+                    && anim.stroke_width.is_empty()
+                    && matches!(s.paint, Paint::Solid(_) | Paint::Linear(_))
+            })
+            .map(|s| {
+                let tolerance = 0.01 / max_stretch(acc).max(1e-9);
+                contours(&outline_path(&p.path, s, tolerance))
+            });
+        let stroke = match (&p.stroke, &outline) {
+            (Some(s), Some(o)) => {
+                let area = o
+                    .iter()
+                    .flat_map(|c| c.points())
+                    .fold(bbox, |r, q| r.union_pt(q));
+                let as_fill = Fill {
+                    paint: s.paint.clone(),
+                    opacity: s.opacity,
+                    rule: FillRule::NonZero,
+                };
+                let tinted = PaintAnim {
+                    fill: anim.stroke,
+                    ..PaintAnim::default()
+                };
+                paint::fill(&as_fill, area, tinted, id, &mut self.warnings)
+                    .map(|st| (st, Role::Outline))
+            }
+            (Some(s), None) => {
+                paint::stroke(s, bbox, anim, id, &mut self.warnings).map(|st| (st, Role::Stroke))
+            }
+            (None, _) => None,
+        };
+        let fill = fill.map(|f| (f, Role::Fill));
+        // Paint order, bottom first.
+        let mut paints: Vec<(Styled, Role)> = Vec::new();
+        let (first, second) = if p.stroke_first {
+            (stroke, fill)
+        } else {
+            (fill, stroke)
+        };
+        paints.extend(first);
+        paints.extend(second);
         let geometry = |b: &Self, space: Affine| -> Vec<Prop> {
             match &deform {
                 Some((u, frames)) => b.deformed(&cs, *u, frames, acc * space, env.to_canvas),
@@ -634,8 +671,10 @@ impl<'a> Builder<'a> {
 
         // Consecutive plain items share one group; the others need groups or layers.
         let mut parts: Vec<Part> = Vec::new();
-        for (styled, is_fill) in paints {
+        for (styled, role) in paints {
+            let is_fill = role == Role::Fill;
             match styled {
+                Styled::Item(s) if role == Role::Outline => parts.push(Part::Outline(s)),
                 Styled::Item(s) => match parts.last_mut() {
                     Some(Part::Plain(v)) => v.push(s),
                     _ => parts.push(Part::Plain(vec![s])),
@@ -704,6 +743,19 @@ impl<'a> Builder<'a> {
                     let mut it = sh(geometry(self, Affine::IDENTITY));
                     styles.reverse();
                     it.extend(styles);
+                    comp.items.push(Item::Shape(wrap(it, true)));
+                }
+                Part::Outline(style) => {
+                    let o = outline.as_ref().expect("an outline part has an outline");
+                    let mut it: Vec<Shape> = o
+                        .iter()
+                        .map(|c| {
+                            Shape::Path(PathShape {
+                                ks: Prop::fixed(Value::Bezier(c.to_bezier())),
+                            })
+                        })
+                        .collect();
+                    it.push(style);
                     comp.items.push(Item::Shape(wrap(it, true)));
                 }
                 Part::Space(style, space) => {
@@ -896,10 +948,53 @@ enum Outline {
     Stroke(Stroke),
 }
 
+/// What a paint of a path paints.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Role {
+    Fill,
+    Stroke,
+    /// A stroke drawn as the fill of its outline.
+    Outline,
+}
+
+/// The outline of `path` stroked with `s` (in the path's coordinates).
+fn outline_path(path: &BezPath, s: &Stroke, tolerance: f64) -> BezPath {
+    use kurbo::{Cap, Join};
+    let cap = match s.cap {
+        LineCap::Butt => Cap::Butt,
+        LineCap::Round => Cap::Round,
+        LineCap::Square => Cap::Square,
+    };
+    let join = match s.join {
+        LineJoin::Miter | LineJoin::MiterClip => Join::Miter,
+        LineJoin::Round => Join::Round,
+        LineJoin::Bevel => Join::Bevel,
+    };
+    let mut style = kurbo::Stroke::new(s.width)
+        .with_caps(cap)
+        .with_join(join)
+        .with_miter_limit(s.miter_limit);
+    if let Some(d) = s
+        .dash
+        .as_ref()
+        .filter(|d| d.iter().skip(1).step_by(2).any(|g| *g > 0.0))
+    {
+        style = style.with_dashes(s.dash_offset, d.iter().copied());
+    }
+    kurbo::stroke(
+        path.elements().iter().copied(),
+        &style,
+        &kurbo::StrokeOpts::default(),
+        tolerance,
+    )
+}
+
 /// A piece of a path's drawing.
 enum Part {
     /// Style items drawn on the path's own geometry.
     Plain(Vec<Shape>),
+    /// A stroke drawn as the fill of its outline.
+    Outline(Shape),
     /// A style item drawn on the geometry mapped into a space.
     Space(Shape, Affine),
     /// A group standing for a pattern paint.

@@ -31,6 +31,10 @@ status=0
 echo "== schema (lottie-specs)"
 python3 "$here/schema_check.py" --list "$out/gmotion_lottie_files.txt" || status=1
 
+echo "== in-process conversion time (tests/lottie.rs)"
+(cd "$root" && cargo test --release --quiet --test lottie corpus_converts_in_process -- --nocapture 2>&1) \
+    | grep "lottie corpus conversion" > "$out/in_process.txt" || status=1
+
 echo "== playing: lottie-web"
 node "$here/lottie_web.mjs" "$out/lottie_web_jobs.json"
 echo "== playing: rlottie"
