@@ -376,7 +376,7 @@ fn cycle_error(program: &Program, history: &[usize], max: usize) -> EngineError 
 fn op_name(op: &Op) -> &'static str {
     match op {
         Op::Timesplit { .. } => "timesplit",
-        Op::Animate { .. } => "animate",
+        Op::Animate(_) => "animate",
     }
 }
 
@@ -465,16 +465,17 @@ fn apply(
                 t += dur;
             }
         }
-        Op::Animate {
-            kind,
-            world,
-            offset,
-            value,
-            ease,
-            grid,
-            lookup,
-            interp,
-        } => {
+        Op::Animate(a) => {
+            let super::rules::Animate {
+                kind,
+                world,
+                offset,
+                value,
+                ease,
+                grid,
+                lookup,
+                interp,
+            } = &**a;
             let delay = num(offset, env)?;
             if delay < 0.0 {
                 return Err(EngineError::at(

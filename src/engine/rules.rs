@@ -52,25 +52,29 @@ pub enum Op {
         /// The fractions (expressions over the shape).
         fractions: Vec<Expr>,
     },
-    /// `animate(type, ref, offset, value, named…)`.
-    Animate {
-        /// Animation type.
-        kind: AnimType,
-        /// True for `world`, false for `local`.
-        world: bool,
-        /// Delay within the slice.
-        offset: Expr,
-        /// The value (transform, point, path, colour, number).
-        value: Expr,
-        /// `ease = …`.
-        ease: Option<Expr>,
-        /// `grid = NxM`.
-        grid: Option<(usize, usize)>,
-        /// `lookup = …`.
-        lookup: Option<crate::motion::Lookup>,
-        /// `interp = …`.
-        interp: Option<crate::motion::Interp>,
-    },
+    /// `animate(type, ref, offset, value, named…)`, boxed: it is far larger than a split.
+    Animate(Box<Animate>),
+}
+
+/// The arguments of an `animate` rule.
+#[derive(Clone, Debug)]
+pub struct Animate {
+    /// Animation type.
+    pub kind: AnimType,
+    /// True for `world`, false for `local`.
+    pub world: bool,
+    /// Delay within the slice.
+    pub offset: Expr,
+    /// The value (transform, point, path, colour, number).
+    pub value: Expr,
+    /// `ease = …`.
+    pub ease: Option<Expr>,
+    /// `grid = NxM`.
+    pub grid: Option<(usize, usize)>,
+    /// `lookup = …`.
+    pub lookup: Option<crate::motion::Lookup>,
+    /// `interp = …`.
+    pub interp: Option<crate::motion::Interp>,
 }
 
 /// A checked timeslice rule.
@@ -290,7 +294,7 @@ fn check_rule(index: usize, r: &Rule) -> Result<CRule, EngineError> {
                 }),
                 None => None,
             };
-            Op::Animate {
+            Op::Animate(Box::new(Animate {
                 kind,
                 world,
                 offset: pos[2].value.clone(),
@@ -299,7 +303,7 @@ fn check_rule(index: usize, r: &Rule) -> Result<CRule, EngineError> {
                 grid,
                 lookup,
                 interp,
-            }
+            }))
         }
         other => {
             return Err(EngineError::at(
