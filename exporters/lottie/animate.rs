@@ -391,10 +391,11 @@ fn exact_levels(seg: &MotionSeg, end: f64, fps: f64) -> Option<Vec<Transform>> {
 }
 
 /// A keyed channel as a property, or `None` when it stays at `neutral`.
-fn prop_or_default<V: Near>(keys: &[Key<V>], neutral: V, to: impl Fn(&V) -> Value) -> Option<Prop>
-where
-    V: Clone,
-{
+fn prop_or_default<V: Near + Clone>(
+    keys: &[Key<V>],
+    neutral: V,
+    to: impl Fn(&V) -> Value,
+) -> Option<Prop> {
     match keys {
         [] => None,
         [k] if k.v.near(&neutral) => None,
@@ -502,16 +503,13 @@ fn baked_levels(
 }
 
 /// Keys of an attribute channel.
-fn attr_keys<T: Copy, V: Clone + Near>(
+fn attr_keys<T: Copy + crate::motion::Blendable, V: Clone + Near>(
     segs: &[AttrSeg<T>],
     fps: f64,
     default: V,
     map: impl Fn(T) -> V,
     value_tolerance: f64,
-) -> Vec<Key<V>>
-where
-    T: crate::motion::Blendable,
-{
+) -> Vec<Key<V>> {
     if segs.is_empty() {
         return Vec::new();
     }

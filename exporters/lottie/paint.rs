@@ -98,7 +98,7 @@ pub fn fill(
                 r,
             })),
             GradOut::Grad(grad, _) => {
-                Styled::Item(Shape::GradientFill(GradientFill { o, r, grad }))
+                Styled::Item(Shape::GradientFill(GradientFill { o, r, grad: *grad }))
             }
         },
         Paint::Radial(g) => match radial(g, bbox, anim.fill, false, element, warn) {
@@ -108,11 +108,12 @@ pub fn fill(
                 r,
             })),
             GradOut::Grad(grad, None) => {
-                Styled::Item(Shape::GradientFill(GradientFill { o, r, grad }))
+                Styled::Item(Shape::GradientFill(GradientFill { o, r, grad: *grad }))
             }
-            GradOut::Grad(grad, Some(space)) => {
-                Styled::InSpace(Shape::GradientFill(GradientFill { o, r, grad }), space)
-            }
+            GradOut::Grad(grad, Some(space)) => Styled::InSpace(
+                Shape::GradientFill(GradientFill { o, r, grad: *grad }),
+                space,
+            ),
         },
     })
 }
@@ -142,9 +143,11 @@ pub fn stroke(
                 c: color_prop(c, anim.stroke),
                 style,
             })),
-            GradOut::Grad(grad, _) => {
-                Styled::Item(Shape::GradientStroke(GradientStroke { o, grad, style }))
-            }
+            GradOut::Grad(grad, _) => Styled::Item(Shape::GradientStroke(GradientStroke {
+                o,
+                grad: *grad,
+                style,
+            })),
         },
         Paint::Radial(g) => match radial(g, area, anim.stroke, true, element, warn) {
             GradOut::Solid(c) => Styled::Item(Shape::Stroke(LStroke {
@@ -152,9 +155,11 @@ pub fn stroke(
                 c: color_prop(c, anim.stroke),
                 style,
             })),
-            GradOut::Grad(grad, _) => {
-                Styled::Item(Shape::GradientStroke(GradientStroke { o, grad, style }))
-            }
+            GradOut::Grad(grad, _) => Styled::Item(Shape::GradientStroke(GradientStroke {
+                o,
+                grad: *grad,
+                style,
+            })),
         },
     })
 }
@@ -224,7 +229,7 @@ enum GradOut {
     Solid(Color),
     /// A Lottie gradient, and the space the path must be drawn in when it is not the
     /// path's own.
-    Grad(Gradient, Option<Affine>),
+    Grad(Box<Gradient>, Option<Affine>),
 }
 
 /// Stops after unrolling `periods` (first, count) of a reflected or repeated spread.
@@ -361,7 +366,7 @@ fn linear(
         a: None,
         g: stops_prop(&stops, tint),
     };
-    GradOut::Grad(grad, None)
+    GradOut::Grad(Box::new(grad), None)
 }
 
 /// Whether `m` maps circles to circles (rotation, uniform scale, reflection, translation).
@@ -471,7 +476,7 @@ fn radial(
         a,
         g: stops_prop(&stops, tint),
     };
-    GradOut::Grad(grad, space)
+    GradOut::Grad(Box::new(grad), space)
 }
 
 /// The gradient coordinate of `x` for a radial gradient with focal point `f`, centre `c`

@@ -58,7 +58,7 @@ struct Env {
 /// An emitted piece, in paint order.
 enum Item {
     /// A shape group for the current shape layer.
-    Shape(Shape),
+    Shape(Box<Shape>),
     /// Finished layers, bottom first.
     Layers(Vec<Layer>),
 }
@@ -91,7 +91,7 @@ impl Comp {
         let mut out: Vec<Shape> = Vec::with_capacity(self.items.len());
         for item in self.items.into_iter().rev() {
             if let Item::Shape(s) = item {
-                out.push(s);
+                out.push(*s);
             }
         }
         out
@@ -104,7 +104,7 @@ impl Comp {
         let items = std::mem::take(&mut self.items);
         for item in items {
             match item {
-                Item::Shape(s) => run.push(s),
+                Item::Shape(s) => run.push(*s),
                 Item::Layers(ls) => {
                     self.flush(&mut run, &mut bottom_up, op);
                     bottom_up.extend(ls);
@@ -470,9 +470,15 @@ impl<'a> Builder<'a> {
                 if it.is_empty() {
                     return;
                 }
+                // A single path's group takes the shape's name; several get a named parent.
+                if let [Shape::Group(g)] = it.as_mut_slice() {
+                    g.nm = name;
+                    comp.items.push(Item::Shape(Box::new(it.remove(0))));
+                    return;
+                }
                 it.push(Shape::Transform(Transform::empty()));
                 comp.items
-                    .push(Item::Shape(Shape::Group(LGroup { nm: name, it })));
+                    .push(Item::Shape(Box::new(Shape::Group(LGroup { nm: name, it }))));
             } else {
                 comp.items.extend(sub.items);
             }
@@ -496,16 +502,20 @@ impl<'a> Builder<'a> {
         self.node(node, acc, content_env, &mut sub);
         if sub.only_shapes() {
             comp.next_ind = sub.next_ind;
+            // The content sits in the innermost level's group, the outermost is the
+            // named group itself.
             let mut it = sub.into_shapes();
-            it.push(Shape::Transform(Transform::empty()));
-            for level in levels.iter().rev() {
-                it = vec![
-                    Shape::Group(LGroup {
+            if levels.is_empty() {
+                it.push(Shape::Transform(Transform::empty()));
+            }
+            for (k, level) in levels.iter().enumerate().rev() {
+                it.push(Shape::Transform(level.clone()));
+                if k > 0 {
+                    it = vec![Shape::Group(LGroup {
                         nm: String::new(),
                         it,
-                    }),
-                    Shape::Transform(level.clone()),
-                ];
+                    })];
+                }
             }
             // Opacity on the outermost group rather than the layer (see `isolate`).
             if let Some(Shape::Transform(tr)) = it.last_mut() {
@@ -535,7 +545,7 @@ impl<'a> Builder<'a> {
         let items = std::mem::take(&mut sub.items);
         for item in items {
             match item {
-                Item::Shape(s) => run.push(s),
+                Item::Shape(s) => run.push(*s),
                 Item::Layers(ls) => {
                     sub.flush(&mut run, &mut layers, self.op);
                     layers.extend(ls);
@@ -743,7 +753,7 @@ impl<'a> Builder<'a> {
                     let mut it = sh(geometry(self, Affine::IDENTITY));
                     styles.reverse();
                     it.extend(styles);
-                    comp.items.push(Item::Shape(wrap(it, true)));
+                    comp.items.push(Item::Shape(Box::new(wrap(it, true))));
                 }
                 Part::Outline(style) => {
                     let o = outline.as_ref().expect("an outline part has an outline");
@@ -756,7 +766,7 @@ impl<'a> Builder<'a> {
                         })
                         .collect();
                     it.push(style);
-                    comp.items.push(Item::Shape(wrap(it, true)));
+                    comp.items.push(Item::Shape(Box::new(wrap(it, true))));
                 }
                 Part::Space(style, space) => {
                     let mut it = sh(geometry(self, space));
@@ -775,7 +785,8 @@ impl<'a> Builder<'a> {
                         nm: String::new(),
                         it,
                     });
-                    comp.items.push(Item::Shape(wrap(vec![inner], true)));
+                    comp.items
+                        .push(Item::Shape(Box::new(wrap(vec![inner], true))));
                 }
                 Part::Layered(g) => {
                     let e = Env {

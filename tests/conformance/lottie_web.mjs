@@ -6,7 +6,7 @@
 // JOBS.json: [{"json": "a.json", "width": 300, "frames": [0, 5], "out": ["a-0.png", "a-5.png"]}, …]
 // Jobs run on a few pages in parallel; a job that fails (bad JSON, player exception) is
 // reported on stderr with its file and the run goes on, leaving its PNGs unwritten.
-import { readFileSync } from 'node:fs';
+import { readFileSync, statSync } from 'node:fs';
 import { join, dirname } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
@@ -48,7 +48,8 @@ async function worker(queue) {
       }, { data, width: job.width, height });
       for (let i = 0; i < job.frames.length; i++) {
         await page.evaluate((f) => window.anim.goToAndStop(f, true), job.frames[i]);
-        await page.locator('#c').screenshot({ path: job.out[i], omitBackground: true });
+        // Generous: a file with tens of thousands of shapes takes long on two busy cores.
+        await page.locator('#c').screenshot({ path: job.out[i], omitBackground: true, timeout: 300000 });
       }
     } catch (e) {
       console.error(`lottie-web: ${job.json}: ${String(e.message || e).split('\n')[0]}`);
@@ -57,6 +58,8 @@ async function worker(queue) {
   await page.close();
 }
 
-const queue = jobs.slice();
+// Biggest files first, so that a huge one does not start last and hold up the end.
+const size = (j) => { try { return statSync(j.json).size; } catch { return 0; } };
+const queue = jobs.slice().sort((a, b) => size(b) - size(a));
 await Promise.all(Array.from({ length: pages }, () => worker(queue)));
 await browser.close();
