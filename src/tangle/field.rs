@@ -6,11 +6,17 @@
 //! holes — the interpolation gTangle cites from Meyer et al. 2002) blend the boundary
 //! values smoothly into the interior and reproduce them exactly on the boundary.
 //!
-//! The fields are *line* fields: a streamline has no preferred sense, and on a ring the
-//! outer boundary and a hole run in opposite senses, so oriented vectors would cancel
-//! half-way. Each boundary direction θ is therefore interpolated as the doubled-angle vector
-//! (cos 2θ, sin 2θ) and halved back, which needs none of the paper's sign fixing and is
-//! smooth wherever the boundary data agree.
+//! The outline and strip fields are *line* fields: a streamline has no preferred sense, and
+//! on a ring the outer boundary and a hole run in opposite senses, so oriented vectors would
+//! cancel half-way. Each boundary direction θ is therefore interpolated as the doubled-angle
+//! vector (cos 2θ, sin 2θ) and halved back, which needs none of the paper's sign fixing; the
+//! strip streamlines then cross the outline streamlines at right angles.
+//!
+//! The circular field is the rotation about its centre itself. The paper's boundary vectors
+//! for it are exactly that rotation's values on the boundary, but interpolating them puts
+//! the centre of rotation wherever the interpolant happens to vanish (as doubled angles,
+//! nowhere: the centre splits into two half-turn singularities), not at the point asked for;
+//! the rotation field agrees with the boundary data and turns about the right point.
 
 use kurbo::{Point, Vec2};
 
@@ -24,8 +30,7 @@ pub enum FieldKind {
     /// Boundary normals: streamlines run across the shape, cutting it into strips that
     /// follow its bends (a band becomes a ladder of tiles).
     Strip,
-    /// Perpendiculars to the direction towards a centre: streamlines are near-circles
-    /// around it.
+    /// Perpendiculars to the direction towards a centre: streamlines are circles around it.
     Circular(Point),
 }
 
@@ -33,6 +38,10 @@ pub enum FieldKind {
 #[derive(Clone, Debug)]
 pub struct Field {
     rings: Vec<Ring>,
+    /// Values are doubled-angle vectors (a line field) rather than oriented directions.
+    doubled: bool,
+    /// The centre of a rotation field (no boundary data needed).
+    center: Option<Point>,
 }
 
 #[derive(Clone, Debug)]
@@ -64,6 +73,17 @@ fn resample(ring: &[Point], max_len: f64) -> Vec<Point> {
 impl Field {
     /// The field of `kind` inside `region`.
     pub fn new(region: &Region, kind: FieldKind) -> Field {
+        let across = match kind {
+            FieldKind::Circular(c) => {
+                return Field {
+                    rings: Vec::new(),
+                    doubled: false,
+                    center: Some(c),
+                };
+            }
+            FieldKind::Outline => false,
+            FieldKind::Strip => true,
+        };
         let max_len = (region.perimeter() / SAMPLES).max(1e-9);
         let mut rings = Vec::new();
         for poly in &region.polygons {
@@ -75,16 +95,9 @@ impl Field {
                 let n = points.len();
                 let values = (0..n)
                     .map(|i| {
-                        let (prev, next) = (points[(i + n - 1) % n], points[(i + 1) % n]);
-                        let t = next - prev;
-                        let dir = match kind {
-                            FieldKind::Outline => t,
-                            FieldKind::Strip => Vec2::new(-t.y, t.x),
-                            FieldKind::Circular(c) => {
-                                let r = c - points[i];
-                                Vec2::new(-r.y, r.x)
-                            }
-                        };
+                        // The tangent (central difference), or the normal for strips.
+                        let t = points[(i + 1) % n] - points[(i + n - 1) % n];
+                        let dir = if across { Vec2::new(-t.y, t.x) } else { t };
                         if dir.hypot2() > 0.0 {
                             doubled(dir)
                         } else {
@@ -95,17 +108,45 @@ impl Field {
                 rings.push(Ring { points, values });
             }
         }
-        Field { rings }
+        Field {
+            rings,
+            doubled: true,
+            center: None,
+        }
     }
 
     /// The unit line direction at `p` (either sense), or `None` near a singularity where the
     /// boundary data cancel.
     pub fn at(&self, p: Point) -> Option<Vec2> {
-        halve(self.doubled_at(p)?)
+        self.direction(self.value_at(p)?, false)
     }
 
-    /// The interpolated doubled-angle vector at `p` (`None` only where the weights vanish).
-    fn doubled_at(&self, p: Point) -> Option<Vec2> {
+    /// The unit direction an interpolated value stands for (turned a right angle for
+    /// `across`); `None` when the value is too short to tell (near a singularity).
+    fn direction(&self, u: Vec2, across: bool) -> Option<Vec2> {
+        if u.hypot() < 1e-3 {
+            return None;
+        }
+        if self.doubled {
+            let a = 0.5 * u.y.atan2(u.x)
+                + if across {
+                    std::f64::consts::FRAC_PI_2
+                } else {
+                    0.0
+                };
+            Some(Vec2::new(a.cos(), a.sin()))
+        } else {
+            let v = u.normalize();
+            Some(if across { Vec2::new(-v.y, v.x) } else { v })
+        }
+    }
+
+    /// The interpolated boundary value at `p` (`None` only where the weights vanish).
+    fn value_at(&self, p: Point) -> Option<Vec2> {
+        if let Some(c) = self.center {
+            let r = c - p;
+            return (r.hypot() > 1e-9).then(|| Vec2::new(-r.y, r.x) / r.hypot());
+        }
         let mut num = Vec2::ZERO;
         let mut den = 0.0;
         for ring in &self.rings {
@@ -144,8 +185,8 @@ impl Field {
     }
 }
 
-/// A field sampled lazily on a grid and interpolated bilinearly (in the doubled-angle
-/// space, where interpolation is meaningful): tracing asks for thousands of nearby
+/// A field sampled lazily on a grid and interpolated bilinearly (in the space of its
+/// values, where interpolation is meaningful): tracing asks for thousands of nearby
 /// directions, and each exact evaluation costs a pass over the whole boundary.
 struct Sampler<'a> {
     field: &'a Field,
@@ -153,9 +194,9 @@ struct Sampler<'a> {
     cell: f64,
     cols: usize,
     rows: usize,
-    /// Doubled-angle vectors at grid nodes; NaN until computed.
+    /// Field values at grid nodes; NaN until computed.
     cache: Vec<Vec2>,
-    /// Sample the perpendicular field instead (the doubled angle turned by π).
+    /// Sample the perpendicular field instead.
     across: bool,
     region: &'a Region,
     /// Per grid cell: whether the boundary passes near it.
@@ -224,7 +265,7 @@ impl<'a> Sampler<'a> {
         let i = r * self.cols + c;
         if self.cache[i].x.is_nan() {
             let p = self.origin + Vec2::new(c as f64, r as f64) * self.cell;
-            self.cache[i] = self.field.doubled_at(p).unwrap_or(Vec2::ZERO);
+            self.cache[i] = self.field.value_at(p).unwrap_or(Vec2::ZERO);
         }
         self.cache[i]
     }
@@ -233,27 +274,15 @@ impl<'a> Sampler<'a> {
         let x = (p.x - self.origin.x) / self.cell;
         let y = (p.y - self.origin.y) / self.cell;
         if !(x >= 0.0 && y >= 0.0 && x < (self.cols - 1) as f64 && y < (self.rows - 1) as f64) {
-            return self
-                .field
-                .at(p)
-                .map(|v| if self.across { Vec2::new(-v.y, v.x) } else { v });
+            let u = self.field.value_at(p)?;
+            return self.field.direction(u, self.across);
         }
         let (c, r) = (x.floor() as usize, y.floor() as usize);
         let (fx, fy) = (x - c as f64, y - r as f64);
         let top = self.node(c, r).lerp(self.node(c + 1, r), fx);
         let bottom = self.node(c, r + 1).lerp(self.node(c + 1, r + 1), fx);
-        let u = top.lerp(bottom, fy);
-        halve(if self.across { -u } else { u })
+        self.field.direction(top.lerp(bottom, fy), self.across)
     }
-}
-
-/// The unit direction whose doubled angle is `u`; `None` when `u` is too short to tell.
-fn halve(u: Vec2) -> Option<Vec2> {
-    if u.hypot() < 1e-3 {
-        return None;
-    }
-    let a = 0.5 * u.y.atan2(u.x);
-    Some(Vec2::new(a.cos(), a.sin()))
 }
 
 /// How a traced streamline ended.
@@ -602,18 +631,48 @@ mod tests {
     }
 
     #[test]
-    fn interpolation_reproduces_constant_boundary_data() {
-        // Circular field about a far-away centre: nearly constant direction on a small square.
-        let region = rect(10.0, 10.0);
-        let field = Field::new(&region, FieldKind::Circular(Point::new(5.0, 1e6)));
+    fn mean_value_interpolation_is_exact_on_linear_data() {
+        // Mean value coordinates reproduce linear functions, holes and concave corners
+        // included: boundary values v(p) = (p.x, 2 p.y + 1) come back exactly inside.
+        let outer = vec![
+            Point::new(0.0, 0.0),
+            Point::new(10.0, 0.0),
+            Point::new(10.0, 10.0),
+            Point::new(5.0, 4.0),
+            Point::new(0.0, 10.0),
+        ];
+        let mut hole = vec![
+            Point::new(6.0, 1.0),
+            Point::new(8.0, 1.0),
+            Point::new(8.0, 3.0),
+            Point::new(6.0, 3.0),
+        ];
+        hole.reverse();
+        let linear = |p: Point| Vec2::new(p.x, 2.0 * p.y + 1.0);
+        let rings = [outer, hole]
+            .into_iter()
+            .map(|points| Ring {
+                values: points.iter().map(|&p| linear(p)).collect(),
+                points,
+            })
+            .collect();
+        let field = Field {
+            rings,
+            doubled: true,
+            center: None,
+        };
         for p in [
-            Point::new(5.0, 5.0),
-            Point::new(1.0, 9.0),
-            Point::new(9.9, 0.1),
+            Point::new(2.0, 2.0),
+            Point::new(9.0, 5.0),
+            Point::new(5.0, 0.5),
+            Point::new(7.0, 3.5),
         ] {
-            let v = field.at(p).unwrap();
-            assert!(v.y.abs() < 1e-3, "{v:?} at {p:?}");
+            let v = field.value_at(p).unwrap();
+            assert!((v - linear(p)).hypot() < 1e-9, "{v:?} at {p:?}");
         }
+        // On the boundary itself, the boundary value.
+        let v = field.value_at(Point::new(10.0, 5.0)).unwrap();
+        assert!((v - linear(Point::new(10.0, 5.0))).hypot() < 1e-9);
     }
 
     #[test]
