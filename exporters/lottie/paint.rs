@@ -531,6 +531,18 @@ mod tests {
     }
 
     #[test]
+    fn cone_coordinate_is_one_on_the_circle() {
+        let (f, c, r) = (Point::new(12.0, 0.0), Point::new(0.0, 0.0), 40.0);
+        for a in [0.0f64, 1.0, 2.5, 4.0] {
+            let x = c + Vec2::new(a.cos(), a.sin()) * r;
+            assert!((cone_t(x, f, c, r) - 1.0).abs() < 1e-9);
+            // Twice as far from the focal point along the same ray: the next period.
+            let y = f + (x - f) * 2.0;
+            assert!((cone_t(y, f, c, r) - 2.0).abs() < 1e-9);
+        }
+    }
+
+    #[test]
     fn reflect_mirrors_every_other_period() {
         let s = [stop(0.0, Color::BLACK), stop(0.25, Color::WHITE)];
         let u = unroll(&s, Spread::Reflect, -1, 2);

@@ -61,10 +61,12 @@ def off_fraction(ref_path, got_path):
 
 
 def exact_width(w, h):
-    """A render width near WIDTH at which the height is a whole number of pixels, so every
-    renderer scales by the same factor (players fit the canvas to the viewport)."""
-    best = min(range(WIDTH - 60, WIDTH + 61), key=lambda x: (abs(x * h / w - round(x * h / w)) > 1e-9, abs(x - WIDTH)))
-    return best
+    """The render width for an example: its own width (within 300..900 px, so that fine
+    hatching is not thinner than a pixel, where renderers' anti-aliasing differs most),
+    nudged to one at which the height is a whole number of pixels, so every renderer
+    scales by the same factor (players fit the canvas to the viewport)."""
+    target = int(min(max(w, WIDTH), 900))
+    return min(range(target - 60, target + 61), key=lambda x: (abs(x * h / w - round(x * h / w)) > 1e-9, abs(x - target)))
 
 
 class Timeout(Exception):
