@@ -83,46 +83,63 @@ impl Env for ShapeEnv {
     }
 }
 
-/// Whether `name` is a spatial operator (aliases included).
-pub fn is_operator(name: &str) -> bool {
-    canonical_op(name).is_some()
+/// The spatial operators.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Kind {
+    Ungroup,
+    Regroup,
+    RegularSplit,
+    Outline,
+    StreamlineSplit,
+    Place,
+    Fill,
+    Stipple,
+    Invert,
+    Perturb,
 }
 
-/// The canonical operator name of a spatial rule (aliases folded), or `None` if unknown.
-fn canonical_op(name: &str) -> Option<&'static str> {
-    Some(match name {
-        "ungroup" => "ungroup",
-        "regroup" => "regroup",
-        "regularSplit" => "regularSplit",
-        "outline" => "outline",
-        "streamlineSplit" => "streamlineSplit",
-        "place" => "place",
-        "fill" => "fill",
-        // gTangle's Fig. 9 spells it `stipling`.
-        "stipple" | "stippling" | "stipling" => "stipple",
-        "invert" => "invert",
-        "perturb" => "perturb",
-        _ => return None,
-    })
+impl Kind {
+    /// The operator a rule names (aliases included).
+    fn of(name: &str) -> Option<Kind> {
+        Some(match name {
+            "ungroup" => Kind::Ungroup,
+            "regroup" => Kind::Regroup,
+            "regularSplit" => Kind::RegularSplit,
+            "outline" => Kind::Outline,
+            "streamlineSplit" => Kind::StreamlineSplit,
+            "place" => Kind::Place,
+            "fill" => Kind::Fill,
+            // gTangle's Fig. 9 spells it `stipling`.
+            "stipple" | "stippling" | "stipling" => Kind::Stipple,
+            "invert" => Kind::Invert,
+            "perturb" => Kind::Perturb,
+            _ => return None,
+        })
+    }
+
+    /// Its parameters, positional order first.
+    fn params(self) -> &'static [&'static str] {
+        match self {
+            Kind::Ungroup | Kind::Invert => &[],
+            Kind::Regroup => &["k", "mode"],
+            Kind::RegularSplit => &["curve", "offsets", "dual", "angle"],
+            Kind::Outline => &["d"],
+            Kind::StreamlineSplit => &["type", "offset", "center"],
+            Kind::Place => &["shape", "size", "distance"],
+            Kind::Fill => &["color"],
+            Kind::Stipple => &["kind", "density", "size"],
+            Kind::Perturb => &["amplitude", "scale"],
+        }
+    }
+}
+
+/// Whether `name` is a spatial operator (aliases included).
+pub fn is_operator(name: &str) -> bool {
+    Kind::of(name).is_some()
 }
 
 /// Every spatial operator name, for error messages.
 pub const OPERATORS: &str = "ungroup, regroup, regularSplit, outline, streamlineSplit, place, fill, stipple, invert, perturb";
-
-/// Positional and named parameters of each operator, in order.
-fn params_of(op: &str) -> &'static [&'static str] {
-    match op {
-        "regroup" => &["k", "mode"],
-        "regularSplit" => &["curve", "offsets", "dual", "angle"],
-        "outline" => &["d"],
-        "streamlineSplit" => &["type", "offset", "center"],
-        "place" => &["shape", "size", "distance"],
-        "fill" => &["color"],
-        "stipple" => &["kind", "density", "size"],
-        "perturb" => &["amplitude", "scale"],
-        _ => &[],
-    }
-}
 
 /// A rule's arguments matched to its operator's parameters.
 struct Args<'a> {
@@ -291,7 +308,7 @@ fn path_polyline(data: &str, span: Span) -> Result<Vec<Point>, TangleError> {
 /// # Errors
 /// An unknown operator, a wrong argument (count, name, type or range), with its location.
 pub fn bind(rule: &Rule, env: &mut dyn Env) -> Result<Op, TangleError> {
-    let op = canonical_op(&rule.op).ok_or_else(|| {
+    let kind = Kind::of(&rule.op).ok_or_else(|| {
         TangleError::arg(
             rule.op_span,
             format!(
@@ -300,10 +317,12 @@ pub fn bind(rule: &Rule, env: &mut dyn Env) -> Result<Op, TangleError> {
             ),
         )
     })?;
-    let a = Args::new(rule, op, params_of(op))?;
-    Ok(match op {
-        "ungroup" => Op::Ungroup,
-        "regroup" => {
+    let op = rule.op.as_str();
+    let a = Args::new(rule, op, kind.params())?;
+    Ok(match kind {
+        Kind::Ungroup => Op::Ungroup,
+        Kind::Invert => Op::Invert,
+        Kind::Regroup => {
             let (k, span) = a.required("k", env)?;
             let k = k
                 .as_num()
@@ -323,7 +342,7 @@ pub fn bind(rule: &Rule, env: &mut dyn Env) -> Result<Op, TangleError> {
                 mode,
             }
         }
-        "regularSplit" => {
+        Kind::RegularSplit => {
             let (curve, span) = a.required("curve", env)?;
             let curve = match &curve {
                 Value::Keyword(k) if k == "line" => Curve::Line,
@@ -391,7 +410,7 @@ pub fn bind(rule: &Rule, env: &mut dyn Env) -> Result<Op, TangleError> {
                 angle,
             }
         }
-        "outline" => {
+        Kind::Outline => {
             let (d, span) = a.required("d", env)?;
             let d = d
                 .as_num()
@@ -400,7 +419,7 @@ pub fn bind(rule: &Rule, env: &mut dyn Env) -> Result<Op, TangleError> {
                 distance: positive(d, "the outline distance", span)?,
             }
         }
-        "streamlineSplit" => {
+        Kind::StreamlineSplit => {
             let (kind, span) = a.keyword("type", "outline", env)?;
             let center = match a.value("center", env)? {
                 None => None,
@@ -431,7 +450,7 @@ pub fn bind(rule: &Rule, env: &mut dyn Env) -> Result<Op, TangleError> {
                 spacing: positive(o, "the streamline offset", span)?,
             }
         }
-        "place" => {
+        Kind::Place => {
             let (shape, size, distance) = match a.value("shape", env)? {
                 // `place(20, 25)` as in gTangle's Fig. 9: circles of size 20, 25 apart.
                 Some((Value::Num(size), size_span)) => {
@@ -497,14 +516,14 @@ pub fn bind(rule: &Rule, env: &mut dyn Env) -> Result<Op, TangleError> {
                 distance,
             })
         }
-        "fill" => {
+        Kind::Fill => {
             let (c, span) = a.required("color", env)?;
             Op::Fill(
                 c.as_color()
                     .map_err(|e| TangleError::arg(span, e.to_string()))?,
             )
         }
-        "stipple" => {
+        Kind::Stipple => {
             let (kind, span) = a.keyword("kind", "dots", env)?;
             let kind = match kind.as_str() {
                 "dots" => StippleKind::Dots,
@@ -526,7 +545,7 @@ pub fn bind(rule: &Rule, env: &mut dyn Env) -> Result<Op, TangleError> {
                 size: positive(size, "the size", span)?,
             })
         }
-        "perturb" => {
+        Kind::Perturb => {
             let amplitude = a.num("amplitude", None, env)?;
             let scale = a.num("scale", None, env)?;
             if amplitude < 0.0 {
@@ -540,7 +559,5 @@ pub fn bind(rule: &Rule, env: &mut dyn Env) -> Result<Op, TangleError> {
                 scale: positive(scale, "the scale", rule.op_span)?,
             }
         }
-        // `invert`, the one name left (canonical_op returns no other).
-        _ => Op::Invert,
     })
 }

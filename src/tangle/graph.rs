@@ -270,17 +270,35 @@ pub fn graph_svg(rules: &[&Rule]) -> String {
     let width = rows.iter().map(row_width).fold(200.0, f64::max) + 2.0 * MARGIN;
     let height = depth as f64 * ROW - (ROW - BOX_H) + 2.0 * MARGIN;
     let mut pos = vec![(0.0, 0.0); g.rules.len()];
-    for (l, row) in rows.iter().enumerate() {
-        let mut x = (width - row_width(row)) / 2.0;
-        for &i in row {
+    for l in 0..rows.len() {
+        // Each rule under the mean centre of the rules feeding it (grammar order among
+        // equals, and for rules fed by nothing), which keeps most edges short and uncrossed.
+        let mut row = std::mem::take(&mut rows[l]);
+        let key = |i: usize| {
+            let feeders: Vec<f64> = g
+                .edges
+                .iter()
+                .filter(|(a, b, _)| *b == i && g.levels[*a] < l)
+                .map(|(a, _, _)| pos[*a].0 + widths[*a] / 2.0)
+                .collect();
+            if feeders.is_empty() {
+                f64::INFINITY
+            } else {
+                feeders.iter().sum::<f64>() / feeders.len() as f64
+            }
+        };
+        row.sort_by(|&a, &b| key(a).total_cmp(&key(b)).then(a.cmp(&b)));
+        let mut x = (width - row_width(&row)) / 2.0;
+        for &i in &row {
             pos[i] = (x, MARGIN + l as f64 * ROW);
             x += widths[i] + GAP;
         }
+        rows[l] = row;
     }
     let mut out = String::new();
     let _ = writeln!(
         out,
-        r##"<svg xmlns="http://www.w3.org/2000/svg" width="{width:.0}" height="{height:.0}" viewBox="0 0 {width:.0} {height:.0}" font-family="Helvetica, Arial, sans-serif" font-size="12">
+        r##"<svg xmlns="http://www.w3.org/2000/svg" width="{width:.0}" height="{height:.0}" viewBox="0 0 {width:.0} {height:.0}" font-family="Helvetica, Arial, 'DejaVu Sans', sans-serif" font-size="12">
 <defs><marker id="arrow" viewBox="0 0 10 10" refX="10" refY="5" markerWidth="7" markerHeight="7" orient="auto-start-reverse"><path d="M0 0 L10 5 L0 10 z" fill="#555"/></marker></defs>
 <rect width="100%" height="100%" fill="white"/>"##
     );
