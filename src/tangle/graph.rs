@@ -270,10 +270,9 @@ pub fn graph_svg(rules: &[&Rule]) -> String {
     let width = rows.iter().map(row_width).fold(200.0, f64::max) + 2.0 * MARGIN;
     let height = depth as f64 * ROW - (ROW - BOX_H) + 2.0 * MARGIN;
     let mut pos = vec![(0.0, 0.0); g.rules.len()];
-    for l in 0..rows.len() {
+    for (l, row) in rows.iter_mut().enumerate() {
         // Each rule under the mean centre of the rules feeding it (grammar order among
         // equals, and for rules fed by nothing), which keeps most edges short and uncrossed.
-        let mut row = std::mem::take(&mut rows[l]);
         let key = |i: usize| {
             let feeders: Vec<f64> = g
                 .edges
@@ -288,12 +287,11 @@ pub fn graph_svg(rules: &[&Rule]) -> String {
             }
         };
         row.sort_by(|&a, &b| key(a).total_cmp(&key(b)).then(a.cmp(&b)));
-        let mut x = (width - row_width(&row)) / 2.0;
-        for &i in &row {
+        let mut x = (width - row_width(row)) / 2.0;
+        for &i in row.iter() {
             pos[i] = (x, MARGIN + l as f64 * ROW);
             x += widths[i] + GAP;
         }
-        rows[l] = row;
     }
     let mut out = String::new();
     let _ = writeln!(

@@ -3,7 +3,7 @@
 //! pieces that timeslice rules can then animate.
 //!
 //! A tangle shape is ⟨t, g, s; Θ, d⟩: a tag, a group id, an id within the group, a boundary
-//! of polygons with holes ([`polygon::Region`]) and an orientation vector. [`expand`] runs
+//! of polygons with holes ([`polygon::Region`]) and an orientation vector. [`expand()`] runs
 //! the rules on a [`Scene`](crate::scene::Scene); the operators themselves are plain
 //! functions in [`ops`] (with [`place`] and [`field`] holding the placement and streamline
 //! machinery), all built on i_overlay's integer booleans ([`boolean`]) over one common
