@@ -159,17 +159,22 @@ def prepare(out, gm, corpus, grammars):
             with open(lj, encoding="utf-8") as f:
                 doc = json.load(f)
             width = exact_width(doc["w"], doc["h"])
-            r = subprocess.run([gm, "animate", scene, gmf, "-o", frames_dir + "/", "--width", str(width)], capture_output=True, text=True)
-            entry["ok"] = r.returncode == 0
             entry["width"] = width
-        pngs = sorted(glob.glob(os.path.join(frames_dir, "frame_*.png")))
-        if entry["ok"] and pngs:
-            gm_lotties.append(lj)
-            n = len(pngs)
+            n = int(doc["op"] - doc["ip"])
             picks = sorted({round(i * (n - 1) / (EXAMPLE_FRAMES - 1)) for i in range(EXAMPLE_FRAMES)}) if n > EXAMPLE_FRAMES else list(range(n))
+            # gmotion's own render of just the chosen frames (`-o x.png --time t`).
+            refs = [os.path.join(frames_dir, f"frame_{i:05d}.png") for i in picks]
+            for i, ref in zip(picks, refs):
+                r = subprocess.run([gm, "animate", scene, gmf, "-o", ref, "--time", repr(i / doc["fr"]), "--width", str(width)], capture_output=True, text=True)
+                if r.returncode != 0:
+                    entry["ok"] = False
+                    entry["stderr"] = r.stderr.strip()[-500:]
+                    break
+        if entry["ok"]:
+            gm_lotties.append(lj)
             entry["frames"] = picks
             entry["fps"] = doc["fr"]
-            entry["refs"] = [pngs[i] for i in picks]
+            entry["refs"] = refs
             entry["lw"] = [os.path.join(d, f"lw-{i}.png") for i in picks]
             entry["rl"] = [os.path.join(d, f"rl-{i}.png") for i in picks]
             entry["smil"] = [os.path.join(d, f"smil-{k}.png") for k in range(len(picks))]
