@@ -1,7 +1,7 @@
 //! Spatial (group grammar) expansion at the scale of gTangle's Table 1, and its scaling.
 //!
 //! gTangle reports 190.5 s for "village" (101 rules, 907 steps, 18 396 shapes) on a
-//! 3.1 GHz machine. `grammars/village.gm` on `grammars/village.svg` is at least that large;
+//! 3.1 GHz machine. `grammars/bench/village.gm` on `grammars/bench/village.svg` is at least that large;
 //! `cargo bench --bench tangle` prints its statistics before timing it. The scaling group
 //! expands a grid of tiles of growing size with the same grammar, so the cost per final
 //! shape can be read off.
@@ -17,7 +17,7 @@ use gmotion::scene::Scene;
 use gmotion::tangle::{TangleOptions, expand, graph_stats};
 
 fn village(c: &mut Criterion) {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("grammars");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("grammars/bench");
     let scene = load(&dir.join("village.svg"), &ImportOptions::default())
         .expect("village.svg imports")
         .scene;

@@ -29,6 +29,16 @@ pub fn check(
     let mut r = Report::default();
     let mut out = String::new();
     let time_rules = program.rules.len();
+    if !program.spatial.is_empty() {
+        let spatial: Vec<&crate::grammar::ast::Rule> =
+            program.spatial.iter().map(|&i| &grammar.rules[i]).collect();
+        let g = crate::tangle::graph_stats(&spatial);
+        let _ = writeln!(
+            out,
+            "group grammar graph: {} nodes, {} edges, depth {}",
+            g.nodes, g.edges, g.depth
+        );
+    }
     let _ = writeln!(
         out,
         "rules: {} ({} timeslice, {} spatial)",

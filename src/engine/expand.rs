@@ -146,6 +146,40 @@ impl Env for ShapeEnv<'_> {
     }
 }
 
+/// The grids built during one step: shapes that evaluate the same motion share one grid
+/// instead of sampling n×m cells each.
+#[derive(Default)]
+struct GridCache {
+    recent: Vec<Arc<Grid>>,
+}
+
+impl GridCache {
+    fn get(&mut self, cols: usize, rows: usize, area: kurbo::Rect, field: Field) -> Arc<Grid> {
+        let same = |g: &Grid| {
+            g.cols == cols
+                && g.rows == rows
+                && g.area == area
+                && match (&g.field, &field) {
+                    (Field::Constant(a), Field::Constant(b)) => a == b,
+                    (Field::Towards(a), Field::Towards(b)) => a == b,
+                    (Field::Path(a), Field::Path(b)) => {
+                        Arc::ptr_eq(a, b) || a.elements() == b.elements()
+                    }
+                    _ => false,
+                }
+        };
+        if let Some(g) = self.recent.iter().find(|g| same(g)) {
+            return g.clone();
+        }
+        let g = Arc::new(Grid::new(cols, rows, area, field));
+        if self.recent.len() == 4 {
+            self.recent.remove(0);
+        }
+        self.recent.push(g.clone());
+        g
+    }
+}
+
 /// Slice tag registry: ids in order of first creation.
 struct Tags {
     names: Vec<String>,
@@ -275,6 +309,7 @@ pub fn expand(
         let shapes = &shapes_by_tag[shape_tag as usize];
         let n = shapes.len();
         let mut applied = Vec::new();
+        let mut grids = GridCache::default();
         for &si in shapes {
             let shape = &scene.shapes[si];
             let rule_i = match settings.choice {
@@ -311,7 +346,7 @@ pub fn expand(
                 };
                 let first_new = new.len();
                 apply(
-                    rule, &slice, &mut env, &mut tags, settings, scene, steps, &mut new,
+                    rule, &slice, &mut env, &mut tags, &mut grids, settings, scene, steps, &mut new,
                 )?;
                 for s in &new[first_new..] {
                     if !matcher
@@ -412,6 +447,7 @@ fn apply(
     slice: &Slice,
     env: &mut ShapeEnv,
     tags: &mut Tags,
+    grids: &mut GridCache,
     settings: &Settings,
     scene: &Scene,
     step: usize,
@@ -522,7 +558,7 @@ fn apply(
                     };
                     let (cols, rows) = grid.unwrap_or(settings.grid);
                     AnimSpec::Motion {
-                        grid: Arc::new(Grid::new(cols, rows, scene.canvas(), field)),
+                        grid: grids.get(cols, rows, scene.canvas(), field),
                         world: *world,
                         pivot_offset,
                         lookup: lookup.unwrap_or(settings.lookup),

@@ -143,10 +143,13 @@ pub fn run(
                 .flat_map(|r| r.outputs.iter().map(|t| t.name.as_str())),
         );
         rules::check_shape_tags(grammar, &known, true)?;
-        let topts = crate::tangle::TangleOptions {
+        let mut topts = crate::tangle::TangleOptions {
             seed: settings.seed,
             ..Default::default()
         };
+        if let Some(m) = opts.max_steps {
+            topts.max_steps = m;
+        }
         let (expanded, tstats) =
             crate::tangle::expand(&scene, &spatial, &topts).map_err(|e| match &e {
                 crate::tangle::TangleError::Arg { span, message } => {
