@@ -626,6 +626,168 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
         ),
     ));
 
+    // A group unit (two paths moving and tinted as one) inside a transformed group.
+    let solid = |id: &str, r: Rect, c: Color, stroke: bool| {
+        Node::Path(PathNode {
+            id: id.to_string(),
+            path: r.to_path(0.1),
+            fill: Some(Fill {
+                paint: Paint::Solid(c),
+                opacity: 1.0,
+                rule: FillRule::NonZero,
+            }),
+            stroke: stroke.then_some(Stroke {
+                paint: Paint::Solid(Color::BLACK),
+                opacity: 1.0,
+                width: 3.0,
+                cap: LineCap::Butt,
+                join: LineJoin::Miter,
+                miter_limit: 4.0,
+                dash: None,
+                dash_offset: 0.0,
+            }),
+            stroke_first: false,
+            unit: None,
+        })
+    };
+    let mut unit = Group::new();
+    unit.id = "pair".into();
+    unit.transform = Affine::translate((10.0, 5.0));
+    unit.opacity = 0.8;
+    unit.unit = Some(0);
+    unit.children = vec![
+        solid("left", square(40.0, 60.0, 40.0), red(), true),
+        solid(
+            "right",
+            square(90.0, 60.0, 40.0),
+            Color::rgb8(240, 200, 30),
+            false,
+        ),
+    ];
+    let mut outer = Group::new();
+    outer.id = "outer".into();
+    outer.transform = Affine::translate((0.0, 20.0)) * Affine::scale(1.2);
+    outer.children = vec![Node::Group(unit)];
+    let parent = outer.transform;
+    let bbox = (parent
+        * Affine::translate((10.0, 5.0))
+        * Rect::new(40.0, 60.0, 130.0, 100.0).to_path(0.1))
+    .bounding_box();
+    let mut root = Group::new();
+    root.children = vec![Node::Group(outer)];
+    let shape = Shape {
+        tag: "pair".into(),
+        id: 0,
+        group: 0,
+        z: 0,
+        node_path: vec![0, 0],
+        parent_transform: parent,
+        centroid: bbox.center(),
+        bbox,
+        fill: red(),
+        stroke: Color::BLACK,
+        stroke_width: 3.0,
+    };
+    let mut t = Track::default();
+    windows(
+        &mut t,
+        &rigid(
+            bbox.center(),
+            &[
+                Component::Rotate(-70.0),
+                Component::Translate(Vec2::new(20.0, 10.0)),
+            ],
+            Interp::Linear,
+        ),
+        &timing(0.0, 2.0, ease_in_out()),
+        &[0.0, 2.0],
+    );
+    t.fill.push(AttrSeg {
+        t0: 0.5,
+        t1: 2.5,
+        timing: timing(0.5, 2.5, Easing::Linear),
+        from: Tint::NONE,
+        to: Tint::full(blue()),
+    });
+    t.opacity.push(AttrSeg {
+        t0: 1.0,
+        t1: 2.0,
+        timing: timing(1.0, 2.0, Easing::Linear),
+        from: 1.0,
+        to: 0.5,
+    });
+    let pair = Scene {
+        width: 200.0,
+        height: 200.0,
+        root,
+        shapes: vec![shape],
+    };
+    out.push(("group-unit", true, anim(pair, 3.0, true, vec![t])));
+
+    // Units inside units: the tints compose, so they are sampled.
+    let mut inner = Group::new();
+    inner.children = vec![solid("inner", square(100.0, 100.0, 60.0), blue(), true)];
+    let Node::Path(ip) = &mut inner.children[0] else {
+        unreachable!()
+    };
+    ip.unit = Some(1);
+    let mut outer = Group::new();
+    outer.id = "outer".into();
+    outer.unit = Some(0);
+    outer.children = vec![
+        solid("plain", square(20.0, 20.0, 60.0), red(), false),
+        Node::Group(inner),
+    ];
+    let mut root = Group::new();
+    root.children = vec![Node::Group(outer)];
+    let shape = |id: usize, node_path: Vec<usize>, bbox: Rect| Shape {
+        tag: "n".into(),
+        id,
+        group: 0,
+        z: id,
+        node_path,
+        parent_transform: Affine::IDENTITY,
+        centroid: bbox.center(),
+        bbox,
+        fill: red(),
+        stroke: Color::BLACK,
+        stroke_width: 3.0,
+    };
+    let shapes = vec![
+        shape(0, vec![0], Rect::new(20.0, 20.0, 160.0, 160.0)),
+        shape(1, vec![0, 1, 0], square(100.0, 100.0, 60.0)),
+    ];
+    let tint = |t0: f64, t1: f64, to: Color| AttrSeg {
+        t0,
+        t1,
+        timing: timing(t0, t1, ease_in_out()),
+        from: Tint::NONE,
+        to: Tint {
+            sum: [to.r * 0.7, to.g * 0.7, to.b * 0.7],
+            weight: 0.7,
+        },
+    };
+    let to = Track {
+        fill: vec![tint(0.0, 2.0, Color::rgb8(250, 250, 0))],
+        stroke: vec![tint(0.5, 1.5, red())],
+        ..Track::default()
+    };
+    let ti = Track {
+        fill: vec![tint(1.0, 3.0, Color::rgb8(0, 200, 0))],
+        ..Track::default()
+    };
+    let nested = Scene {
+        width: 200.0,
+        height: 200.0,
+        root,
+        shapes,
+    };
+    out.push((
+        "nested-units",
+        false,
+        anim(nested, 3.0, false, vec![to, ti]),
+    ));
+
     // Per-vertex deformation towards the canvas centre.
     let r = Rect::new(20.0, 20.0, 180.0, 60.0);
     let grid = Grid::new(
@@ -972,18 +1134,23 @@ fn transforms_play_as_the_model_moves() {
         let (svg, _) = to_smil(&a, &SmilOptions::default()).unwrap();
         let doc = Doc::parse(&svg);
         for (u, shape) in a.scene.shapes.iter().enumerate() {
-            let Node::Path(p) = a.scene.unit_node(u).unwrap() else {
-                unreachable!()
+            if a.tracks[u].motions.is_empty() {
+                continue;
+            }
+            let node = a.scene.unit_node(u).unwrap();
+            let e = doc.by_id(node.id());
+            let own = match node {
+                Node::Group(g) => g.transform,
+                Node::Path(_) => Affine::IDENTITY,
             };
-            let e = doc.by_id(&p.id);
             let b = shape.bbox;
-            let back = shape.parent_transform.inverse();
+            let back = (shape.parent_transform * own).inverse();
             let corners = [(b.x0, b.y0), (b.x1, b.y0), (b.x1, b.y1), (b.x0, b.y1)]
                 .map(|c| back * Point::from(c));
             let mut worst: f64 = 0.0;
             for t in instants(&a) {
                 let got = doc.total(e, t);
-                let want = a.tracks[u].transform_at(t) * shape.parent_transform;
+                let want = a.tracks[u].transform_at(t) * shape.parent_transform * own;
                 for q in corners {
                     worst = worst.max((got * q - want * q).hypot());
                 }
@@ -996,30 +1163,57 @@ fn transforms_play_as_the_model_moves() {
     }
 }
 
+/// Every path of the scene with the units it lies in, outermost first.
+fn paths_in_units(g: &Group, inside: &mut Vec<usize>, out: &mut Vec<(PathNode, Vec<usize>)>) {
+    for child in &g.children {
+        if let Some(u) = child.unit() {
+            inside.push(u);
+        }
+        match child {
+            Node::Group(h) => paths_in_units(h, inside, out),
+            Node::Path(p) => out.push((p.clone(), inside.clone())),
+        }
+        if child.unit().is_some() {
+            inside.pop();
+        }
+    }
+}
+
+/// `outer(inner(c))` as one tint (the frame writer's composition of nested units).
+fn compose(outer: Tint, inner: Tint) -> Tint {
+    let k = 1.0 - outer.weight;
+    Tint {
+        sum: std::array::from_fn(|i| inner.sum[i] * k + outer.sum[i]),
+        weight: 1.0 - (1.0 - inner.weight) * k,
+    }
+}
+
 #[test]
 fn colours_opacity_and_widths_play_as_the_model_changes() {
     for (name, _, a) in cases() {
         let (svg, _) = to_smil(&a, &SmilOptions::default()).unwrap();
         let doc = Doc::parse(&svg);
-        for (u, shape) in a.scene.shapes.iter().enumerate() {
-            let Node::Path(p) = a.scene.unit_node(u).unwrap() else {
-                unreachable!()
-            };
+        let mut paths = Vec::new();
+        paths_in_units(&a.scene.root, &mut Vec::new(), &mut paths);
+        for (p, units) in paths.iter().filter(|(_, u)| !u.is_empty()) {
             let e = doc.by_id(&p.id);
             for t in instants(&a) {
-                let st = a.tracks[u].state_at(t);
+                let states: Vec<_> = units.iter().map(|&u| a.tracks[u].state_at(t)).collect();
+                let fill = states.iter().map(|s| s.fill).reduce(compose).unwrap();
+                let stroke = states.iter().map(|s| s.stroke).reduce(compose).unwrap();
                 let close = |got: Vec<f64>, want: Color, what: &str| {
                     let w = want.to_rgba8();
                     for i in 0..3 {
                         assert!(
                             (got[i] - w[i] as f64).abs() <= 1.5,
-                            "{name}: {what} at {t}: {got:?} vs {w:?}"
+                            "{name}: {what} of {} at {t}: {got:?} vs {w:?}",
+                            p.id
                         );
                     }
                 };
                 match &p.fill.as_ref().unwrap().paint {
                     Paint::Solid(c) => {
-                        close(doc.value(e, "fill", t).unwrap(), st.fill.apply(*c), "fill")
+                        close(doc.value(e, "fill", t).unwrap(), fill.apply(*c), "fill")
                     }
                     Paint::Linear(g) => {
                         let def = doc.by_id(def_id(&doc.els[e].attrs["fill"]));
@@ -1027,7 +1221,7 @@ fn colours_opacity_and_widths_play_as_the_model_changes() {
                         for (&s, stop) in doc.els[def].children.iter().zip(&g.stops) {
                             close(
                                 doc.value(s, "stop-color", t).unwrap(),
-                                st.fill.apply(stop.color),
+                                fill.apply(stop.color),
                                 "stop",
                             );
                         }
@@ -1040,11 +1234,7 @@ fn colours_opacity_and_widths_play_as_the_model_changes() {
                             let Paint::Solid(own) = cp.fill.as_ref().unwrap().paint else {
                                 unreachable!()
                             };
-                            close(
-                                doc.value(c, "fill", t).unwrap(),
-                                st.fill.apply(own),
-                                "pattern",
-                            );
+                            close(doc.value(c, "fill", t).unwrap(), fill.apply(own), "pattern");
                         }
                     }
                     Paint::Radial(_) => unreachable!(),
@@ -1055,31 +1245,46 @@ fn colours_opacity_and_widths_play_as_the_model_changes() {
                     };
                     close(
                         doc.value(e, "stroke", t).unwrap(),
-                        st.stroke.apply(c),
+                        stroke.apply(c),
                         "stroke",
                     );
-                    let w = doc.value(e, "stroke-width", t).unwrap()[0];
-                    assert!(
-                        (w - s.width * st.stroke_width).abs() < 1e-3,
-                        "{name}: width at {t}"
-                    );
+                    let factor: f64 = states.iter().map(|s| s.stroke_width).product();
+                    let w = doc.value(e, "stroke-width", t).map_or(1.0, |v| v[0]);
+                    assert!((w - s.width * factor).abs() < 1e-3, "{name}: width at {t}");
                 }
-                // Opacity sits on the outermost wrapper: the product along the ancestors.
+                // Opacity sits on the units' wrappers: the product along the ancestors,
+                // over the nodes' own opacities.
                 let mut opacity = 1.0;
                 let mut at = Some(e);
                 while let Some(i) = at {
                     opacity *= doc.value(i, "opacity", t).map_or(1.0, |v| v[0]);
                     at = doc.els[i].parent;
                 }
+                let own: f64 = own_opacity(&a.scene.root, &p.id).unwrap();
+                let want = own * states.iter().map(|s| s.opacity).product::<f64>();
                 assert!(
-                    (opacity - st.opacity).abs() < 1e-3,
-                    "{name}: opacity at {t}: {opacity} vs {}",
-                    st.opacity
+                    (opacity - want).abs() < 1e-3,
+                    "{name}: opacity at {t}: {opacity} vs {want}"
                 );
             }
-            let _ = shape;
         }
     }
+}
+
+/// The product of the group opacities above the path with id `id`.
+fn own_opacity(g: &Group, id: &str) -> Option<f64> {
+    for child in &g.children {
+        match child {
+            Node::Path(p) if p.id == id => return Some(g.opacity as f64),
+            Node::Group(h) => {
+                if let Some(o) = own_opacity(h, id) {
+                    return Some(o * g.opacity as f64);
+                }
+            }
+            Node::Path(_) => {}
+        }
+    }
+    None
 }
 
 #[test]
