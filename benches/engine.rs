@@ -10,7 +10,7 @@ use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use gmotion::engine::{RunOptions, run};
-use gmotion::motion::ShapeState;
+use gmotion::motion::{Animation, ShapeState};
 use gmotion::scene::{Group, Node, PathNode, Scene, Shape};
 use kurbo::{Affine, BezPath, Point, Rect};
 use rayon::prelude::*;
@@ -112,17 +112,22 @@ fn grammar(tags: usize, duration: f64, fps: f64) -> String {
     g
 }
 
+/// Evaluates every frame, frames in parallel.
+fn evaluate_all(anim: &Animation) {
+    let sampler = anim.sampler();
+    (0..anim.frame_count())
+        .into_par_iter()
+        .for_each_init(Vec::<ShapeState>::new, |buf, i| {
+            sampler.evaluate_into(anim.frame_time(i), buf);
+            black_box(&buf);
+        });
+}
+
 /// Parses, expands and evaluates every frame; returns steps for the printed statistics.
 fn full_run(scene: &Scene, src: &str) -> usize {
     let g = gmotion::grammar::parse(src).expect("bench grammar parses");
     let (anim, stats) = run(scene.clone(), &g, &RunOptions::default()).expect("bench grammar runs");
-    let frames = anim.frame_count();
-    (0..frames)
-        .into_par_iter()
-        .for_each_init(Vec::<ShapeState>::new, |buf, i| {
-            anim.evaluate_into(anim.frame_time(i), buf);
-            black_box(&buf);
-        });
+    evaluate_all(&anim);
     stats.steps
 }
 
@@ -160,5 +165,28 @@ fn scaling(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, table1, scaling);
+/// The two halves of a table-1 run measured apart: parsing + expansion + compilation into
+/// tracks, then evaluating every frame of the finished animation.
+fn phases(c: &mut Criterion) {
+    let mut group = c.benchmark_group("phases");
+    group.sample_size(10);
+    for (name, n, tags, dur, fps) in [
+        ("teaser", 208usize, 6usize, 6.0, 30.0),
+        ("intersections", 8214, 16, 8.0, 60.0),
+    ] {
+        let s = scene(n, tags);
+        let src = grammar(tags, dur, fps);
+        let g = gmotion::grammar::parse(&src).expect("parses");
+        group.bench_function(format!("{name}/expand"), |b| {
+            b.iter(|| run(s.clone(), &g, &RunOptions::default()).expect("runs"))
+        });
+        let (anim, _) = run(s.clone(), &g, &RunOptions::default()).expect("runs");
+        group.bench_function(format!("{name}/evaluate"), |b| {
+            b.iter(|| evaluate_all(&anim))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, table1, phases, scaling);
 criterion_main!(benches);

@@ -24,6 +24,7 @@ pub enum Component {
 
 impl Component {
     /// The component at progress `s` (0 = identity, 1 = full value).
+    #[inline]
     pub fn at(&self, s: f64) -> Affine {
         match *self {
             Component::Translate(d) => Affine::translate(d * s),
@@ -70,10 +71,12 @@ impl Component {
 
 /// The product of a list of components at progress `s`, leftmost applied last (as in SVG's
 /// `transform="translate(..) rotate(..)"`).
+#[inline]
 pub fn product_at(components: &[Component], s: f64) -> Affine {
-    components
-        .iter()
-        .fold(Affine::IDENTITY, |acc, c| acc * c.at(s))
+    match components {
+        [] => Affine::IDENTITY,
+        [first, rest @ ..] => rest.iter().fold(first.at(s), |acc, c| acc * c.at(s)),
+    }
 }
 
 #[cfg(test)]

@@ -178,9 +178,9 @@ fn cell_center(area: Rect, cols: usize, rows: usize, c: usize, r: usize) -> Poin
 }
 
 /// A blended transform at progress `s`: Σ wᵢ·Πcᵢ(s), each about `pivot`.
+#[inline]
 pub fn blend_at(blend: &[(f64, Arc<[Component]>)], pivot: Point, s: f64) -> Affine {
-    let about =
-        |m: Affine| Affine::translate(pivot.to_vec2()) * m * Affine::translate(-pivot.to_vec2());
+    let about = |m: Affine| about(pivot, m);
     if let [(_, c)] = blend {
         return about(product_at(c, s));
     }
@@ -192,6 +192,14 @@ pub fn blend_at(blend: &[(f64, Arc<[Component]>)], pivot: Point, s: f64) -> Affi
         }
     }
     about(Affine::new(acc))
+}
+
+/// `m` about `pivot`: `T(pivot)·m·T(−pivot)`, without the two matrix products.
+#[inline]
+pub fn about(pivot: Point, m: Affine) -> Affine {
+    let [a, b, c, d, e, f] = m.as_coeffs();
+    let (x, y) = (pivot.x, pivot.y);
+    Affine::new([a, b, c, d, e + x - (a * x + c * y), f + y - (b * x + d * y)])
 }
 
 #[cfg(test)]
@@ -228,6 +236,19 @@ mod tests {
             let s: f64 = g.lookup(p, Lookup::Bilinear).iter().map(|x| x.0).sum();
             assert!((s - 1.0).abs() < 1e-12);
         }
+    }
+
+    #[test]
+    fn about_equals_the_conjugation_product() {
+        let m = Affine::new([0.8, -0.3, 0.45, 1.2, 7.0, -4.0]);
+        let p = Point::new(130.0, -42.5);
+        let want = Affine::translate(p.to_vec2()) * m * Affine::translate(-p.to_vec2());
+        for (x, y) in about(p, m).as_coeffs().iter().zip(want.as_coeffs()) {
+            assert!((x - y).abs() < 1e-9, "{x} vs {y}");
+        }
+        // A rotation about p keeps p in place.
+        let q = about(p, Affine::rotate(1.1)) * p;
+        assert!((q - p).hypot() < 1e-9);
     }
 
     #[test]

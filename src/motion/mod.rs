@@ -18,6 +18,7 @@
 pub mod alexa;
 pub mod component;
 pub mod grid;
+pub mod sampler;
 
 use std::sync::Arc;
 
@@ -28,6 +29,7 @@ use crate::scene::Scene;
 use crate::signals::Easing;
 pub use component::Component;
 pub use grid::{Blend, Field, Grid, Lookup};
+pub use sampler::Sampler;
 
 /// How a motion's transform is interpolated between its neutral and full value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -57,6 +59,7 @@ pub struct Timing {
 impl Timing {
     /// The progress `f(t)` that drives the change's endpoints: 0 at the neutral end,
     /// 1 at the full end. Forward changes go 0→1, reversed ones 1→0.
+    #[inline]
     pub fn progress(&self, t: f64) -> f64 {
         let span = (self.end - self.start - self.delay).max(0.0);
         let local = if self.reversed {
@@ -125,6 +128,7 @@ pub struct MotionSeg {
 
 impl MotionSeg {
     /// `F(p)` for a rigid motion.
+    #[inline]
     pub fn full_at(&self, p: f64) -> Affine {
         match &self.kind {
             MotionKind::Rigid {
@@ -238,6 +242,7 @@ impl Blendable for Tint {
 
 impl<T: Blendable> AttrSeg<T> {
     /// The value at time `t` inside the window.
+    #[inline]
     pub fn value_at(&self, t: f64) -> T {
         self.from
             .blend(self.to, self.timing.progress(t.clamp(self.t0, self.t1)))
@@ -380,6 +385,12 @@ impl Animation {
     /// Every shape's state at time `t` (the paper's `evaluate(t)`).
     pub fn evaluate(&self, t: f64) -> Vec<ShapeState> {
         self.tracks.iter().map(|tr| tr.state_at(t)).collect()
+    }
+
+    /// The tracks compiled for sampling many frames: use this rather than
+    /// [`Animation::evaluate`] when evaluating more than a few instants.
+    pub fn sampler(&self) -> Sampler<'_> {
+        Sampler::new(self)
     }
 
     /// Like [`Animation::evaluate`], writing into `out` to avoid allocating per frame.

@@ -47,6 +47,7 @@ pub enum Easing {
 
 impl Easing {
     /// Eased progress at linear progress `u` (clamped to `[0,1]`).
+    #[inline]
     pub fn apply(&self, u: f64) -> f64 {
         let u = if u.is_nan() { 0.0 } else { u.clamp(0.0, 1.0) };
         if u == 0.0 || u == 1.0 {
