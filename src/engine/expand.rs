@@ -4,13 +4,13 @@
 //! shapes with the lowest shape tag (lexicographic), together with their `inv_` twins,
 //! chooses one rule among the highest-priority matches and applies it to all of them.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::{BTreeSet, HashMap};
 use std::sync::Arc;
 
 use kurbo::{BezPath, Point, Vec2};
 
 use crate::color::Color;
-use crate::grammar::ast::{Expr, TagRef};
+use crate::grammar::ast::{Expr, ExprKind, TagRef};
 use crate::grammar::value::{Env, Value, eval};
 use crate::motion::{Component, Field, Grid, Interp, Lookup};
 use crate::scene::{Scene, Shape};
@@ -79,7 +79,8 @@ pub struct Slice {
     /// Duration.
     pub dur: f64,
     /// Animations on this slice (or on the slice it was split from), in the order set.
-    pub anims: Vec<Arc<AnimInst>>,
+    /// Shared: the pieces of a split point at their parent's list.
+    pub anims: Arc<[Arc<AnimInst>]>,
 }
 
 /// The result of expansion.
@@ -93,6 +94,27 @@ pub struct Expansion {
     pub steps: usize,
     /// Uses per grammar rule index.
     pub rule_uses: Vec<usize>,
+}
+
+/// The variables [`ShapeEnv`] defines: an expression naming none of them (and not calling
+/// `rand`) has one value for every shape of a step.
+const SHAPE_VARS: &[&str] = &[
+    "id", "n", "cx", "cy", "w", "h", "x0", "y0", "z", "group", "t0", "d", "step", "W", "H",
+];
+
+/// True when `e` evaluates the same for every shape and slice of a step.
+fn shape_independent(e: &Expr) -> bool {
+    match &e.kind {
+        // `w-h` lexes as one name and is an error per shape: leave it to the shape.
+        ExprKind::Ident(name) => !name.split('-').any(|p| SHAPE_VARS.contains(&p)),
+        ExprKind::Call { name, args } => {
+            name != "rand" && args.iter().all(|a| shape_independent(&a.value))
+        }
+        ExprKind::Tuple(items) => items.iter().all(shape_independent),
+        ExprKind::Neg(x) => shape_independent(x),
+        ExprKind::Binary { lhs, rhs, .. } => shape_independent(lhs) && shape_independent(rhs),
+        ExprKind::Num(_) | ExprKind::Str(_) | ExprKind::Color(_) | ExprKind::Size(..) => true,
+    }
 }
 
 /// Per-shape expression environment.
@@ -184,6 +206,10 @@ impl GridCache {
 struct Tags {
     names: Vec<String>,
     ids: HashMap<String, u32>,
+    /// Ids of each rule's outputs once looked up, by rule position and output index, so the
+    /// per-shape loop does not hash tag names. Looked up lazily, so ids are still numbered
+    /// in order of first creation.
+    outputs: Vec<Vec<Option<u32>>>,
 }
 
 impl Tags {
@@ -196,12 +222,23 @@ impl Tags {
         self.ids.insert(name.to_string(), i);
         i
     }
+
+    /// The id of output `j` of rule `rule` (its position in the program).
+    fn output(&mut self, rule: &CRule, pos: usize, j: usize) -> u32 {
+        if let Some(id) = self.outputs[pos][j] {
+            return id;
+        }
+        let id = self.id(&rule.outputs[j].name);
+        self.outputs[pos][j] = Some(id);
+        id
+    }
 }
 
-/// Caches which rules match a (slice tag, shape tag) pair.
+/// Caches which rules match a (slice tag, shape tag) pair, in a table indexed by both ids.
 struct Matcher<'a> {
     program: &'a Program,
-    cache: HashMap<(u32, u32), Arc<[usize]>>,
+    shape_tags: usize,
+    cache: Vec<Option<Arc<[usize]>>>,
 }
 
 impl Matcher<'_> {
@@ -211,18 +248,20 @@ impl Matcher<'_> {
         shape_tag: u32,
         tags: &Tags,
         shape_tags: &[String],
-    ) -> Arc<[usize]> {
-        self.cache
-            .entry((slice_tag, shape_tag))
-            .or_insert_with(|| {
-                self.program
-                    .candidates(
-                        &tags.names[slice_tag as usize],
-                        &shape_tags[shape_tag as usize],
-                    )
-                    .into()
-            })
-            .clone()
+    ) -> &Arc<[usize]> {
+        let i = slice_tag as usize * self.shape_tags + shape_tag as usize;
+        if self.cache.len() <= i {
+            self.cache.resize(i + 1, None);
+        }
+        let program = self.program;
+        self.cache[i].get_or_insert_with(|| {
+            program
+                .candidates(
+                    &tags.names[slice_tag as usize],
+                    &shape_tags[shape_tag as usize],
+                )
+                .into()
+        })
     }
 }
 
@@ -260,12 +299,19 @@ pub fn expand(
     let mut tags = Tags {
         names: Vec::new(),
         ids: HashMap::new(),
+        outputs: program
+            .rules
+            .iter()
+            .map(|r| vec![None; r.outputs.len()])
+            .collect(),
     };
     let all = tags.id("all");
     let mut matcher = Matcher {
         program,
-        cache: HashMap::new(),
+        shape_tags: shape_tag_names.len(),
+        cache: Vec::new(),
     };
+    let no_anims: Arc<[Arc<AnimInst>]> = Arc::from([]);
     let mut timelines: Vec<Vec<Slice>> = scene
         .shapes
         .iter()
@@ -275,19 +321,19 @@ pub fn expand(
                 inverted: false,
                 t0: 0.0,
                 dur: settings.duration,
-                anims: Vec::new(),
+                anims: no_anims.clone(),
             }]
         })
         .collect();
 
     // Count of non-terminal slices per (shape tag, slice tag); the first key is the next step.
-    let mut pending: BTreeMap<(u32, u32), usize> = BTreeMap::new();
-    for (st, shapes) in shapes_by_tag.iter().enumerate() {
+    let mut pending: BTreeSet<(u32, u32)> = BTreeSet::new();
+    for st in 0..shapes_by_tag.len() {
         if !matcher
             .get(all, st as u32, &tags, &shape_tag_names)
             .is_empty()
         {
-            pending.insert((st as u32, all), shapes.len());
+            pending.insert((st as u32, all));
         }
     }
 
@@ -295,12 +341,18 @@ pub fn expand(
     let mut history: Vec<usize> = Vec::new();
     let mut steps = 0;
     let canvas = (scene.width, scene.height);
-    while let Some((&(shape_tag, slice_tag), _)) = pending.iter().next() {
-        pending.remove(&(shape_tag, slice_tag));
+    // Specs of shape-independent `animate` rules, evaluated once per step (by rule position).
+    let mut specs: Vec<Option<SharedSpec>> = vec![None; program.rules.len()];
+    let shareable: Vec<bool> = program.rules.iter().map(spec_is_shareable).collect();
+    let mut next: Vec<Slice> = Vec::new();
+    let mut created: Vec<u32> = Vec::new();
+    while let Some((shape_tag, slice_tag)) = pending.pop_first() {
         if steps >= settings.max_steps {
             return Err(cycle_error(program, &history, settings.max_steps));
         }
-        let cands = matcher.get(slice_tag, shape_tag, &tags, &shape_tag_names);
+        let cands = matcher
+            .get(slice_tag, shape_tag, &tags, &shape_tag_names)
+            .clone();
         let step_rule = pick(
             program,
             &cands,
@@ -310,6 +362,8 @@ pub fn expand(
         let n = shapes.len();
         let mut applied = Vec::new();
         let mut grids = GridCache::default();
+        specs.iter_mut().for_each(|s| *s = None);
+        created.clear();
         for &si in shapes {
             let shape = &scene.shapes[si];
             let rule_i = match settings.choice {
@@ -327,9 +381,11 @@ pub fn expand(
                 ),
             };
             let rule = &program.rules[rule_i];
-            let old = std::mem::take(&mut timelines[si]);
-            let mut new = Vec::with_capacity(old.len() + 2);
-            for slice in old {
+            let mut old = std::mem::take(&mut timelines[si]);
+            let new = &mut next;
+            new.clear();
+            new.reserve(old.len() + rule.outputs.len());
+            for slice in old.drain(..) {
                 if slice.tag != slice_tag {
                     new.push(slice);
                     continue;
@@ -345,21 +401,36 @@ pub fn expand(
                     draws: 0,
                 };
                 let first_new = new.len();
-                apply(
-                    rule, &slice, &mut env, &mut tags, &mut grids, settings, scene, steps, &mut new,
-                )?;
+                let mut ctx = Ctx {
+                    rule,
+                    pos: rule_i,
+                    tags: &mut tags,
+                    grids: &mut grids,
+                    specs: &mut specs,
+                    shareable: &shareable,
+                    settings,
+                    scene,
+                    step: steps,
+                };
+                apply(&mut ctx, &slice, &mut env, new)?;
                 for s in &new[first_new..] {
-                    if !matcher
-                        .get(s.tag, shape_tag, &tags, &shape_tag_names)
-                        .is_empty()
-                    {
-                        *pending.entry((shape_tag, s.tag)).or_insert(0) += 1;
+                    if !created.contains(&s.tag) {
+                        created.push(s.tag);
                     }
                 }
             }
-            timelines[si] = new;
+            // The built timeline goes in; the old one's (now empty) buffer is reused.
+            timelines[si] = std::mem::replace(&mut next, old);
             if !applied.contains(&rule_i) {
                 applied.push(rule_i);
+            }
+        }
+        for &tag in &created {
+            if !matcher
+                .get(tag, shape_tag, &tags, &shape_tag_names)
+                .is_empty()
+            {
+                pending.insert((shape_tag, tag));
             }
         }
         for r in applied {
@@ -441,18 +512,47 @@ fn shape_note(shape: &Shape) -> String {
     format!("for shape `{}` #{}", shape.tag, shape.id)
 }
 
-#[allow(clippy::too_many_arguments)]
+/// An `animate` rule's resolved spec and easing, shared by every shape of a step when its
+/// value and easing do not depend on the shape.
+#[derive(Clone)]
+struct SharedSpec {
+    spec: AnimSpec,
+    ease: Easing,
+}
+
+/// What applying a rule to one slice needs besides the slice and the shape.
+struct Ctx<'a> {
+    rule: &'a CRule,
+    /// The rule's position in the program.
+    pos: usize,
+    tags: &'a mut Tags,
+    grids: &'a mut GridCache,
+    /// Shared specs of this step, by rule position.
+    specs: &'a mut [Option<SharedSpec>],
+    /// Whether each rule's spec can be shared, by rule position.
+    shareable: &'a [bool],
+    settings: &'a Settings,
+    scene: &'a Scene,
+    step: usize,
+}
+
+/// True when an `animate` rule's value and easing are the same for every shape.
+fn spec_is_shareable(rule: &CRule) -> bool {
+    match &rule.op {
+        Op::Animate(a) => {
+            shape_independent(&a.value) && a.ease.as_ref().is_none_or(shape_independent)
+        }
+        Op::Timesplit { .. } => false,
+    }
+}
+
 fn apply(
-    rule: &CRule,
+    ctx: &mut Ctx,
     slice: &Slice,
     env: &mut ShapeEnv,
-    tags: &mut Tags,
-    grids: &mut GridCache,
-    settings: &Settings,
-    scene: &Scene,
-    step: usize,
     out: &mut Vec<Slice>,
 ) -> Result<(), EngineError> {
+    let rule = ctx.rule;
     match &rule.op {
         Op::Timesplit { fractions } => {
             let mut cs = Vec::with_capacity(fractions.len());
@@ -481,18 +581,15 @@ fn apply(
             let mut t = slice.t0;
             for j in 0..k {
                 // On an inverted slice the split is mirrored: pieces in reverse, tags inverted.
-                let (c, out_tag) = if slice.inverted {
-                    (cs[k - 1 - j], &rule.outputs[k - 1 - j])
-                } else {
-                    (cs[j], &rule.outputs[j])
-                };
+                let o = if slice.inverted { k - 1 - j } else { j };
+                let (c, out_tag) = (cs[o], &rule.outputs[o]);
                 let dur = if j + 1 == k {
                     slice.t0 + slice.dur - t
                 } else {
                     slice.dur * c
                 };
                 out.push(Slice {
-                    tag: tags.id(&out_tag.name),
+                    tag: ctx.tags.output(rule, ctx.pos, o),
                     inverted: out_tag.inverted ^ slice.inverted,
                     t0: t,
                     dur,
@@ -519,97 +616,123 @@ fn apply(
                     format!("the offset is a delay and cannot be negative, found {delay}"),
                 ));
             }
-            let ease = match ease {
-                None => Easing::Linear,
-                Some(e) => easing(e, env)?,
-            };
-            let v = eval(value, env)?;
-            let bad = |m: crate::grammar::value::TypeError| EngineError::from(m.at(value.span));
-            let spec = match kind {
-                AnimType::Affine | AnimType::Towards | AnimType::Path => {
-                    let mut pivot_offset = Vec2::ZERO;
-                    let field = match kind {
-                        AnimType::Affine => {
-                            let cs: Vec<Component> = v.as_transform().map_err(bad)?.to_vec();
-                            if let Some(c) = cs.iter().find(|c| !c.is_finite()) {
-                                return Err(EngineError::at(
-                                    value.span,
-                                    format!("transform has a non-finite parameter: {c:?}"),
-                                ));
-                            }
-                            let (cs, offset) = split_conjugation(cs);
-                            pivot_offset = offset;
-                            Field::Constant(cs.into())
-                        }
-                        AnimType::Towards => {
-                            let p: Point = v.as_point().map_err(bad)?;
-                            Field::Towards(p)
-                        }
-                        _ => {
-                            let d = v.as_str().map_err(bad)?.to_string();
-                            let path = BezPath::from_svg(&d).map_err(|e| {
-                                EngineError::at(value.span, format!("invalid SVG path data: {e}"))
-                            })?;
-                            if path.elements().is_empty() {
-                                return Err(EngineError::at(value.span, "the path is empty"));
-                            }
-                            Field::Path(Arc::new(path))
-                        }
+            let SharedSpec { spec, ease } = match &ctx.specs[ctx.pos] {
+                Some(shared) => shared.clone(),
+                None => {
+                    let ease = match ease {
+                        None => Easing::Linear,
+                        Some(e) => easing(e, env)?,
                     };
-                    let (cols, rows) = grid.unwrap_or(settings.grid);
-                    AnimSpec::Motion {
-                        grid: grids.get(cols, rows, scene.canvas(), field),
-                        world: *world,
-                        pivot_offset,
-                        lookup: lookup.unwrap_or(settings.lookup),
-                        interp: interp.unwrap_or(settings.interp),
+                    let spec = spec(ctx, kind, *world, value, grid, lookup, interp, env)?;
+                    let shared = SharedSpec { spec, ease };
+                    if ctx.shareable[ctx.pos] {
+                        ctx.specs[ctx.pos] = Some(shared.clone());
                     }
-                }
-                AnimType::Fill => AnimSpec::Fill(v.as_color().map_err(bad)?),
-                AnimType::Border => AnimSpec::Border(v.as_color().map_err(bad)?),
-                AnimType::Opacity => {
-                    let x = v.as_num().map_err(bad)?;
-                    if !(0.0..=1.0).contains(&x) {
-                        return Err(EngineError::at(
-                            value.span,
-                            format!("opacity lies in [0, 1], found {x}"),
-                        ));
-                    }
-                    AnimSpec::Opacity(x)
-                }
-                AnimType::StrokeWidth => {
-                    let x = v.as_num().map_err(bad)?;
-                    if !(x.is_finite() && x >= 0.0) {
-                        return Err(EngineError::at(
-                            value.span,
-                            format!("stroke width must be ≥ 0, found {x}"),
-                        ));
-                    }
-                    AnimSpec::StrokeWidth(x)
+                    shared
                 }
             };
             let out_tag = &rule.outputs[0];
             let inverted = out_tag.inverted ^ slice.inverted;
-            let mut anims = slice.anims.clone();
-            anims.push(Arc::new(AnimInst {
-                step,
+            let inst = Arc::new(AnimInst {
+                step: ctx.step,
                 spec,
                 start: slice.t0,
                 end: slice.t0 + slice.dur,
                 delay: delay.min(slice.dur),
                 ease,
                 reversed: inverted,
-            }));
+            });
             out.push(Slice {
-                tag: tags.id(&out_tag.name),
+                tag: ctx.tags.output(rule, ctx.pos, 0),
                 inverted,
                 t0: slice.t0,
                 dur: slice.dur,
-                anims,
+                anims: slice.anims.iter().cloned().chain([inst]).collect(),
             });
         }
     }
     Ok(())
+}
+
+/// Evaluates an `animate` rule's value into what it animates.
+#[allow(clippy::too_many_arguments)]
+fn spec(
+    ctx: &mut Ctx,
+    kind: &AnimType,
+    world: bool,
+    value: &Expr,
+    grid: &Option<(usize, usize)>,
+    lookup: &Option<Lookup>,
+    interp: &Option<Interp>,
+    env: &mut ShapeEnv,
+) -> Result<AnimSpec, EngineError> {
+    let settings = ctx.settings;
+    let v = eval(value, env)?;
+    let bad = |m: crate::grammar::value::TypeError| EngineError::from(m.at(value.span));
+    let spec = match kind {
+        AnimType::Affine | AnimType::Towards | AnimType::Path => {
+            let mut pivot_offset = Vec2::ZERO;
+            let field = match kind {
+                AnimType::Affine => {
+                    let cs: Vec<Component> = v.as_transform().map_err(bad)?.to_vec();
+                    if let Some(c) = cs.iter().find(|c| !c.is_finite()) {
+                        return Err(EngineError::at(
+                            value.span,
+                            format!("transform has a non-finite parameter: {c:?}"),
+                        ));
+                    }
+                    let (cs, offset) = split_conjugation(cs);
+                    pivot_offset = offset;
+                    Field::Constant(cs.into())
+                }
+                AnimType::Towards => {
+                    let p: Point = v.as_point().map_err(bad)?;
+                    Field::Towards(p)
+                }
+                _ => {
+                    let d = v.as_str().map_err(bad)?.to_string();
+                    let path = BezPath::from_svg(&d).map_err(|e| {
+                        EngineError::at(value.span, format!("invalid SVG path data: {e}"))
+                    })?;
+                    if path.elements().is_empty() {
+                        return Err(EngineError::at(value.span, "the path is empty"));
+                    }
+                    Field::Path(Arc::new(path))
+                }
+            };
+            let (cols, rows) = grid.unwrap_or(settings.grid);
+            AnimSpec::Motion {
+                grid: ctx.grids.get(cols, rows, ctx.scene.canvas(), field),
+                world,
+                pivot_offset,
+                lookup: lookup.unwrap_or(settings.lookup),
+                interp: interp.unwrap_or(settings.interp),
+            }
+        }
+        AnimType::Fill => AnimSpec::Fill(v.as_color().map_err(bad)?),
+        AnimType::Border => AnimSpec::Border(v.as_color().map_err(bad)?),
+        AnimType::Opacity => {
+            let x = v.as_num().map_err(bad)?;
+            if !(0.0..=1.0).contains(&x) {
+                return Err(EngineError::at(
+                    value.span,
+                    format!("opacity lies in [0, 1], found {x}"),
+                ));
+            }
+            AnimSpec::Opacity(x)
+        }
+        AnimType::StrokeWidth => {
+            let x = v.as_num().map_err(bad)?;
+            if !(x.is_finite() && x >= 0.0) {
+                return Err(EngineError::at(
+                    value.span,
+                    format!("stroke width must be ≥ 0, found {x}"),
+                ));
+            }
+            AnimSpec::StrokeWidth(x)
+        }
+    };
+    Ok(spec)
 }
 
 /// Splits `translate(c) … translate(-c)` into the middle and the pivot `c`, so a transform
