@@ -56,7 +56,7 @@ fn animation(text: &str) -> Animation {
             )];
             let kind = MotionKind::Rigid {
                 pivot: s.centroid,
-                blend,
+                blend: blend.into(),
                 interp: Interp::Linear,
             };
             Track {

@@ -54,7 +54,7 @@ fn animate(scene: Scene, unit: usize, track: Track) -> Animation {
 fn rigid(pivot: Point, components: Vec<Component>) -> Track {
     let kind = MotionKind::Rigid {
         pivot,
-        blend: vec![(1.0, Arc::from(components))],
+        blend: Arc::from([(1.0, Arc::from(components))]),
         interp: Interp::Linear,
     };
     Track {

@@ -323,7 +323,7 @@ fn timing(start: f64, end: f64, delay: f64, ease: Easing, reversed: bool) -> Tim
 }
 
 fn rigid(pivot: Point, comps: &[Component], interp: Interp) -> MotionKind {
-    let blend: Blend = vec![(1.0, Arc::from(comps))];
+    let blend: Blend = Arc::from([(1.0, Arc::from(comps))]);
     MotionKind::Rigid {
         pivot,
         blend,
@@ -672,13 +672,13 @@ fn bilinear_blend_is_sampled_within_tolerance() {
     )]);
     let mut track = Track::default();
     let tm = timing(0.0, 2.0, 0.0, Easing::Linear, false);
-    let blend: Blend = vec![
+    let blend: Blend = Arc::from([
         (0.6, Arc::from([Component::Rotate(90.0)].as_slice())),
         (
             0.4,
             Arc::from([Component::Translate(Vec2::new(100.0, 0.0))].as_slice()),
         ),
-    ];
+    ]);
     let kind = MotionKind::Rigid {
         pivot: Point::new(170.0, 140.0),
         blend,

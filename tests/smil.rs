@@ -126,7 +126,7 @@ pub fn timing(start: f64, end: f64, ease: Easing) -> Timing {
 pub fn rigid(pivot: Point, comps: &[Component], interp: Interp) -> MotionKind {
     MotionKind::Rigid {
         pivot,
-        blend: vec![(1.0, Arc::from(comps))],
+        blend: Arc::from([(1.0, Arc::from(comps))]),
         interp,
     }
 }
@@ -597,13 +597,13 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
     ));
 
     let r = square(70.0, 70.0, 50.0);
-    let blend: Blend = vec![
+    let blend: Blend = Arc::from([
         (
             0.5,
             Arc::from([Component::Translate(Vec2::new(100.0, 0.0))]),
         ),
         (0.5, Arc::from([Component::Rotate(120.0)])),
-    ];
+    ]);
     let mut t = Track::default();
     windows(
         &mut t,

@@ -185,7 +185,7 @@ fn same_motion(a: &MotionSeg, b: &MotionSeg) -> bool {
             pa == pb
                 && ia == ib
                 && ba.len() == bb.len()
-                && ba.iter().zip(bb).all(|(x, y)| x.0 == y.0 && x.1 == y.1)
+                && ba.iter().zip(bb.iter()).all(|(x, y)| x.0 == y.0 && x.1 == y.1)
         }
         _ => false,
     };
@@ -319,7 +319,7 @@ fn exact_components(seg: &MotionSeg) -> Option<(&[Component], Point)> {
     else {
         return None;
     };
-    let [(_, comps)] = blend.as_slice() else {
+    let [(_, comps)] = &blend[..] else {
         return None;
     };
     seg.timing.ease.as_cubic_bezier()?;

@@ -243,7 +243,7 @@ fn same_motion(a: &MotionKind, b: &MotionKind) -> bool {
                 && i == j
                 && x.len() == y.len()
                 && x.iter()
-                    .zip(y)
+                    .zip(y.iter())
                     .all(|((w, c), (v, d))| w == v && c[..] == d[..])
         }
         _ => false,
@@ -397,7 +397,7 @@ fn exact_layer(w: &Window<'_>) -> Option<SegLayer> {
     else {
         return None;
     };
-    let [(_, comps)] = blend.as_slice() else {
+    let [(_, comps)] = &blend[..] else {
         return None;
     };
     let comps: Vec<Component> = comps.iter().filter(|c| !c.is_identity()).copied().collect();

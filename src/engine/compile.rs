@@ -2,7 +2,6 @@
 //! the shape is in at every slice boundary, so each motion knows its pivot (the centroid
 //! where it began) and each attribute change knows the value it starts from.
 
-use std::collections::HashMap;
 use std::sync::Arc;
 
 use kurbo::{Affine, Point};
@@ -11,8 +10,7 @@ use rayon::prelude::*;
 use crate::motion::{AttrSeg, Lookup, MotionKind, MotionSeg, Timing, Tint, Track};
 use crate::scene::{Scene, Shape};
 
-use super::expand::{AnimInst, AnimSpec, Expansion};
-use super::settings::Settings;
+use super::expand::{AnimInst, AnimSpec, Slice};
 
 /// A shape's state at a slice boundary.
 #[derive(Clone, Copy, Debug)]
@@ -32,12 +30,49 @@ const REST: State = State {
     width: 1.0,
 };
 
+/// A map searched linearly: a shape has a handful of motions and changes, for which this
+/// beats hashing (and allocates only when the first entry arrives).
+struct VecMap<K, V>(Vec<(K, V)>);
+
+impl<K: PartialEq, V> VecMap<K, V> {
+    fn new() -> Self {
+        VecMap(Vec::new())
+    }
+
+    fn get(&self, k: &K) -> Option<&V> {
+        self.0.iter().find(|(x, _)| x == k).map(|(_, v)| v)
+    }
+
+    fn contains_key(&self, k: &K) -> bool {
+        self.get(k).is_some()
+    }
+
+    fn get_or_insert_with(&mut self, k: K, f: impl FnOnce() -> V) -> &mut V {
+        let i = match self.0.iter().position(|(x, _)| *x == k) {
+            Some(i) => i,
+            None => {
+                self.0.push((k, f()));
+                self.0.len() - 1
+            }
+        };
+        &mut self.0[i].1
+    }
+
+    fn insert(&mut self, k: K, v: V) {
+        match self.0.iter_mut().find(|(x, _)| *x == k) {
+            Some(e) => e.1 = v,
+            None => self.0.push((k, v)),
+        }
+    }
+}
+
 /// Compiles every timeline (in parallel; the result does not depend on thread count).
-pub fn compile(scene: &Scene, exp: &Expansion, _settings: &Settings) -> Vec<Track> {
-    exp.timelines
-        .par_iter()
+/// Takes the timelines so each is freed by the thread that compiled it.
+pub fn compile(scene: &Scene, timelines: Vec<Vec<Slice>>) -> Vec<Track> {
+    timelines
+        .into_par_iter()
         .zip(scene.shapes.par_iter())
-        .map(|(slices, shape)| compile_one(shape, slices))
+        .map(|(slices, shape)| compile_one(shape, &slices))
         .collect()
 }
 
@@ -51,18 +86,18 @@ fn timing(a: &AnimInst) -> Timing {
     }
 }
 
-fn compile_one(shape: &Shape, slices: &[super::expand::Slice]) -> Track {
+fn compile_one(shape: &Shape, slices: &[Slice]) -> Track {
     let mut track = Track::default();
     let mut state = REST;
     // States at slice starts, to find where a split motion began.
     let mut history: Vec<(f64, State)> = Vec::with_capacity(slices.len());
     // Pivots and lookups already resolved for a motion instance (shared by its pieces).
-    let mut resolved: HashMap<*const AnimInst, MotionKind> = HashMap::new();
+    let mut resolved: VecMap<*const AnimInst, MotionKind> = VecMap::new();
     // The latest forward motion set at each expansion step: an inverted twin (same step)
     // reuses its pivot and grid cells, so it undoes exactly that motion.
-    let mut forward_at_step: HashMap<usize, MotionKind> = HashMap::new();
+    let mut forward_at_step: VecMap<usize, MotionKind> = VecMap::new();
     // Values a forward attribute change started from, by (step, channel), for its inv_ twin.
-    let mut before: HashMap<(usize, u8), State> = HashMap::new();
+    let mut before: VecMap<(usize, u8), State> = VecMap::new();
 
     for slice in slices {
         history.push((slice.t0, state));
@@ -86,7 +121,7 @@ fn compile_one(shape: &Shape, slices: &[super::expand::Slice]) -> Track {
                 if a.reversed
                     && let Some(k) = forward_at_step.get(&a.step)
                 {
-                    resolved.entry(Arc::as_ptr(a)).or_insert_with(|| k.clone());
+                    resolved.get_or_insert_with(Arc::as_ptr(a), || k.clone());
                 }
             }
             resolve_reversed(shape, &ordered, &at_start, &mut resolved);
@@ -106,8 +141,7 @@ fn compile_one(shape: &Shape, slices: &[super::expand::Slice]) -> Track {
                     interp,
                 } => {
                     let kind = resolved
-                        .entry(Arc::as_ptr(a))
-                        .or_insert_with(|| {
+                        .get_or_insert_with(Arc::as_ptr(a), || {
                             let centroid = begun.transform * shape.centroid;
                             if *lookup == Lookup::Vertex {
                                 let pivot =
@@ -251,7 +285,7 @@ fn resolve_reversed(
     shape: &Shape,
     forward: &[&Arc<AnimInst>],
     at_start: &dyn Fn(f64) -> State,
-    resolved: &mut HashMap<*const AnimInst, MotionKind>,
+    resolved: &mut VecMap<*const AnimInst, MotionKind>,
 ) {
     let pending: Vec<&Arc<AnimInst>> = forward
         .iter()
@@ -335,7 +369,7 @@ fn tint_change<T: Copy>(
     channel: u8,
     begun: T,
     target: T,
-    before: &mut HashMap<(usize, u8), State>,
+    before: &mut VecMap<(usize, u8), State>,
     begun_state: State,
     get: impl Fn(&State) -> T,
 ) -> (T, T) {
@@ -346,7 +380,7 @@ fn tint_change<T: Copy>(
             .unwrap_or_else(|| get(&REST));
         (back, begun)
     } else {
-        before.entry((a.step, channel)).or_insert(begun_state);
+        before.get_or_insert_with((a.step, channel), || begun_state);
         (begun, target)
     }
 }

@@ -173,7 +173,14 @@ pub fn run(
         expanded
     };
     let expansion = expand::expand(&scene, &program, &settings)?;
-    let mut tracks = compile::compile(&scene, &expansion, &settings);
+    let expand::Expansion {
+        timelines,
+        steps,
+        rule_uses,
+        ..
+    } = expansion;
+    let slices = timelines.iter().map(Vec::len).sum();
+    let mut tracks = compile::compile(&scene, timelines);
     if let Some((value, span)) = &settings.smoothing {
         let spec = smooth::spec_from_value(value).map_err(|m| EngineError::at(*span, m))?;
         smooth::smooth_tracks(
@@ -186,11 +193,11 @@ pub fn run(
         .map_err(|m| EngineError::at(*span, m))?;
     }
     let stats = RunStats {
-        steps: expansion.steps,
+        steps,
         spatial_steps: tangle_steps,
         warnings,
-        rule_uses: expansion.rule_uses.clone(),
-        slices: expansion.timelines.iter().map(Vec::len).sum(),
+        rule_uses,
+        slices,
         shapes: scene.shapes.len(),
     };
     let anim = Animation {

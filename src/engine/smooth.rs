@@ -140,7 +140,7 @@ fn rebuild(v: &[[f64; N]], time: impl Fn(usize) -> f64) -> Track {
                 timing: timing(t0, t1),
                 kind: MotionKind::Rigid {
                     pivot: Point::ORIGIN,
-                    blend: vec![(1.0, Arc::from([Component::Matrix(delta)]))],
+                    blend: Arc::from([(1.0, Arc::from([Component::Matrix(delta)]))]),
                     interp: Interp::Linear,
                 },
                 start: ma,

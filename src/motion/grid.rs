@@ -75,10 +75,13 @@ pub struct Grid {
     pub field: Field,
     /// Cell values, row-major, sampled at cell centres.
     cells: Vec<Arc<[Component]>>,
+    /// The one lookup result of a constant field.
+    constant: Option<Blend>,
 }
 
-/// Components with weights: the result of a grid lookup.
-pub type Blend = Vec<(f64, Arc<[Component]>)>;
+/// Components with weights: the result of a grid lookup. Shared, since every segment of a
+/// motion and every shape reading a constant grid holds the same one.
+pub type Blend = Arc<[(f64, Arc<[Component]>)]>;
 
 impl Grid {
     /// Samples `field` at the centres of a `cols × rows` grid over `area`.
@@ -92,12 +95,17 @@ impl Grid {
                 .map(|(c, r)| field.sample(cell_center(area, cols, rows, c, r)))
                 .collect(),
         };
+        let constant = match &field {
+            Field::Constant(c) => Some(Arc::from([(1.0, c.clone())])),
+            _ => None,
+        };
         Grid {
             cols,
             rows,
             area,
             field,
             cells,
+            constant,
         }
     }
 
@@ -126,22 +134,22 @@ impl Grid {
 
     /// The components a shape with centroid `p` reads, with their weights.
     pub fn lookup(&self, p: Point, mode: Lookup) -> Blend {
-        if let Field::Constant(c) = &self.field {
-            return vec![(1.0, c.clone())];
+        if let Some(b) = &self.constant {
+            return b.clone();
         }
         let g = self.grid_coords(p);
         let clampc = |v: f64| (v.round().max(0.0) as usize).min(self.cols - 1);
         let clampr = |v: f64| (v.round().max(0.0) as usize).min(self.rows - 1);
         match mode {
-            Lookup::Nearest => vec![(1.0, self.cell(clampc(g.x), clampr(g.y)).clone())],
-            Lookup::Exact => vec![(1.0, self.field.sample(p))],
+            Lookup::Nearest => Arc::from([(1.0, self.cell(clampc(g.x), clampr(g.y)).clone())]),
+            Lookup::Exact => Arc::from([(1.0, self.field.sample(p))]),
             Lookup::Bilinear | Lookup::Vertex => {
                 let gx = g.x.clamp(0.0, (self.cols - 1) as f64);
                 let gy = g.y.clamp(0.0, (self.rows - 1) as f64);
                 let (c0, r0) = (gx.floor() as usize, gy.floor() as usize);
                 let (c1, r1) = ((c0 + 1).min(self.cols - 1), (r0 + 1).min(self.rows - 1));
                 let (fx, fy) = (gx - c0 as f64, gy - r0 as f64);
-                let mut out: Blend = Vec::with_capacity(4);
+                let mut out = Vec::with_capacity(4);
                 for (c, r, w) in [
                     (c0, r0, (1.0 - fx) * (1.0 - fy)),
                     (c1, r0, fx * (1.0 - fy)),
@@ -152,7 +160,7 @@ impl Grid {
                         out.push((w, self.cell(c, r).clone()));
                     }
                 }
-                out
+                out.into()
             }
         }
     }

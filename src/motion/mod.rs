@@ -454,13 +454,13 @@ mod tests {
 
     #[test]
     fn split_windows_telescope() {
-        let blend: Blend = vec![(
+        let blend: Blend = Arc::from([(
             1.0,
             Arc::from([
                 Component::Rotate(90.0),
                 Component::Translate(Vec2::new(5.0, 0.0)),
             ]),
-        )];
+        )]);
         let kind = MotionKind::Rigid {
             pivot: Point::new(10.0, 10.0),
             blend,

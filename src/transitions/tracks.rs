@@ -76,7 +76,7 @@ pub fn track(s: &ShapeSamples, samples: &Samples) -> Track {
                 timing: timing(samples.time(k), samples.time(k + 1)),
                 kind: MotionKind::Rigid {
                     pivot,
-                    blend: vec![(1.0, Arc::from(comps))],
+                    blend: Arc::from([(1.0, Arc::from(comps))]),
                     interp: Interp::Linear,
                 },
                 start: mats[k],
