@@ -15,6 +15,10 @@ use gmotion::scene::{Group, Node, PathNode, Scene, Shape};
 use kurbo::{Affine, BezPath, Point, Rect};
 use rayon::prelude::*;
 
+/// The allocator the `gmotion` binary uses, so the numbers are what the command gets.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 /// A scene of `n` small squares on a grid, spread over `tags` shape tags.
 fn scene(n: usize, tags: usize) -> Scene {
     let side = (n as f64).sqrt().ceil() as usize;

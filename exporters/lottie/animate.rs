@@ -185,7 +185,10 @@ fn same_motion(a: &MotionSeg, b: &MotionSeg) -> bool {
             pa == pb
                 && ia == ib
                 && ba.len() == bb.len()
-                && ba.iter().zip(bb.iter()).all(|(x, y)| x.0 == y.0 && x.1 == y.1)
+                && ba
+                    .iter()
+                    .zip(bb.iter())
+                    .all(|(x, y)| x.0 == y.0 && x.1 == y.1)
         }
         _ => false,
     };

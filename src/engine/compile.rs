@@ -69,6 +69,14 @@ impl<K: PartialEq, V> VecMap<K, V> {
 /// Compiles every timeline (in parallel; the result does not depend on thread count).
 /// Takes the timelines so each is freed by the thread that compiled it.
 pub fn compile(scene: &Scene, timelines: Vec<Vec<Slice>>) -> Vec<Track> {
+    // Below a few hundred shapes waking the thread pool costs more than it saves.
+    if timelines.len() < 512 {
+        return timelines
+            .into_iter()
+            .zip(&scene.shapes)
+            .map(|(slices, shape)| compile_one(shape, &slices))
+            .collect();
+    }
     timelines
         .into_par_iter()
         .zip(scene.shapes.par_iter())
@@ -88,6 +96,24 @@ fn timing(a: &AnimInst) -> Timing {
 
 fn compile_one(shape: &Shape, slices: &[Slice]) -> Track {
     let mut track = Track::default();
+    // Reserve each channel's segments up front: one per (slice, change) of that kind.
+    let mut counts = [0usize; 5];
+    for a in slices.iter().flat_map(|s| s.anims.iter()) {
+        counts[match a.spec {
+            AnimSpec::Motion { .. } => 0,
+            AnimSpec::Fill(_) => 1,
+            AnimSpec::Border(_) => 2,
+            AnimSpec::Opacity(_) => 3,
+            AnimSpec::StrokeWidth(_) => 4,
+        }] += 1;
+    }
+    track.motions.reserve_exact(counts[0]);
+    track.fill.reserve_exact(counts[1]);
+    track.stroke.reserve_exact(counts[2]);
+    track.opacity.reserve_exact(counts[3]);
+    track.stroke_width.reserve_exact(counts[4]);
+    // The composition order of the current slice's changes (buffer reused across slices).
+    let mut ordered: Vec<&Arc<AnimInst>> = Vec::new();
     let mut state = REST;
     // States at slice starts, to find where a split motion began.
     let mut history: Vec<(f64, State)> = Vec::with_capacity(slices.len());
@@ -115,7 +141,7 @@ fn compile_one(shape: &Shape, slices: &[Slice]) -> Track {
         };
         let window_start = state.transform;
         let mut motions_here = 0;
-        let mut ordered = outermost_first(&slice.anims);
+        outermost_first(&slice.anims, &mut ordered);
         if slice.inverted {
             for a in &ordered {
                 if a.reversed
@@ -129,7 +155,7 @@ fn compile_one(shape: &Shape, slices: &[Slice]) -> Track {
             // first, so the order of composition flips.
             ordered.reverse();
         }
-        for a in ordered {
+        for &a in &ordered {
             let begun = at_start(a.start);
             let tm = timing(a);
             match &a.spec {
@@ -263,17 +289,17 @@ fn compile_one(shape: &Shape, slices: &[Slice]) -> Track {
 /// own (moving) centre and a world rotation turns the whole path it travels; within each
 /// kind, the rule applied later is outer. Attribute changes do not compose and keep their
 /// order.
-fn outermost_first(anims: &[Arc<AnimInst>]) -> Vec<&Arc<AnimInst>> {
+fn outermost_first<'a>(anims: &'a [Arc<AnimInst>], out: &mut Vec<&'a Arc<AnimInst>>) {
     let world = |a: &&Arc<AnimInst>| matches!(&a.spec, AnimSpec::Motion { world: true, .. });
     let local = |a: &&Arc<AnimInst>| matches!(&a.spec, AnimSpec::Motion { world: false, .. });
-    let mut out: Vec<&Arc<AnimInst>> = anims.iter().rev().filter(world).collect();
+    out.clear();
+    out.extend(anims.iter().rev().filter(world));
     out.extend(anims.iter().rev().filter(local));
     out.extend(
         anims
             .iter()
             .filter(|a| !matches!(&a.spec, AnimSpec::Motion { .. })),
     );
-    out
 }
 
 /// Resolves the reversed rigid motions of an inverted slice that has no forward twin before

@@ -343,6 +343,7 @@ pub fn expand(
     let canvas = (scene.width, scene.height);
     // Specs of shape-independent `animate` rules, evaluated once per step (by rule position).
     let mut specs: Vec<Option<SharedSpec>> = vec![None; program.rules.len()];
+    let mut splits: Vec<Option<Arc<[f64]>>> = vec![None; program.rules.len()];
     let shareable: Vec<bool> = program.rules.iter().map(spec_is_shareable).collect();
     let mut next: Vec<Slice> = Vec::new();
     let mut created: Vec<u32> = Vec::new();
@@ -363,6 +364,7 @@ pub fn expand(
         let mut applied = Vec::new();
         let mut grids = GridCache::default();
         specs.iter_mut().for_each(|s| *s = None);
+        splits.iter_mut().for_each(|s| *s = None);
         created.clear();
         for &si in shapes {
             let shape = &scene.shapes[si];
@@ -407,6 +409,7 @@ pub fn expand(
                     tags: &mut tags,
                     grids: &mut grids,
                     specs: &mut specs,
+                    splits: &mut splits,
                     shareable: &shareable,
                     settings,
                     scene,
@@ -529,6 +532,8 @@ struct Ctx<'a> {
     grids: &'a mut GridCache,
     /// Shared specs of this step, by rule position.
     specs: &'a mut [Option<SharedSpec>],
+    /// Shared split fractions of this step, by rule position.
+    splits: &'a mut [Option<Arc<[f64]>>],
     /// Whether each rule's spec can be shared, by rule position.
     shareable: &'a [bool],
     settings: &'a Settings,
@@ -536,14 +541,42 @@ struct Ctx<'a> {
     step: usize,
 }
 
-/// True when an `animate` rule's value and easing are the same for every shape.
+/// True when a rule's arguments (an `animate` rule's value and easing, a split's fractions)
+/// are the same for every shape, so a step evaluates them once.
 fn spec_is_shareable(rule: &CRule) -> bool {
     match &rule.op {
         Op::Animate(a) => {
             shape_independent(&a.value) && a.ease.as_ref().is_none_or(shape_independent)
         }
-        Op::Timesplit { .. } => false,
+        Op::Timesplit { fractions } => fractions.iter().all(shape_independent),
     }
+}
+
+/// A split's fractions, checked: each positive, summing to 1.
+fn fractions(rule: &CRule, fs: &[Expr], env: &mut ShapeEnv) -> Result<Arc<[f64]>, EngineError> {
+    let mut cs = Vec::with_capacity(fs.len());
+    for f in fs {
+        let c = num(f, env)?;
+        if c <= 0.0 {
+            let mut e = EngineError::at(
+                f.span,
+                format!("split fractions must be greater than zero, found {c}"),
+            );
+            e.notes.push(shape_note(env.shape));
+            return Err(e);
+        }
+        cs.push(c);
+    }
+    let sum: f64 = cs.iter().sum();
+    if (sum - 1.0).abs() > 1e-6 {
+        let mut e = EngineError::at(
+            rule.span,
+            format!("split fractions must sum to 1, they sum to {sum}"),
+        );
+        e.notes.push(shape_note(env.shape));
+        return Err(e);
+    }
+    Ok(cs.into())
 }
 
 fn apply(
@@ -554,29 +587,17 @@ fn apply(
 ) -> Result<(), EngineError> {
     let rule = ctx.rule;
     match &rule.op {
-        Op::Timesplit { fractions } => {
-            let mut cs = Vec::with_capacity(fractions.len());
-            for f in fractions {
-                let c = num(f, env)?;
-                if c <= 0.0 {
-                    let mut e = EngineError::at(
-                        f.span,
-                        format!("split fractions must be greater than zero, found {c}"),
-                    );
-                    e.notes.push(shape_note(env.shape));
-                    return Err(e);
+        Op::Timesplit { fractions: fs } => {
+            let cs = match &ctx.splits[ctx.pos] {
+                Some(cs) => cs.clone(),
+                None => {
+                    let cs = fractions(rule, fs, env)?;
+                    if ctx.shareable[ctx.pos] {
+                        ctx.splits[ctx.pos] = Some(cs.clone());
+                    }
+                    cs
                 }
-                cs.push(c);
-            }
-            let sum: f64 = cs.iter().sum();
-            if (sum - 1.0).abs() > 1e-6 {
-                let mut e = EngineError::at(
-                    rule.span,
-                    format!("split fractions must sum to 1, they sum to {sum}"),
-                );
-                e.notes.push(shape_note(env.shape));
-                return Err(e);
-            }
+            };
             let k = cs.len();
             let mut t = slice.t0;
             for j in 0..k {

@@ -193,7 +193,9 @@ impl<'a> Sampler<'a> {
 
     /// `R₁(t)·…·Rₙ(t)·start` over a window's segments.
     fn fold(&self, (a, b): (u32, u32), start: Affine, t: f64) -> Affine {
-        let mut acc = Affine::IDENTITY;
+        // Starts empty rather than at the identity: most windows hold one moving segment,
+        // which then costs no product.
+        let mut acc: Option<Affine> = None;
         for s in &self.segs[a as usize..b as usize] {
             let p = s.timing.progress(t.clamp(s.t0, s.t1));
             if p == s.p0 {
@@ -206,12 +208,19 @@ impl<'a> Sampler<'a> {
                 } => grid::about(pivot, product_at(&self.comps[lo as usize..hi as usize], p)),
                 Full::Seg(seg) => seg.full_at(p),
             };
-            acc *= match s.inv0 {
+            let r = match s.inv0 {
                 None => f,
                 Some(inv) => f * inv,
             };
+            acc = Some(match acc {
+                None => r,
+                Some(m) => m * r,
+            });
         }
-        acc * start
+        match acc {
+            None => start,
+            Some(m) => m * start,
+        }
     }
 
     /// Number of shapes.
