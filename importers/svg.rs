@@ -190,24 +190,26 @@ fn parse_in(
         root: converted.root,
         shapes: Vec::new(),
     };
-    // Units are measured independently (flattening and overlay work dominate an import).
-    let measures: Vec<Measure> = converted
-        .units
-        .par_iter()
-        .map(|unit| {
-            // The converter registers only units that hold a path, so a measure exists;
-            // the fallback keeps `Node::unit` indices aligned should that ever change.
-            unit_node(&scene, &unit.node_path)
-                .and_then(|n| measure(n, unit.parent_transform))
-                .unwrap_or(Measure {
-                    centroid: kurbo::Point::ORIGIN,
-                    bbox: kurbo::Rect::ZERO,
-                    fill: crate::color::Color::BLACK,
-                    stroke: crate::color::Color::BLACK,
-                    stroke_width: 1.0,
-                })
-        })
-        .collect();
+    // The converter registers only units that hold a path, so a measure exists; the
+    // fallback keeps `Node::unit` indices aligned should that ever change.
+    let measure_unit = |unit: &convert::Unit| {
+        unit_node(&scene, &unit.node_path)
+            .and_then(|n| measure(n, unit.parent_transform))
+            .unwrap_or(Measure {
+                centroid: kurbo::Point::ORIGIN,
+                bbox: kurbo::Rect::ZERO,
+                fill: crate::color::Color::BLACK,
+                stroke: crate::color::Color::BLACK,
+                stroke_width: 1.0,
+            })
+    };
+    // Units are measured independently (flattening and overlay work dominate a large
+    // import); a small document is measured before the thread pool would have woken up.
+    let measures: Vec<Measure> = if converted.units.len() < 32 {
+        converted.units.iter().map(measure_unit).collect()
+    } else {
+        converted.units.par_iter().map(measure_unit).collect()
+    };
     for (z, (unit, m)) in converted.units.into_iter().zip(measures).enumerate() {
         let count = counts.entry(unit.tag.clone()).or_default();
         shapes.push(Shape {
