@@ -7,8 +7,8 @@
 # 2. converts the resvg corpus with `gmotion convert` and with python-lottie, and exports
 #    every grammars/NAME.gm (with NAME.svg) to Lottie, SMIL and gmotion's own PNG frames;
 # 3. validates every Lottie gmotion wrote against the official schema;
-# 4. plays the Lottie files in lottie-web (headless Chromium) and rlottie, the SMIL files in
-#    Chromium (smil.mjs), and compares every frame (conformance.py report).
+# 4. plays the Lottie files in lottie-web (headless Chromium), rlottie and ThorVG, the SMIL
+#    files in Chromium (smil.mjs), and compares every frame (conformance.py report).
 # Work files go to $CONFORMANCE_OUT (default target/conformance).
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -39,6 +39,8 @@ echo "== playing: lottie-web"
 node "$here/lottie_web.mjs" "$out/lottie_web_jobs.json"
 echo "== playing: rlottie"
 python3 "$here/rlottie_render.py" "$out/rlottie_jobs.json"
+echo "== playing: ThorVG"
+python3 "$here/thorvg_render.py" "$out/thorvg_jobs.json"
 if [ -f "$here/smil.mjs" ]; then
     echo "== playing: SMIL in Chromium"
     node "$here/smil.mjs" --jobs "$out/smil_jobs.json" >/dev/null
