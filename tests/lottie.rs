@@ -1005,32 +1005,50 @@ fn corpus_converts_in_process() {
         .collect();
     files.sort();
     assert!(files.len() >= 500, "{} files", files.len());
-    let mut times = Vec::with_capacity(files.len());
-    let mut export_times = Vec::with_capacity(files.len());
+    // Three passes over the corpus: the first loads the system fonts (once per process)
+    // and the files into the page cache and is reported apart; each file's time is the
+    // faster of the other two, which keeps a busy machine's hiccups out of the figures.
+    let mut times = vec![f64::INFINITY; files.len()];
+    let mut export_times = vec![f64::INFINITY; files.len()];
+    let mut cold = 0.0;
     let mut unreadable = Vec::new();
-    for f in &files {
-        let start = std::time::Instant::now();
-        let imported = match load(f, &ImportOptions::default()) {
-            Ok(i) => i,
-            Err(e) => {
-                unreadable.push(e.to_string());
-                continue;
+    for pass in 0..3 {
+        for (i, f) in files.iter().enumerate() {
+            let start = std::time::Instant::now();
+            let imported = match load(f, &ImportOptions::default()) {
+                Ok(i) => i,
+                Err(e) => {
+                    if pass == 0 {
+                        unreadable.push(e.to_string());
+                    }
+                    continue;
+                }
+            };
+            let exporting = std::time::Instant::now();
+            let (json, _) = still_to_lottie(&imported.scene, &LottieOptions::default())
+                .unwrap_or_else(|e| panic!("{}: {e}", f.display()));
+            let (total, export) = (
+                start.elapsed().as_secs_f64(),
+                exporting.elapsed().as_secs_f64(),
+            );
+            if pass == 0 {
+                cold += total;
+                let doc = parse(&json);
+                assert_eq!(
+                    doc["w"],
+                    imported.scene.width.round().max(1.0) as u64,
+                    "{}",
+                    f.display()
+                );
+                assert!(doc["layers"].is_array());
+            } else {
+                times[i] = times[i].min(total);
+                export_times[i] = export_times[i].min(export);
             }
-        };
-        let exporting = std::time::Instant::now();
-        let (json, _) = still_to_lottie(&imported.scene, &LottieOptions::default())
-            .unwrap_or_else(|e| panic!("{}: {e}", f.display()));
-        times.push(start.elapsed().as_secs_f64());
-        export_times.push(exporting.elapsed().as_secs_f64());
-        let doc = parse(&json);
-        assert_eq!(
-            doc["w"],
-            imported.scene.width.round().max(1.0) as u64,
-            "{}",
-            f.display()
-        );
-        assert!(doc["layers"].is_array());
+        }
     }
+    times.retain(|t| t.is_finite());
+    export_times.retain(|t| t.is_finite());
     // Only files the importer rejects with a message (a non-UTF-8 one) are left out.
     assert!(unreadable.len() <= 2, "{unreadable:?}");
     let stats = |v: &mut Vec<f64>| {
@@ -1044,7 +1062,9 @@ fn corpus_converts_in_process() {
     let (export_median, export_mean) = stats(&mut export_times);
     eprintln!(
         "lottie corpus conversion in process: {} files, median {median:.3} ms, mean {mean:.3} ms \
-         (Lottie export alone: median {export_median:.3} ms, mean {export_mean:.3} ms)",
+         (Lottie export alone: median {export_median:.3} ms, mean {export_mean:.3} ms; \
+         first pass, with the one-time font scan: {:.1} ms in all)",
         times.len(),
+        cold * 1e3,
     );
 }

@@ -10,8 +10,7 @@
 
 Pixels are compared premultiplied (what shows over black, alpha included): a pixel is off
 when some channel differs by more than 32/255. Thresholds: example frames at most 0.5%
-off in lottie-web and Chromium's SMIL (rlottie and ThorVG are reported, not gating);
-corpus files at most 1% off, and at least 95% of gmotion's Lottie files passing in
+off in every player (lottie-web, rlottie, ThorVG, Chromium's SMIL); corpus files at most 1% off, and at least 95% of gmotion's Lottie files passing in
 lottie-web.
 """
 
@@ -62,11 +61,17 @@ def off_fraction(ref_path, got_path):
 
 
 def exact_width(w, h):
-    """The render width for an example: its own width (within 300..900 px, so that fine
-    hatching is not thinner than a pixel, where renderers' anti-aliasing differs most),
-    nudged to one at which the height is a whole number of pixels, so every renderer
-    scales by the same factor (players fit the canvas to the viewport)."""
-    target = int(min(max(w, WIDTH), 900))
+    """The render width for an example: twice its own width (within 600..1000 px), nudged
+    to one at which the height is a whole number of pixels, so every renderer scales by
+    the same factor (players fit the canvas to the viewport).
+
+    Twice, because the examples' 1-1.5 px outlines shrink with their shapes: below about a
+    pixel each renderer anti-aliases by its own rule (rlottie and ThorVG give a thin stroke
+    its full area, resvg draws it ~10% lighter), so at 1x growing_tangle's mid-scale frames
+    differ by 1.3-1.5% in rlottie and ThorVG while the geometry is the same; at 2x the same
+    frames differ by 0.01%. The comparison is meant to measure the animation, not hairline
+    anti-aliasing."""
+    target = int(min(max(2 * w, 600), 1000))
     return min(range(target - 60, target + 61), key=lambda x: (abs(x * h / w - round(x * h / w)) > 1e-9, abs(x - target)))
 
 
@@ -113,15 +118,19 @@ def prepare(out, gm, corpus, grammars):
             tv_jobs.append({"json": gj, "width": width, "frames": [0], "out": [entry["gm_tv_png"]]})
         else:
             entry["gm_error"] = (r.stderr.strip().splitlines() or ["no output"])[-1][:200]
-        # python-lottie: parse and serialise in process (its own exporter's JSON).
+        # python-lottie: parse and serialise in process (its own exporter's JSON), twice,
+        # keeping the faster time, as gmotion's in-process figure does (tests/lottie.rs).
         pj = os.path.join(pl_dir, name + ".json")
         t = time.perf_counter()
         try:
-            signal.alarm(20)
+            signal.alarm(40)
             an = parse_svg_file(svg)
             text = json.dumps(an.to_dict())
+            first = time.perf_counter() - t
+            t = time.perf_counter()
+            json.dumps(parse_svg_file(svg).to_dict())
             signal.alarm(0)
-            entry["pl_time"] = time.perf_counter() - t
+            entry["pl_time"] = min(first, time.perf_counter() - t)
             with open(pj, "w", encoding="utf-8") as f:
                 f.write(text)
             entry["pl_ok"] = True
@@ -295,15 +304,9 @@ def report(out):
             fr = [off_fraction(r, p) for r, p in zip(ex["refs"], pngs)]
             worst = max((x if x is not None else 1.0) for x in fr)
             bad = [ex["frames"][i] for i, x in enumerate(fr) if x is None or x > EXAMPLE_MAX]
-            # rlottie draws a stroke under uneven scale with one averaged width and
-            # anti-aliases hairlines differently; rlottie and ThorVG both give thin strokes
-            # (under ~1.5 px) their full area where resvg draws them ~10% lighter. Their
-            # example results are reported; only lottie-web and Chromium's SMIL gate the
-            # run (see the README).
-            gating = player not in ("rlottie", "thorvg")
-            status = "ok" if not bad else f"FAIL at frames {bad}" + ("" if gating else " (reported, not gating)")
+            status = "ok" if not bad else f"FAIL at frames {bad}"
             print(f"    {player:14s} worst {worst * 100:6.3f}% off  {status}")
-            if bad and gating:
+            if bad:
                 failures.append(f"example {ex['name']} in {player}: frames {bad} differ (worst {worst * 100:.3f}%)")
 
     print(f"== corpus: {len(manifest['corpus'])} files, 300 px wide vs the reference PNG (≤ 1% off by > 32/255)")
