@@ -424,3 +424,45 @@ fn bad_smoothing_is_an_error_at_the_directive() {
     .unwrap_err();
     assert_eq!(err.span.map(|s| s.line), Some(2), "{err}");
 }
+
+/// Steps over many shapes expand in parallel: the tracks (and the slice tags, numbered by
+/// first creation) must not depend on the number of threads, nor on the error reported.
+#[test]
+fn large_steps_expand_the_same_on_any_number_of_threads() {
+    let items: Vec<(&str, (f64, f64), f64)> = (0..900)
+        .map(|i| {
+            let tag = ["p", "q"][i % 2];
+            ((tag), ((i % 30) as f64 * 13.0, (i / 30) as f64 * 10.0), 4.0)
+        })
+        .collect();
+    let src = "duration 3s\nfps 10\ngrid 5x4\n\
+        timesplit(0.4, 0.2, 0.4) : [all, all] -> [a, hold, inv_a]\n\
+        timesplit(rand(0.2, 0.8), 1 - 0, 0) : [hold, q] -> [x, y, z]\n\
+        timesplit(0.5, 0.5) : [a, p] -> [a1, a2]\n\
+        timesplit(0.5, 0.5) : [a, q] -> [a2, a1]\n\
+        animate(affine, local, rand(0, 0.3), rotate(20 + id) scale(1.1)) : [a1, all] -> [m]\n\
+        animate(towards, world, 0.001 * id, (200, 150)) : [a2, all] -> [t]\n\
+        animate(fill, local, 0, #ff0000) : [m, p] -> [f]\n";
+    let run_on = |threads: usize, src: &str| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let g = gmotion::grammar::parse(src).unwrap();
+            run(scene(&items), &g, &RunOptions::default())
+                .map(|(a, stats)| format!("{:?} {:?} {:?}", a.tracks, stats.steps, stats.rule_uses))
+                .map_err(|e| format!("{e:?}"))
+        })
+    };
+    // The `[hold, q]` split sums to 1 + rand: an error, reported for the same shape.
+    let bad_one = run_on(1, src);
+    let bad_two = run_on(2, src);
+    assert!(bad_one.is_err(), "{bad_one:?}");
+    assert_eq!(bad_one, bad_two);
+    let good = src.replace("rand(0.2, 0.8), 1 - 0, 0", "0.25, 0.5, 0.25");
+    let one = run_on(1, &good).unwrap();
+    let two = run_on(2, &good).unwrap();
+    assert!(one.contains("Rigid"), "nothing moved");
+    assert_eq!(one, two);
+}

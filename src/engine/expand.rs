@@ -8,6 +8,7 @@ use std::collections::{BTreeSet, HashMap};
 use std::sync::Arc;
 
 use kurbo::{BezPath, Point, Vec2};
+use rayon::prelude::*;
 
 use crate::color::Color;
 use crate::grammar::ast::{Expr, ExprKind, TagRef};
@@ -340,12 +341,8 @@ pub fn expand(
     let mut rule_uses = vec![0; program.rules.iter().map(|r| r.index + 1).max().unwrap_or(0)];
     let mut history: Vec<usize> = Vec::new();
     let mut steps = 0;
-    let canvas = (scene.width, scene.height);
-    // Specs of shape-independent `animate` rules, evaluated once per step (by rule position).
-    let mut specs: Vec<Option<SharedSpec>> = vec![None; program.rules.len()];
-    let mut splits: Vec<Option<Arc<[f64]>>> = vec![None; program.rules.len()];
+    // Whether each rule's arguments are the same for every shape (by rule position).
     let shareable: Vec<bool> = program.rules.iter().map(spec_is_shareable).collect();
-    let mut next: Vec<Slice> = Vec::new();
     let mut created: Vec<u32> = Vec::new();
     while let Some((shape_tag, slice_tag)) = pending.pop_first() {
         if steps >= settings.max_steps {
@@ -360,70 +357,53 @@ pub fn expand(
             unit(key(&[settings.seed, 0x5EED, steps as u64])),
         );
         let shapes = &shapes_by_tag[shape_tag as usize];
-        let n = shapes.len();
+        let job = Step {
+            scene,
+            program,
+            settings,
+            shareable: &shareable,
+            cands: &cands,
+            step_rule,
+            slice_tag,
+            step: steps,
+            n: shapes.len(),
+        };
+        let taken: Vec<(usize, Vec<Slice>)> = shapes
+            .iter()
+            .map(|&si| (si, std::mem::take(&mut timelines[si])))
+            .collect();
+        // Shapes expand independently; a large step runs in parallel with a cache per
+        // worker. New slices carry unresolved tags, resolved below in shape order so tag
+        // ids are numbered by first creation whatever the thread count.
+        let results: Vec<(usize, Result<(Vec<Slice>, usize), EngineError>)> = if shapes.len() >= 256
+        {
+            taken
+                .into_par_iter()
+                .map_init(StepCache::new, |cache, (si, old)| {
+                    (si, job.shape(si, old, cache))
+                })
+                .collect()
+        } else {
+            let mut cache = StepCache::new();
+            taken
+                .into_iter()
+                .map(|(si, old)| (si, job.shape(si, old, &mut cache)))
+                .collect()
+        };
         let mut applied = Vec::new();
-        let mut grids = GridCache::default();
-        specs.iter_mut().for_each(|s| *s = None);
-        splits.iter_mut().for_each(|s| *s = None);
         created.clear();
-        for &si in shapes {
-            let shape = &scene.shapes[si];
-            let rule_i = match settings.choice {
-                Choice::Group => step_rule,
-                Choice::Shape => pick(
-                    program,
-                    &cands,
-                    unit(key(&[
-                        settings.seed,
-                        0x5EED,
-                        steps as u64,
-                        hash_str(&shape.tag),
-                        shape.id as u64,
-                    ])),
-                ),
-            };
+        for (si, result) in results {
+            let (mut timeline, rule_i) = result?;
             let rule = &program.rules[rule_i];
-            let mut old = std::mem::take(&mut timelines[si]);
-            let new = &mut next;
-            new.clear();
-            new.reserve(old.len() + rule.outputs.len());
-            for slice in old.drain(..) {
-                if slice.tag != slice_tag {
-                    new.push(slice);
-                    continue;
-                }
-                let mut env = ShapeEnv {
-                    shape,
-                    n,
-                    canvas,
-                    t0: slice.t0,
-                    d: slice.dur,
-                    step: steps,
-                    seed: settings.seed,
-                    draws: 0,
-                };
-                let first_new = new.len();
-                let mut ctx = Ctx {
-                    rule,
-                    pos: rule_i,
-                    tags: &mut tags,
-                    grids: &mut grids,
-                    specs: &mut specs,
-                    splits: &mut splits,
-                    shareable: &shareable,
-                    settings,
-                    scene,
-                    step: steps,
-                };
-                apply(&mut ctx, &slice, &mut env, new)?;
-                for s in &new[first_new..] {
+            for s in timeline.iter_mut() {
+                if let Some(o) = output_index(s.tag) {
+                    s.tag = tags.output(rule, rule_i, o);
                     if !created.contains(&s.tag) {
                         created.push(s.tag);
                     }
                 }
             }
-            // The built timeline goes in; the old one's (now empty) buffer is reused.
-            timelines[si] = std::mem::replace(&mut next, old);
+            timelines[si] = timeline;
             if !applied.contains(&rule_i) {
                 applied.push(rule_i);
             }
@@ -515,6 +495,113 @@ fn shape_note(shape: &Shape) -> String {
     format!("for shape `{}` #{}", shape.tag, shape.id)
 }
 
+/// Slice tags of new slices before their ids are assigned: output `o` of the shape's rule.
+const UNRESOLVED: u32 = u32::MAX - 4096;
+
+fn unresolved(o: usize) -> u32 {
+    UNRESOLVED + o as u32
+}
+
+fn output_index(tag: u32) -> Option<usize> {
+    (tag >= UNRESOLVED).then(|| (tag - UNRESOLVED) as usize)
+}
+
+/// What one expansion step applies to every shape of its shape tag.
+struct Step<'a> {
+    scene: &'a Scene,
+    program: &'a Program,
+    settings: &'a Settings,
+    shareable: &'a [bool],
+    cands: &'a [usize],
+    /// The rule chosen for the step (every shape uses it unless `choice shape`).
+    step_rule: usize,
+    slice_tag: u32,
+    step: usize,
+    /// Shapes with this shape tag.
+    n: usize,
+}
+
+/// Values a worker keeps for the shapes of one step.
+struct StepCache {
+    grids: GridCache,
+    /// Shared specs, by rule position.
+    specs: Vec<Option<SharedSpec>>,
+    /// Shared split fractions, by rule position.
+    splits: Vec<Option<Arc<[f64]>>>,
+}
+
+impl StepCache {
+    fn new() -> StepCache {
+        StepCache {
+            grids: GridCache::default(),
+            specs: Vec::new(),
+            splits: Vec::new(),
+        }
+    }
+}
+
+impl Step<'_> {
+    /// Shape `si`'s timeline after the step, with the rule it used; new slices carry
+    /// [`unresolved`] tags.
+    fn shape(
+        &self,
+        si: usize,
+        old: Vec<Slice>,
+        cache: &mut StepCache,
+    ) -> Result<(Vec<Slice>, usize), EngineError> {
+        let (program, settings) = (self.program, self.settings);
+        let rules = program.rules.len();
+        cache.specs.resize(rules, None);
+        cache.splits.resize(rules, None);
+        let shape = &self.scene.shapes[si];
+        let rule_i = match settings.choice {
+            Choice::Group => self.step_rule,
+            Choice::Shape => pick(
+                program,
+                self.cands,
+                unit(key(&[
+                    settings.seed,
+                    0x5EED,
+                    self.step as u64,
+                    hash_str(&shape.tag),
+                    shape.id as u64,
+                ])),
+            ),
+        };
+        let rule = &program.rules[rule_i];
+        let mut new = Vec::with_capacity(old.len() + rule.outputs.len());
+        for slice in old {
+            if slice.tag != self.slice_tag {
+                new.push(slice);
+                continue;
+            }
+            let mut env = ShapeEnv {
+                shape,
+                n: self.n,
+                canvas: (self.scene.width, self.scene.height),
+                t0: slice.t0,
+                d: slice.dur,
+                step: self.step,
+                seed: settings.seed,
+                draws: 0,
+            };
+            let mut ctx = Ctx {
+                rule,
+                pos: rule_i,
+                grids: &mut cache.grids,
+                specs: &mut cache.specs,
+                splits: &mut cache.splits,
+                shareable: self.shareable,
+                settings,
+                scene: self.scene,
+                step: self.step,
+            };
+            apply(&mut ctx, &slice, &mut env, &mut new)?;
+        }
+        Ok((new, rule_i))
+    }
+}
+
 /// An `animate` rule's resolved spec and easing, shared by every shape of a step when its
 /// value and easing do not depend on the shape.
 #[derive(Clone)]
@@ -528,7 +615,6 @@ struct Ctx<'a> {
     rule: &'a CRule,
     /// The rule's position in the program.
     pos: usize,
-    tags: &'a mut Tags,
     grids: &'a mut GridCache,
     /// Shared specs of this step, by rule position.
     specs: &'a mut [Option<SharedSpec>],
@@ -610,7 +696,7 @@ fn apply(
                     slice.dur * c
                 };
                 out.push(Slice {
-                    tag: ctx.tags.output(rule, ctx.pos, o),
+                    tag: unresolved(o),
                     inverted: out_tag.inverted ^ slice.inverted,
                     t0: t,
                     dur,
@@ -664,7 +750,7 @@ fn apply(
                 reversed: inverted,
             });
             out.push(Slice {
-                tag: ctx.tags.output(rule, ctx.pos, 0),
+                tag: unresolved(0),
                 inverted,
                 t0: slice.t0,
                 dur: slice.dur,
