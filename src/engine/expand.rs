@@ -375,8 +375,7 @@ pub fn expand(
         // Shapes expand independently; a large step runs in parallel with a cache per
         // worker. New slices carry unresolved tags, resolved below in shape order so tag
         // ids are numbered by first creation whatever the thread count.
-        let results: Vec<(usize, Result<(Vec<Slice>, usize), EngineError>)> = if shapes.len() >= 256
-        {
+        let results: Vec<(usize, ShapeResult)> = if shapes.len() >= 256 {
             taken
                 .into_par_iter()
                 .map_init(StepCache::new, |cache, (si, old)| {
@@ -506,6 +505,9 @@ fn output_index(tag: u32) -> Option<usize> {
     (tag >= UNRESOLVED).then(|| (tag - UNRESOLVED) as usize)
 }
 
+/// A shape's timeline after a step, with the rule it used.
+type ShapeResult = Result<(Vec<Slice>, usize), EngineError>;
+
 /// What one expansion step applies to every shape of its shape tag.
 struct Step<'a> {
     scene: &'a Scene,
@@ -543,12 +545,7 @@ impl StepCache {
 impl Step<'_> {
     /// Shape `si`'s timeline after the step, with the rule it used; new slices carry
     /// [`unresolved`] tags.
-    fn shape(
-        &self,
-        si: usize,
-        old: Vec<Slice>,
-        cache: &mut StepCache,
-    ) -> Result<(Vec<Slice>, usize), EngineError> {
+    fn shape(&self, si: usize, old: Vec<Slice>, cache: &mut StepCache) -> ShapeResult {
         let (program, settings) = (self.program, self.settings);
         let rules = program.rules.len();
         cache.specs.resize(rules, None);
