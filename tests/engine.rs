@@ -466,3 +466,39 @@ fn large_steps_expand_the_same_on_any_number_of_threads() {
     assert!(one.contains("Rigid"), "nothing moved");
     assert_eq!(one, two);
 }
+
+/// `Track::deform` (used for shapes that deform per vertex) must compose motions that share
+/// a slice in the same order as `Track::transform_at`: on a rigid-only track both move every
+/// point alike.
+#[test]
+fn deform_composes_like_transform_at() {
+    let items = [("s", (120.0, 80.0), 30.0), ("s", (260.0, 200.0), 20.0)];
+    let src = "duration 2s\nfps 10\n\
+        timesplit(0.5, 0.5) : [all, all] -> [a, inv_a]\n\
+        animate(affine, local, 0, rotate(70) scale(1.3, 0.8)) : [a, all] -> [m]\n\
+        animate(affine, world, 0.1, translate(60, -20) rotate(15)) : [m, all] -> [w]\n\
+        animate(affine, local, 0, skew(12, 0)) : [w, all] -> [k]\n";
+    let a = animate(scene(&items), src).unwrap();
+    let mut checked = 0;
+    for (track, shape) in a.tracks.iter().zip(&a.scene.shapes) {
+        assert!(track.motions.len() >= 3, "{} motions", track.motions.len());
+        for i in 0..=40 {
+            let t = i as f64 * 0.05;
+            let m = track.transform_at(t);
+            for p in [
+                Point::new(shape.bbox.x0, shape.bbox.y0),
+                Point::new(shape.bbox.x1, shape.bbox.y0),
+                Point::new(shape.bbox.x1, shape.bbox.y1),
+            ] {
+                let got = track.deform(p, t);
+                let want = m * p;
+                assert!(
+                    (got - want).hypot() < 1e-6,
+                    "t = {t}: deform {got:?}, transform {want:?}"
+                );
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 0);
+}

@@ -342,27 +342,34 @@ impl Track {
 
     /// Where a canvas-space point of the shape is at time `t`, following every motion
     /// (rigid ones as a whole, vertex ones reading the grid at the point's own position).
+    ///
+    /// Segments sharing a window compose as in [`Track::transform_at`], the earlier-listed
+    /// outermost, so a point goes through them last-listed first.
     pub fn deform(&self, p: Point, t: f64) -> Point {
         let mut q = p;
-        for seg in &self.motions {
-            if seg.t0 > t {
-                break;
-            }
-            let te = t.min(seg.t1);
-            match &seg.kind {
-                MotionKind::Rigid { .. } => q = seg.relative_at(te) * q,
-                MotionKind::Vertex { grid, pivot } => {
-                    let pv = pivot.unwrap_or(Point::ORIGIN);
-                    let blend = grid.lookup(q, Lookup::Vertex);
-                    let p0 = seg.timing.progress(seg.t0);
-                    let p1 = seg.timing.progress(te);
-                    let m =
-                        grid::blend_at(&blend, pv, p1) * grid::blend_at(&blend, pv, p0).inverse();
-                    q = m * q;
-                }
+        let upto = self.motions.partition_point(|s| s.t0 <= t);
+        for window in self.motions[..upto].chunk_by(|a, b| a.t0 == b.t0) {
+            for seg in window.iter().rev() {
+                q = seg_deform(seg, q, t);
             }
         }
         q
+    }
+}
+
+/// One segment's move of point `q` at time `t` (held at its end value after its window).
+fn seg_deform(seg: &MotionSeg, q: Point, t: f64) -> Point {
+    let te = t.min(seg.t1);
+    match &seg.kind {
+        MotionKind::Rigid { .. } => seg.relative_at(te) * q,
+        MotionKind::Vertex { grid, pivot } => {
+            let pv = pivot.unwrap_or(Point::ORIGIN);
+            let blend = grid.lookup(q, Lookup::Vertex);
+            let p0 = seg.timing.progress(seg.t0);
+            let p1 = seg.timing.progress(te);
+            let m = grid::blend_at(&blend, pv, p1) * grid::blend_at(&blend, pv, p0).inverse();
+            m * q
+        }
     }
 }
 
