@@ -192,7 +192,8 @@ def prepare(out, gm, corpus, grammars):
             entry["tv"] = [os.path.join(d, f"tv-{i}.png") for i in picks]
             entry["smil"] = [os.path.join(d, f"smil-{k}.png") for k in range(len(picks))]
             entry["lottie_bytes"] = os.path.getsize(lj)
-            entry["lottie_per_frame_bytes"] = per_frame_size(doc)
+            (entry["lottie_per_frame_bytes"], entry["keys_bytes"],
+             entry["keys_per_frame_bytes"]) = per_frame_size(doc)
             lw_jobs.append({"json": lj, "width": width, "frames": picks, "out": entry["lw"]})
             rl_jobs.append({"json": lj, "width": width, "frames": picks, "out": entry["rl"]})
             tv_jobs.append({"json": lj, "width": width, "frames": picks, "out": entry["tv"]})
@@ -259,15 +260,24 @@ def lerp(a, b, y):
 
 
 def per_frame_size(doc):
-    """Size of the same document with every animated property keyed at every frame (what
-    an exporter that bakes each frame writes)."""
+    """Sizes for the comparison with an exporter that bakes each frame: (the same document
+    with every animated property keyed at every frame, the keyframes alone as written,
+    the keyframes alone keyed at every frame). Static geometry is the same in both, so
+    the keyframe sizes show the saving where it applies."""
     frames = int(doc["op"] - doc["ip"])
+    keys_written = keys_baked = 0
+
+    def compact(x):
+        return len(json.dumps(x, separators=(",", ":")))
 
     def walk(o):
+        nonlocal keys_written, keys_baked
         if isinstance(o, dict):
             if o.get("a") == 1 and isinstance(o.get("k"), list) and o["k"] and isinstance(o["k"][0], dict) and "t" in o["k"][0]:
                 keys = o["k"]
                 o["k"] = [{"t": f, "s": value_at(keys, f), "o": {"x": 0, "y": 0}, "i": {"x": 1, "y": 1}} for f in range(frames + 1)]
+                keys_written += compact(keys)
+                keys_baked += compact(o["k"])
                 return
             for v in o.values():
                 walk(v)
@@ -277,7 +287,7 @@ def per_frame_size(doc):
 
     copy = json.loads(json.dumps(doc))
     walk(copy)
-    return len(json.dumps(copy, separators=(",", ":")))
+    return compact(copy), keys_written, keys_baked
 
 
 # ---- report -------------------------------------------------------------------------------
@@ -298,8 +308,10 @@ def report(out):
         if smil_ran:
             players.append(("chromium-smil", ex["smil"]))
         ratio = ex["lottie_per_frame_bytes"] / max(1, ex["lottie_bytes"])
+        keys = (f"; keyframes {ex['keys_bytes']} B, {ex['keys_per_frame_bytes']} B keyed every frame "
+                f"({ex['keys_per_frame_bytes'] / ex['keys_bytes']:.1f}x)") if ex["keys_bytes"] else "; static"
         print(f"  {ex['name']}: frames {ex['frames']}; Lottie {ex['lottie_bytes']} B, "
-              f"{ex['lottie_per_frame_bytes']} B keyed every frame ({ratio:.1f}x)")
+              f"{ex['lottie_per_frame_bytes']} B keyed every frame ({ratio:.1f}x){keys}")
         for player, pngs in players:
             fr = [off_fraction(r, p) for r, p in zip(ex["refs"], pngs)]
             worst = max((x if x is not None else 1.0) for x in fr)
