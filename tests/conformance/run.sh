@@ -19,7 +19,7 @@ start=$SECONDS
 
 bash "$here/install.sh"
 (cd "$root" && cargo build --release --quiet)
-gm="$root/target/release/gmotion"
+gm="${CARGO_TARGET_DIR:-$root/target}/release/gmotion"
 [ -d "$corpus" ] || { echo "conformance: corpus not found at $corpus" >&2; exit 1; }
 
 rm -rf "$out"
