@@ -1047,6 +1047,21 @@ fn corpus_converts_in_process() {
             }
         }
     }
+    // The slowest files, which make the mean.
+    let mut slowest: Vec<(f64, &std::path::PathBuf)> = times
+        .iter()
+        .zip(&files)
+        .filter(|(t, _)| t.is_finite())
+        .map(|(t, f)| (*t, f))
+        .collect();
+    slowest.sort_by(|a, b| b.0.total_cmp(&a.0));
+    for (t, f) in slowest.iter().take(5) {
+        eprintln!(
+            "  slow: {:.2} ms {}",
+            t * 1e3,
+            f.file_name().unwrap().to_string_lossy()
+        );
+    }
     times.retain(|t| t.is_finite());
     export_times.retain(|t| t.is_finite());
     // Only files the importer rejects with a message (a non-UTF-8 one) are left out.
