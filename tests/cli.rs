@@ -238,4 +238,26 @@ fn transitions_run_the_three_applications() {
     assert_eq!(out.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--system"));
     assert!(!d.join("x.json").exists());
+    // A target naming a tag the scene lacks: the file, the target and the tags it has.
+    let targets = d.join("bad.targets.json");
+    let mut doc: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(g.join("histogram.targets.json")).unwrap()).unwrap();
+    doc["targets"][0]["tag"] = "nosuchtag".into();
+    std::fs::write(&targets, doc.to_string()).unwrap();
+    let out = bin()
+        .arg("transitions")
+        .arg(g.join("histogram.svg"))
+        .arg(&targets)
+        .arg("-o")
+        .arg(d.join("y.json"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("bad.targets.json: targets[0]: no shape has the tag `nosuchtag`")
+            && err.contains("bar"),
+        "{err}"
+    );
+    assert!(!d.join("y.json").exists());
 }

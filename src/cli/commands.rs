@@ -396,8 +396,14 @@ fn transitions(
         .map_err(|e| CliError::msg(e.to_string()))?;
     let scene = load_scene(scene, import)?;
     let system = t.default_system(spec);
-    let anim = gmotion::transitions::run(&scene, &t, &system, fps, duration)
-        .map_err(|e| CliError::msg(e.to_string()))?;
+    let anim =
+        gmotion::transitions::run(&scene, &t, &system, fps, duration).map_err(|e| match e {
+            // A target naming a missing tag is an error in the targets file: say which.
+            gmotion::transitions::TransitionError::Shape { .. } => {
+                CliError::msg(format!("{}: {e}", targets.display()))
+            }
+            e => CliError::msg(e.to_string()),
+        })?;
     for o in outputs {
         write_animation(&anim, o, time, render)?;
     }
