@@ -65,13 +65,7 @@ fn assert_same(name: &str, anim: &Animation) {
             }
         }
     }
-    let animated = anim.tracks.iter().any(|t| {
-        !(t.motions.is_empty()
-            && t.fill.is_empty()
-            && t.stroke.is_empty()
-            && t.opacity.is_empty()
-            && t.stroke_width.is_empty())
-    });
+    let animated = anim.tracks.iter().any(|t| !t.is_still());
     // A static example (leaf: group grammar only) has nothing to compare but must agree.
     assert!(
         moving > 0 || !animated,

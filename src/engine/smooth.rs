@@ -16,7 +16,6 @@ use rayon::prelude::*;
 
 use crate::grammar::value::Value;
 use crate::motion::{AttrSeg, Component, Interp, MotionKind, MotionSeg, Timing, Tint, Track};
-use crate::signals::Easing;
 use crate::signals::smooth::{CallArg, SmoothSpec, smooth_samples};
 
 /// Channels per shape: 6 affine coefficients, fill tint (4), stroke tint (4), opacity,
@@ -77,16 +76,6 @@ fn tint(v: &[f64; N], at: usize) -> Tint {
     }
 }
 
-fn timing(t0: f64, t1: f64) -> Timing {
-    Timing {
-        start: t0,
-        end: t1,
-        delay: 0.0,
-        ease: Easing::Linear,
-        reversed: false,
-    }
-}
-
 /// Smooths every track that changes; tracks that never change are left alone.
 pub fn smooth_tracks(
     tracks: &mut [Track],
@@ -98,12 +87,7 @@ pub fn smooth_tracks(
     let frames = ((duration * fps).round() as usize).max(1);
     let time = |i: usize| (i as f64 / fps).min(duration);
     tracks.par_iter_mut().try_for_each(|track| {
-        if track.motions.is_empty()
-            && track.fill.is_empty()
-            && track.stroke.is_empty()
-            && track.opacity.is_empty()
-            && track.stroke_width.is_empty()
-        {
+        if track.is_still() {
             return Ok(());
         }
         let raw: Vec<[f64; N]> = (0..=frames).map(|i| pack(track, time(i))).collect();
@@ -137,7 +121,7 @@ fn rebuild(v: &[[f64; N]], time: impl Fn(usize) -> f64) -> Track {
             track.motions.push(MotionSeg {
                 t0,
                 t1,
-                timing: timing(t0, t1),
+                timing: Timing::linear(t0, t1),
                 kind: MotionKind::Rigid {
                     pivot: Point::ORIGIN,
                     blend: Arc::from([(1.0, Arc::from([Component::Matrix(delta)]))]),
@@ -148,41 +132,24 @@ fn rebuild(v: &[[f64; N]], time: impl Fn(usize) -> f64) -> Track {
         }
         let (fa, fb) = (tint(a, 6), tint(b, 6));
         if fa != fb {
-            track.fill.push(AttrSeg {
-                t0,
-                t1,
-                timing: timing(t0, t1),
-                from: fa,
-                to: fb,
-            });
+            track.fill.push(AttrSeg::linear(t0, t1, fa, fb));
         }
         let (sa, sb) = (tint(a, 10), tint(b, 10));
         if sa != sb {
-            track.stroke.push(AttrSeg {
-                t0,
-                t1,
-                timing: timing(t0, t1),
-                from: sa,
-                to: sb,
-            });
+            track.stroke.push(AttrSeg::linear(t0, t1, sa, sb));
         }
         if a[14] != b[14] {
-            track.opacity.push(AttrSeg {
+            track.opacity.push(AttrSeg::linear(
                 t0,
                 t1,
-                timing: timing(t0, t1),
-                from: a[14].clamp(0.0, 1.0),
-                to: b[14].clamp(0.0, 1.0),
-            });
+                a[14].clamp(0.0, 1.0),
+                b[14].clamp(0.0, 1.0),
+            ));
         }
         if a[15] != b[15] {
-            track.stroke_width.push(AttrSeg {
-                t0,
-                t1,
-                timing: timing(t0, t1),
-                from: a[15].max(0.0),
-                to: b[15].max(0.0),
-            });
+            track
+                .stroke_width
+                .push(AttrSeg::linear(t0, t1, a[15].max(0.0), b[15].max(0.0)));
         }
     }
     track

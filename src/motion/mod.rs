@@ -57,6 +57,18 @@ pub struct Timing {
 }
 
 impl Timing {
+    /// A change over all of `[start, end]`, linear, forward: what sampled tracks (smoothing,
+    /// transitions) use between two samples.
+    pub fn linear(start: f64, end: f64) -> Timing {
+        Timing {
+            start,
+            end,
+            delay: 0.0,
+            ease: Easing::Linear,
+            reversed: false,
+        }
+    }
+
     /// The progress `f(t)` that drives the change's endpoints: 0 at the neutral end,
     /// 1 at the full end. Forward changes go 0→1, reversed ones 1→0.
     #[inline]
@@ -240,6 +252,19 @@ impl Blendable for Tint {
     }
 }
 
+impl<T> AttrSeg<T> {
+    /// A linear change from `from` at `t0` to `to` at `t1`.
+    pub fn linear(t0: f64, t1: f64, from: T, to: T) -> AttrSeg<T> {
+        AttrSeg {
+            t0,
+            t1,
+            timing: Timing::linear(t0, t1),
+            from,
+            to,
+        }
+    }
+}
+
 impl<T: Blendable> AttrSeg<T> {
     /// The value at time `t` inside the window.
     #[inline]
@@ -301,6 +326,15 @@ impl ShapeState {
 }
 
 impl Track {
+    /// True when no channel ever changes.
+    pub fn is_still(&self) -> bool {
+        self.motions.is_empty()
+            && self.fill.is_empty()
+            && self.stroke.is_empty()
+            && self.opacity.is_empty()
+            && self.stroke_width.is_empty()
+    }
+
     /// The rigid transform at `t`.
     pub fn transform_at(&self, t: f64) -> Affine {
         let end = self.motions.partition_point(|s| s.t0 <= t);

@@ -18,7 +18,6 @@ use crate::motion::{
     Animation, AttrSeg, Component, Interp, MotionKind, MotionSeg, Timing, Tint, Track,
 };
 use crate::scene::Scene;
-use crate::signals::Easing;
 
 /// The animation for `samples` on `scene` (shapes without samples get empty tracks).
 pub fn animation(scene: &Scene, samples: &Samples) -> Animation {
@@ -32,16 +31,6 @@ pub fn animation(scene: &Scene, samples: &Samples) -> Animation {
         fps: samples.fps,
         looping: false,
         tracks,
-    }
-}
-
-fn timing(t0: f64, t1: f64) -> Timing {
-    Timing {
-        start: t0,
-        end: t1,
-        delay: 0.0,
-        ease: Easing::Linear,
-        reversed: false,
     }
 }
 
@@ -73,7 +62,7 @@ pub fn track(s: &ShapeSamples, samples: &Samples) -> Track {
             track.motions.push(MotionSeg {
                 t0: samples.time(k),
                 t1: samples.time(k + 1),
-                timing: timing(samples.time(k), samples.time(k + 1)),
+                timing: Timing::linear(samples.time(k), samples.time(k + 1)),
                 kind: MotionKind::Rigid {
                     pivot,
                     blend: Arc::from([(1.0, Arc::from(comps))]),
@@ -120,13 +109,7 @@ fn attr_windows<T: Copy>(
             continue;
         }
         let (t0, t1) = (samples.time(k), samples.time(k + 1));
-        out.push(AttrSeg {
-            t0,
-            t1,
-            timing: timing(t0, t1),
-            from: values[k],
-            to: values[k + 1],
-        });
+        out.push(AttrSeg::linear(t0, t1, values[k], values[k + 1]));
     }
     out
 }
