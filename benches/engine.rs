@@ -10,7 +10,7 @@ use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use gmotion::engine::{RunOptions, run};
-use gmotion::motion::{Animation, ShapeState};
+use gmotion::motion::Animation;
 use gmotion::scene::{Group, Node, PathNode, Scene, Shape};
 use kurbo::{Affine, BezPath, Point, Rect};
 use rayon::prelude::*;
@@ -116,15 +116,18 @@ fn grammar(tags: usize, duration: f64, fps: f64) -> String {
     g
 }
 
-/// Evaluates every frame, frames in parallel.
+/// Evaluates every frame: the frames split into one run per thread, each played forward
+/// by its own playhead, the way a renderer or exporter walks them.
 fn evaluate_all(anim: &Animation) {
     let sampler = anim.sampler();
-    (0..anim.frame_count())
-        .into_par_iter()
-        .for_each_init(Vec::<ShapeState>::new, |buf, i| {
-            sampler.evaluate_into(anim.frame_time(i), buf);
-            black_box(&buf);
-        });
+    let frames = anim.frame_count();
+    let runs = rayon::current_num_threads().min(frames);
+    (0..runs).into_par_iter().for_each(|r| {
+        let mut head = sampler.playhead();
+        for i in r * frames / runs..(r + 1) * frames / runs {
+            black_box(head.seek(anim.frame_time(i)));
+        }
+    });
 }
 
 /// Parses, expands and evaluates every frame; returns steps for the printed statistics.

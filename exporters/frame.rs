@@ -26,7 +26,7 @@ use std::collections::HashSet;
 
 use kurbo::{Affine, BezPath, PathEl, Point};
 
-use crate::motion::{Animation, ShapeState, Tint, Track};
+use crate::motion::{Animation, Sampler, ShapeState, Tint, Track};
 use crate::scene::{FillRule, Group, LineCap, LineJoin, Node, Paint, PathNode, Scene};
 use defs::{Def, Defs, Names};
 use number::{attr_num, attr_transform, escaped, hex, num, point};
@@ -48,11 +48,20 @@ pub fn scene_svg(scene: &Scene) -> String {
 
 /// The animation's frame at time `t` (seconds) as an SVG document.
 pub fn frame_svg(anim: &Animation, t: f64) -> String {
+    frame_with_states(anim, t, anim.evaluate(t))
+}
+
+/// [`frame_svg`] with the states read from `sampler` (built once for many frames).
+pub fn sampled_frame_svg(anim: &Animation, sampler: &Sampler, t: f64) -> String {
+    frame_with_states(anim, t, sampler.evaluate(t))
+}
+
+fn frame_with_states(anim: &Animation, t: f64, states: Vec<ShapeState>) -> String {
     let writer = Writer {
         scene: &anim.scene,
         frame: Some(Frame {
             tracks: &anim.tracks,
-            states: anim.evaluate(t),
+            states,
             t,
         }),
         out: String::with_capacity(4096),

@@ -1,7 +1,8 @@
 //! The fast [`Sampler`] against the reference evaluation ([`Track::state_at`]): on every
 //! bundled example, the transition examples and grammars with smoothing and stacked
 //! motions, both must give bit-identical states at every frame and around every segment
-//! boundary.
+//! boundary, and a [`gmotion::motion::Playhead`] stepping through the same instants must
+//! agree with both.
 
 use std::path::Path;
 
@@ -37,9 +38,27 @@ fn instants(anim: &Animation) -> Vec<f64> {
             .chain(tr.stroke.iter().map(|m| (m.t0, m.t1)))
             .chain(tr.opacity.iter().map(|m| (m.t0, m.t1)))
             .chain(tr.stroke_width.iter().map(|m| (m.t0, m.t1)));
-        for (a, b) in bounds {
+        // Where each change starts and stops moving inside its window (after a delay, or
+        // before it in inverted slices).
+        let active = tr
+            .motions
+            .iter()
+            .map(|m| m.timing.active())
+            .chain(tr.fill.iter().map(|m| m.timing.active()))
+            .chain(tr.stroke.iter().map(|m| m.timing.active()))
+            .chain(tr.opacity.iter().map(|m| m.timing.active()))
+            .chain(tr.stroke_width.iter().map(|m| m.timing.active()));
+        for (a, b) in bounds.chain(active) {
             for t in [a, b] {
-                ts.extend([t - 1e-9, t, t + 1e-9]);
+                ts.extend([
+                    t - 1e-6,
+                    t - 1e-9,
+                    t - 1e-12,
+                    t,
+                    t + 1e-12,
+                    t + 1e-9,
+                    t + 1e-6,
+                ]);
             }
         }
     }
@@ -64,6 +83,16 @@ fn assert_same(name: &str, anim: &Animation) {
                 moving += 1;
             }
         }
+    }
+    // A playhead moving forward through the same instants, then jumping back.
+    let mut head = sampler.playhead();
+    for &t in &ts {
+        let slow = anim.evaluate(t);
+        assert_eq!(head.seek(t), &slow[..], "{name}: playhead at t = {t}");
+    }
+    for &t in ts.iter().rev().step_by(7) {
+        let slow = anim.evaluate(t);
+        assert_eq!(head.seek(t), &slow[..], "{name}: playhead back at t = {t}");
     }
     let animated = anim.tracks.iter().any(|t| !t.is_still());
     // A static example (leaf: group grammar only) has nothing to compare but must agree.

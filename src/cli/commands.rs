@@ -150,10 +150,11 @@ fn render_frames(
 ) -> Result<Vec<resvg::tiny_skia::Pixmap>> {
     let n = anim.frame_count();
     let pb = progress(n, what);
+    let sampler = anim.sampler();
     let frames: std::result::Result<Vec<_>, _> = (0..n)
         .into_par_iter()
         .map(|i| {
-            let svg = frame::frame_svg(anim, anim.frame_time(i));
+            let svg = frame::sampled_frame_svg(anim, &sampler, anim.frame_time(i));
             let r = raster::render(&svg, width);
             pb.inc(1);
             r

@@ -32,9 +32,7 @@ impl Component {
             Component::Scale(k) => {
                 Affine::scale_non_uniform(1.0 + (k.x - 1.0) * s, 1.0 + (k.y - 1.0) * s)
             }
-            Component::Skew(ax, ay) => {
-                Affine::skew((ax * s).to_radians().tan(), (ay * s).to_radians().tan())
-            }
+            Component::Skew(ax, ay) => Affine::skew(tan_deg(ax * s), tan_deg(ay * s)),
             Component::Matrix(m) => {
                 let a = m.as_coeffs();
                 let i = Affine::IDENTITY.as_coeffs();
@@ -67,6 +65,14 @@ impl Component {
             Component::Matrix(m) => m.as_coeffs().iter().all(|v| v.is_finite()),
         }
     }
+}
+
+/// `tan` of an angle in degrees. Skews are usually along one axis; `tan(±0) = ±0`, so
+/// skipping the call for a zero angle changes no bit and saves a libm call per frame.
+#[inline]
+fn tan_deg(deg: f64) -> f64 {
+    let r = deg.to_radians();
+    if r == 0.0 { r } else { r.tan() }
 }
 
 /// The product of a list of components at progress `s`, leftmost applied last (as in SVG's

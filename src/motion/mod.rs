@@ -29,7 +29,7 @@ use crate::scene::Scene;
 use crate::signals::Easing;
 pub use component::Component;
 pub use grid::{Blend, Field, Grid, Lookup};
-pub use sampler::Sampler;
+pub use sampler::{Playhead, Sampler};
 
 /// How a motion's transform is interpolated between its neutral and full value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]

@@ -3,9 +3,14 @@
 //! [`Track::transform_at`] finds the window holding `t`, then recomputes the progress at the
 //! window start and inverts `F(p₀)` for every segment on every call. A [`Sampler`] does that
 //! work once: it groups every track's segments into windows laid out flat in shape order
-//! (so a frame walks memory sequentially), stores each window's start and settled end
+//! (so a frame walks memory forward), stores each window's start and settled end
 //! transforms, and each segment's `F(p₀)⁻¹`. Per shape and frame what remains is a scan of
-//! a few window start times and, inside a moving window, one `F(p)` per segment.
+//! a few start times and, inside a moving window, one `F(p)` per segment.
+//!
+//! Evaluation is bound by memory traffic more than by arithmetic, so the data a frame
+//! reads is split by how often it is read: start times apart (scanned for every shape),
+//! settled values apart (read by most shapes most of the time), and the full segment
+//! records (read only while something moves) kept small.
 //!
 //! The arithmetic is the same as [`Track::transform_at`]'s, step for step, so both give
 //! identical results; tests compare them on every example grammar.
@@ -13,41 +18,106 @@
 use kurbo::{Affine, Point};
 
 use super::{
-    Animation, AttrSeg, Blendable, Component, Interp, MotionKind, MotionSeg, ShapeState, Timing,
-    Tint, Track, component::product_at, grid,
+    Animation, AttrSeg, Blendable, Interp, MotionKind, MotionSeg, ShapeState, Timing, Tint, Track,
+    component::product_at, grid,
 };
+use crate::signals::Easing;
 
-/// How a segment computes `F(p)`.
-enum Full<'a> {
-    /// One product of components about a pivot, components in [`Sampler::comps`]: the
-    /// common case, evaluated from data laid out in shape order.
-    Product { pivot: Point, comps: (u32, u32) },
-    /// Anything else (blends of grid cells, Alexa interpolation) through the segment.
-    Seg(&'a MotionSeg),
+/// [`Clock::ease`] of a linear timing, which needs no easing call.
+const LINEAR: u32 = u32::MAX;
+/// [`Seg::inv0`] when `F(p₀)` is the identity.
+const NO_INVERSE: u32 = u32::MAX;
+/// [`Seg::comps`]' count marking a segment evaluated through its [`MotionSeg`].
+const SLOW: u32 = u32::MAX;
+
+/// A [`Timing`] with its span resolved and its easing moved out of line.
+#[derive(Clone, Copy)]
+struct Clock {
+    start: f64,
+    delay: f64,
+    /// `max(end − start − delay, 0)`, as [`Timing::progress`] computes it.
+    span: f64,
+    /// Index into [`Sampler::eases`], or [`LINEAR`].
+    ease: u32,
+    reversed: bool,
+    /// The progress cannot change before this time…
+    still_before: f64,
+    /// …nor from this time on (see [`Clock::new`]).
+    still_after: f64,
 }
 
-/// One segment with its start progress and inverse resolved.
-struct Seg<'a> {
+impl Clock {
+    fn new(t: &Timing, eases: &mut Vec<Easing>) -> Clock {
+        let ease = if t.ease == Easing::Linear {
+            LINEAR
+        } else {
+            eases.push(t.ease.clone());
+            eases.len() as u32 - 1
+        };
+        // The progress moves only inside `active()`. Rounding in `progress` may shift that
+        // interval's ends by an ulp, so the still ranges stop well short of them.
+        let (a0, a1) = t.active();
+        let margin = |a: f64| 1e-9 * (1.0 + a.abs());
+        Clock {
+            start: t.start,
+            delay: t.delay,
+            span: (t.end - t.start - t.delay).max(0.0),
+            ease,
+            reversed: t.reversed,
+            still_before: a0 - margin(a0),
+            still_after: a1 + margin(a1),
+        }
+    }
+
+    /// Lowers `quiet` to the last time up to which the progress keeps its value at `t`.
+    #[inline(always)]
+    fn quiet_after(&self, t: f64, quiet: &mut f64) {
+        if t < self.still_before {
+            *quiet = quiet.min(self.still_before);
+        } else if t < self.still_after {
+            *quiet = t;
+        }
+    }
+
+    /// [`Timing::progress`], step for step.
+    #[inline(always)]
+    fn progress(&self, t: f64, eases: &[Easing]) -> f64 {
+        let local = if self.reversed {
+            t - self.start
+        } else {
+            t - self.start - self.delay
+        };
+        let u = if self.span <= 0.0 {
+            if local >= 0.0 { 1.0 } else { 0.0 }
+        } else {
+            (local / self.span).clamp(0.0, 1.0)
+        };
+        let u = if self.reversed { 1.0 - u } else { u };
+        if self.ease == LINEAR {
+            // What `Easing::Linear.apply` returns for `u` in [0, 1] or NaN.
+            if u.is_nan() { 0.0 } else { u }
+        } else {
+            eases[self.ease as usize].apply(u)
+        }
+    }
+}
+
+/// One moving segment with its start progress and inverse resolved.
+struct Seg {
     t0: f64,
     t1: f64,
-    timing: Timing,
-    full: Full<'a>,
+    clock: Clock,
     /// Progress at the window start.
     p0: f64,
-    /// `F(p₀)⁻¹`, or `None` when `p₀ = 0` (then `F(p₀)` is the identity).
-    inv0: Option<Affine>,
-}
-
-/// A group of segments sharing a start time.
-struct Window {
-    /// From this time on the window's value no longer changes.
-    settle: f64,
-    /// The accumulated transform before the window.
-    start: Affine,
-    /// The value once settled.
-    end: Affine,
-    /// Range into [`Sampler::segs`].
-    segs: (u32, u32),
+    /// Centre of the product (the origin for world motions).
+    pivot: Point,
+    /// First component in [`Sampler::comps`], or an index into [`Sampler::slow`].
+    first: u32,
+    /// Number of components, or [`SLOW`] for segments evaluated through their
+    /// [`MotionSeg`] (blends of grid cells, Alexa interpolation).
+    count: u32,
+    /// `F(p₀)⁻¹` in [`Sampler::inverses`], or [`NO_INVERSE`] when `p₀ = 0`.
+    inv0: u32,
 }
 
 /// Where one shape's data starts in each flat array.
@@ -60,37 +130,116 @@ struct Offsets {
     width: u32,
 }
 
+/// One attribute channel of every shape, flat in shape order.
+struct Channel<T> {
+    /// Segment start times.
+    t0: Vec<f64>,
+    /// Segment end and the value held from then on: what most frames read.
+    settled: Vec<(f64, T)>,
+    /// Timing and endpoints, read only while the segment runs.
+    moving: Vec<(Clock, T, T)>,
+}
+
+impl<T: Blendable> Channel<T> {
+    fn with_capacity(n: usize) -> Channel<T> {
+        Channel {
+            t0: Vec::with_capacity(n),
+            settled: Vec::with_capacity(n),
+            moving: Vec::with_capacity(n),
+        }
+    }
+
+    fn len(&self) -> u32 {
+        self.t0.len() as u32
+    }
+
+    fn extend(&mut self, segs: &[AttrSeg<T>], eases: &mut Vec<Easing>) {
+        for s in segs {
+            self.t0.push(s.t0);
+            self.settled.push((s.t1, s.value_at(s.t1)));
+            self.moving
+                .push((Clock::new(&s.timing, eases), s.from, s.to));
+        }
+    }
+
+    /// One shape's value at `t`; its segments are `lo..hi`. Same result as `attr_at` on
+    /// the track's own list.
+    #[inline(always)]
+    fn at(&self, lo: u32, hi: u32, t: f64, default: T, eases: &[Easing]) -> T {
+        let (lo, hi) = (lo as usize, hi as usize);
+        let k = self.t0[lo..hi].iter().take_while(|&&t0| t0 <= t).count();
+        if k == 0 {
+            return default;
+        }
+        let i = lo + k - 1;
+        let (t1, end) = self.settled[i];
+        if t >= t1 {
+            return end;
+        }
+        let (clock, from, to) = &self.moving[i];
+        from.blend(*to, clock.progress(t.clamp(self.t0[i], t1), eases))
+    }
+
+    /// [`Channel::at`] for a [`Playhead`]: `cursor` counts the shape's segments that have
+    /// started (as an index into the flat arrays) and only moves forward, and `quiet` is
+    /// lowered to the time up to which the value stays what it is at `t`.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn step(
+        &self,
+        cursor: &mut u32,
+        lo: u32,
+        hi: u32,
+        t: f64,
+        default: T,
+        eases: &[Easing],
+        quiet: &mut f64,
+    ) -> T {
+        let (lo, hi) = (lo as usize, hi as usize);
+        let mut c = *cursor as usize;
+        while c < hi && self.t0[c] <= t {
+            c += 1;
+        }
+        *cursor = c as u32;
+        if c < hi {
+            *quiet = quiet.min(self.t0[c]);
+        }
+        if c == lo {
+            return default;
+        }
+        let i = c - 1;
+        let (t1, end) = self.settled[i];
+        if t >= t1 {
+            return end;
+        }
+        *quiet = quiet.min(t1);
+        let (clock, from, to) = &self.moving[i];
+        clock.quiet_after(t, quiet);
+        from.blend(*to, clock.progress(t.clamp(self.t0[i], t1), eases))
+    }
+}
+
 /// Every track of an animation compiled for repeated sampling. Borrows the animation.
-///
-/// Everything a frame reads is copied into flat arrays in shape order, so evaluating a
-/// frame walks memory forward instead of chasing a pointer per segment and channel.
 pub struct Sampler<'a> {
     /// Per shape where its data starts, plus one entry for the end.
     offsets: Vec<Offsets>,
-    /// Window start times, apart from the rest so the scan stays in few cache lines.
+    /// Window start times, scanned for every shape and frame.
     t0s: Vec<f64>,
-    windows: Vec<Window>,
-    segs: Vec<Seg<'a>>,
-    comps: Vec<Component>,
-    fill: Vec<Attr<Tint>>,
-    stroke: Vec<Attr<Tint>>,
-    opacity: Vec<Attr<f64>>,
-    width: Vec<Attr<f64>>,
-}
-
-/// An attribute segment with the value it holds once it has ended, which is what most
-/// frames read.
-#[derive(Clone)]
-struct Attr<T> {
-    seg: AttrSeg<T>,
-    end: T,
-}
-
-fn attrs<T: Blendable>(segs: &[AttrSeg<T>]) -> impl Iterator<Item = Attr<T>> + '_ {
-    segs.iter().map(|s| Attr {
-        seg: s.clone(),
-        end: s.value_at(s.t1),
-    })
+    /// Per window: from this time on its value no longer changes, and that value.
+    settled: Vec<(f64, Affine)>,
+    /// Per window: the accumulated transform before it and its range in `segs`.
+    windows: Vec<(Affine, (u32, u32))>,
+    segs: Vec<Seg>,
+    comps: Vec<super::Component>,
+    /// Segments whose `F(p)` is not a single product.
+    slow: Vec<&'a MotionSeg>,
+    inverses: Vec<Affine>,
+    /// Easings other than linear.
+    eases: Vec<Easing>,
+    fill: Channel<Tint>,
+    stroke: Channel<Tint>,
+    opacity: Channel<f64>,
+    width: Channel<f64>,
 }
 
 impl<'a> Sampler<'a> {
@@ -102,21 +251,25 @@ impl<'a> Sampler<'a> {
         let mut s = Sampler {
             offsets: Vec::with_capacity(tracks.len() + 1),
             t0s: Vec::with_capacity(total),
+            settled: Vec::with_capacity(total),
             windows: Vec::with_capacity(total),
             segs: Vec::with_capacity(total),
             comps: Vec::with_capacity(total * 2),
-            fill: Vec::with_capacity(count(|t| t.fill.len())),
-            stroke: Vec::with_capacity(count(|t| t.stroke.len())),
-            opacity: Vec::with_capacity(count(|t| t.opacity.len())),
-            width: Vec::with_capacity(count(|t| t.stroke_width.len())),
+            slow: Vec::new(),
+            inverses: Vec::new(),
+            eases: Vec::new(),
+            fill: Channel::with_capacity(count(|t| t.fill.len())),
+            stroke: Channel::with_capacity(count(|t| t.stroke.len())),
+            opacity: Channel::with_capacity(count(|t| t.opacity.len())),
+            width: Channel::with_capacity(count(|t| t.stroke_width.len())),
         };
         for track in tracks {
             s.offsets.push(s.here());
             s.add_track(track);
-            s.fill.extend(attrs(&track.fill));
-            s.stroke.extend(attrs(&track.stroke));
-            s.opacity.extend(attrs(&track.opacity));
-            s.width.extend(attrs(&track.stroke_width));
+            s.fill.extend(&track.fill, &mut s.eases);
+            s.stroke.extend(&track.stroke, &mut s.eases);
+            s.opacity.extend(&track.opacity, &mut s.eases);
+            s.width.extend(&track.stroke_width, &mut s.eases);
         }
         s.offsets.push(s.here());
         s
@@ -124,11 +277,11 @@ impl<'a> Sampler<'a> {
 
     fn here(&self) -> Offsets {
         Offsets {
-            windows: self.windows.len() as u32,
-            fill: self.fill.len() as u32,
-            stroke: self.stroke.len() as u32,
-            opacity: self.opacity.len() as u32,
-            width: self.width.len() as u32,
+            windows: self.t0s.len() as u32,
+            fill: self.fill.len(),
+            stroke: self.stroke.len(),
+            opacity: self.opacity.len(),
+            width: self.width.len(),
         }
     }
 
@@ -140,7 +293,7 @@ impl<'a> Sampler<'a> {
             let j = i + m[i..].iter().take_while(|s| s.t0 == t0).count();
             let first_seg = self.segs.len() as u32;
             for seg in &m[i..j] {
-                let full = match &seg.kind {
+                let (pivot, first, count) = match &seg.kind {
                     // Vertex motions act through `Track::deform` and add the identity here.
                     MotionKind::Vertex { .. } => continue,
                     MotionKind::Rigid {
@@ -150,21 +303,29 @@ impl<'a> Sampler<'a> {
                     } if blend.len() == 1 => {
                         let lo = self.comps.len() as u32;
                         self.comps.extend_from_slice(&blend[0].1);
-                        Full::Product {
-                            pivot: *pivot,
-                            comps: (lo, self.comps.len() as u32),
-                        }
+                        (*pivot, lo, self.comps.len() as u32 - lo)
                     }
-                    MotionKind::Rigid { .. } => Full::Seg(seg),
+                    MotionKind::Rigid { .. } => {
+                        self.slow.push(seg);
+                        (Point::ORIGIN, self.slow.len() as u32 - 1, SLOW)
+                    }
                 };
                 let p0 = seg.timing.progress(seg.t0);
-                let inv0 = (p0 != 0.0).then(|| seg.full_at(p0).inverse());
+                let inv0 = if p0 == 0.0 {
+                    NO_INVERSE
+                } else {
+                    self.inverses.push(seg.full_at(p0).inverse());
+                    self.inverses.len() as u32 - 1
+                };
+                let clock = Clock::new(&seg.timing, &mut self.eases);
                 self.segs.push(Seg {
                     t0: seg.t0,
                     t1: seg.t1,
-                    timing: seg.timing.clone(),
-                    full,
+                    clock,
                     p0,
+                    pivot,
+                    first,
+                    count,
                     inv0,
                 });
             }
@@ -173,7 +334,7 @@ impl<'a> Sampler<'a> {
             let last_t1 = m[j - 1].t1;
             // Past its window the value is the next window's start, as in `transform_at`;
             // the last window settles once all of its segments have ended.
-            let (settle, end) = match m.get(j) {
+            let settled = match m.get(j) {
                 Some(next) => (last_t1, next.start),
                 None => {
                     let t = m[i..j].iter().map(|s| s.t1).fold(last_t1, f64::max);
@@ -181,36 +342,33 @@ impl<'a> Sampler<'a> {
                 }
             };
             self.t0s.push(t0);
-            self.windows.push(Window {
-                settle,
-                start,
-                end,
-                segs,
-            });
+            self.settled.push(settled);
+            self.windows.push((start, segs));
             i = j;
         }
     }
 
     /// `R₁(t)·…·Rₙ(t)·start` over a window's segments.
+    #[inline]
     fn fold(&self, (a, b): (u32, u32), start: Affine, t: f64) -> Affine {
         // Starts empty rather than at the identity: most windows hold one moving segment,
         // which then costs no product.
         let mut acc: Option<Affine> = None;
         for s in &self.segs[a as usize..b as usize] {
-            let p = s.timing.progress(t.clamp(s.t0, s.t1));
+            let p = s.clock.progress(t.clamp(s.t0, s.t1), &self.eases);
             if p == s.p0 {
                 continue;
             }
-            let f = match s.full {
-                Full::Product {
-                    pivot,
-                    comps: (lo, hi),
-                } => grid::about(pivot, product_at(&self.comps[lo as usize..hi as usize], p)),
-                Full::Seg(seg) => seg.full_at(p),
+            let f = if s.count == SLOW {
+                self.slow[s.first as usize].full_at(p)
+            } else {
+                let lo = s.first as usize;
+                let comps = &self.comps[lo..lo + s.count as usize];
+                grid::about(s.pivot, product_at(comps, p))
             };
             let r = match s.inv0 {
-                None => f,
-                Some(inv) => f * inv,
+                NO_INVERSE => f,
+                k => f * self.inverses[k as usize],
             };
             acc = Some(match acc {
                 None => r,
@@ -235,30 +393,86 @@ impl<'a> Sampler<'a> {
 
     /// Shape `i`'s rigid transform at `t` (equal to `tracks[i].transform_at(t)`).
     pub fn transform_at(&self, i: usize, t: f64) -> Affine {
-        let (lo, hi) = (
-            self.offsets[i].windows as usize,
-            self.offsets[i + 1].windows as usize,
-        );
+        self.transform(self.offsets[i].windows, self.offsets[i + 1].windows, t)
+    }
+
+    #[inline(always)]
+    fn transform(&self, lo: u32, hi: u32, t: f64) -> Affine {
+        let (lo, hi) = (lo as usize, hi as usize);
         let k = self.t0s[lo..hi].iter().take_while(|&&t0| t0 <= t).count();
         if k == 0 {
             return Affine::IDENTITY;
         }
-        let w = &self.windows[lo + k - 1];
-        if t >= w.settle {
-            return w.end;
+        let w = lo + k - 1;
+        let (settle, end) = self.settled[w];
+        if t >= settle {
+            return end;
         }
-        self.fold(w.segs, w.start, t)
+        let (start, segs) = self.windows[w];
+        self.fold(segs, start, t)
+    }
+
+    /// [`Sampler::transform`] for a [`Playhead`]; see [`Channel::step`].
+    #[inline(always)]
+    fn transform_step(
+        &self,
+        cursor: &mut u32,
+        lo: u32,
+        hi: u32,
+        t: f64,
+        quiet: &mut f64,
+    ) -> Affine {
+        let (lo, hi) = (lo as usize, hi as usize);
+        let mut c = *cursor as usize;
+        while c < hi && self.t0s[c] <= t {
+            c += 1;
+        }
+        *cursor = c as u32;
+        if c < hi {
+            *quiet = quiet.min(self.t0s[c]);
+        }
+        if c == lo {
+            return Affine::IDENTITY;
+        }
+        let w = c - 1;
+        let (settle, end) = self.settled[w];
+        if t >= settle {
+            return end;
+        }
+        *quiet = quiet.min(settle);
+        let (start, (a, b)) = self.windows[w];
+        for seg in &self.segs[a as usize..b as usize] {
+            seg.clock.quiet_after(t, quiet);
+        }
+        self.fold((a, b), start, t)
+    }
+
+    /// A playhead for evaluating frames in time order.
+    pub fn playhead(&self) -> Playhead<'_, 'a> {
+        let n = self.len();
+        Playhead {
+            sampler: self,
+            last: f64::NEG_INFINITY,
+            cursors: self.offsets[..n]
+                .iter()
+                .map(|o| [o.windows, o.fill, o.stroke, o.opacity, o.width])
+                .collect(),
+            quiet: vec![f64::NEG_INFINITY; n],
+            states: vec![ShapeState::REST; n],
+        }
     }
 
     /// Shape `i`'s state at `t` (equal to `tracks[i].state_at(t)`).
+    #[inline]
     pub fn state_at(&self, i: usize, t: f64) -> ShapeState {
         let (a, b) = (self.offsets[i], self.offsets[i + 1]);
+        let e = &self.eases[..];
         ShapeState {
-            transform: self.transform_at(i, t),
-            fill: channel(&self.fill, a.fill, b.fill, t, Tint::NONE),
-            stroke: channel(&self.stroke, a.stroke, b.stroke, t, Tint::NONE),
-            opacity: channel(&self.opacity, a.opacity, b.opacity, t, 1.0),
-            stroke_width: channel(&self.width, a.width, b.width, t, 1.0),
+            transform: self.transform(a.windows, b.windows, t),
+            fill: self.fill.at(a.fill, b.fill, t, Tint::NONE, e),
+            stroke: self.stroke.at(a.stroke, b.stroke, t, Tint::NONE, e),
+            opacity: self.opacity.at(a.opacity, b.opacity, t, 1.0, e),
+            stroke_width: self.width.at(a.width, b.width, t, 1.0, e),
         }
     }
 
@@ -276,19 +490,68 @@ impl<'a> Sampler<'a> {
     }
 }
 
-/// One shape's attribute channel at `t`: its segments are `all[lo..hi]`. Same result as
-/// [`attr_at`] on the track's own list.
-#[inline]
-fn channel<T: Blendable>(all: &[Attr<T>], lo: u32, hi: u32, t: f64, default: T) -> T {
-    let segs = &all[lo as usize..hi as usize];
-    let k = segs.iter().take_while(|a| a.seg.t0 <= t).count();
-    if k == 0 {
-        return default;
-    }
-    let a = &segs[k - 1];
-    if t >= a.seg.t1 {
-        a.end
-    } else {
-        a.seg.value_at(t)
+/// Evaluates every shape at a sequence of instants, fastest when they only move forward
+/// (as frames do).
+///
+/// It keeps the last states and, per shape, where its windows and attribute segments
+/// stand and until when nothing of it can change. Moving forward, each list is advanced
+/// past the segments that have started instead of being searched, and a shape that stands
+/// still (before its first motion, between windows, waiting out a delay) is not evaluated
+/// again until it can move. The states are identical to [`Sampler::evaluate`]'s at the same
+/// instant, in any order of instants; going back in time restarts from the beginning.
+pub struct Playhead<'s, 'a> {
+    sampler: &'s Sampler<'a>,
+    /// The last instant evaluated.
+    last: f64,
+    /// Per shape, for windows, fill, stroke, opacity and width: the index just past the
+    /// last started entry.
+    cursors: Vec<[u32; 5]>,
+    /// Per shape: its state holds for every instant from the last one up to (not
+    /// including) this.
+    quiet: Vec<f64>,
+    states: Vec<ShapeState>,
+}
+
+impl Playhead<'_, '_> {
+    /// Every shape's state at `t`.
+    pub fn seek(&mut self, t: f64) -> &[ShapeState] {
+        let s = self.sampler;
+        // Going back (or NaN, which is then evaluated from scratch as the reference does).
+        if t < self.last || t.is_nan() {
+            for (c, o) in self.cursors.iter_mut().zip(&s.offsets) {
+                *c = [o.windows, o.fill, o.stroke, o.opacity, o.width];
+            }
+            self.quiet.fill(f64::NEG_INFINITY);
+        }
+        self.last = t;
+        let e = &s.eases[..];
+        let shapes = self
+            .states
+            .iter_mut()
+            .zip(&mut self.quiet)
+            .zip(&mut self.cursors)
+            .zip(s.offsets.windows(2));
+        for (((state, quiet), c), o) in shapes {
+            if t < *quiet {
+                continue;
+            }
+            let (a, b) = (o[0], o[1]);
+            let mut q = f64::INFINITY;
+            *state = ShapeState {
+                transform: s.transform_step(&mut c[0], a.windows, b.windows, t, &mut q),
+                fill: s
+                    .fill
+                    .step(&mut c[1], a.fill, b.fill, t, Tint::NONE, e, &mut q),
+                stroke: s
+                    .stroke
+                    .step(&mut c[2], a.stroke, b.stroke, t, Tint::NONE, e, &mut q),
+                opacity: s
+                    .opacity
+                    .step(&mut c[3], a.opacity, b.opacity, t, 1.0, e, &mut q),
+                stroke_width: s.width.step(&mut c[4], a.width, b.width, t, 1.0, e, &mut q),
+            };
+            *quiet = q;
+        }
+        &self.states
     }
 }
