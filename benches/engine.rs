@@ -8,7 +8,7 @@
 use std::fmt::Write as _;
 use std::hint::black_box;
 
-use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use criterion::{BatchSize, BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use gmotion::engine::{RunOptions, run};
 use gmotion::motion::Animation;
 use gmotion::scene::{Group, Node, PathNode, Scene, Shape};
@@ -116,12 +116,13 @@ fn grammar(tags: usize, duration: f64, fps: f64) -> String {
     g
 }
 
-/// Evaluates every frame: the frames split into one run per thread, each played forward
-/// by its own playhead, the way a renderer or exporter walks them.
+/// Evaluates every frame: the frames split into a few runs per thread (so a thread slowed
+/// by the host can hand runs over), each played forward by its own playhead, the way a
+/// renderer or exporter walks them.
 fn evaluate_all(anim: &Animation) {
     let sampler = anim.sampler();
     let frames = anim.frame_count();
-    let runs = rayon::current_num_threads().min(frames);
+    let runs = (4 * rayon::current_num_threads()).min(frames);
     (0..runs).into_par_iter().for_each(|r| {
         let mut head = sampler.playhead();
         for i in r * frames / runs..(r + 1) * frames / runs {
@@ -131,9 +132,11 @@ fn evaluate_all(anim: &Animation) {
 }
 
 /// Parses, expands and evaluates every frame; returns steps for the printed statistics.
-fn full_run(scene: &Scene, src: &str) -> usize {
+/// Takes the scene as the engine does (the command moves the imported scene in); the
+/// benchmarks clone it outside the timed part.
+fn full_run(scene: Scene, src: &str) -> usize {
     let g = gmotion::grammar::parse(src).expect("bench grammar parses");
-    let (anim, stats) = run(scene.clone(), &g, &RunOptions::default()).expect("bench grammar runs");
+    let (anim, stats) = run(scene, &g, &RunOptions::default()).expect("bench grammar runs");
     evaluate_all(&anim);
     stats.steps
 }
@@ -149,11 +152,13 @@ fn table1(c: &mut Criterion) {
         let s = scene(n, tags);
         let src = grammar(tags, dur, fps);
         let rules = gmotion::grammar::parse(&src).expect("parses").rules.len();
-        let steps = full_run(&s, &src);
+        let steps = full_run(s.clone(), &src);
         eprintln!(
             "{name}: {n} shapes, {rules} rules, {steps} expansion steps, {dur} s at {fps} fps"
         );
-        group.bench_function(name, |b| b.iter(|| full_run(&s, &src)));
+        group.bench_function(name, |b| {
+            b.iter_batched(|| s.clone(), |s| full_run(s, &src), BatchSize::LargeInput)
+        });
     }
     group.finish();
 }
@@ -166,7 +171,7 @@ fn scaling(c: &mut Criterion) {
         let src = grammar(10, 2.0, 30.0);
         group.throughput(Throughput::Elements(n as u64));
         group.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
-            b.iter(|| full_run(&s, &src))
+            b.iter_batched(|| s.clone(), |s| full_run(s, &src), BatchSize::LargeInput)
         });
     }
     group.finish();
@@ -185,7 +190,11 @@ fn phases(c: &mut Criterion) {
         let src = grammar(tags, dur, fps);
         let g = gmotion::grammar::parse(&src).expect("parses");
         group.bench_function(format!("{name}/expand"), |b| {
-            b.iter(|| run(s.clone(), &g, &RunOptions::default()).expect("runs"))
+            b.iter_batched(
+                || s.clone(),
+                |s| run(s, &g, &RunOptions::default()).expect("runs"),
+                BatchSize::LargeInput,
+            )
         });
         let (anim, _) = run(s.clone(), &g, &RunOptions::default()).expect("runs");
         group.bench_function(format!("{name}/evaluate"), |b| {

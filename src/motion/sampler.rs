@@ -18,8 +18,8 @@
 use kurbo::{Affine, Point};
 
 use super::{
-    Animation, AttrSeg, Blendable, Interp, MotionKind, MotionSeg, ShapeState, Timing, Tint, Track,
-    component::product_at, grid,
+    Animation, AttrSeg, Blendable, Component, Interp, MotionKind, MotionSeg, ShapeState, Timing,
+    Tint, Track, component::product_at, grid,
 };
 use crate::signals::Easing;
 
@@ -50,6 +50,10 @@ impl Clock {
     fn new(t: &Timing, eases: &mut Vec<Easing>) -> Clock {
         let ease = if t.ease == Easing::Linear {
             LINEAR
+        } else if let Some(i) = eases.iter().take(64).position(|e| *e == t.ease) {
+            // Grammars use a handful of easings: keeping each once keeps the list short
+            // (searching only its start bounds the cost when easings vary per shape).
+            i as u32
         } else {
             eases.push(t.ease.clone());
             eases.len() as u32 - 1
@@ -118,7 +122,25 @@ struct Seg {
     count: u32,
     /// `F(p₀)⁻¹` in [`Sampler::inverses`], or [`NO_INVERSE`] when `p₀ = 0`.
     inv0: u32,
+    /// The slot remembering this segment's shared lookup's last product, or [`NO_SLOT`].
+    slot: u32,
 }
+
+/// [`Seg::slot`] of a segment whose product is not remembered.
+const NO_SLOT: u32 = u32::MAX;
+
+/// The last product of each shared component list, by slot: `(progress bits, product)`.
+///
+/// A rule applied to many shapes gives all of them one grid lookup (a shared [`super::Blend`]
+/// when the grid is constant), and shapes whose slices line up reach the same progress at every instant. Evaluating the
+/// shapes of a frame one after the other, the product (with its sines and tangents) is then
+/// computed once per frame instead of once per shape. A slot is reused only for the very
+/// same progress bits, and the product is a pure function of the list and the progress, so
+/// the result is bit for bit what computing it gives.
+type Products = [(u64, Affine)];
+
+/// Progress bits no progress has (a NaN payload), marking an empty slot.
+const EMPTY_SLOT: u64 = u64::MAX;
 
 /// Where one shape's data starts in each flat array.
 #[derive(Clone, Copy, Default)]
@@ -234,8 +256,10 @@ pub struct Sampler<'a> {
     /// Segments whose `F(p)` is not a single product.
     slow: Vec<&'a MotionSeg>,
     inverses: Vec<Affine>,
-    /// Easings other than linear.
+    /// Easings other than linear, each once.
     eases: Vec<Easing>,
+    /// Number of product slots (see [`Products`]).
+    slots: usize,
     fill: Channel<Tint>,
     stroke: Channel<Tint>,
     opacity: Channel<f64>,
@@ -258,20 +282,23 @@ impl<'a> Sampler<'a> {
             slow: Vec::new(),
             inverses: Vec::new(),
             eases: Vec::new(),
+            slots: 0,
             fill: Channel::with_capacity(count(|t| t.fill.len())),
             stroke: Channel::with_capacity(count(|t| t.stroke.len())),
             opacity: Channel::with_capacity(count(|t| t.opacity.len())),
             width: Channel::with_capacity(count(|t| t.stroke_width.len())),
         };
+        let mut slots = std::collections::HashMap::new();
         for track in tracks {
             s.offsets.push(s.here());
-            s.add_track(track);
+            s.add_track(track, &mut slots);
             s.fill.extend(&track.fill, &mut s.eases);
             s.stroke.extend(&track.stroke, &mut s.eases);
             s.opacity.extend(&track.opacity, &mut s.eases);
             s.width.extend(&track.stroke_width, &mut s.eases);
         }
         s.offsets.push(s.here());
+        s.slots = slots.len();
         s
     }
 
@@ -285,7 +312,8 @@ impl<'a> Sampler<'a> {
         }
     }
 
-    fn add_track(&mut self, track: &'a Track) {
+    /// Adds one track; `slots` maps shared component lists (by address) to their slot.
+    fn add_track(&mut self, track: &'a Track, slots: &mut std::collections::HashMap<usize, u32>) {
         let m = &track.motions;
         let mut i = 0;
         while i < m.len() {
@@ -293,7 +321,7 @@ impl<'a> Sampler<'a> {
             let j = i + m[i..].iter().take_while(|s| s.t0 == t0).count();
             let first_seg = self.segs.len() as u32;
             for seg in &m[i..j] {
-                let (pivot, first, count) = match &seg.kind {
+                let (pivot, first, count, slot) = match &seg.kind {
                     // Vertex motions act through `Track::deform` and add the identity here.
                     MotionKind::Vertex { .. } => continue,
                     MotionKind::Rigid {
@@ -301,13 +329,26 @@ impl<'a> Sampler<'a> {
                         blend,
                         interp: Interp::Linear,
                     } if blend.len() == 1 => {
+                        let list = &blend[0].1;
                         let lo = self.comps.len() as u32;
-                        self.comps.extend_from_slice(&blend[0].1);
-                        (*pivot, lo, self.comps.len() as u32 - lo)
+                        self.comps.extend_from_slice(list);
+                        // Only products with trigonometry are worth remembering, and only
+                        // lists other segments share can be met again.
+                        let trig = list
+                            .iter()
+                            .any(|c| matches!(c, Component::Rotate(_) | Component::Skew(..)));
+                        // The blend is what lookups share (the list inside it is held once).
+                        let slot = if trig && std::sync::Arc::strong_count(blend) > 1 {
+                            let next = slots.len() as u32;
+                            *slots.entry(blend.as_ptr() as usize).or_insert(next)
+                        } else {
+                            NO_SLOT
+                        };
+                        (*pivot, lo, self.comps.len() as u32 - lo, slot)
                     }
                     MotionKind::Rigid { .. } => {
                         self.slow.push(seg);
-                        (Point::ORIGIN, self.slow.len() as u32 - 1, SLOW)
+                        (Point::ORIGIN, self.slow.len() as u32 - 1, SLOW, NO_SLOT)
                     }
                 };
                 let p0 = seg.timing.progress(seg.t0);
@@ -327,6 +368,7 @@ impl<'a> Sampler<'a> {
                     first,
                     count,
                     inv0,
+                    slot,
                 });
             }
             let segs = (first_seg, self.segs.len() as u32);
@@ -338,7 +380,7 @@ impl<'a> Sampler<'a> {
                 Some(next) => (last_t1, next.start),
                 None => {
                     let t = m[i..j].iter().map(|s| s.t1).fold(last_t1, f64::max);
-                    (t, self.fold(segs, start, t))
+                    (t, self.fold(segs, start, t, None))
                 }
             };
             self.t0s.push(t0);
@@ -350,7 +392,13 @@ impl<'a> Sampler<'a> {
 
     /// `R₁(t)·…·Rₙ(t)·start` over a window's segments.
     #[inline]
-    fn fold(&self, (a, b): (u32, u32), start: Affine, t: f64) -> Affine {
+    fn fold(
+        &self,
+        (a, b): (u32, u32),
+        start: Affine,
+        t: f64,
+        mut products: Option<&mut Products>,
+    ) -> Affine {
         // Starts empty rather than at the identity: most windows hold one moving segment,
         // which then costs no product.
         let mut acc: Option<Affine> = None;
@@ -364,7 +412,17 @@ impl<'a> Sampler<'a> {
             } else {
                 let lo = s.first as usize;
                 let comps = &self.comps[lo..lo + s.count as usize];
-                grid::about(s.pivot, product_at(comps, p))
+                let m = match products.as_deref_mut() {
+                    Some(slots) if s.slot != NO_SLOT => {
+                        let slot = &mut slots[s.slot as usize];
+                        if slot.0 != p.to_bits() {
+                            *slot = (p.to_bits(), product_at(comps, p));
+                        }
+                        slot.1
+                    }
+                    _ => product_at(comps, p),
+                };
+                grid::about(s.pivot, m)
             };
             let r = match s.inv0 {
                 NO_INVERSE => f,
@@ -409,13 +467,14 @@ impl<'a> Sampler<'a> {
             return end;
         }
         let (start, segs) = self.windows[w];
-        self.fold(segs, start, t)
+        self.fold(segs, start, t, None)
     }
 
     /// [`Sampler::transform`] for a [`Playhead`]; see [`Channel::step`].
     #[inline(always)]
     fn transform_step(
         &self,
+        products: &mut Products,
         cursor: &mut u32,
         lo: u32,
         hi: u32,
@@ -444,7 +503,7 @@ impl<'a> Sampler<'a> {
         for seg in &self.segs[a as usize..b as usize] {
             seg.clock.quiet_after(t, quiet);
         }
-        self.fold((a, b), start, t)
+        self.fold((a, b), start, t, Some(products))
     }
 
     /// A playhead for evaluating frames in time order.
@@ -459,6 +518,7 @@ impl<'a> Sampler<'a> {
                 .collect(),
             quiet: vec![f64::NEG_INFINITY; n],
             states: vec![ShapeState::REST; n],
+            products: vec![(EMPTY_SLOT, Affine::IDENTITY); self.slots],
         }
     }
 
@@ -510,6 +570,8 @@ pub struct Playhead<'s, 'a> {
     /// including) this.
     quiet: Vec<f64>,
     states: Vec<ShapeState>,
+    /// The last product of each shared component list.
+    products: Vec<(u64, Affine)>,
 }
 
 impl Playhead<'_, '_> {
@@ -538,7 +600,14 @@ impl Playhead<'_, '_> {
             let (a, b) = (o[0], o[1]);
             let mut q = f64::INFINITY;
             *state = ShapeState {
-                transform: s.transform_step(&mut c[0], a.windows, b.windows, t, &mut q),
+                transform: s.transform_step(
+                    &mut self.products,
+                    &mut c[0],
+                    a.windows,
+                    b.windows,
+                    t,
+                    &mut q,
+                ),
                 fill: s
                     .fill
                     .step(&mut c[1], a.fill, b.fill, t, Tint::NONE, e, &mut q),
