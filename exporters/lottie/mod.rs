@@ -12,13 +12,13 @@
 //! - clip paths as layer masks, or as alpha track mattes when they are more than a union
 //!   of simple outlines; masks as luma or alpha track mattes; group opacity over several
 //!   paints as layer opacity; patterns as tiles under an alpha matte of the outline;
-//! - motion exactly where Lottie can say it (see [`animate`]): nested transform levels
+//! - motion exactly where Lottie can say it (see the `animate` module): nested transform levels
 //!   with keyframes at window boundaries and the ends of the active interval, eased by the
 //!   motion's Bézier, holds where the motion jumps; colour tints, opacity and stroke-width
 //!   multipliers as keyframes on `fl.c`/`st.c`/gradient stops, layer `o` and `st.w`;
 //! - elsewhere (Alexa interpolation, bilinear blends, skew and matrix components,
 //!   non-Bézier easing, per-vertex deformation) sampled per frame and reduced greedily
-//!   within [`LottieOptions::tolerance`] canvas units ([`bake`]).
+//!   within [`LottieOptions::tolerance`] canvas units (the `bake` module).
 //!
 //! What is approximated, with a warning naming the element: focal radii of radial
 //! gradients, radial gradients stretched on strokes, `miter-clip` joins, repeating
