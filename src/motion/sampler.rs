@@ -152,6 +152,38 @@ struct Offsets {
     width: u32,
 }
 
+/// The last of a shape's entries `starts[lo..hi]` (sorted start times) that has started at
+/// `t`, by a scan from the first.
+#[inline(always)]
+fn current(starts: &[f64], lo: u32, hi: u32, t: f64) -> Option<usize> {
+    let (lo, hi) = (lo as usize, hi as usize);
+    let k = starts[lo..hi].iter().take_while(|&&t0| t0 <= t).count();
+    (k > 0).then(|| lo + k - 1)
+}
+
+/// [`current`] for a [`Playhead`]: `cursor` (the index just past the last started entry)
+/// only moves forward, and `quiet` is lowered to the next entry's start.
+#[inline(always)]
+fn advance(
+    starts: &[f64],
+    cursor: &mut u32,
+    lo: u32,
+    hi: u32,
+    t: f64,
+    quiet: &mut f64,
+) -> Option<usize> {
+    let (lo, hi) = (lo as usize, hi as usize);
+    let mut c = *cursor as usize;
+    while c < hi && starts[c] <= t {
+        c += 1;
+    }
+    *cursor = c as u32;
+    if c < hi {
+        *quiet = quiet.min(starts[c]);
+    }
+    (c > lo).then(|| c - 1)
+}
+
 /// One attribute channel of every shape, flat in shape order.
 struct Channel<T> {
     /// Segment start times.
@@ -188,12 +220,9 @@ impl<T: Blendable> Channel<T> {
     /// the track's own list.
     #[inline(always)]
     fn at(&self, lo: u32, hi: u32, t: f64, default: T, eases: &[Easing]) -> T {
-        let (lo, hi) = (lo as usize, hi as usize);
-        let k = self.t0[lo..hi].iter().take_while(|&&t0| t0 <= t).count();
-        if k == 0 {
+        let Some(i) = current(&self.t0, lo, hi, t) else {
             return default;
-        }
-        let i = lo + k - 1;
+        };
         let (t1, end) = self.settled[i];
         if t >= t1 {
             return end;
@@ -217,19 +246,9 @@ impl<T: Blendable> Channel<T> {
         eases: &[Easing],
         quiet: &mut f64,
     ) -> T {
-        let (lo, hi) = (lo as usize, hi as usize);
-        let mut c = *cursor as usize;
-        while c < hi && self.t0[c] <= t {
-            c += 1;
-        }
-        *cursor = c as u32;
-        if c < hi {
-            *quiet = quiet.min(self.t0[c]);
-        }
-        if c == lo {
+        let Some(i) = advance(&self.t0, cursor, lo, hi, t, quiet) else {
             return default;
-        }
-        let i = c - 1;
+        };
         let (t1, end) = self.settled[i];
         if t >= t1 {
             return end;
@@ -456,12 +475,9 @@ impl<'a> Sampler<'a> {
 
     #[inline(always)]
     fn transform(&self, lo: u32, hi: u32, t: f64) -> Affine {
-        let (lo, hi) = (lo as usize, hi as usize);
-        let k = self.t0s[lo..hi].iter().take_while(|&&t0| t0 <= t).count();
-        if k == 0 {
+        let Some(w) = current(&self.t0s, lo, hi, t) else {
             return Affine::IDENTITY;
-        }
-        let w = lo + k - 1;
+        };
         let (settle, end) = self.settled[w];
         if t >= settle {
             return end;
@@ -481,19 +497,9 @@ impl<'a> Sampler<'a> {
         t: f64,
         quiet: &mut f64,
     ) -> Affine {
-        let (lo, hi) = (lo as usize, hi as usize);
-        let mut c = *cursor as usize;
-        while c < hi && self.t0s[c] <= t {
-            c += 1;
-        }
-        *cursor = c as u32;
-        if c < hi {
-            *quiet = quiet.min(self.t0s[c]);
-        }
-        if c == lo {
+        let Some(w) = advance(&self.t0s, cursor, lo, hi, t, quiet) else {
             return Affine::IDENTITY;
-        }
-        let w = c - 1;
+        };
         let (settle, end) = self.settled[w];
         if t >= settle {
             return end;
