@@ -166,11 +166,14 @@ fn table1(c: &mut Criterion) {
 fn scaling(c: &mut Criterion) {
     let mut group = c.benchmark_group("scaling");
     group.sample_size(10);
+    let src = grammar(10, 2.0, 30.0);
     for n in [1_000usize, 10_000, 100_000, 1_000_000] {
-        let s = scene(n, 10);
-        let src = grammar(10, 2.0, 30.0);
+        // Built on first use, so a filtered run (`cargo bench -- phases`) does not spend
+        // seconds and gigabytes making the large scenes (nor profiles of it show them).
+        let mut s = None;
         group.throughput(Throughput::Elements(n as u64));
         group.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
+            let s = s.get_or_insert_with(|| scene(n, 10));
             b.iter_batched(|| s.clone(), |s| full_run(s, &src), BatchSize::LargeInput)
         });
     }
@@ -178,7 +181,8 @@ fn scaling(c: &mut Criterion) {
 }
 
 /// The two halves of a table-1 run measured apart: parsing + expansion + compilation into
-/// tracks, then evaluating every frame of the finished animation.
+/// tracks, then evaluating every frame of the finished animation (which includes building
+/// its sampler, also measured alone).
 fn phases(c: &mut Criterion) {
     let mut group = c.benchmark_group("phases");
     group.sample_size(10);
@@ -199,6 +203,9 @@ fn phases(c: &mut Criterion) {
         let (anim, _) = run(s.clone(), &g, &RunOptions::default()).expect("runs");
         group.bench_function(format!("{name}/evaluate"), |b| {
             b.iter(|| evaluate_all(&anim))
+        });
+        group.bench_function(format!("{name}/sampler"), |b| {
+            b.iter(|| black_box(anim.sampler()))
         });
     }
     group.finish();

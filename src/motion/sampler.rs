@@ -299,7 +299,8 @@ impl<'a> Sampler<'a> {
             segs: Vec::with_capacity(total),
             comps: Vec::with_capacity(total * 2),
             slow: Vec::new(),
-            inverses: Vec::new(),
+            // At most one inverse per segment; pages never written are never faulted in.
+            inverses: Vec::with_capacity(total),
             eases: Vec::new(),
             slots: 0,
             fill: Channel::with_capacity(count(|t| t.fill.len())),
@@ -399,7 +400,7 @@ impl<'a> Sampler<'a> {
                 Some(next) => (last_t1, next.start),
                 None => {
                     let t = m[i..j].iter().map(|s| s.t1).fold(last_t1, f64::max);
-                    (t, self.fold(segs, start, t, None))
+                    (t, self.fold(segs, start, t, &mut []))
                 }
             };
             self.t0s.push(t0);
@@ -409,53 +410,63 @@ impl<'a> Sampler<'a> {
         }
     }
 
-    /// `R₁(t)·…·Rₙ(t)·start` over a window's segments.
+    /// `R₁(t)·…·Rₙ(t)·start` over a window's segments. `products` remembers shared
+    /// products (see [`Products`]); it may be empty.
     #[inline]
-    fn fold(
-        &self,
-        (a, b): (u32, u32),
-        start: Affine,
-        t: f64,
-        mut products: Option<&mut Products>,
-    ) -> Affine {
-        // Starts empty rather than at the identity: most windows hold one moving segment,
-        // which then costs no product.
+    fn fold(&self, (a, b): (u32, u32), start: Affine, t: f64, products: &mut Products) -> Affine {
+        let segs = &self.segs[a as usize..b as usize];
+        // Most windows hold one segment: no accumulator, one product with `start`.
+        if let [s] = segs {
+            return match self.relative(s, t, products) {
+                Some(r) => r * start,
+                None => start,
+            };
+        }
+        // Starts empty rather than at the identity, as the single case does.
         let mut acc: Option<Affine> = None;
-        for s in &self.segs[a as usize..b as usize] {
-            let p = s.clock.progress(t.clamp(s.t0, s.t1), &self.eases);
-            if p == s.p0 {
-                continue;
+        for s in segs {
+            if let Some(r) = self.relative(s, t, products) {
+                acc = Some(match acc {
+                    None => r,
+                    Some(m) => m * r,
+                });
             }
-            let f = if s.count == SLOW {
-                self.slow[s.first as usize].full_at(p)
-            } else {
-                let lo = s.first as usize;
-                let comps = &self.comps[lo..lo + s.count as usize];
-                let m = match products.as_deref_mut() {
-                    Some(slots) if s.slot != NO_SLOT => {
-                        let slot = &mut slots[s.slot as usize];
-                        if slot.0 != p.to_bits() {
-                            *slot = (p.to_bits(), product_at(comps, p));
-                        }
-                        slot.1
-                    }
-                    _ => product_at(comps, p),
-                };
-                grid::about(s.pivot, m)
-            };
-            let r = match s.inv0 {
-                NO_INVERSE => f,
-                k => f * self.inverses[k as usize],
-            };
-            acc = Some(match acc {
-                None => r,
-                Some(m) => m * r,
-            });
         }
         match acc {
             None => start,
             Some(m) => m * start,
         }
+    }
+
+    /// One segment's `R(t) = F(p)·F(p₀)⁻¹`, or `None` while it is still at `p₀` (the
+    /// identity).
+    #[inline(always)]
+    fn relative(&self, s: &Seg, t: f64, products: &mut Products) -> Option<Affine> {
+        let p = s.clock.progress(t.clamp(s.t0, s.t1), &self.eases);
+        if p == s.p0 {
+            return None;
+        }
+        let f = if s.count == SLOW {
+            self.slow[s.first as usize].full_at(p)
+        } else {
+            let lo = s.first as usize;
+            let comps = &self.comps[lo..lo + s.count as usize];
+            // `NO_SLOT` is past any slot, and an empty `products` has none.
+            let m = match products.get_mut(s.slot as usize) {
+                Some(slot) => {
+                    if slot.0 != p.to_bits() {
+                        *slot = (p.to_bits(), product_at(comps, p));
+                    }
+                    slot.1
+                }
+                None => product_at(comps, p),
+            };
+            grid::about(s.pivot, m)
+        };
+        Some(match s.inv0 {
+            NO_INVERSE => f,
+            k => f * self.inverses[k as usize],
+        })
     }
 
     /// Number of shapes.
@@ -483,7 +494,7 @@ impl<'a> Sampler<'a> {
             return end;
         }
         let (start, segs) = self.windows[w];
-        self.fold(segs, start, t, None)
+        self.fold(segs, start, t, &mut [])
     }
 
     /// [`Sampler::transform`] for a [`Playhead`]; see [`Channel::step`].
@@ -509,7 +520,7 @@ impl<'a> Sampler<'a> {
         for seg in &self.segs[a as usize..b as usize] {
             seg.clock.quiet_after(t, quiet);
         }
-        self.fold((a, b), start, t, Some(products))
+        self.fold((a, b), start, t, products)
     }
 
     /// A playhead for evaluating frames in time order.
