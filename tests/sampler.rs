@@ -168,3 +168,46 @@ fn sampler_matches_reference_on_transitions() {
         assert_same(name, &anim);
     }
 }
+
+#[test]
+fn sampler_matches_reference_across_parts() {
+    // More shapes than one part of the sampler holds (parts are compiled in parallel and
+    // renumber their shared products), with tag-wide rotations and skews that every shape
+    // of a tag shares and staggered delays so shapes reach them at different progress.
+    let mut svg =
+        String::from(r#"<svg xmlns="http://www.w3.org/2000/svg" width="520" height="500">"#);
+    for i in 0..2600 {
+        let (x, y) = ((i % 52) * 10, (i / 52) * 10);
+        svg.push_str(&format!(
+            r##"<rect class="t{}" x="{x}" y="{y}" width="6" height="6" fill="#336699"/>"##,
+            i % 3
+        ));
+    }
+    svg.push_str("</svg>");
+    let scene = gmotion::importers::svg::parse(&svg, "parts.svg", &ImportOptions::default())
+        .unwrap()
+        .scene;
+    assert_eq!(scene.shapes.len(), 2600);
+    let src = "duration 2s\nfps 15\n\
+         timesplit(0.5, 0.5) : [all, all] -> [a, inv_a]\n\
+         animate(affine, local, 0.0004 * id, rotate(45) scale(1.2)) : [a, t0] -> [r]\n\
+         animate(affine, world, 0, skew(12, 0)) : [a, t1] -> [s]\n\
+         animate(affine, local, 0, rotate(-30)) : [a, t2] -> [u]\n\
+         animate(affine, local, 0.0002 * id, skew(0, 8)) : [u, t2] -> [v]\n";
+    let grammar = gmotion::grammar::parse(src).unwrap();
+    let anim = run(scene, &grammar, &RunOptions::default()).unwrap().0;
+    // Frame times only: the boundary neighbourhoods of 2600 tracks would make this slow,
+    // and the examples already probe them.
+    let sampler = Sampler::new(&anim);
+    assert_eq!(sampler.len(), 2600);
+    let mut head = sampler.playhead();
+    let mut moving = 0;
+    for i in 0..=anim.frame_count() {
+        let t = anim.frame_time(i);
+        let slow = anim.evaluate(t);
+        assert_eq!(sampler.evaluate(t), slow, "sampler at t = {t}");
+        assert_eq!(head.seek(t), &slow[..], "playhead at t = {t}");
+        moving += slow.iter().filter(|s| **s != ShapeState::REST).count();
+    }
+    assert!(moving > 2600 * 10, "too little moves: {moving}");
+}

@@ -3,7 +3,8 @@
 //! [`Track::transform_at`] finds the window holding `t`, then recomputes the progress at the
 //! window start and inverts `F(p₀)` for every segment on every call. A [`Sampler`] does that
 //! work once: it groups every track's segments into windows laid out flat in shape order
-//! (so a frame walks memory forward), stores each window's start and settled end
+//! (so a frame walks memory forward; large animations in parts of consecutive shapes,
+//! compiled in parallel), stores each window's start and settled end
 //! transforms, and each segment's `F(p₀)⁻¹`. Per shape and frame what remains is a scan of
 //! a few start times and, inside a moving window, one `F(p)` per segment.
 //!
@@ -15,7 +16,10 @@
 //! The arithmetic is the same as [`Track::transform_at`]'s, step for step, so both give
 //! identical results; tests compare them on every example grammar.
 
+use std::collections::HashMap;
+
 use kurbo::{Affine, Point};
+use rayon::prelude::*;
 
 use super::{
     Animation, AttrSeg, Blendable, Component, Interp, MotionKind, MotionSeg, ShapeState, Timing,
@@ -260,8 +264,25 @@ impl<T: Blendable> Channel<T> {
     }
 }
 
+/// Shapes per [`Part`]. Parts are compiled in parallel; a few hundred shapes amortise the
+/// hand-over to a thread, and 8k-shape scenes still give every core several parts.
+const PART: usize = 1024;
+
 /// Every track of an animation compiled for repeated sampling. Borrows the animation.
+///
+/// The shapes are cut into parts of a thousand-odd consecutive shapes, compiled in
+/// parallel and each laid out flat; evaluation walks them in order, so a frame still reads memory
+/// forward.
 pub struct Sampler<'a> {
+    parts: Vec<Part<'a>>,
+    /// Number of shapes.
+    len: usize,
+    /// Number of product slots (see [`Products`]) over all parts.
+    slots: usize,
+}
+
+/// The compiled tracks of consecutive shapes.
+struct Part<'a> {
     /// Per shape where its data starts, plus one entry for the end.
     offsets: Vec<Offsets>,
     /// Window start times, scanned for every shape and frame.
@@ -277,8 +298,9 @@ pub struct Sampler<'a> {
     inverses: Vec<Affine>,
     /// Easings other than linear, each once.
     eases: Vec<Easing>,
-    /// Number of product slots (see [`Products`]).
-    slots: usize,
+    /// The shared component lists met, by the slot number this part gave them (their
+    /// address); [`Sampler::new`] renumbers the slots over all parts.
+    shared: Vec<usize>,
     fill: Channel<Tint>,
     stroke: Channel<Tint>,
     opacity: Channel<f64>,
@@ -286,12 +308,103 @@ pub struct Sampler<'a> {
 }
 
 impl<'a> Sampler<'a> {
-    /// Compiles every track of `anim`.
+    /// Compiles every track of `anim` (in parallel for large animations; the result does
+    /// not depend on the number of threads).
     pub fn new(anim: &'a Animation) -> Sampler<'a> {
         let tracks = &anim.tracks[..];
+        let mut parts: Vec<Part<'a>> = if tracks.len() <= PART {
+            tracks.chunks(PART).map(Part::new).collect()
+        } else {
+            tracks.par_chunks(PART).map(Part::new).collect()
+        };
+        // Number the shared lists over all parts, in shape order.
+        let mut ids: HashMap<usize, u32> = HashMap::new();
+        let renumber: Vec<Vec<u32>> = parts
+            .iter()
+            .map(|p| {
+                p.shared
+                    .iter()
+                    .map(|&list| {
+                        let next = ids.len() as u32;
+                        *ids.entry(list).or_insert(next)
+                    })
+                    .collect()
+            })
+            .collect();
+        let relabel = |(part, ids): (&mut Part, &Vec<u32>)| {
+            for s in part.segs.iter_mut().filter(|s| s.slot != NO_SLOT) {
+                s.slot = ids[s.slot as usize];
+            }
+        };
+        if parts.len() > 1 {
+            parts.par_iter_mut().zip(&renumber).for_each(relabel);
+        } else {
+            parts.iter_mut().zip(&renumber).for_each(relabel);
+        }
+        Sampler {
+            parts,
+            len: tracks.len(),
+            slots: ids.len(),
+        }
+    }
+
+    /// Number of shapes.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// True when the animation has no shapes.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Shape `i`'s rigid transform at `t` (equal to `tracks[i].transform_at(t)`).
+    pub fn transform_at(&self, i: usize, t: f64) -> Affine {
+        let (p, j) = (&self.parts[i / PART], i % PART);
+        p.transform(p.offsets[j].windows, p.offsets[j + 1].windows, t)
+    }
+
+    /// A playhead for evaluating frames in time order.
+    pub fn playhead(&self) -> Playhead<'_, 'a> {
+        let n = self.len;
+        Playhead {
+            sampler: self,
+            last: f64::NEG_INFINITY,
+            cursors: self.parts.iter().flat_map(Part::cursors).collect(),
+            quiet: vec![f64::NEG_INFINITY; n],
+            states: vec![ShapeState::REST; n],
+            products: vec![(EMPTY_SLOT, Affine::IDENTITY); self.slots],
+        }
+    }
+
+    /// Shape `i`'s state at `t` (equal to `tracks[i].state_at(t)`).
+    #[inline]
+    pub fn state_at(&self, i: usize, t: f64) -> ShapeState {
+        self.parts[i / PART].state_at(i % PART, t)
+    }
+
+    /// Every shape's state at `t`, written into `out` (cleared first).
+    pub fn evaluate_into(&self, t: f64, out: &mut Vec<ShapeState>) {
+        out.clear();
+        for p in &self.parts {
+            out.extend((0..p.len()).map(|i| p.state_at(i, t)));
+        }
+    }
+
+    /// Every shape's state at `t`.
+    pub fn evaluate(&self, t: f64) -> Vec<ShapeState> {
+        let mut out = Vec::with_capacity(self.len());
+        self.evaluate_into(t, &mut out);
+        out
+    }
+}
+
+impl<'a> Part<'a> {
+    /// Compiles consecutive tracks.
+    fn new(tracks: &'a [Track]) -> Part<'a> {
         let total: usize = tracks.iter().map(|t| t.motions.len()).sum();
         let count = |f: fn(&Track) -> usize| tracks.iter().map(f).sum::<usize>();
-        let mut s = Sampler {
+        let mut s = Part {
             offsets: Vec::with_capacity(tracks.len() + 1),
             t0s: Vec::with_capacity(total),
             settled: Vec::with_capacity(total),
@@ -302,13 +415,13 @@ impl<'a> Sampler<'a> {
             // At most one inverse per segment; pages never written are never faulted in.
             inverses: Vec::with_capacity(total),
             eases: Vec::new(),
-            slots: 0,
+            shared: Vec::new(),
             fill: Channel::with_capacity(count(|t| t.fill.len())),
             stroke: Channel::with_capacity(count(|t| t.stroke.len())),
             opacity: Channel::with_capacity(count(|t| t.opacity.len())),
             width: Channel::with_capacity(count(|t| t.stroke_width.len())),
         };
-        let mut slots = std::collections::HashMap::new();
+        let mut slots = HashMap::new();
         for track in tracks {
             s.offsets.push(s.here());
             s.add_track(track, &mut slots);
@@ -318,8 +431,19 @@ impl<'a> Sampler<'a> {
             s.width.extend(&track.stroke_width, &mut s.eases);
         }
         s.offsets.push(s.here());
-        s.slots = slots.len();
         s
+    }
+
+    /// Number of shapes.
+    fn len(&self) -> usize {
+        self.offsets.len() - 1
+    }
+
+    /// Each shape's cursors before anything has started.
+    fn cursors(&self) -> impl Iterator<Item = [u32; 5]> + '_ {
+        self.offsets[..self.len()]
+            .iter()
+            .map(|o| [o.windows, o.fill, o.stroke, o.opacity, o.width])
     }
 
     fn here(&self) -> Offsets {
@@ -333,7 +457,7 @@ impl<'a> Sampler<'a> {
     }
 
     /// Adds one track; `slots` maps shared component lists (by address) to their slot.
-    fn add_track(&mut self, track: &'a Track, slots: &mut std::collections::HashMap<usize, u32>) {
+    fn add_track(&mut self, track: &'a Track, slots: &mut HashMap<usize, u32>) {
         let m = &track.motions;
         let mut i = 0;
         while i < m.len() {
@@ -359,8 +483,11 @@ impl<'a> Sampler<'a> {
                             .any(|c| matches!(c, Component::Rotate(_) | Component::Skew(..)));
                         // The blend is what lookups share (the list inside it is held once).
                         let slot = if trig && std::sync::Arc::strong_count(blend) > 1 {
-                            let next = slots.len() as u32;
-                            *slots.entry(blend.as_ptr() as usize).or_insert(next)
+                            let shared = &mut self.shared;
+                            *slots.entry(blend.as_ptr() as usize).or_insert_with(|| {
+                                shared.push(blend.as_ptr() as usize);
+                                shared.len() as u32 - 1
+                            })
                         } else {
                             NO_SLOT
                         };
@@ -469,21 +596,6 @@ impl<'a> Sampler<'a> {
         })
     }
 
-    /// Number of shapes.
-    pub fn len(&self) -> usize {
-        self.offsets.len() - 1
-    }
-
-    /// True when the animation has no shapes.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
-    /// Shape `i`'s rigid transform at `t` (equal to `tracks[i].transform_at(t)`).
-    pub fn transform_at(&self, i: usize, t: f64) -> Affine {
-        self.transform(self.offsets[i].windows, self.offsets[i + 1].windows, t)
-    }
-
     #[inline(always)]
     fn transform(&self, lo: u32, hi: u32, t: f64) -> Affine {
         let Some(w) = current(&self.t0s, lo, hi, t) else {
@@ -523,25 +635,9 @@ impl<'a> Sampler<'a> {
         self.fold((a, b), start, t, products)
     }
 
-    /// A playhead for evaluating frames in time order.
-    pub fn playhead(&self) -> Playhead<'_, 'a> {
-        let n = self.len();
-        Playhead {
-            sampler: self,
-            last: f64::NEG_INFINITY,
-            cursors: self.offsets[..n]
-                .iter()
-                .map(|o| [o.windows, o.fill, o.stroke, o.opacity, o.width])
-                .collect(),
-            quiet: vec![f64::NEG_INFINITY; n],
-            states: vec![ShapeState::REST; n],
-            products: vec![(EMPTY_SLOT, Affine::IDENTITY); self.slots],
-        }
-    }
-
-    /// Shape `i`'s state at `t` (equal to `tracks[i].state_at(t)`).
+    /// The part's shape `i`'s state at `t`.
     #[inline]
-    pub fn state_at(&self, i: usize, t: f64) -> ShapeState {
+    fn state_at(&self, i: usize, t: f64) -> ShapeState {
         let (a, b) = (self.offsets[i], self.offsets[i + 1]);
         let e = &self.eases[..];
         ShapeState {
@@ -551,19 +647,6 @@ impl<'a> Sampler<'a> {
             opacity: self.opacity.at(a.opacity, b.opacity, t, 1.0, e),
             stroke_width: self.width.at(a.width, b.width, t, 1.0, e),
         }
-    }
-
-    /// Every shape's state at `t`, written into `out` (cleared first).
-    pub fn evaluate_into(&self, t: f64, out: &mut Vec<ShapeState>) {
-        out.clear();
-        out.extend((0..self.len()).map(|i| self.state_at(i, t)));
-    }
-
-    /// Every shape's state at `t`.
-    pub fn evaluate(&self, t: f64) -> Vec<ShapeState> {
-        let mut out = Vec::with_capacity(self.len());
-        self.evaluate_into(t, &mut out);
-        out
     }
 }
 
@@ -597,19 +680,44 @@ impl Playhead<'_, '_> {
         let s = self.sampler;
         // Going back (or NaN, which is then evaluated from scratch as the reference does).
         if t < self.last || t.is_nan() {
-            for (c, o) in self.cursors.iter_mut().zip(&s.offsets) {
-                *c = [o.windows, o.fill, o.stroke, o.opacity, o.width];
+            for (c, start) in self
+                .cursors
+                .iter_mut()
+                .zip(s.parts.iter().flat_map(Part::cursors))
+            {
+                *c = start;
             }
             self.quiet.fill(f64::NEG_INFINITY);
         }
         self.last = t;
-        let e = &s.eases[..];
         let shapes = self
             .states
+            .chunks_mut(PART)
+            .zip(self.quiet.chunks_mut(PART))
+            .zip(self.cursors.chunks_mut(PART));
+        for (((states, quiet), cursors), part) in shapes.zip(&s.parts) {
+            part.seek(t, states, quiet, cursors, &mut self.products);
+        }
+        &self.states
+    }
+}
+
+impl Part<'_> {
+    /// [`Playhead::seek`] over this part's shapes.
+    fn seek(
+        &self,
+        t: f64,
+        states: &mut [ShapeState],
+        quiet: &mut [f64],
+        cursors: &mut [[u32; 5]],
+        products: &mut Products,
+    ) {
+        let e = &self.eases[..];
+        let shapes = states
             .iter_mut()
-            .zip(&mut self.quiet)
-            .zip(&mut self.cursors)
-            .zip(s.offsets.windows(2));
+            .zip(quiet)
+            .zip(cursors)
+            .zip(self.offsets.windows(2));
         for (((state, quiet), c), o) in shapes {
             if t < *quiet {
                 continue;
@@ -617,27 +725,22 @@ impl Playhead<'_, '_> {
             let (a, b) = (o[0], o[1]);
             let mut q = f64::INFINITY;
             *state = ShapeState {
-                transform: s.transform_step(
-                    &mut self.products,
-                    &mut c[0],
-                    a.windows,
-                    b.windows,
-                    t,
-                    &mut q,
-                ),
-                fill: s
+                transform: self
+                    .transform_step(products, &mut c[0], a.windows, b.windows, t, &mut q),
+                fill: self
                     .fill
                     .step(&mut c[1], a.fill, b.fill, t, Tint::NONE, e, &mut q),
-                stroke: s
+                stroke: self
                     .stroke
                     .step(&mut c[2], a.stroke, b.stroke, t, Tint::NONE, e, &mut q),
-                opacity: s
+                opacity: self
                     .opacity
                     .step(&mut c[3], a.opacity, b.opacity, t, 1.0, e, &mut q),
-                stroke_width: s.width.step(&mut c[4], a.width, b.width, t, 1.0, e, &mut q),
+                stroke_width: self
+                    .width
+                    .step(&mut c[4], a.width, b.width, t, 1.0, e, &mut q),
             };
             *quiet = q;
         }
-        &self.states
     }
 }
