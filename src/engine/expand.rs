@@ -278,6 +278,10 @@ fn pick(program: &Program, cands: &[usize], r: f64) -> usize {
     *cands.last().expect("candidates are never empty")
 }
 
+/// Steps on at least this many shapes run in parallel; below, handing work to other
+/// threads costs more than it saves.
+pub const PARALLEL_SHAPES: usize = 256;
+
 /// Expands every timeline.
 pub fn expand(
     scene: &Scene,
@@ -375,7 +379,7 @@ pub fn expand(
         // Shapes expand independently; a large step runs in parallel with a cache per
         // worker. New slices carry unresolved tags, resolved below in shape order so tag
         // ids are numbered by first creation whatever the thread count.
-        let results: Vec<(usize, ShapeResult)> = if shapes.len() >= 256 {
+        let results: Vec<(usize, ShapeResult)> = if shapes.len() >= PARALLEL_SHAPES {
             taken
                 .into_par_iter()
                 .map_init(StepCache::new, |cache, (si, old)| {

@@ -106,6 +106,25 @@ pub fn run(
     grammar: &Grammar,
     opts: &RunOptions,
 ) -> Result<(Animation, RunStats), EngineError> {
+    // The whole run happens on a worker of the thread pool. Expansion alternates short
+    // serial parts with parallel steps (a hundred and more); called from outside the pool,
+    // every step would hand its work to a worker and put the caller to sleep until it is
+    // done, and those wake-ups cost more than a small step. Inside, a step's halves are
+    // queued where the other workers steal them, and this worker never waits idle. Small
+    // scenes expand serially and skip the one hand-over (a wake-up is a good part of
+    // their whole run).
+    if scene.shapes.len() < expand::PARALLEL_SHAPES {
+        run_here(scene, grammar, opts)
+    } else {
+        rayon::scope(|_| run_here(scene, grammar, opts))
+    }
+}
+
+fn run_here(
+    scene: Scene,
+    grammar: &Grammar,
+    opts: &RunOptions,
+) -> Result<(Animation, RunStats), EngineError> {
     let mut settings = settings::from_grammar(grammar)?;
     if let Some(s) = opts.seed {
         settings.seed = s;
