@@ -193,6 +193,9 @@ fn phases(c: &mut Criterion) {
         let s = scene(n, tags);
         let src = grammar(tags, dur, fps);
         let g = gmotion::grammar::parse(&src).expect("parses");
+        group.bench_function(format!("{name}/parse"), |b| {
+            b.iter(|| gmotion::grammar::parse(black_box(&src)).expect("parses"))
+        });
         group.bench_function(format!("{name}/expand"), |b| {
             b.iter_batched(
                 || s.clone(),
