@@ -135,9 +135,9 @@ const NO_SLOT: u32 = u32::MAX;
 
 /// The last product of each shared component list, by slot: `(progress bits, product)`.
 ///
-/// A rule applied to many shapes gives all of them one grid lookup (a shared [`super::Blend`]
-/// when the grid is constant), and shapes whose slices line up reach the same progress at every instant. Evaluating the
-/// shapes of a frame one after the other, the product (with its sines and tangents) is then
+/// A rule applied to many shapes gives all of them one grid lookup (a shared
+/// [`super::Blend`] when the grid is constant), and shapes whose slices line up reach the
+/// same progress at every instant. Evaluating the shapes of a frame one after the other, the product (with its sines and tangents) is then
 /// computed once per frame instead of once per shape. A slot is reused only for the very
 /// same progress bits, and the product is a pure function of the list and the progress, so
 /// the result is bit for bit what computing it gives.
@@ -277,15 +277,15 @@ impl<T: Blendable> Channel<T> {
     }
 }
 
-/// Shapes per [`Part`]. Parts are compiled in parallel; a few hundred shapes amortise the
+/// Shapes per [`Part`]. Parts are compiled in parallel; a thousand shapes amortise the
 /// hand-over to a thread, and 8k-shape scenes still give every core several parts.
 const PART: usize = 1024;
 
 /// Every track of an animation compiled for repeated sampling. Borrows the animation.
 ///
 /// The shapes are cut into parts of a thousand-odd consecutive shapes, compiled in
-/// parallel and each laid out flat; evaluation walks them in order, so a frame still reads memory
-/// forward.
+/// parallel and each laid out flat; evaluation walks them in order, so a frame still reads
+/// memory forward.
 pub struct Sampler<'a> {
     parts: Vec<Part<'a>>,
     /// Number of shapes.
@@ -344,15 +344,17 @@ impl<'a> Sampler<'a> {
                     .collect()
             })
             .collect();
-        let relabel = |(part, ids): (&mut Part, &Vec<u32>)| {
-            for s in part.segs.iter_mut().filter(|s| s.slot != NO_SLOT) {
-                s.slot = ids[s.slot as usize];
-            }
-        };
+        // The first part numbered its lists from 0 in this same order, so its slots
+        // already are the global ones (and a small animation, one part, needs no threads).
         if parts.len() > 1 {
-            parts.par_iter_mut().zip(&renumber).for_each(relabel);
-        } else {
-            parts.iter_mut().zip(&renumber).for_each(relabel);
+            parts[1..]
+                .par_iter_mut()
+                .zip(&renumber[1..])
+                .for_each(|(part, ids)| {
+                    for s in part.segs.iter_mut().filter(|s| s.slot != NO_SLOT) {
+                        s.slot = ids[s.slot as usize];
+                    }
+                });
         }
         Sampler {
             parts,
