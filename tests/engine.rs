@@ -467,6 +467,91 @@ fn large_steps_expand_the_same_on_any_number_of_threads() {
     assert_eq!(one, two);
 }
 
+/// Shapes expand independently (in parallel), but an error is the one expanding step after
+/// step meets first: the earliest step's, even when a shape earlier in the scene fails at a
+/// later step.
+#[test]
+fn the_earliest_steps_error_is_reported() {
+    let items: Vec<(&str, (f64, f64), f64)> = (0..100)
+        .map(|i| ("s", ((i % 10) as f64 * 30.0, (i / 10) as f64 * 30.0), 4.0))
+        .collect();
+    // Step 1 (slice tag `a`) fails on the last shape only, step 2 (`b`) on the first only.
+    let src = "duration 2s\n\
+        timesplit(0.5, 0.5) : [all, s] -> [a, b]\n\
+        animate(opacity, local, 0, 0.5 + 0 * sqrt(98.5 - id)) : [a, s] -> [m]\n\
+        animate(opacity, local, 0, 0.5 + 0 * sqrt(id - 0.5)) : [b, s] -> [n]\n";
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let err = pool.install(|| animate(scene(&items), src)).unwrap_err();
+        assert_eq!(
+            err.span.map(|s| s.line),
+            Some(3),
+            "{threads} threads: {err}"
+        );
+    }
+    // Without the step-1 failure, the step-2 one is reported.
+    let err = animate(scene(&items), &src.replace("98.5 - id", "id + 1")).unwrap_err();
+    assert_eq!(err.span.map(|s| s.line), Some(4), "{err}");
+}
+
+/// With `choice shape` each shape draws its own rule, and what follows a rule applies only
+/// to the shapes that drew it: shapes moved right turn red, shapes moved down keep their
+/// colour and then grow, whatever the number of threads.
+#[test]
+fn per_shape_choice_follows_each_shapes_own_draws() {
+    let items: Vec<(&str, (f64, f64), f64)> = (0..300)
+        .map(|i| {
+            (
+                ["p", "q"][i % 2],
+                ((i % 20) as f64 * 15.0, (i / 20) as f64 * 15.0),
+                4.0,
+            )
+        })
+        .collect();
+    let src = "duration 2s\nchoice shape\n\
+        timesplit(0.5, 0.5) : [all, all] -> [a, b]\n\
+        animate(affine, world, 0, translate(10, 0)) : [a, all] -> [right]\n\
+        animate(affine, world, 0, translate(0, 10)) : [a, all] -> [down] weight=2\n\
+        animate(fill, local, 0, #ff0000) : [right, all] -> [red]\n\
+        animate(affine, local, 0, scale(2)) : [down, q] -> [big]\n\
+        animate(opacity, local, 0, 0.5) : [b, all] -> [faded]\n";
+    let run_on = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| animate(scene(&items), src).unwrap())
+    };
+    let a = run_on(2);
+    let (mut right, mut down) = (0, 0);
+    for (i, shape) in a.scene.shapes.iter().enumerate() {
+        let end = a.tracks[i].state_at(2.0);
+        let moved = end.transform * shape.centroid - shape.centroid;
+        let red = end.fill != a.tracks[i].state_at(0.0).fill;
+        if (moved.x - 10.0).abs() < 1e-9 && moved.y.abs() < 1e-9 {
+            right += 1;
+            assert!(red, "shape {i} moved right but did not turn red");
+        } else {
+            down += 1;
+            assert!(
+                (moved.y - 10.0).abs() < 1e-9 && moved.x.abs() < 1e-9,
+                "shape {i}: {moved:?}"
+            );
+            assert!(!red, "shape {i} moved down but turned red");
+            let grew = end.transform.determinant() > 3.9;
+            assert_eq!(grew, shape.tag == "q", "shape {i} ({}): scale", shape.tag);
+        }
+        assert!((end.opacity - 0.5).abs() < 1e-9, "shape {i}: opacity");
+    }
+    // Both rules drawn, about 1 : 2.
+    assert!(right > 60 && down > 130, "right {right}, down {down}");
+    let one = run_on(1);
+    assert_eq!(format!("{:?}", a.tracks), format!("{:?}", one.tracks));
+}
+
 /// `Track::deform` (used for shapes that deform per vertex) must compose motions that share
 /// a slice in the same order as `Track::transform_at`: on a rigid-only track both move every
 /// point alike.

@@ -5,10 +5,9 @@
 use std::sync::Arc;
 
 use kurbo::{Affine, Point};
-use rayon::prelude::*;
 
 use crate::motion::{AttrSeg, Lookup, MotionKind, MotionSeg, Timing, Tint, Track};
-use crate::scene::{Scene, Shape};
+use crate::scene::Shape;
 
 use super::expand::{AnimInst, AnimSpec, Slice};
 
@@ -66,24 +65,6 @@ impl<K: PartialEq, V> VecMap<K, V> {
     }
 }
 
-/// Compiles every timeline (in parallel; the result does not depend on thread count).
-/// Takes the timelines so each is freed by the thread that compiled it.
-pub fn compile(scene: &Scene, timelines: Vec<Vec<Slice>>) -> Vec<Track> {
-    // Below a few hundred shapes waking the thread pool costs more than it saves.
-    if timelines.len() < 512 {
-        return timelines
-            .into_iter()
-            .zip(&scene.shapes)
-            .map(|(slices, shape)| compile_one(shape, &slices))
-            .collect();
-    }
-    timelines
-        .into_par_iter()
-        .zip(scene.shapes.par_iter())
-        .map(|(slices, shape)| compile_one(shape, &slices))
-        .collect()
-}
-
 fn timing(a: &AnimInst) -> Timing {
     Timing {
         start: a.start,
@@ -94,7 +75,8 @@ fn timing(a: &AnimInst) -> Timing {
     }
 }
 
-fn compile_one(shape: &Shape, slices: &[Slice]) -> Track {
+/// Compiles one shape's timeline into its track.
+pub fn track(shape: &Shape, slices: &[Slice]) -> Track {
     let mut track = Track::default();
     // Reserve each channel's segments up front: one per (slice, change) of that kind.
     let mut counts = [0usize; 5];

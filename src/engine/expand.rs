@@ -3,24 +3,28 @@
 //! lowest slice tag (tags numbered by first creation, so expansion is breadth-first) on the
 //! shapes with the lowest shape tag (lexicographic), together with their `inv_` twins,
 //! chooses one rule among the highest-priority matches and applies it to all of them.
+//!
+//! That order is worked out on tags alone first (in the `plan` module); then every shape runs
+//! through its own list of steps, evaluating its values, shapes in parallel. The result is
+//! the same as applying the steps one after the other to all shapes.
 
-use std::collections::{BTreeSet, HashMap};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 use kurbo::{BezPath, Point, Vec2};
 use rayon::prelude::*;
 
 use crate::color::Color;
-use crate::grammar::ast::{Expr, ExprKind, TagRef};
+use crate::grammar::ast::{Expr, ExprKind};
 use crate::grammar::value::{Env, Value, eval};
 use crate::motion::{Component, Field, Grid, Interp, Lookup};
 use crate::scene::{Scene, Shape};
 use crate::signals::Easing;
 
 use super::EngineError;
+use super::plan::Plan;
 use super::random::{hash_str, key, noise2, unit};
 use super::rules::{AnimType, CRule, Op, Program};
-use super::settings::{Choice, Settings};
+use super::settings::Settings;
 
 /// What an `animate` rule set on a slice, resolved for one shape.
 #[derive(Clone, Debug)]
@@ -203,84 +207,9 @@ impl GridCache {
     }
 }
 
-/// Slice tag registry: ids in order of first creation.
-struct Tags {
-    names: Vec<String>,
-    ids: HashMap<String, u32>,
-    /// Ids of each rule's outputs once looked up, by rule position and output index, so the
-    /// per-shape loop does not hash tag names. Looked up lazily, so ids are still numbered
-    /// in order of first creation.
-    outputs: Vec<Vec<Option<u32>>>,
-}
-
-impl Tags {
-    fn id(&mut self, name: &str) -> u32 {
-        if let Some(&i) = self.ids.get(name) {
-            return i;
-        }
-        let i = self.names.len() as u32;
-        self.names.push(name.to_string());
-        self.ids.insert(name.to_string(), i);
-        i
-    }
-
-    /// The id of output `j` of rule `rule` (its position in the program).
-    fn output(&mut self, rule: &CRule, pos: usize, j: usize) -> u32 {
-        if let Some(id) = self.outputs[pos][j] {
-            return id;
-        }
-        let id = self.id(&rule.outputs[j].name);
-        self.outputs[pos][j] = Some(id);
-        id
-    }
-}
-
-/// Caches which rules match a (slice tag, shape tag) pair, in a table indexed by both ids.
-struct Matcher<'a> {
-    program: &'a Program,
-    shape_tags: usize,
-    cache: Vec<Option<Arc<[usize]>>>,
-}
-
-impl Matcher<'_> {
-    fn get(
-        &mut self,
-        slice_tag: u32,
-        shape_tag: u32,
-        tags: &Tags,
-        shape_tags: &[String],
-    ) -> &Arc<[usize]> {
-        let i = slice_tag as usize * self.shape_tags + shape_tag as usize;
-        if self.cache.len() <= i {
-            self.cache.resize(i + 1, None);
-        }
-        let program = self.program;
-        self.cache[i].get_or_insert_with(|| {
-            program
-                .candidates(
-                    &tags.names[slice_tag as usize],
-                    &shape_tags[shape_tag as usize],
-                )
-                .into()
-        })
-    }
-}
-
-fn pick(program: &Program, cands: &[usize], r: f64) -> usize {
-    let total: f64 = cands.iter().map(|&i| program.rules[i].weight).sum();
-    let mut x = r * total;
-    for &i in cands {
-        x -= program.rules[i].weight;
-        if x < 0.0 {
-            return i;
-        }
-    }
-    *cands.last().expect("candidates are never empty")
-}
-
-/// Steps on at least this many shapes run in parallel; below, handing work to other
-/// threads costs more than it saves.
-pub const PARALLEL_SHAPES: usize = 256;
+/// Shapes from which expansion runs in parallel; below, handing work to other threads
+/// costs more than it saves.
+pub const PARALLEL_SHAPES: usize = 64;
 
 /// Expands every timeline.
 pub fn expand(
@@ -288,196 +217,84 @@ pub fn expand(
     program: &Program,
     settings: &Settings,
 ) -> Result<Expansion, EngineError> {
-    let mut shape_tag_names: Vec<String> = scene.shapes.iter().map(|s| s.tag.clone()).collect();
-    shape_tag_names.sort();
-    shape_tag_names.dedup();
-    let shape_tag_of: Vec<u32> = scene
-        .shapes
-        .iter()
-        .map(|s| shape_tag_names.binary_search(&s.tag).expect("tag listed") as u32)
-        .collect();
-    let mut shapes_by_tag: Vec<Vec<usize>> = vec![Vec::new(); shape_tag_names.len()];
-    for (i, &t) in shape_tag_of.iter().enumerate() {
-        shapes_by_tag[t as usize].push(i);
-    }
-
-    let mut tags = Tags {
-        names: Vec::new(),
-        ids: HashMap::new(),
-        outputs: program
-            .rules
-            .iter()
-            .map(|r| vec![None; r.outputs.len()])
-            .collect(),
-    };
-    let all = tags.id("all");
-    let mut matcher = Matcher {
-        program,
-        shape_tags: shape_tag_names.len(),
-        cache: Vec::new(),
-    };
-    let no_anims: Arc<[Arc<AnimInst>]> = Arc::from([]);
-    let mut timelines: Vec<Vec<Slice>> = scene
-        .shapes
-        .iter()
-        .map(|_| {
-            vec![Slice {
-                tag: all,
-                inverted: false,
-                t0: 0.0,
-                dur: settings.duration,
-                anims: no_anims.clone(),
-            }]
-        })
-        .collect();
-
-    // Count of non-terminal slices per (shape tag, slice tag); the first key is the next step.
-    let mut pending: BTreeSet<(u32, u32)> = BTreeSet::new();
-    for st in 0..shapes_by_tag.len() {
-        if !matcher
-            .get(all, st as u32, &tags, &shape_tag_names)
-            .is_empty()
-        {
-            pending.insert((st as u32, all));
-        }
-    }
-
-    let mut rule_uses = vec![0; program.rules.iter().map(|r| r.index + 1).max().unwrap_or(0)];
-    let mut history: Vec<usize> = Vec::new();
-    let mut steps = 0;
-    // Whether each rule's arguments are the same for every shape (by rule position).
-    let shareable: Vec<bool> = program.rules.iter().map(spec_is_shareable).collect();
-    let mut created: Vec<u32> = Vec::new();
-    while let Some((shape_tag, slice_tag)) = pending.pop_first() {
-        if steps >= settings.max_steps {
-            return Err(cycle_error(program, &history, settings.max_steps));
-        }
-        let cands = matcher
-            .get(slice_tag, shape_tag, &tags, &shape_tag_names)
-            .clone();
-        let step_rule = pick(
-            program,
-            &cands,
-            unit(key(&[settings.seed, 0x5EED, steps as u64])),
-        );
-        let shapes = &shapes_by_tag[shape_tag as usize];
-        let job = Step {
-            scene,
-            program,
-            settings,
-            shareable: &shareable,
-            cands: &cands,
-            step_rule,
-            slice_tag,
-            step: steps,
-            n: shapes.len(),
-        };
-        let taken: Vec<(usize, Vec<Slice>)> = shapes
-            .iter()
-            .map(|&si| (si, std::mem::take(&mut timelines[si])))
-            .collect();
-        // Shapes expand independently; a large step runs in parallel with a cache per
-        // worker. New slices carry unresolved tags, resolved below in shape order so tag
-        // ids are numbered by first creation whatever the thread count.
-        let results: Vec<(usize, ShapeResult)> = if shapes.len() >= PARALLEL_SHAPES {
-            taken
-                .into_par_iter()
-                .map_init(StepCache::new, |cache, (si, old)| {
-                    (si, job.shape(si, old, cache))
-                })
-                .collect()
-        } else {
-            let mut cache = StepCache::new();
-            taken
-                .into_iter()
-                .map(|(si, old)| (si, job.shape(si, old, &mut cache)))
-                .collect()
-        };
-        let mut applied = Vec::new();
-        created.clear();
-        for (si, result) in results {
-            let (mut timeline, rule_i) = result?;
-            let rule = &program.rules[rule_i];
-            for s in timeline.iter_mut() {
-                if let Some(o) = output_index(s.tag) {
-                    s.tag = tags.output(rule, rule_i, o);
-                    if !created.contains(&s.tag) {
-                        created.push(s.tag);
-                    }
-                }
-            }
-            timelines[si] = timeline;
-            if !applied.contains(&rule_i) {
-                applied.push(rule_i);
-            }
-        }
-        for &tag in &created {
-            if !matcher
-                .get(tag, shape_tag, &tags, &shape_tag_names)
-                .is_empty()
-            {
-                pending.insert((shape_tag, tag));
-            }
-        }
-        for r in applied {
-            rule_uses[program.rules[r].index] += 1;
-            history.push(r);
-        }
-        steps += 1;
-    }
+    let (timelines, stats) = expand_each(scene, program, settings, |_, timeline| timeline)?;
     Ok(Expansion {
         timelines,
-        slice_tags: tags.names,
-        steps,
-        rule_uses,
+        slice_tags: stats.slice_tags,
+        steps: stats.steps,
+        rule_uses: stats.rule_uses,
     })
 }
 
-/// The shortest repeating tail of the rule history, named, as the error for a grammar that
-/// does not terminate.
-fn cycle_error(program: &Program, history: &[usize], max: usize) -> EngineError {
-    let tail = &history[history.len().saturating_sub(64)..];
-    let period = (1..=tail.len() / 2)
-        .find(|&p| tail.windows(p + 1).all(|w| w[0] == w[p]))
-        .unwrap_or(tail.len().min(8));
-    let mut cycle: Vec<usize> = tail[tail.len() - period..].to_vec();
-    cycle.dedup();
-    let first = cycle.first().map(|&r| program.rules[r].span);
-    let mut e = EngineError {
-        span: first,
-        message: format!(
-            "the grammar did not terminate within {max} expansion steps (raise `max_steps` or --max-steps if it is just large); these rules keep rewriting each other's output"
-        ),
-        notes: Vec::new(),
+/// What [`expand_each`] reports besides its results.
+#[derive(Clone, Debug)]
+pub struct ExpandStats {
+    /// Slice tag names by id (creation order; `all` is 0).
+    pub slice_tags: Vec<String>,
+    /// Steps taken.
+    pub steps: usize,
+    /// Uses per grammar rule index.
+    pub rule_uses: Vec<usize>,
+}
+
+/// Expands every shape's timeline and hands it to `finish(shape index, timeline)` on the
+/// thread that built it, while it is still in that core's cache; returns what `finish`
+/// made, in shape order.
+///
+/// The steps are planned first on tags alone; then each shape runs through its
+/// whole history at once, shapes in parallel. The result and, on failure, the error are
+/// those of expanding step after step: the error reported is the one of the earliest step,
+/// on the first shape in scene order that meets it.
+pub fn expand_each<T, F>(
+    scene: &Scene,
+    program: &Program,
+    settings: &Settings,
+    finish: F,
+) -> Result<(Vec<T>, ExpandStats), EngineError>
+where
+    T: Send + Default,
+    F: Fn(usize, Vec<Slice>) -> T + Sync,
+{
+    let plan = Plan::new(scene, program, settings)?;
+    let runner = Runner {
+        scene,
+        program,
+        settings,
+        plan: &plan,
+        shareable: program.rules.iter().map(spec_is_shareable).collect(),
+        no_anims: Arc::from([]),
     };
-    for r in cycle {
-        let rule = &program.rules[r];
-        let outs: Vec<_> = rule.outputs.iter().map(tag_text).collect();
-        e.notes.push(format!(
-            "line {}: {} : [{}, {}] -> [{}]",
-            rule.span.line,
-            op_name(&rule.op),
-            rule.slice_tags.join("|"),
-            rule.shape_tags.join("|"),
-            outs.join(", ")
-        ));
-    }
-    e
-}
-
-fn op_name(op: &Op) -> &'static str {
-    match op {
-        Op::Timesplit { .. } => "timesplit",
-        Op::Animate(_) => "animate",
-    }
-}
-
-fn tag_text(t: &TagRef) -> String {
-    if t.inverted {
-        format!("inv_{}", t.name)
+    // The earliest failure as (step, shape, error).
+    let failure: Mutex<Option<(usize, usize, EngineError)>> = Mutex::new(None);
+    let each = |caches: &mut Vec<StepCache>, si: usize| match runner.shape(si, caches) {
+        Ok(timeline) => finish(si, timeline),
+        Err((step, e)) => {
+            let mut f = failure.lock().unwrap_or_else(|p| p.into_inner());
+            if f.as_ref().is_none_or(|(s, i, _)| (step, si) < (*s, *i)) {
+                *f = Some((step, si, e));
+            }
+            T::default()
+        }
+    };
+    let caches = || (0..plan.keys).map(|_| StepCache::default()).collect();
+    let n = scene.shapes.len();
+    let out: Vec<T> = if n >= PARALLEL_SHAPES {
+        (0..n).into_par_iter().map_init(caches, each).collect()
     } else {
-        t.name.clone()
+        let mut c = caches();
+        (0..n).map(|si| each(&mut c, si)).collect()
+    };
+    if let Some((_, _, e)) = failure.into_inner().unwrap_or_else(|p| p.into_inner()) {
+        return Err(e);
     }
+    Ok((
+        out,
+        ExpandStats {
+            slice_tags: plan.slice_tags,
+            steps: plan.steps,
+            rule_uses: plan.rule_uses,
+        },
+    ))
 }
 
 fn num(e: &Expr, env: &mut ShapeEnv) -> Result<f64, EngineError> {
@@ -498,108 +315,80 @@ fn shape_note(shape: &Shape) -> String {
     format!("for shape `{}` #{}", shape.tag, shape.id)
 }
 
-/// Slice tags of new slices before their ids are assigned: output `o` of the shape's rule.
-const UNRESOLVED: u32 = u32::MAX - 4096;
-
-fn unresolved(o: usize) -> u32 {
-    UNRESOLVED + o as u32
-}
-
-fn output_index(tag: u32) -> Option<usize> {
-    (tag >= UNRESOLVED).then(|| (tag - UNRESOLVED) as usize)
-}
-
-/// A shape's timeline after a step, with the rule it used.
-type ShapeResult = Result<(Vec<Slice>, usize), EngineError>;
-
-/// What one expansion step applies to every shape of its shape tag.
-struct Step<'a> {
+/// Runs planned histories on shapes.
+struct Runner<'a> {
     scene: &'a Scene,
     program: &'a Program,
     settings: &'a Settings,
-    shareable: &'a [bool],
-    cands: &'a [usize],
-    /// The rule chosen for the step (every shape uses it unless `choice shape`).
-    step_rule: usize,
-    slice_tag: u32,
-    step: usize,
-    /// Shapes with this shape tag.
-    n: usize,
+    plan: &'a Plan,
+    /// Whether each rule's arguments are the same for every shape (by rule position).
+    shareable: Vec<bool>,
+    no_anims: Arc<[Arc<AnimInst>]>,
 }
 
-/// Values a worker keeps for the shapes of one step.
+/// Values a worker keeps for the shapes of one step and rule ([`Applied::key`]).
+#[derive(Default)]
 struct StepCache {
     grids: GridCache,
-    /// Shared specs, by rule position.
-    specs: Vec<Option<SharedSpec>>,
-    /// Shared split fractions, by rule position.
-    splits: Vec<Option<Arc<[f64]>>>,
+    /// The rule's spec, when it is the same for every shape.
+    spec: Option<SharedSpec>,
+    /// The rule's split fractions, when they are the same for every shape.
+    split: Option<Arc<[f64]>>,
 }
 
-impl StepCache {
-    fn new() -> StepCache {
-        StepCache {
-            grids: GridCache::default(),
-            specs: Vec::new(),
-            splits: Vec::new(),
-        }
-    }
-}
-
-impl Step<'_> {
-    /// Shape `si`'s timeline after the step, with the rule it used; new slices carry
-    /// [`unresolved`] tags.
-    fn shape(&self, si: usize, old: Vec<Slice>, cache: &mut StepCache) -> ShapeResult {
-        let (program, settings) = (self.program, self.settings);
-        let rules = program.rules.len();
-        cache.specs.resize(rules, None);
-        cache.splits.resize(rules, None);
+impl Runner<'_> {
+    /// Shape `si`'s timeline after every step of its history, or the first error with the
+    /// step that met it.
+    fn shape(
+        &self,
+        si: usize,
+        caches: &mut [StepCache],
+    ) -> Result<Vec<Slice>, (usize, EngineError)> {
+        let (plan, settings) = (self.plan, self.settings);
+        let class = plan.class_of[si] as usize;
         let shape = &self.scene.shapes[si];
-        let rule_i = match settings.choice {
-            Choice::Group => self.step_rule,
-            Choice::Shape => pick(
-                program,
-                self.cands,
-                unit(key(&[
-                    settings.seed,
-                    0x5EED,
-                    self.step as u64,
-                    hash_str(&shape.tag),
-                    shape.id as u64,
-                ])),
-            ),
-        };
-        let rule = &program.rules[rule_i];
-        let mut new = Vec::with_capacity(old.len() + rule.outputs.len());
-        for slice in old {
-            if slice.tag != self.slice_tag {
-                new.push(slice);
-                continue;
-            }
-            let mut env = ShapeEnv {
-                shape,
-                n: self.n,
-                canvas: (self.scene.width, self.scene.height),
-                t0: slice.t0,
-                d: slice.dur,
-                step: self.step,
-                seed: settings.seed,
-                draws: 0,
-            };
+        let n = plan.tag_sizes[plan.shape_tag_of[si] as usize];
+        // Two buffers as long as the final timeline, swapped at every step.
+        let mut timeline = Vec::with_capacity(plan.lens[class]);
+        let mut next = Vec::with_capacity(plan.lens[class]);
+        timeline.push(Slice {
+            tag: 0,
+            inverted: false,
+            t0: 0.0,
+            dur: settings.duration,
+            anims: self.no_anims.clone(),
+        });
+        for a in &plan.histories[class] {
             let mut ctx = Ctx {
-                rule,
-                pos: rule_i,
-                grids: &mut cache.grids,
-                specs: &mut cache.specs,
-                splits: &mut cache.splits,
-                shareable: self.shareable,
+                rule: &self.program.rules[a.rule],
+                outputs: &plan.outputs[a.rule],
+                cache: &mut caches[a.key],
+                shareable: self.shareable[a.rule],
                 settings,
                 scene: self.scene,
-                step: self.step,
+                step: a.step,
             };
-            apply(&mut ctx, &slice, &mut env, &mut new)?;
+            next.clear();
+            for slice in timeline.drain(..) {
+                if slice.tag != a.slice_tag {
+                    next.push(slice);
+                    continue;
+                }
+                let mut env = ShapeEnv {
+                    shape,
+                    n,
+                    canvas: (self.scene.width, self.scene.height),
+                    t0: slice.t0,
+                    d: slice.dur,
+                    step: a.step,
+                    seed: settings.seed,
+                    draws: 0,
+                };
+                apply(&mut ctx, &slice, &mut env, &mut next).map_err(|e| (a.step, e))?;
+            }
+            std::mem::swap(&mut timeline, &mut next);
         }
-        Ok((new, rule_i))
+        Ok(timeline)
     }
 }
 
@@ -614,15 +403,12 @@ struct SharedSpec {
 /// What applying a rule to one slice needs besides the slice and the shape.
 struct Ctx<'a> {
     rule: &'a CRule,
-    /// The rule's position in the program.
-    pos: usize,
-    grids: &'a mut GridCache,
-    /// Shared specs of this step, by rule position.
-    specs: &'a mut [Option<SharedSpec>],
-    /// Shared split fractions of this step, by rule position.
-    splits: &'a mut [Option<Arc<[f64]>>],
-    /// Whether each rule's spec can be shared, by rule position.
-    shareable: &'a [bool],
+    /// Slice tag ids of the rule's outputs.
+    outputs: &'a [u32],
+    /// What the shapes of this step and rule share.
+    cache: &'a mut StepCache,
+    /// Whether the rule's spec or split is the same for every shape.
+    shareable: bool,
     settings: &'a Settings,
     scene: &'a Scene,
     step: usize,
@@ -675,12 +461,12 @@ fn apply(
     let rule = ctx.rule;
     match &rule.op {
         Op::Timesplit { fractions: fs } => {
-            let cs = match &ctx.splits[ctx.pos] {
+            let cs = match &ctx.cache.split {
                 Some(cs) => cs.clone(),
                 None => {
                     let cs = fractions(rule, fs, env)?;
-                    if ctx.shareable[ctx.pos] {
-                        ctx.splits[ctx.pos] = Some(cs.clone());
+                    if ctx.shareable {
+                        ctx.cache.split = Some(cs.clone());
                     }
                     cs
                 }
@@ -697,7 +483,7 @@ fn apply(
                     slice.dur * c
                 };
                 out.push(Slice {
-                    tag: unresolved(o),
+                    tag: ctx.outputs[o],
                     inverted: out_tag.inverted ^ slice.inverted,
                     t0: t,
                     dur,
@@ -724,7 +510,7 @@ fn apply(
                     format!("the offset is a delay and cannot be negative, found {delay}"),
                 ));
             }
-            let SharedSpec { spec, ease } = match &ctx.specs[ctx.pos] {
+            let SharedSpec { spec, ease } = match &ctx.cache.spec {
                 Some(shared) => shared.clone(),
                 None => {
                     let ease = match ease {
@@ -733,8 +519,8 @@ fn apply(
                     };
                     let spec = spec(ctx, kind, *world, value, grid, lookup, interp, env)?;
                     let shared = SharedSpec { spec, ease };
-                    if ctx.shareable[ctx.pos] {
-                        ctx.specs[ctx.pos] = Some(shared.clone());
+                    if ctx.shareable {
+                        ctx.cache.spec = Some(shared.clone());
                     }
                     shared
                 }
@@ -751,7 +537,7 @@ fn apply(
                 reversed: inverted,
             });
             out.push(Slice {
-                tag: unresolved(0),
+                tag: ctx.outputs[0],
                 inverted,
                 t0: slice.t0,
                 dur: slice.dur,
@@ -810,7 +596,7 @@ fn spec(
             };
             let (cols, rows) = grid.unwrap_or(settings.grid);
             AnimSpec::Motion {
-                grid: ctx.grids.get(cols, rows, ctx.scene.canvas(), field),
+                grid: ctx.cache.grids.get(cols, rows, ctx.scene.canvas(), field),
                 world,
                 pivot_offset,
                 lookup: lookup.unwrap_or(settings.lookup),

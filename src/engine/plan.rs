@@ -1,0 +1,407 @@
+//! Planning an expansion on tags alone: which rule each step applies, to which slices, and
+//! what the new slices are called.
+//!
+//! Everything sequential about expansion (gMotion sec. 3.4/3.6) is decided by tags: the
+//! breadth-first order of steps, the random rule of each step, tag ids numbered by first
+//! creation, the bound on steps. Values never feed back into it. And under `choice group`
+//! every shape of a shape tag takes the same rule at every step, so all of them go through
+//! the same sequence of slice tags; under `choice shape`, the shapes that drew the same
+//! rules at every step do. Shapes with one such history form a *class*, and the plan steps
+//! through classes instead of shapes, without evaluating a single expression. What is left
+//! — each shape's values — is independent from shape to shape, so [`super::expand`] then
+//! runs each shape's whole history at once, all shapes in parallel.
+
+use std::collections::{BTreeSet, HashMap};
+use std::sync::Arc;
+
+use crate::grammar::ast::TagRef;
+use crate::scene::Scene;
+
+use super::EngineError;
+use super::random::{hash_str, key, unit};
+use super::rules::{CRule, Op, Program};
+use super::settings::{Choice, Settings};
+
+/// One step as a class of shapes goes through it.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Applied {
+    /// The expansion step.
+    pub step: usize,
+    /// The slice tag it rewrites.
+    pub slice_tag: u32,
+    /// The rule, by position in the program.
+    pub rule: usize,
+    /// Number of the (step, rule) pair: values a step shares between its shapes are
+    /// cached under it.
+    pub key: usize,
+}
+
+/// The outcome of planning.
+pub(super) struct Plan {
+    /// Each shape's class.
+    pub class_of: Vec<u32>,
+    /// Per class: the steps its shapes go through, in order.
+    pub histories: Vec<Vec<Applied>>,
+    /// Per class: how many slices its shapes end with (none split away, so also the most
+    /// they have at any point).
+    pub lens: Vec<usize>,
+    /// Each shape's shape tag, and the number of shapes per shape tag (`n` in expressions).
+    pub shape_tag_of: Vec<u32>,
+    /// Shapes per shape tag.
+    pub tag_sizes: Vec<usize>,
+    /// Slice tag ids of each rule's outputs, by rule position and output.
+    pub outputs: Vec<Vec<u32>>,
+    /// Number of [`Applied::key`]s.
+    pub keys: usize,
+    /// Slice tag names by id (creation order; `all` is 0).
+    pub slice_tags: Vec<String>,
+    /// Steps taken.
+    pub steps: usize,
+    /// Uses per grammar rule index.
+    pub rule_uses: Vec<usize>,
+}
+
+/// A class of shapes while planning: its slices' tags (with their `inv_` flag) in time
+/// order, and the steps that made them.
+#[derive(Clone, Default)]
+struct Class {
+    slices: Vec<(u32, bool)>,
+    history: Vec<Applied>,
+}
+
+/// Slice tag registry: ids in order of first creation.
+struct Tags {
+    names: Vec<String>,
+    ids: HashMap<String, u32>,
+    /// Ids of each rule's outputs once looked up, by rule position and output index.
+    /// Looked up lazily, so ids are still numbered in order of first creation.
+    outputs: Vec<Vec<Option<u32>>>,
+}
+
+impl Tags {
+    fn id(&mut self, name: &str) -> u32 {
+        if let Some(&i) = self.ids.get(name) {
+            return i;
+        }
+        let i = self.names.len() as u32;
+        self.names.push(name.to_string());
+        self.ids.insert(name.to_string(), i);
+        i
+    }
+
+    /// The id of output `j` of rule `rule` (its position in the program).
+    fn output(&mut self, rule: &CRule, pos: usize, j: usize) -> u32 {
+        if let Some(id) = self.outputs[pos][j] {
+            return id;
+        }
+        let id = self.id(&rule.outputs[j].name);
+        self.outputs[pos][j] = Some(id);
+        id
+    }
+}
+
+/// Caches which rules match a (slice tag, shape tag) pair, in a table indexed by both ids.
+struct Matcher<'a> {
+    program: &'a Program,
+    shape_tags: &'a [String],
+    cache: Vec<Option<Arc<[usize]>>>,
+}
+
+impl Matcher<'_> {
+    fn get(&mut self, slice_tag: u32, shape_tag: u32, tags: &Tags) -> &Arc<[usize]> {
+        let i = slice_tag as usize * self.shape_tags.len() + shape_tag as usize;
+        if self.cache.len() <= i {
+            self.cache.resize(i + 1, None);
+        }
+        let (program, shape_tags) = (self.program, self.shape_tags);
+        self.cache[i].get_or_insert_with(|| {
+            program
+                .candidates(
+                    &tags.names[slice_tag as usize],
+                    &shape_tags[shape_tag as usize],
+                )
+                .into()
+        })
+    }
+}
+
+/// A rule among `cands` drawn by weight with `r` in [0, 1).
+fn pick(program: &Program, cands: &[usize], r: f64) -> usize {
+    let total: f64 = cands.iter().map(|&i| program.rules[i].weight).sum();
+    let mut x = r * total;
+    for &i in cands {
+        x -= program.rules[i].weight;
+        if x < 0.0 {
+            return i;
+        }
+    }
+    *cands.last().expect("candidates are never empty")
+}
+
+/// What one step rewrites: its slice tag and step number.
+struct StepAt {
+    step: usize,
+    slice_tag: u32,
+}
+
+/// Rewrites a class's slices as rule `pos` does at a step, naming the new slices (which
+/// numbers tags met for the first time) and noting each new tag in `created` once.
+fn rewrite(
+    class: &mut Class,
+    program: &Program,
+    pos: usize,
+    at: StepAt,
+    key: usize,
+    tags: &mut Tags,
+    created: &mut Vec<u32>,
+) {
+    let rule = &program.rules[pos];
+    let k = match &rule.op {
+        Op::Timesplit { fractions } => fractions.len(),
+        Op::Animate(_) => 1,
+    };
+    let mut slices = Vec::with_capacity(class.slices.len() + k - 1);
+    for &(tag, inverted) in &class.slices {
+        if tag != at.slice_tag {
+            slices.push((tag, inverted));
+            continue;
+        }
+        for j in 0..k {
+            // On an inverted slice a split is mirrored: pieces in reverse, tags inverted.
+            let o = if inverted { k - 1 - j } else { j };
+            let id = tags.output(rule, pos, o);
+            if !created.contains(&id) {
+                created.push(id);
+            }
+            slices.push((id, rule.outputs[o].inverted ^ inverted));
+        }
+    }
+    class.slices = slices;
+    class.history.push(Applied {
+        step: at.step,
+        slice_tag: at.slice_tag,
+        rule: pos,
+        key,
+    });
+}
+
+impl Plan {
+    /// Plans the expansion of every shape of `scene`; fails on a grammar that does not
+    /// terminate within `settings.max_steps` steps.
+    pub fn new(scene: &Scene, program: &Program, settings: &Settings) -> Result<Plan, EngineError> {
+        let mut shape_tag_names: Vec<String> = scene.shapes.iter().map(|s| s.tag.clone()).collect();
+        shape_tag_names.sort();
+        shape_tag_names.dedup();
+        let shape_tag_of: Vec<u32> = scene
+            .shapes
+            .iter()
+            .map(|s| shape_tag_names.binary_search(&s.tag).expect("tag listed") as u32)
+            .collect();
+        let mut shapes_by_tag: Vec<Vec<usize>> = vec![Vec::new(); shape_tag_names.len()];
+        for (i, &t) in shape_tag_of.iter().enumerate() {
+            shapes_by_tag[t as usize].push(i);
+        }
+
+        let mut tags = Tags {
+            names: Vec::new(),
+            ids: HashMap::new(),
+            outputs: program
+                .rules
+                .iter()
+                .map(|r| vec![None; r.outputs.len()])
+                .collect(),
+        };
+        let all = tags.id("all");
+        let mut matcher = Matcher {
+            program,
+            shape_tags: &shape_tag_names,
+            cache: Vec::new(),
+        };
+        // Every shape starts as one slice `all`; class `t` holds the shapes of shape tag `t`.
+        let mut classes: Vec<Class> = vec![
+            Class {
+                slices: vec![(all, false)],
+                history: Vec::new(),
+            };
+            shape_tag_names.len()
+        ];
+        let mut class_of = shape_tag_of.clone();
+
+        // The (shape tag, slice tag) pairs with slices left to rewrite; the first is next.
+        let mut pending: BTreeSet<(u32, u32)> = BTreeSet::new();
+        for st in 0..shapes_by_tag.len() as u32 {
+            if !matcher.get(all, st, &tags).is_empty() {
+                pending.insert((st, all));
+            }
+        }
+
+        let mut rule_uses = vec![0; program.rules.iter().map(|r| r.index + 1).max().unwrap_or(0)];
+        let mut history: Vec<usize> = Vec::new();
+        let mut steps = 0;
+        let mut keys = 0;
+        let mut created: Vec<u32> = Vec::new();
+        while let Some((shape_tag, slice_tag)) = pending.pop_first() {
+            if steps >= settings.max_steps {
+                return Err(cycle_error(program, &history, settings.max_steps));
+            }
+            let cands = matcher.get(slice_tag, shape_tag, &tags).clone();
+            let at = || StepAt {
+                step: steps,
+                slice_tag,
+            };
+            created.clear();
+            // The rules applied, in the order shapes took them.
+            let mut applied: Vec<usize> = Vec::new();
+            match settings.choice {
+                Choice::Group => {
+                    let rule = pick(
+                        program,
+                        &cands,
+                        unit(key(&[settings.seed, 0x5EED, steps as u64])),
+                    );
+                    applied.push(rule);
+                    let class = &mut classes[shape_tag as usize];
+                    rewrite(class, program, rule, at(), keys, &mut tags, &mut created);
+                    keys += 1;
+                }
+                Choice::Shape => {
+                    // Each shape draws its rule; shapes of one class that draw the same
+                    // rule form a new class, made when its first shape is met (so tags are
+                    // numbered in shape order, as they are created).
+                    let mut split: Vec<(u32, usize, u32)> = Vec::new();
+                    let mut rule_keys: Vec<(usize, usize)> = Vec::new();
+                    for &si in &shapes_by_tag[shape_tag as usize] {
+                        let shape = &scene.shapes[si];
+                        let rule = pick(
+                            program,
+                            &cands,
+                            unit(key(&[
+                                settings.seed,
+                                0x5EED,
+                                steps as u64,
+                                hash_str(&shape.tag),
+                                shape.id as u64,
+                            ])),
+                        );
+                        if !applied.contains(&rule) {
+                            applied.push(rule);
+                        }
+                        let old = class_of[si];
+                        if !classes[old as usize]
+                            .slices
+                            .iter()
+                            .any(|&(t, _)| t == slice_tag)
+                        {
+                            continue;
+                        }
+                        class_of[si] = match split.iter().find(|s| s.0 == old && s.1 == rule) {
+                            Some(s) => s.2,
+                            None => {
+                                let key = match rule_keys.iter().find(|k| k.0 == rule) {
+                                    Some(k) => k.1,
+                                    None => {
+                                        rule_keys.push((rule, keys));
+                                        keys += 1;
+                                        keys - 1
+                                    }
+                                };
+                                let mut class = classes[old as usize].clone();
+                                rewrite(
+                                    &mut class,
+                                    program,
+                                    rule,
+                                    at(),
+                                    key,
+                                    &mut tags,
+                                    &mut created,
+                                );
+                                classes.push(class);
+                                let new = classes.len() as u32 - 1;
+                                split.push((old, rule, new));
+                                new
+                            }
+                        };
+                    }
+                    // No shape is left in a class that was split.
+                    for (old, _, _) in split {
+                        classes[old as usize] = Class::default();
+                    }
+                }
+            }
+            for &tag in &created {
+                if !matcher.get(tag, shape_tag, &tags).is_empty() {
+                    pending.insert((shape_tag, tag));
+                }
+            }
+            for r in applied {
+                rule_uses[program.rules[r].index] += 1;
+                history.push(r);
+            }
+            steps += 1;
+        }
+        let lens = classes.iter().map(|c| c.slices.len()).collect();
+        Ok(Plan {
+            class_of,
+            histories: classes.into_iter().map(|c| c.history).collect(),
+            lens,
+            shape_tag_of,
+            tag_sizes: shapes_by_tag.iter().map(Vec::len).collect(),
+            outputs: tags
+                .outputs
+                .into_iter()
+                .map(|o| o.into_iter().map(|id| id.unwrap_or(u32::MAX)).collect())
+                .collect(),
+            keys,
+            slice_tags: tags.names,
+            steps,
+            rule_uses,
+        })
+    }
+}
+
+/// The shortest repeating tail of the rule history, named, as the error for a grammar that
+/// does not terminate.
+fn cycle_error(program: &Program, history: &[usize], max: usize) -> EngineError {
+    let tail = &history[history.len().saturating_sub(64)..];
+    let period = (1..=tail.len() / 2)
+        .find(|&p| tail.windows(p + 1).all(|w| w[0] == w[p]))
+        .unwrap_or(tail.len().min(8));
+    let mut cycle: Vec<usize> = tail[tail.len() - period..].to_vec();
+    cycle.dedup();
+    let first = cycle.first().map(|&r| program.rules[r].span);
+    let mut e = EngineError {
+        span: first,
+        message: format!(
+            "the grammar did not terminate within {max} expansion steps (raise `max_steps` or --max-steps if it is just large); these rules keep rewriting each other's output"
+        ),
+        notes: Vec::new(),
+    };
+    for r in cycle {
+        let rule = &program.rules[r];
+        let outs: Vec<_> = rule.outputs.iter().map(tag_text).collect();
+        e.notes.push(format!(
+            "line {}: {} : [{}, {}] -> [{}]",
+            rule.span.line,
+            op_name(&rule.op),
+            rule.slice_tags.join("|"),
+            rule.shape_tags.join("|"),
+            outs.join(", ")
+        ));
+    }
+    e
+}
+
+fn op_name(op: &Op) -> &'static str {
+    match op {
+        Op::Timesplit { .. } => "timesplit",
+        Op::Animate(_) => "animate",
+    }
+}
+
+fn tag_text(t: &TagRef) -> String {
+    if t.inverted {
+        format!("inv_{}", t.name)
+    } else {
+        t.name.clone()
+    }
+}
