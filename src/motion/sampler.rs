@@ -27,6 +27,9 @@ use super::{
 };
 use crate::signals::Easing;
 
+mod playhead;
+pub use playhead::Playhead;
+
 /// [`Clock::ease`] of a linear timing, which needs no easing call.
 const LINEAR: u32 = u32::MAX;
 /// [`Seg::inv0`] when `F(p₀)` is the identity.
@@ -34,16 +37,47 @@ const NO_INVERSE: u32 = u32::MAX;
 /// [`Seg::comps`]' count marking a segment evaluated through its [`MotionSeg`].
 const SLOW: u32 = u32::MAX;
 
-/// A [`Timing`] with its span resolved and its easing moved out of line.
+/// How a [`Timing`]'s progress follows time: its span resolved and its easing moved out
+/// of line. All that evaluating a running change needs.
 #[derive(Clone, Copy)]
-struct Clock {
+pub(super) struct Pace {
     start: f64,
     delay: f64,
     /// `max(end − start − delay, 0)`, as [`Timing::progress`] computes it.
     span: f64,
-    /// Index into [`Sampler::eases`], or [`LINEAR`].
+    /// Index into [`Part::eases`], or [`LINEAR`].
     ease: u32,
     reversed: bool,
+}
+
+impl Pace {
+    /// [`Timing::progress`], step for step.
+    #[inline(always)]
+    pub(super) fn progress(&self, t: f64, eases: &[Easing]) -> f64 {
+        let local = if self.reversed {
+            t - self.start
+        } else {
+            t - self.start - self.delay
+        };
+        let u = if self.span <= 0.0 {
+            if local >= 0.0 { 1.0 } else { 0.0 }
+        } else {
+            (local / self.span).clamp(0.0, 1.0)
+        };
+        let u = if self.reversed { 1.0 - u } else { u };
+        if self.ease == LINEAR {
+            // What `Easing::Linear.apply` returns for `u` in [0, 1] or NaN.
+            if u.is_nan() { 0.0 } else { u }
+        } else {
+            eases[self.ease as usize].apply(u)
+        }
+    }
+}
+
+/// A [`Pace`] with the interval in which its progress can move.
+#[derive(Clone, Copy)]
+pub(super) struct Clock {
+    pub(super) pace: Pace,
     /// The progress cannot change before this time…
     still_before: f64,
     /// …nor from this time on (see [`Clock::new`]).
@@ -67,46 +101,33 @@ impl Clock {
         let (a0, a1) = t.active();
         let margin = |a: f64| 1e-9 * (1.0 + a.abs());
         Clock {
-            start: t.start,
-            delay: t.delay,
-            span: (t.end - t.start - t.delay).max(0.0),
-            ease,
-            reversed: t.reversed,
+            pace: Pace {
+                start: t.start,
+                delay: t.delay,
+                span: (t.end - t.start - t.delay).max(0.0),
+                ease,
+                reversed: t.reversed,
+            },
             still_before: a0 - margin(a0),
             still_after: a1 + margin(a1),
         }
     }
 
-    /// Lowers `quiet` to the last time up to which the progress keeps its value at `t`.
+    /// Whether the progress may be moving at `t`, and the next time that can change.
     #[inline(always)]
-    fn quiet_after(&self, t: f64, quiet: &mut f64) {
+    pub(super) fn moving_until(&self, t: f64) -> (bool, f64) {
         if t < self.still_before {
-            *quiet = quiet.min(self.still_before);
+            (false, self.still_before)
         } else if t < self.still_after {
-            *quiet = t;
+            (true, self.still_after)
+        } else {
+            (false, f64::INFINITY)
         }
     }
 
-    /// [`Timing::progress`], step for step.
     #[inline(always)]
     fn progress(&self, t: f64, eases: &[Easing]) -> f64 {
-        let local = if self.reversed {
-            t - self.start
-        } else {
-            t - self.start - self.delay
-        };
-        let u = if self.span <= 0.0 {
-            if local >= 0.0 { 1.0 } else { 0.0 }
-        } else {
-            (local / self.span).clamp(0.0, 1.0)
-        };
-        let u = if self.reversed { 1.0 - u } else { u };
-        if self.ease == LINEAR {
-            // What `Easing::Linear.apply` returns for `u` in [0, 1] or NaN.
-            if u.is_nan() { 0.0 } else { u }
-        } else {
-            eases[self.ease as usize].apply(u)
-        }
+        self.pace.progress(t, eases)
     }
 }
 
@@ -201,6 +222,21 @@ fn product(comps: &[Component], p: f64) -> Affine {
     }
 }
 
+/// [`product`], through `slot` of `products` when it has one (see [`Products`]).
+#[inline(always)]
+fn remembered(comps: &[Component], p: f64, slot: u32, products: &mut Products) -> Affine {
+    // `NO_SLOT` is past any slot, and an empty `products` has none.
+    match products.get_mut(slot as usize) {
+        Some(slot) => {
+            if slot.0 != p.to_bits() {
+                *slot = (p.to_bits(), product(comps, p));
+            }
+            slot.1
+        }
+        None => product(comps, p),
+    }
+}
+
 /// One attribute channel of every shape, flat in shape order.
 struct Channel<T> {
     /// Segment start times.
@@ -248,12 +284,11 @@ impl<T: Blendable> Channel<T> {
         from.blend(*to, clock.progress(t.clamp(self.t0[i], t1), eases))
     }
 
-    /// [`Channel::at`] for a [`Playhead`]: `cursor` counts the shape's segments that have
-    /// started (as an index into the flat arrays) and only moves forward, and `quiet` is
-    /// lowered to the time up to which the value stays what it is at `t`.
+    /// What a [`Playhead`] needs of one shape's channel at `t`: the value while it holds
+    /// still, or the entry that is running. `cursor` counts the shape's entries that have
+    /// started (as an index into the flat arrays) and only moves forward.
     #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
-    fn step(
+    fn mode(
         &self,
         cursor: &mut u32,
         lo: u32,
@@ -261,20 +296,36 @@ impl<T: Blendable> Channel<T> {
         t: f64,
         default: T,
         eases: &[Easing],
-        quiet: &mut f64,
-    ) -> T {
-        let Some(i) = advance(&self.t0, cursor, lo, hi, t, quiet) else {
-            return default;
+    ) -> Mode<T> {
+        let mut next = f64::INFINITY;
+        let Some(i) = advance(&self.t0, cursor, lo, hi, t, &mut next) else {
+            return Mode::Still(default, next);
         };
         let (t1, end) = self.settled[i];
         if t >= t1 {
-            return end;
+            return Mode::Still(end, next);
         }
-        *quiet = quiet.min(t1);
         let (clock, from, to) = &self.moving[i];
-        clock.quiet_after(t, quiet);
-        from.blend(*to, clock.progress(t.clamp(self.t0[i], t1), eases))
+        let (moving, change) = clock.moving_until(t);
+        let until = next.min(t1).min(change);
+        if moving {
+            Mode::Moving(i, until)
+        } else {
+            Mode::Still(
+                from.blend(*to, clock.progress(t.clamp(self.t0[i], t1), eases)),
+                until,
+            )
+        }
     }
+}
+
+/// A channel of one shape as a [`Playhead`] sees it at some `t`.
+enum Mode<T> {
+    /// The value, held from `t` up to (not including) the time given.
+    Still(T, f64),
+    /// The running entry (index into the flat arrays), which may move from `t` up to the
+    /// time given.
+    Moving(usize, f64),
 }
 
 /// Shapes per [`Part`]. Parts are compiled in parallel; a thousand shapes amortise the
@@ -381,15 +432,7 @@ impl<'a> Sampler<'a> {
 
     /// A playhead for evaluating frames in time order.
     pub fn playhead(&self) -> Playhead<'_, 'a> {
-        let n = self.len;
-        Playhead {
-            sampler: self,
-            last: f64::NEG_INFINITY,
-            cursors: self.parts.iter().flat_map(Part::cursors).collect(),
-            quiet: vec![f64::NEG_INFINITY; n],
-            states: vec![ShapeState::REST; n],
-            products: vec![(EMPTY_SLOT, Affine::IDENTITY); self.slots],
-        }
+        Playhead::new(self)
     }
 
     /// Shape `i`'s state at `t` (equal to `tracks[i].state_at(t)`).
@@ -593,17 +636,7 @@ impl<'a> Part<'a> {
         } else {
             let lo = s.first as usize;
             let comps = &self.comps[lo..lo + s.count as usize];
-            // `NO_SLOT` is past any slot, and an empty `products` has none.
-            let m = match products.get_mut(s.slot as usize) {
-                Some(slot) => {
-                    if slot.0 != p.to_bits() {
-                        *slot = (p.to_bits(), product(comps, p));
-                    }
-                    slot.1
-                }
-                None => product(comps, p),
-            };
-            grid::about(s.pivot, m)
+            grid::about(s.pivot, remembered(comps, p, s.slot, products))
         };
         Some(match s.inv0 {
             NO_INVERSE => f,
@@ -624,30 +657,37 @@ impl<'a> Part<'a> {
         self.fold(segs, start, t, &mut [])
     }
 
-    /// [`Sampler::transform`] for a [`Playhead`]; see [`Channel::step`].
+    /// [`Channel::mode`] for the transform.
     #[inline(always)]
-    fn transform_step(
+    fn transform_mode(
         &self,
         products: &mut Products,
         cursor: &mut u32,
         lo: u32,
         hi: u32,
         t: f64,
-        quiet: &mut f64,
-    ) -> Affine {
-        let Some(w) = advance(&self.t0s, cursor, lo, hi, t, quiet) else {
-            return Affine::IDENTITY;
+    ) -> Mode<Affine> {
+        let mut next = f64::INFINITY;
+        let Some(w) = advance(&self.t0s, cursor, lo, hi, t, &mut next) else {
+            return Mode::Still(Affine::IDENTITY, next);
         };
         let (settle, end) = self.settled[w];
         if t >= settle {
-            return end;
+            return Mode::Still(end, next);
         }
-        *quiet = quiet.min(settle);
+        let mut until = next.min(settle);
         let (start, (a, b)) = self.windows[w];
+        let mut moving = false;
         for seg in &self.segs[a as usize..b as usize] {
-            seg.clock.quiet_after(t, quiet);
+            let (m, change) = seg.clock.moving_until(t);
+            moving |= m;
+            until = until.min(change);
         }
-        self.fold((a, b), start, t, products)
+        if moving {
+            Mode::Moving(w, until)
+        } else {
+            Mode::Still(self.fold((a, b), start, t, products), until)
+        }
     }
 
     /// The part's shape `i`'s state at `t`.
@@ -661,101 +701,6 @@ impl<'a> Part<'a> {
             stroke: self.stroke.at(a.stroke, b.stroke, t, Tint::NONE, e),
             opacity: self.opacity.at(a.opacity, b.opacity, t, 1.0, e),
             stroke_width: self.width.at(a.width, b.width, t, 1.0, e),
-        }
-    }
-}
-
-/// Evaluates every shape at a sequence of instants, fastest when they only move forward
-/// (as frames do).
-///
-/// It keeps the last states and, per shape, where its windows and attribute segments
-/// stand and until when nothing of it can change. Moving forward, each list is advanced
-/// past the segments that have started instead of being searched, and a shape that stands
-/// still (before its first motion, between windows, waiting out a delay) is not evaluated
-/// again until it can move. The states are identical to [`Sampler::evaluate`]'s at the same
-/// instant, in any order of instants; going back in time restarts from the beginning.
-pub struct Playhead<'s, 'a> {
-    sampler: &'s Sampler<'a>,
-    /// The last instant evaluated.
-    last: f64,
-    /// Per shape, for windows, fill, stroke, opacity and width: the index just past the
-    /// last started entry.
-    cursors: Vec<[u32; 5]>,
-    /// Per shape: its state holds for every instant from the last one up to (not
-    /// including) this.
-    quiet: Vec<f64>,
-    states: Vec<ShapeState>,
-    /// The last product of each shared component list.
-    products: Vec<(u64, Affine)>,
-}
-
-impl Playhead<'_, '_> {
-    /// Every shape's state at `t`.
-    pub fn seek(&mut self, t: f64) -> &[ShapeState] {
-        let s = self.sampler;
-        // Going back (or NaN, which is then evaluated from scratch as the reference does).
-        if t < self.last || t.is_nan() {
-            for (c, start) in self
-                .cursors
-                .iter_mut()
-                .zip(s.parts.iter().flat_map(Part::cursors))
-            {
-                *c = start;
-            }
-            self.quiet.fill(f64::NEG_INFINITY);
-        }
-        self.last = t;
-        let shapes = self
-            .states
-            .chunks_mut(PART)
-            .zip(self.quiet.chunks_mut(PART))
-            .zip(self.cursors.chunks_mut(PART));
-        for (((states, quiet), cursors), part) in shapes.zip(&s.parts) {
-            part.seek(t, states, quiet, cursors, &mut self.products);
-        }
-        &self.states
-    }
-}
-
-impl Part<'_> {
-    /// [`Playhead::seek`] over this part's shapes.
-    fn seek(
-        &self,
-        t: f64,
-        states: &mut [ShapeState],
-        quiet: &mut [f64],
-        cursors: &mut [[u32; 5]],
-        products: &mut Products,
-    ) {
-        let e = &self.eases[..];
-        let shapes = states
-            .iter_mut()
-            .zip(quiet)
-            .zip(cursors)
-            .zip(self.offsets.windows(2));
-        for (((state, quiet), c), o) in shapes {
-            if t < *quiet {
-                continue;
-            }
-            let (a, b) = (o[0], o[1]);
-            let mut q = f64::INFINITY;
-            *state = ShapeState {
-                transform: self
-                    .transform_step(products, &mut c[0], a.windows, b.windows, t, &mut q),
-                fill: self
-                    .fill
-                    .step(&mut c[1], a.fill, b.fill, t, Tint::NONE, e, &mut q),
-                stroke: self
-                    .stroke
-                    .step(&mut c[2], a.stroke, b.stroke, t, Tint::NONE, e, &mut q),
-                opacity: self
-                    .opacity
-                    .step(&mut c[3], a.opacity, b.opacity, t, 1.0, e, &mut q),
-                stroke_width: self
-                    .width
-                    .step(&mut c[4], a.width, b.width, t, 1.0, e, &mut q),
-            };
-            *quiet = q;
         }
     }
 }
