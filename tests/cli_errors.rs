@@ -93,6 +93,16 @@ fn cases() -> Vec<Case> {
             "duration 1s\nmax_steps 40\ntimesplit(0.5, 0.5) : [all, s] -> [x, z]\nanimate(opacity, local, 0, 0.5) : [x, s] -> [y]\nanimate(opacity, local, 0, 1) : [y, s] -> [x]\n",
             &["did not terminate within 40", "line 4", "line 5"],
         ),
+        case(
+            "splits its own output forever",
+            "duration 1s\ntimesplit(0.5, 0.5) : [all, s] -> [x, x]\ntimesplit(0.5, 0.5) : [x, s] -> [x, x]\n",
+            &["g.gm:3:1", "slices (at most 10000)", "line 3"],
+        ),
+        case(
+            "bad value before a cycle",
+            "duration 1s\nanimate(opacity, local, 0, 2) : [all, s] -> [x]\nanimate(opacity, local, 0, 0.5) : [x, s] -> [x]\n",
+            &["g.gm:2:", "[0, 1]"],
+        ),
         case("negative offset", "duration 1s\nanimate(affine, world, -1, translate(1, 0)) : [all, s] -> [m]\n", &["g.gm:2:", "negative"]),
         case("opacity out of range", "duration 1s\nanimate(opacity, local, 0, 3) : [all, s] -> [m]\n", &["g.gm:2:", "[0, 1]"]),
         case("bad colour", "duration 1s\nanimate(fill, local, 0, 12) : [all, s] -> [m]\n", &["g.gm:2:", "colour"]),

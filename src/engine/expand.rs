@@ -255,7 +255,7 @@ where
     T: Send + Default,
     F: Fn(usize, Vec<Slice>) -> T + Sync,
 {
-    let plan = Plan::new(scene, program, settings)?;
+    let plan = Plan::new(scene, program, settings);
     let runner = Runner {
         scene,
         program,
@@ -284,7 +284,12 @@ where
         let mut c = caches();
         (0..n).map(|si| each(&mut c, si)).collect()
     };
+    // A value error comes from a step the plan did take, so it comes before the reason the
+    // plan stopped.
     if let Some((_, _, e)) = failure.into_inner().unwrap_or_else(|p| p.into_inner()) {
+        return Err(e);
+    }
+    if let Some(e) = plan.unfinished {
         return Err(e);
     }
     Ok((

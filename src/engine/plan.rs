@@ -59,7 +59,21 @@ pub(super) struct Plan {
     pub steps: usize,
     /// Uses per grammar rule index.
     pub rule_uses: Vec<usize>,
+    /// Why planning stopped before expansion ended (too many steps or slices), if it did.
+    /// The plan then holds the steps taken up to there, so an error in their values, which
+    /// expanding step after step would have met first, can still be reported instead.
+    pub unfinished: Option<EngineError>,
 }
+
+/// Most slices one shape's timeline may be cut into. A grammar that keeps splitting its
+/// own output doubles the count every step and would exhaust memory long before
+/// `max_steps`; no animation needs slices this short (10 000 in a 10 s timeline are a
+/// millisecond each).
+pub const MAX_SLICES_PER_SHAPE: usize = 10_000;
+
+/// Most slices over all shapes (about 2 GB of timelines): bounds a grammar that splits
+/// every shape of a large scene almost to [`MAX_SLICES_PER_SHAPE`].
+pub const MAX_SLICES: usize = 1 << 25;
 
 /// A class of shapes while planning: its slices' tags (with their `inv_` flag) in time
 /// order, and the steps that made them.
@@ -186,9 +200,11 @@ fn rewrite(
 }
 
 impl Plan {
-    /// Plans the expansion of every shape of `scene`; fails on a grammar that does not
-    /// terminate within `settings.max_steps` steps.
-    pub fn new(scene: &Scene, program: &Program, settings: &Settings) -> Result<Plan, EngineError> {
+    /// Plans the expansion of every shape of `scene`. A grammar that does not terminate
+    /// within `settings.max_steps` steps, or cuts timelines into more slices than
+    /// [`MAX_SLICES_PER_SHAPE`] or [`MAX_SLICES`], stops early with
+    /// [`Plan::unfinished`] set.
+    pub fn new(scene: &Scene, program: &Program, settings: &Settings) -> Plan {
         let mut shape_tag_names: Vec<String> = scene.shapes.iter().map(|s| s.tag.clone()).collect();
         shape_tag_names.sort();
         shape_tag_names.dedup();
@@ -240,9 +256,14 @@ impl Plan {
         let mut steps = 0;
         let mut keys = 0;
         let mut created: Vec<u32> = Vec::new();
+        let mut total_slices = scene.shapes.len();
+        let mut unfinished = None;
+        // The most slices any class has.
+        let mut longest = 1;
         while let Some((shape_tag, slice_tag)) = pending.pop_first() {
             if steps >= settings.max_steps {
-                return Err(cycle_error(program, &history, settings.max_steps));
+                unfinished = Some(cycle_error(program, &history, settings.max_steps));
+                break;
             }
             let cands = matcher.get(slice_tag, shape_tag, &tags).clone();
             let at = || StepAt {
@@ -261,14 +282,19 @@ impl Plan {
                     );
                     applied.push(rule);
                     let class = &mut classes[shape_tag as usize];
+                    let before = class.slices.len();
                     rewrite(class, program, rule, at(), keys, &mut tags, &mut created);
                     keys += 1;
+                    let added = class.slices.len() - before;
+                    total_slices += added * shapes_by_tag[shape_tag as usize].len();
+                    longest = longest.max(class.slices.len());
                 }
                 Choice::Shape => {
                     // Each shape draws its rule; shapes of one class that draw the same
                     // rule form a new class, made when its first shape is met (so tags are
                     // numbered in shape order, as they are created).
-                    let mut split: Vec<(u32, usize, u32)> = Vec::new();
+                    // (old class, rule) → new class.
+                    let mut split: HashMap<(u32, usize), u32> = HashMap::new();
                     let mut rule_keys: Vec<(usize, usize)> = Vec::new();
                     for &si in &shapes_by_tag[shape_tag as usize] {
                         let shape = &scene.shapes[si];
@@ -294,8 +320,8 @@ impl Plan {
                         {
                             continue;
                         }
-                        class_of[si] = match split.iter().find(|s| s.0 == old && s.1 == rule) {
-                            Some(s) => s.2,
+                        class_of[si] = match split.get(&(old, rule)) {
+                            Some(&new) => new,
                             None => {
                                 let key = match rule_keys.iter().find(|k| k.0 == rule) {
                                     Some(k) => k.1,
@@ -315,15 +341,19 @@ impl Plan {
                                     &mut tags,
                                     &mut created,
                                 );
+                                longest = longest.max(class.slices.len());
                                 classes.push(class);
                                 let new = classes.len() as u32 - 1;
-                                split.push((old, rule, new));
+                                split.insert((old, rule), new);
                                 new
                             }
                         };
+                        let new = class_of[si] as usize;
+                        total_slices +=
+                            classes[new].slices.len() - classes[old as usize].slices.len();
                     }
                     // No shape is left in a class that was split.
-                    for (old, _, _) in split {
+                    for (old, _) in split.into_keys() {
                         classes[old as usize] = Class::default();
                     }
                 }
@@ -338,9 +368,13 @@ impl Plan {
                 history.push(r);
             }
             steps += 1;
+            if longest > MAX_SLICES_PER_SHAPE || total_slices > MAX_SLICES {
+                unfinished = Some(slices_error(program, &history, longest, total_slices));
+                break;
+            }
         }
         let lens = classes.iter().map(|c| c.slices.len()).collect();
-        Ok(Plan {
+        Plan {
             class_of,
             histories: classes.into_iter().map(|c| c.history).collect(),
             lens,
@@ -355,13 +389,39 @@ impl Plan {
             slice_tags: tags.names,
             steps,
             rule_uses,
-        })
+            unfinished,
+        }
     }
 }
 
-/// The shortest repeating tail of the rule history, named, as the error for a grammar that
-/// does not terminate.
+/// The error for a grammar that does not terminate, naming the rules it keeps applying.
 fn cycle_error(program: &Program, history: &[usize], max: usize) -> EngineError {
+    named_cycle(
+        program,
+        history,
+        format!(
+            "the grammar did not terminate within {max} expansion steps (raise `max_steps` or --max-steps if it is just large); these rules keep rewriting each other's output"
+        ),
+    )
+}
+
+/// The error for a grammar that cuts timelines into too many slices.
+fn slices_error(program: &Program, history: &[usize], longest: usize, total: usize) -> EngineError {
+    let what = if longest > MAX_SLICES_PER_SHAPE {
+        format!("a shape's timeline into {longest} slices (at most {MAX_SLICES_PER_SHAPE})")
+    } else {
+        format!("the timelines into {total} slices in all (at most {MAX_SLICES})")
+    };
+    named_cycle(
+        program,
+        history,
+        format!("the grammar cuts {what}; these rules keep splitting each other's output"),
+    )
+}
+
+/// An error at the first of the rules in the shortest repeating tail of the rule history,
+/// with a note naming each of them.
+fn named_cycle(program: &Program, history: &[usize], message: String) -> EngineError {
     let tail = &history[history.len().saturating_sub(64)..];
     let period = (1..=tail.len() / 2)
         .find(|&p| tail.windows(p + 1).all(|w| w[0] == w[p]))
@@ -371,9 +431,7 @@ fn cycle_error(program: &Program, history: &[usize], max: usize) -> EngineError 
     let first = cycle.first().map(|&r| program.rules[r].span);
     let mut e = EngineError {
         span: first,
-        message: format!(
-            "the grammar did not terminate within {max} expansion steps (raise `max_steps` or --max-steps if it is just large); these rules keep rewriting each other's output"
-        ),
+        message,
         notes: Vec::new(),
     };
     for r in cycle {
