@@ -197,6 +197,46 @@ fn check_prints_statistics_and_writes_the_graph() {
     let _ = std::fs::remove_dir_all(&d);
 }
 
+/// On a group grammar, `check` runs the spatial rules and reports the pieces the
+/// timeslice rules then see (the consumed tags gone, the produced ones there); it does not
+/// call the consumed tags unused.
+#[test]
+fn check_expands_group_grammars() {
+    let g = root().join("grammars");
+    let pieces_line = |out: &str| {
+        out.lines()
+            .find(|l| l.starts_with("spatial expansion:"))
+            .unwrap_or_else(|| panic!("no spatial expansion line in {out}"))
+            .to_string()
+    };
+    let out = run_ok(
+        bin()
+            .arg("check")
+            .arg(g.join("growing_tangle.gm"))
+            .arg(g.join("growing_tangle.svg")),
+    );
+    let line = pieces_line(&out);
+    // `disc` is cut into rings and pieces (tagged `ink` and `piece`); `paper` is left alone.
+    assert!(!line.contains("disc ×"), "{line}");
+    for tag in ["ink ×", "piece ×", "paper ×1"] {
+        assert!(line.contains(tag), "{line}");
+    }
+    assert!(out.contains("spatial rules applied: 3 of 3"), "{out}");
+    assert!(out.contains("\nrules applied: 3 of 3"), "{out}");
+    assert!(!out.contains("`disc` match no rule"), "{out}");
+    let out = run_ok(
+        bin()
+            .arg("check")
+            .arg(g.join("regroup.gm"))
+            .arg(g.join("regroup.svg")),
+    );
+    let line = pieces_line(&out);
+    assert!(!line.contains("p0 ×") && line.contains("done ×"), "{line}");
+    assert!(out.contains("spatial rules applied: 11 of 11"), "{out}");
+    assert!(out.contains("the result stands still"), "{out}");
+    assert!(!out.contains("match no rule"), "{out}");
+}
+
 #[test]
 fn transitions_run_the_three_applications() {
     let g = root().join("grammars");

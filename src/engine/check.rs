@@ -107,30 +107,6 @@ pub fn check(
     );
 
     if let Some(scene) = scene {
-        let mut counts: BTreeMap<&str, usize> = BTreeMap::new();
-        for s in &scene.shapes {
-            *counts.entry(s.tag.as_str()).or_default() += 1;
-        }
-        let list: Vec<_> = counts.iter().map(|(t, n)| format!("{t} ×{n}")).collect();
-        let _ = writeln!(
-            out,
-            "scene: {} shapes, tags: {}",
-            scene.shapes.len(),
-            list.join(", ")
-        );
-        for t in &shape_tags {
-            if t != "all" && !counts.contains_key(t.as_str()) {
-                r.warnings.push(format!(
-                    "shape tag `{t}` is used by rules but no shape in the scene has it"
-                ));
-            }
-        }
-        for t in counts.keys() {
-            if !shape_tags.contains(*t) && !shape_tags.contains("all") {
-                r.warnings
-                    .push(format!("shapes tagged `{t}` match no rule and stay still"));
-            }
-        }
         let mut s = settings.clone();
         if let Some(seed) = opts.seed {
             s.seed = seed;
@@ -138,28 +114,48 @@ pub fn check(
         if let Some(m) = opts.max_steps {
             s.max_steps = m;
         }
-        if !scene.shapes.is_empty() {
-            let exp = super::expand::expand(scene, &program, &s)?;
-            let slices: usize = exp.timelines.iter().map(Vec::len).sum();
-            let _ = writeln!(
-                out,
-                "expansion: {} steps, {} slices ({:.1} per shape), {} slice tags created",
-                exp.steps,
-                slices,
-                slices as f64 / scene.shapes.len() as f64,
-                exp.slice_tags.len()
-            );
-            for rule in &program.rules {
-                let uses = exp.rule_uses.get(rule.index).copied().unwrap_or(0);
-                if uses == 0 {
-                    r.warnings.push(format!(
-                        "line {}: rule was never applied on this scene",
-                        rule.span.line
-                    ));
+        let _ = writeln!(
+            out,
+            "scene: {} shapes, tags: {}",
+            scene.shapes.len(),
+            tag_counts(scene)
+        );
+        // A group grammar runs first; the timeslice rules then animate its pieces.
+        let expanded = super::spatial_stage(scene, grammar, &program, &s, opts)?;
+        let scene = match &expanded {
+            None => scene,
+            Some((pieces, t)) => {
+                let _ = writeln!(
+                    out,
+                    "spatial expansion: {} steps, {} pieces in {} groups, tags: {}",
+                    t.steps,
+                    pieces.shapes.len(),
+                    t.groups,
+                    tag_counts(pieces)
+                );
+                for (&i, &uses) in program.spatial.iter().zip(&t.rule_uses) {
+                    if uses == 0 {
+                        r.warnings.push(format!(
+                            "line {}: spatial rule was never applied on this scene",
+                            grammar.rules[i].span.line
+                        ));
+                    }
                 }
+                let used = t.rule_uses.iter().filter(|&&u| u > 0).count();
+                let _ = writeln!(
+                    out,
+                    "spatial rules applied: {used} of {}",
+                    program.spatial.len()
+                );
+                r.warnings
+                    .extend(t.warnings.iter().map(super::tangle_warning));
+                pieces
             }
-            let used = exp.rule_uses.iter().filter(|&&u| u > 0).count();
-            let _ = writeln!(out, "rules applied: {used} of {time_rules}");
+        };
+        if time_rules == 0 {
+            let _ = writeln!(out, "no timeslice rules: the result stands still");
+        } else {
+            time_report(scene, &program, &shape_tags, &s, &mut r, &mut out)?;
         }
     }
     for w in &r.warnings {
@@ -198,4 +194,62 @@ pub fn dot(grammar: &Grammar) -> String {
     }
     out.push_str("}\n");
     out
+}
+
+/// The scene's shape tags with their counts, as `tag ×n, …`.
+fn tag_counts(scene: &Scene) -> String {
+    let mut counts: BTreeMap<&str, usize> = BTreeMap::new();
+    for s in &scene.shapes {
+        *counts.entry(s.tag.as_str()).or_default() += 1;
+    }
+    let list: Vec<_> = counts.iter().map(|(t, n)| format!("{t} ×{n}")).collect();
+    list.join(", ")
+}
+
+/// The timeslice part of a report on `scene` (the pieces, after a group grammar): tags no
+/// shape has or no rule takes, then the expansion's statistics.
+fn time_report(
+    scene: &Scene,
+    program: &Program,
+    shape_tags: &BTreeSet<String>,
+    settings: &settings::Settings,
+    r: &mut Report,
+    out: &mut String,
+) -> Result<(), EngineError> {
+    let tags: BTreeSet<&str> = scene.shapes.iter().map(|s| s.tag.as_str()).collect();
+    for t in shape_tags {
+        if t != "all" && !tags.contains(t.as_str()) {
+            r.warnings.push(format!(
+                "shape tag `{t}` is used by rules but no shape in the scene has it"
+            ));
+        }
+    }
+    for t in &tags {
+        if !shape_tags.contains(*t) && !shape_tags.contains("all") {
+            r.warnings
+                .push(format!("shapes tagged `{t}` match no rule and stay still"));
+        }
+    }
+    let exp = super::expand::expand(scene, program, settings)?;
+    let slices: usize = exp.timelines.iter().map(Vec::len).sum();
+    let _ = writeln!(
+        out,
+        "expansion: {} steps, {} slices ({:.1} per shape), {} slice tags created",
+        exp.steps,
+        slices,
+        slices as f64 / scene.shapes.len() as f64,
+        exp.slice_tags.len()
+    );
+    for rule in &program.rules {
+        let uses = exp.rule_uses.get(rule.index).copied().unwrap_or(0);
+        if uses == 0 {
+            r.warnings.push(format!(
+                "line {}: rule was never applied on this scene",
+                rule.span.line
+            ));
+        }
+    }
+    let used = exp.rule_uses.iter().filter(|&&u| u > 0).count();
+    let _ = writeln!(out, "rules applied: {used} of {}", program.rules.len());
+    Ok(())
 }

@@ -120,6 +120,61 @@ pub fn run(
     }
 }
 
+/// The group grammar stage: `None` when the grammar has no spatial rules, else the scene
+/// with every shape the spatial rules consume replaced by its pieces. Either way the
+/// timeslice rules' shape tags are checked against the scene they will animate.
+pub(crate) fn spatial_stage(
+    scene: &Scene,
+    grammar: &Grammar,
+    program: &rules::Program,
+    settings: &settings::Settings,
+    opts: &RunOptions,
+) -> Result<Option<(Scene, crate::tangle::TangleStats)>, EngineError> {
+    if program.spatial.is_empty() {
+        rules::check_shape_tags(grammar, &scene_tags(scene), false)?;
+        return Ok(None);
+    }
+    // Spatial rules may consume the scene's tags and the tags spatial rules produce.
+    let mut known = scene_tags(scene);
+    let spatial: Vec<&crate::grammar::ast::Rule> =
+        program.spatial.iter().map(|&i| &grammar.rules[i]).collect();
+    known.extend(
+        spatial
+            .iter()
+            .flat_map(|r| r.outputs.iter().map(|t| t.name.as_str())),
+    );
+    rules::check_shape_tags(grammar, &known, true)?;
+    let mut topts = crate::tangle::TangleOptions {
+        seed: settings.seed,
+        ..Default::default()
+    };
+    if let Some(m) = opts.max_steps {
+        topts.max_steps = m;
+    }
+    let (expanded, tstats) =
+        crate::tangle::expand(scene, &spatial, &topts).map_err(|e| match &e {
+            crate::tangle::TangleError::Arg { span, message } => {
+                EngineError::at(*span, message.clone())
+            }
+            other => EngineError::general(other.to_string()),
+        })?;
+    if expanded.shapes.is_empty() {
+        return Err(EngineError::general(
+            "the spatial rules left no shapes to animate",
+        ));
+    }
+    rules::check_shape_tags(grammar, &scene_tags(&expanded), false)?;
+    Ok(Some((expanded, tstats)))
+}
+
+/// A spatial expansion warning as the run reports it (with its line and column).
+pub(crate) fn tangle_warning(w: &crate::tangle::TangleWarning) -> String {
+    match w.span {
+        Some(s) => format!("{}:{}: {}", s.line, s.col, w.message),
+        None => w.message.clone(),
+    }
+}
+
 fn run_here(
     scene: Scene,
     grammar: &Grammar,
@@ -148,48 +203,13 @@ fn run_here(
     }
     let mut warnings = Vec::new();
     let mut tangle_steps = 0;
-    let scene = if program.spatial.is_empty() {
-        rules::check_shape_tags(grammar, &scene_tags(&scene), false)?;
-        scene
-    } else {
-        // Spatial rules may consume the scene's tags and the tags spatial rules produce.
-        let mut known = scene_tags(&scene);
-        let spatial: Vec<&crate::grammar::ast::Rule> =
-            program.spatial.iter().map(|&i| &grammar.rules[i]).collect();
-        known.extend(
-            spatial
-                .iter()
-                .flat_map(|r| r.outputs.iter().map(|t| t.name.as_str())),
-        );
-        rules::check_shape_tags(grammar, &known, true)?;
-        let mut topts = crate::tangle::TangleOptions {
-            seed: settings.seed,
-            ..Default::default()
-        };
-        if let Some(m) = opts.max_steps {
-            topts.max_steps = m;
+    let scene = match spatial_stage(&scene, grammar, &program, &settings, opts)? {
+        None => scene,
+        Some((expanded, tstats)) => {
+            warnings.extend(tstats.warnings.iter().map(tangle_warning));
+            tangle_steps = tstats.steps;
+            expanded
         }
-        let (expanded, tstats) =
-            crate::tangle::expand(&scene, &spatial, &topts).map_err(|e| match &e {
-                crate::tangle::TangleError::Arg { span, message } => {
-                    EngineError::at(*span, message.clone())
-                }
-                other => EngineError::general(other.to_string()),
-            })?;
-        for w in &tstats.warnings {
-            warnings.push(match w.span {
-                Some(s) => format!("{}:{}: {}", s.line, s.col, w.message),
-                None => w.message.clone(),
-            });
-        }
-        tangle_steps = tstats.steps;
-        if expanded.shapes.is_empty() {
-            return Err(EngineError::general(
-                "the spatial rules left no shapes to animate",
-            ));
-        }
-        rules::check_shape_tags(grammar, &scene_tags(&expanded), false)?;
-        expanded
     };
     // Each timeline is compiled into its track as soon as it is expanded, by the thread
     // that expanded it (and freed there).
