@@ -386,6 +386,10 @@ pub fn expand(
             for (k, (node, pieces)) in produced.into_iter().enumerate() {
                 arena.shapes[node] = None;
                 live -= 1;
+                // A shape that became one piece is replaced in its own node: the tree then
+                // does not deepen (nor grow) by a node for every step of a rule that
+                // rewrites its own output one piece at a time.
+                let in_place = pieces.len() == 1;
                 for piece in pieces {
                     if rule.outputs.is_empty() {
                         continue;
@@ -401,7 +405,7 @@ pub fn expand(
                     let sid = next_sid.entry(g).or_insert(0);
                     let tag = rule.outputs[piece.slot % rule.outputs.len()].name.clone();
                     let terminal = !consumed.contains(tag.as_str());
-                    let child = arena.push(TShape {
+                    let shape = TShape {
                         tag,
                         group: g,
                         sid: *sid,
@@ -410,9 +414,16 @@ pub fn expand(
                         cell: piece.cell,
                         paint: piece.paint,
                         imported: false,
-                    });
+                    };
                     *sid += 1;
-                    arena.children[node].push(child);
+                    let child = if in_place {
+                        arena.shapes[node] = Some(shape);
+                        node
+                    } else {
+                        let child = arena.push(shape);
+                        arena.children[node].push(child);
+                        child
+                    };
                     live += 1;
                     if !terminal {
                         pending.entry(g).or_default().push(child);
