@@ -34,8 +34,10 @@ mod model;
 mod paint;
 mod still;
 
+use rayon::prelude::*;
+
 use crate::motion::{Animation, Track};
-use crate::scene::Scene;
+use crate::scene::{Scene, Shape};
 use animate::{UnitInfo, UnitMotion, unit_motion};
 
 /// Options of the Lottie export.
@@ -91,6 +93,9 @@ pub enum LottieError {
     },
 }
 
+/// Shapes from which an export bakes their motions in parallel.
+const PARALLEL_UNITS: usize = 64;
+
 /// Writes an animation as Lottie JSON.
 pub fn to_lottie(anim: &Animation, opts: &LottieOptions) -> Result<LottieOutput, LottieError> {
     if !(anim.fps.is_finite() && anim.fps > 0.0 && anim.duration.is_finite() && anim.duration > 0.0)
@@ -107,18 +112,27 @@ pub fn to_lottie(anim: &Animation, opts: &LottieOptions) -> Result<LottieOutput,
         });
     }
     let frames = anim.frame_count();
-    let motions: Vec<UnitMotion> = anim
-        .tracks
-        .iter()
-        .zip(&anim.scene.shapes)
-        .map(|(track, shape)| {
-            let info = UnitInfo {
-                bbox: shape.bbox,
-                centroid: shape.centroid,
-            };
-            unit_motion(track, info, anim.fps, frames, opts.tolerance)
-        })
-        .collect();
+    let motion = |(track, shape): (&Track, &Shape)| {
+        let info = UnitInfo {
+            bbox: shape.bbox,
+            centroid: shape.centroid,
+        };
+        unit_motion(track, info, anim.fps, frames, opts.tolerance)
+    };
+    // Shapes are independent, and baking what Lottie cannot say (skews, blends) samples and
+    // fits every frame of a moving window: most of an export's time on large scenes. A
+    // handful of shapes is not worth waking the thread pool for.
+    let motions: Vec<UnitMotion> = if anim.tracks.len() >= PARALLEL_UNITS {
+        (anim.tracks.par_iter().zip(&anim.scene.shapes))
+            .map(motion)
+            .collect()
+    } else {
+        anim.tracks
+            .iter()
+            .zip(&anim.scene.shapes)
+            .map(motion)
+            .collect()
+    };
     write(
         &anim.scene,
         &anim.tracks,
