@@ -53,15 +53,19 @@ impl Arena {
         self.shapes.len() - 1
     }
 
-    /// The final shapes under `root`, in paint order.
+    /// The final shapes under `root`, in paint order. Walked with a stack of its own: a
+    /// rule that keeps peeling one piece off the rest (rings by `outline`) makes the tree
+    /// as deep as it has steps, deeper than a thread's stack would take recursively.
     fn leaves(&self, root: usize, out: &mut Vec<usize>) {
-        if self.children[root].is_empty() {
-            if self.shapes[root].is_some() {
-                out.push(root);
-            }
-        } else {
-            for &c in &self.children[root] {
-                self.leaves(c, out);
+        let mut stack = vec![root];
+        while let Some(n) = stack.pop() {
+            if self.children[n].is_empty() {
+                if self.shapes[n].is_some() {
+                    out.push(n);
+                }
+            } else {
+                // Reversed, so the first child is popped first.
+                stack.extend(self.children[n].iter().rev());
             }
         }
     }
