@@ -144,6 +144,40 @@ impl<R> Running<R> {
     }
 }
 
+/// One attribute channel of one shape, as [`Running::follow`] needs it.
+struct Attr<'c, T> {
+    channel: &'c super::Channel<T>,
+    /// True for the second channel of its kind (stroke, stroke width).
+    second: bool,
+    key: usize,
+    shape: usize,
+}
+
+impl<T: Blendable> Running<(Change<T>, bool)> {
+    /// Takes an attribute channel's new `mode`: a still value is written to `value` and
+    /// the channel leaves the list, a running entry is copied into it.
+    fn follow(
+        &mut self,
+        at: &mut [u32],
+        a: Attr<'_, T>,
+        mode: Mode<T>,
+        value: &mut T,
+        until: &mut f64,
+    ) {
+        match mode {
+            Mode::Still(v, u) => {
+                *value = v;
+                *until = u;
+                self.remove(at, a.key);
+            }
+            Mode::Moving(k, u) => {
+                *until = u;
+                self.put(at, a.key, a.shape, (a.channel.change(k), a.second));
+            }
+        }
+    }
+}
+
 /// A playhead's position in one part.
 struct Head {
     /// Per shape: no channel of it changes mode before this time.
@@ -228,40 +262,36 @@ impl Head {
                 (FILL, &part.fill, a.fill, b.fill),
                 (STROKE, &part.stroke, a.stroke, b.stroke),
             ] {
-                if !due(t, until[ch]) {
-                    continue;
-                }
-                match channel.mode(&mut c[ch], lo, hi, t, Tint::NONE, e) {
-                    Mode::Still(v, u) => {
-                        *tint_of(state, ch == STROKE) = v;
-                        until[ch] = u;
-                        self.tints.remove(&mut self.at, key + ch);
-                    }
-                    Mode::Moving(k, u) => {
-                        until[ch] = u;
-                        let entry = (channel.change(k), ch == STROKE);
-                        self.tints.put(&mut self.at, key + ch, i, entry);
-                    }
+                if due(t, until[ch]) {
+                    let mode = channel.mode(&mut c[ch], lo, hi, t, Tint::NONE, e);
+                    let (second, key) = (ch == STROKE, key + ch);
+                    let value = tint_of(state, second);
+                    let attr = Attr {
+                        channel,
+                        second,
+                        key,
+                        shape: i,
+                    };
+                    self.tints
+                        .follow(&mut self.at, attr, mode, value, &mut until[ch]);
                 }
             }
             for (ch, channel, lo, hi) in [
                 (OPACITY, &part.opacity, a.opacity, b.opacity),
                 (WIDTH, &part.width, a.width, b.width),
             ] {
-                if !due(t, until[ch]) {
-                    continue;
-                }
-                match channel.mode(&mut c[ch], lo, hi, t, 1.0, e) {
-                    Mode::Still(v, u) => {
-                        *number_of(state, ch == WIDTH) = v;
-                        until[ch] = u;
-                        self.numbers.remove(&mut self.at, key + ch);
-                    }
-                    Mode::Moving(k, u) => {
-                        until[ch] = u;
-                        let entry = (channel.change(k), ch == WIDTH);
-                        self.numbers.put(&mut self.at, key + ch, i, entry);
-                    }
+                if due(t, until[ch]) {
+                    let mode = channel.mode(&mut c[ch], lo, hi, t, 1.0, e);
+                    let (second, key) = (ch == WIDTH, key + ch);
+                    let value = number_of(state, second);
+                    let attr = Attr {
+                        channel,
+                        second,
+                        key,
+                        shape: i,
+                    };
+                    self.numbers
+                        .follow(&mut self.at, attr, mode, value, &mut until[ch]);
                 }
             }
             self.quiet[i] = until.iter().copied().fold(f64::INFINITY, f64::min);
