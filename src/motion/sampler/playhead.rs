@@ -197,7 +197,8 @@ struct Head {
 impl Head {
     fn new(part: &Part<'_>) -> Head {
         let n = part.len();
-        let mut head = Head {
+        // As `rewind` leaves it.
+        Head {
             quiet: vec![f64::NEG_INFINITY; n],
             until: vec![[f64::NEG_INFINITY; CHANNELS]; n],
             cursors: part.cursors().collect(),
@@ -205,9 +206,7 @@ impl Head {
             transforms: Running::new(),
             tints: Running::new(),
             numbers: Running::new(),
-        };
-        head.rewind(part);
-        head
+        }
     }
 
     /// Back to before anything has started.
