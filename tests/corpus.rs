@@ -8,7 +8,7 @@
 //! a file passes when gmotion's rendering matches resvg's direct one instead (reported as
 //! a separate count, so it is visible how many files were judged that way).
 //!
-//! The corpus is `../shared/corpus/resvg-static` beside the crate, or `$GMOTION_CORPUS`.
+//! The corpus is `tests/corpus/resvg` (vendored, see its LICENSE.md), or `$GMOTION_CORPUS`.
 //! Set `GMOTION_CORPUS_OUT` to a directory to get each failing file's rendering there.
 
 use std::path::{Path, PathBuf};
@@ -27,7 +27,7 @@ const REQUIRED_PASS_RATE: f64 = 0.98;
 fn corpus_dir() -> PathBuf {
     match std::env::var_os("GMOTION_CORPUS") {
         Some(dir) => PathBuf::from(dir),
-        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/resvg-static"),
+        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/corpus/resvg"),
     }
 }
 

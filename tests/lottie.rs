@@ -995,7 +995,7 @@ fn corpus_converts_in_process() {
     let dir = match std::env::var_os("GMOTION_CORPUS") {
         Some(d) => std::path::PathBuf::from(d),
         None => {
-            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/corpus/resvg-static")
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/corpus/resvg")
         }
     };
     let mut files: Vec<_> = std::fs::read_dir(&dir)

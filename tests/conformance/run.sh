@@ -13,7 +13,7 @@
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
-corpus="${CORPUS:-$root/../shared/corpus/resvg-static}"
+corpus="${CORPUS:-$root/tests/corpus/resvg}"
 out="${CONFORMANCE_OUT:-$root/target/conformance}"
 start=$SECONDS
 
