@@ -8,6 +8,8 @@
 //! a file passes when gmotion's rendering matches resvg's direct one instead (reported as
 //! a separate count, so it is visible how many files were judged that way).
 //!
+//! Every file must pass except those in `KNOWN_FAILURES`, each named with its reason.
+//!
 //! The corpus is `tests/corpus/resvg` (vendored, see its LICENSE.md), or `$GMOTION_CORPUS`.
 //! Set `GMOTION_CORPUS_OUT` to a directory to get each failing file's rendering there.
 
@@ -22,7 +24,30 @@ use rayon::prelude::*;
 
 const TOLERANCE: u8 = 32;
 const MAX_DIFFERING: f64 = 0.01;
-const REQUIRED_PASS_RATE: f64 = 0.98;
+/// Files known to fail, each with why. Any other failure fails the test by name, and so
+/// does a listed file that passes (the list must stay true, so a fix is noticed).
+const KNOWN_FAILURES: &[(&str, &str)] = &[
+    (
+        "masking__clip__simple-case.svg",
+        "raster image (dropped on import)",
+    ),
+    (
+        "masking__mask__with-image.svg",
+        "raster image inside a mask (dropped on import)",
+    ),
+    (
+        "structure__svg__not-UTF-8-encoding.svg",
+        "Windows-1252 text (only UTF-8 is read)",
+    ),
+    (
+        "structure__symbol__with-size-on-use-and-relative-units.svg",
+        "raster image in a symbol (dropped on import)",
+    ),
+    (
+        "structure__transform-origin__on-image.svg",
+        "raster image (dropped on import)",
+    ),
+];
 
 fn corpus_dir() -> PathBuf {
     match std::env::var_os("GMOTION_CORPUS") {
@@ -220,10 +245,25 @@ fn corpus_round_trips_through_the_scene_model() {
         per_file(|o| o.render),
         wall.as_secs_f64()
     );
+    let known = |name: &str| KNOWN_FAILURES.iter().any(|(k, _)| *k == name);
+    let new: Vec<&str> = failed
+        .iter()
+        .map(|o| o.name.as_str())
+        .filter(|n| !known(n))
+        .collect();
+    let fixed: Vec<&str> = KNOWN_FAILURES
+        .iter()
+        .map(|(k, _)| *k)
+        .filter(|k| outcomes.iter().any(|o| o.name == *k && o.passed()))
+        .collect();
+    let missing: Vec<&str> = KNOWN_FAILURES
+        .iter()
+        .map(|(k, _)| *k)
+        .filter(|k| !outcomes.iter().any(|o| o.name == *k))
+        .collect();
     assert!(
-        rate >= REQUIRED_PASS_RATE,
-        "pass rate {:.1}% is below {:.0}%",
-        rate * 100.0,
-        REQUIRED_PASS_RATE * 100.0
+        new.is_empty() && fixed.is_empty() && missing.is_empty(),
+        "new failures: {new:?}; listed as failing but passing now (remove them from \
+         KNOWN_FAILURES): {fixed:?}; listed but not in the corpus: {missing:?}"
     );
 }
