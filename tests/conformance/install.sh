@@ -3,7 +3,7 @@
 # Sans, which the corpus references use), npm
 # lottie-web and playwright-core (into tests/conformance/node_modules), PyPI rlottie-python,
 # thorvg-python (ctypes bindings bundling libthorvg),
-# lottie-specs (the official schema), lottie (python-lottie, the comparison converter),
+# lottie-specs (the official schema), jsonschema-rs (validates it fast), lottie (python-lottie, the comparison converter),
 # numpy and Pillow (pixel comparisons). Each step is skipped when already satisfied.
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -19,7 +19,7 @@ if [ ! -d "$here/node_modules/lottie-web" ] || [ ! -d "$here/node_modules/playwr
     (cd "$here" && if [ -f package-lock.json ]; then npm ci --no-audit --no-fund --loglevel=error; else npm install --no-audit --no-fund --loglevel=error; fi)
 fi
 
-if ! python3 -c "import rlottie_python, thorvg_python, lottie_specs, lottie, numpy, PIL" 2>/dev/null; then
+if ! python3 -c "import rlottie_python, thorvg_python, lottie_specs, jsonschema_rs, lottie, numpy, PIL" 2>/dev/null; then
     python3 -m pip install -q --disable-pip-version-check -r "$here/requirements.txt"
 fi
 echo "conformance tools ready: $(/usr/bin/chromium --version 2>/dev/null | head -1)"

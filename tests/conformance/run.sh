@@ -1,52 +1,93 @@
 #!/usr/bin/env bash
 # Conformance: what gmotion exports plays the same in real players.
 #
-#   bash tests/conformance/run.sh        (exit status 0 when every check passes)
+#   bash tests/conformance/run.sh                  (exit status 0 when every check passes)
+#   bash tests/conformance/run.sh --matrix full    (the whole conformance matrix, ~350 cases;
+#                                                   MATRIX=full does the same)
+#   bash tests/conformance/run.sh --matrix-only    (skip the corpus and the example grammars)
+#   GMOTION=target/quick/gmotion bash tests/conformance/run.sh   (play that binary, no build)
 #
 # 1. installs the players (install.sh, idempotent) and builds gmotion (release);
 # 2. converts the resvg corpus with `gmotion convert` and with python-lottie, and exports
 #    every grammars/NAME.gm (with NAME.svg) to Lottie, SMIL and gmotion's own PNG frames;
 # 3. validates every Lottie gmotion wrote against the official schema;
 # 4. plays the Lottie files in lottie-web (headless Chromium), rlottie and ThorVG, the SMIL
-#    files in Chromium (smil.mjs), and compares every frame (conformance.py report).
+#    files in Chromium (smil.mjs), and compares every frame (conformance.py report);
+# 5. the conformance matrix (matrix.py): generated scenes with grammars and transitions
+#    targets spanning the language, plus every example, played in lottie-web (svg and canvas
+#    renderers), rlottie, ThorVG and Chromium SMIL against gmotion's own render; by default
+#    a fixed sample that covers every dimension value, with --matrix full every case. Its
+#    table is written to $CONFORMANCE_OUT/matrix.md.
 # Work files go to $CONFORMANCE_OUT (default target/conformance).
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 root="$(cd "$here/../.." && pwd)"
 corpus="${CORPUS:-$root/tests/corpus/resvg}"
 out="${CONFORMANCE_OUT:-$root/target/conformance}"
+matrix="${MATRIX:-sample}"
+main_run=1
+while [ $# -gt 0 ]; do
+    case "$1" in
+        --matrix) matrix="${2:?--matrix takes sample or full}"; shift 2 ;;
+        --matrix-only) main_run=0; shift ;;
+        *) echo "conformance: unknown argument $1 (--matrix sample|full, --matrix-only)" >&2; exit 2 ;;
+    esac
+done
+case "$matrix" in sample|full) ;; *) echo "conformance: --matrix is sample or full, not $matrix" >&2; exit 2 ;; esac
 start=$SECONDS
 
 bash "$here/install.sh"
-(cd "$root" && cargo build --release --quiet)
-gm="${CARGO_TARGET_DIR:-$root/target}/release/gmotion"
+if [ -n "${GMOTION:-}" ]; then
+    gm="$(cd "$(dirname "$GMOTION")" && pwd)/$(basename "$GMOTION")"
+else
+    (cd "$root" && cargo build --release --quiet)
+    gm="${CARGO_TARGET_DIR:-$root/target}/release/gmotion"
+fi
 [ -d "$corpus" ] || { echo "conformance: corpus not found at $corpus" >&2; exit 1; }
 
 rm -rf "$out"
 mkdir -p "$out"
-echo "== exporting (corpus with gmotion and python-lottie, example grammars)"
-python3 "$here/conformance.py" prepare "$out" "$gm" "$corpus" "$root/grammars"
-
 status=0
-echo "== schema (lottie-specs)"
-python3 "$here/schema_check.py" --list "$out/gmotion_lottie_files.txt" || status=1
+if [ "$main_run" = 1 ]; then
+    echo "== exporting (corpus with gmotion and python-lottie, example grammars)"
+    python3 "$here/conformance.py" prepare "$out" "$gm" "$corpus" "$root/grammars"
 
-echo "== in-process conversion time (tests/lottie.rs)"
-(cd "$root" && cargo test --release --quiet --test lottie corpus_converts_in_process -- --nocapture 2>&1) \
-    | grep "lottie corpus conversion" > "$out/in_process.txt" || status=1
+    echo "== schema (lottie-specs)"
+    python3 "$here/schema_check.py" --list "$out/gmotion_lottie_files.txt" || status=1
 
-echo "== playing: lottie-web"
-node "$here/lottie_web.mjs" "$out/lottie_web_jobs.json"
-echo "== playing: rlottie"
-python3 "$here/rlottie_render.py" "$out/rlottie_jobs.json"
-echo "== playing: ThorVG"
-python3 "$here/thorvg_render.py" "$out/thorvg_jobs.json"
-if [ -f "$here/smil.mjs" ]; then
-    echo "== playing: SMIL in Chromium"
-    node "$here/smil.mjs" --jobs "$out/smil_jobs.json" >/dev/null
-    touch "$out/smil.ran"
+    echo "== in-process conversion time (tests/lottie.rs)"
+    (cd "$root" && cargo test --release --quiet --test lottie corpus_converts_in_process -- --nocapture 2>&1) \
+        | grep "lottie corpus conversion" > "$out/in_process.txt" || status=1
+
+    echo "== playing: lottie-web"
+    node "$here/lottie_web.mjs" "$out/lottie_web_jobs.json"
+    echo "== playing: rlottie"
+    python3 "$here/rlottie_render.py" "$out/rlottie_jobs.json"
+    echo "== playing: ThorVG"
+    python3 "$here/thorvg_render.py" "$out/thorvg_jobs.json"
+    if [ -f "$here/smil.mjs" ]; then
+        echo "== playing: SMIL in Chromium"
+        node "$here/smil.mjs" --jobs "$out/smil_jobs.json" >/dev/null
+        touch "$out/smil.ran"
 fi
 
 python3 "$here/conformance.py" report "$out" || status=1
+fi
+
+m="$out/matrix"
+mstart=$SECONDS
+echo "== matrix ($matrix): exporting and rendering gmotion's reference frames"
+python3 "$here/matrix.py" prepare "$m" "$gm" --matrix "$matrix"
+echo "== matrix: lottie-web (svg and canvas renderers)"
+node "$here/lottie_web.mjs" "$m/lottie_web_jobs.json" || echo "matrix: a player exited with an error; its missing frames fail below"
+echo "== matrix: rlottie"
+python3 "$here/rlottie_render.py" "$m/rlottie_jobs.json" || echo "matrix: a player exited with an error; its missing frames fail below"
+echo "== matrix: ThorVG"
+python3 "$here/thorvg_render.py" "$m/thorvg_jobs.json" || echo "matrix: a player exited with an error; its missing frames fail below"
+echo "== matrix: SMIL in Chromium"
+node "$here/smil.mjs" --jobs "$m/smil_jobs.json" >/dev/null || echo "matrix: a player exited with an error; its missing frames fail below"
+python3 "$here/matrix.py" report "$m" || status=1
+cp "$m/matrix.md" "$out/matrix.md"
+echo "matrix: $((SECONDS - mstart)) s"
 echo "conformance: $((SECONDS - start)) s"
 exit $status
