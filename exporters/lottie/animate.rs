@@ -361,22 +361,29 @@ fn exact_levels(seg: &MotionSeg, end: f64, fps: f64) -> Option<Vec<Transform>> {
     let track =
         |f: &dyn Fn(f64) -> [f64; 2]| progress_keys(&piece, fps, f(p0), |_, p| f(p), |_| 1e-4);
     let mut out = Vec::with_capacity(levels.len() + 2);
+    // A channel whose window ends before its change begins (a delay longer than the part
+    // of the slice this window covers) has no keys and stays at its start value `f(p0)`,
+    // which is not the neutral value: the position is the pivot the anchor is taken from.
+    let channel =
+        |f: &dyn Fn(f64) -> [f64; 2], neutral: [f64; 2], to: &dyn Fn(&[f64; 2]) -> Value| {
+            prop_or_default(&track(f), f(p0), neutral, to)
+        };
     for l in &levels {
-        let pos = track(&|p| l.pos.at(p));
-        let rot = l.rot.map(|a| track(&|p| [a * p, 0.0]));
-        let scale = l.scale.map(|k| {
-            track(&|p| {
+        let scale = |k: Vec2| {
+            move |p: f64| {
                 [
                     100.0 * (1.0 + (k.x - 1.0) * p),
                     100.0 * (1.0 + (k.y - 1.0) * p),
                 ]
-            })
-        });
+            }
+        };
         out.push(Transform {
             a: (l.anchor != Vec2::ZERO).then(|| Prop::fixed(v2([l.anchor.x, l.anchor.y]))),
-            p: prop_or_default(&pos, [0.0, 0.0], |v| v2(*v)),
-            s: scale.and_then(|k| prop_or_default(&k, [100.0, 100.0], |v| v2(*v))),
-            r: rot.and_then(|k| prop_or_default(&k, [0.0, 0.0], |v| scalar(v[0]))),
+            p: channel(&|p| l.pos.at(p), [0.0, 0.0], &|v| v2(*v)),
+            s: l.scale
+                .and_then(|k| channel(&scale(k), [100.0, 100.0], &|v| v2(*v))),
+            r: l.rot
+                .and_then(|a| channel(&|p| [a * p, 0.0], [0.0, 0.0], &|v| scalar(v[0]))),
             o: None,
         });
     }
@@ -393,16 +400,18 @@ fn exact_levels(seg: &MotionSeg, end: f64, fps: f64) -> Option<Vec<Transform>> {
     Some(out)
 }
 
-/// A keyed channel as a property, or `None` when it stays at `neutral`.
+/// A keyed channel as a property, or `None` when it stays at `neutral`. No keys means the
+/// channel holds `start` throughout.
 fn prop_or_default<V: Near + Clone>(
     keys: &[Key<V>],
+    start: V,
     neutral: V,
     to: impl Fn(&V) -> Value,
 ) -> Option<Prop> {
+    let fixed = |v: &V| (!v.near(&neutral)).then(|| Prop::fixed(to(v)));
     match keys {
-        [] => None,
-        [k] if k.v.near(&neutral) => None,
-        [k] => Some(Prop::fixed(to(&k.v))),
+        [] => fixed(&start),
+        [k] => fixed(&k.v),
         _ => Some(Prop::keyed(to_keyframes(keys, to))),
     }
 }

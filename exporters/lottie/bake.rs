@@ -128,9 +128,13 @@ fn from_channels(c: [f64; 6]) -> Params {
     }
 }
 
-/// Channels that share one keyframe easing: position x and y are written split (each
-/// its own), scale is one vector property (one easing for both axes: rlottie reads one).
-const GROUPS: [&[usize]; 5] = [&[0], &[1], &[2], &[3, 4], &[5]];
+/// Channels that share one keyframe easing: position and scale are each one vector
+/// property with one easing for both axes. Position is not written split (x and y as
+/// separate properties, each eased on its own): lottie-web accepts a split position only in
+/// a layer's transform and draws nothing at all when a shape group's transform holds one,
+/// and baked levels are shape groups. The error check below sees the shared easing, so the
+/// bound holds; smooth motion may just need a few more keys.
+const GROUPS: [&[usize]; 4] = [&[0, 1], &[2], &[3, 4], &[5]];
 
 /// The easing `y(u) = 3(1−u)²u·y1 + 3(1−u)u²·y2 + u³` (a CSS curve with x handles at
 /// 1/3 and 2/3) that fits normalised samples `(u, y)` best in the least-squares sense.
@@ -163,8 +167,8 @@ fn fit_segment(
     ps: &[[f64; 6]],
     i: usize,
     j: usize,
-) -> ([(f64, f64); 5], Vec<[f64; 6]>) {
-    let mut eases = [(1.0 / 3.0, 2.0 / 3.0); 5];
+) -> ([(f64, f64); 4], Vec<[f64; 6]>) {
+    let mut eases = [(1.0 / 3.0, 2.0 / 3.0); 4];
     let span = frames[j] - frames[i];
     let u = |m: usize| (frames[m] - frames[i]) / span;
     for (g, chans) in GROUPS.iter().enumerate() {
@@ -222,7 +226,7 @@ pub fn bake_rigid(samples: &[RigidSample], anchor: Point, tolerance: f64) -> Vec
             .enumerate()
             .all(|(k, rec)| err(i + 1 + k, rec) <= tolerance)
     });
-    let eases: Vec<[(f64, f64); 5]> = kept
+    let eases: Vec<[(f64, f64); 4]> = kept
         .windows(2)
         .map(|w| fit_segment(&frames, &ps, w[0], w[1]).0)
         .collect();
@@ -242,13 +246,11 @@ pub fn bake_rigid(samples: &[RigidSample], anchor: Point, tolerance: f64) -> Vec
                 .collect(),
         )
     };
-    let x = keys(0, &|c| Value::Scalar(N::coord(c[0])));
-    let y = keys(1, &|c| Value::Scalar(N::coord(c[1])));
-    let position = Prop::Split(Box::new(x), Box::new(y));
-    let scale = keys(3, &|c| {
+    let position = keys(0, &|c| Value::Vec(vec![N::coord(c[0]), N::coord(c[1])]));
+    let scale = keys(2, &|c| {
         Value::Vec(vec![N::coord(c[3] * 100.0), N::coord(c[4] * 100.0)])
     });
-    let phi = keys(2, &|c| Value::Scalar(N::coord(c[2].to_degrees())));
+    let phi = keys(1, &|c| Value::Scalar(N::coord(c[2].to_degrees())));
     let a = Prop::fixed(Value::Vec(vec![N::coord(anchor.x), N::coord(anchor.y)]));
     let needs_inner = kept.iter().any(|&i| ps[i][5].abs() > 1e-9);
     if !needs_inner {
@@ -260,7 +262,7 @@ pub fn bake_rigid(samples: &[RigidSample], anchor: Point, tolerance: f64) -> Vec
             o: None,
         }];
     }
-    let theta = keys(4, &|c| Value::Scalar(N::coord(c[5].to_degrees())));
+    let theta = keys(3, &|c| Value::Scalar(N::coord(c[5].to_degrees())));
     vec![
         Transform {
             a: None,

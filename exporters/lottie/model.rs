@@ -507,8 +507,8 @@ pub enum Prop {
     Fixed(Value),
     /// Keyframes in time order (at least two).
     Animated(Vec<Keyframe>),
-    /// A position written as separate x and y properties (each with its own easing).
-    Split(Box<Prop>, Box<Prop>),
+    // No split position (`{"s":true,"x":…,"y":…}`): lottie-web draws nothing when a shape
+    // group's transform holds one, and every animated transform here is a shape group's.
 }
 
 impl Prop {
@@ -548,11 +548,6 @@ impl Serialize for Prop {
             Prop::Animated(keys) => {
                 m.serialize_entry("a", &1)?;
                 m.serialize_entry("k", &KeyList(keys))?;
-            }
-            Prop::Split(x, y) => {
-                m.serialize_entry("s", &true)?;
-                m.serialize_entry("x", x)?;
-                m.serialize_entry("y", y)?;
             }
         }
         m.end()

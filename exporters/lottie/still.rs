@@ -1218,23 +1218,6 @@ fn shift_prop(p: &mut Option<Prop>, by: Vec2) {
         None => *p = Some(Prop::vec(vec![N::coord(by.x), N::coord(by.y)])),
         Some(Prop::Fixed(v)) => add(v),
         Some(Prop::Animated(keys)) => keys.iter_mut().for_each(|k| add(&mut k.s)),
-        Some(Prop::Split(x, y)) => {
-            shift_scalar(x, by.x);
-            shift_scalar(y, by.y);
-        }
-    }
-}
-
-fn shift_scalar(p: &mut Prop, by: f64) {
-    let add = |v: &mut Value| {
-        if let Value::Scalar(x) = v {
-            *x = N::coord(x.0 + by);
-        }
-    };
-    match p {
-        Prop::Fixed(v) => add(v),
-        Prop::Animated(keys) => keys.iter_mut().for_each(|k| add(&mut k.s)),
-        Prop::Split(..) => {}
     }
 }
 
