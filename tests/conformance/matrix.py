@@ -2,6 +2,9 @@
 
     python3 matrix.py list [--matrix sample|full]
         prints the cases (name and dimension values) without running anything.
+    python3 matrix.py selftest
+        checks the generator: coverage of every value and pair, determinism, and slice
+        boundaries worked out by hand from docs/grammar.md.
     python3 matrix.py prepare OUT GMOTION [--matrix sample|full] [--only NAME,...]
         writes every case (scene, grammar or targets file) under OUT/cases/NAME/, exports it
         with gmotion to Lottie (.json) and SMIL (.svg), renders gmotion's own reference
@@ -50,7 +53,7 @@ import sys
 
 here = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, here)
-from conformance import OFF, exact_width, load  # noqa: E402  (same rule as the example grammars)
+from conformance import OFF, load  # noqa: E402  (same rule as the example grammars)
 
 MAX_OFF = 0.005
 MIN_FRAMES = 12
@@ -703,9 +706,10 @@ def export(case, out, gm):
     case["boundaries"] = [round(t, 6) for t in times]
     case["frames"] = pick_frames(n, fps, times)
     case["fps"] = fps
-    # Generated scenes at exactly 2x; examples as the main run plays them (2x within
-    # 600..1000 px, at a width where the height is whole).
-    width = SCALE * W if case["family"] != "ex" else exact_width(doc["w"], doc["h"])
+    # Exactly 2x, so the height is whole too and every player scales both axes alike
+    # (revisions.svg is 829x110: at conformance.exact_width's 1000 px the height would
+    # be 132.7, rounded, and the players stretch the text by 0.2%: 1.3% of pixels off).
+    width = SCALE * int(round(doc["w"]))
     case["width"] = width
     for fr in case["frames"]:
         rc, err = run(base + ["-o", os.path.join(d, f"ref-{fr}.png"), "--time", repr(fr / fps), "--width", str(width)])
@@ -907,7 +911,55 @@ def report(argv):
     return 1 if failing else 0
 
 
+def selftest():
+    """Checks the generator itself, against properties stated independently of its code:
+    the design covers what it claims, generation is deterministic, and the boundary
+    simulation gives the slices docs/grammar.md works out by hand. Exits 1 on a failure."""
+    bad = []
+    for dims, n, seed in ((GM_DIMS, GM_CASES, SEED), (TR_DIMS, TR_CASES, SEED + 1)):
+        cases, _ = cover(dims, n, seed)
+        if cases != cover(dims, n, seed)[0]:
+            bad.append(f"{dims[0].name}: the design differs between two runs")
+        for d in dims:
+            missing = set(d.values) - {c[d.name] for c in cases}
+            if missing:
+                bad.append(f"{d.name}: values never used: {sorted(missing)}")
+        pd = [d for d in dims if d.pair]
+        seen = {(a.name, c[a.name], b.name, c[b.name]) for c in cases for a in pd for b in pd}
+        for x, a in enumerate(pd):
+            for b in pd[x + 1:]:
+                for u in a.values:
+                    for v in b.values:
+                        if (a.name, u, b.name, v) not in seen:
+                            bad.append(f"pair {a.name}={u}, {b.name}={v} not covered")
+    # docs/grammar.md, timesplit: a 5 s timeline split (0.3, 0.4, 0.3) -> 1.5 s, 3.5 s; the
+    # same split on an inverted slice is mirrored: inv_all of 5 s -> 1.5, 3.5 as well, so
+    # an asymmetric split shows the mirror: (0.2, 0.8) on inv_a = [2.5, 5] -> 2.5 + 2.0.
+    cases = [("duration 5s\ntimesplit(0.3, 0.4, 0.3) : [all, all] -> [in, hold, inv_in]\n", [0, 1.5, 3.5, 5]),
+             ("duration 5s\ntimesplit(0.5, 0.5) : [all, s] -> [a, inv_a]\n"
+              "timesplit(0.2, 0.8) : [a, s] -> [b, c]\n", [0, 0.5, 2.5, 4.5, 5]),
+             ("duration 4s\ntimesplit(0.5, 0.5) : [all, s] -> [a, inv_a]\n"
+              "animate(opacity, local, 0.5, 0.2) : [a, s] -> [f]\n", [0, 0.5, 2, 3.5, 4]),
+             ("duration 2s\ntimesplit(0.5,\n    0.5)\n  : [all, (s, c)]\n  -> [a, b]  # 50%\n", [0, 1, 2])]
+    for text, want in cases:
+        got = boundaries(text)
+        if len(got) != len(want) or any(abs(g - w) > 1e-9 for g, w in zip(got, want)):
+            bad.append(f"boundaries of {text!r}: {got}, expected {want}")
+    frames = pick_frames(60, 30, [1.0, 0.51])
+    for f in (0, 15, 16, 30, 31, 59):
+        if f not in frames:
+            bad.append(f"frame {f} missing from {frames} (boundaries at 1.0 s and 0.51 s, 30 fps)")
+    if len(frames) < MIN_FRAMES:
+        bad.append(f"only {len(frames)} frames")
+    for b in bad:
+        print("matrix selftest: " + b)
+    print(f"matrix selftest: {'FAILED' if bad else 'ok'}")
+    return 1 if bad else 0
+
+
 def main(argv):
+    if len(argv) == 2 and argv[1] == "selftest":
+        return selftest()
     if len(argv) >= 2 and argv[1] == "list":
         kind, cases, left, _ = select(argv[2:])
         for c in cases:

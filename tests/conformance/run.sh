@@ -76,7 +76,8 @@ fi
 
 m="$out/matrix"
 mstart=$SECONDS
-echo "== matrix ($matrix): exporting and rendering gmotion's reference frames"
+echo "== matrix ($matrix): checking the generator, exporting, rendering gmotion's reference frames"
+python3 "$here/matrix.py" selftest || status=1
 python3 "$here/matrix.py" prepare "$m" "$gm" --matrix "$matrix"
 echo "== matrix: lottie-web (svg and canvas renderers)"
 node "$here/lottie_web.mjs" "$m/lottie_web_jobs.json" || echo "matrix: a player exited with an error; its missing frames fail below"
