@@ -470,26 +470,3 @@ fn arc_fir_matches_its_continuous_form() {
         );
     }
 }
-
-/// The bundled examples (paper sec. 8) load from `grammars/` and run.
-#[test]
-fn bundled_transition_examples_run() {
-    use gmotion::importers::svg::{ImportOptions, load};
-    use gmotion::transitions::{Targets, run};
-    for name in ["histogram", "permutation", "revisions"] {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("grammars");
-        let scene = load(&dir.join(format!("{name}.svg")), &ImportOptions::default())
-            .unwrap()
-            .scene;
-        let targets = Targets::load(&dir.join(format!("{name}.targets.json"))).unwrap();
-        let system = targets.default_system(None);
-        let fps = targets.fps.unwrap_or(60.0);
-        let anim = run(&scene, &targets, &system, fps, None).unwrap();
-        let moving = anim.tracks.iter().filter(|t| !t.motions.is_empty()).count();
-        assert!(moving >= 10, "{name}: only {moving} shapes move");
-        assert_eq!(
-            anim.frame_count(),
-            (targets.duration.unwrap() * fps).round() as usize
-        );
-    }
-}

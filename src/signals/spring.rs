@@ -132,6 +132,23 @@ mod tests {
     use super::*;
 
     #[test]
+    fn perceptual_parameters_follow_the_published_formula() {
+        // SwiftUI's and Flutter's spring: mass 1, stiffness (2π/duration)², damping
+        // 4π(1 − bounce)/duration for bounce ≥ 0, 4π/(duration·(1 + bounce)) below.
+        let pi = std::f64::consts::PI;
+        for (d, b, k, c) in [
+            (0.5, 0.3, (4.0 * pi).powi(2), 4.0 * pi * 0.7 / 0.5),
+            (1.0, 0.0, (2.0 * pi).powi(2), 4.0 * pi),
+            (0.8, -0.5, (2.0 * pi / 0.8).powi(2), 4.0 * pi / (0.8 * 0.5)),
+        ] {
+            let s = Spring::from_duration_bounce(d, b).unwrap();
+            assert!((s.mass() - 1.0).abs() < 1e-12);
+            assert!((s.stiffness() - k).abs() < 1e-9 * k, "{d} {b}");
+            assert!((s.damping() - c).abs() < 1e-9 * c, "{d} {b}");
+        }
+    }
+
+    #[test]
     fn perceptual_round_trip() {
         for (d, b) in [(0.5, 0.0), (0.8, 0.3), (1.2, -0.4), (0.3, 0.95)] {
             let s = Spring::from_duration_bounce(d, b).unwrap();
