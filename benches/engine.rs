@@ -79,7 +79,7 @@ fn grammar(tags: usize, duration: f64, fps: f64) -> String {
         let _ = writeln!(g, "timesplit(0.5, 0.5) : [a, {t}] -> [a{i}x, a{i}y]");
         let _ = writeln!(
             g,
-            "animate(affine, local, 0.01 * id, rotate(30 + {i}) scale(1.2)) : [a{i}x, {t}] -> [a{i}r]"
+            "animate(affine, local, 0.01 * (id % 30), rotate(30 + {i}) scale(1.2)) : [a{i}x, {t}] -> [a{i}r]"
         );
         let _ = writeln!(
             g,

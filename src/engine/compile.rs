@@ -1,12 +1,32 @@
 //! Timelines → keyframed tracks. Walks each shape's slices in time order, keeping the state
 //! the shape is in at every slice boundary, so each motion knows its pivot (the centroid
 //! where it began) and each attribute change knows the value it starts from.
+//!
+//! Motions are *layers*. Within one window (a slice and the motions it plays) they compose
+//! outermost first: world motions wrap local ones, the rule applied later is outer. A motion
+//! that keeps running through several windows (its slice was split) keeps its own frame: the
+//! frame is carried by the motions outer to it, so a local spin inherited by the pieces of a
+//! travelling slice keeps spinning about the moving centre, whatever the pieces add.
+//!
+//! Inverted slices (gMotion sec. 3.2: start and end values swapped):
+//! - an inverted slice with a forward twin before it (same step, e.g. `[a, inv_a]`) plays the
+//!   twin's motion backwards in the twin's own layer and frame, so it undoes exactly that
+//!   motion — and nothing the pieces inherited;
+//! - an inverted slice with no twin before it (`[inv_a, a]`) is *pre-applied*: the shape
+//!   starts in the twin's end state (an entrance), innermost, as if the art had been drawn
+//!   that way, and the slice plays back to the drawn state. Several such slices stack, the
+//!   earliest outermost, so `[inv_c, inv_b, b, c]` is `[b, c, inv_c, inv_b]` turned by half.
+//!   Colour, opacity and stroke width do the same: the change runs from its target back to
+//!   the value underneath, and a channel whose first change is such a slice holds the target
+//!   from time 0.
 
 use std::sync::Arc;
 
-use kurbo::{Affine, Point};
+use kurbo::{Affine, Point, Vec2};
 
-use crate::motion::{AttrSeg, Lookup, MotionKind, MotionSeg, Timing, Tint, Track};
+use crate::motion::{
+    AttrSeg, Component, Interp, Lookup, MotionKind, MotionSeg, Timing, Tint, Track,
+};
 use crate::scene::Shape;
 
 use super::expand::{AnimInst, AnimSpec, Slice};
@@ -42,10 +62,6 @@ impl<K: PartialEq, V> VecMap<K, V> {
         self.0.iter().find(|(x, _)| x == k).map(|(_, v)| v)
     }
 
-    fn contains_key(&self, k: &K) -> bool {
-        self.get(k).is_some()
-    }
-
     fn get_or_insert_with(&mut self, k: K, f: impl FnOnce() -> V) -> &mut V {
         let i = match self.0.iter().position(|(x, _)| *x == k) {
             Some(i) => i,
@@ -65,6 +81,75 @@ impl<K: PartialEq, V> VecMap<K, V> {
     }
 }
 
+/// What an animation instance is to the timeline it plays on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Role {
+    /// A forward change.
+    Forward,
+    /// A reversed change whose forward twin (same step) played before it.
+    Paired,
+    /// A reversed change with no twin before it: pre-applied, played back to the drawn state.
+    First,
+}
+
+/// The attribute channel an animation changes (`None` for motions).
+fn channel(spec: &AnimSpec) -> Option<usize> {
+    match spec {
+        AnimSpec::Motion { .. } => None,
+        AnimSpec::Fill(_) => Some(0),
+        AnimSpec::Border(_) => Some(1),
+        AnimSpec::Opacity(_) => Some(2),
+        AnimSpec::StrokeWidth(_) => Some(3),
+    }
+}
+
+/// Where a layer is in its life.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Phase {
+    /// A pre-applied inverted slice that has not played yet.
+    Pending,
+    /// Playing (it has a segment in the current window).
+    Running,
+    /// A forward motion that has played; its inverted twin may still come.
+    Awaiting,
+    /// Nothing more to do.
+    Done,
+}
+
+/// One motion on one shape: its transform in its own frame, and the frame.
+struct Layer {
+    inst: Arc<AnimInst>,
+    /// The motion resolved where it began (canvas at its start, or the layer frame of a
+    /// pre-applied inverted slice).
+    kind: MotionKind,
+    /// Carries `kind` onto the canvas: what the motions outer to it did since.
+    frame: Affine,
+    /// `kind` carried by `frame`, computed when the frame last changed.
+    canvas: MotionKind,
+    phase: Phase,
+}
+
+impl Layer {
+    fn new(inst: Arc<AnimInst>, kind: MotionKind, frame: Affine, phase: Phase) -> Layer {
+        let canvas = carried(&kind, frame);
+        Layer {
+            inst,
+            kind,
+            frame,
+            canvas,
+            phase,
+        }
+    }
+
+    fn carry(&mut self, by: Affine) {
+        if by == Affine::IDENTITY {
+            return;
+        }
+        self.frame = by * self.frame;
+        self.canvas = carried(&self.kind, self.frame);
+    }
+}
+
 fn timing(a: &AnimInst) -> Timing {
     Timing {
         start: a.start,
@@ -81,38 +166,79 @@ pub fn track(shape: &Shape, slices: &[Slice]) -> Track {
     // Reserve each channel's segments up front: one per (slice, change) of that kind.
     let mut counts = [0usize; 5];
     for a in slices.iter().flat_map(|s| s.anims.iter()) {
-        counts[match a.spec {
-            AnimSpec::Motion { .. } => 0,
-            AnimSpec::Fill(_) => 1,
-            AnimSpec::Border(_) => 2,
-            AnimSpec::Opacity(_) => 3,
-            AnimSpec::StrokeWidth(_) => 4,
-        }] += 1;
+        counts[channel(&a.spec).map_or(0, |c| c + 1)] += 1;
     }
     track.motions.reserve_exact(counts[0]);
     track.fill.reserve_exact(counts[1]);
     track.stroke.reserve_exact(counts[2]);
     track.opacity.reserve_exact(counts[3]);
     track.stroke_width.reserve_exact(counts[4]);
+
+    let roles = Roles::new(shape, slices);
+    let mut layers: Vec<Layer> = Vec::new();
+    let mut layer_of: VecMap<*const AnimInst, usize> = VecMap::new();
+    let mut state = REST;
+    // The pre-applied inverted slices, earliest outermost: the shape starts in their end
+    // states (each resolved about the centroid the later ones leave it at).
+    let mut first_frame = Affine::IDENTITY;
+    {
+        // The motions of one slice all pivot where that slice begins, as a forward slice's
+        // motions do; slices further on lie further in.
+        let mut below = Affine::IDENTITY;
+        let mut kinds = Vec::with_capacity(roles.first_motions.len());
+        for group in roles.first_motions.chunk_by(|x, y| x.1 == y.1).rev() {
+            let centroid = below * shape.centroid;
+            let mut product = Affine::IDENTITY;
+            for (a, _) in group.iter().rev() {
+                let kind = resolve(a, centroid);
+                product = full(a, &kind) * product;
+                kinds.push(kind);
+            }
+            below = product * below;
+        }
+        for ((a, _), kind) in roles.first_motions.iter().zip(kinds.into_iter().rev()) {
+            let f = full(a, &kind);
+            layer_of.insert(Arc::as_ptr(a), layers.len());
+            layers.push(Layer::new(a.clone(), kind, first_frame, Phase::Pending));
+            first_frame = first_frame * f;
+        }
+        state.transform = first_frame;
+    }
+    // States at slice starts, to find where an attribute change began.
+    let mut history: Vec<(f64, State)> = Vec::with_capacity(slices.len());
+    // The latest forward motion layer set at each expansion step: its inverted twin
+    // continues it.
+    let mut forward_at_step: VecMap<usize, usize> = VecMap::new();
+    // Values a forward attribute change started from, by (step, channel), for its inv_ twin.
+    let mut before: VecMap<(usize, usize), State> = VecMap::new();
+    // Per channel: the value under a run of pre-applied changes, while one is open.
+    let mut run_base: [Option<State>; 4] = [None; 4];
     // The composition order of the current slice's changes (buffer reused across slices).
     let mut ordered: Vec<&Arc<AnimInst>> = Vec::new();
-    let mut state = REST;
-    // States at slice starts, to find where a split motion began.
-    let mut history: Vec<(f64, State)> = Vec::with_capacity(slices.len());
-    // Pivots and lookups already resolved for a motion instance (shared by its pieces).
-    let mut resolved: VecMap<*const AnimInst, MotionKind> = VecMap::new();
-    // The latest forward motion set at each expansion step: an inverted twin (same step)
-    // reuses its pivot and grid cells, so it undoes exactly that motion.
-    let mut forward_at_step: VecMap<usize, MotionKind> = VecMap::new();
-    // Values a forward attribute change started from, by (step, channel), for its inv_ twin.
-    let mut before: VecMap<(usize, u8), State> = VecMap::new();
+    // Layer index of each segment of the current window, and their relative transforms.
+    let mut window: Vec<usize> = Vec::new();
+    let mut rels: Vec<Affine> = Vec::new();
 
-    for slice in slices {
+    for (i, slice) in slices.iter().enumerate() {
         history.push((slice.t0, state));
+        let (t0, t1) = (slice.t0, slice.t0 + slice.dur);
+        // A pre-applied start needs a window from time 0 to hold it.
+        if i == 0 && state.transform != Affine::IDENTITY && !has_motion(slice) {
+            track.motions.push(MotionSeg {
+                t0,
+                t1,
+                timing: Timing::linear(t0, t1),
+                kind: MotionKind::Rigid {
+                    pivot: Point::ORIGIN,
+                    blend: Arc::from([(1.0, Arc::from([]))]),
+                    interp: Interp::Linear,
+                },
+                start: state.transform,
+            });
+        }
         if slice.anims.is_empty() {
             continue;
         }
-        let (t0, t1) = (slice.t0, slice.t0 + slice.dur);
         let at_start = |tau: f64| {
             history
                 .iter()
@@ -122,133 +248,124 @@ pub fn track(shape: &Shape, slices: &[Slice]) -> Track {
                 .unwrap_or(state)
         };
         let window_start = state.transform;
-        let mut motions_here = 0;
-        outermost_first(&slice.anims, &mut ordered);
-        if slice.inverted {
-            for a in &ordered {
-                if a.reversed
-                    && let Some(k) = forward_at_step.get(&a.step)
-                {
-                    resolved.get_or_insert_with(Arc::as_ptr(a), || k.clone());
-                }
-            }
-            resolve_reversed(shape, &ordered, &at_start, &mut resolved);
-            // An inverted slice undoes its twin: the twin's innermost change is undone
-            // first, so the order of composition flips.
-            ordered.reverse();
-        }
+        outermost_first(&slice.anims, &roles, &mut ordered);
+        window.clear();
         for &a in &ordered {
             let begun = at_start(a.start);
             let tm = timing(a);
+            let role = roles.of(a);
             match &a.spec {
-                AnimSpec::Motion {
-                    grid,
-                    world,
-                    pivot_offset,
-                    lookup,
-                    interp,
-                } => {
-                    let kind = resolved
-                        .get_or_insert_with(Arc::as_ptr(a), || {
-                            let centroid = begun.transform * shape.centroid;
-                            if *lookup == Lookup::Vertex {
-                                let pivot =
-                                    if *world { Point::ORIGIN } else { centroid } + *pivot_offset;
-                                return MotionKind::Vertex {
-                                    grid: grid.clone(),
-                                    pivot: Some(pivot),
-                                };
+                AnimSpec::Motion { .. } => {
+                    let li = match layer_of.get(&Arc::as_ptr(a)) {
+                        Some(&li) => li,
+                        None => {
+                            let layer = match (role, forward_at_step.get(&a.step)) {
+                                (Role::Paired, Some(&twin)) => {
+                                    let t = &mut layers[twin];
+                                    t.phase = Phase::Done;
+                                    Layer::new(a.clone(), t.kind.clone(), t.frame, Phase::Running)
+                                }
+                                _ => {
+                                    let kind = resolve(a, window_start * shape.centroid);
+                                    Layer::new(a.clone(), kind, Affine::IDENTITY, Phase::Running)
+                                }
+                            };
+                            let li = layers.len();
+                            layers.push(layer);
+                            layer_of.insert(Arc::as_ptr(a), li);
+                            if role == Role::Forward {
+                                if let Some(&old) = forward_at_step.get(&a.step) {
+                                    layers[old].phase = Phase::Done;
+                                }
+                                forward_at_step.insert(a.step, li);
                             }
-                            let blend = grid.lookup(centroid, *lookup);
-                            let pivot =
-                                if *world { Point::ORIGIN } else { centroid } + *pivot_offset;
-                            MotionKind::Rigid {
-                                pivot,
-                                blend,
-                                interp: *interp,
-                            }
-                        })
-                        .clone();
-                    if !a.reversed {
-                        forward_at_step.insert(a.step, kind.clone());
-                    }
+                            li
+                        }
+                    };
+                    layers[li].phase = Phase::Running;
                     track.motions.push(MotionSeg {
                         t0,
                         t1,
                         timing: tm,
-                        kind,
+                        kind: layers[li].canvas.clone(),
                         start: window_start,
                     });
-                    motions_here += 1;
+                    window.push(li);
                 }
-                AnimSpec::Fill(c) => {
-                    let (from, to) =
-                        tint_change(a, 0, begun.fill, Tint::full(*c), &mut before, begun, |s| {
-                            s.fill
-                        });
-                    track.fill.push(AttrSeg {
-                        t0,
-                        t1,
-                        timing: tm,
-                        from,
-                        to,
-                    });
-                }
-                AnimSpec::Border(c) => {
-                    let (from, to) = tint_change(
-                        a,
-                        1,
-                        begun.stroke,
-                        Tint::full(*c),
-                        &mut before,
-                        begun,
-                        |s| s.stroke,
-                    );
-                    track.stroke.push(AttrSeg {
-                        t0,
-                        t1,
-                        timing: tm,
-                        from,
-                        to,
-                    });
-                }
-                AnimSpec::Opacity(x) => {
-                    let (from, to) =
-                        tint_change(a, 2, begun.opacity, *x, &mut before, begun, |s| s.opacity);
-                    track.opacity.push(AttrSeg {
-                        t0,
-                        t1,
-                        timing: tm,
-                        from,
-                        to,
-                    });
-                }
-                AnimSpec::StrokeWidth(w) => {
-                    let target = if shape.stroke_width > 0.0 {
-                        w / shape.stroke_width
-                    } else {
-                        1.0
+                spec => {
+                    let ch = channel(spec).unwrap_or(0);
+                    let get = |s: &State| match ch {
+                        0 => Value::Tint(s.fill),
+                        1 => Value::Tint(s.stroke),
+                        2 => Value::Num(s.opacity),
+                        _ => Value::Num(s.width),
                     };
-                    let (from, to) =
-                        tint_change(a, 3, begun.width, target, &mut before, begun, |s| s.width);
-                    track.stroke_width.push(AttrSeg {
-                        t0,
-                        t1,
-                        timing: tm,
-                        from,
-                        to,
-                    });
+                    let target = match spec {
+                        AnimSpec::Fill(c) | AnimSpec::Border(c) => Value::Tint(Tint::full(*c)),
+                        AnimSpec::Opacity(x) => Value::Num(*x),
+                        AnimSpec::StrokeWidth(w) if shape.stroke_width > 0.0 => {
+                            Value::Num(w / shape.stroke_width)
+                        }
+                        _ => Value::Num(1.0),
+                    };
+                    // Value at progress 0 and 1 (a reversed change starts at 1).
+                    let (from, to) = match role {
+                        Role::Forward => {
+                            run_base[ch] = None;
+                            before.get_or_insert_with((a.step, ch), || begun);
+                            (get(&begun), target)
+                        }
+                        Role::Paired => {
+                            run_base[ch] = None;
+                            let back = before.get(&(a.step, ch)).map_or(get(&REST), &get);
+                            (back, get(&begun))
+                        }
+                        Role::First => {
+                            // Back to what lies underneath: the next pre-applied change of
+                            // this channel, or the value under the whole run.
+                            let base = *run_base[ch].get_or_insert(begun);
+                            let under = roles.under(a).unwrap_or_else(|| get(&base));
+                            (under, target)
+                        }
+                    };
+                    push_attr(&mut track, ch, t0, t1, tm, from, to, role == Role::First);
                 }
             }
         }
         // The state at the slice end, read back from what was just emitted.
-        if motions_here > 0 {
+        if !window.is_empty() {
             let n = track.motions.len();
-            let group = &track.motions[n - motions_here..];
-            state.transform = group
-                .iter()
-                .fold(Affine::IDENTITY, |acc, s| acc * s.relative_at(t1))
-                * window_start;
+            let group = &track.motions[n - window.len()..];
+            rels.clear();
+            rels.extend(group.iter().map(|s| s.relative_at(t1)));
+            let mut outer = Affine::IDENTITY;
+            for (k, &li) in window.iter().enumerate() {
+                layers[li].carry(outer);
+                outer *= rels[k];
+            }
+            state.transform = outer * window_start;
+            // Layers not playing here: pre-applied ones lie under everything; a forward
+            // motion awaiting its twin is carried by the motions that wrap it and span it.
+            for li in 0..layers.len() {
+                match layers[li].phase {
+                    Phase::Pending => layers[li].carry(outer),
+                    Phase::Awaiting => {
+                        let by = wrapping(&layers, li, &window, &rels);
+                        layers[li].carry(by);
+                    }
+                    _ => {}
+                }
+            }
+            for &li in &window {
+                let l = &mut layers[li];
+                if l.inst.end <= t1 + 1e-9 {
+                    l.phase = if l.inst.reversed || forward_at_step.get(&l.inst.step) != Some(&li) {
+                        Phase::Done
+                    } else {
+                        Phase::Awaiting
+                    };
+                }
+            }
         }
         if let Some(s) = track.fill.last().filter(|s| s.t0 == t0) {
             state.fill = s.value_at(t1);
@@ -266,17 +383,301 @@ pub fn track(shape: &Shape, slices: &[Slice]) -> Track {
     track
 }
 
-/// The order in which the motions of one slice compose, outermost first. World motions
-/// wrap local ones, so a shape that moves across the canvas while spinning spins about its
-/// own (moving) centre and a world rotation turns the whole path it travels; within each
-/// kind, the rule applied later is outer. Attribute changes do not compose and keep their
-/// order.
-fn outermost_first<'a>(anims: &'a [Arc<AnimInst>], out: &mut Vec<&'a Arc<AnimInst>>) {
-    let world = |a: &&Arc<AnimInst>| matches!(&a.spec, AnimSpec::Motion { world: true, .. });
-    let local = |a: &&Arc<AnimInst>| matches!(&a.spec, AnimSpec::Motion { world: false, .. });
+fn has_motion(slice: &Slice) -> bool {
+    slice
+        .anims
+        .iter()
+        .any(|a| matches!(a.spec, AnimSpec::Motion { .. }))
+}
+
+/// The product, outermost first, of the window's segments that wrap the awaiting motion
+/// `li` (outer to it by the composition order) and span its whole slice (the slice it was
+/// split from set them): what its inverted twin must be carried by to undo exactly it.
+fn wrapping(layers: &[Layer], li: usize, window: &[usize], rels: &[Affine]) -> Affine {
+    let a = &layers[li].inst;
+    let mut by = Affine::IDENTITY;
+    for (k, &lj) in window.iter().enumerate() {
+        let m = &layers[lj].inst;
+        let outer = wraps(m, a) == std::cmp::Ordering::Greater;
+        if outer && m.start <= a.start + 1e-9 && m.end >= a.end - 1e-9 {
+            by *= rels[k];
+        }
+    }
+    by
+}
+
+/// An attribute value of either kind.
+#[derive(Clone, Copy, Debug)]
+enum Value {
+    Tint(Tint),
+    Num(f64),
+}
+
+/// Pushes an attribute change onto its channel; a pre-applied change that opens its channel
+/// first holds its start value from time 0.
+#[allow(clippy::too_many_arguments)]
+fn push_attr(
+    track: &mut Track,
+    ch: usize,
+    t0: f64,
+    t1: f64,
+    timing: Timing,
+    from: Value,
+    to: Value,
+    pre_applied: bool,
+) {
+    fn push<T: Copy>(
+        segs: &mut Vec<AttrSeg<T>>,
+        t0: f64,
+        t1: f64,
+        timing: Timing,
+        from: T,
+        to: T,
+        pre: bool,
+    ) {
+        if pre && segs.is_empty() && t0 > 0.0 {
+            segs.push(AttrSeg::linear(0.0, t0, to, to));
+        }
+        segs.push(AttrSeg {
+            t0,
+            t1,
+            timing,
+            from,
+            to,
+        });
+    }
+    match (ch, from, to) {
+        (0, Value::Tint(f), Value::Tint(t)) => {
+            push(&mut track.fill, t0, t1, timing, f, t, pre_applied)
+        }
+        (1, Value::Tint(f), Value::Tint(t)) => {
+            push(&mut track.stroke, t0, t1, timing, f, t, pre_applied)
+        }
+        (2, Value::Num(f), Value::Num(t)) => {
+            push(&mut track.opacity, t0, t1, timing, f, t, pre_applied)
+        }
+        (_, Value::Num(f), Value::Num(t)) => {
+            push(&mut track.stroke_width, t0, t1, timing, f, t, pre_applied)
+        }
+        // A channel's values are all of its kind.
+        _ => {}
+    }
+}
+
+/// Every animation of a timeline classified once, in time order.
+struct Roles {
+    roles: VecMap<*const AnimInst, Role>,
+    /// Pre-applied inverted motions, earliest first (ties in composition order), with the
+    /// index of the slice they begin on.
+    first_motions: Vec<(Arc<AnimInst>, usize)>,
+    /// For a pre-applied attribute change: the target of the next change of its channel
+    /// when that one is pre-applied too (what it plays back to).
+    under: VecMap<*const AnimInst, Value>,
+}
+
+impl Roles {
+    fn new(shape: &Shape, slices: &[Slice]) -> Roles {
+        let mut roles: VecMap<*const AnimInst, Role> = VecMap::new();
+        let mut forward_steps: Vec<usize> = Vec::new();
+        let mut first_motions = Vec::new();
+        let mut channels: [Vec<(Arc<AnimInst>, Role)>; 4] = Default::default();
+        for (si, slice) in slices.iter().enumerate() {
+            // Inverted slices that come first compose innermost, in the order the slice
+            // composes its motions.
+            let mut firsts_here: Vec<Arc<AnimInst>> = Vec::new();
+            for a in slice.anims.iter() {
+                if roles.get(&Arc::as_ptr(a)).is_some() {
+                    continue;
+                }
+                let role = if !a.reversed {
+                    forward_steps.push(a.step);
+                    Role::Forward
+                } else if forward_steps.contains(&a.step) {
+                    Role::Paired
+                } else {
+                    Role::First
+                };
+                roles.insert(Arc::as_ptr(a), role);
+                match channel(&a.spec) {
+                    None if role == Role::First => firsts_here.push(a.clone()),
+                    None => {}
+                    Some(ch) => channels[ch].push((a.clone(), role)),
+                }
+            }
+            let mut order = Vec::new();
+            outermost_order(&firsts_here, &mut order);
+            first_motions.extend(order.into_iter().map(|a| (a.clone(), si)));
+        }
+        let mut under = VecMap::new();
+        for list in &channels {
+            for w in list.windows(2) {
+                if w[0].1 == Role::First && w[1].1 == Role::First {
+                    under.insert(Arc::as_ptr(&w[0].0), target_of(shape, &w[1].0.spec));
+                }
+            }
+        }
+        Roles {
+            roles,
+            first_motions,
+            under,
+        }
+    }
+
+    fn of(&self, a: &Arc<AnimInst>) -> Role {
+        self.roles
+            .get(&Arc::as_ptr(a))
+            .copied()
+            .unwrap_or(Role::Forward)
+    }
+
+    fn under(&self, a: &Arc<AnimInst>) -> Option<Value> {
+        self.under.get(&Arc::as_ptr(a)).copied()
+    }
+}
+
+/// The value an attribute change goes to.
+fn target_of(shape: &Shape, spec: &AnimSpec) -> Value {
+    match spec {
+        AnimSpec::Fill(c) | AnimSpec::Border(c) => Value::Tint(Tint::full(*c)),
+        AnimSpec::Opacity(x) => Value::Num(*x),
+        AnimSpec::StrokeWidth(w) if shape.stroke_width > 0.0 => Value::Num(w / shape.stroke_width),
+        _ => Value::Num(1.0),
+    }
+}
+
+/// A motion resolved about a centroid: its pivot (the centroid for local motions, the origin
+/// for world ones, plus the offset of a transform written about a point) and the grid cells
+/// it reads there.
+fn resolve(a: &AnimInst, centroid: Point) -> MotionKind {
+    let AnimSpec::Motion {
+        grid,
+        world,
+        pivot_offset,
+        lookup,
+        interp,
+    } = &a.spec
+    else {
+        return MotionKind::Rigid {
+            pivot: Point::ORIGIN,
+            blend: Arc::from([]),
+            interp: Interp::Linear,
+        };
+    };
+    let pivot = if *world { Point::ORIGIN } else { centroid } + *pivot_offset;
+    if *lookup == Lookup::Vertex {
+        return MotionKind::Vertex {
+            grid: grid.clone(),
+            pivot: Some(pivot),
+        };
+    }
+    MotionKind::Rigid {
+        pivot,
+        blend: grid.lookup(centroid, *lookup),
+        interp: *interp,
+    }
+}
+
+/// The transform a pre-applied inverted motion starts at: the progress its reversed timing
+/// has at the slice start (the twin's end, `ease(1)`).
+fn full(a: &AnimInst, kind: &MotionKind) -> Affine {
+    kind.at(timing(a).progress(a.start))
+}
+
+/// `kind` carried by `g`: `g·F(p)·g⁻¹` at every progress. The pivot moves by `g`; the
+/// components are conjugated by `g`'s linear part, exactly for translations, matrices and
+/// scales (all linear in progress), for rotations under similarities and for anything under
+/// a uniform scale. A rotation or skew carried by a shear is matched at its ends and
+/// interpolated entry by entry between them (Alexa interpolation stays exact throughout).
+fn carried(kind: &MotionKind, g: Affine) -> MotionKind {
+    if g == Affine::IDENTITY {
+        return kind.clone();
+    }
+    match kind {
+        MotionKind::Rigid {
+            pivot,
+            blend,
+            interp,
+        } => {
+            let [a, b, c, d, _, _] = g.as_coeffs();
+            let linear = Affine::new([a, b, c, d, 0.0, 0.0]);
+            let tol = 1e-12 * (a.abs() + b.abs() + c.abs() + d.abs());
+            let blend = if (a - 1.0).abs() <= tol
+                && b.abs() <= tol
+                && c.abs() <= tol
+                && (d - 1.0).abs() <= tol
+            {
+                blend.clone()
+            } else {
+                blend
+                    .iter()
+                    .map(|(w, cs)| {
+                        let cs: Arc<[Component]> =
+                            cs.iter().map(|x| conjugate(*x, linear, tol)).collect();
+                        (*w, cs)
+                    })
+                    .collect()
+            };
+            MotionKind::Rigid {
+                pivot: g * *pivot,
+                blend,
+                interp: *interp,
+            }
+        }
+        MotionKind::Vertex { grid, pivot } => MotionKind::Vertex {
+            grid: grid.clone(),
+            pivot: pivot.map(|p| g * p),
+        },
+    }
+}
+
+/// `l·c·l⁻¹` for a linear map `l`, as a component.
+fn conjugate(c: Component, l: Affine, tol: f64) -> Component {
+    let [a, b, cc, d, _, _] = l.as_coeffs();
+    let similar = (a - d).abs() <= tol && (b + cc).abs() <= tol;
+    let mirror = (a + d).abs() <= tol && (b - cc).abs() <= tol;
+    let uniform = similar && b.abs() <= tol && cc.abs() <= tol;
+    let matrix = |m: Affine| Component::Matrix(l * m * l.inverse());
+    match c {
+        Component::Translate(v) => {
+            Component::Translate(Vec2::new(a * v.x + cc * v.y, b * v.x + d * v.y))
+        }
+        Component::Rotate(deg) if similar => Component::Rotate(deg),
+        Component::Rotate(deg) if mirror => Component::Rotate(-deg),
+        Component::Scale(k) if k.x == k.y && (similar || mirror) => c,
+        Component::Skew(..) if uniform => c,
+        Component::Matrix(m) => matrix(m),
+        other => matrix(other.at(1.0)),
+    }
+}
+
+/// The order in which the motions of one slice compose, outermost first (see [`wraps`]).
+/// World motions wrap local ones, so a shape that moves across the canvas while spinning
+/// spins about its own (moving) centre and a world rotation turns the whole path it
+/// travels. An inverted twin takes its twin's place (same
+/// rule), so it undoes the twin in place; pre-applied inverted slices lie innermost.
+/// Attribute changes do not compose and keep their order.
+fn outermost_first<'a>(
+    anims: &'a [Arc<AnimInst>],
+    roles: &Roles,
+    out: &mut Vec<&'a Arc<AnimInst>>,
+) {
+    outermost_order(anims, out);
+    let motions = out
+        .iter()
+        .take_while(|a| matches!(a.spec, AnimSpec::Motion { .. }))
+        .count();
+    // Stable: pre-applied motions move to the end of the motions, in their order.
+    out[..motions].sort_by_key(|a| roles.of(a) == Role::First);
+}
+
+fn outermost_order<'a>(anims: &'a [Arc<AnimInst>], out: &mut Vec<&'a Arc<AnimInst>>) {
     out.clear();
-    out.extend(anims.iter().rev().filter(world));
-    out.extend(anims.iter().rev().filter(local));
+    out.extend(
+        anims
+            .iter()
+            .filter(|a| matches!(&a.spec, AnimSpec::Motion { .. })),
+    );
+    out.sort_by(|a, b| wraps(b, a));
     out.extend(
         anims
             .iter()
@@ -284,111 +685,13 @@ fn outermost_first<'a>(anims: &'a [Arc<AnimInst>], out: &mut Vec<&'a Arc<AnimIns
     );
 }
 
-/// Resolves the reversed rigid motions of an inverted slice that has no forward twin before
-/// it (e.g. `[inv_a, a]`), together. Their forward twins would
-/// have pivoted about the centroid `c` the shape had when the twin slice began, composing
-/// into `F` with `F(c)` = the centroid now. `F(c)` is affine in `c`, so `c` is found by
-/// inverting that affine map; the grid is then read at `c`, as the twin read it.
-fn resolve_reversed(
-    shape: &Shape,
-    forward: &[&Arc<AnimInst>],
-    at_start: &dyn Fn(f64) -> State,
-    resolved: &mut VecMap<*const AnimInst, MotionKind>,
-) {
-    let pending: Vec<&Arc<AnimInst>> = forward
-        .iter()
-        .copied()
-        .filter(|a| a.reversed && !resolved.contains_key(&Arc::as_ptr(a)))
-        .filter(|a| matches!(&a.spec, AnimSpec::Motion { lookup, .. } if *lookup != Lookup::Vertex))
-        .collect();
-    let Some(first) = pending.first() else {
-        return;
-    };
-    let now = at_start(first.start).transform * shape.centroid;
-    let blends_at = |cell: Point| -> Vec<crate::motion::Blend> {
-        pending
-            .iter()
-            .filter_map(|a| match &a.spec {
-                AnimSpec::Motion { grid, lookup, .. } => Some(grid.lookup(cell, *lookup)),
-                _ => None,
-            })
-            .collect()
-    };
-    // F = F₁∘…∘Fₙ (F₁ outermost), local ones about `c`, applied to `x`.
-    let apply = |blends: &[crate::motion::Blend], c: Point, x: Point| -> Point {
-        pending.iter().zip(blends).rev().fold(x, |x, (a, blend)| {
-            let (world, off) = match &a.spec {
-                AnimSpec::Motion {
-                    world,
-                    pivot_offset,
-                    ..
-                } => (*world, *pivot_offset),
-                _ => (true, kurbo::Vec2::ZERO),
-            };
-            let pivot = if world { Point::ORIGIN } else { c } + off;
-            crate::motion::grid::blend_at(blend, pivot, 1.0) * x
-        })
-    };
-    // Φ(c) = F_c(c) is affine in c for fixed grid cells: invert it at the centroid now.
-    let solve = |cell: Point| -> Point {
-        let blends = blends_at(cell);
-        let phi = |c: Point| apply(&blends, c, c);
-        let o = phi(Point::ORIGIN);
-        let ex = phi(Point::new(1.0, 0.0)) - o;
-        let ey = phi(Point::new(0.0, 1.0)) - o;
-        let m = Affine::new([ex.x, ex.y, ey.x, ey.y, o.x, o.y]);
-        if m.determinant().abs() < 1e-12 {
-            now
-        } else {
-            m.inverse() * now
-        }
-    };
-    // Read the grid where the shape is now, solve, then read it where the twin began.
-    let c = solve(solve(now));
-    for a in pending {
-        if let AnimSpec::Motion {
-            grid,
-            world,
-            pivot_offset,
-            lookup,
-            interp,
-        } = &a.spec
-        {
-            let blend = grid.lookup(c, *lookup);
-            let pivot = if *world { Point::ORIGIN } else { c } + *pivot_offset;
-            resolved.insert(
-                Arc::as_ptr(a),
-                MotionKind::Rigid {
-                    pivot,
-                    blend,
-                    interp: *interp,
-                },
-            );
-        }
-    }
-}
-
-/// The endpoints of an attribute change. Forward: from the value where the change began to
-/// the target. Reversed: from that value back to what the forward twin (same step) started
-/// from — the shape's original value when there is no twin before it — so `[a, b, inv_a]`
-/// closes the loop for colours, opacity and width just as for motion.
-fn tint_change<T: Copy>(
-    a: &AnimInst,
-    channel: u8,
-    begun: T,
-    target: T,
-    before: &mut VecMap<(usize, u8), State>,
-    begun_state: State,
-    get: impl Fn(&State) -> T,
-) -> (T, T) {
-    if a.reversed {
-        let back = before
-            .get(&(a.step, channel))
-            .map(&get)
-            .unwrap_or_else(|| get(&REST));
-        (back, begun)
-    } else {
-        before.get_or_insert_with((a.step, channel), || begun_state);
-        (begun, target)
-    }
+/// How motion `a` composes against `b` when both play: `Greater` when `a` is outer. World
+/// wraps local; then a motion inherited from a longer slice wraps what its pieces add (so
+/// it keeps running undisturbed through them); then, on one slice, the later rule wraps.
+fn wraps(a: &AnimInst, b: &AnimInst) -> std::cmp::Ordering {
+    let world = |x: &AnimInst| matches!(x.spec, AnimSpec::Motion { world: true, .. });
+    world(a)
+        .cmp(&world(b))
+        .then((a.end - a.start).total_cmp(&(b.end - b.start)))
+        .then(a.step.cmp(&b.step))
 }

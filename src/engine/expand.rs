@@ -515,6 +515,24 @@ fn apply(
                     format!("the offset is a delay and cannot be negative, found {delay}"),
                 ));
             }
+            // An offset that reaches the slice end leaves the change no time to play: it
+            // would jump at the boundary (and exporters would have nothing to key), so it is
+            // an error rather than a silent jump.
+            if delay >= slice.dur {
+                let mut e = EngineError::at(
+                    rule.span,
+                    format!(
+                        "the offset of shape `{}` #{} is {delay} s, not shorter than its slice ({} s)",
+                        env.shape.tag, env.shape.id, slice.dur
+                    ),
+                );
+                e.notes.push(format!(
+                    "the slice runs from {} s to {} s; write a smaller offset or split the slice differently",
+                    slice.t0,
+                    slice.t0 + slice.dur
+                ));
+                return Err(e);
+            }
             let SharedSpec { spec, ease } = match &ctx.cache.spec {
                 Some(shared) => shared.clone(),
                 None => {
@@ -537,7 +555,7 @@ fn apply(
                 spec,
                 start: slice.t0,
                 end: slice.t0 + slice.dur,
-                delay: delay.min(slice.dur),
+                delay,
                 ease,
                 reversed: inverted,
             });

@@ -123,6 +123,25 @@ pub enum MotionKind {
     },
 }
 
+impl MotionKind {
+    /// `F(p)`: the motion's transform at progress `p` (identity for vertex motions, which
+    /// act through [`Track::deform`]).
+    #[inline]
+    pub fn at(&self, p: f64) -> Affine {
+        match self {
+            MotionKind::Rigid {
+                pivot,
+                blend,
+                interp,
+            } => match interp {
+                Interp::Linear => grid::blend_at(blend, *pivot, p),
+                Interp::Alexa => alexa::power(grid::blend_at(blend, *pivot, 1.0), p),
+            },
+            MotionKind::Vertex { .. } => Affine::IDENTITY,
+        }
+    }
+}
+
 /// One window of a motion on one shape.
 #[derive(Clone, Debug)]
 pub struct MotionSeg {
@@ -142,17 +161,7 @@ impl MotionSeg {
     /// `F(p)` for a rigid motion.
     #[inline]
     pub fn full_at(&self, p: f64) -> Affine {
-        match &self.kind {
-            MotionKind::Rigid {
-                pivot,
-                blend,
-                interp,
-            } => match interp {
-                Interp::Linear => grid::blend_at(blend, *pivot, p),
-                Interp::Alexa => alexa::power(grid::blend_at(blend, *pivot, 1.0), p),
-            },
-            MotionKind::Vertex { .. } => Affine::IDENTITY,
-        }
+        self.kind.at(p)
     }
 
     /// The relative transform this window adds at time `t` (identity for vertex motions,
