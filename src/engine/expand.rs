@@ -22,7 +22,7 @@ use crate::signals::Easing;
 
 use super::EngineError;
 use super::plan::Plan;
-use super::random::{hash_str, key, noise2, unit};
+use super::random::{draw, noise2};
 use super::rules::{AnimType, CRule, Op, Program};
 use super::settings::Settings;
 
@@ -129,8 +129,11 @@ struct ShapeEnv<'a> {
     canvas: (f64, f64),
     t0: f64,
     d: f64,
+    /// The shape's own step count ([`super::plan::Applied::depth`]).
     step: usize,
     seed: u64,
+    /// Key of this step's draws on the shape's place ([`super::plan::Applied::rand_key`]).
+    rand_key: u64,
     draws: u64,
 }
 
@@ -159,13 +162,7 @@ impl Env for ShapeEnv<'_> {
 
     fn rand(&mut self) -> f64 {
         self.draws += 1;
-        unit(key(&[
-            self.seed,
-            hash_str(&self.shape.tag),
-            self.shape.id as u64,
-            self.step as u64,
-            self.draws,
-        ]))
+        draw(self.rand_key, self.shape.id, self.draws)
     }
 
     fn noise(&self, x: f64, y: f64) -> f64 {
@@ -385,8 +382,9 @@ impl Runner<'_> {
                     canvas: (self.scene.width, self.scene.height),
                     t0: slice.t0,
                     d: slice.dur,
-                    step: a.step,
+                    step: a.depth,
                     seed: settings.seed,
+                    rand_key: a.rand_key,
                     draws: 0,
                 };
                 apply(&mut ctx, &slice, &mut env, &mut next).map_err(|e| (a.step, e))?;

@@ -10,6 +10,11 @@
 //! through classes instead of shapes, without evaluating a single expression. What is left
 //! — each shape's values — is independent from shape to shape, so [`super::expand`] then
 //! runs each shape's whole history at once, all shapes in parallel.
+//!
+//! Nothing a shape goes through depends on the rules of other shape tags: steps are ordered
+//! per shape tag (slice tags by first creation *for that shape tag*), and the random rule
+//! choice and the `rand()` stream of each step are keyed by the shape and the step's place
+//! in the shape's own derivation, not by the global step number (see [`super::random`]).
 
 use std::collections::{BTreeSet, HashMap};
 use std::sync::Arc;
@@ -18,15 +23,21 @@ use crate::grammar::ast::TagRef;
 use crate::scene::Scene;
 
 use super::EngineError;
-use super::random::{hash_str, key, unit};
+use super::random::{Place, hash_str};
 use super::rules::{CRule, Op, Program};
 use super::settings::{Choice, Settings};
 
 /// One step as a class of shapes goes through it.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Applied {
-    /// The expansion step.
+    /// The expansion step (global: unique, but shifted by rules of other shape tags).
     pub step: usize,
+    /// How many steps rewrote this shape's timeline before this one: the `step` of
+    /// expressions, which only the shape's own rules change.
+    pub depth: usize,
+    /// The shape-independent part of the key of this step's `rand()` draws (see
+    /// [`super::random`]); each shape adds its id and the draw number.
+    pub rand_key: u64,
     /// The slice tag it rewrites.
     pub slice_tag: u32,
     /// The rule, by position in the program.
@@ -81,11 +92,27 @@ pub const MAX_SLICES: usize = 1 << 25;
 struct Class {
     slices: Vec<(u32, bool)>,
     history: Vec<Applied>,
+    /// How many steps have rewritten each slice tag (id, count) on these shapes: with the
+    /// tag's name, the step's place in the shapes' own derivation.
+    visits: Vec<(u32, u64)>,
+}
+
+impl Class {
+    /// How many steps rewrote slice tag `tag` on this class before.
+    fn visits(&self, tag: u32) -> u64 {
+        self.visits.iter().find(|v| v.0 == tag).map_or(0, |v| v.1)
+    }
+
+    fn has(&self, tag: u32) -> bool {
+        self.slices.iter().any(|&(t, _)| t == tag)
+    }
 }
 
 /// Slice tag registry: ids in order of first creation.
 struct Tags {
     names: Vec<String>,
+    /// [`hash_str`] of each name, for random keys.
+    hashes: Vec<u64>,
     ids: HashMap<String, u32>,
     /// Ids of each rule's outputs once looked up, by rule position and output index.
     /// Looked up lazily, so ids are still numbered in order of first creation.
@@ -99,6 +126,7 @@ impl Tags {
         }
         let i = self.names.len() as u32;
         self.names.push(name.to_string());
+        self.hashes.push(hash_str(name));
         self.ids.insert(name.to_string(), i);
         i
     }
@@ -152,10 +180,11 @@ fn pick(program: &Program, cands: &[usize], r: f64) -> usize {
     *cands.last().expect("candidates are never empty")
 }
 
-/// What one step rewrites: its slice tag and step number.
+/// What one step rewrites: its slice tag and step number, and the keys of its draws.
 struct StepAt {
     step: usize,
     slice_tag: u32,
+    rand_key: u64,
 }
 
 /// Rewrites a class's slices as rule `pos` does at a step, naming the new slices (which
@@ -193,10 +222,16 @@ fn rewrite(
     class.slices = slices;
     class.history.push(Applied {
         step: at.step,
+        depth: class.history.len(),
+        rand_key: at.rand_key,
         slice_tag: at.slice_tag,
         rule: pos,
         key,
     });
+    match class.visits.iter_mut().find(|v| v.0 == at.slice_tag) {
+        Some(v) => v.1 += 1,
+        None => class.visits.push((at.slice_tag, 1)),
+    }
 }
 
 impl Plan {
@@ -220,6 +255,7 @@ impl Plan {
 
         let mut tags = Tags {
             names: Vec::new(),
+            hashes: Vec::new(),
             ids: HashMap::new(),
             outputs: program
                 .rules
@@ -228,6 +264,7 @@ impl Plan {
                 .collect(),
         };
         let all = tags.id("all");
+        let tag_hashes: Vec<u64> = shape_tag_names.iter().map(|t| hash_str(t)).collect();
         let mut matcher = Matcher {
             program,
             shape_tags: &shape_tag_names,
@@ -237,17 +274,24 @@ impl Plan {
         let mut classes: Vec<Class> = vec![
             Class {
                 slices: vec![(all, false)],
-                history: Vec::new(),
+                ..Class::default()
             };
             shape_tag_names.len()
         ];
         let mut class_of = shape_tag_of.clone();
 
-        // The (shape tag, slice tag) pairs with slices left to rewrite; the first is next.
+        // Per shape tag, its slice tags in order of first creation on its own shapes (`all`
+        // first). Steps follow this order rather than the global ids, which a rule for
+        // another shape tag can shift by creating a shared tag name first.
+        let mut order: Vec<Vec<u32>> = vec![vec![all]; shape_tag_names.len()];
+        let mut rank: Vec<HashMap<u32, u32>> =
+            vec![HashMap::from([(all, 0)]); shape_tag_names.len()];
+        // The (shape tag, slice tag rank) pairs with slices left to rewrite; the first is
+        // next.
         let mut pending: BTreeSet<(u32, u32)> = BTreeSet::new();
         for st in 0..shapes_by_tag.len() as u32 {
             if !matcher.get(all, st, &tags).is_empty() {
-                pending.insert((st, all));
+                pending.insert((st, 0));
             }
         }
 
@@ -260,33 +304,41 @@ impl Plan {
         let mut unfinished = None;
         // The most slices any class has.
         let mut longest = 1;
-        while let Some((shape_tag, slice_tag)) = pending.pop_first() {
+        while let Some((shape_tag, r)) = pending.pop_first() {
             if steps >= settings.max_steps {
                 unfinished = Some(cycle_error(program, &history, settings.max_steps));
                 break;
             }
+            let st = shape_tag as usize;
+            let slice_tag = order[st][r as usize];
             let cands = matcher.get(slice_tag, shape_tag, &tags).clone();
-            let at = || StepAt {
+            // Where this step is in a class's own derivation, as random keys take it.
+            let slice_hash = tags.hashes[slice_tag as usize];
+            let place = |class: &Class| Place {
+                seed: settings.seed,
+                shape_tag: tag_hashes[st],
+                slice_tag: slice_hash,
+                visits: class.visits(slice_tag),
+            };
+            let at = |place: &Place| StepAt {
                 step: steps,
                 slice_tag,
+                rand_key: place.draw_key(),
             };
             created.clear();
             // The rules applied, in the order shapes took them.
             let mut applied: Vec<usize> = Vec::new();
             match settings.choice {
                 Choice::Group => {
-                    let rule = pick(
-                        program,
-                        &cands,
-                        unit(key(&[settings.seed, 0x5EED, steps as u64])),
-                    );
+                    let class = &mut classes[st];
+                    let p = place(class);
+                    let rule = pick(program, &cands, p.choice(None));
                     applied.push(rule);
-                    let class = &mut classes[shape_tag as usize];
                     let before = class.slices.len();
-                    rewrite(class, program, rule, at(), keys, &mut tags, &mut created);
+                    rewrite(class, program, rule, at(&p), keys, &mut tags, &mut created);
                     keys += 1;
                     let added = class.slices.len() - before;
-                    total_slices += added * shapes_by_tag[shape_tag as usize].len();
+                    total_slices += added * shapes_by_tag[st].len();
                     longest = longest.max(class.slices.len());
                 }
                 Choice::Shape => {
@@ -296,29 +348,15 @@ impl Plan {
                     // (old class, rule) → new class.
                     let mut split: HashMap<(u32, usize), u32> = HashMap::new();
                     let mut rule_keys: Vec<(usize, usize)> = Vec::new();
-                    for &si in &shapes_by_tag[shape_tag as usize] {
-                        let shape = &scene.shapes[si];
-                        let rule = pick(
-                            program,
-                            &cands,
-                            unit(key(&[
-                                settings.seed,
-                                0x5EED,
-                                steps as u64,
-                                hash_str(&shape.tag),
-                                shape.id as u64,
-                            ])),
-                        );
+                    for &si in &shapes_by_tag[st] {
+                        let old = class_of[si];
+                        if !classes[old as usize].has(slice_tag) {
+                            continue;
+                        }
+                        let p = place(&classes[old as usize]);
+                        let rule = pick(program, &cands, p.choice(Some(scene.shapes[si].id)));
                         if !applied.contains(&rule) {
                             applied.push(rule);
-                        }
-                        let old = class_of[si];
-                        if !classes[old as usize]
-                            .slices
-                            .iter()
-                            .any(|&(t, _)| t == slice_tag)
-                        {
-                            continue;
                         }
                         class_of[si] = match split.get(&(old, rule)) {
                             Some(&new) => new,
@@ -336,7 +374,7 @@ impl Plan {
                                     &mut class,
                                     program,
                                     rule,
-                                    at(),
+                                    at(&p),
                                     key,
                                     &mut tags,
                                     &mut created,
@@ -359,8 +397,13 @@ impl Plan {
                 }
             }
             for &tag in &created {
+                let next = order[st].len() as u32;
+                let r = *rank[st].entry(tag).or_insert(next);
+                if r == next {
+                    order[st].push(tag);
+                }
                 if !matcher.get(tag, shape_tag, &tags).is_empty() {
-                    pending.insert((shape_tag, tag));
+                    pending.insert((shape_tag, r));
                 }
             }
             for r in applied {

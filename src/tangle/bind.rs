@@ -31,7 +31,8 @@ pub struct ShapeVars {
     pub bbox: Rect,
     /// Canvas size.
     pub canvas: (f64, f64),
-    /// Expansion step.
+    /// How many rules made the shape (0 for imported shapes): its own step count, which
+    /// rules for other tags do not change.
     pub step: usize,
 }
 

@@ -2,10 +2,17 @@
 //!
 //! Every shape is ⟨t, g, s⟩: tag, group, id in group. One step takes the non-terminal
 //! shapes with the lowest group id (breadth-first), picks one rule matching their tag
-//! (highest priority, then by weight, seeded by (seed, step)), and applies it to every one
-//! of them; each of the rule's outputs becomes a new group, its shapes numbered in order.
-//! The pieces replace their ancestor in the scene tree, keeping its paint, so timeslice
-//! rules can animate them afterwards.
+//! (highest priority, then by weight), and applies it to every one of them; each of the
+//! rule's outputs becomes a new group, its shapes numbered in order. The pieces replace
+//! their ancestor in the scene tree, keeping its paint, so timeslice rules can animate them
+//! afterwards.
+//!
+//! Random decisions are keyed by where they happen in the derivation, not by the global
+//! step or group id (which count every tag's steps and groups, so a rule for one tag would
+//! re-roll all the others): every group has a stable key, made from the seed and the
+//! imported group for the scene's groups, and from the key of the batch that made it and
+//! its output slot for new ones. A batch (a group's shapes of one tag) keys its rule choice
+//! on its group's key and its tag, and each shape's draws add the shape's id in the group.
 
 use std::collections::{BTreeMap, HashMap, HashSet};
 
@@ -35,6 +42,10 @@ struct TShape {
     paint: Paint,
     /// Came from the scene (matches `all` rules).
     imported: bool,
+    /// The stable key of its group (see the module documentation).
+    group_key: u64,
+    /// How many rules made it: 0 for imported shapes (the `step` of expressions).
+    depth: usize,
 }
 
 /// An operator bound for one shape, and its pieces (or why it left the shape whole).
@@ -70,6 +81,13 @@ impl Arena {
         }
     }
 }
+
+/// Domain words of the keys, so choices, draws and group keys never coincide.
+const ROOT_GROUP: u64 = 0x7A46_0000_0000_0001;
+const CHOICE: u64 = 0x7A46_0000_0000_0002;
+const SLOT_GROUP: u64 = 0x7A46_0000_0000_0003;
+const UNGROUPED: u64 = 0x7A46_0000_0000_0004;
+const NOISE: u64 = 0x6709;
 
 fn hash_str(s: &str) -> u64 {
     s.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
@@ -257,6 +275,8 @@ pub fn expand(
             cell: (shape.id as i64, 0),
             paint,
             imported: true,
+            group_key: key(&[ROOT_GROUP, opts.seed, shape.group as u64]),
+            depth: 0,
         });
         roots.push((u, node));
         pending.entry(shape.group).or_default().push(node);
@@ -265,9 +285,16 @@ pub fn expand(
     let mut live = roots.len();
     let mut recent: Vec<usize> = Vec::new();
 
-    while let Some((group, nodes)) = pending.pop_first() {
+    while let Some((_, nodes)) = pending.pop_first() {
         // One batch per tag, in order of first appearance (a group normally has one tag).
         let mut batches: Vec<(String, bool, Vec<usize>)> = Vec::new();
+        // All shapes of a group share its key and depth.
+        let (group_key, depth) = {
+            let s = arena.shapes[nodes[0]]
+                .as_ref()
+                .expect("pending shapes are unexpanded");
+            (s.group_key, s.depth)
+        };
         for n in nodes {
             let s = arena.shapes[n]
                 .as_ref()
@@ -283,8 +310,8 @@ pub fn expand(
         for (tag, imported, batch) in batches {
             let cands = candidates(&spatial, &tag, imported);
             let step = stats.steps;
-            let Some((rule_index, rule)) = choose(&cands, unit(key(&[opts.seed, step as u64])))
-            else {
+            let batch_key = key(&[group_key, hash_str(&tag), imported as u64]);
+            let Some((rule_index, rule)) = choose(&cands, unit(key(&[CHOICE, batch_key]))) else {
                 continue;
             };
             if step >= opts.max_steps {
@@ -307,20 +334,14 @@ pub fn expand(
             recent.push(rule_index);
 
             let n = batch.len();
-            let group_key = key(&[opts.seed, group as u64, 0x6709]);
+            let noise_key = key(&[group_key, NOISE]);
             let results: Vec<Result<Applied, TangleError>> = batch
                 .par_iter()
                 .map(|&node| {
                     let s = arena.shapes[node]
                         .as_ref()
                         .expect("batch shapes are unexpanded");
-                    let shape_key = key(&[
-                        opts.seed,
-                        hash_str(&s.tag),
-                        s.group as u64,
-                        s.sid as u64,
-                        step as u64,
-                    ]);
+                    let shape_key = key(&[batch_key, s.sid as u64]);
                     let vars = ShapeVars {
                         sid: s.sid,
                         n,
@@ -328,7 +349,7 @@ pub fn expand(
                         centroid: s.region.centroid(),
                         bbox: s.region.bbox(),
                         canvas: (scene.width, scene.height),
-                        step,
+                        step: depth,
                     };
                     let mut env = ShapeEnv::new(vars, shape_key, opts.seed);
                     let op = bind(rule, &mut env)?;
@@ -339,7 +360,7 @@ pub fn expand(
                         cell: s.cell,
                         sid: s.sid,
                         key: shape_key,
-                        group_key,
+                        group_key: noise_key,
                     };
                     let pieces = op.apply(input, &ctx);
                     Ok((op, pieces))
@@ -347,7 +368,8 @@ pub fn expand(
                 .collect();
 
             // New groups: one per output slot used, or one per shape for `ungroup`.
-            let mut slot_group: HashMap<(usize, usize), usize> = HashMap::new();
+            // (0 or 1 + the shape's place in the batch for `ungroup`, slot) → (id, key).
+            let mut slot_group: HashMap<(usize, usize), (usize, u64)> = HashMap::new();
             let mut next_sid: HashMap<usize, usize> = HashMap::new();
             let mut produced: Vec<(usize, Vec<Piece>)> = Vec::with_capacity(n);
             let mut ungroup = false;
@@ -383,7 +405,8 @@ pub fn expand(
             slots.dedup();
             if !ungroup {
                 for &slot in &slots {
-                    slot_group.insert((0, slot), next_group);
+                    let k = key(&[SLOT_GROUP, batch_key, slot as u64]);
+                    slot_group.insert((0, slot), (next_group, k));
                     next_group += 1;
                 }
             }
@@ -398,10 +421,11 @@ pub fn expand(
                     if rule.outputs.is_empty() {
                         continue;
                     }
-                    let g = if ungroup {
+                    let (g, g_key) = if ungroup {
                         *slot_group.entry((k + 1, piece.slot)).or_insert_with(|| {
                             next_group += 1;
-                            next_group - 1
+                            let gk = key(&[UNGROUPED, batch_key, k as u64, piece.slot as u64]);
+                            (next_group - 1, gk)
                         })
                     } else {
                         slot_group[&(0, piece.slot)]
@@ -418,6 +442,8 @@ pub fn expand(
                         cell: piece.cell,
                         paint: piece.paint,
                         imported: false,
+                        group_key: g_key,
+                        depth: depth + 1,
                     };
                     *sid += 1;
                     let child = if in_place {

@@ -1,8 +1,10 @@
 //! Seeded randomness and coherent noise for the tangle operators.
 //!
-//! Every random decision is keyed by what it is for — (seed, group, shape, step) — rather
-//! than drawn from one shared stream, so expansion is deterministic whatever the thread
-//! count, and editing one rule does not re-roll unrelated shapes.
+//! Every random decision is keyed by what it is for — the seed, the shape and its place in
+//! its own derivation (see [`super::expand`] and [`crate::engine::random`]) — rather than
+//! drawn from one shared stream or keyed by a step counter, so expansion is deterministic
+//! whatever the thread count, and editing the rules of one tag does not re-roll shapes of
+//! another.
 
 use std::f64::consts::TAU;
 
