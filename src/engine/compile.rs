@@ -200,7 +200,7 @@ pub fn track(shape: &Shape, slices: &[Slice]) -> Track {
             let f = full(a, &kind);
             layer_of.insert(Arc::as_ptr(a), layers.len());
             layers.push(Layer::new(a.clone(), kind, first_frame, Phase::Pending));
-            first_frame = first_frame * f;
+            first_frame *= f;
         }
         state.transform = first_frame;
     }
