@@ -38,7 +38,7 @@ pub fn write_bytes(path: &Path, bytes: &[u8]) -> io::Result<()> {
 
 /// `dir/.name.<pid>-<n>.tmp`: hidden, unique per process and call, on the same file system
 /// as `path` so the rename cannot cross devices.
-fn temp_path(path: &Path) -> PathBuf {
+pub(crate) fn temp_path(path: &Path) -> PathBuf {
     static COUNTER: AtomicUsize = AtomicUsize::new(0);
     let n = COUNTER.fetch_add(1, Ordering::Relaxed);
     let name = path

@@ -301,3 +301,400 @@ fn transitions_run_the_three_applications() {
     );
     assert!(!d.join("y.json").exists());
 }
+
+/// Runs `cmd`, which must fail with status 1; returns its error output.
+fn run_err(cmd: &mut Command) -> String {
+    let out = cmd.output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(1), "{cmd:?}: {err}");
+    err
+}
+
+/// `grammars/toy.gm` without its `scene` line.
+fn toy_rules() -> String {
+    let src = std::fs::read_to_string(root().join("grammars/toy.gm")).unwrap();
+    let kept: Vec<&str> = src.lines().filter(|l| !l.starts_with("scene ")).collect();
+    assert!(kept.len() < src.lines().count(), "toy.gm names no scene");
+    kept.join("\n") + "\n"
+}
+
+fn lottie(p: &Path) -> serde_json::Value {
+    serde_json::from_slice(&std::fs::read(p).unwrap()).unwrap()
+}
+
+/// The names of a Lottie's root layers.
+fn layer_names(p: &Path) -> Vec<String> {
+    let mut v: Vec<String> = lottie(p)["layers"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|l| l["nm"].as_str().unwrap().to_string())
+        .collect();
+    v.sort();
+    v
+}
+
+/// The `width` and `height` attributes of an SVG's root.
+fn svg_size(p: &Path) -> (String, String) {
+    let text = std::fs::read_to_string(p).unwrap();
+    let root_tag = &text[..text.find('>').unwrap()];
+    let attr = |name: &str| {
+        let at = root_tag.find(&format!(" {name}=\"")).unwrap() + name.len() + 3;
+        root_tag[at..at + root_tag[at..].find('"').unwrap()].to_string()
+    };
+    (attr("width"), attr("height"))
+}
+
+#[test]
+fn the_scene_directive_names_the_scene_beside_the_grammar() {
+    let d = out_dir("scene-directive");
+    let g = root().join("grammars");
+    // Run from another folder: the scene is found beside the grammar, not in the cwd.
+    let named = d.join("named.json");
+    run_ok(
+        bin()
+            .current_dir(&d)
+            .arg("animate")
+            .arg(g.join("toy.gm"))
+            .arg("-o")
+            .arg(&named),
+    );
+    let given = d.join("given.json");
+    animate("toy", &[given.as_path()], &[], None);
+    assert!(std::fs::read(&named).unwrap() == std::fs::read(&given).unwrap());
+    // The grammar is told by its extension, so it may come first.
+    let swapped = d.join("swapped.json");
+    run_ok(
+        bin()
+            .arg("animate")
+            .arg(g.join("toy.gm"))
+            .arg(g.join("toy.svg"))
+            .arg("-o")
+            .arg(&swapped),
+    );
+    assert!(std::fs::read(&swapped).unwrap() == std::fs::read(&given).unwrap());
+
+    // A grammar naming another scene, in a folder of its own: the directive is followed,
+    // and a scene on the command line overrides it.
+    std::fs::create_dir_all(d.join("art")).unwrap();
+    std::fs::write(
+        d.join("art/small.svg"),
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="100" height="50">
+  <rect data-tag="s" x="5" y="5" width="10" height="10"/>
+  <circle data-tag="c" cx="40" cy="20" r="5"/>
+</svg>"#,
+    )
+    .unwrap();
+    let gm = d.join("small.gm");
+    std::fs::write(&gm, format!("scene art/small.svg\n{}", toy_rules())).unwrap();
+    let small = d.join("small.json");
+    run_ok(bin().arg("animate").arg(&gm).arg("-o").arg(&small));
+    assert_eq!(lottie(&small)["w"], 100);
+    let over = d.join("over.json");
+    run_ok(
+        bin()
+            .arg("animate")
+            .arg(g.join("toy.svg"))
+            .arg(&gm)
+            .arg("-o")
+            .arg(&over),
+    );
+    assert!(std::fs::read(&over).unwrap() == std::fs::read(&given).unwrap());
+    // `check` expands on the named scene too.
+    let out = run_ok(bin().arg("check").arg(&gm));
+    assert!(out.contains("scene: 2 shapes"), "{out}");
+
+    // Neither: a clear error, nothing written.
+    let bare = d.join("bare.gm");
+    std::fs::write(&bare, toy_rules()).unwrap();
+    let x = d.join("x.json");
+    let err = run_err(bin().arg("animate").arg(&bare).arg("-o").arg(&x));
+    assert!(err.contains("bare.gm") && err.contains("no scene"), "{err}");
+    assert!(!x.exists());
+    // A named scene that is not there: the error points at the directive's value.
+    let missing = d.join("missing.gm");
+    std::fs::write(
+        &missing,
+        format!("seed 3\nscene nope.svg\n{}", toy_rules()),
+    )
+    .unwrap();
+    let err = run_err(bin().arg("animate").arg(&missing).arg("-o").arg(&x));
+    assert!(
+        err.contains("missing.gm:2:7") && err.contains("nope.svg"),
+        "{err}"
+    );
+    // Only a scene: the grammar is asked for.
+    let err = run_err(
+        bin()
+            .arg("animate")
+            .arg(g.join("toy.svg"))
+            .arg("-o")
+            .arg(&x),
+    );
+    assert!(err.contains("grammar"), "{err}");
+    assert!(!x.exists());
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn width_and_height_size_every_output() {
+    let d = out_dir("size");
+    let toy = root().join("grammars/toy.svg");
+    let scene = lottie_size(&toy);
+    assert_eq!(
+        scene,
+        (520, 320),
+        "toy.svg changed; the expectations below use its size"
+    );
+    // (header, flags, size): one side sets the other by the aspect ratio (320·260/520 =
+    // 160, 520·100/320 = 162.5 → 163), both are taken as given, and either flag replaces
+    // both directives.
+    let cases: [(&str, &[&str], (u32, u32)); 5] = [
+        ("width 260", &[], (260, 160)),
+        ("height 100", &[], (163, 100)),
+        ("width 200\nheight 200", &[], (200, 200)),
+        ("width 260", &["--width", "130"], (130, 80)),
+        ("width 260\nheight 300", &["--height", "40"], (65, 40)),
+    ];
+    for (i, (header, flags, (w, h))) in cases.into_iter().enumerate() {
+        let gm = d.join(format!("g{i}.gm"));
+        let text = format!("scene \"{}\"\n{header}\n{}", toy.display(), toy_rules());
+        std::fs::write(&gm, text).unwrap();
+        let out = |f: &str| d.join(format!("{i}-{f}"));
+        let mut cmd = bin();
+        cmd.arg("animate").arg(&gm).args(["--fps", "2"]).args(flags);
+        for f in ["a.json", "a.svg", "a.png", "a.gif", "a.apng", "frames"] {
+            cmd.arg("-o").arg(out(f));
+        }
+        run_ok(&mut cmd);
+        let what = format!("{header:?} {flags:?}");
+        let json = lottie(&out("a.json"));
+        assert_eq!(
+            (json["w"].as_u64(), json["h"].as_u64()),
+            (Some(w.into()), Some(h.into())),
+            "{what}"
+        );
+        assert_eq!(
+            svg_size(&out("a.svg")),
+            (w.to_string(), h.to_string()),
+            "{what}"
+        );
+        let png = resvg::tiny_skia::Pixmap::load_png(out("a.png")).unwrap();
+        assert_eq!((png.width(), png.height()), (w, h), "{what}");
+        let frame =
+            resvg::tiny_skia::Pixmap::load_png(out("frames").join("frame_00000.png")).unwrap();
+        assert_eq!((frame.width(), frame.height()), (w, h), "{what}");
+        let gif = gif::DecodeOptions::new()
+            .read_info(std::fs::File::open(out("a.gif")).unwrap())
+            .unwrap();
+        assert_eq!(
+            (u32::from(gif.width()), u32::from(gif.height())),
+            (w, h),
+            "{what}"
+        );
+        let apng = png::Decoder::new(std::io::BufReader::new(
+            std::fs::File::open(out("a.apng")).unwrap(),
+        ))
+        .read_info()
+        .unwrap();
+        assert_eq!((apng.info().width, apng.info().height), (w, h), "{what}");
+    }
+    // Both sides: the art is fitted and centred, not stretched. 520×320 in 200×200 is
+    // scaled by 200/520 and fills rows 38.5 to 161.5; toy's background covers its canvas.
+    let png = resvg::tiny_skia::Pixmap::load_png(d.join("2-a.png")).unwrap();
+    let alpha = |x, y| png.pixel(x, y).unwrap().alpha();
+    assert_eq!([alpha(100, 20), alpha(100, 180)], [0, 0]);
+    assert_eq!(
+        [
+            alpha(1, 100),
+            alpha(198, 100),
+            alpha(100, 40),
+            alpha(100, 160)
+        ],
+        [255; 4]
+    );
+    // The Lottie says the same through a null parent of every root layer.
+    let json = lottie(&d.join("2-a.json"));
+    let layers = json["layers"].as_array().unwrap();
+    let output = layers.iter().find(|l| l["nm"] == "output").unwrap();
+    let k = 200.0 / 520.0;
+    let num = |v: &serde_json::Value| v.as_f64().unwrap();
+    let (s, p) = (&output["ks"]["s"]["k"], &output["ks"]["p"]["k"]);
+    assert!(
+        (num(&s[0]) - 100.0 * k).abs() < 1e-3 && (num(&s[1]) - 100.0 * k).abs() < 1e-3,
+        "{s}"
+    );
+    assert!(
+        num(&p[0]).abs() < 1e-3 && (num(&p[1]) - (200.0 - 320.0 * k) / 2.0).abs() < 1e-3,
+        "{p}"
+    );
+    for l in layers.iter().filter(|l| l["nm"] != "output") {
+        assert_eq!(l["parent"], output["ind"], "{}", l["nm"]);
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+/// The size `convert` gives a scene's Lottie: its canvas.
+fn lottie_size(svg: &Path) -> (u64, u64) {
+    let d = out_dir("lottie-size");
+    let out = d.join("s.json");
+    run_ok(bin().arg("convert").arg(svg).arg("-o").arg(&out));
+    let json = lottie(&out);
+    let _ = std::fs::remove_dir_all(&d);
+    (json["w"].as_u64().unwrap(), json["h"].as_u64().unwrap())
+}
+
+/// Writes `scene.svg` and `g.gm` (naming it) in a fresh folder and animates it to a
+/// Lottie with `flags`; the Lottie's root layer names, or the error.
+fn animate_with(
+    name: &str,
+    svg: &str,
+    grammar: &str,
+    flags: &[&str],
+) -> std::result::Result<Vec<String>, String> {
+    let d = out_dir(name);
+    std::fs::write(d.join("scene.svg"), svg).unwrap();
+    std::fs::write(d.join("g.gm"), format!("scene scene.svg\n{grammar}")).unwrap();
+    let json = d.join("a.json");
+    let out = bin()
+        .arg("animate")
+        .arg(d.join("g.gm"))
+        .arg("-o")
+        .arg(&json)
+        .args(flags)
+        .output()
+        .unwrap();
+    let result = if out.status.success() {
+        Ok(layer_names(&json))
+    } else {
+        assert_eq!(out.status.code(), Some(1));
+        Err(String::from_utf8_lossy(&out.stderr).into_owned())
+    };
+    let _ = std::fs::remove_dir_all(&d);
+    result
+}
+
+#[test]
+fn tag_from_chooses_the_tags_the_scene_gets() {
+    let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="100" height="50">
+  <rect data-tag="a" class="b" x="10" y="10" width="20" height="20" fill="red"/>
+</svg>"#;
+    let moves = |tag: &str| {
+        format!("duration 1s\nanimate(affine, world, 0, translate(10, 0)) : [all, {tag}] -> [m]\n")
+    };
+    // By default the data-tag names the shape, so a rule for class `b` finds nothing.
+    let err = animate_with("tag-default", svg, &moves("b"), &[]).unwrap_err();
+    assert!(err.contains("`b`"), "{err}");
+    assert_eq!(
+        animate_with("tag-a", svg, &moves("a"), &[]).unwrap(),
+        ["a:0"]
+    );
+    let by_class = format!("tag_from class\n{}", moves("b"));
+    assert_eq!(
+        animate_with("tag-class", svg, &by_class, &[]).unwrap(),
+        ["b:0"]
+    );
+    // The flag overrides the directive.
+    let all = format!("tag_from class\n{}", moves("all"));
+    let flagged = animate_with("tag-flag", svg, &all, &["--tag-from", "data-tag"]).unwrap();
+    assert_eq!(flagged, ["a:0"]);
+    // An unknown source is an error at the value.
+    let err = animate_with(
+        "tag-bad",
+        svg,
+        &format!("tag_from klass\n{}", moves("all")),
+        &[],
+    )
+    .unwrap_err();
+    assert!(err.contains("g.gm:2:10") && err.contains("klass"), "{err}");
+}
+
+#[test]
+fn units_choose_what_moves_as_one() {
+    let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="100" height="50">
+  <g data-tag="pair"><rect x="10" y="10" width="10" height="10"/><rect x="40" y="10" width="10" height="10"/></g>
+</svg>"#;
+    let moves = "duration 1s\nanimate(affine, world, 0, translate(10, 0)) : [all, pair] -> [m]\n";
+    // A tagged group is one unit; `units paths` makes each of its paths one.
+    assert_eq!(
+        animate_with("units-auto", svg, moves, &[]).unwrap(),
+        ["pair:0"]
+    );
+    let paths = format!("units paths\n{moves}");
+    assert_eq!(
+        animate_with("units-paths", svg, &paths, &[]).unwrap(),
+        ["pair:0", "pair:1"]
+    );
+    // The flag overrides the directive.
+    assert_eq!(
+        animate_with("units-flag", svg, &paths, &["--units", "auto"]).unwrap(),
+        ["pair:0"]
+    );
+    let err = animate_with("units-bad", svg, &format!("units path\n{moves}"), &[]).unwrap_err();
+    assert!(err.contains("g.gm:2:7") && err.contains("`paths`"), "{err}");
+}
+
+#[test]
+fn transitions_run_at_the_targets_files_frame_rate() {
+    let d = out_dir("tr-fps");
+    let svg = d.join("scene.svg");
+    std::fs::write(
+        &svg,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="100" height="50"><rect data-tag="bar" width="10" height="10"/></svg>"#,
+    )
+    .unwrap();
+    let json = d.join("t.json");
+    std::fs::write(
+        &json,
+        r#"{"fps": 20, "duration": 1, "targets": [{"time": 0, "tag": "bar", "id": 0, "attr": "dx", "value": 30}]}"#,
+    )
+    .unwrap();
+    let csv = d.join("t.csv");
+    std::fs::write(
+        &csv,
+        "# fps: 25\n# duration: 1\ntime,tag,id,attr,value\n0,bar,0,dx,30\n",
+    )
+    .unwrap();
+    let rate = |targets: &Path, flags: &[&str]| {
+        let out = d.join("a.json");
+        run_ok(
+            bin()
+                .arg("transitions")
+                .arg(&svg)
+                .arg(targets)
+                .arg("-o")
+                .arg(&out)
+                .args(flags),
+        );
+        let v = lottie(&out);
+        (v["fr"].as_f64().unwrap(), v["op"].as_f64().unwrap())
+    };
+    // One second at the file's rate, unless --fps says otherwise.
+    assert_eq!(rate(&json, &[]), (20.0, 20.0));
+    assert_eq!(rate(&csv, &[]), (25.0, 25.0));
+    assert_eq!(rate(&json, &["--fps", "40"]), (40.0, 40.0));
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn a_frames_folder_holding_other_files_is_refused_before_any_output() {
+    let d = out_dir("frames-refused");
+    let frames = d.join("frames");
+    std::fs::create_dir(&frames).unwrap();
+    std::fs::write(frames.join("notes.txt"), "mine").unwrap();
+    let json = d.join("a.json");
+    let err = run_err(
+        bin()
+            .arg("animate")
+            .arg(root().join("grammars/toy.gm"))
+            .arg("-o")
+            .arg(&json)
+            .arg("-o")
+            .arg(&frames),
+    );
+    assert!(err.contains("notes.txt"), "{err}");
+    assert!(!json.exists());
+    let left: Vec<_> = std::fs::read_dir(&frames).unwrap().collect();
+    assert_eq!(left.len(), 1);
+    let _ = std::fs::remove_dir_all(&d);
+}

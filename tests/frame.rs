@@ -248,3 +248,82 @@ fn clip_content_keeps_nested_clips_in_place() {
     );
     assert!(text.matches("<clipPath").count() == 2, "{text}");
 }
+
+/// A fresh, empty folder of this test's own.
+fn folder(name: &str) -> std::path::PathBuf {
+    let d = std::env::temp_dir().join(format!("gmotion-frames-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// The names in `dir`, sorted.
+fn names(dir: &std::path::Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+fn blank_frames(n: usize) -> Vec<resvg::tiny_skia::Pixmap> {
+    (0..n)
+        .map(|_| resvg::tiny_skia::Pixmap::new(3, 2).unwrap())
+        .collect()
+}
+
+#[test]
+fn frame_folders_hold_only_the_latest_run() {
+    use gmotion::exporters::raster::{frame_file_name, write_frames};
+    let parent = folder("fresh");
+    let dir = parent.join("frames");
+    write_frames(&blank_frames(5), &dir).unwrap();
+    let five: Vec<String> = (0..5).map(frame_file_name).collect();
+    assert_eq!(names(&dir), five);
+    // A shorter run leaves no stale frames of the longer one.
+    write_frames(&blank_frames(3), &dir).unwrap();
+    assert_eq!(names(&dir), five[..3].to_vec());
+    let png = resvg::tiny_skia::Pixmap::load_png(dir.join(&five[2])).unwrap();
+    assert_eq!((png.width(), png.height()), (3, 2));
+    // Nothing is left beside the folder (the hidden staging folder is gone).
+    assert_eq!(names(&parent), ["frames"]);
+    std::fs::remove_dir_all(&parent).unwrap();
+}
+
+#[test]
+fn frame_folders_holding_other_files_are_refused_untouched() {
+    use gmotion::exporters::raster::{RenderError, write_frames};
+    // Each intruder alone makes the folder someone else's: a note, a frame-like name that
+    // is not gmotion's pattern, and a folder named like a frame.
+    for (intruder, is_dir) in [
+        ("notes.txt", false),
+        ("frame_1.png", false),
+        ("frame_00009.png", true),
+    ] {
+        let parent = folder(&format!("refuse-{intruder}"));
+        let dir = parent.join("frames");
+        std::fs::create_dir(&dir).unwrap();
+        std::fs::write(dir.join("frame_00000.png"), b"old").unwrap();
+        if is_dir {
+            std::fs::create_dir(dir.join(intruder)).unwrap();
+        } else {
+            std::fs::write(dir.join(intruder), b"mine").unwrap();
+        }
+        let before = names(&dir);
+        let err = write_frames(&blank_frames(2), &dir).unwrap_err();
+        assert!(
+            matches!(&err, RenderError::FolderInUse { others, .. } if others == &[intruder]),
+            "{intruder}: {err}"
+        );
+        assert!(err.to_string().contains(intruder), "{err}");
+        assert_eq!(names(&dir), before, "{intruder}: the folder changed");
+        assert_eq!(std::fs::read(dir.join("frame_00000.png")).unwrap(), b"old");
+        assert_eq!(
+            names(&parent),
+            ["frames"],
+            "{intruder}: something was written"
+        );
+        std::fs::remove_dir_all(&parent).unwrap();
+    }
+}

@@ -36,6 +36,7 @@ mod still;
 
 use rayon::prelude::*;
 
+use crate::exporters::frame::{Fit, OutputSize};
 use crate::motion::{Animation, Track};
 use crate::scene::{Scene, Shape};
 use animate::{UnitInfo, UnitMotion, unit_motion};
@@ -47,6 +48,9 @@ pub struct LottieOptions {
     pub tolerance: f64,
     /// The animation's name (`nm`).
     pub name: String,
+    /// The composition's size `w` × `h`, the art scaled to fit (see [`OutputSize`]).
+    /// Default: the scene's size.
+    pub size: OutputSize,
 }
 
 impl Default for LottieOptions {
@@ -54,6 +58,7 @@ impl Default for LottieOptions {
         LottieOptions {
             tolerance: 0.25,
             name: "gmotion".to_string(),
+            size: OutputSize::default(),
         }
     }
 }
@@ -170,7 +175,19 @@ fn write(
         0.25
     };
     let mut builder = still::Builder::new(scene, tracks, motions, fps, op, tolerance);
-    let layers = builder.layers(size);
+    let mut layers = builder.layers(size);
+    let size = match opts.size.fit(w, h) {
+        Some(fit) => {
+            fit_layers(
+                &mut layers,
+                &fit,
+                (size.0 as f64 / w, size.1 as f64 / h),
+                op,
+            );
+            (fit.width, fit.height)
+        }
+        None => size,
+    };
     let doc = model::Animation {
         v: "5.7.0",
         fr: model::N::coord(fps),
@@ -184,4 +201,25 @@ fn write(
     };
     let json = serde_json::to_string(&doc).expect("the Lottie model serialises to JSON");
     Ok((json, builder.warnings))
+}
+
+/// Places the root layers, drawn on a composition `built` pixels per canvas unit, where
+/// `fit` puts the canvas: through a null parent that scales and moves them (exact for
+/// every layer whatever its own transform, as the builder's own canvas null is).
+fn fit_layers(layers: &mut Vec<model::Layer>, fit: &Fit, built: (f64, f64), op: f64) {
+    use model::{Layer, LayerType, N, Prop};
+    let ind = layers.iter().map(|l| l.ind).max().unwrap_or(0) + 1;
+    for l in layers.iter_mut().filter(|l| l.parent.is_none()) {
+        l.parent = Some(ind);
+    }
+    let mut null = Layer::new(LayerType::Null, "output".to_string(), ind, 0.0, op);
+    null.ks.s = Some(Prop::vec(vec![
+        N::fine(fit.scale / built.0 * 100.0),
+        N::fine(fit.scale / built.1 * 100.0),
+    ]));
+    null.ks.p = Some(Prop::vec(vec![
+        N::coord(fit.offset.x),
+        N::coord(fit.offset.y),
+    ]));
+    layers.push(null);
 }

@@ -38,6 +38,7 @@ use std::fmt;
 
 use kurbo::Point;
 
+use crate::exporters::frame::{OutputSize, with_output_size};
 use crate::motion::{Animation, Tint, Track};
 use crate::scene::{Group, Node, Paint, PathNode, Pattern, Stop};
 use attr::Bake;
@@ -55,6 +56,9 @@ pub struct SmilOptions {
     pub tolerance: f64,
     /// Samples per second taken when baking. Default 120.
     pub bake_rate: f64,
+    /// The document's `width` and `height` (the `viewBox` keeps the canvas, so the art
+    /// scales to fit). Default: the scene's size.
+    pub size: OutputSize,
 }
 
 impl Default for SmilOptions {
@@ -62,6 +66,7 @@ impl Default for SmilOptions {
         SmilOptions {
             tolerance: 0.25,
             bake_rate: 120.0,
+            size: OutputSize::default(),
         }
     }
 }
@@ -205,6 +210,9 @@ pub fn smil_document(anim: &Animation, opts: &SmilOptions) -> Result<SmilDocumen
     }
     let Writer { mut doc, edits, .. } = w;
     doc.svg = edits.apply(&marked.svg);
+    if let Some(fit) = opts.size.fit(anim.scene.width, anim.scene.height) {
+        doc.svg = with_output_size(&doc.svg, &fit);
+    }
     Ok(doc)
 }
 

@@ -3,7 +3,8 @@
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
-use gmotion::engine::{self, RunOptions};
+use gmotion::engine::{self, EngineError, RunOptions, Settings};
+use gmotion::exporters::frame::{MAX_OUTPUT_SIZE, OutputSize};
 use gmotion::exporters::{frame, lottie, raster, smil};
 use gmotion::grammar::{self, ast::Grammar};
 use gmotion::importers::svg::{self as svg_import, ImportOptions, TagFrom, Units};
@@ -12,7 +13,7 @@ use gmotion::scene::Scene;
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
-use super::output::{Format, check_writable, write_atomic, write_dir};
+use super::output::{Format, check_writable, write_atomic};
 use super::report::{CliError, Result, engine_error};
 use super::{Command, ImportArgs, RenderArgs, RunArgs, TagFromArg, UnitsArg};
 
@@ -27,14 +28,16 @@ pub fn run(cmd: Command) -> Result<()> {
             import,
         } => convert(&input, &output, &render, &import),
         Command::Animate {
-            scene,
-            grammar,
+            files,
             output,
             time,
             run,
             render,
             import,
-        } => animate(&scene, &grammar, &output, time, &run, &render, &import),
+        } => {
+            let (scene, grammar) = scene_and_grammar(&files, Order::SceneFirst)?;
+            animate(scene, grammar, &output, time, &run, &render, &import)
+        }
         Command::Transitions {
             scene,
             targets,
@@ -57,42 +60,153 @@ pub fn run(cmd: Command) -> Result<()> {
             &import,
         ),
         Command::Check {
-            grammar,
-            scene,
+            files,
             graph,
             run,
             import,
-        } => check(&grammar, scene.as_deref(), graph.as_deref(), &run, &import),
+        } => {
+            let (scene, grammar) = scene_and_grammar(&files, Order::GrammarFirst)?;
+            check(grammar, scene, graph.as_deref(), &run, &import)
+        }
     }
 }
 
-fn import_options(a: &ImportArgs) -> ImportOptions {
+/// What a file named on the command line holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Kind {
+    Grammar,
+    Scene,
+    /// Unreadable, or nothing to tell by: its place on the command line decides.
+    Unknown,
+}
+
+/// A file's kind by its extension (`.gm`, `.svg`), else by its first character: SVG
+/// starts with `<` (after a byte-order mark and blanks), a grammar never does.
+fn kind_of(path: &Path) -> Kind {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("gm") => return Kind::Grammar,
+        Some("svg") => return Kind::Scene,
+        _ => {}
+    }
+    let mut head = [0u8; 512];
+    let n = match std::fs::File::open(path).and_then(|mut f| std::io::Read::read(&mut f, &mut head))
+    {
+        Ok(n) => n,
+        Err(_) => return Kind::Unknown,
+    };
+    let text = String::from_utf8_lossy(&head[..n]);
+    match text
+        .trim_start_matches('\u{feff}')
+        .trim_start()
+        .chars()
+        .next()
+    {
+        Some('<') => Kind::Scene,
+        Some(_) => Kind::Grammar,
+        None => Kind::Unknown,
+    }
+}
+
+/// The order a command lists its files in, which decides when their kinds do not.
+#[derive(Clone, Copy)]
+enum Order {
+    /// `animate [SCENE] GRAMMAR`.
+    SceneFirst,
+    /// `check GRAMMAR [SCENE]`.
+    GrammarFirst,
+}
+
+/// The scene (if given) and the grammar among one or two files, told apart by
+/// [`kind_of`], else by `order`.
+fn scene_and_grammar(files: &[PathBuf], order: Order) -> Result<(Option<&Path>, &Path)> {
+    match files {
+        [one] => {
+            if kind_of(one) == Kind::Scene {
+                return Err(CliError::msg(format!(
+                    "{}: this is a scene; a grammar (.gm) is needed too, as in `gmotion animate [SCENE] GRAMMAR`",
+                    one.display()
+                )));
+            }
+            Ok((None, one))
+        }
+        [a, b] => {
+            let (ka, kb) = (kind_of(a), kind_of(b));
+            let grammar_first = if ka != kb && (ka == Kind::Grammar || kb == Kind::Scene) {
+                true
+            } else if ka != kb && (kb == Kind::Grammar || ka == Kind::Scene) {
+                false
+            } else {
+                matches!(order, Order::GrammarFirst)
+            };
+            Ok(if grammar_first {
+                (Some(b), a)
+            } else {
+                (Some(a), b)
+            })
+        }
+        // clap takes one or two.
+        _ => Err(CliError::msg(
+            "expected a grammar and at most one scene".to_string(),
+        )),
+    }
+}
+
+/// The importer's options: the command line's, else the grammar's, else the defaults.
+fn import_options(a: &ImportArgs, settings: &Settings) -> ImportOptions {
+    let tag_from = a.tag_from.map(|t| match t {
+        TagFromArg::Auto => TagFrom::Auto,
+        TagFromArg::DataTag => TagFrom::DataTag,
+        TagFromArg::Class => TagFrom::Class,
+        TagFromArg::Label => TagFrom::Label,
+        TagFromArg::Layer => TagFrom::Layer,
+    });
+    let units = a.units.map(|u| match u {
+        UnitsArg::Auto => Units::Auto,
+        UnitsArg::Paths => Units::Paths,
+        UnitsArg::Groups => Units::Groups,
+    });
     ImportOptions {
-        tag_from: match a.tag_from {
-            TagFromArg::Auto => TagFrom::Auto,
-            TagFromArg::DataTag => TagFrom::DataTag,
-            TagFromArg::Class => TagFrom::Class,
-            TagFromArg::Label => TagFrom::Label,
-            TagFromArg::Layer => TagFrom::Layer,
-        },
-        units: match a.units {
-            UnitsArg::Auto => Units::Auto,
-            UnitsArg::Paths => Units::Paths,
-            UnitsArg::Groups => Units::Groups,
-        },
+        tag_from: tag_from.or(settings.tag_from).unwrap_or_default(),
+        units: units.or(settings.units).unwrap_or_default(),
     }
 }
 
-fn load_scene(path: &Path, a: &ImportArgs) -> Result<Scene> {
-    let imported =
-        svg_import::load(path, &import_options(a)).map_err(|e| CliError::msg(e.to_string()))?;
+/// The size of every output: `--width`/`--height` if either is given, else the grammar's
+/// `width`/`height` (see [`OutputSize`] for what one or both mean).
+fn output_size(render: &RenderArgs, settings: &Settings) -> OutputSize {
+    if render.width.is_some() || render.height.is_some() {
+        OutputSize {
+            width: render.width,
+            height: render.height,
+        }
+    } else {
+        OutputSize {
+            width: settings.width,
+            height: settings.height,
+        }
+    }
+}
+
+fn load_scene(path: &Path, options: &ImportOptions) -> Result<Scene> {
+    let imported = svg_import::load(path, options).map_err(|e| CliError::msg(e.to_string()))?;
     for w in &imported.warnings {
         eprintln!("{}: warning: {w}", path.display());
     }
     Ok(imported.scene)
 }
 
-fn load_grammar(path: &Path) -> Result<(String, Grammar)> {
+/// A grammar file, parsed, with its header read.
+struct Loaded {
+    src: String,
+    grammar: Grammar,
+    settings: Settings,
+}
+
+fn load_grammar(path: &Path) -> Result<Loaded> {
     let bytes = std::fs::read(path)
         .map_err(|e| CliError::msg(format!("{}: cannot read grammar: {e}", path.display())))?;
     let src = String::from_utf8(bytes).map_err(|e| {
@@ -102,14 +216,44 @@ fn load_grammar(path: &Path) -> Result<(String, Grammar)> {
             e.utf8_error().valid_up_to()
         ))
     })?;
-    let g = grammar::parse(&src).map_err(|d| {
+    let grammar = grammar::parse(&src).map_err(|d| {
         CliError(
             d.render(&path.display().to_string(), &src)
                 .trim_end()
                 .to_string(),
         )
     })?;
-    Ok((src, g))
+    let settings =
+        engine::settings::from_grammar(&grammar).map_err(|e| engine_error(path, &src, &e))?;
+    Ok(Loaded {
+        src,
+        grammar,
+        settings,
+    })
+}
+
+/// The scene to use: `given` on the command line, else the grammar's `scene`, resolved
+/// against the grammar file's folder (a missing file is an error at the directive).
+fn scene_path(given: Option<&Path>, grammar_path: &Path, g: &Loaded) -> Result<Option<PathBuf>> {
+    if let Some(p) = given {
+        return Ok(Some(p.to_path_buf()));
+    }
+    let Some((name, span)) = &g.settings.scene else {
+        return Ok(None);
+    };
+    let folder = grammar_path.parent().unwrap_or(Path::new(""));
+    let path = folder.join(name);
+    if !path.exists() {
+        let e = EngineError::at(
+            *span,
+            format!(
+                "scene file `{name}` not found (looked for {})",
+                path.display()
+            ),
+        );
+        return Err(engine_error(grammar_path, &g.src, &e));
+    }
+    Ok(Some(path))
 }
 
 fn run_options(r: &RunArgs) -> RunOptions {
@@ -118,16 +262,6 @@ fn run_options(r: &RunArgs) -> RunOptions {
         fps: r.fps,
         max_steps: r.max_steps,
     }
-}
-
-fn pixel_width(requested: Option<u32>, scene: &Scene) -> Result<u32> {
-    let w = requested.unwrap_or_else(|| scene.width.round().max(1.0) as u32);
-    if w == 0 || w > 16_384 {
-        return Err(CliError::msg(format!(
-            "--width must be between 1 and 16384, found {w}"
-        )));
-    }
-    Ok(w)
 }
 
 fn progress(len: usize, what: &str) -> ProgressBar {
@@ -145,7 +279,7 @@ fn progress(len: usize, what: &str) -> ProgressBar {
 /// Renders frames `0..n` in parallel (order and bytes do not depend on thread count).
 fn render_frames(
     anim: &Animation,
-    width: u32,
+    size: OutputSize,
     what: &str,
 ) -> Result<Vec<resvg::tiny_skia::Pixmap>> {
     let n = anim.frame_count();
@@ -155,7 +289,7 @@ fn render_frames(
         .into_par_iter()
         .map(|i| {
             let svg = frame::sampled_frame_svg(anim, &sampler, anim.frame_time(i));
-            let r = raster::render(&svg, width);
+            let r = raster::render_sized(&svg, size);
             pb.inc(1);
             r
         })
@@ -175,8 +309,13 @@ fn print_warnings<W: std::fmt::Display>(out: &Path, warnings: &[W]) {
     }
 }
 
-fn write_animation(anim: &Animation, out: &Path, time: f64, render: &RenderArgs) -> Result<()> {
-    let width = pixel_width(render.width, &anim.scene)?;
+fn write_animation(
+    anim: &Animation,
+    out: &Path,
+    time: f64,
+    render: &RenderArgs,
+    size: OutputSize,
+) -> Result<()> {
     match Format::of(out)? {
         Format::Png => {
             if !time.is_finite() || time < 0.0 || time > anim.duration {
@@ -186,32 +325,28 @@ fn write_animation(anim: &Animation, out: &Path, time: f64, render: &RenderArgs)
                 )));
             }
             let svg = frame::frame_svg(anim, time);
-            let pm = raster::render(&svg, width)
+            let pm = raster::render_sized(&svg, size)
                 .map_err(|e| CliError::msg(format!("rendering failed: {e}")))?;
             write_atomic(out, &png_bytes(&pm)?)
         }
         Format::Dir => {
-            let frames = render_frames(anim, width, "rendering")?;
-            let files: Result<Vec<_>> = frames
-                .iter()
-                .enumerate()
-                .map(|(i, f)| Ok((format!("frame_{i:05}.png"), png_bytes(f)?)))
-                .collect();
-            write_dir(out, &files?)
+            let frames = render_frames(anim, size, "rendering")?;
+            raster::write_frames(&frames, out).map_err(|e| CliError::msg(e.to_string()))
         }
         Format::Gif => {
-            let frames = render_frames(anim, width, "rendering")?;
+            let frames = render_frames(anim, size, "rendering")?;
             raster::write_gif(&frames, anim.fps, anim.looping, out)
                 .map_err(|e| CliError::msg(format!("{}: {e}", out.display())))
         }
         Format::Apng => {
-            let frames = render_frames(anim, width, "rendering")?;
+            let frames = render_frames(anim, size, "rendering")?;
             raster::write_apng(&frames, anim.fps, anim.looping, out)
                 .map_err(|e| CliError::msg(format!("{}: {e}", out.display())))
         }
         Format::Lottie => {
             let opts = lottie::LottieOptions {
                 tolerance: render.tolerance,
+                size,
                 ..Default::default()
             };
             let (json, warnings) = lottie::to_lottie(anim, &opts)
@@ -222,6 +357,7 @@ fn write_animation(anim: &Animation, out: &Path, time: f64, render: &RenderArgs)
         Format::Svg => {
             let opts = smil::SmilOptions {
                 tolerance: render.tolerance,
+                size,
                 ..Default::default()
             };
             let (svg, warnings) = smil::to_smil(anim, &opts)
@@ -239,28 +375,56 @@ fn validate_render(render: &RenderArgs) -> Result<()> {
             render.tolerance
         )));
     }
+    for (flag, v) in [("--width", render.width), ("--height", render.height)] {
+        if let Some(v) = v
+            && !(1..=MAX_OUTPUT_SIZE).contains(&v)
+        {
+            return Err(CliError::msg(format!(
+                "{flag} must be between 1 and {MAX_OUTPUT_SIZE}, found {v}"
+            )));
+        }
+    }
     Ok(())
 }
 
-/// Parses, expands and compiles; errors point into the grammar.
+/// Checks each output can be written before any work: a known format, an existing
+/// folder, and a frames folder that may be written fresh.
+fn check_outputs(outputs: &[PathBuf]) -> Result<()> {
+    for o in outputs {
+        if Format::of(o)? == Format::Dir {
+            raster::check_frame_folder(o).map_err(|e| CliError::msg(e.to_string()))?;
+        }
+        check_writable(o)?;
+    }
+    Ok(())
+}
+
+/// Parses, expands and compiles; errors point into the grammar. Also returns the
+/// grammar's header, which says how to write the outputs.
 fn build(
-    scene_path: &Path,
+    scene: Option<&Path>,
     grammar_path: &Path,
     run: &RunArgs,
     import: &ImportArgs,
-) -> Result<Animation> {
-    let (src, g) = load_grammar(grammar_path)?;
-    let scene = load_scene(scene_path, import)?;
-    let (anim, stats) = engine::run(scene, &g, &run_options(run))
-        .map_err(|e| engine_error(grammar_path, &src, &e))?;
+) -> Result<(Animation, Settings)> {
+    let g = load_grammar(grammar_path)?;
+    let Some(scene_path) = scene_path(scene, grammar_path, &g)? else {
+        return Err(CliError::msg(format!(
+            "{}: error: no scene to animate: give one on the command line (`gmotion animate SCENE GRAMMAR`) or name it in the grammar (`scene FILE`)",
+            grammar_path.display()
+        )));
+    };
+    let scene = load_scene(&scene_path, &import_options(import, &g.settings))?;
+    let (anim, stats) = engine::run(scene, &g.grammar, &run_options(run))
+        .map_err(|e| engine_error(grammar_path, &g.src, &e))?;
     for w in &stats.warnings {
         eprintln!("{}: warning: {w}", grammar_path.display());
     }
-    Ok(anim)
+    Ok((anim, g.settings))
 }
 
 fn animate(
-    scene: &Path,
+    scene: Option<&Path>,
     grammar: &Path,
     outputs: &[PathBuf],
     time: f64,
@@ -269,13 +433,11 @@ fn animate(
     import: &ImportArgs,
 ) -> Result<()> {
     validate_render(render)?;
+    check_outputs(outputs)?;
+    let (anim, settings) = build(scene, grammar, run, import)?;
+    let size = output_size(render, &settings);
     for o in outputs {
-        Format::of(o)?;
-        check_writable(o)?;
-    }
-    let anim = build(scene, grammar, run, import)?;
-    for o in outputs {
-        write_animation(&anim, o, time, render)?;
+        write_animation(&anim, o, time, render, size)?;
     }
     Ok(())
 }
@@ -290,18 +452,20 @@ fn convert(
     for o in outputs {
         check_writable(o)?;
     }
-    let scene = load_scene(input, import)?;
+    let settings = Settings::default();
+    let scene = load_scene(input, &import_options(import, &settings))?;
+    let size = output_size(render, &settings);
     for out in outputs {
         match Format::of(out)? {
             Format::Png => {
-                let width = pixel_width(render.width, &scene)?;
-                let pm = raster::render(&frame::scene_svg(&scene), width)
+                let pm = raster::render_sized(&frame::scene_svg(&scene), size)
                     .map_err(|e| CliError::msg(format!("rendering failed: {e}")))?;
                 write_atomic(out, &png_bytes(&pm)?)?;
             }
             Format::Lottie => {
                 let opts = lottie::LottieOptions {
                     tolerance: render.tolerance,
+                    size,
                     ..Default::default()
                 };
                 let (json, warnings) = lottie::still_to_lottie(&scene, &opts)
@@ -309,7 +473,14 @@ fn convert(
                 print_warnings(out, &warnings);
                 write_atomic(out, json.as_bytes())?;
             }
-            Format::Svg => write_atomic(out, frame::scene_svg(&scene).as_bytes())?,
+            Format::Svg => {
+                let svg = frame::scene_svg(&scene);
+                let svg = match size.fit(scene.width, scene.height) {
+                    Some(fit) => frame::with_output_size(&svg, &fit),
+                    None => svg,
+                };
+                write_atomic(out, svg.as_bytes())?;
+            }
             other => {
                 return Err(CliError::msg(format!(
                     "{}: `convert` writes a still picture (.png, .json, .svg), not {other:?}",
@@ -328,13 +499,16 @@ fn check(
     run: &RunArgs,
     import: &ImportArgs,
 ) -> Result<()> {
-    let (src, g) = load_grammar(grammar_path)?;
+    let loaded = load_grammar(grammar_path)?;
     if let Some(out) = graph {
         check_writable(out)?;
     }
-    let scene = scene.map(|p| load_scene(p, import)).transpose()?;
-    let report = engine::check::check(&g, scene.as_ref(), &run_options(run))
-        .map_err(|e| engine_error(grammar_path, &src, &e))?;
+    let scene = scene_path(scene, grammar_path, &loaded)?
+        .map(|p| load_scene(&p, &import_options(import, &loaded.settings)))
+        .transpose()?;
+    let g = &loaded.grammar;
+    let report = engine::check::check(g, scene.as_ref(), &run_options(run))
+        .map_err(|e| engine_error(grammar_path, &loaded.src, &e))?;
     print!("{}", report.text);
     if let Some(out) = graph {
         let rules: Vec<&gmotion::grammar::ast::Rule> = g.rules.iter().collect();
@@ -351,7 +525,7 @@ fn check(
                 )));
             }
             (_, true) => gmotion::tangle::graph::graph_dot(&rules),
-            (_, false) => engine::check::dot(&g),
+            (_, false) => engine::check::dot(g),
         };
         write_atomic(out, text.as_bytes())?;
     }
@@ -364,14 +538,16 @@ fn transitions(
     targets: &Path,
     outputs: &[PathBuf],
     system: Option<&str>,
-    fps: f64,
+    fps: Option<f64>,
     duration: Option<f64>,
     time: f64,
     render: &RenderArgs,
     import: &ImportArgs,
 ) -> Result<()> {
     validate_render(render)?;
-    if !(fps.is_finite() && fps > 0.0) {
+    if let Some(fps) = fps
+        && !(fps.is_finite() && fps > 0.0)
+    {
         return Err(CliError::msg(format!(
             "--fps must be a positive number, found {fps}"
         )));
@@ -383,10 +559,7 @@ fn transitions(
             "--duration must be a positive number of seconds, found {d}"
         )));
     }
-    for o in outputs {
-        Format::of(o)?;
-        check_writable(o)?;
-    }
+    check_outputs(outputs)?;
     let spec = system
         .map(|s| {
             gmotion::signals::smooth::SmoothSpec::parse(s)
@@ -395,8 +568,10 @@ fn transitions(
         .transpose()?;
     let t = gmotion::transitions::targets::Targets::load(targets)
         .map_err(|e| CliError::msg(e.to_string()))?;
-    let scene = load_scene(scene, import)?;
+    let settings = Settings::default();
+    let scene = load_scene(scene, &import_options(import, &settings))?;
     let system = t.default_system(spec);
+    let fps = t.frame_rate(fps);
     let anim =
         gmotion::transitions::run(&scene, &t, &system, fps, duration).map_err(|e| match e {
             // A target naming a missing tag is an error in the targets file: say which.
@@ -405,8 +580,9 @@ fn transitions(
             }
             e => CliError::msg(e.to_string()),
         })?;
+    let size = output_size(render, &settings);
     for o in outputs {
-        write_animation(&anim, o, time, render)?;
+        write_animation(&anim, o, time, render, size)?;
     }
     Ok(())
 }
@@ -442,14 +618,16 @@ fn demo(out: &Path, example: &str) -> Result<()> {
         max_steps: None,
     };
     let import = ImportArgs {
-        tag_from: TagFromArg::Auto,
-        units: UnitsArg::Auto,
+        tag_from: None,
+        units: None,
     };
     let render = RenderArgs {
         width: None,
+        height: None,
         tolerance: 0.25,
     };
-    let anim = build(&scene, &grammar, &run, &import)?;
+    let (anim, settings) = build(Some(&scene), &grammar, &run, &import)?;
+    let size = output_size(&render, &settings);
     let names = [
         "frames",
         &format!("{example}.gif"),
@@ -457,7 +635,7 @@ fn demo(out: &Path, example: &str) -> Result<()> {
         &format!("{example}.svg"),
     ];
     for n in names {
-        write_animation(&anim, &out.join(n), 0.0, &render)?;
+        write_animation(&anim, &out.join(n), 0.0, &render, size)?;
     }
     let json = std::fs::read_to_string(out.join(format!("{example}.json")))
         .map_err(|e| CliError::msg(format!("{}: {e}", out.display())))?;

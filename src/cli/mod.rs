@@ -42,11 +42,13 @@ enum Command {
         import: ImportArgs,
     },
     /// Run a grammar on a scene and write the animation.
+    #[command(override_usage = "gmotion animate [OPTIONS] --output <OUTPUT> [SCENE] <GRAMMAR>")]
     Animate {
-        /// The scene (SVG).
-        scene: PathBuf,
-        /// The grammar (.gm).
-        grammar: PathBuf,
+        /// `[SCENE] GRAMMAR`: the scene (SVG) may be left out when the grammar names it
+        /// with `scene FILE`; given, it overrides that. The grammar is told apart by its
+        /// `.gm` extension (else by not being SVG), so either order works.
+        #[arg(required = true, num_args = 1..=2, value_name = "FILE")]
+        files: Vec<PathBuf>,
         /// Output(s): .json (Lottie), .svg (SMIL), .png (one frame at --time), .gif or
         /// .apng (preview), or a directory (one PNG per frame).
         #[arg(short, long, required = true)]
@@ -76,9 +78,9 @@ enum Command {
         /// spring).
         #[arg(long)]
         system: Option<String>,
-        /// Frames per second.
-        #[arg(long, default_value_t = 60.0)]
-        fps: f64,
+        /// Frames per second (default: the file's `fps`, else 60).
+        #[arg(long)]
+        fps: Option<f64>,
         /// Length in seconds (default: the file's, else until every channel settles).
         #[arg(long)]
         duration: Option<f64>,
@@ -90,13 +92,15 @@ enum Command {
         #[command(flatten)]
         import: ImportArgs,
     },
-    /// Parse and validate a grammar without rendering; with a scene, also expand it and
-    /// print rule, tag and expansion statistics.
+    /// Parse and validate a grammar without rendering; with a scene (given, or named by
+    /// the grammar's `scene`), also expand it and print rule, tag and expansion
+    /// statistics.
+    #[command(override_usage = "gmotion check [OPTIONS] <GRAMMAR> [SCENE]")]
     Check {
-        /// The grammar (.gm).
-        grammar: PathBuf,
-        /// Optional scene to expand the grammar on.
-        scene: Option<PathBuf>,
+        /// `GRAMMAR [SCENE]`: the grammar (.gm), and the scene to expand it on, which
+        /// overrides the grammar's `scene`. Told apart as for `animate`.
+        #[arg(required = true, num_args = 1..=2, value_name = "FILE")]
+        files: Vec<PathBuf>,
         /// Write the grammar graph: `.dot` (Graphviz) or `.svg` (a drawing; group grammars).
         #[arg(long)]
         graph: Option<PathBuf>,
@@ -124,9 +128,14 @@ struct RunArgs {
 /// Options of rendered and exported output.
 #[derive(Args, Debug, Clone)]
 struct RenderArgs {
-    /// Width in pixels of rendered PNG/GIF/APNG output (height follows the aspect ratio).
+    /// Width in pixels of every output (Lottie, SVG, PNG, GIF, APNG, frames); without
+    /// --height the height follows the scene's aspect ratio. With --height the art is
+    /// scaled to fit and centred. Either flag replaces the grammar's `width` and `height`.
     #[arg(long)]
     width: Option<u32>,
+    /// Height in pixels of every output (see --width).
+    #[arg(long)]
+    height: Option<u32>,
     /// Error bound in canvas pixels when an exporter must bake motion into keyframes.
     #[arg(long, default_value_t = 0.25)]
     tolerance: f64,
@@ -135,12 +144,12 @@ struct RenderArgs {
 /// How SVG elements become tagged shapes.
 #[derive(Args, Debug, Clone)]
 struct ImportArgs {
-    /// Where tags come from.
-    #[arg(long, value_enum, default_value_t = TagFromArg::Auto)]
-    tag_from: TagFromArg,
-    /// What the animated units are.
-    #[arg(long, value_enum, default_value_t = UnitsArg::Auto)]
-    units: UnitsArg,
+    /// Where tags come from (overrides the grammar's `tag_from`; default `auto`).
+    #[arg(long, value_enum)]
+    tag_from: Option<TagFromArg>,
+    /// What the animated units are (overrides the grammar's `units`; default `auto`).
+    #[arg(long, value_enum)]
+    units: Option<UnitsArg>,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]

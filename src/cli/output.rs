@@ -103,23 +103,3 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
         CliError::msg(format!("{}: cannot write output: {e}", path.display()))
     })
 }
-
-/// Writes a directory of files: all into a temporary sibling directory first, then moved
-/// into `dir` (created if missing) once every file is written.
-pub fn write_dir(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<()> {
-    let tmp = temp_sibling(dir);
-    let fail = |e: std::io::Error, tmp: &Path| {
-        let _ = fs::remove_dir_all(tmp);
-        CliError::msg(format!("{}: cannot write output: {e}", dir.display()))
-    };
-    fs::create_dir_all(&tmp).map_err(|e| fail(e, &tmp))?;
-    for (name, bytes) in files {
-        fs::write(tmp.join(name), bytes).map_err(|e| fail(e, &tmp))?;
-    }
-    fs::create_dir_all(dir).map_err(|e| fail(e, &tmp))?;
-    for (name, _) in files {
-        fs::rename(tmp.join(name), dir.join(name)).map_err(|e| fail(e, &tmp))?;
-    }
-    let _ = fs::remove_dir_all(&tmp);
-    Ok(())
-}

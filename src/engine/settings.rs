@@ -1,7 +1,9 @@
 //! Header directives turned into typed settings, with defaults and validation.
 
+use crate::exporters::frame::MAX_OUTPUT_SIZE;
 use crate::grammar::ast::{Directive, ExprKind, Grammar, Span};
 use crate::grammar::value::{Env, Value, eval};
+use crate::importers::svg::{TagFrom, Units};
 use crate::motion::{Interp, Lookup};
 
 use super::EngineError;
@@ -27,10 +29,15 @@ pub struct Settings {
     pub grid: (usize, usize),
     /// Random seed.
     pub seed: u64,
-    /// Scene file named by the grammar (relative to the grammar file).
-    pub scene: Option<String>,
-    /// Output width in pixels (renders); `None` = the scene's own width.
+    /// Scene file named by the grammar, as written (callers resolve it relative to the
+    /// grammar file), and where it is written.
+    pub scene: Option<(String, Span)>,
+    /// Width in pixels of every output; `None` follows `height` and the scene's aspect
+    /// ratio, or is the scene's own width (see [`crate::exporters::frame::OutputSize`]).
     pub width: Option<u32>,
+    /// Height in pixels of every output; `None` follows `width` and the scene's aspect
+    /// ratio, or is the scene's own height.
+    pub height: Option<u32>,
     /// Grid lookup.
     pub lookup: Lookup,
     /// Temporal interpolation of transforms.
@@ -41,10 +48,10 @@ pub struct Settings {
     pub max_steps: usize,
     /// Rule choice granularity.
     pub choice: Choice,
-    /// `tag_from` for the importer, as written.
-    pub tag_from: Option<String>,
-    /// `units` for the importer, as written.
-    pub units: Option<String>,
+    /// Where the importer reads tags from, if the grammar says.
+    pub tag_from: Option<TagFrom>,
+    /// Which nodes the importer makes animated units, if the grammar says.
+    pub units: Option<Units>,
     /// The `smoothing` directive's value, if any.
     pub smoothing: Option<(Value, Span)>,
 }
@@ -58,6 +65,7 @@ impl Default for Settings {
             seed: 0,
             scene: None,
             width: None,
+            height: None,
             lookup: Lookup::Nearest,
             interp: Interp::Linear,
             looping: true,
@@ -121,6 +129,21 @@ fn positive(d: &Directive) -> Result<f64, EngineError> {
     Ok(x)
 }
 
+/// An output size in whole pixels, 1 to [`MAX_OUTPUT_SIZE`].
+fn pixels(d: &Directive) -> Result<u32, EngineError> {
+    let x = positive(d)?;
+    if x.fract() != 0.0 || x > f64::from(MAX_OUTPUT_SIZE) {
+        return Err(EngineError::at(
+            one(d)?.span,
+            format!(
+                "`{}` must be a whole number of pixels from 1 to {MAX_OUTPUT_SIZE}, found {x}",
+                d.name
+            ),
+        ));
+    }
+    Ok(x as u32)
+}
+
 fn word(d: &Directive) -> Result<String, EngineError> {
     let e = one(d)?;
     match &e.kind {
@@ -141,8 +164,10 @@ fn choose<T: Copy>(d: &Directive, options: &[(&str, T)]) -> Result<T, EngineErro
         .map(|(_, v)| *v)
         .ok_or_else(|| {
             let names: Vec<_> = options.iter().map(|(n, _)| format!("`{n}`")).collect();
+            // The value is what is wrong: point at it (the parser does too).
+            let at = d.values.first().map_or(d.span, |v| v.span);
             EngineError::at(
-                d.span,
+                at,
                 format!(
                     "`{}`: unknown value `{w}`, expected one of {}",
                     d.name,
@@ -170,11 +195,9 @@ pub fn from_grammar(grammar: &Grammar) -> Result<Settings, EngineError> {
                 s.seed = x as u64;
             }
             "grid" => s.grid = grid_size(d)?,
-            "scene" => s.scene = Some(word(d)?),
-            "width" => s.width = Some(positive(d)?.round() as u32),
-            "height" => {
-                positive(d)?;
-            }
+            "scene" => s.scene = Some((word(d)?, one(d)?.span)),
+            "width" => s.width = Some(pixels(d)?),
+            "height" => s.height = Some(pixels(d)?),
             "lookup" => {
                 s.lookup = choose(
                     d,
@@ -204,8 +227,28 @@ pub fn from_grammar(grammar: &Grammar) -> Result<Settings, EngineError> {
             "choice" => {
                 s.choice = choose(d, &[("group", Choice::Group), ("shape", Choice::Shape)])?
             }
-            "tag_from" => s.tag_from = Some(word(d)?),
-            "units" => s.units = Some(word(d)?),
+            "tag_from" => {
+                s.tag_from = Some(choose(
+                    d,
+                    &[
+                        ("auto", TagFrom::Auto),
+                        ("data-tag", TagFrom::DataTag),
+                        ("class", TagFrom::Class),
+                        ("label", TagFrom::Label),
+                        ("layer", TagFrom::Layer),
+                    ],
+                )?)
+            }
+            "units" => {
+                s.units = Some(choose(
+                    d,
+                    &[
+                        ("auto", Units::Auto),
+                        ("paths", Units::Paths),
+                        ("groups", Units::Groups),
+                    ],
+                )?)
+            }
             "smoothing" => {
                 let e = one(d)?;
                 s.smoothing = Some((eval(e, &mut NoEnv).map_err(EngineError::from)?, e.span));

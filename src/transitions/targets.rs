@@ -179,6 +179,10 @@ pub struct SystemOverride {
     pub system: SmoothSpec,
 }
 
+/// Frames per second when neither the command line nor the file names a rate: smooth
+/// enough for the springs and filters transitions run through.
+pub const DEFAULT_FPS: f64 = 60.0;
+
 /// A parsed TARGETS file.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Targets {
@@ -238,6 +242,12 @@ impl Targets {
                     .find(|o| o.channel == channel && o.tag.is_none())
             })
             .map_or(default, |o| &o.system)
+    }
+
+    /// The frame rate to run at: `option` (the command line's `--fps`) if given, else the
+    /// file's `fps`, else [`DEFAULT_FPS`].
+    pub fn frame_rate(&self, option: Option<f64>) -> f64 {
+        option.or(self.fps).unwrap_or(DEFAULT_FPS)
     }
 
     /// The anchor fraction for a tag, if one is set.
