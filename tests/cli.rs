@@ -413,11 +413,7 @@ fn the_scene_directive_names_the_scene_beside_the_grammar() {
     assert!(!x.exists());
     // A named scene that is not there: the error points at the directive's value.
     let missing = d.join("missing.gm");
-    std::fs::write(
-        &missing,
-        format!("seed 3\nscene nope.svg\n{}", toy_rules()),
-    )
-    .unwrap();
+    std::fs::write(&missing, format!("seed 3\nscene nope.svg\n{}", toy_rules())).unwrap();
     let err = run_err(bin().arg("animate").arg(&missing).arg("-o").arg(&x));
     assert!(
         err.contains("missing.gm:2:7") && err.contains("nope.svg"),
