@@ -70,19 +70,19 @@ pub const DIRECTIVES: &[DirectiveSpec] = &[
         name: "scene",
         kind: DirectiveKind::Path,
         default: "none: given on the command line",
-        summary: "SVG or Lottie file to animate, relative to the grammar file",
+        summary: "SVG file to animate, relative to the grammar file (a scene on the command line overrides it)",
     },
     DirectiveSpec {
         name: "width",
         kind: DirectiveKind::Count,
         default: "the scene's width",
-        summary: "output width in pixels",
+        summary: "width in pixels of every output, the art scaled to fit",
     },
     DirectiveSpec {
         name: "height",
         kind: DirectiveKind::Count,
         default: "follows width and the scene's aspect ratio",
-        summary: "output height in pixels",
+        summary: "height in pixels of every output, the art scaled to fit",
     },
     DirectiveSpec {
         name: "lookup",
