@@ -115,10 +115,9 @@ fn transform_at(tr: &Value, frame: f64) -> Affine {
     );
     let v2 = |key: &str, default: [f64; 2]| {
         tr.get(key).map_or(Vec2::new(default[0], default[1]), |p| {
-            if p.get("s") == Some(&Value::Bool(true)) {
-                // A split position: x and y animate separately.
-                return Vec2::new(vec_at(&p["x"], frame)[0], vec_at(&p["y"], frame)[0]);
-            }
+            // lottie-web draws nothing when a shape group holds a split position, and
+            // layers never need one: gmotion writes none (see `lottie_web_problems`).
+            assert!(p.get("s").is_none(), "a split position: {tr}");
             let v = vec_at(p, frame);
             Vec2::new(v[0], v[1])
         })
@@ -607,8 +606,12 @@ fn split_reversed_and_shared_windows_are_exact() {
     );
 }
 
+/// The spiral is the hardest case for the position track: x and y follow different
+/// profiles, yet share one easing (lottie-web cannot draw the split position that gave
+/// each its own inside a shape group), so it needs about three times the keys straight
+/// motion does; the reduction must still cut the per-frame keys threefold.
 #[test]
-fn smooth_baked_motion_is_ten_times_smaller_than_per_frame() {
+fn smooth_baked_motion_is_three_times_smaller_than_per_frame() {
     let s = scene(vec![(
         rect_path(Rect::new(50.0, 50.0, 110.0, 90.0)),
         solid(Color::BLACK),
@@ -658,7 +661,7 @@ fn smooth_baked_motion_is_ten_times_smaller_than_per_frame() {
     };
     assert!(props > 0);
     assert!(
-        keys * 10 <= props * frames,
+        keys * 3 <= props * frames,
         "{keys} keyframes on {props} properties over {frames} frames"
     );
 }
@@ -994,9 +997,7 @@ fn corpus_converts_in_process() {
     use gmotion::importers::svg::{ImportOptions, load};
     let dir = match std::env::var_os("GMOTION_CORPUS") {
         Some(d) => std::path::PathBuf::from(d),
-        None => {
-            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/corpus/resvg")
-        }
+        None => std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/corpus/resvg"),
     };
     let mut files: Vec<_> = std::fs::read_dir(&dir)
         .unwrap_or_else(|e| panic!("corpus at {}: {e}", dir.display()))
@@ -1082,4 +1083,258 @@ fn corpus_converts_in_process() {
         times.len(),
         cold * 1e3,
     );
+}
+
+// ---- what lottie-web can draw --------------------------------------------------------------
+
+/// Constructs in a shape group's transform (`ty: "tr"`) that lottie-web does not draw, as
+/// `where: what` lines. lottie-web reads a group transform's `a`, `p`, `s`, `r`, `o`, `sk`
+/// and `sa`, each `{"a":0,"k":value}` or `{"a":1,"k":[keyframes]}`; a split position
+/// (`{"s":true,"x":…,"y":…}`, legal only in a layer's `ks`) makes it draw nothing at all,
+/// background included, and so would any other key the format keeps for layers.
+fn lottie_web_problems(doc: &Value) -> Vec<String> {
+    fn property(prop: &Value, vector: bool, at: &str, out: &mut Vec<String>) {
+        let Some(m) = prop.as_object() else {
+            out.push(format!("{at}: not an object: {prop}"));
+            return;
+        };
+        if let Some(k) = m.keys().find(|k| !["a", "k"].contains(&k.as_str())) {
+            out.push(format!(
+                "{at}: key {k:?} (split or layer-only form): {prop}"
+            ));
+            return;
+        }
+        let is_vector = |v: &Value| {
+            v.as_array()
+                .is_some_and(|a| a.len() >= 2 && a.iter().all(Value::is_number))
+        };
+        let is_scalar = |v: &Value| {
+            v.is_number()
+                || v.as_array()
+                    .is_some_and(|a| a.len() == 1 && a[0].is_number())
+        };
+        let value_ok = |v: &Value| if vector { is_vector(v) } else { is_scalar(v) };
+        match prop.get("a").and_then(Value::as_u64) {
+            Some(0) if value_ok(&prop["k"]) => {}
+            Some(1) => match prop["k"].as_array() {
+                Some(keys) if keys.len() >= 2 => {
+                    for (n, key) in keys.iter().enumerate() {
+                        if !key["t"].is_number() || !value_ok(&key["s"]) {
+                            out.push(format!("{at}: keyframe {n} unreadable: {key}"));
+                        }
+                    }
+                }
+                _ => out.push(format!("{at}: animated without two keyframes: {prop}")),
+            },
+            _ => out.push(format!("{at}: unreadable value: {prop}")),
+        }
+    }
+    fn items(list: &Value, at: &str, out: &mut Vec<String>) {
+        for (i, it) in list.as_array().into_iter().flatten().enumerate() {
+            let at = format!("{at}/{i}");
+            match it["ty"].as_str() {
+                Some("gr") => items(&it["it"], &at, out),
+                Some("tr") => {
+                    for (key, v) in it.as_object().expect("an item is an object") {
+                        let vector = match key.as_str() {
+                            "ty" | "nm" => continue,
+                            "a" | "p" | "s" => true,
+                            "r" | "o" | "sk" | "sa" => false,
+                            other => {
+                                out.push(format!("{at}: transform key {other:?}: {it}"));
+                                continue;
+                            }
+                        };
+                        property(v, vector, &format!("{at}.{key}"), out);
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+    let mut out = Vec::new();
+    let assets = doc["assets"].as_array().into_iter().flatten();
+    let lists = std::iter::once(&doc["layers"]).chain(assets.map(|a| &a["layers"]));
+    for layers in lists {
+        for l in layers.as_array().into_iter().flatten() {
+            items(&l["shapes"], &format!("layer {}", l["nm"]), &mut out);
+        }
+    }
+    out
+}
+
+fn repo_file(rel: &str) -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
+}
+
+fn import(path: &std::path::Path) -> Scene {
+    use gmotion::importers::svg::{ImportOptions, load};
+    load(path, &ImportOptions::default())
+        .unwrap_or_else(|e| panic!("{e}"))
+        .scene
+}
+
+fn run_grammar(scene: &Scene, src: &str) -> Animation {
+    let g = gmotion::grammar::parse(src).unwrap_or_else(|d| panic!("{}", d.render("case.gm", src)));
+    gmotion::engine::run(scene.clone(), &g, &gmotion::engine::RunOptions::default())
+        .unwrap_or_else(|e| panic!("{e}\n{src}"))
+        .0
+}
+
+/// Small grammars on the toy scene (a square `s`, four circles `c`) over every motion that
+/// is baked or keyed specially — `smoothing`, `ease=bspline(…)` / `poles(…)`, skews, Alexa
+/// interpolation (of skews too), delays inside the slice (0.3 and 0.9 of it, and per id) —
+/// for both references, with and without a split that cuts a delayed window short. Every
+/// ease, value and offset meets every other; the rest vary with the case number.
+fn baked_motion_grammars() -> Vec<String> {
+    let eases = [
+        "",
+        ", ease=ease-in-out",
+        ", ease=bspline(3)",
+        ", ease=poles(2)",
+        ", ease=poles(3, 0.2)",
+    ];
+    let values = [
+        "translate(120, 20)",
+        "rotate(90) scale(1.5)",
+        "skewX(30) translate(40, 0)",
+        "skew(20, 10) scale(1.3)",
+        "rotate(200) scale(0.6, 1.4)",
+    ];
+    // The slice `a` lasts 1 s.
+    let offsets = ["0", "0.3", "0.9", "0.12 * id"];
+    let mut out = Vec::new();
+    for ease in eases {
+        for value in values {
+            for offset in offsets {
+                let n = out.len();
+                let (r1, r2) = if n % 2 == 0 {
+                    ("local", "world")
+                } else {
+                    ("world", "local")
+                };
+                let interp = if n % 3 == 0 { "interp alexa\n" } else { "" };
+                let smoothing = if n % 4 == 1 {
+                    "smoothing spring(0.3, 0.1)\n"
+                } else {
+                    ""
+                };
+                // A split of the moving slice at 0.3 s ends the delayed window before its
+                // change begins (offsets 0.3 and 0.9).
+                let nested = if n % 5 >= 2 {
+                    "timesplit(0.3, 0.7) : [m, s] -> [m1, m2]\n\
+                     animate(affine, local, 0, scale(1.2)) : [m2, s] -> [k]\n"
+                } else {
+                    ""
+                };
+                out.push(format!(
+                    "duration 2s\nfps 30\n{interp}{smoothing}\
+                     timesplit(0.5, 0.5) : [all, (s, c)] -> [a, inv_a]\n\
+                     animate(affine, {r1}, {offset}, {value}{ease}) : [a, s] -> [m]\n\
+                     {nested}\
+                     animate(affine, {r2}, {offset}, {value}{ease}) : [a, c] -> [mc]\n"
+                ));
+            }
+        }
+    }
+    out
+}
+
+/// lottie-web drew every frame of these blank (split positions in baked shape groups):
+/// no export holds anything in a shape group's transform that lottie-web cannot draw —
+/// over the generated baked-motion grammars, every example grammar, and the three
+/// `transitions` examples.
+#[test]
+fn no_shape_group_holds_what_lottie_web_cannot_draw() {
+    let toy = import(&repo_file("grammars/toy.svg"));
+    let mut docs: Vec<(String, String)> = baked_motion_grammars()
+        .into_iter()
+        .map(|src| {
+            let (json, _) = to_lottie(&run_grammar(&toy, &src), &LottieOptions::default())
+                .unwrap_or_else(|e| panic!("{e}\n{src}"));
+            (src, json)
+        })
+        .collect();
+    let mut examples: Vec<_> = std::fs::read_dir(repo_file("grammars"))
+        .expect("grammars/")
+        .map(|e| e.expect("a directory entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "gm"))
+        .collect();
+    examples.sort();
+    assert!(examples.len() >= 7, "{examples:?}");
+    for gm in examples {
+        let src = std::fs::read_to_string(&gm).expect("read the grammar");
+        let scene = import(&gm.with_extension("svg"));
+        let (json, _) = to_lottie(&run_grammar(&scene, &src), &LottieOptions::default())
+            .unwrap_or_else(|e| panic!("{}: {e}", gm.display()));
+        docs.push((gm.display().to_string(), json));
+    }
+    let transitions = gmotion::transitions::examples().expect("the transitions examples");
+    assert_eq!(transitions.len(), 3);
+    for ex in transitions {
+        use gmotion::importers::svg::{ImportOptions, parse};
+        let scene = parse(&ex.svg, ex.name, &ImportOptions::default())
+            .unwrap_or_else(|e| panic!("{e}"))
+            .scene;
+        let system = ex.targets.default_system(None);
+        let anim = gmotion::transitions::run(&scene, &ex.targets, &system, 60.0, None)
+            .unwrap_or_else(|e| panic!("{}: {e}", ex.name));
+        let (json, _) = to_lottie(&anim, &LottieOptions::default()).unwrap();
+        docs.push((format!("transitions {}", ex.name), json));
+    }
+    let mut baked = 0;
+    for (what, json) in &docs {
+        let doc = parse(json);
+        let problems = lottie_web_problems(&doc);
+        assert!(
+            problems.is_empty(),
+            "{what}:\n{}",
+            problems[..problems.len().min(5)].join("\n")
+        );
+        // The check saw baked motion: an animated position in a shape group.
+        baked += usize::from(json.contains(r#""ty":"tr","p":{"a":1"#));
+    }
+    assert!(
+        baked * 2 >= docs.len(),
+        "{baked} of {} exports bake motion",
+        docs.len()
+    );
+}
+
+/// The checker itself rejects what lottie-web cannot draw (a split position, a layer-only
+/// key) and accepts the forms it can.
+#[test]
+fn lottie_web_checker_rejects_split_positions_in_shape_groups() {
+    let doc = |tr: Value| serde_json::json!({"layers": [{"nm": "x", "shapes": [{"ty": "gr", "it": [tr]}]}]});
+    let fixed =
+        doc(serde_json::json!({"ty": "tr", "p": {"a": 0, "k": [1, 2]}, "r": {"a": 0, "k": 5}}));
+    assert_eq!(lottie_web_problems(&fixed), Vec::<String>::new());
+    let keyed = doc(serde_json::json!({"ty": "tr", "p": {"a": 1, "k": [
+        {"t": 0, "s": [0, 0], "o": {"x": 0, "y": 0}, "i": {"x": 1, "y": 1}}, {"t": 5, "s": [3, 4]}
+    ]}}));
+    assert_eq!(lottie_web_problems(&keyed), Vec::<String>::new());
+    let split = doc(serde_json::json!({"ty": "tr", "p": {"s": true,
+        "x": {"a": 0, "k": 1}, "y": {"a": 0, "k": 2}}}));
+    assert_eq!(lottie_web_problems(&split).len(), 1);
+    let three_d = doc(serde_json::json!({"ty": "tr", "rx": {"a": 0, "k": 1}}));
+    assert_eq!(lottie_web_problems(&three_d).len(), 1);
+}
+
+/// A delayed window (an `animate` offset inside its slice) is written with its anchor and
+/// its position together, also when a later split ends the window before the change
+/// begins: the export follows the model at every frame within the tolerance. Before, such a
+/// window wrote the anchor alone and every player drew the square 100 px up and left.
+#[test]
+fn delayed_windows_follow_the_model() {
+    let toy = import(&repo_file("grammars/toy.svg"));
+    let mut cases = 0;
+    for src in baked_motion_grammars() {
+        let anim = run_grammar(&toy, &src);
+        let (json, _) = to_lottie(&anim, &LottieOptions::default()).unwrap();
+        let err = max_error(&anim, &parse(&json), 1);
+        // The baking bound, plus the written precision.
+        assert!(err <= 0.25 + 0.02, "error {err} px\n{src}");
+        cases += 1;
+    }
+    assert_eq!(cases, 100);
 }
