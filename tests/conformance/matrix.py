@@ -890,8 +890,9 @@ def report(argv):
     refused = sum("expected_error" in c and "error" not in c for c in cases)
     lines += ["", "Families: gm = generated timeslice grammars, tr = generated `gmotion transitions` targets, "
               "ex = the bundled examples. Pairs of dimension values left uncovered by the full design: "
-              f"{data['uncovered_pairs']}. {refused} case(s) must be refused with a located error "
-              "(`arc` on a channel that is not a position) and were; they count under export only.", ""]
+              f"{data['uncovered_pairs']}." + (f" {refused} case(s) must be refused with a located error "
+                                                 "(`arc` on a channel that is not a position) and were; they "
+                                                 "count under export only." if refused else ""), ""]
     # Failures per dimension value.
     fail_rows = []
     for fam in fams:
