@@ -19,6 +19,18 @@ use gmotion::signals::Easing;
 use kurbo::{Affine, BezPath, Point, Rect, Shape as _, Vec2};
 use serde_json::Value;
 
+mod support;
+
+use support::players::{Player, assert_plays_like_model, frames_to_check};
+
+/// Plays `json` (the export of `anim`) in every real player in `players` against the
+/// model's own rendering, at twice the canvas width: the evaluator below checks geometry to
+/// a hundredth of a pixel, the players decide whether the file draws what it should.
+fn plays(case: &str, anim: &Animation, json: &str, players: &[Player]) {
+    let width = (2.0 * anim.scene.width).round() as u32;
+    assert_plays_like_model(case, anim, json, &frames_to_check(anim), width, players);
+}
+
 // ---- a Lottie evaluator for the subset gmotion writes -------------------------------------
 
 fn num(v: &Value) -> f64 {
@@ -454,6 +466,7 @@ fn layers_are_named_tag_id_and_carry_no_skew() {
     assert_eq!(keys_anywhere(&doc, "sk"), 0);
     // The skewing motion is sampled, and still lands within the tolerance.
     assert!(max_error(&anim, &doc, 1) <= 0.25);
+    plays("skew-sampled", &anim, &json, &Player::ALL);
 }
 
 #[test]
@@ -509,6 +522,7 @@ fn one_window_has_keyframes_at_the_active_ends_only() {
     let eased = json.contains(r#""o":{"x":0.42,"y":0},"i":{"x":0.58,"y":1}"#);
     assert!(eased, "{json}");
     assert!(max_error(&anim, &doc, 4) < 0.01, "exact motion");
+    plays("one-window", &anim, &json, &Player::ALL);
 }
 
 #[test]
@@ -604,6 +618,7 @@ fn split_reversed_and_shared_windows_are_exact() {
         "{} keyframes",
         animated_keys(&doc)
     );
+    plays("split-reversed-shared", &anim, &json, &Player::ALL);
 }
 
 /// The spiral is the hardest case for the position track: x and y follow different
@@ -664,6 +679,7 @@ fn smooth_baked_motion_is_three_times_smaller_than_per_frame() {
         keys * 3 <= props * frames,
         "{keys} keyframes on {props} properties over {frames} frames"
     );
+    plays("smooth-baked", &anim, &json, &Player::ALL);
 }
 
 #[test]
@@ -692,6 +708,7 @@ fn bilinear_blend_is_sampled_within_tolerance() {
     let (json, _) = to_lottie(&anim, &LottieOptions::default()).unwrap();
     let doc = parse(&json);
     assert!(max_error(&anim, &doc, 1) <= 0.25);
+    plays("bilinear-blend", &anim, &json, &Player::ALL);
 }
 
 #[test]
@@ -724,6 +741,7 @@ fn vertex_deformation_becomes_path_keyframes() {
     // The outline is keyframed, not the transform.
     let sh = json.find(r#""ty":"sh","ks":{"a":1"#);
     assert!(sh.is_some(), "animated path expected");
+    plays("vertex-deformation", &anim, &json, &Player::ALL);
 }
 
 #[test]
@@ -792,6 +810,13 @@ fn tints_opacity_and_stroke_width_follow_the_model() {
             d[0].opacity
         );
     }
+    // A translucent filled and stroked square: see `Player::WHOLE_GROUP_OPACITY`.
+    plays(
+        "tints-opacity-width",
+        &anim,
+        &json,
+        &Player::WHOLE_GROUP_OPACITY,
+    );
 }
 
 #[test]
@@ -1334,6 +1359,10 @@ fn delayed_windows_follow_the_model() {
         let err = max_error(&anim, &parse(&json), 1);
         // The baking bound, plus the written precision.
         assert!(err <= 0.25 + 0.02, "error {err} px\n{src}");
+        // Every tenth case also in the real players (each launch costs a second or two).
+        if cases % 10 == 0 {
+            plays(&format!("baked-{cases}"), &anim, &json, &Player::ALL);
+        }
         cases += 1;
     }
     assert_eq!(cases, 100);

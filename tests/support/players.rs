@@ -1,0 +1,212 @@
+//! Real players as test oracles: a Lottie document is played in lottie-web (its svg and
+//! canvas renderers, in headless Chromium), rlottie and ThorVG, and every frame is compared
+//! with gmotion's own resvg rendering of the animation model at the same instant.
+//!
+//! The players are the conformance run's (`tests/conformance/`, installed by its
+//! `install.sh`, which `scripts/test.sh` runs first). A missing player is a failure, not a
+//! skip: a test that cannot see the player has not checked anything.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use gmotion::exporters::frame::frame_svg;
+use gmotion::exporters::raster::{Pixmap, compare, render, save_png};
+use gmotion::motion::Animation;
+
+/// A pixel is off when some premultiplied channel differs by more than this (of 255).
+const OFF: u8 = 32;
+/// At most this fraction of a frame's pixels may be off (the conformance run's bar).
+const MAX_OFF: f64 = 0.005;
+
+/// A player that draws Lottie.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Player {
+    /// lottie-web's svg renderer.
+    LottieWebSvg,
+    /// lottie-web's canvas renderer.
+    LottieWebCanvas,
+    /// rlottie (rlottie-python).
+    Rlottie,
+    /// ThorVG (thorvg-python).
+    Thorvg,
+}
+
+impl Player {
+    /// Every player.
+    pub const ALL: [Player; 4] = [
+        Player::LottieWebSvg,
+        Player::LottieWebCanvas,
+        Player::Rlottie,
+        Player::Thorvg,
+    ];
+    /// Every player but rlottie, which draws no skew (its transform has no skew term).
+    pub const SKEW: [Player; 3] = [
+        Player::LottieWebSvg,
+        Player::LottieWebCanvas,
+        Player::Thorvg,
+    ];
+
+    /// The players that draw a translucent group as a whole. lottie-web's canvas renderer
+    /// and rlottie apply a group's opacity to each fill and stroke in it, so where a
+    /// translucent shape's stroke overlaps its own fill they draw the overlap darker
+    /// (and rlottie's layer opacity dims the layers beneath, so the exporter cannot move
+    /// it there). A shape with both a fill and a stroke under partial opacity is judged by
+    /// these.
+    pub const WHOLE_GROUP_OPACITY: [Player; 2] = [Player::LottieWebSvg, Player::Thorvg];
+
+    fn name(self) -> &'static str {
+        match self {
+            Player::LottieWebSvg => "lottie-web-svg",
+            Player::LottieWebCanvas => "lottie-web-canvas",
+            Player::Rlottie => "rlottie",
+            Player::Thorvg => "thorvg",
+        }
+    }
+}
+
+/// Frames to play for `anim`: 13 evenly spaced over the timeline, and the frames on both
+/// sides of every window and attribute change bound (where a wrong key time shows).
+pub fn frames_to_check(anim: &Animation) -> Vec<f64> {
+    let last = anim.frame_count() as f64;
+    let mut frames: Vec<f64> = (0..=12).map(|k| (k as f64 * last / 12.0).floor()).collect();
+    let mut bounds = Vec::new();
+    for t in &anim.tracks {
+        bounds.extend(t.motions.iter().flat_map(|m| [m.t0, m.t1]));
+        bounds.extend(t.fill.iter().chain(&t.stroke).flat_map(|a| [a.t0, a.t1]));
+        bounds.extend(
+            t.opacity
+                .iter()
+                .chain(&t.stroke_width)
+                .flat_map(|a| [a.t0, a.t1]),
+        );
+    }
+    for b in bounds {
+        let f = b * anim.fps;
+        frames.extend([f.floor() - 1.0, f.floor(), f.ceil(), f.ceil() + 1.0]);
+    }
+    frames.retain(|f| (0.0..last).contains(f));
+    frames.sort_by(f64::total_cmp);
+    frames.dedup();
+    frames
+}
+
+fn conformance_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/conformance")
+}
+
+fn run(mut cmd: Command, what: &str) {
+    let out = cmd
+        .output()
+        .unwrap_or_else(|e| panic!("{what}: cannot start ({e}); run tests/conformance/install.sh"));
+    assert!(
+        out.status.success(),
+        "{what} failed ({}): {}",
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// Plays `lottie` (the export of `anim`) in `players` at the given frame numbers and
+/// asserts that every frame matches gmotion's own rendering of `anim` at `frame / fps`,
+/// `width` pixels wide. `case` names the files written under the test's temporary folder.
+pub fn assert_plays_like_model(
+    case: &str,
+    anim: &Animation,
+    lottie: &str,
+    frames: &[f64],
+    width: u32,
+    players: &[Player],
+) {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("players")
+        .join(case);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("create the case folder");
+    let json = dir.join("anim.json");
+    std::fs::write(&json, lottie).expect("write the Lottie file");
+
+    let mut jobs = Vec::new();
+    for &p in players {
+        let out: Vec<String> = frames
+            .iter()
+            .map(|f| {
+                dir.join(format!("{}-{f}.png", p.name()))
+                    .display()
+                    .to_string()
+            })
+            .collect();
+        let mut job = serde_json::json!({
+            "json": json.display().to_string(),
+            "width": width,
+            "frames": frames,
+            "out": out,
+        });
+        if p == Player::LottieWebCanvas {
+            job["renderer"] = "canvas".into();
+        }
+        jobs.push((p, job));
+    }
+    let write_jobs = |name: &str, pick: &dyn Fn(Player) -> bool| -> Option<PathBuf> {
+        let list: Vec<&serde_json::Value> = jobs
+            .iter()
+            .filter(|(p, _)| pick(*p))
+            .map(|(_, j)| j)
+            .collect();
+        if list.is_empty() {
+            return None;
+        }
+        let path = dir.join(name);
+        std::fs::write(&path, serde_json::to_string(&list).unwrap()).expect("write jobs");
+        Some(path)
+    };
+    let here = conformance_dir();
+    if let Some(j) = write_jobs("web.json", &|p| {
+        matches!(p, Player::LottieWebSvg | Player::LottieWebCanvas)
+    }) {
+        let mut c = Command::new("node");
+        c.arg(here.join("lottie_web.mjs")).arg(j).env("PAGES", "1");
+        run(c, "lottie-web");
+    }
+    if let Some(j) = write_jobs("rlottie.json", &|p| p == Player::Rlottie) {
+        let mut c = Command::new("python3");
+        c.arg(here.join("rlottie_render.py")).arg(j);
+        run(c, "rlottie");
+    }
+    if let Some(j) = write_jobs("thorvg.json", &|p| p == Player::Thorvg) {
+        let mut c = Command::new("python3");
+        c.arg(here.join("thorvg_render.py")).arg(j);
+        run(c, "ThorVG");
+    }
+
+    let mut failures = Vec::new();
+    for &f in frames {
+        let model = render(&frame_svg(anim, f / anim.fps), width).expect("render the model");
+        save_png(&model, &dir.join(format!("model-{f}.png"))).expect("save the model frame");
+        for &p in players {
+            let got_path = dir.join(format!("{}-{f}.png", p.name()));
+            match Pixmap::load_png(&got_path) {
+                Ok(got) if (got.width(), got.height()) == (model.width(), model.height()) => {
+                    let off = compare(&model, &got, OFF);
+                    if off > MAX_OFF {
+                        failures.push(format!("{} frame {f}: {:.2}% off", p.name(), off * 100.0));
+                    }
+                }
+                Ok(got) => failures.push(format!(
+                    "{} frame {f}: {}x{} px, model {}x{}",
+                    p.name(),
+                    got.width(),
+                    got.height(),
+                    model.width(),
+                    model.height()
+                )),
+                Err(e) => failures.push(format!("{} frame {f}: no frame ({e})", p.name())),
+            }
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{case}: players differ from the model (files in {}):\n{}",
+        dir.display(),
+        failures.join("\n")
+    );
+}
