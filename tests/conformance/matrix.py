@@ -685,7 +685,11 @@ def export(case, out, gm):
         scene, src = os.path.join(g, name + ".svg"), os.path.join(g, name + ".targets.json")
         base = [gm, "transitions", scene, src]
     case["source"] = src
-    rc, err = run(base + ["-o", lj, "-o", sj])
+    # Baked motion is exported at a tenth of a pixel's error here instead of the default
+    # quarter: at 2x a 0.25 px bake error moves whole edges by half a pixel, which alone puts
+    # thin shapes over the 0.5% bar though the motion is right. The matrix judges what the
+    # motion means; the error bound itself is checked geometrically in tests/lottie.rs.
+    rc, err = run(base + ["-o", lj, "-o", sj, "--tolerance", TOLERANCE])
     expect = expected_error(case)
     if expect is not None:
         case["expected_error"] = expect
@@ -698,6 +702,7 @@ def export(case, out, gm):
     case["warnings"] = [line for line in err.splitlines() if "warning" in line.lower()][:5]
     with open(lj, encoding="utf-8") as f:
         doc = json.load(f)
+    case["per_paint_opacity"] = translucent_paint_overlap(doc)
     n, fps = int(round(doc["op"] - doc["ip"])), float(doc["fr"])
     if case["family"] == "tr":
         times = targets(dims)[3] + [0.3]
@@ -721,6 +726,39 @@ def export(case, out, gm):
             return case
     case["lottie"], case["smil"] = lj, sj
     return case
+
+
+def translucent_paint_overlap(doc):
+    """Whether some shape group below 100% opacity (fixed or animated) holds both a fill and
+    a stroke. lottie-web's canvas renderer and rlottie apply a group's opacity to each paint
+    in it, so they draw where the stroke overlaps the fill darker than a group composited
+    whole (resvg, lottie-web svg, ThorVG, browsers); see KNOWN."""
+    def paints(items, kinds):
+        for it in items:
+            if it.get("ty") in ("fl", "gf", "st", "gs"):
+                kinds.add("fill" if it["ty"] in ("fl", "gf") else "stroke")
+            elif it.get("ty") == "gr":
+                paints(it.get("it", []), kinds)
+        return kinds
+
+    def translucent(o):
+        if not isinstance(o, dict):
+            return False
+        return bool(o.get("a")) or (isinstance(o.get("k"), (int, float)) and o["k"] < 100)
+
+    def walk(items):
+        for it in items:
+            if it.get("ty") != "gr":
+                continue
+            inner = it.get("it", [])
+            tr = next((x for x in inner if x.get("ty") == "tr"), {})
+            if translucent(tr.get("o")) and paints(inner, set()) == {"fill", "stroke"}:
+                return True
+            if walk(inner):
+                return True
+        return False
+
+    return any(walk(layer.get("shapes", [])) for layer in doc.get("layers", []))
 
 
 def schema_validator():
@@ -804,6 +842,12 @@ def player_pngs(c, player):
 
 
 NA = "n/a"
+# Players that draw a translucent group's stroke-over-fill overlap darker (opacity applied
+# per paint; see translucent_paint_overlap). Their frames of such cases are reported as
+# "known", not failed; every other player still judges those cases.
+KNOWN = ("lottie-web-canvas", "rlottie")
+KNOWN_NOTE = "known (group opacity applied per paint): "
+TOLERANCE = "0.1"
 
 
 def rgba(path):
@@ -862,7 +906,14 @@ def judge(c):
                 f"{len(bad)}/{len(offs)} frames off, worst {worst[player] * 100:.2f}% ({shown})"
         else:
             res[player] = None
+        if res[player] is not None and player in KNOWN and c.get("per_paint_opacity"):
+            res[player] = KNOWN_NOTE + res[player]
     return res, worst
+
+
+def fails(x):
+    """Whether a check's result is a failure (not a pass, not applicable, not known)."""
+    return x not in (None, NA) and not x.startswith(KNOWN_NOTE)
 
 
 def report(argv):
@@ -885,14 +936,19 @@ def report(argv):
         for fam in [None] + fams:
             sel = [(c, r) for c, r, _ in rows if (fam is None or c["family"] == fam) and r[k] != NA]
             ok = sum(r[k] is None for _, r in sel)
-            cells.append(f"{ok}/{len(sel)}")
+            known = sum(r[k] is not None and not fails(r[k]) for _, r in sel)
+            cells.append(f"{ok}/{len(sel)}" + (f" (+{known} known)" if known else ""))
         lines.append(f"| {k} | " + " | ".join(cells) + " |")
     refused = sum("expected_error" in c and "error" not in c for c in cases)
     lines += ["", "Families: gm = generated timeslice grammars, tr = generated `gmotion transitions` targets, "
               "ex = the bundled examples. Pairs of dimension values left uncovered by the full design: "
               f"{data['uncovered_pairs']}." + (f" {refused} case(s) must be refused with a located error "
                                                  "(`arc` on a channel that is not a position) and were; they "
-                                                 "count under export only." if refused else ""), ""]
+                                                 "count under export only." if refused else ""),
+              "", "`(+N known)`: frames of lottie-web's canvas renderer and rlottie that differ only because "
+              "they apply a translucent group's opacity to each paint (a shape's stroke over its own fill "
+              "draws darker); the other players judge those cases in full. Baked motion is exported with "
+              f"`--tolerance {TOLERANCE}`.", ""]
     # Failures per dimension value.
     fail_rows = []
     for fam in fams:
@@ -903,7 +959,7 @@ def report(argv):
             for k, v in c["dims"].items():
                 values.setdefault((k, v), []).append(r)
         for (k, v), rs in sorted(values.items()):
-            counts = [sum(r[p] not in (None, NA) for r in rs) for p in CHECKS]
+            counts = [sum(fails(r[p]) for r in rs) for p in CHECKS]
             if any(counts):
                 fail_rows.append(f"| {fam} | {k} = {v} | {len(rs)} | " + " | ".join(str(x) if x else "" for x in counts) + " |")
     if fail_rows:
@@ -911,7 +967,7 @@ def report(argv):
                   "| family | value | cases | " + " | ".join(CHECKS) + " |",
                   "|---|---|---|" + "---|" * len(CHECKS)] + fail_rows
         lines += ["", "Values not listed pass in every check.", ""]
-    failing = [(c, r) for c, r, _ in rows if any(x not in (None, NA) for x in r.values())]
+    failing = [(c, r) for c, r, _ in rows if any(fails(x) for x in r.values())]
     if failing:
         lines += ["## Failing cases", ""]
         for c, r in failing:
@@ -919,7 +975,7 @@ def report(argv):
             src = os.path.relpath(src, root()) if src.startswith(root() + os.sep) else src
             lines.append(f"- `{c['name']}` ({', '.join(f'{k}={v}' for k, v in c['dims'].items())}): `{src}`")
             for k in CHECKS:
-                if r[k] not in (None, NA):
+                if fails(r[k]):
                     lines.append(f"  - {k}: {r[k]}")
     text = "\n".join(lines) + "\n"
     with open(os.path.join(out, "matrix.md"), "w", encoding="utf-8") as f:
