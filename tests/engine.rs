@@ -805,8 +805,12 @@ fn change_strategy() -> impl Strategy<Value = String> {
     )
 }
 
+/// Two squares whose centroids lie off every cell boundary of the 1x1 … 3x3 grids the
+/// strategies use: a centroid exactly between two rows (y = 200 on a 3-row grid of a 300 px
+/// canvas) reads either row depending on the last bit of a state that an undone twin left
+/// at the identity up to rounding, which is not what these properties are about.
 fn two_squares() -> Scene {
-    scene(&[("s", (120.0, 90.0), 20.0), ("s", (300.0, 200.0), 30.0)])
+    scene(&[("s", (120.0, 90.0), 20.0), ("s", (300.0, 210.0), 30.0)])
 }
 
 /// Every shape's state at `t`.
