@@ -1407,3 +1407,109 @@ fn ids_of_unnamed_nodes_do_not_leak() {
     assert!(!svg.contains("id=\""), "{svg}");
     assert!(svg.contains("<animateTransform"));
 }
+
+/// A jump (a step change, or a window starting from a state other than the one the window
+/// before ended in) exactly at a frame time: a player sampling that frame must show the
+/// value after the jump, as the model does. Written with keyTimes rounded to nearest, a jump
+/// at 1/30 s of a 2 s document lands at 0.016667, after the frame, and the player shows the
+/// value before it.
+#[test]
+fn jumps_at_frame_times_play_the_side_the_model_shows() {
+    for (dur, fps) in [
+        (2.0, 30.0),
+        (1.5, 24.0),
+        (2.4, 25.0),
+        (1.0, 60.0),
+        (3.0, 7.0),
+    ] {
+        let frames = (dur * fps as f64).round() as usize;
+        let at = |k: usize| k as f64 / fps;
+        // Jumps at the first frame after 0, one in the middle, and the last frame before
+        // the end; the attribute ones are steps, the motion one restarts a window.
+        let (j1, j2, j3) = (at(1), at(frames / 3), at(frames - 1));
+        let mut it = item("u0", square(20.0, 20.0, 30.0), red());
+        it.stroke = Some((blue(), 2.0));
+        let sc = scene(100.0, 100.0, vec![it]);
+        let mut tr = Track::default();
+        fn seg<T>(t: f64, from: T, to: T) -> AttrSeg<T> {
+            AttrSeg {
+                t0: t,
+                t1: t,
+                timing: timing(t, t, Easing::Linear),
+                from,
+                to,
+            }
+        }
+        tr.fill.push(seg(j1, Tint::NONE, Tint::full(blue())));
+        tr.fill.push(seg(j3, Tint::full(blue()), Tint::NONE));
+        tr.stroke.push(seg(j2, Tint::NONE, Tint::full(red())));
+        tr.opacity.push(AttrSeg::linear(j1, j2, 1.0, 0.5));
+        tr.opacity.push(seg(j3, 0.5, 0.2));
+        tr.stroke_width.push(seg(j2, 1.0, 3.0));
+        let slide = rigid(
+            Point::ORIGIN,
+            &[Component::Translate(Vec2::new(30.0, 0.0))],
+            Interp::Linear,
+        );
+        windows(
+            &mut tr,
+            &slide,
+            &timing(0.0, j2, Easing::Linear),
+            &[0.0, j2],
+        );
+        tr.motions.push(MotionSeg {
+            t0: j2,
+            t1: dur,
+            timing: timing(j2, dur, Easing::Linear),
+            kind: slide.clone(),
+            start: Affine::translate((-25.0, 10.0)),
+        });
+        let a = Animation {
+            fps,
+            ..anim(sc, dur, false, vec![tr])
+        };
+        let (svg, _) = to_smil(&a, &SmilOptions::default()).unwrap();
+        let doc = Doc::parse(&svg);
+        let e = doc.by_id("u0");
+        let node = a.scene.unit_node(0).unwrap();
+        let wrapper = doc.by_id(node.id());
+        for k in 0..=frames {
+            let t = at(k);
+            let s = a.tracks[0].state_at(t);
+            let ctx = format!("{dur} s at {fps} fps, frame {k}");
+            let rgb = |v: Vec<f64>, c: Color| {
+                let w = c.to_rgba8();
+                (0..3).all(|i| (v[i] - w[i] as f64).abs() <= 1.5)
+            };
+            let fill = doc.value(e, "fill", t).unwrap();
+            assert!(
+                rgb(fill.clone(), s.fill.apply(red())),
+                "{ctx}: fill {fill:?}"
+            );
+            let stroke = doc.value(e, "stroke", t).unwrap();
+            assert!(
+                rgb(stroke.clone(), s.stroke.apply(blue())),
+                "{ctx}: stroke {stroke:?}"
+            );
+            let w = doc.value(e, "stroke-width", t).map_or(2.0, |v| v[0]);
+            assert!((w - 2.0 * s.stroke_width).abs() < 1e-3, "{ctx}: width {w}");
+            let mut opacity = 1.0;
+            let mut up = Some(e);
+            while let Some(i) = up {
+                opacity *= doc.value(i, "opacity", t).map_or(1.0, |v| v[0]);
+                up = doc.els[i].parent;
+            }
+            assert!(
+                (opacity - s.opacity).abs() < 1e-3,
+                "{ctx}: opacity {opacity}"
+            );
+            let got = doc.total(wrapper, t);
+            let want = s.transform;
+            let q = Point::new(35.0, 35.0);
+            assert!(
+                (got * q - want * q).hypot() < 1e-2,
+                "{ctx}: transform {got:?} vs {want:?}"
+            );
+        }
+    }
+}

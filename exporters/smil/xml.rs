@@ -78,6 +78,40 @@ fn compact(keys: &[Key<String>]) -> Vec<Key<String>> {
     out
 }
 
+/// Key-time units per document duration (the precision `TIME` decimals write).
+const TIME_UNITS: f64 = 1e6;
+
+/// Each key's time in units of `1 / TIME_UNITS` of `dur`. A player sampling exactly at a
+/// jump's time must show the value after it, as the engine does, so a jump is written at its
+/// time rounded down, with the value before it one unit earlier (rounding to nearest could
+/// put `1/30 s` of a 2 s document at 0.016667, after a frame sampled at 1/30 s). Discrete
+/// keys are all jumps. Other keys round to nearest; the first is 0 and, unless discrete,
+/// the last is the full duration.
+fn key_units<V>(keys: &[Key<V>], dur: f64, discrete: bool) -> Vec<i64> {
+    let frac = |t: f64| (t / dur).clamp(0.0, 1.0) * TIME_UNITS;
+    // A relative slack of 1e-9 absorbs the error of `t / dur` on an exact time.
+    let floor = |t: f64| (frac(t) + 1e-3).floor() as i64;
+    let jump_at = |i: usize| i + 1 < keys.len() && keys[i + 1].t - keys[i].t <= 1e-12 * dur;
+    let last = keys.len() - 1;
+    let mut units: Vec<i64> = Vec::with_capacity(keys.len());
+    for (i, k) in keys.iter().enumerate() {
+        let prev = units.last().copied().unwrap_or(0);
+        let u = if i == 0 {
+            0
+        } else if i == last && !discrete {
+            TIME_UNITS as i64
+        } else if discrete || (i > 0 && jump_at(i - 1)) {
+            floor(k.t)
+        } else if jump_at(i) {
+            floor(k.t) - 1
+        } else {
+            frac(k.t).round() as i64
+        };
+        units.push(u.max(prev));
+    }
+    units
+}
+
 /// Appends one animation element. `head` holds the element's own attributes (name, type,
 /// additive); `keys` span `[0, clock.dur]` (holds are added at either end when they don't).
 /// Returns false, writing nothing, when the value never changes.
@@ -101,20 +135,20 @@ pub fn animation(
     if last.t < clock.dur && !discrete {
         full.push(Key::linear(clock.dur, last.v));
     }
-    let keys = compact(&full);
+    let mut keys = compact(&full);
     if keys.iter().all(|k| k.v == keys[0].v) {
         return false;
     }
-    let time = |k: &Key<String>, i: usize| {
-        if i == 0 {
-            "0".to_string()
-        } else if i == keys.len() - 1 && !discrete {
-            "1".to_string()
-        } else {
-            num((k.t / clock.dur).clamp(0.0, 1.0), TIME)
-        }
-    };
-    let key_times: Vec<String> = keys.iter().enumerate().map(|(i, k)| time(k, i)).collect();
+    // A jump at the start: the value before it is never shown (the engine, like every
+    // window list, is right-continuous), and `0;0` leaves the player to pick a side.
+    while !discrete && keys.len() > 2 && keys[1].t <= keys[0].t {
+        keys.remove(0);
+    }
+    let units = key_units(&keys, clock.dur, discrete);
+    let key_times: Vec<String> = units
+        .iter()
+        .map(|&u| num(u as f64 / TIME_UNITS, TIME))
+        .collect();
     let values: Vec<&str> = keys.iter().map(|k| k.v.as_str()).collect();
     let _ = write!(
         out,
