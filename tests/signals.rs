@@ -470,3 +470,69 @@ fn arc_fir_matches_its_continuous_form() {
         );
     }
 }
+
+/// `smoothing` starts at rest in the animation's own state at t = 0 (Reach & North: the
+/// filter is at rest before its input changes). With `loop false` an inverted slice with no
+/// twin before it is pre-applied, so the state at t = 0 is already the twin's end state;
+/// the smoothed animation must show that state at t = 0 (and hold it while the input does),
+/// not the drawn art until its first change.
+#[test]
+fn smoothing_starts_in_the_state_at_time_zero() {
+    use gmotion::importers::svg::{ImportOptions, parse};
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="200" height="150">
+<rect data-tag="s" x="30" y="40" width="40" height="30" fill="#e4572e" stroke="#1d3557" stroke-width="2"/>
+<rect data-tag="s" x="110" y="80" width="36" height="36" fill="#17bebb" stroke="#1d3557" stroke-width="2"/>
+</svg>"##;
+    let scene = parse(svg, "t.svg", &ImportOptions::default())
+        .unwrap()
+        .scene;
+    let changes = [
+        "animate(border, local, 0, #edae49)",
+        "animate(fill, local, 0, #5d2e8c)",
+        "animate(opacity, local, 0, 0.3)",
+        "animate(stroke-width, local, 0, 3)",
+        "animate(affine, world, 0, translate(25, 10))",
+    ];
+    let systems = ["lowpass(2, 0.06)", "spring(0.3, 0.1)", "fir(linear, 0.2)"];
+    for (i, change) in changes.iter().enumerate() {
+        let system = systems[i % systems.len()];
+        // A hold first, so the input stays put for a while after t = 0.
+        let rules = format!(
+            "timesplit(0.3, 0.4, 0.3) : [all, s] -> [inv_a, hold, a]\n{change} : [a, s] -> [m]\n"
+        );
+        let head = "duration 2s\nfps 30\nloop false\n";
+        let run = |src: &str| {
+            let g = gmotion::grammar::parse(src)
+                .unwrap_or_else(|d| panic!("{}", d.render("t.gm", src)));
+            gmotion::engine::run(scene.clone(), &g, &gmotion::engine::RunOptions::default())
+                .unwrap_or_else(|e| panic!("{e}"))
+                .0
+        };
+        let raw = run(&format!("{head}{rules}"));
+        let smooth = run(&format!("{head}smoothing {system}\n{rules}"));
+        for (u, (r, s)) in raw.tracks.iter().zip(&smooth.tracks).enumerate() {
+            let want = r.state_at(0.0);
+            // The input holds its t = 0 state through the first slice's start (frames 0–2
+            // at least: `inv_a` lasts 0.6 s and plays from the pre-applied state).
+            for k in 0..3 {
+                let t = k as f64 / 30.0;
+                let (got, input) = (s.state_at(t), r.state_at(t));
+                if input != want {
+                    continue;
+                }
+                let m = (got.transform.as_coeffs(), want.transform.as_coeffs());
+                let close = (0..6).all(|j| (m.0[j] - m.1[j]).abs() < 1e-6)
+                    && (got.opacity - want.opacity).abs() < 1e-6
+                    && (got.stroke_width - want.stroke_width).abs() < 1e-6
+                    && (0..3).all(|j| (got.fill.sum[j] - want.fill.sum[j]).abs() < 1e-5)
+                    && (got.fill.weight - want.fill.weight).abs() < 1e-5
+                    && (0..3).all(|j| (got.stroke.sum[j] - want.stroke.sum[j]).abs() < 1e-5)
+                    && (got.stroke.weight - want.stroke.weight).abs() < 1e-5;
+                assert!(
+                    close,
+                    "{change} smoothed by {system}, shape {u}, frame {k}: {got:?} vs {want:?}"
+                );
+            }
+        }
+    }
+}

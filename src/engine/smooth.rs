@@ -108,6 +108,11 @@ pub fn smooth_tracks(
 fn rebuild(v: &[[f64; N]], time: impl Fn(usize) -> f64) -> Track {
     let mut track = Track::default();
     let affine = |x: &[f64; N]| Affine::new([x[0], x[1], x[2], x[3], x[4], x[5]]);
+    // A channel reads its neutral value (identity, no tint, 1) before its first window, so a
+    // run of equal samples is skipped only once a window holds the value: a state held from
+    // t = 0 (a pre-applied inverted slice) gets a constant first window instead of showing
+    // the drawn art until the first change.
+    let rest = pack(&Track::default(), 0.0);
     for i in 0..v.len().saturating_sub(1) {
         let (t0, t1) = (time(i), time(i + 1));
         if t1 <= t0 {
@@ -115,7 +120,8 @@ fn rebuild(v: &[[f64; N]], time: impl Fn(usize) -> f64) -> Track {
         }
         let (a, b) = (&v[i], &v[i + 1]);
         let (ma, mb) = (affine(a), affine(b));
-        if ma != mb && ma.determinant().abs() > 1e-12 {
+        let hold_motion = track.motions.is_empty() && ma != affine(&rest);
+        if (ma != mb || hold_motion) && ma.determinant().abs() > 1e-12 {
             // X(t) = X_a + s·(X_b − X_a): an entry-wise blend of Δ = X_b·X_a⁻¹ from the identity.
             let delta = mb * ma.inverse();
             track.motions.push(MotionSeg {
@@ -131,14 +137,14 @@ fn rebuild(v: &[[f64; N]], time: impl Fn(usize) -> f64) -> Track {
             });
         }
         let (fa, fb) = (tint(a, 6), tint(b, 6));
-        if fa != fb {
+        if fa != fb || (track.fill.is_empty() && fa != tint(&rest, 6)) {
             track.fill.push(AttrSeg::linear(t0, t1, fa, fb));
         }
         let (sa, sb) = (tint(a, 10), tint(b, 10));
-        if sa != sb {
+        if sa != sb || (track.stroke.is_empty() && sa != tint(&rest, 10)) {
             track.stroke.push(AttrSeg::linear(t0, t1, sa, sb));
         }
-        if a[14] != b[14] {
+        if a[14] != b[14] || (track.opacity.is_empty() && a[14] != rest[14]) {
             track.opacity.push(AttrSeg::linear(
                 t0,
                 t1,
@@ -146,7 +152,7 @@ fn rebuild(v: &[[f64; N]], time: impl Fn(usize) -> f64) -> Track {
                 b[14].clamp(0.0, 1.0),
             ));
         }
-        if a[15] != b[15] {
+        if a[15] != b[15] || (track.stroke_width.is_empty() && a[15] != rest[15]) {
             track
                 .stroke_width
                 .push(AttrSeg::linear(t0, t1, a[15].max(0.0), b[15].max(0.0)));
