@@ -1416,13 +1416,13 @@ fn ids_of_unnamed_nodes_do_not_leak() {
 #[test]
 fn jumps_at_frame_times_play_the_side_the_model_shows() {
     for (dur, fps) in [
-        (2.0, 30.0),
+        (2.0_f64, 30.0_f64),
         (1.5, 24.0),
         (2.4, 25.0),
         (1.0, 60.0),
         (3.0, 7.0),
     ] {
-        let frames = (dur * fps as f64).round() as usize;
+        let frames = (dur * fps).round() as usize;
         let at = |k: usize| k as f64 / fps;
         // Jumps at the first frame after 0, one in the middle, and the last frame before
         // the end; the attribute ones are steps, the motion one restarts a window.
