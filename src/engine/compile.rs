@@ -127,10 +127,15 @@ struct Layer {
     /// `kind` carried by `frame`, computed when the frame last changed.
     canvas: MotionKind,
     phase: Phase,
+    /// A pre-applied per-vertex motion: it deforms the drawn art itself (innermost, see
+    /// [`crate::motion::Track::deform`]), so it stays in the art's frame and is never carried.
+    art: bool,
 }
 
 impl Layer {
     fn new(inst: Arc<AnimInst>, kind: MotionKind, frame: Affine, phase: Phase) -> Layer {
+        let art = phase == Phase::Pending && matches!(kind, MotionKind::Vertex { .. });
+        let frame = if art { Affine::IDENTITY } else { frame };
         let canvas = carried(&kind, frame);
         Layer {
             inst,
@@ -138,11 +143,12 @@ impl Layer {
             frame,
             canvas,
             phase,
+            art,
         }
     }
 
     fn carry(&mut self, by: Affine) {
-        if by == Affine::IDENTITY {
+        if by == Affine::IDENTITY || self.art {
             return;
         }
         self.frame = by * self.frame;

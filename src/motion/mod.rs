@@ -387,32 +387,78 @@ impl Track {
     /// (rigid ones as a whole, vertex ones reading the grid at the point's own position).
     ///
     /// Segments sharing a window compose as in [`Track::transform_at`], the earlier-listed
-    /// outermost, so a point goes through them last-listed first.
+    /// outermost, so a point goes through them last-listed first, on top of the first
+    /// window's start (a pre-applied rigid state).
+    ///
+    /// A vertex motion reads the grid where the point was when the motion began (as a rigid
+    /// motion reads it at the centroid where it began): its later windows and its inverted
+    /// twin (a reversed segment on the same grid after a forward one) read the same cells,
+    /// so a split motion telescopes and a twin undoes it exactly. A reversed vertex motion
+    /// with no forward one on its grid before it is pre-applied (an entrance): it deforms
+    /// the drawn points innermost from time 0 at its progress then, `ease(1)` before its
+    /// slice, and plays back to the drawn shape.
     pub fn deform(&self, p: Point, t: f64) -> Point {
         let mut q = p;
+        // Where each vertex motion, keyed by its grid, began reading the grid.
+        let mut anchors: Vec<(*const Grid, Point)> = Vec::new();
+        let mut pre: Vec<*const Grid> = Vec::new();
+        let mut forward: Vec<*const Grid> = Vec::new();
+        for seg in &self.motions {
+            if let MotionKind::Vertex { grid, pivot } = &seg.kind {
+                let g = Arc::as_ptr(grid);
+                if !seg.timing.reversed {
+                    forward.push(g);
+                } else if !forward.contains(&g) && !pre.contains(&g) {
+                    pre.push(g);
+                    let pv = pivot.unwrap_or(Point::ORIGIN);
+                    let blend = grid.lookup(p, Lookup::Vertex);
+                    q = grid::blend_at(&blend, pv, seg.timing.progress(t)) * q;
+                }
+            }
+        }
+        match self.motions.first() {
+            Some(first) if first.t0 <= t => q = first.start * q,
+            _ => {}
+        }
         let upto = self.motions.partition_point(|s| s.t0 <= t);
+        // Grids of the forward vertex motions met so far, in time order.
+        let mut seen: Vec<*const Grid> = Vec::new();
         for window in self.motions[..upto].chunk_by(|a, b| a.t0 == b.t0) {
             for seg in window.iter().rev() {
-                q = seg_deform(seg, q, t);
+                let te = t.min(seg.t1);
+                let MotionKind::Vertex { grid, pivot } = &seg.kind else {
+                    q = seg.relative_at(te) * q;
+                    continue;
+                };
+                let g = Arc::as_ptr(grid);
+                if !seg.timing.reversed {
+                    seen.push(g);
+                } else if !seen.contains(&g) {
+                    // Pre-applied, above.
+                    continue;
+                }
+                // A forward motion that begins here takes the point's place as its anchor.
+                let begins = !seg.timing.reversed && seg.t0 <= seg.timing.start + 1e-9;
+                let at = match anchors.iter_mut().find(|(k, _)| *k == g) {
+                    Some(e) if !begins => e.1,
+                    Some(e) => {
+                        e.1 = q;
+                        q
+                    }
+                    None => {
+                        anchors.push((g, q));
+                        q
+                    }
+                };
+                let pv = pivot.unwrap_or(Point::ORIGIN);
+                let blend = grid.lookup(at, Lookup::Vertex);
+                let p0 = seg.timing.progress(seg.t0);
+                let p1 = seg.timing.progress(te);
+                let m = grid::blend_at(&blend, pv, p1) * grid::blend_at(&blend, pv, p0).inverse();
+                q = m * q;
             }
         }
         q
-    }
-}
-
-/// One segment's move of point `q` at time `t` (held at its end value after its window).
-fn seg_deform(seg: &MotionSeg, q: Point, t: f64) -> Point {
-    let te = t.min(seg.t1);
-    match &seg.kind {
-        MotionKind::Rigid { .. } => seg.relative_at(te) * q,
-        MotionKind::Vertex { grid, pivot } => {
-            let pv = pivot.unwrap_or(Point::ORIGIN);
-            let blend = grid.lookup(q, Lookup::Vertex);
-            let p0 = seg.timing.progress(seg.t0);
-            let p1 = seg.timing.progress(te);
-            let m = grid::blend_at(&blend, pv, p1) * grid::blend_at(&blend, pv, p0).inverse();
-            m * q
-        }
     }
 }
 
