@@ -629,9 +629,10 @@ fn carried(kind: &MotionKind, g: Affine) -> MotionKind {
                 interp: *interp,
             }
         }
+        // The pivot stays in the grid's own frame, which the grid carries.
         MotionKind::Vertex { grid, pivot } => MotionKind::Vertex {
-            grid: grid.clone(),
-            pivot: pivot.map(|p| g * p),
+            grid: Arc::new(grid.framed(g)),
+            pivot: *pivot,
         },
     }
 }

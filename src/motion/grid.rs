@@ -77,6 +77,8 @@ pub struct Grid {
     cells: Vec<Arc<[Component]>>,
     /// The one lookup result of a constant field.
     constant: Option<Blend>,
+    /// Carries the grid's own frame onto the canvas (see [`Grid::framed`]).
+    frame: Affine,
 }
 
 /// Components with weights: the result of a grid lookup. Shared, since every segment of a
@@ -106,7 +108,28 @@ impl Grid {
             field,
             cells,
             constant,
+            frame: Affine::IDENTITY,
         }
+    }
+
+    /// This grid with its frame carried by `g`: a per-vertex motion read through it acts as
+    /// `frame·D·frame⁻¹` (it deforms points in the frame it began in, wherever the motions
+    /// outer to it have since taken that frame), as a rigid motion is conjugated by its frame.
+    pub fn framed(&self, g: Affine) -> Grid {
+        Grid {
+            frame: g * self.frame,
+            ..self.clone()
+        }
+    }
+
+    /// The frame that carries this grid's motion onto the canvas (identity when new).
+    pub fn frame(&self) -> Affine {
+        self.frame
+    }
+
+    /// Identifies the grid across [`Grid::framed`] copies: the motion it was built for.
+    pub fn key(&self) -> *const [Component] {
+        Arc::as_ptr(&self.cells[0])
     }
 
     /// True when every cell holds the same transform.

@@ -118,7 +118,8 @@ pub enum MotionKind {
     Vertex {
         /// The grid.
         grid: Arc<Grid>,
-        /// Local motions pivot about this point; `None` for world motions.
+        /// Local motions pivot about this point, in the grid's frame ([`Grid::frame`]);
+        /// `None` for world motions.
         pivot: Option<Point>,
     },
 }
@@ -399,16 +400,17 @@ impl Track {
     /// slice, and plays back to the drawn shape.
     pub fn deform(&self, p: Point, t: f64) -> Point {
         let mut q = p;
-        // Where each vertex motion, keyed by its grid, began reading the grid.
-        let mut anchors: Vec<(*const Grid, Point)> = Vec::new();
-        let mut pre: Vec<*const Grid> = Vec::new();
-        let mut forward: Vec<*const Grid> = Vec::new();
+        // Where each vertex motion (keyed by its grid) began reading the grid, in its frame.
+        let mut anchors: Vec<(*const [Component], Point)> = Vec::new();
+        let mut forward: Vec<*const [Component]> = Vec::new();
+        let mut pre: Vec<*const [Component]> = Vec::new();
         for seg in &self.motions {
             if let MotionKind::Vertex { grid, pivot } = &seg.kind {
-                let g = Arc::as_ptr(grid);
+                let g = grid.key();
                 if !seg.timing.reversed {
                     forward.push(g);
                 } else if !forward.contains(&g) && !pre.contains(&g) {
+                    // Pre-applied: in the art's frame (compile never carries it).
                     pre.push(g);
                     let pv = pivot.unwrap_or(Point::ORIGIN);
                     let blend = grid.lookup(p, Lookup::Vertex);
@@ -422,7 +424,7 @@ impl Track {
         }
         let upto = self.motions.partition_point(|s| s.t0 <= t);
         // Grids of the forward vertex motions met so far, in time order.
-        let mut seen: Vec<*const Grid> = Vec::new();
+        let mut seen: Vec<*const [Component]> = Vec::new();
         for window in self.motions[..upto].chunk_by(|a, b| a.t0 == b.t0) {
             for seg in window.iter().rev() {
                 let te = t.min(seg.t1);
@@ -430,24 +432,26 @@ impl Track {
                     q = seg.relative_at(te) * q;
                     continue;
                 };
-                let g = Arc::as_ptr(grid);
+                let g = grid.key();
                 if !seg.timing.reversed {
                     seen.push(g);
                 } else if !seen.contains(&g) {
                     // Pre-applied, above.
                     continue;
                 }
+                let frame = grid.frame();
+                let local = frame.inverse() * q;
                 // A forward motion that begins here takes the point's place as its anchor.
                 let begins = !seg.timing.reversed && seg.t0 <= seg.timing.start + 1e-9;
                 let at = match anchors.iter_mut().find(|(k, _)| *k == g) {
                     Some(e) if !begins => e.1,
                     Some(e) => {
-                        e.1 = q;
-                        q
+                        e.1 = local;
+                        local
                     }
                     None => {
-                        anchors.push((g, q));
-                        q
+                        anchors.push((g, local));
+                        local
                     }
                 };
                 let pv = pivot.unwrap_or(Point::ORIGIN);
@@ -455,7 +459,7 @@ impl Track {
                 let p0 = seg.timing.progress(seg.t0);
                 let p1 = seg.timing.progress(te);
                 let m = grid::blend_at(&blend, pv, p1) * grid::blend_at(&blend, pv, p0).inverse();
-                q = m * q;
+                q = frame * (m * local);
             }
         }
         q
