@@ -128,8 +128,8 @@ impl Grid {
     }
 
     /// Identifies the grid across [`Grid::framed`] copies: the motion it was built for.
-    pub fn key(&self) -> *const [Component] {
-        Arc::as_ptr(&self.cells[0])
+    pub fn key(&self) -> *const () {
+        Arc::as_ptr(&self.cells[0]).cast::<()>()
     }
 
     /// True when every cell holds the same transform.

@@ -401,9 +401,9 @@ impl Track {
     pub fn deform(&self, p: Point, t: f64) -> Point {
         let mut q = p;
         // Where each vertex motion (keyed by its grid) began reading the grid, in its frame.
-        let mut anchors: Vec<(*const [Component], Point)> = Vec::new();
-        let mut forward: Vec<*const [Component]> = Vec::new();
-        let mut pre: Vec<*const [Component]> = Vec::new();
+        let mut anchors: Vec<(*const (), Point)> = Vec::new();
+        let mut forward: Vec<*const ()> = Vec::new();
+        let mut pre: Vec<*const ()> = Vec::new();
         for seg in &self.motions {
             if let MotionKind::Vertex { grid, pivot } = &seg.kind {
                 let g = grid.key();
@@ -424,7 +424,7 @@ impl Track {
         }
         let upto = self.motions.partition_point(|s| s.t0 <= t);
         // Grids of the forward vertex motions met so far, in time order.
-        let mut seen: Vec<*const [Component]> = Vec::new();
+        let mut seen: Vec<*const ()> = Vec::new();
         for window in self.motions[..upto].chunk_by(|a, b| a.t0 == b.t0) {
             for seg in window.iter().rev() {
                 let te = t.min(seg.t1);
