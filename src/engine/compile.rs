@@ -18,7 +18,8 @@
 //!   earliest outermost, so `[inv_c, inv_b, b, c]` is `[b, c, inv_c, inv_b]` turned by half.
 //!   Colour, opacity and stroke width do the same: the change runs from its target back to
 //!   the value underneath, and a channel whose first change is such a slice holds the target
-//!   from time 0.
+//!   from time 0. A pre-applied per-vertex motion stays in the art's frame: it deforms the
+//!   drawn points themselves, innermost ([`crate::motion::Track::deform`]).
 
 use std::sync::Arc;
 
