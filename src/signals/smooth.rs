@@ -147,7 +147,9 @@ impl SmoothSpec {
             }
             SmoothSpec::Fir(ease) => Box::new(Fir::<V>::from_response(ease, fps)?),
             SmoothSpec::Arc(arc) => {
-                if V::DIM < 2 {
+                // An arc is a path in the plane: a colour (four components) has no such
+                // path, and taking its first two would bend hue arbitrarily.
+                if V::DIM != 2 {
                     return Err(SignalError::Invalid(
                         "`arc` moves along a 2-D path: use it on a position (x, y) channel".into(),
                     ));
@@ -684,6 +686,19 @@ impl Parser<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn arc_is_refused_off_a_plane_position() {
+        let arc = SmoothSpec::parse("arc(0.6, 0.5)").unwrap();
+        assert!(arc.build::<[f64; 2]>(60.0).is_ok());
+        for err in [
+            arc.build::<f64>(60.0).err(),
+            arc.build::<[f64; 4]>(60.0).err(),
+        ] {
+            let msg = err.expect("arc off a 2-D channel is an error").to_string();
+            assert!(msg.contains("2-D path"), "{msg}");
+        }
+    }
 
     #[test]
     fn spellings_parse_and_print_back() {
