@@ -231,17 +231,9 @@ pub fn track(shape: &Shape, slices: &[Slice]) -> Track {
         let (t0, t1) = (slice.t0, slice.t0 + slice.dur);
         // A pre-applied start needs a window from time 0 to hold it.
         if i == 0 && state.transform != Affine::IDENTITY && !has_motion(slice) {
-            track.motions.push(MotionSeg {
-                t0,
-                t1,
-                timing: Timing::linear(t0, t1),
-                kind: MotionKind::Rigid {
-                    pivot: Point::ORIGIN,
-                    blend: Arc::from([(1.0, Arc::from([]))]),
-                    interp: Interp::Linear,
-                },
-                start: state.transform,
-            });
+            track
+                .motions
+                .push(MotionSeg::linear(t0, t1, &[], state.transform));
         }
         if slice.anims.is_empty() {
             continue;

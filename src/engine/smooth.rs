@@ -9,13 +9,11 @@
 //! their error bound. A looping animation is filtered over two periods and the second is
 //! kept, so the loop stays seamless; otherwise the filter starts at rest on the first frame.
 
-use std::sync::Arc;
-
-use kurbo::{Affine, Point};
+use kurbo::Affine;
 use rayon::prelude::*;
 
 use crate::grammar::value::Value;
-use crate::motion::{AttrSeg, Component, Interp, MotionKind, MotionSeg, Timing, Tint, Track};
+use crate::motion::{AttrSeg, Component, MotionSeg, Tint, Track};
 use crate::signals::smooth::{CallArg, SmoothSpec, smooth_samples};
 
 /// Channels per shape: 6 affine coefficients, fill tint (4), stroke tint (4), opacity,
@@ -124,17 +122,9 @@ fn rebuild(v: &[[f64; N]], time: impl Fn(usize) -> f64) -> Track {
         if (ma != mb || hold_motion) && ma.determinant().abs() > 1e-12 {
             // X(t) = X_a + s·(X_b − X_a): an entry-wise blend of Δ = X_b·X_a⁻¹ from the identity.
             let delta = mb * ma.inverse();
-            track.motions.push(MotionSeg {
-                t0,
-                t1,
-                timing: Timing::linear(t0, t1),
-                kind: MotionKind::Rigid {
-                    pivot: Point::ORIGIN,
-                    blend: Arc::from([(1.0, Arc::from([Component::Matrix(delta)]))]),
-                    interp: Interp::Linear,
-                },
-                start: ma,
-            });
+            track
+                .motions
+                .push(MotionSeg::linear(t0, t1, &[Component::Matrix(delta)], ma));
         }
         let (fa, fb) = (tint(a, 6), tint(b, 6));
         if fa != fb || (track.fill.is_empty() && fa != tint(&rest, 6)) {

@@ -262,6 +262,25 @@ impl Blendable for Tint {
     }
 }
 
+impl MotionSeg {
+    /// A window over `[t0, t1]`, linear in time, moving by `components` about the canvas
+    /// origin from `start`: what sampled tracks and held pre-applied states use (no
+    /// components holds `start`).
+    pub fn linear(t0: f64, t1: f64, components: &[Component], start: Affine) -> MotionSeg {
+        MotionSeg {
+            t0,
+            t1,
+            timing: Timing::linear(t0, t1),
+            kind: MotionKind::Rigid {
+                pivot: Point::ORIGIN,
+                blend: Arc::from([(1.0, Arc::from(components))]),
+                interp: Interp::Linear,
+            },
+            start,
+        }
+    }
+}
+
 impl<T> AttrSeg<T> {
     /// A linear change from `from` at `t0` to `to` at `t1`.
     pub fn linear(t0: f64, t1: f64, from: T, to: T) -> AttrSeg<T> {
