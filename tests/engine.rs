@@ -497,20 +497,25 @@ fn the_earliest_steps_error_is_reported() {
     assert_eq!(err.span.map(|s| s.line), Some(4), "{err}");
 }
 
+/// `n` 4 px squares on a 20-column grid 15 px apart, tagged alternately by `tags`.
+fn grid_of_squares(n: usize, tags: [&'static str; 2]) -> Vec<(&'static str, (f64, f64), f64)> {
+    (0..n)
+        .map(|i| {
+            (
+                tags[i % 2],
+                ((i % 20) as f64 * 15.0, (i / 20) as f64 * 15.0),
+                4.0,
+            )
+        })
+        .collect()
+}
+
 /// With `choice shape` each shape draws its own rule, and what follows a rule applies only
 /// to the shapes that drew it: shapes moved right turn red, shapes moved down keep their
 /// colour and then grow, whatever the number of threads.
 #[test]
 fn per_shape_choice_follows_each_shapes_own_draws() {
-    let items: Vec<(&str, (f64, f64), f64)> = (0..300)
-        .map(|i| {
-            (
-                ["p", "q"][i % 2],
-                ((i % 20) as f64 * 15.0, (i / 20) as f64 * 15.0),
-                4.0,
-            )
-        })
-        .collect();
+    let items = grid_of_squares(300, ["p", "q"]);
     let src = "duration 2s\nchoice shape\n\
         timesplit(0.5, 0.5) : [all, all] -> [a, b]\n\
         animate(affine, world, 0, translate(10, 0)) : [a, all] -> [right]\n\
@@ -1121,15 +1126,7 @@ fn editing_the_rules_of_one_shape_tag_leaves_the_others_byte_identical() {
 /// the shape is back at rest at the end of the pair).
 #[test]
 fn stable_random_keys_are_thread_independent_and_shared_by_twins() {
-    let items: Vec<(&str, (f64, f64), f64)> = (0..200)
-        .map(|i| {
-            (
-                ["a", "b"][i % 2],
-                ((i % 20) as f64 * 15.0, (i / 20) as f64 * 15.0),
-                4.0,
-            )
-        })
-        .collect();
+    let items = grid_of_squares(200, ["a", "b"]);
     // Shapes that moved (so the twin check saw motion) under `choice group`.
     let mut group_moving = 0;
     for (choice, seed) in [("group", 0), ("group", 1), ("group", 2), ("shape", 0)] {
