@@ -206,7 +206,7 @@ pub fn track(shape: &Shape, slices: &[Slice]) -> Track {
         for ((a, _), kind) in roles.first_motions.iter().zip(kinds.into_iter().rev()) {
             let f = full(a, &kind);
             layer_of.insert(Arc::as_ptr(a), layers.len());
-            layers.push(Layer::new(a.clone(), kind, first_frame, Phase::Pending));
+            layers.push(Layer::new(Arc::clone(a), kind, first_frame, Phase::Pending));
             first_frame *= f;
         }
         state.transform = first_frame;
@@ -463,66 +463,89 @@ fn push_attr(
     }
 }
 
-/// Every animation of a timeline classified once, in time order.
-struct Roles {
+/// Every reversed animation of a timeline classified once, in time order (a forward one is
+/// always [`Role::Forward`], so only reversed ones are stored: most timelines have none, and
+/// then nothing here allocates).
+struct Roles<'a> {
     roles: VecMap<*const AnimInst, Role>,
     /// Pre-applied inverted motions, earliest first (ties in composition order), with the
     /// index of the slice they begin on.
-    first_motions: Vec<(Arc<AnimInst>, usize)>,
+    first_motions: Vec<(&'a Arc<AnimInst>, usize)>,
     /// For a pre-applied attribute change: the target of the next change of its channel
     /// when that one is pre-applied too (what it plays back to).
     under: VecMap<*const AnimInst, Value>,
 }
 
-impl Roles {
-    fn new(shape: &Shape, slices: &[Slice]) -> Roles {
-        let mut roles: VecMap<*const AnimInst, Role> = VecMap::new();
+impl<'a> Roles<'a> {
+    fn new(shape: &Shape, slices: &'a [Slice]) -> Roles<'a> {
+        let mut roles = Roles {
+            roles: VecMap::new(),
+            first_motions: Vec::new(),
+            under: VecMap::new(),
+        };
+        if !slices.iter().any(|s| s.anims.iter().any(|a| a.reversed)) {
+            return roles;
+        }
         let mut forward_steps: Vec<usize> = Vec::new();
-        let mut first_motions = Vec::new();
-        let mut channels: [Vec<(Arc<AnimInst>, Role)>; 4] = Default::default();
+        // Per channel, its changes in time order (each once) with their roles.
+        let mut channels: [Vec<(&'a Arc<AnimInst>, Role)>; 4] = Default::default();
+        let mut firsts_here: Vec<&'a Arc<AnimInst>> = Vec::new();
         for (si, slice) in slices.iter().enumerate() {
             // Inverted slices that come first compose innermost, in the order the slice
-            // composes its motions.
-            let mut firsts_here: Vec<Arc<AnimInst>> = Vec::new();
+            // composes its motions (outermost first, see `outermost_order`).
+            firsts_here.clear();
             for a in slice.anims.iter() {
-                if roles.get(&Arc::as_ptr(a)).is_some() {
+                // A change split over several slices is seen once per piece; only its first
+                // piece classifies it.
+                let seen = if a.reversed {
+                    roles.roles.get(&Arc::as_ptr(a)).is_some()
+                } else {
+                    forward_steps.contains(&a.step)
+                        && channels.iter().flatten().any(|(b, _)| Arc::ptr_eq(a, b))
+                };
+                if seen {
                     continue;
                 }
                 let role = if !a.reversed {
-                    forward_steps.push(a.step);
+                    if !forward_steps.contains(&a.step) {
+                        forward_steps.push(a.step);
+                    }
                     Role::Forward
                 } else if forward_steps.contains(&a.step) {
                     Role::Paired
                 } else {
                     Role::First
                 };
-                roles.insert(Arc::as_ptr(a), role);
+                if a.reversed {
+                    roles.roles.insert(Arc::as_ptr(a), role);
+                }
                 match channel(&a.spec) {
-                    None if role == Role::First => firsts_here.push(a.clone()),
+                    None if role == Role::First => firsts_here.push(a),
                     None => {}
-                    Some(ch) => channels[ch].push((a.clone(), role)),
+                    Some(ch) => channels[ch].push((a, role)),
                 }
             }
-            let mut order = Vec::new();
-            outermost_order(&firsts_here, &mut order);
-            first_motions.extend(order.into_iter().map(|a| (a.clone(), si)));
+            firsts_here.sort_by(|a, b| wraps(b, a));
+            roles
+                .first_motions
+                .extend(firsts_here.iter().map(|&a| (a, si)));
         }
-        let mut under = VecMap::new();
         for list in &channels {
             for w in list.windows(2) {
                 if w[0].1 == Role::First && w[1].1 == Role::First {
-                    under.insert(Arc::as_ptr(&w[0].0), target_of(shape, &w[1].0.spec));
+                    roles
+                        .under
+                        .insert(Arc::as_ptr(w[0].0), target_of(shape, &w[1].0.spec));
                 }
             }
         }
-        Roles {
-            roles,
-            first_motions,
-            under,
-        }
+        roles
     }
 
     fn of(&self, a: &Arc<AnimInst>) -> Role {
+        if !a.reversed {
+            return Role::Forward;
+        }
         self.roles
             .get(&Arc::as_ptr(a))
             .copied()
