@@ -34,6 +34,12 @@ pub fn attr_keys<T: Blendable + PartialEq>(
     let mut baked = 0;
     for (i, seg) in segs[..n].iter().enumerate() {
         let next_t0 = segs.get(i + 1).map_or(dur, |s| s.t0.min(dur));
+        // A segment the next one replaces at its start (an outer change cut away where an
+        // inner one begins) is never shown: the model plays the last segment begun. Its
+        // value written between the boundary's keys would play a hair before the boundary.
+        if next_t0 <= seg.t0 {
+            continue;
+        }
         let a = seg.t0.max(0.0);
         let b = seg.t1.min(next_t0).max(a);
         let held = keys[keys.len() - 1].v;
