@@ -819,6 +819,63 @@ fn tints_opacity_and_stroke_width_follow_the_model() {
     );
 }
 
+/// A translucent animated shape of two paths, a circle over a square: the circle must show
+/// the background beneath it, not the square (group opacity composites the whole group).
+/// ThorVG applies a shape group's opacity to each path in it, so this is layer opacity.
+#[test]
+fn translucent_shape_of_two_paths_composites_as_a_whole() {
+    let mut s = scene(vec![]);
+    let square = PathNode {
+        id: "square".into(),
+        path: rect_path(Rect::new(100.0, 100.0, 300.0, 250.0)),
+        fill: solid(Color::rgb(0.9, 0.5, 0.4)),
+        stroke: None,
+        stroke_first: false,
+        unit: None,
+    };
+    let circle = PathNode {
+        id: "circle".into(),
+        path: kurbo::Circle::new((200.0, 175.0), 50.0).to_path(0.1),
+        fill: solid(Color::rgb(1.0, 0.9, 0.4)),
+        ..square.clone()
+    };
+    let mut g = Group::new();
+    g.id = "pair".into();
+    g.unit = Some(0);
+    g.children = vec![Node::Path(square), Node::Path(circle)];
+    let bbox = Rect::new(100.0, 100.0, 300.0, 250.0);
+    s.shapes.push(Shape {
+        tag: "t".into(),
+        id: 0,
+        group: 0,
+        z: 0,
+        node_path: vec![0],
+        parent_transform: Affine::IDENTITY,
+        centroid: bbox.center(),
+        bbox,
+        fill: Color::BLACK,
+        stroke: Color::BLACK,
+        stroke_width: 1.0,
+    });
+    s.root.children.push(Node::Group(g));
+    let mut track = Track::default();
+    track.opacity.push(AttrSeg {
+        t0: 0.0,
+        t1: 1.0,
+        timing: timing(0.0, 1.0, 0.0, Easing::Linear, false),
+        from: 1.0,
+        to: 0.3,
+    });
+    let anim = animation(s, vec![track], 1.0);
+    let (json, _) = to_lottie(&anim, &LottieOptions::default()).unwrap();
+    plays(
+        "translucent-two-paths",
+        &anim,
+        &json,
+        &Player::WHOLE_GROUP_OPACITY,
+    );
+}
+
 #[test]
 fn output_is_deterministic() {
     let s = scene(vec![(

@@ -517,11 +517,17 @@ impl<'a> Builder<'a> {
                     })];
                 }
             }
-            // Opacity on the outermost group rather than the layer (see `isolate`).
-            if let Some(Shape::Transform(tr)) = it.last_mut() {
+            let mut l = comp.layer(LayerType::Shape, name.clone(), self.op);
+            if painting_groups(&it) > 1 {
+                // ThorVG applies a group's opacity to each path in it (so a path over
+                // another shows the one beneath, and a stroke baked to an outline shows
+                // the fill), but composites a layer's as a whole.
+                l.ks.o = Some(opacity(env.alpha));
+            } else if let Some(Shape::Transform(tr)) = it.last_mut() {
+                // One path: opacity on the outermost group rather than the layer (see
+                // `isolate`), which every player draws over the path's fill and stroke.
                 tr.o = Some(opacity(env.alpha));
             }
-            let mut l = comp.layer(LayerType::Shape, name.clone(), self.op);
             l.shapes = Some(vec![Shape::Group(LGroup { nm: name, it })]);
             comp.items.push(Item::Layers(vec![l]));
             return;
@@ -1022,6 +1028,26 @@ fn paints(g: &Group) -> usize {
         };
         if n > 1 {
             break;
+        }
+    }
+    n
+}
+
+/// How many of the groups in `items` (itself one) paint directly, counting up to 2: each
+/// is one drawn path, with its fill and stroke, in the players.
+fn painting_groups(items: &[Shape]) -> usize {
+    let mut n = items.iter().any(|s| {
+        matches!(
+            s,
+            Shape::Fill(_) | Shape::Stroke(_) | Shape::GradientFill(_) | Shape::GradientStroke(_)
+        )
+    }) as usize;
+    for s in items {
+        if n > 1 {
+            break;
+        }
+        if let Shape::Group(g) = s {
+            n += painting_groups(&g.it);
         }
     }
     n
