@@ -238,13 +238,14 @@ pub fn track(shape: &Shape, slices: &[Slice]) -> Track {
         if slice.anims.is_empty() {
             continue;
         }
+        // Slice starts ascend, so the last one at `tau` is found by bisection (a change
+        // inherited from a long slice began many slices back).
         let at_start = |tau: f64| {
-            history
-                .iter()
-                .rev()
-                .find(|(t, _)| (*t - tau).abs() <= 1e-9)
-                .map(|(_, s)| *s)
-                .unwrap_or(state)
+            let n = history.partition_point(|(t, _)| *t <= tau + 1e-9);
+            n.checked_sub(1)
+                .map(|i| history[i])
+                .filter(|(t, _)| (*t - tau).abs() <= 1e-9)
+                .map_or(state, |(_, s)| s)
         };
         let window_start = state.transform;
         outermost_first(&slice.anims, &roles, &mut ordered);
@@ -486,43 +487,38 @@ impl<'a> Roles<'a> {
         if !slices.iter().any(|s| s.anims.iter().any(|a| a.reversed)) {
             return roles;
         }
-        let mut forward_steps: Vec<usize> = Vec::new();
-        // Per channel, its changes in time order (each once) with their roles.
-        let mut channels: [Vec<(&'a Arc<AnimInst>, Role)>; 4] = Default::default();
+        // Steps of the forward changes seen so far: a reversed change is paired when its
+        // step is among them.
+        let mut forward_steps: Vec<usize> = Vec::with_capacity(slices.len());
         let mut firsts_here: Vec<&'a Arc<AnimInst>> = Vec::new();
+        let mut first_attrs = false;
         for (si, slice) in slices.iter().enumerate() {
             // Inverted slices that come first compose innermost, in the order the slice
             // composes its motions (outermost first, see `outermost_order`).
             firsts_here.clear();
             for a in slice.anims.iter() {
-                // A change split over several slices is seen once per piece; only its first
-                // piece classifies it.
-                let seen = if a.reversed {
-                    roles.roles.get(&Arc::as_ptr(a)).is_some()
-                } else {
-                    forward_steps.contains(&a.step)
-                        && channels.iter().flatten().any(|(b, _)| Arc::ptr_eq(a, b))
-                };
-                if seen {
-                    continue;
-                }
-                let role = if !a.reversed {
+                if !a.reversed {
                     if !forward_steps.contains(&a.step) {
                         forward_steps.push(a.step);
                     }
-                    Role::Forward
-                } else if forward_steps.contains(&a.step) {
+                    continue;
+                }
+                // A change split over several slices is seen once per piece; only its first
+                // piece classifies it.
+                if roles.roles.get(&Arc::as_ptr(a)).is_some() {
+                    continue;
+                }
+                let role = if forward_steps.contains(&a.step) {
                     Role::Paired
                 } else {
                     Role::First
                 };
-                if a.reversed {
-                    roles.roles.insert(Arc::as_ptr(a), role);
-                }
-                match channel(&a.spec) {
-                    None if role == Role::First => firsts_here.push(a),
-                    None => {}
-                    Some(ch) => channels[ch].push((a, role)),
+                roles.roles.insert(Arc::as_ptr(a), role);
+                if role == Role::First {
+                    match channel(&a.spec) {
+                        None => firsts_here.push(a),
+                        Some(_) => first_attrs = true,
+                    }
                 }
             }
             firsts_here.sort_by(|a, b| wraps(b, a));
@@ -530,16 +526,39 @@ impl<'a> Roles<'a> {
                 .first_motions
                 .extend(firsts_here.iter().map(|&a| (a, si)));
         }
+        if first_attrs {
+            roles.under = Self::under_of(shape, slices, &roles.roles);
+        }
+        roles
+    }
+
+    /// For each pre-applied attribute change followed (in its channel, each change counted
+    /// once) by another pre-applied one: that one's target.
+    fn under_of(
+        shape: &Shape,
+        slices: &[Slice],
+        roles: &VecMap<*const AnimInst, Role>,
+    ) -> VecMap<*const AnimInst, Value> {
+        let mut channels: [Vec<(&Arc<AnimInst>, Role)>; 4] = Default::default();
+        for a in slices.iter().flat_map(|s| s.anims.iter()) {
+            let Some(ch) = channel(&a.spec) else {
+                continue;
+            };
+            if channels[ch].iter().any(|(b, _)| Arc::ptr_eq(a, b)) {
+                continue;
+            }
+            let role = roles.get(&Arc::as_ptr(a)).copied().unwrap_or(Role::Forward);
+            channels[ch].push((a, role));
+        }
+        let mut under = VecMap::new();
         for list in &channels {
             for w in list.windows(2) {
                 if w[0].1 == Role::First && w[1].1 == Role::First {
-                    roles
-                        .under
-                        .insert(Arc::as_ptr(w[0].0), target_of(shape, &w[1].0.spec));
+                    under.insert(Arc::as_ptr(w[0].0), target_of(shape, &w[1].0.spec));
                 }
             }
         }
-        roles
+        under
     }
 
     fn of(&self, a: &Arc<AnimInst>) -> Role {
