@@ -59,6 +59,10 @@ impl<K: PartialEq, V> VecMap<K, V> {
         VecMap(Vec::new())
     }
 
+    fn with_capacity(n: usize) -> Self {
+        VecMap(Vec::with_capacity(n))
+    }
+
     fn get(&self, k: &K) -> Option<&V> {
         self.0.iter().find(|(x, _)| x == k).map(|(_, v)| v)
     }
@@ -182,8 +186,10 @@ pub fn track(shape: &Shape, slices: &[Slice]) -> Track {
     track.stroke_width.reserve_exact(counts[4]);
 
     let roles = Roles::new(shape, slices);
-    let mut layers: Vec<Layer> = Vec::new();
-    let mut layer_of: VecMap<*const AnimInst, usize> = VecMap::new();
+    // At most one layer per motion piece: reserved once rather than grown (this was the
+    // largest allocation cost of compiling a shape).
+    let mut layers: Vec<Layer> = Vec::with_capacity(counts[0]);
+    let mut layer_of: VecMap<*const AnimInst, usize> = VecMap::with_capacity(counts[0]);
     let mut state = REST;
     // The pre-applied inverted slices, earliest outermost: the shape starts in their end
     // states (each resolved about the centroid the later ones leave it at).
