@@ -355,6 +355,17 @@ fn push(track: &mut Track, t0: f64, t1: f64, timing: &Timing, kind: &MotionKind)
     });
 }
 
+/// An opacity change from `from` to `to` over its timing's window.
+fn fade(track: &mut Track, timing: Timing, from: f64, to: f64) {
+    track.opacity.push(AttrSeg {
+        t0: timing.start,
+        t1: timing.end,
+        timing,
+        from,
+        to,
+    });
+}
+
 fn animation(scene: Scene, tracks: Vec<Track>, duration: f64) -> Animation {
     Animation {
         scene,
@@ -769,13 +780,7 @@ fn tints_opacity_and_stroke_width_follow_the_model() {
         from: Tint::NONE,
         to: red,
     });
-    track.opacity.push(AttrSeg {
-        t0: 0.0,
-        t1: 1.0,
-        timing: tm.clone(),
-        from: 1.0,
-        to: 0.3,
-    });
+    fade(&mut track, tm.clone(), 1.0, 0.3);
     track.stroke_width.push(AttrSeg {
         t0: 0.5,
         t1: 2.0,
@@ -859,13 +864,12 @@ fn translucent_shape_of_two_paths_composites_as_a_whole() {
     });
     s.root.children.push(Node::Group(g));
     let mut track = Track::default();
-    track.opacity.push(AttrSeg {
-        t0: 0.0,
-        t1: 1.0,
-        timing: timing(0.0, 1.0, 0.0, Easing::Linear, false),
-        from: 1.0,
-        to: 0.3,
-    });
+    fade(
+        &mut track,
+        timing(0.0, 1.0, 0.0, Easing::Linear, false),
+        1.0,
+        0.3,
+    );
     let anim = animation(s, vec![track], 1.0);
     let (json, _) = to_lottie(&anim, &LottieOptions::default()).unwrap();
     plays(

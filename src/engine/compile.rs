@@ -533,18 +533,14 @@ impl<'a> Roles<'a> {
                 .extend(firsts_here.iter().map(|&a| (a, si)));
         }
         if first_attrs {
-            roles.under = Self::under_of(shape, slices, &roles.roles);
+            roles.under = roles.under_of(shape, slices);
         }
         roles
     }
 
     /// For each pre-applied attribute change followed (in its channel, each change counted
     /// once) by another pre-applied one: that one's target.
-    fn under_of(
-        shape: &Shape,
-        slices: &[Slice],
-        roles: &VecMap<*const AnimInst, Role>,
-    ) -> VecMap<*const AnimInst, Value> {
+    fn under_of(&self, shape: &Shape, slices: &[Slice]) -> VecMap<*const AnimInst, Value> {
         let mut channels: [Vec<(&Arc<AnimInst>, Role)>; 4] = Default::default();
         for a in slices.iter().flat_map(|s| s.anims.iter()) {
             let Some(ch) = channel(&a.spec) else {
@@ -553,8 +549,7 @@ impl<'a> Roles<'a> {
             if channels[ch].iter().any(|(b, _)| Arc::ptr_eq(a, b)) {
                 continue;
             }
-            let role = roles.get(&Arc::as_ptr(a)).copied().unwrap_or(Role::Forward);
-            channels[ch].push((a, role));
+            channels[ch].push((a, self.of(a)));
         }
         let mut under = VecMap::new();
         for list in &channels {
