@@ -7,13 +7,13 @@ use std::sync::Arc;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use gmotion::color::Color;
-use gmotion::exporters::frame::{frame_svg, scene_svg};
-use gmotion::exporters::raster::render;
-use gmotion::importers::svg::{ImportOptions, parse};
 use gmotion::motion::{
     Animation, AttrSeg, Component, Interp, MotionKind, MotionSeg, Timing, Tint, Track,
 };
 use gmotion::signals::Easing;
+use gmotion_export_raster::render;
+use gmotion_export_svg::frame::{frame_svg, scene_svg};
+use gmotion_import_svg::{ImportOptions, parse};
 use kurbo::{Affine, Vec2};
 
 fn drawing(n: usize) -> String {

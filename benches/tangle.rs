@@ -12,9 +12,9 @@ use std::path::Path;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use gmotion::grammar::ast::Rule;
-use gmotion::importers::svg::{ImportOptions, load, parse as parse_svg};
 use gmotion::scene::Scene;
 use gmotion::tangle::{TangleOptions, expand, graph_stats};
+use gmotion_import_svg::{ImportOptions, load, parse as parse_svg};
 
 fn village(c: &mut Criterion) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("grammars/bench");

@@ -8,9 +8,7 @@ fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_gmotion"))
 }
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+use crate::support::root;
 
 fn examples() -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(root().join("grammars"))
@@ -122,7 +120,7 @@ fn looping_examples_end_where_they_begin() {
         );
         let pa = resvg::tiny_skia::Pixmap::load_png(&a).unwrap();
         let pb = resvg::tiny_skia::Pixmap::load_png(&b).unwrap();
-        let off = gmotion::exporters::raster::compare(&pa, &pb, 8);
+        let off = gmotion_export_raster::compare(&pa, &pb, 8);
         assert!(
             off < 0.001,
             "{name}: {:.3}% of pixels differ between the first and last instant",
@@ -170,10 +168,10 @@ fn convert_writes_png_lottie_and_svg() {
     // The PNG and the clean SVG both show what resvg draws from the original file (an
     // oracle outside gmotion's scene model: it reads the source directly).
     let render = |path: &Path| {
-        gmotion::exporters::raster::render(&std::fs::read_to_string(path).unwrap(), 130).unwrap()
+        gmotion_export_raster::render(&std::fs::read_to_string(path).unwrap(), 130).unwrap()
     };
     let original = render(&input);
-    let compare = gmotion::exporters::raster::compare;
+    let compare = gmotion_export_raster::compare;
     assert!(compare(&png, &original, 8) < 0.001);
     assert!(compare(&render(&d.join("t.svg")), &original, 8) < 0.001);
     let lottie: serde_json::Value =

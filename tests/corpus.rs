@@ -17,9 +17,9 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, OnceLock};
 use std::time::{Duration, Instant};
 
-use gmotion::exporters::frame::scene_svg;
-use gmotion::exporters::raster::{Pixmap, compare, render, save_png};
-use gmotion::importers::svg::{ImportOptions, load};
+use gmotion_export_raster::{Pixmap, compare, render, save_png};
+use gmotion_export_svg::frame::scene_svg;
+use gmotion_import_svg::{ImportOptions, load};
 use rayon::prelude::*;
 
 const TOLERANCE: u8 = 32;
@@ -52,7 +52,7 @@ const KNOWN_FAILURES: &[(&str, &str)] = &[
 fn corpus_dir() -> PathBuf {
     match std::env::var_os("GMOTION_CORPUS") {
         Some(dir) => PathBuf::from(dir),
-        None => Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/corpus/resvg"),
+        None => crate::support::root().join("tests/corpus/resvg"),
     }
 }
 

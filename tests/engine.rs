@@ -1182,7 +1182,7 @@ fn stable_random_keys_are_thread_independent_and_shared_by_twins() {
 /// tile comes first and its new rules shift the global step count and group ids.
 #[test]
 fn editing_the_spatial_rules_of_one_tag_leaves_the_others_pieces_identical() {
-    use gmotion::importers::svg::{ImportOptions, parse as parse_svg};
+    use gmotion_import_svg::{ImportOptions, parse as parse_svg};
     let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="200" height="120">
       <rect class="tile" x="10" y="10" width="80" height="80" fill="white" stroke="black"/>
       <circle class="disc" cx="150" cy="50" r="40" fill="#cde" stroke="black"/>

@@ -4,15 +4,15 @@
 use std::sync::Arc;
 
 use gmotion::color::Color;
-use gmotion::exporters::frame::{frame_svg, scene_svg};
-use gmotion::exporters::raster::{compare, render};
-use gmotion::importers::svg::{ImportOptions, parse};
 use gmotion::motion::grid::{Field, Grid};
 use gmotion::motion::{
     Animation, AttrSeg, Component, Interp, MotionKind, MotionSeg, Timing, Tint, Track,
 };
 use gmotion::scene::Scene;
 use gmotion::signals::Easing;
+use gmotion_export_raster::{compare, render};
+use gmotion_export_svg::frame::{frame_svg, scene_svg};
+use gmotion_import_svg::{ImportOptions, parse};
 use kurbo::{Affine, Point, Vec2};
 
 /// A 200×100 canvas showing a 100×50 viewBox, the unit inside a translated group.
@@ -277,7 +277,7 @@ fn blank_frames(n: usize) -> Vec<resvg::tiny_skia::Pixmap> {
 
 #[test]
 fn frame_folders_hold_only_the_latest_run() {
-    use gmotion::exporters::raster::{frame_file_name, write_frames};
+    use gmotion_export_raster::{frame_file_name, write_frames};
     let parent = folder("fresh");
     let dir = parent.join("frames");
     write_frames(&blank_frames(5), &dir).unwrap();
@@ -295,7 +295,7 @@ fn frame_folders_hold_only_the_latest_run() {
 
 #[test]
 fn frame_folders_holding_other_files_are_refused_untouched() {
-    use gmotion::exporters::raster::{RenderError, write_frames};
+    use gmotion_export_raster::{RenderError, write_frames};
     // Each intruder alone makes the folder someone else's: a note, a frame-like name that
     // is not gmotion's pattern, and a folder named like a frame.
     for (intruder, is_dir) in [

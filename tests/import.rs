@@ -1,8 +1,8 @@
 //! SVG import: tags from each source, unit selection, geometry in canvas coordinates, and
 //! errors that say where the file is wrong.
 
-use gmotion::importers::svg::{ImportError, ImportOptions, Imported, TagFrom, Units, load, parse};
 use gmotion::scene::{Node, Scene};
+use gmotion_import_svg::{ImportError, ImportOptions, Imported, TagFrom, Units, load, parse};
 use kurbo::{Affine, Point, Rect, Shape as _};
 
 fn import(body: &str, opts: ImportOptions) -> Imported {
@@ -219,7 +219,12 @@ fn unsupported_features_are_named_in_warnings() {
         <g id="shadow" filter="url(#f)"><rect width="5" height="5"/></g>
         <rect width="5" height="5" style="mix-blend-mode:multiply"/>"#;
     let imported = import(body, ImportOptions::default());
-    let w = imported.warnings.join("\n");
+    let w = imported
+        .warnings
+        .iter()
+        .map(ToString::to_string)
+        .collect::<Vec<_>>()
+        .join("\n");
     assert!(
         w.contains("test.svg: <g id=\"shadow\"> (line 2): filter ignored"),
         "{w}"

@@ -4,15 +4,11 @@
 //! boundary, and a [`gmotion::motion::Playhead`] stepping through the same instants must
 //! agree with both.
 
-use std::path::Path;
-
 use gmotion::engine::{RunOptions, run};
-use gmotion::importers::svg::{ImportOptions, load};
 use gmotion::motion::{Animation, Sampler, ShapeState};
+use gmotion_import_svg::{ImportOptions, load};
 
-fn root() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
+use crate::support::root;
 
 fn example(name: &str) -> Animation {
     let dir = root().join("grammars");
@@ -184,7 +180,7 @@ fn sampler_matches_reference_across_parts() {
         ));
     }
     svg.push_str("</svg>");
-    let scene = gmotion::importers::svg::parse(&svg, "parts.svg", &ImportOptions::default())
+    let scene = gmotion_import_svg::parse(&svg, "parts.svg", &ImportOptions::default())
         .unwrap()
         .scene;
     assert_eq!(scene.shapes.len(), 2600);

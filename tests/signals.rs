@@ -478,7 +478,7 @@ fn arc_fir_matches_its_continuous_form() {
 /// not the drawn art until its first change.
 #[test]
 fn smoothing_starts_in_the_state_at_time_zero() {
-    use gmotion::importers::svg::{ImportOptions, parse};
+    use gmotion_import_svg::{ImportOptions, parse};
     let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="200" height="150">
 <rect data-tag="s" x="30" y="40" width="40" height="30" fill="#e4572e" stroke="#1d3557" stroke-width="2"/>
 <rect data-tag="s" x="110" y="80" width="36" height="36" fill="#17bebb" stroke="#1d3557" stroke-width="2"/>

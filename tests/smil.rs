@@ -7,7 +7,6 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 use gmotion::color::Color;
-use gmotion::exporters::smil::{SmilError, SmilOptions, smil_document, to_smil};
 use gmotion::motion::{
     Animation, AttrSeg, Blend, Component, Field, Grid, Interp, MotionKind, MotionSeg, Timing, Tint,
     Track,
@@ -17,6 +16,7 @@ use gmotion::scene::{
     Scene, Shape, Spread, Stop, Stroke,
 };
 use gmotion::signals::Easing;
+use gmotion_export_svg::smil::{SmilError, SmilOptions, smil_document, to_smil};
 use kurbo::{Affine, BezPath, Point, Rect, Shape as _, Vec2};
 
 // ---------------------------------------------------------------------------------------
@@ -1523,7 +1523,7 @@ fn jumps_at_frame_times_play_the_side_the_model_shows() {
 #[test]
 fn a_cut_away_fill_change_is_never_played() {
     use gmotion::engine::{RunOptions, run};
-    use gmotion::importers::svg::{ImportOptions, parse as parse_svg};
+    use gmotion_import_svg::{ImportOptions, parse as parse_svg};
     let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="200" height="150">
       <circle id="s0" data-tag="s" cx="50" cy="50" r="18" fill="#e4572e"/>
       <rect id="c0" data-tag="c" x="70" y="100" width="60" height="30" fill="#ffc914"/>

@@ -3,7 +3,6 @@
 //! it without overlapping, degenerate input never panics, and expansion is deterministic.
 
 use gmotion::grammar::ast::Rule;
-use gmotion::importers::svg::{ImportOptions, parse as parse_svg};
 use gmotion::scene::{FillRule, Node, Scene};
 use gmotion::tangle::boolean::{difference, normalize, union_all};
 use gmotion::tangle::field::FieldKind;
@@ -16,6 +15,7 @@ use gmotion::tangle::ops::streamline::streamline_split;
 use gmotion::tangle::place::{PlaceParams, PlaceShape, place};
 use gmotion::tangle::polygon::{Grid, Polygon, Region};
 use gmotion::tangle::{TangleError, TangleOptions, expand};
+use gmotion_import_svg::{ImportOptions, parse as parse_svg};
 use kurbo::{Point, Rect, Vec2};
 use proptest::prelude::*;
 
@@ -554,7 +554,7 @@ fn zero_area_input_is_warned_about_and_kept() {
 
 /// The "Spatial (group grammar) operators" section of docs/grammar.md.
 fn spatial_docs() -> String {
-    let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/grammar.md"))
+    let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/grammar.md"))
         .expect("docs/grammar.md reads");
     let start = doc
         .find("## Spatial (group grammar) operators")
@@ -592,7 +592,7 @@ fn documented_examples_parse_and_bind() {
 #[test]
 fn documented_pictures_have_their_sources() {
     let section = spatial_docs();
-    let dir = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/img"));
+    let dir = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/img"));
     let pictures: Vec<&str> = section
         .split("](img/")
         .skip(1)

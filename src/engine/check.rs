@@ -1,5 +1,6 @@
 //! `gmotion check`: what a grammar contains and how it expands, without rendering.
 
+use crate::warning::Warning;
 use std::collections::{BTreeMap, BTreeSet};
 use std::fmt::Write as _;
 
@@ -13,7 +14,7 @@ use super::{EngineError, RunOptions, settings};
 #[derive(Clone, Debug, Default)]
 pub struct Report {
     /// Problems that do not stop a run but probably are mistakes.
-    pub warnings: Vec<String>,
+    pub warnings: Vec<Warning>,
     /// The report text.
     pub text: String,
 }
@@ -93,11 +94,11 @@ pub fn check(
             .filter(|t| !produced.contains_key(*t))
             .collect();
         if unreachable.len() == rule.slice_tags.len() {
-            r.warnings.push(format!(
+            r.warnings.push(Warning::new(format!(
                 "line {}: rule is unreachable: no rule produces its slice tag(s) {}",
                 rule.span.line,
                 rule.slice_tags.join(", ")
-            ));
+            )));
         }
     }
     let _ = writeln!(
@@ -135,10 +136,10 @@ pub fn check(
                 );
                 for (&i, &uses) in program.spatial.iter().zip(&t.rule_uses) {
                     if uses == 0 {
-                        r.warnings.push(format!(
+                        r.warnings.push(Warning::new(format!(
                             "line {}: spatial rule was never applied on this scene",
                             grammar.rules[i].span.line
-                        ));
+                        )));
                     }
                 }
                 let used = t.rule_uses.iter().filter(|&&u| u > 0).count();
@@ -147,8 +148,7 @@ pub fn check(
                     "spatial rules applied: {used} of {}",
                     program.spatial.len()
                 );
-                r.warnings
-                    .extend(t.warnings.iter().map(super::tangle_warning));
+                r.warnings.extend(t.warnings.iter().cloned());
                 pieces
             }
         };
@@ -219,15 +219,16 @@ fn time_report(
     let tags: BTreeSet<&str> = scene.shapes.iter().map(|s| s.tag.as_str()).collect();
     for t in shape_tags {
         if t != "all" && !tags.contains(t.as_str()) {
-            r.warnings.push(format!(
+            r.warnings.push(Warning::new(format!(
                 "shape tag `{t}` is used by rules but no shape in the scene has it"
-            ));
+            )));
         }
     }
     for t in &tags {
         if !shape_tags.contains(*t) && !shape_tags.contains("all") {
-            r.warnings
-                .push(format!("shapes tagged `{t}` match no rule and stay still"));
+            r.warnings.push(Warning::new(format!(
+                "shapes tagged `{t}` match no rule and stay still"
+            )));
         }
     }
     let exp = super::expand::expand(scene, program, settings)?;
@@ -243,10 +244,10 @@ fn time_report(
     for rule in &program.rules {
         let uses = exp.rule_uses.get(rule.index).copied().unwrap_or(0);
         if uses == 0 {
-            r.warnings.push(format!(
+            r.warnings.push(Warning::new(format!(
                 "line {}: rule was never applied on this scene",
                 rule.span.line
-            ));
+            )));
         }
     }
     let used = exp.rule_uses.iter().filter(|&&u| u > 0).count();

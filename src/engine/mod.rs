@@ -13,6 +13,7 @@ pub mod rules;
 pub mod settings;
 pub mod smooth;
 
+use crate::warning::Warning;
 use std::fmt;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -93,7 +94,7 @@ pub struct RunStats {
     /// Spatial (group grammar) expansion steps taken.
     pub spatial_steps: usize,
     /// Things the author should know (degenerate geometry, approximations).
-    pub warnings: Vec<String>,
+    pub warnings: Vec<Warning>,
     /// How many times each rule (by index in the grammar) was applied.
     pub rule_uses: Vec<usize>,
     /// Total timeslices after expansion.
@@ -167,14 +168,6 @@ pub(crate) fn spatial_stage(
     Ok(Some((expanded, tstats)))
 }
 
-/// A spatial expansion warning as the run reports it (with its line and column).
-pub(crate) fn tangle_warning(w: &crate::tangle::TangleWarning) -> String {
-    match w.span {
-        Some(s) => format!("{}:{}: {}", s.line, s.col, w.message),
-        None => w.message.clone(),
-    }
-}
-
 fn run_here(
     scene: Scene,
     grammar: &Grammar,
@@ -206,7 +199,7 @@ fn run_here(
     let scene = match spatial_stage(&scene, grammar, &program, &settings, opts)? {
         None => scene,
         Some((expanded, tstats)) => {
-            warnings.extend(tstats.warnings.iter().map(tangle_warning));
+            warnings.extend(tstats.warnings.iter().cloned());
             tangle_steps = tstats.steps;
             expanded
         }

@@ -1,10 +1,10 @@
 //! Header directives turned into typed settings, with defaults and validation.
 
-use crate::exporters::frame::MAX_OUTPUT_SIZE;
+use crate::canvas::MAX_OUTPUT_SIZE;
 use crate::grammar::ast::{Directive, ExprKind, Grammar, Span};
 use crate::grammar::value::{Env, Value, eval};
-use crate::importers::svg::{TagFrom, Units};
 use crate::motion::{Interp, Lookup};
+use crate::tagging::{TagFrom, Units};
 
 use super::EngineError;
 
@@ -33,7 +33,7 @@ pub struct Settings {
     /// grammar file), and where it is written.
     pub scene: Option<(String, Span)>,
     /// Width in pixels of every output; `None` follows `height` and the scene's aspect
-    /// ratio, or is the scene's own width (see [`crate::exporters::frame::OutputSize`]).
+    /// ratio, or is the scene's own width (see [`crate::canvas::OutputSize`]).
     pub width: Option<u32>,
     /// Height in pixels of every output; `None` follows `width` and the scene's aspect
     /// ratio, or is the scene's own height.

@@ -345,6 +345,15 @@ pub struct Sampler<'a> {
     slots: usize,
 }
 
+/// Only the size: the compiled parts are large and have no readable form.
+impl std::fmt::Debug for Sampler<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Sampler")
+            .field("shapes", &self.len)
+            .finish_non_exhaustive()
+    }
+}
+
 /// The compiled tracks of consecutive shapes.
 struct Part<'a> {
     /// Per shape where its data starts, plus one entry for the end.

@@ -44,6 +44,15 @@ pub struct ShapeEnv {
     noise_seed: u64,
 }
 
+/// Only the noise seed: the variables and the random stream's state are not worth printing.
+impl std::fmt::Debug for ShapeEnv {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ShapeEnv")
+            .field("noise_seed", &self.noise_seed)
+            .finish_non_exhaustive()
+    }
+}
+
 impl ShapeEnv {
     /// An environment for `vars`, with draws from `key` and noise seeded by `noise_seed`.
     pub fn new(vars: ShapeVars, key: u64, noise_seed: u64) -> ShapeEnv {

@@ -25,10 +25,11 @@ use super::noise::{key, unit};
 use super::ops::paint::Paint;
 use super::ops::{Context, Input, Op, Piece};
 use super::polygon::{Grid, Region, flatten_rings};
-use super::{TangleError, TangleOptions, TangleStats, TangleWarning};
+use super::{TangleError, TangleOptions, TangleStats};
 use crate::color::Color;
 use crate::grammar::ast::Rule;
 use crate::scene::{FillRule, Group, Node, PathNode, Scene, Shape};
+use crate::warning::Warning;
 
 /// A shape during expansion.
 #[derive(Clone, Debug)]
@@ -251,8 +252,9 @@ pub fn expand(
             continue;
         };
         if region.area() <= 0.0 {
-            stats.warnings.push(TangleWarning {
+            stats.warnings.push(Warning {
                 span: None,
+                subject: None,
                 message: format!(
                     "shape `{}` #{} encloses no area; left as it is",
                     shape.tag, shape.id
@@ -379,10 +381,9 @@ pub fn expand(
                 let pieces = match pieces {
                     Ok(p) => p,
                     Err(message) => {
-                        stats.warnings.push(TangleWarning {
-                            span: Some(rule.op_span),
-                            message,
-                        });
+                        stats
+                            .warnings
+                            .push(Warning::at(Some(rule.op_span), message));
                         let s = arena.shapes[node]
                             .as_ref()
                             .expect("batch shapes are unexpanded");
@@ -500,8 +501,9 @@ fn rebuild(
         };
         let to_canvas = inner_transform(node, shape);
         if to_canvas.determinant().abs() < 1e-12 {
-            stats.warnings.push(TangleWarning {
+            stats.warnings.push(Warning {
                 span: None,
+                subject: None,
                 message: format!(
                     "shape `{}` #{} has a degenerate transform; left as it is",
                     shape.tag, shape.id

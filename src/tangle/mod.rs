@@ -29,6 +29,7 @@ pub use expand::expand;
 pub use graph::{GraphStats, graph_dot, graph_stats, graph_svg};
 
 use crate::grammar::ast::Span;
+use crate::warning::Warning;
 
 /// Settings of a spatial expansion.
 #[derive(Clone, Debug)]
@@ -58,16 +59,6 @@ impl Default for TangleOptions {
     }
 }
 
-/// Something an expansion did that the author should know about; the result is still
-/// complete.
-#[derive(Clone, Debug, PartialEq)]
-pub struct TangleWarning {
-    /// The rule concerned, if any.
-    pub span: Option<Span>,
-    /// What happened.
-    pub message: String,
-}
-
 /// What a spatial expansion did.
 #[derive(Clone, Debug, Default)]
 pub struct TangleStats {
@@ -80,7 +71,7 @@ pub struct TangleStats {
     /// How often each spatial rule was applied, in the order given.
     pub rule_uses: Vec<usize>,
     /// Warnings.
-    pub warnings: Vec<TangleWarning>,
+    pub warnings: Vec<Warning>,
 }
 
 /// Why a spatial expansion failed.

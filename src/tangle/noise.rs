@@ -1,7 +1,7 @@
 //! Seeded randomness and coherent noise for the tangle operators.
 //!
 //! Every random decision is keyed by what it is for — the seed, the shape and its place in
-//! its own derivation (see [`super::expand`] and [`crate::engine::random`]) — rather than
+//! its own derivation (see [`super::expand()`] and [`crate::engine::random`]) — rather than
 //! drawn from one shared stream or keyed by a step counter, so expansion is deterministic
 //! whatever the thread count, and editing the rules of one tag does not re-roll shapes of
 //! another.

@@ -56,7 +56,7 @@ if [ "$main_run" = 1 ]; then
     python3 "$here/schema_check.py" --list "$out/gmotion_lottie_files.txt" || status=1
 
     echo "== in-process conversion time (tests/lottie.rs)"
-    (cd "$root" && cargo test --release --quiet --test lottie corpus_converts_in_process -- --nocapture 2>&1) \
+    (cd "$root" && cargo test --release --quiet --test gmotion lottie::corpus_converts_in_process -- --nocapture 2>&1) \
         | grep "lottie corpus conversion" > "$out/in_process.txt" || status=1
 
     echo "== playing: lottie-web"

@@ -9,9 +9,9 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use gmotion::exporters::frame::frame_svg;
-use gmotion::exporters::raster::{Pixmap, compare, render, save_png};
 use gmotion::motion::Animation;
+use gmotion_export_raster::{Pixmap, compare, render, save_png};
+use gmotion_export_svg::frame::frame_svg;
 
 /// A pixel is off when some premultiplied channel differs by more than this (of 255).
 const OFF: u8 = 32;
@@ -37,12 +37,6 @@ impl Player {
         Player::LottieWebSvg,
         Player::LottieWebCanvas,
         Player::Rlottie,
-        Player::Thorvg,
-    ];
-    /// Every player but rlottie, which draws no skew (its transform has no skew term).
-    pub const SKEW: [Player; 3] = [
-        Player::LottieWebSvg,
-        Player::LottieWebCanvas,
         Player::Thorvg,
     ];
 
@@ -91,7 +85,7 @@ pub fn frames_to_check(anim: &Animation) -> Vec<f64> {
 }
 
 fn conformance_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/conformance")
+    crate::support::root().join("tests/conformance")
 }
 
 fn run(mut cmd: Command, what: &str) {

@@ -395,6 +395,15 @@ pub struct Playhead<'s, 'a> {
     products: Vec<(u64, Affine)>,
 }
 
+/// Only where it stands: the cached channel lists have no readable form.
+impl std::fmt::Debug for Playhead<'_, '_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Playhead")
+            .field("last", &self.last)
+            .finish_non_exhaustive()
+    }
+}
+
 impl<'s, 'a> Playhead<'s, 'a> {
     pub(super) fn new(sampler: &'s Sampler<'a>) -> Playhead<'s, 'a> {
         Playhead {

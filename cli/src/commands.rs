@@ -1,0 +1,586 @@
+//! The commands: load, run, write.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+
+use gmotion::canvas::{MAX_OUTPUT_SIZE, OutputSize};
+use gmotion::engine::{self, EngineError, RunOptions, Settings};
+use gmotion::grammar::{self, ast::Grammar};
+use gmotion::motion::Animation;
+use gmotion::scene::Scene;
+use gmotion::{TagFrom, Units, Warning};
+use gmotion_export_raster as raster;
+use gmotion_import_svg::{self as svg_import, ImportOptions};
+use gmotion_output::{self as output, Format};
+use indicatif::{ProgressBar, ProgressStyle};
+
+use super::output::{check_writable, write_atomic};
+use super::report::{CliError, Result, engine_error};
+use super::{Command, ImportArgs, RenderArgs, RunArgs, TagFromArg, UnitsArg};
+
+/// Runs one command.
+pub fn run(cmd: Command) -> Result<()> {
+    match cmd {
+        Command::Demo { output, example } => demo(&output, &example),
+        Command::Convert {
+            input,
+            output,
+            render,
+            import,
+        } => convert(&input, &output, &render, &import),
+        Command::Animate {
+            files,
+            output,
+            time,
+            run,
+            render,
+            import,
+        } => {
+            let (scene, grammar) = scene_and_grammar(&files, Order::SceneFirst)?;
+            animate(scene, grammar, &output, time, &run, &render, &import)
+        }
+        Command::Transitions {
+            scene,
+            targets,
+            output,
+            system,
+            fps,
+            duration,
+            time,
+            render,
+            import,
+        } => transitions(
+            &scene,
+            &targets,
+            &output,
+            system.as_deref(),
+            fps,
+            duration,
+            time,
+            &render,
+            &import,
+        ),
+        Command::Check {
+            files,
+            graph,
+            run,
+            import,
+        } => {
+            let (scene, grammar) = scene_and_grammar(&files, Order::GrammarFirst)?;
+            check(grammar, scene, graph.as_deref(), &run, &import)
+        }
+    }
+}
+
+/// What a file named on the command line holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Kind {
+    Grammar,
+    Scene,
+    /// Unreadable, or nothing to tell by: its place on the command line decides.
+    Unknown,
+}
+
+/// A file's kind by its extension (`.gm`, `.svg`), else by its first character: SVG
+/// starts with `<` (after a byte-order mark and blanks), a grammar never does.
+fn kind_of(path: &Path) -> Kind {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("gm") => return Kind::Grammar,
+        Some("svg") => return Kind::Scene,
+        _ => {}
+    }
+    let mut head = [0u8; 512];
+    let n = match std::fs::File::open(path).and_then(|mut f| std::io::Read::read(&mut f, &mut head))
+    {
+        Ok(n) => n,
+        Err(_) => return Kind::Unknown,
+    };
+    let text = String::from_utf8_lossy(&head[..n]);
+    match text
+        .trim_start_matches('\u{feff}')
+        .trim_start()
+        .chars()
+        .next()
+    {
+        Some('<') => Kind::Scene,
+        Some(_) => Kind::Grammar,
+        None => Kind::Unknown,
+    }
+}
+
+/// The order a command lists its files in, which decides when their kinds do not.
+#[derive(Clone, Copy)]
+enum Order {
+    /// `animate [SCENE] GRAMMAR`.
+    SceneFirst,
+    /// `check GRAMMAR [SCENE]`.
+    GrammarFirst,
+}
+
+/// The scene (if given) and the grammar among one or two files, told apart by
+/// [`kind_of`], else by `order`.
+fn scene_and_grammar(files: &[PathBuf], order: Order) -> Result<(Option<&Path>, &Path)> {
+    match files {
+        [one] => {
+            if kind_of(one) == Kind::Scene {
+                return Err(CliError::msg(format!(
+                    "{}: this is a scene; a grammar (.gm) is needed too, as in `gmotion animate [SCENE] GRAMMAR`",
+                    one.display()
+                )));
+            }
+            Ok((None, one))
+        }
+        [a, b] => {
+            let (ka, kb) = (kind_of(a), kind_of(b));
+            let grammar_first = if ka != kb && (ka == Kind::Grammar || kb == Kind::Scene) {
+                true
+            } else if ka != kb && (kb == Kind::Grammar || ka == Kind::Scene) {
+                false
+            } else {
+                matches!(order, Order::GrammarFirst)
+            };
+            Ok(if grammar_first {
+                (Some(b), a)
+            } else {
+                (Some(a), b)
+            })
+        }
+        // clap takes one or two.
+        _ => Err(CliError::msg(
+            "expected a grammar and at most one scene".to_string(),
+        )),
+    }
+}
+
+/// The importer's options: the command line's, else the grammar's, else the defaults.
+fn import_options(a: &ImportArgs, settings: &Settings) -> ImportOptions {
+    let tag_from = a.tag_from.map(|t| match t {
+        TagFromArg::Auto => TagFrom::Auto,
+        TagFromArg::DataTag => TagFrom::DataTag,
+        TagFromArg::Class => TagFrom::Class,
+        TagFromArg::Label => TagFrom::Label,
+        TagFromArg::Layer => TagFrom::Layer,
+    });
+    let units = a.units.map(|u| match u {
+        UnitsArg::Auto => Units::Auto,
+        UnitsArg::Paths => Units::Paths,
+        UnitsArg::Groups => Units::Groups,
+    });
+    ImportOptions {
+        tag_from: tag_from.or(settings.tag_from).unwrap_or_default(),
+        units: units.or(settings.units).unwrap_or_default(),
+    }
+}
+
+/// The size of every output: `--width`/`--height` if either is given, else the grammar's
+/// `width`/`height` (see [`OutputSize`] for what one or both mean).
+fn output_size(render: &RenderArgs, settings: &Settings) -> OutputSize {
+    if render.width.is_some() || render.height.is_some() {
+        OutputSize {
+            width: render.width,
+            height: render.height,
+        }
+    } else {
+        OutputSize {
+            width: settings.width,
+            height: settings.height,
+        }
+    }
+}
+
+fn load_scene(path: &Path, options: &ImportOptions) -> Result<Scene> {
+    let imported = svg_import::load(path, options).map_err(|e| CliError::msg(e.to_string()))?;
+    for w in &imported.warnings {
+        eprintln!("{}: warning: {w}", path.display());
+    }
+    Ok(imported.scene)
+}
+
+/// A grammar file, parsed, with its header read.
+struct Loaded {
+    src: String,
+    grammar: Grammar,
+    settings: Settings,
+}
+
+fn load_grammar(path: &Path) -> Result<Loaded> {
+    let bytes = std::fs::read(path)
+        .map_err(|e| CliError::msg(format!("{}: cannot read grammar: {e}", path.display())))?;
+    let src = String::from_utf8(bytes).map_err(|e| {
+        CliError::msg(format!(
+            "{}: the grammar is not UTF-8 text (byte {})",
+            path.display(),
+            e.utf8_error().valid_up_to()
+        ))
+    })?;
+    let grammar = grammar::parse(&src).map_err(|d| {
+        CliError(
+            d.render(&path.display().to_string(), &src)
+                .trim_end()
+                .to_string(),
+        )
+    })?;
+    let settings =
+        engine::settings::from_grammar(&grammar).map_err(|e| engine_error(path, &src, &e))?;
+    Ok(Loaded {
+        src,
+        grammar,
+        settings,
+    })
+}
+
+/// The scene to use: `given` on the command line, else the grammar's `scene`, resolved
+/// against the grammar file's folder (a missing file is an error at the directive).
+fn scene_path(given: Option<&Path>, grammar_path: &Path, g: &Loaded) -> Result<Option<PathBuf>> {
+    if let Some(p) = given {
+        return Ok(Some(p.to_path_buf()));
+    }
+    let Some((name, span)) = &g.settings.scene else {
+        return Ok(None);
+    };
+    let folder = grammar_path.parent().unwrap_or(Path::new(""));
+    let path = folder.join(name);
+    if !path.exists() {
+        let e = EngineError::at(
+            *span,
+            format!(
+                "scene file `{name}` not found (looked for {})",
+                path.display()
+            ),
+        );
+        return Err(engine_error(grammar_path, &g.src, &e));
+    }
+    Ok(Some(path))
+}
+
+fn run_options(r: &RunArgs) -> RunOptions {
+    RunOptions {
+        seed: r.seed,
+        fps: r.fps,
+        max_steps: r.max_steps,
+    }
+}
+
+fn progress(len: usize, what: &str) -> ProgressBar {
+    if !std::io::stderr().is_terminal() || len < 8 {
+        return ProgressBar::hidden();
+    }
+    let pb = ProgressBar::new(len as u64);
+    if let Ok(style) = ProgressStyle::with_template("{msg} {bar:40} {pos}/{len} frames ({eta})") {
+        pb.set_style(style);
+    }
+    pb.set_message(what.to_string());
+    pb
+}
+
+fn print_warnings(out: &Path, warnings: &[Warning]) {
+    for w in warnings {
+        eprintln!("{}: warning: {w}", out.display());
+    }
+}
+
+fn write_animation(
+    anim: &Animation,
+    out: &Path,
+    time: f64,
+    render: &RenderArgs,
+    size: OutputSize,
+) -> Result<()> {
+    let opts = output::Options {
+        tolerance: render.tolerance,
+        size,
+        time,
+    };
+    let frames = matches!(
+        Format::of(out).map_err(|e| CliError::msg(e.to_string()))?,
+        Format::Frames | Format::Gif | Format::Apng
+    );
+    let pb = progress(if frames { anim.frame_count() } else { 0 }, "rendering");
+    let warnings = output::write_with_progress(anim, out, &opts, &|| pb.inc(1))
+        .map_err(|e| CliError::msg(e.to_string()))?;
+    pb.finish_and_clear();
+    print_warnings(out, &warnings);
+    Ok(())
+}
+
+fn validate_render(render: &RenderArgs) -> Result<()> {
+    if !(render.tolerance.is_finite() && render.tolerance > 0.0) {
+        return Err(CliError::msg(format!(
+            "--tolerance must be a positive number of pixels, found {}",
+            render.tolerance
+        )));
+    }
+    for (flag, v) in [("--width", render.width), ("--height", render.height)] {
+        if let Some(v) = v
+            && !(1..=MAX_OUTPUT_SIZE).contains(&v)
+        {
+            return Err(CliError::msg(format!(
+                "{flag} must be between 1 and {MAX_OUTPUT_SIZE}, found {v}"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Checks each output can be written before any work: a known format, an existing
+/// folder, and a frames folder that may be written fresh.
+fn check_outputs(outputs: &[PathBuf]) -> Result<()> {
+    for o in outputs {
+        if Format::of(o).map_err(|e| CliError::msg(e.to_string()))? == Format::Frames {
+            raster::check_frame_folder(o).map_err(|e| CliError::msg(e.to_string()))?;
+        }
+        check_writable(o)?;
+    }
+    Ok(())
+}
+
+/// Parses, expands and compiles; errors point into the grammar. Also returns the
+/// grammar's header, which says how to write the outputs.
+fn build(
+    scene: Option<&Path>,
+    grammar_path: &Path,
+    run: &RunArgs,
+    import: &ImportArgs,
+) -> Result<(Animation, Settings)> {
+    let g = load_grammar(grammar_path)?;
+    let Some(scene_path) = scene_path(scene, grammar_path, &g)? else {
+        return Err(CliError::msg(format!(
+            "{}: error: no scene to animate: give one on the command line (`gmotion animate SCENE GRAMMAR`) or name it in the grammar (`scene FILE`)",
+            grammar_path.display()
+        )));
+    };
+    let scene = load_scene(&scene_path, &import_options(import, &g.settings))?;
+    let (anim, stats) = engine::run(scene, &g.grammar, &run_options(run))
+        .map_err(|e| engine_error(grammar_path, &g.src, &e))?;
+    for w in &stats.warnings {
+        eprintln!("{}: warning: {w}", grammar_path.display());
+    }
+    Ok((anim, g.settings))
+}
+
+fn animate(
+    scene: Option<&Path>,
+    grammar: &Path,
+    outputs: &[PathBuf],
+    time: f64,
+    run: &RunArgs,
+    render: &RenderArgs,
+    import: &ImportArgs,
+) -> Result<()> {
+    validate_render(render)?;
+    check_outputs(outputs)?;
+    let (anim, settings) = build(scene, grammar, run, import)?;
+    let size = output_size(render, &settings);
+    for o in outputs {
+        write_animation(&anim, o, time, render, size)?;
+    }
+    Ok(())
+}
+
+fn convert(
+    input: &Path,
+    outputs: &[PathBuf],
+    render: &RenderArgs,
+    import: &ImportArgs,
+) -> Result<()> {
+    validate_render(render)?;
+    for o in outputs {
+        check_writable(o)?;
+    }
+    let settings = Settings::default();
+    let scene = load_scene(input, &import_options(import, &settings))?;
+    let size = output_size(render, &settings);
+    let opts = output::Options {
+        tolerance: render.tolerance,
+        size,
+        time: 0.0,
+    };
+    for out in outputs {
+        let warnings =
+            output::write_still(&scene, out, &opts).map_err(|e| CliError::msg(e.to_string()))?;
+        print_warnings(out, &warnings);
+    }
+    Ok(())
+}
+
+fn check(
+    grammar_path: &Path,
+    scene: Option<&Path>,
+    graph: Option<&Path>,
+    run: &RunArgs,
+    import: &ImportArgs,
+) -> Result<()> {
+    let loaded = load_grammar(grammar_path)?;
+    if let Some(out) = graph {
+        check_writable(out)?;
+    }
+    let scene = scene_path(scene, grammar_path, &loaded)?
+        .map(|p| load_scene(&p, &import_options(import, &loaded.settings)))
+        .transpose()?;
+    let g = &loaded.grammar;
+    let report = engine::check::check(g, scene.as_ref(), &run_options(run))
+        .map_err(|e| engine_error(grammar_path, &loaded.src, &e))?;
+    print!("{}", report.text);
+    if let Some(out) = graph {
+        let rules: Vec<&gmotion::grammar::ast::Rule> = g.rules.iter().collect();
+        let spatial = rules.iter().any(|r| r.spatial);
+        let svg = out
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("svg"));
+        let text = match (svg, spatial) {
+            (true, true) => gmotion::tangle::graph::graph_svg(&rules),
+            (true, false) => {
+                return Err(CliError::msg(format!(
+                    "{}: drawings are made for group grammars; write the timeslice graph as .dot",
+                    out.display()
+                )));
+            }
+            (_, true) => gmotion::tangle::graph::graph_dot(&rules),
+            (_, false) => engine::check::dot(g),
+        };
+        write_atomic(out, text.as_bytes())?;
+    }
+    Ok(())
+}
+
+#[allow(clippy::too_many_arguments)]
+fn transitions(
+    scene: &Path,
+    targets: &Path,
+    outputs: &[PathBuf],
+    system: Option<&str>,
+    fps: Option<f64>,
+    duration: Option<f64>,
+    time: f64,
+    render: &RenderArgs,
+    import: &ImportArgs,
+) -> Result<()> {
+    validate_render(render)?;
+    if let Some(fps) = fps
+        && !(fps.is_finite() && fps > 0.0)
+    {
+        return Err(CliError::msg(format!(
+            "--fps must be a positive number, found {fps}"
+        )));
+    }
+    if let Some(d) = duration
+        && !(d.is_finite() && d > 0.0)
+    {
+        return Err(CliError::msg(format!(
+            "--duration must be a positive number of seconds, found {d}"
+        )));
+    }
+    check_outputs(outputs)?;
+    let spec = system
+        .map(|s| {
+            gmotion::signals::smooth::SmoothSpec::parse(s)
+                .map_err(|e| CliError::msg(format!("--system: {e}")))
+        })
+        .transpose()?;
+    let t = gmotion::transitions::targets::Targets::load(targets)
+        .map_err(|e| CliError::msg(e.to_string()))?;
+    let settings = Settings::default();
+    let scene = load_scene(scene, &import_options(import, &settings))?;
+    let system = t.default_system(spec);
+    let fps = t.frame_rate(fps);
+    let anim =
+        gmotion::transitions::run(&scene, &t, &system, fps, duration).map_err(|e| match e {
+            // A target naming a missing tag is an error in the targets file: say which.
+            gmotion::transitions::TransitionError::Shape { .. } => {
+                CliError::msg(format!("{}: {e}", targets.display()))
+            }
+            e => CliError::msg(e.to_string()),
+        })?;
+    let size = output_size(render, &settings);
+    for o in outputs {
+        write_animation(&anim, o, time, render, size)?;
+    }
+    Ok(())
+}
+
+/// The folder that holds the bundled examples.
+fn grammars_dir() -> PathBuf {
+    let here = PathBuf::from("grammars");
+    if here.is_dir() {
+        return here;
+    }
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../grammars")
+}
+
+fn demo(out: &Path, example: &str) -> Result<()> {
+    let dir = grammars_dir();
+    let grammar = dir.join(format!("{example}.gm"));
+    let scene = dir.join(format!("{example}.svg"));
+    if !grammar.is_file() {
+        return Err(CliError::msg(format!(
+            "no bundled example `{example}` ({} not found)",
+            grammar.display()
+        )));
+    }
+    std::fs::create_dir_all(out).map_err(|e| {
+        CliError::msg(format!(
+            "{}: cannot create output directory: {e}",
+            out.display()
+        ))
+    })?;
+    let run = RunArgs {
+        seed: None,
+        fps: None,
+        max_steps: None,
+    };
+    let import = ImportArgs {
+        tag_from: None,
+        units: None,
+    };
+    let render = RenderArgs {
+        width: None,
+        height: None,
+        tolerance: 0.25,
+    };
+    let (anim, settings) = build(Some(&scene), &grammar, &run, &import)?;
+    let size = output_size(&render, &settings);
+    let names = [
+        "frames",
+        &format!("{example}.gif"),
+        &format!("{example}.json"),
+        &format!("{example}.svg"),
+    ];
+    for n in names {
+        write_animation(&anim, &out.join(n), 0.0, &render, size)?;
+    }
+    let json = std::fs::read_to_string(out.join(format!("{example}.json")))
+        .map_err(|e| CliError::msg(format!("{}: {e}", out.display())))?;
+    let html = viewer_html(example, &json);
+    write_atomic(&out.join("view.html"), html.as_bytes())?;
+    println!(
+        "wrote {0}/frames/ ({1} PNG frames), {0}/{2}.gif, {0}/{2}.json (Lottie), {0}/{2}.svg (SMIL)\n\
+         view: open {0}/{2}.svg in a browser (SMIL plays by itself); {0}/view.html plays the Lottie with lottie-web",
+        out.display(),
+        anim.frame_count(),
+        example
+    );
+    Ok(())
+}
+
+/// A page that plays the Lottie beside the SMIL, for a quick look in a browser. The
+/// Lottie JSON is embedded because browsers refuse `fetch` from `file://` pages.
+fn viewer_html(example: &str, lottie_json: &str) -> String {
+    let data = lottie_json.replace("</", "<\\/");
+    format!(
+        r#"<!doctype html>
+<meta charset="utf-8"><title>gmotion: {example}</title>
+<style>body{{font:14px sans-serif;display:flex;gap:24px}} figure{{margin:0}} #lottie,img{{width:400px}}</style>
+<figure><div id="lottie"></div><figcaption>Lottie ({example}.json) in lottie-web</figcaption></figure>
+<figure><img src="{example}.svg"><figcaption>SMIL ({example}.svg)</figcaption></figure>
+<script src="https://unpkg.com/lottie-web@5/build/player/lottie.min.js"></script>
+<script>
+const data = {data};
+lottie.loadAnimation({{container: document.getElementById("lottie"), renderer: "svg", loop: true, autoplay: true, animationData: data}});
+</script>
+"#
+    )
+}

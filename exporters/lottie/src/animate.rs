@@ -1,0 +1,544 @@
+//! Tracks as Lottie transform levels and keyframes.
+//!
+//! A track's transform is, for `t` in window `k`, `R_i(t)·…·R_j(t)·start_k`, every `R`
+//! being identity before its window and holding its end value after it. Written as nested
+//! levels, outermost first — the last window's segments (earliest-listed outside), a hold
+//! correction `J_k = start_k·(end of window k−1)⁻¹` where the chain jumps, then the earlier
+//! windows — the player composes exactly this product.
+//!
+//! A segment is exact when it is a single-entry linear blend of translations, rotations and
+//! scales with a Bézier easing: each component is then an affine function of progress, so
+//! `F(p)` packs into levels `T(pos)·R(rot)·S(scale)·T(-anchor)` whose channels a player
+//! interpolates along the same easing curve. Anything else (Alexa interpolation that
+//! differs from the linear one, bilinear blends, skews, matrices) is sampled and reduced
+//! ([`super::bake`]); per-vertex deformation bakes the outlines themselves.
+
+use kurbo::{Affine, Point, Rect, Vec2};
+
+use super::bake::{RigidSample, bake_rigid};
+use super::geometry::{Trs, decompose, max_stretch, svd};
+use super::keys::{Key, Near, Piece, progress_keys, to_keyframes};
+use super::model::{Keyframe, N, Prop, Transform, Value};
+use gmotion::motion::grid::blend_at;
+use gmotion::motion::{AttrSeg, Component, Interp, MotionKind, MotionSeg, Tint, Track};
+
+/// What a shape's track becomes.
+#[derive(Clone, Debug, Default)]
+pub struct UnitMotion {
+    /// Transform levels in canvas space, outermost first.
+    pub levels: Vec<Transform>,
+    /// Opacity multiplier keys.
+    pub opacity: Vec<Key<f64>>,
+    /// Fill tint keys.
+    pub fill: Vec<Key<Tint>>,
+    /// Stroke tint keys.
+    pub stroke: Vec<Key<Tint>>,
+    /// Stroke width multiplier keys.
+    pub stroke_width: Vec<Key<f64>>,
+    /// Frames at which deformed outlines are sampled (per-vertex motion), else empty.
+    pub deform_frames: Vec<f64>,
+    /// Whether the transform ever scales unevenly (strokes then need outlining, since
+    /// rlottie widens strokes evenly).
+    pub anisotropic: bool,
+}
+
+impl UnitMotion {
+    /// Whether anything changes over time.
+    pub fn is_animated(&self) -> bool {
+        !(self.levels.is_empty()
+            && self.opacity.is_empty()
+            && self.fill.is_empty()
+            && self.stroke.is_empty()
+            && self.stroke_width.is_empty()
+            && self.deform_frames.is_empty())
+    }
+}
+
+/// Everything [`unit_motion`] needs about the shape besides its track.
+#[derive(Clone, Copy, Debug)]
+pub struct UnitInfo {
+    /// Bounding box in canvas space (error check points).
+    pub bbox: Rect,
+    /// Centroid in canvas space (anchor of baked motion).
+    pub centroid: Point,
+}
+
+/// Converts a track. `frames` is the animation's frame count, `tolerance` the baking
+/// error bound in canvas units.
+pub fn unit_motion(
+    track: &Track,
+    info: UnitInfo,
+    fps: f64,
+    frames: usize,
+    tolerance: f64,
+) -> UnitMotion {
+    let mut out = UnitMotion {
+        opacity: attr_keys(&track.opacity, fps, 1.0, |v| v, 1e-3),
+        fill: attr_keys(&track.fill, fps, Tint::NONE, |t| t, 0.5 / 255.0),
+        stroke: attr_keys(&track.stroke, fps, Tint::NONE, |t| t, 0.5 / 255.0),
+        stroke_width: attr_keys(&track.stroke_width, fps, 1.0, |v| v, 1e-3),
+        ..UnitMotion::default()
+    };
+    if track.motions.is_empty() {
+        return out;
+    }
+    if track.deforms() {
+        out.deform_frames = (0..=frames).map(|f| f as f64).collect();
+        return out;
+    }
+    out.anisotropic = (0..=frames).any(|f| !is_even(track.transform_at(f as f64 / fps)));
+    let windows = windows(&track.motions);
+    // Many windows (smoothed or data-driven motion has one per frame) would nest one group
+    // level each; bake the whole track instead, into at most two levels.
+    if windows.len() > MAX_WINDOW_LEVELS {
+        out.levels = whole_track_levels(track, info, fps, frames, tolerance);
+        return out;
+    }
+    let mut prev_end = Affine::IDENTITY;
+    let mut per_window: Vec<Vec<Transform>> = Vec::with_capacity(windows.len());
+    for (k, w) in windows.iter().enumerate() {
+        let mut levels = Vec::new();
+        let t1 = windows.get(k + 1).map_or(f64::INFINITY, |n| n.t0);
+        for (s, seg) in w.segs.iter().enumerate() {
+            let end = seg.t1.min(t1);
+            match exact_levels(seg, end, fps) {
+                Some(mut l) => levels.append(&mut l),
+                None => levels.extend(baked_levels(w, s, end, info, fps, tolerance)),
+            }
+        }
+        // The correction is applied inside this window's own segments.
+        let jump = w.start * prev_end.inverse();
+        levels.extend(hold_levels(jump, w.t0 * fps));
+        prev_end = w.segs.iter().fold(Affine::IDENTITY, |acc, seg| {
+            acc * seg.relative_at(seg.t1.min(t1))
+        }) * w.start;
+        per_window.push(levels);
+    }
+    out.levels = per_window.into_iter().rev().flatten().collect();
+    out
+}
+
+/// Above this many motion windows a track is baked as a whole rather than one group level
+/// per window, which keeps the layer tree shallow for players.
+const MAX_WINDOW_LEVELS: usize = 8;
+
+/// The whole track's transform sampled at every frame and at every window boundary, baked
+/// and reduced within `tolerance`.
+fn whole_track_levels(
+    track: &Track,
+    info: UnitInfo,
+    fps: f64,
+    frames: usize,
+    tolerance: f64,
+) -> Vec<Transform> {
+    let corners = [
+        info.bbox.origin(),
+        Point::new(info.bbox.x1, info.bbox.y0),
+        Point::new(info.bbox.x0, info.bbox.y1),
+        Point::new(info.bbox.x1, info.bbox.y1),
+    ];
+    let mut times: Vec<f64> = (0..=frames).map(|f| f as f64 / fps).collect();
+    times.extend(track.motions.iter().flat_map(|m| [m.t0, m.t1]));
+    times.retain(|t| t.is_finite() && *t >= 0.0 && *t <= frames as f64 / fps);
+    times.sort_by(f64::total_cmp);
+    times.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+    let samples: Vec<RigidSample> = times
+        .iter()
+        .map(|&t| RigidSample {
+            frame: t * fps,
+            m: track.transform_at(t),
+            points: corners.to_vec(),
+            gain: 1.0,
+        })
+        .collect();
+    bake_rigid(&samples, info.centroid, tolerance)
+}
+
+/// Whether `m` scales every direction by the same factor (a similarity).
+pub fn is_even(m: Affine) -> bool {
+    let (_, s, _) = svd(m);
+    (s.x.abs() - s.y.abs()).abs() <= 1e-6 * s.x.abs().max(s.y.abs()).max(1e-12)
+}
+
+/// A transform window: segments sharing a start, possibly several windows of one motion
+/// merged back together.
+struct Window {
+    t0: f64,
+    start: Affine,
+    segs: Vec<MotionSeg>,
+}
+
+fn same_motion(a: &MotionSeg, b: &MotionSeg) -> bool {
+    let kind = match (&a.kind, &b.kind) {
+        (
+            MotionKind::Rigid {
+                pivot: pa,
+                blend: ba,
+                interp: ia,
+            },
+            MotionKind::Rigid {
+                pivot: pb,
+                blend: bb,
+                interp: ib,
+            },
+        ) => {
+            pa == pb
+                && ia == ib
+                && ba.len() == bb.len()
+                && ba
+                    .iter()
+                    .zip(bb.iter())
+                    .all(|(x, y)| x.0 == y.0 && x.1 == y.1)
+        }
+        _ => false,
+    };
+    kind && a.timing == b.timing
+}
+
+fn close(a: Affine, b: Affine) -> bool {
+    a.as_coeffs()
+        .iter()
+        .zip(b.as_coeffs())
+        .all(|(x, y)| (x - y).abs() <= 1e-9 * x.abs().max(1.0))
+}
+
+/// Groups segments into windows and merges consecutive single-segment windows of one
+/// motion (they telescope: `F(f(t))·F(f(t₀))⁻¹` over the union).
+fn windows(segs: &[MotionSeg]) -> Vec<Window> {
+    let mut out: Vec<Window> = Vec::new();
+    for (i, seg) in segs.iter().enumerate() {
+        if let Some(w) = out.last_mut()
+            && w.segs.last().is_some_and(|last| last.t0 == seg.t0)
+        {
+            w.segs.push(seg.clone());
+            continue;
+        }
+        let alone = segs.get(i + 1).is_none_or(|next| next.t0 != seg.t0);
+        if let Some(w) = out.last_mut()
+            && alone
+            && let [prev] = w.segs.as_mut_slice()
+            && same_motion(prev, seg)
+            && (prev.t1 - seg.t0).abs() < 1e-12
+            && close(seg.start, prev.relative_at(prev.t1) * prev.start)
+        {
+            prev.t1 = seg.t1;
+            continue;
+        }
+        out.push(Window {
+            t0: seg.t0,
+            start: seg.start,
+            segs: vec![seg.clone()],
+        });
+    }
+    out
+}
+
+/// A channel that is an affine function of progress: `base + slope·p`.
+#[derive(Clone, Copy, Debug, Default)]
+struct Lin {
+    base: Vec2,
+    slope: Vec2,
+}
+
+impl Lin {
+    fn at(&self, p: f64) -> [f64; 2] {
+        let v = self.base + self.slope * p;
+        [v.x, v.y]
+    }
+}
+
+/// One packed level `T(pos)·R(rot·p)·S(1 + (k−1)·p)·T(-anchor)`.
+#[derive(Clone, Copy, Debug)]
+struct LinLevel {
+    anchor: Vec2,
+    pos: Lin,
+    rot: Option<f64>,
+    scale: Option<Vec2>,
+}
+
+impl LinLevel {
+    fn new() -> LinLevel {
+        LinLevel {
+            anchor: Vec2::ZERO,
+            pos: Lin::default(),
+            rot: None,
+            scale: None,
+        }
+    }
+}
+
+/// Packs components into levels; `None` when a component is not a translation, rotation
+/// or scale.
+fn pack(components: &[Component], pivot: Point) -> Option<Vec<LinLevel>> {
+    let mut levels = vec![LinLevel::new()];
+    for c in components.iter().filter(|c| !c.is_identity()) {
+        let cur = levels.last_mut().expect("at least one level");
+        match *c {
+            Component::Translate(d) => {
+                if cur.rot.is_none() && cur.scale.is_none() {
+                    cur.pos.slope += d;
+                } else {
+                    let mut l = LinLevel::new();
+                    l.pos.slope = d;
+                    levels.push(l);
+                }
+            }
+            Component::Rotate(a) => {
+                let uniform_scale = cur.scale.is_none_or(|k| k.x == k.y);
+                if uniform_scale {
+                    cur.rot = Some(cur.rot.unwrap_or(0.0) + a);
+                } else {
+                    levels.push(LinLevel {
+                        rot: Some(a),
+                        ..LinLevel::new()
+                    });
+                }
+            }
+            Component::Scale(k) => {
+                if cur.scale.is_none() {
+                    cur.scale = Some(k);
+                } else {
+                    levels.push(LinLevel {
+                        scale: Some(k),
+                        ..LinLevel::new()
+                    });
+                }
+            }
+            Component::Skew(..) | Component::Matrix(_) => return None,
+        }
+    }
+    levels[0].pos.base = pivot.to_vec2();
+    levels.last_mut().expect("at least one level").anchor = pivot.to_vec2();
+    Some(levels)
+}
+
+/// The components of a segment that can be written exactly, if it can.
+fn exact_components(seg: &MotionSeg) -> Option<(&[Component], Point)> {
+    let MotionKind::Rigid {
+        pivot,
+        blend,
+        interp,
+    } = &seg.kind
+    else {
+        return None;
+    };
+    let [(_, comps)] = &blend[..] else {
+        return None;
+    };
+    seg.timing.ease.as_cubic_bezier()?;
+    if *interp == Interp::Alexa {
+        // Alexa's power equals the component-wise blend for single translations,
+        // rotations below a half turn and scales; check rather than enumerate.
+        let linear = |p: f64| blend_at(blend, *pivot, p);
+        let same = [0.25, 0.5, 0.75]
+            .iter()
+            .all(|&p| close(seg.full_at(p), linear(p)));
+        if !same {
+            return None;
+        }
+    }
+    Some((comps, *pivot))
+}
+
+fn v2(v: [f64; 2]) -> Value {
+    Value::Vec(vec![N::coord(v[0]), N::coord(v[1])])
+}
+
+fn scalar(x: f64) -> Value {
+    Value::Scalar(N::coord(x))
+}
+
+/// Levels writing `F(f(t))·F(f(t₀))⁻¹` for `t` in `[seg.t0, end]`, if exact.
+fn exact_levels(seg: &MotionSeg, end: f64, fps: f64) -> Option<Vec<Transform>> {
+    let (comps, pivot) = exact_components(seg)?;
+    let levels = pack(comps, pivot)?;
+    let piece = [Piece {
+        t0: seg.t0,
+        t1: end,
+        timing: &seg.timing,
+    }];
+    let p0 = seg.timing.progress(seg.t0);
+    let track =
+        |f: &dyn Fn(f64) -> [f64; 2]| progress_keys(&piece, fps, f(p0), |_, p| f(p), |_| 1e-4);
+    let mut out = Vec::with_capacity(levels.len() + 2);
+    // A channel whose window ends before its change begins (a delay longer than the part
+    // of the slice this window covers) has no keys and stays at its start value `f(p0)`,
+    // which is not the neutral value: the position is the pivot the anchor is taken from.
+    let channel =
+        |f: &dyn Fn(f64) -> [f64; 2], neutral: [f64; 2], to: &dyn Fn(&[f64; 2]) -> Value| {
+            prop_or_default(&track(f), f(p0), neutral, to)
+        };
+    for l in &levels {
+        let scale = |k: Vec2| {
+            move |p: f64| {
+                [
+                    100.0 * (1.0 + (k.x - 1.0) * p),
+                    100.0 * (1.0 + (k.y - 1.0) * p),
+                ]
+            }
+        };
+        out.push(Transform {
+            a: (l.anchor != Vec2::ZERO).then(|| Prop::fixed(v2([l.anchor.x, l.anchor.y]))),
+            p: channel(&|p| l.pos.at(p), [0.0, 0.0], &|v| v2(*v)),
+            s: l.scale
+                .and_then(|k| channel(&scale(k), [100.0, 100.0], &|v| v2(*v))),
+            r: l.rot
+                .and_then(|a| channel(&|p| [a * p, 0.0], [0.0, 0.0], &|v| scalar(v[0]))),
+            o: None,
+        });
+    }
+    if p0 != 0.0 {
+        // Undo F(p0), innermost, so the window starts from where the shape is.
+        let undo = seg.full_at(p0).inverse();
+        out.extend(
+            decompose(undo, Point::ORIGIN)
+                .iter()
+                .filter(|l| !l.is_identity())
+                .map(static_level),
+        );
+    }
+    Some(out)
+}
+
+/// A keyed channel as a property, or `None` when it stays at `neutral`. No keys means the
+/// channel holds `start` throughout.
+fn prop_or_default<V: Near + Clone>(
+    keys: &[Key<V>],
+    start: V,
+    neutral: V,
+    to: impl Fn(&V) -> Value,
+) -> Option<Prop> {
+    let fixed = |v: &V| (!v.near(&neutral)).then(|| Prop::fixed(to(v)));
+    match keys {
+        [] => fixed(&start),
+        [k] => fixed(&k.v),
+        _ => Some(Prop::keyed(to_keyframes(keys, to))),
+    }
+}
+
+/// A fixed level.
+pub fn static_level(l: &Trs) -> Transform {
+    Transform {
+        a: (l.a != Vec2::ZERO).then(|| Prop::fixed(v2([l.a.x, l.a.y]))),
+        p: (l.p != Vec2::ZERO).then(|| Prop::fixed(v2([l.p.x, l.p.y]))),
+        s: (l.s != Vec2::new(1.0, 1.0)).then(|| Prop::fixed(v2([l.s.x * 100.0, l.s.y * 100.0]))),
+        r: (l.r != 0.0).then(|| Prop::scalar(N::coord(l.r))),
+        o: None,
+    }
+}
+
+/// Levels that are the identity before `frame` and `m` from then on.
+fn hold_levels(m: Affine, frame: f64) -> Vec<Transform> {
+    if close(m, Affine::IDENTITY) {
+        return Vec::new();
+    }
+    let levels = decompose(m, Point::ORIGIN);
+    if frame <= 0.0 {
+        return levels.iter().map(static_level).collect();
+    }
+    let held = |from: Value, to: Value| {
+        Prop::Animated(vec![
+            Keyframe {
+                t: N(0.0),
+                s: from,
+                ease: None,
+                hold: true,
+            },
+            Keyframe {
+                t: N::coord(frame),
+                s: to,
+                ease: None,
+                hold: false,
+            },
+        ])
+    };
+    levels
+        .iter()
+        .map(|l| Transform {
+            a: None,
+            p: Some(held(v2([0.0, 0.0]), v2([l.p.x, l.p.y]))),
+            s: Some(held(v2([100.0, 100.0]), v2([l.s.x * 100.0, l.s.y * 100.0]))),
+            r: Some(held(scalar(0.0), scalar(l.r))),
+            o: None,
+        })
+        .collect()
+}
+
+/// Sampled levels for segment `s` of window `w` over `[seg.t0, end]`.
+fn baked_levels(
+    w: &Window,
+    s: usize,
+    end: f64,
+    info: UnitInfo,
+    fps: f64,
+    tolerance: f64,
+) -> Vec<Transform> {
+    let seg = &w.segs[s];
+    let corners = [
+        info.bbox.origin(),
+        Point::new(info.bbox.x1, info.bbox.y0),
+        Point::new(info.bbox.x0, info.bbox.y1),
+        Point::new(info.bbox.x1, info.bbox.y1),
+    ];
+    let sample = |t: f64| {
+        let outer = w.segs[..s]
+            .iter()
+            .fold(Affine::IDENTITY, |acc, o| acc * o.relative_at(t));
+        let inner = w.segs[s + 1..]
+            .iter()
+            .fold(Affine::IDENTITY, |acc, o| acc * o.relative_at(t))
+            * w.start;
+        RigidSample {
+            frame: t * fps,
+            m: seg.relative_at(t),
+            points: corners.iter().map(|c| inner * *c).collect(),
+            gain: max_stretch(outer),
+        }
+    };
+    let mut times = vec![seg.t0];
+    let first = (seg.t0 * fps).floor() as i64 + 1;
+    let last = (end * fps).ceil() as i64 - 1;
+    times.extend(
+        (first..=last)
+            .map(|f| f as f64 / fps)
+            .filter(|t| *t > seg.t0 && *t < end),
+    );
+    if end > seg.t0 {
+        times.push(end);
+    }
+    let samples: Vec<RigidSample> = times.iter().map(|t| sample(*t)).collect();
+    let inner0 = w.segs[s + 1..]
+        .iter()
+        .fold(Affine::IDENTITY, |acc, o| acc * o.relative_at(seg.t0))
+        * w.start;
+    bake_rigid(&samples, inner0 * info.centroid, tolerance)
+}
+
+/// Keys of an attribute channel.
+fn attr_keys<T: Copy + gmotion::motion::Blendable, V: Clone + Near>(
+    segs: &[AttrSeg<T>],
+    fps: f64,
+    default: V,
+    map: impl Fn(T) -> V,
+    value_tolerance: f64,
+) -> Vec<Key<V>> {
+    if segs.is_empty() {
+        return Vec::new();
+    }
+    let pieces: Vec<Piece> = segs
+        .iter()
+        .enumerate()
+        .map(|(k, s)| Piece {
+            t0: s.t0,
+            t1: s.t1.min(segs.get(k + 1).map_or(f64::INFINITY, |n| n.t0)),
+            timing: &s.timing,
+        })
+        .collect();
+    progress_keys(
+        &pieces,
+        fps,
+        default,
+        |k, p| map(segs[k].from.blend(segs[k].to, p)),
+        |_| value_tolerance,
+    )
+}

@@ -1,0 +1,229 @@
+//! Lottie export: an [`Animation`] (or a still [`Scene`]) as Lottie JSON that validates
+//! against the official schema and plays in lottie-web, rlottie and ThorVG.
+//!
+//! What is written:
+//!
+//! - one shape layer per animated shape, named `tag:id` (a still shape is a group of that
+//!   name), in paint order; paths as Bézier outlines (quadratics raised to cubics, one
+//!   `sh` per subpath); fills and strokes, solid or linear/radial gradient with colour and
+//!   opacity stops, fill rule, opacity, caps, joins, miter limit and dashes, in SVG paint
+//!   order; group transforms as skew-free levels (a skew is written as a
+//!   rotation·scale·rotation pair, since rlottie cannot draw skew);
+//! - clip paths as layer masks, or as alpha track mattes when they are more than a union
+//!   of simple outlines; masks as luma or alpha track mattes; group opacity over several
+//!   paints as layer opacity; patterns as tiles under an alpha matte of the outline;
+//! - motion exactly where Lottie can say it (see the `animate` module): nested transform levels
+//!   with keyframes at window boundaries and the ends of the active interval, eased by the
+//!   motion's Bézier, holds where the motion jumps; colour tints, opacity and stroke-width
+//!   multipliers as keyframes on `fl.c`/`st.c`/gradient stops, layer `o` and `st.w`;
+//! - elsewhere (Alexa interpolation, bilinear blends, skew and matrix components,
+//!   non-Bézier easing, per-vertex deformation) sampled per frame and reduced greedily
+//!   within [`LottieOptions::tolerance`] canvas units (the `bake` module).
+//!
+//! What is approximated, with a warning naming the element: focal radii of radial
+//! gradients, radial gradients stretched on strokes, `miter-clip` joins, repeating
+//! gradients with a focal point, patterns too fine to tile. Lottie players loop by
+//! default and the format has no "play once" flag, so a non-looping animation is written
+//! the same way (the player decides).
+
+mod animate;
+mod bake;
+mod geometry;
+mod keys;
+mod model;
+mod paint;
+mod still;
+
+use rayon::prelude::*;
+
+use animate::{UnitInfo, UnitMotion, unit_motion};
+use gmotion::Warning;
+use gmotion::canvas::{Fit, OutputSize};
+use gmotion::motion::{Animation, Track};
+use gmotion::scene::{Scene, Shape};
+
+/// Options of the Lottie export.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LottieOptions {
+    /// Error bound (canvas units) for motion that has to be sampled and reduced.
+    pub tolerance: f64,
+    /// The animation's name (`nm`).
+    pub name: String,
+    /// The composition's size `w` × `h`, the art scaled to fit (see [`OutputSize`]).
+    /// Default: the scene's size.
+    pub size: OutputSize,
+}
+
+impl Default for LottieOptions {
+    fn default() -> Self {
+        LottieOptions {
+            tolerance: 0.25,
+            name: "gmotion".to_string(),
+            size: OutputSize::default(),
+        }
+    }
+}
+
+/// The JSON text and the warnings: features dropped or approximated, each naming the
+/// element.
+pub type LottieOutput = (String, Vec<Warning>);
+
+/// Why an export failed.
+#[derive(Debug, thiserror::Error)]
+pub enum LottieError {
+    /// The canvas is empty or not finite.
+    #[error("the canvas is {width}×{height}; Lottie needs a positive, finite size")]
+    Size {
+        /// Width.
+        width: f64,
+        /// Height.
+        height: f64,
+    },
+    /// Frame rate or duration unusable.
+    #[error(
+        "the animation's frame rate ({fps}) and duration ({duration} s) must be positive and finite"
+    )]
+    Timing {
+        /// Frames per second.
+        fps: f64,
+        /// Seconds.
+        duration: f64,
+    },
+    /// The animation has a different number of tracks than shapes.
+    #[error("the animation has {tracks} tracks for {shapes} shapes")]
+    Tracks {
+        /// Tracks.
+        tracks: usize,
+        /// Shapes.
+        shapes: usize,
+    },
+}
+
+/// Shapes from which an export bakes their motions in parallel.
+const PARALLEL_UNITS: usize = 64;
+
+/// Writes an animation as Lottie JSON.
+pub fn to_lottie(anim: &Animation, opts: &LottieOptions) -> Result<LottieOutput, LottieError> {
+    if !(anim.fps.is_finite() && anim.fps > 0.0 && anim.duration.is_finite() && anim.duration > 0.0)
+    {
+        return Err(LottieError::Timing {
+            fps: anim.fps,
+            duration: anim.duration,
+        });
+    }
+    if anim.tracks.len() != anim.scene.shapes.len() {
+        return Err(LottieError::Tracks {
+            tracks: anim.tracks.len(),
+            shapes: anim.scene.shapes.len(),
+        });
+    }
+    let frames = anim.frame_count();
+    let motion = |(track, shape): (&Track, &Shape)| {
+        let info = UnitInfo {
+            bbox: shape.bbox,
+            centroid: shape.centroid,
+        };
+        unit_motion(track, info, anim.fps, frames, opts.tolerance)
+    };
+    // Shapes are independent, and baking what Lottie cannot say (skews, blends) samples and
+    // fits every frame of a moving window: most of an export's time on large scenes. A
+    // handful of shapes is not worth waking the thread pool for.
+    let motions: Vec<UnitMotion> = if anim.tracks.len() >= PARALLEL_UNITS {
+        (anim.tracks.par_iter().zip(&anim.scene.shapes))
+            .map(motion)
+            .collect()
+    } else {
+        anim.tracks
+            .iter()
+            .zip(&anim.scene.shapes)
+            .map(motion)
+            .collect()
+    };
+    write(
+        &anim.scene,
+        &anim.tracks,
+        motions,
+        anim.fps,
+        frames as f64,
+        opts,
+    )
+}
+
+/// Writes a still scene as a one-frame Lottie.
+pub fn still_to_lottie(scene: &Scene, opts: &LottieOptions) -> Result<LottieOutput, LottieError> {
+    write(scene, &[], Vec::new(), 30.0, 1.0, opts)
+}
+
+fn write(
+    scene: &Scene,
+    tracks: &[Track],
+    motions: Vec<UnitMotion>,
+    fps: f64,
+    op: f64,
+    opts: &LottieOptions,
+) -> Result<LottieOutput, LottieError> {
+    let (w, h) = (scene.width, scene.height);
+    if !(w.is_finite() && h.is_finite() && w > 0.0 && h > 0.0) {
+        return Err(LottieError::Size {
+            width: w,
+            height: h,
+        });
+    }
+    let size = (w.round().max(1.0) as u32, h.round().max(1.0) as u32);
+    let tolerance = if opts.tolerance.is_finite() && opts.tolerance > 0.0 {
+        opts.tolerance
+    } else {
+        0.25
+    };
+    let mut builder = still::Builder::new(scene, tracks, motions, fps, op, tolerance);
+    let mut layers = builder.layers(size);
+    let size = match opts.size.fit(w, h) {
+        Some(fit) => {
+            fit_layers(
+                &mut layers,
+                &fit,
+                (size.0 as f64 / w, size.1 as f64 / h),
+                op,
+            );
+            (fit.width, fit.height)
+        }
+        None => size,
+    };
+    let doc = model::Animation {
+        v: "5.7.0",
+        fr: model::N::coord(fps),
+        ip: model::N(0.0),
+        op: model::N::coord(op),
+        w: size.0,
+        h: size.1,
+        nm: opts.name.clone(),
+        assets: std::mem::take(&mut builder.assets),
+        layers,
+    };
+    let json = serde_json::to_string(&doc).expect("the Lottie model serialises to JSON");
+    Ok((
+        json,
+        builder.warnings.into_iter().map(Warning::from).collect(),
+    ))
+}
+
+/// Places the root layers, drawn on a composition `built` pixels per canvas unit, where
+/// `fit` puts the canvas: through a null parent that scales and moves them (exact for
+/// every layer whatever its own transform, as the builder's own canvas null is).
+fn fit_layers(layers: &mut Vec<model::Layer>, fit: &Fit, built: (f64, f64), op: f64) {
+    use model::{Layer, LayerType, N, Prop};
+    let ind = layers.iter().map(|l| l.ind).max().unwrap_or(0) + 1;
+    for l in layers.iter_mut().filter(|l| l.parent.is_none()) {
+        l.parent = Some(ind);
+    }
+    let mut null = Layer::new(LayerType::Null, "output".to_string(), ind, 0.0, op);
+    null.ks.s = Some(Prop::vec(vec![
+        N::fine(fit.scale / built.0 * 100.0),
+        N::fine(fit.scale / built.1 * 100.0),
+    ]));
+    null.ks.p = Some(Prop::vec(vec![
+        N::coord(fit.offset.x),
+        N::coord(fit.offset.y),
+    ]));
+    layers.push(null);
+}

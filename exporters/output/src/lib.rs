@@ -1,0 +1,319 @@
+//! Every output gmotion writes, chosen by file name: `.json` Lottie, `.svg` SVG (SMIL when
+//! animated), `.png` one picture, `.gif` / `.apng` a preview of the whole animation, and a
+//! path without extension (or an existing folder) one PNG per frame.
+//!
+//! This is the layer the command line and embedders share, so that picking a format and
+//! rendering frames is not something every caller re-implements. Files are written whole or
+//! not at all ([`gmotion::atomic`]).
+//!
+//! ```no_run
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! # let anim: gmotion::Animation = unimplemented!();
+//! use gmotion_output::{Options, write};
+//! for path in ["out.json", "out.svg", "out.gif"] {
+//!     let warnings = write(&anim, path.as_ref(), &Options::default())?;
+//!     for w in warnings {
+//!         eprintln!("{path}: warning: {w}");
+//!     }
+//! }
+//! # Ok(()) }
+//! ```
+#![forbid(unsafe_code)]
+
+use std::path::{Path, PathBuf};
+
+use gmotion::Warning;
+use gmotion::canvas::OutputSize;
+use gmotion::motion::Animation;
+use gmotion::scene::Scene;
+use gmotion_export_lottie::{self as lottie, LottieOptions};
+use gmotion_export_raster::{self as raster, Pixmap, RenderError};
+use gmotion_export_svg::{frame, smil};
+use rayon::prelude::*;
+
+/// What an output path asks for, by its extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// One PNG.
+    Png,
+    /// Lottie JSON.
+    Lottie,
+    /// SVG (animated SMIL, or a clean still).
+    Svg,
+    /// Animated GIF preview.
+    Gif,
+    /// Animated PNG preview.
+    Apng,
+    /// A folder of PNG frames, `frame_00000.png` on.
+    Frames,
+}
+
+impl Format {
+    /// The format of `path`: by extension, or a folder of frames when it has none (or is an
+    /// existing folder).
+    pub fn of(path: &Path) -> Result<Format, OutputError> {
+        if path.is_dir() {
+            return Ok(Format::Frames);
+        }
+        match path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .as_deref()
+        {
+            Some("png") => Ok(Format::Png),
+            Some("json") => Ok(Format::Lottie),
+            Some("svg") => Ok(Format::Svg),
+            Some("gif") => Ok(Format::Gif),
+            Some("apng") => Ok(Format::Apng),
+            None => Ok(Format::Frames),
+            Some(other) => Err(OutputError::UnknownFormat {
+                path: path.to_path_buf(),
+                extension: other.to_string(),
+            }),
+        }
+    }
+
+    /// Whether the format holds one still picture (what `convert` writes).
+    pub fn is_still(self) -> bool {
+        matches!(self, Format::Png | Format::Lottie | Format::Svg)
+    }
+}
+
+/// How to write.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Options {
+    /// Error bound, in canvas pixels, for motion an exporter has to bake (default 0.25).
+    pub tolerance: f64,
+    /// The output's pixel size (the `width`/`height` directives).
+    pub size: OutputSize,
+    /// The time, in seconds, of the frame a `.png` output shows.
+    pub time: f64,
+}
+
+impl Default for Options {
+    fn default() -> Options {
+        Options {
+            tolerance: 0.25,
+            size: OutputSize::default(),
+            time: 0.0,
+        }
+    }
+}
+
+/// Why an output could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    /// The extension names no format gmotion writes.
+    #[error(
+        "{}: unknown output format `.{extension}`; use .png, .json (Lottie), .svg, .gif, .apng or a directory",
+        path.display()
+    )]
+    UnknownFormat {
+        /// The output.
+        path: PathBuf,
+        /// Its extension.
+        extension: String,
+    },
+    /// A still scene cannot be written as an animation format.
+    #[error("{}: a still picture is written as .png, .json or .svg, not {format:?}", path.display())]
+    NotStill {
+        /// The output.
+        path: PathBuf,
+        /// What its name asked for.
+        format: Format,
+    },
+    /// `time` lies outside the animation.
+    #[error("--time must lie within the animation, 0..{duration}s, found {time}")]
+    TimeOutside {
+        /// The time asked for.
+        time: f64,
+        /// The animation's duration.
+        duration: f64,
+    },
+    /// Rendering or writing pixels failed.
+    #[error("{}: {source}", path.display())]
+    Raster {
+        /// The output.
+        path: PathBuf,
+        /// What failed.
+        #[source]
+        source: RenderError,
+    },
+    /// The Lottie exporter refused the animation.
+    #[error("{}: {source}", path.display())]
+    Lottie {
+        /// The output.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        source: lottie::LottieError,
+    },
+    /// The SMIL exporter refused the animation.
+    #[error("{}: {source}", path.display())]
+    Smil {
+        /// The output.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        source: smil::SmilError,
+    },
+    /// Writing the file failed.
+    #[error("{}: cannot write output: {source}", path.display())]
+    Io {
+        /// The output.
+        path: PathBuf,
+        /// What the system said.
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+/// Renders frames `0..n` of `anim` in parallel at `size`; `tick` is called once per frame
+/// rendered (for a progress bar). Order and bytes do not depend on the thread count.
+pub fn render_frames(
+    anim: &Animation,
+    size: OutputSize,
+    tick: &(dyn Fn() + Sync),
+) -> Result<Vec<Pixmap>, RenderError> {
+    let sampler = anim.sampler();
+    (0..anim.frame_count())
+        .into_par_iter()
+        .map(|i| {
+            let svg = frame::sampled_frame_svg(anim, &sampler, anim.frame_time(i));
+            let r = raster::render_sized(&svg, size);
+            tick();
+            r
+        })
+        .collect()
+}
+
+/// Writes `anim` to `path` in the format its name asks for and returns what the format
+/// could not show exactly.
+pub fn write(anim: &Animation, path: &Path, opts: &Options) -> Result<Vec<Warning>, OutputError> {
+    write_with_progress(anim, path, opts, &|| {})
+}
+
+/// [`write()`], calling `tick` once per frame rendered.
+pub fn write_with_progress(
+    anim: &Animation,
+    path: &Path,
+    opts: &Options,
+    tick: &(dyn Fn() + Sync),
+) -> Result<Vec<Warning>, OutputError> {
+    let raster_err = |source| OutputError::Raster {
+        path: path.to_path_buf(),
+        source,
+    };
+    let frames = || render_frames(anim, opts.size, tick).map_err(raster_err);
+    match Format::of(path)? {
+        Format::Png => {
+            let t = opts.time;
+            if !t.is_finite() || t < 0.0 || t > anim.duration {
+                return Err(OutputError::TimeOutside {
+                    time: t,
+                    duration: anim.duration,
+                });
+            }
+            let pm =
+                raster::render_sized(&frame::frame_svg(anim, t), opts.size).map_err(raster_err)?;
+            raster::save_png(&pm, path).map_err(raster_err)?;
+            Ok(Vec::new())
+        }
+        Format::Frames => {
+            raster::write_frames(&frames()?, path).map_err(raster_err)?;
+            Ok(Vec::new())
+        }
+        Format::Gif => {
+            raster::write_gif(&frames()?, anim.fps, anim.looping, path).map_err(raster_err)?;
+            Ok(Vec::new())
+        }
+        Format::Apng => {
+            raster::write_apng(&frames()?, anim.fps, anim.looping, path).map_err(raster_err)?;
+            Ok(Vec::new())
+        }
+        Format::Lottie => {
+            let lopts = LottieOptions {
+                tolerance: opts.tolerance,
+                size: opts.size,
+                ..Default::default()
+            };
+            let (json, warnings) =
+                lottie::to_lottie(anim, &lopts).map_err(|source| OutputError::Lottie {
+                    path: path.to_path_buf(),
+                    source,
+                })?;
+            write_file(path, json.as_bytes())?;
+            Ok(warnings)
+        }
+        Format::Svg => {
+            let sopts = smil::SmilOptions {
+                tolerance: opts.tolerance,
+                size: opts.size,
+                ..Default::default()
+            };
+            let (svg, warnings) =
+                smil::to_smil(anim, &sopts).map_err(|source| OutputError::Smil {
+                    path: path.to_path_buf(),
+                    source,
+                })?;
+            write_file(path, svg.as_bytes())?;
+            Ok(warnings)
+        }
+    }
+}
+
+/// Writes a still `scene` to `path`: `.png` rendered, `.json` a still Lottie, `.svg` a clean
+/// SVG through gmotion's scene model.
+pub fn write_still(
+    scene: &Scene,
+    path: &Path,
+    opts: &Options,
+) -> Result<Vec<Warning>, OutputError> {
+    let raster_err = |source| OutputError::Raster {
+        path: path.to_path_buf(),
+        source,
+    };
+    match Format::of(path)? {
+        Format::Png => {
+            let pm =
+                raster::render_sized(&frame::scene_svg(scene), opts.size).map_err(raster_err)?;
+            raster::save_png(&pm, path).map_err(raster_err)?;
+            Ok(Vec::new())
+        }
+        Format::Lottie => {
+            let lopts = LottieOptions {
+                tolerance: opts.tolerance,
+                size: opts.size,
+                ..Default::default()
+            };
+            let (json, warnings) =
+                lottie::still_to_lottie(scene, &lopts).map_err(|source| OutputError::Lottie {
+                    path: path.to_path_buf(),
+                    source,
+                })?;
+            write_file(path, json.as_bytes())?;
+            Ok(warnings)
+        }
+        Format::Svg => {
+            let svg = frame::scene_svg(scene);
+            let svg = match opts.size.fit(scene.width, scene.height) {
+                Some(fit) => frame::with_output_size(&svg, &fit),
+                None => svg,
+            };
+            write_file(path, svg.as_bytes())?;
+            Ok(Vec::new())
+        }
+        format => Err(OutputError::NotStill {
+            path: path.to_path_buf(),
+            format,
+        }),
+    }
+}
+
+fn write_file(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
+    gmotion::atomic::write_bytes(path, bytes).map_err(|source| OutputError::Io {
+        path: path.to_path_buf(),
+        source,
+    })
+}

@@ -1,0 +1,453 @@
+//! Scenes and animation frames as SVG text: the static SVG `convert` writes, and the frame
+//! documents gmotion renders with resvg for PNG, GIF and APNG output.
+//!
+//! A frame is the scene with every shape's [`ShapeState`] applied to its unit node:
+//!
+//! - the node is wrapped in a `<g>` whose transform is `P⁻¹·S·P`, where `S` is the state's
+//!   canvas-space transform and `P` the shape's `parent_transform`, so the unit lands where
+//!   `S` puts it whatever groups it sits in; the wrapper's opacity is the state's opacity;
+//! - fill and stroke tints apply to every colour the unit paints, gradient stops and
+//!   pattern content included (tinted copies of those are written once per tint);
+//! - stroke widths are multiplied by the state's stroke-width factor;
+//! - a shape whose track deforms per vertex has every path point moved by
+//!   [`Track::deform`] instead of a wrapper transform. Gradients, patterns, clip paths and
+//!   masks inside such a unit keep their rest geometry.
+//!
+//! Units do not nest in imported scenes; if they do, tints and stroke factors compose
+//! (inner first) and deformations apply inner first.
+//!
+//! Numbers are written at `f32` precision (what resvg computes in) in their shortest
+//! form, so a frame is exact for the renderer and identical on every run.
+
+mod defs;
+mod number;
+
+use std::collections::HashSet;
+
+use kurbo::{Affine, BezPath, PathEl, Point};
+
+use gmotion::canvas::Fit;
+
+use defs::{Def, Defs, Names};
+use gmotion::motion::{Animation, Sampler, ShapeState, Tint, Track};
+use gmotion::scene::{FillRule, Group, LineCap, LineJoin, Node, Paint, PathNode, Scene};
+use number::{attr_num, attr_transform, escaped, hex, num, point};
+
+/// The opening of every document this module writes, up to the canvas size.
+const ROOT: &str = "<svg xmlns=\"http://www.w3.org/2000/svg\"";
+
+/// `svg`, a document written by this module (or spliced from one, as the SMIL exporter
+/// does), with its root's `width` and `height` set to `fit`'s output size. The `viewBox`
+/// keeps the canvas, so viewers scale the art to fit and centre it, as [`Fit`] says.
+/// Text that does not start as this module writes it is returned unchanged.
+pub fn with_output_size(svg: &str, fit: &Fit) -> String {
+    let Some(rest) = svg.strip_prefix(ROOT) else {
+        return svg.to_string();
+    };
+    let Some(view_box) = rest.find(" viewBox=") else {
+        return svg.to_string();
+    };
+    let mut out = String::with_capacity(svg.len() + 16);
+    out.push_str(ROOT);
+    attr_num(&mut out, "width", f64::from(fit.width));
+    attr_num(&mut out, "height", f64::from(fit.height));
+    out.push_str(&rest[view_box..]);
+    out
+}
+
+/// The scene as a static SVG document, with its node ids.
+pub fn scene_svg(scene: &Scene) -> String {
+    let mut ids = HashSet::new();
+    collect_ids(&scene.root, &mut ids);
+    let writer = Writer {
+        scene,
+        frame: None,
+        out: String::with_capacity(4096),
+        defs: Defs::with_names(Names::new(ids)),
+        deform: Vec::new(),
+        written_ids: Some(HashSet::new()),
+    };
+    writer.document()
+}
+
+/// The animation's frame at time `t` (seconds) as an SVG document.
+pub fn frame_svg(anim: &Animation, t: f64) -> String {
+    frame_with_states(anim, t, anim.evaluate(t))
+}
+
+/// [`frame_svg`] with the states read from `sampler` (built once for many frames).
+pub fn sampled_frame_svg(anim: &Animation, sampler: &Sampler, t: f64) -> String {
+    frame_with_states(anim, t, sampler.evaluate(t))
+}
+
+fn frame_with_states(anim: &Animation, t: f64, states: Vec<ShapeState>) -> String {
+    let writer = Writer {
+        scene: &anim.scene,
+        frame: Some(Frame {
+            tracks: &anim.tracks,
+            states,
+            t,
+        }),
+        out: String::with_capacity(4096),
+        defs: Defs::default(),
+        deform: Vec::new(),
+        written_ids: None,
+    };
+    writer.document()
+}
+
+fn collect_ids(g: &Group, ids: &mut HashSet<String>) {
+    if !g.id.is_empty() {
+        ids.insert(g.id.clone());
+    }
+    for child in &g.children {
+        match child {
+            Node::Group(h) => collect_ids(h, ids),
+            Node::Path(p) if !p.id.is_empty() => {
+                ids.insert(p.id.clone());
+            }
+            Node::Path(_) => {}
+        }
+    }
+}
+
+/// `ts⁻¹`, or the identity for a singular `ts` (which flattens its content to nothing, so
+/// any inverse would do).
+fn inverse(ts: Affine) -> Affine {
+    if ts.determinant().abs() > 1e-12 {
+        ts.inverse()
+    } else {
+        Affine::IDENTITY
+    }
+}
+
+/// A tint applied after `inner`: `outer(inner(c))` for every colour `c`.
+fn compose(outer: Tint, inner: Tint) -> Tint {
+    if inner == Tint::NONE {
+        return outer;
+    }
+    if outer == Tint::NONE {
+        return inner;
+    }
+    let k = 1.0 - outer.weight;
+    Tint {
+        sum: std::array::from_fn(|i| inner.sum[i] * k + outer.sum[i]),
+        weight: 1.0 - (1.0 - inner.weight) * k,
+    }
+}
+
+struct Frame<'a> {
+    tracks: &'a [Track],
+    states: Vec<ShapeState>,
+    t: f64,
+}
+
+/// What applies to the nodes being written.
+#[derive(Clone, Copy)]
+struct Ctx {
+    /// Rest transform from the current coordinates to the canvas.
+    abs: Affine,
+    fill: Tint,
+    stroke: Tint,
+    /// Stroke width factor.
+    width: f64,
+}
+
+impl Ctx {
+    const REST: Ctx = Ctx {
+        abs: Affine::IDENTITY,
+        fill: Tint::NONE,
+        stroke: Tint::NONE,
+        width: 1.0,
+    };
+}
+
+struct Writer<'a> {
+    scene: &'a Scene,
+    frame: Option<Frame<'a>>,
+    out: String,
+    defs: Defs<'a>,
+    /// Tracks deforming the unit being written, outermost first.
+    deform: Vec<&'a Track>,
+    /// Node ids written so far (`None` when ids are not written: frames and defs).
+    written_ids: Option<HashSet<&'a str>>,
+}
+
+impl<'a> Writer<'a> {
+    fn document(mut self) -> String {
+        let root = &self.scene.root;
+        self.group(root, Ctx::REST);
+        let body = std::mem::take(&mut self.out);
+        self.written_ids = None;
+        self.write_defs();
+        let defs = std::mem::take(&mut self.out);
+
+        let mut doc = String::with_capacity(body.len() + defs.len() + 160);
+        doc.push_str(ROOT);
+        attr_num(&mut doc, "width", self.scene.width);
+        attr_num(&mut doc, "height", self.scene.height);
+        doc.push_str(" viewBox=\"0 0 ");
+        point(&mut doc, Point::new(self.scene.width, self.scene.height));
+        doc.push_str("\">\n");
+        if !defs.is_empty() {
+            doc.push_str("<defs>\n");
+            doc.push_str(&defs);
+            doc.push_str("</defs>\n");
+        }
+        doc.push_str(&body);
+        doc.push_str("</svg>\n");
+        doc
+    }
+
+    fn id_attr(&mut self, id: &'a str) {
+        if id.is_empty() {
+            return;
+        }
+        if let Some(written) = &mut self.written_ids
+            && written.insert(id)
+        {
+            self.out.push_str(" id=\"");
+            escaped(&mut self.out, id);
+            self.out.push('"');
+        }
+    }
+
+    fn node(&mut self, node: &'a Node, ctx: Ctx) {
+        if let Some(unit) = node.unit()
+            && self.frame.is_some()
+        {
+            self.animated(node, unit, ctx);
+            return;
+        }
+        self.plain(node, ctx);
+    }
+
+    fn plain(&mut self, node: &'a Node, ctx: Ctx) {
+        match node {
+            Node::Group(g) => self.group(g, ctx),
+            Node::Path(p) => self.path(p, ctx),
+        }
+    }
+
+    /// Writes a unit node in the state its shape is in.
+    fn animated(&mut self, node: &'a Node, unit: usize, ctx: Ctx) {
+        let Some(frame) = &self.frame else {
+            return self.plain(node, ctx);
+        };
+        let (Some(&state), Some(track), Some(shape)) = (
+            frame.states.get(unit),
+            frame.tracks.get(unit),
+            self.scene.shapes.get(unit),
+        ) else {
+            return self.plain(node, ctx);
+        };
+        let deforms = track.deforms();
+        if state == ShapeState::REST && !deforms {
+            return self.plain(node, ctx);
+        }
+        let opacity = state.opacity.clamp(0.0, 1.0);
+        if opacity == 0.0 {
+            return;
+        }
+        let p = shape.parent_transform;
+        let ts = if deforms {
+            Affine::IDENTITY
+        } else {
+            inverse(p) * state.transform * p
+        };
+        let wrapped = ts != Affine::IDENTITY || opacity != 1.0;
+        if wrapped {
+            self.out.push_str("<g");
+            attr_transform(&mut self.out, "transform", ts);
+            if opacity != 1.0 {
+                attr_num(&mut self.out, "opacity", opacity);
+            }
+            self.out.push_str(">\n");
+        }
+        let inner = Ctx {
+            abs: ctx.abs,
+            fill: compose(ctx.fill, state.fill),
+            stroke: compose(ctx.stroke, state.stroke),
+            width: ctx.width * state.stroke_width,
+        };
+        if deforms {
+            self.deform.push(track);
+        }
+        self.plain(node, inner);
+        if deforms {
+            self.deform.pop();
+        }
+        if wrapped {
+            self.out.push_str("</g>\n");
+        }
+    }
+
+    fn group(&mut self, g: &'a Group, ctx: Ctx) {
+        let bare = g.transform == Affine::IDENTITY
+            && g.opacity == 1.0
+            && g.clip_path.is_none()
+            && g.mask.is_none()
+            && (g.id.is_empty() || self.written_ids.is_none());
+        if bare {
+            return self.group_content(g, ctx);
+        }
+        self.out.push_str("<g");
+        self.id_attr(&g.id);
+        attr_transform(&mut self.out, "transform", g.transform);
+        if g.opacity != 1.0 {
+            attr_num(&mut self.out, "opacity", g.opacity as f64);
+        }
+        if let Some(c) = &g.clip_path {
+            self.url("clip-path", Def::Clip(c, Affine::IDENTITY));
+        }
+        if let Some(m) = &g.mask {
+            self.url("mask", Def::Mask(m));
+        }
+        if g.children.is_empty() {
+            self.out.push_str("/>\n");
+            return;
+        }
+        self.out.push_str(">\n");
+        self.group_content(g, ctx);
+        self.out.push_str("</g>\n");
+    }
+
+    /// Writes a group's children (its own attributes are the caller's business).
+    fn group_content(&mut self, g: &'a Group, ctx: Ctx) {
+        let inner = Ctx {
+            abs: ctx.abs * g.transform,
+            ..ctx
+        };
+        for child in &g.children {
+            self.node(child, inner);
+        }
+    }
+
+    fn path(&mut self, p: &'a PathNode, ctx: Ctx) {
+        self.out.push_str("<path");
+        self.id_attr(&p.id);
+        self.out.push_str(" d=\"");
+        let deform = (!self.deform.is_empty()).then_some(ctx.abs);
+        self.path_data(&p.path, deform);
+        self.out.push('"');
+        match &p.fill {
+            None => self.out.push_str(" fill=\"none\""),
+            Some(f) => {
+                self.paint("fill", &f.paint, ctx.fill);
+                if f.opacity != 1.0 {
+                    attr_num(&mut self.out, "fill-opacity", f.opacity as f64);
+                }
+                if f.rule == FillRule::EvenOdd {
+                    self.out.push_str(" fill-rule=\"evenodd\"");
+                }
+            }
+        }
+        if let Some(s) = &p.stroke {
+            self.paint("stroke", &s.paint, ctx.stroke);
+            if s.opacity != 1.0 {
+                attr_num(&mut self.out, "stroke-opacity", s.opacity as f64);
+            }
+            let width = s.width * ctx.width;
+            if width != 1.0 {
+                attr_num(&mut self.out, "stroke-width", width);
+            }
+            match s.cap {
+                LineCap::Butt => {}
+                LineCap::Round => self.out.push_str(" stroke-linecap=\"round\""),
+                LineCap::Square => self.out.push_str(" stroke-linecap=\"square\""),
+            }
+            match s.join {
+                LineJoin::Miter => {}
+                LineJoin::MiterClip => self.out.push_str(" stroke-linejoin=\"miter-clip\""),
+                LineJoin::Round => self.out.push_str(" stroke-linejoin=\"round\""),
+                LineJoin::Bevel => self.out.push_str(" stroke-linejoin=\"bevel\""),
+            }
+            if s.miter_limit != 4.0 {
+                attr_num(&mut self.out, "stroke-miterlimit", s.miter_limit);
+            }
+            if let Some(dash) = s.dash.as_deref().filter(|d| !d.is_empty()) {
+                self.out.push_str(" stroke-dasharray=\"");
+                for (i, v) in dash.iter().enumerate() {
+                    if i > 0 {
+                        self.out.push(' ');
+                    }
+                    num(&mut self.out, *v);
+                }
+                self.out.push('"');
+                if s.dash_offset != 0.0 {
+                    attr_num(&mut self.out, "stroke-dashoffset", s.dash_offset);
+                }
+            }
+            if p.stroke_first {
+                self.out.push_str(" paint-order=\"stroke\"");
+            }
+        }
+        self.out.push_str("/>\n");
+    }
+
+    fn paint(&mut self, attr: &str, paint: &'a Paint, tint: Tint) {
+        match paint {
+            Paint::Solid(c) => {
+                self.out.push(' ');
+                self.out.push_str(attr);
+                self.out.push_str("=\"");
+                hex(&mut self.out, tint.apply(*c));
+                self.out.push('"');
+            }
+            Paint::Linear(g) => self.url(attr, Def::Linear(g, tint)),
+            Paint::Radial(g) => self.url(attr, Def::Radial(g, tint)),
+            Paint::Pattern(p) => self.url(attr, Def::Pattern(p, tint)),
+        }
+    }
+
+    /// Writes path data; with `deform` (the path's rest transform to the canvas) every
+    /// point goes through the deforming tracks, innermost first.
+    fn path_data(&mut self, path: &BezPath, deform: Option<Affine>) {
+        let t = self.frame.as_ref().map_or(0.0, |f| f.t);
+        let back = deform.map(inverse);
+        let map = |q: Point| -> Point {
+            match (deform, back) {
+                (Some(abs), Some(back)) => {
+                    let mut c = abs * q;
+                    for track in self.deform.iter().rev() {
+                        c = track.deform(c, t);
+                    }
+                    back * c
+                }
+                _ => q,
+            }
+        };
+        let mut buf = std::mem::take(&mut self.out);
+        for (i, el) in path.elements().iter().enumerate() {
+            if i > 0 {
+                buf.push(' ');
+            }
+            match *el {
+                PathEl::MoveTo(p) => {
+                    buf.push('M');
+                    point(&mut buf, map(p));
+                }
+                PathEl::LineTo(p) => {
+                    buf.push('L');
+                    point(&mut buf, map(p));
+                }
+                PathEl::QuadTo(a, p) => {
+                    buf.push('Q');
+                    point(&mut buf, map(a));
+                    buf.push(' ');
+                    point(&mut buf, map(p));
+                }
+                PathEl::CurveTo(a, b, p) => {
+                    buf.push('C');
+                    point(&mut buf, map(a));
+                    buf.push(' ');
+                    point(&mut buf, map(b));
+                    buf.push(' ');
+                    point(&mut buf, map(p));
+                }
+                PathEl::ClosePath => buf.push('Z'),
+            }
+        }
+        self.out = buf;
+    }
+}

@@ -1,0 +1,129 @@
+//! Numbers and colours as SVG text.
+//!
+//! Every number goes out at `f32` precision, the precision usvg and resvg compute in: the
+//! shortest text that reads back to the same `f32`, so output is exact for the renderer,
+//! short, and identical byte for byte on every run.
+
+use std::fmt::Write;
+
+use kurbo::{Affine, Point};
+
+use gmotion::color::Color;
+
+/// Appends `v` as the shortest decimal that reads back as the same `f32`; `0` for zero
+/// (and for non-finite values, which SVG cannot carry).
+pub(super) fn num(out: &mut String, v: f64) {
+    let f = v as f32;
+    if f == 0.0 || !f.is_finite() {
+        out.push('0');
+        return;
+    }
+    let a = f.abs();
+    // Plain notation reads best; exponents keep very small and very large values short.
+    let _ = if (1e-5..1e9).contains(&a) {
+        write!(out, "{f}")
+    } else {
+        write!(out, "{f:e}")
+    };
+}
+
+/// Appends `x y`.
+pub(super) fn point(out: &mut String, p: Point) {
+    num(out, p.x);
+    out.push(' ');
+    num(out, p.y);
+}
+
+/// Appends ` name="v"`.
+pub(super) fn attr_num(out: &mut String, name: &str, v: f64) {
+    out.push(' ');
+    out.push_str(name);
+    out.push_str("=\"");
+    num(out, v);
+    out.push('"');
+}
+
+/// Appends ` name="matrix(…)"` unless `ts` is the identity.
+pub(super) fn attr_transform(out: &mut String, name: &str, ts: Affine) {
+    if ts == Affine::IDENTITY {
+        return;
+    }
+    let [a, b, c, d, e, f] = ts.as_coeffs();
+    out.push(' ');
+    out.push_str(name);
+    if [a, b, c, d] == [1.0, 0.0, 0.0, 1.0] {
+        out.push_str("=\"translate(");
+        num(out, e);
+        out.push(' ');
+        num(out, f);
+    } else {
+        out.push_str("=\"matrix(");
+        for (i, v) in [a, b, c, d, e, f].into_iter().enumerate() {
+            if i > 0 {
+                out.push(' ');
+            }
+            num(out, v);
+        }
+    }
+    out.push_str(")\"");
+}
+
+/// Appends `#rrggbb`.
+pub(super) fn hex(out: &mut String, c: Color) {
+    const DIGITS: &[u8; 16] = b"0123456789abcdef";
+    out.push('#');
+    for v in &c.to_rgba8()[..3] {
+        out.push(DIGITS[(v >> 4) as usize] as char);
+        out.push(DIGITS[(v & 15) as usize] as char);
+    }
+}
+
+/// Appends `s` escaped for an XML attribute value.
+pub(super) fn escaped(out: &mut String, s: &str) {
+    for ch in s.chars() {
+        match ch {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            _ => out.push(ch),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn n(v: f64) -> String {
+        let mut s = String::new();
+        num(&mut s, v);
+        s
+    }
+
+    #[test]
+    fn numbers_are_short_and_exact_in_f32() {
+        assert_eq!(n(100.0), "100");
+        assert_eq!(n(-0.0), "0");
+        assert_eq!(n(0.1 + 0.2), "0.3");
+        assert_eq!(n(6.123233995736766e-17), "6.123234e-17");
+        assert_eq!(n(f64::NAN), "0");
+        for v in [1.0 / 3.0, 12345.678, -0.000123, 2.5e10] {
+            assert_eq!(n(v).parse::<f32>().unwrap(), v as f32);
+        }
+    }
+
+    #[test]
+    fn transforms_and_colours() {
+        let mut s = String::new();
+        attr_transform(&mut s, "transform", Affine::translate((2.0, -3.5)));
+        attr_transform(&mut s, "transform", Affine::IDENTITY);
+        assert_eq!(s, " transform=\"translate(2 -3.5)\"");
+        s.clear();
+        hex(&mut s, Color::rgb8(255, 8, 160));
+        assert_eq!(s, "#ff08a0");
+        s.clear();
+        escaped(&mut s, "a<\"&");
+        assert_eq!(s, "a&lt;&quot;&amp;");
+    }
+}

@@ -1,0 +1,112 @@
+//! Per-vertex deformation as `<animate attributeName="d">`: the path is sampled (every
+//! point through [`Track::deform`], as the frame writer does), and samples are kept where
+//! linear interpolation of the points would stray more than the tolerance on the canvas.
+//! Every value has the same commands, so browsers interpolate it point by point.
+
+use std::fmt::Write;
+
+use kurbo::{Affine, BezPath, PathEl, Point};
+
+use super::bake::{fraction, reduce, sample_times};
+use super::curve::Key;
+use super::xml::{COORD, num};
+use gmotion::motion::Track;
+
+/// The keys of the path's `d` over `[0, dur]`, the path in its own coordinates `abs` away
+/// from the canvas and deformed by `tracks` (outermost first, applied innermost first).
+/// `None` when `abs` is singular.
+pub fn d_keys(
+    path: &BezPath,
+    abs: Affine,
+    tracks: &[&Track],
+    dur: f64,
+    rate: f64,
+    tolerance: f64,
+) -> Option<Vec<Key<String>>> {
+    if abs.determinant().abs() <= 1e-12 {
+        return None;
+    }
+    let back = abs.inverse();
+    let rest: Vec<Point> = points(path).into_iter().map(|q| abs * q).collect();
+    let mut extra = Vec::new();
+    for s in tracks.iter().flat_map(|t| &t.motions) {
+        let (x, y) = s.timing.active();
+        extra.extend([s.t0, s.t1, x, y]);
+    }
+    let ts = sample_times(0.0, dur, rate, 8, &extra);
+    let frames: Vec<Vec<Point>> = ts
+        .iter()
+        .map(|&t| {
+            rest.iter()
+                .map(|&q| tracks.iter().rev().fold(q, |c, tr| tr.deform(c, t)))
+                .collect()
+        })
+        .collect();
+    let keep = reduce(ts.len(), tolerance, |k, lo, hi| {
+        let s = fraction(&ts, k, lo, hi);
+        frames[k]
+            .iter()
+            .zip(frames[lo].iter().zip(&frames[hi]))
+            .map(|(q, (a, b))| (a.lerp(*b, s) - *q).hypot())
+            .fold(0.0, f64::max)
+    });
+    Some(
+        keep.iter()
+            .map(|&k| Key::linear(ts[k], path_data(path, frames[k].iter().map(|&q| back * q))))
+            .collect(),
+    )
+}
+
+/// Every point of a path in order (control points included).
+fn points(path: &BezPath) -> Vec<Point> {
+    let mut out = Vec::with_capacity(path.elements().len() * 3);
+    for el in path.elements() {
+        match *el {
+            PathEl::MoveTo(p) | PathEl::LineTo(p) => out.push(p),
+            PathEl::QuadTo(a, b) => out.extend([a, b]),
+            PathEl::CurveTo(a, b, c) => out.extend([a, b, c]),
+            PathEl::ClosePath => {}
+        }
+    }
+    out
+}
+
+/// The path's commands with its points replaced, in order, by `pts`.
+fn path_data(path: &BezPath, mut pts: impl Iterator<Item = Point>) -> String {
+    let mut out = String::new();
+    let mut pt = |out: &mut String| {
+        let q = pts.next().unwrap_or_default();
+        let _ = write!(out, "{} {}", num(q.x, COORD), num(q.y, COORD));
+    };
+    for (i, el) in path.elements().iter().enumerate() {
+        if i > 0 {
+            out.push(' ');
+        }
+        match el {
+            PathEl::MoveTo(_) => {
+                out.push('M');
+                pt(&mut out);
+            }
+            PathEl::LineTo(_) => {
+                out.push('L');
+                pt(&mut out);
+            }
+            PathEl::QuadTo(..) => {
+                out.push('Q');
+                pt(&mut out);
+                out.push(' ');
+                pt(&mut out);
+            }
+            PathEl::CurveTo(..) => {
+                out.push('C');
+                pt(&mut out);
+                out.push(' ');
+                pt(&mut out);
+                out.push(' ');
+                pt(&mut out);
+            }
+            PathEl::ClosePath => out.push('Z'),
+        }
+    }
+    out
+}

@@ -1,0 +1,296 @@
+//! Reusing the static writer: the scene is written by [`scene_svg`] with every node the
+//! animation touches findable by id, and the animation elements are spliced into that text.
+//!
+//! Nodes that have no id, or share one, get a marker id for the writing (markers are chosen
+//! to collide with nothing, so the writer's def names avoid them too) which the splice
+//! removes again. The writer's output is regular (one tag per line, escaped attribute
+//! values), so a tag scanner is enough to find elements.
+
+use std::collections::{HashMap, HashSet};
+
+use kurbo::Affine;
+
+use crate::frame::scene_svg;
+use gmotion::scene::{Group, Node, PathNode, Scene};
+
+/// A path inside one or more animated units, with what the splice needs to animate it.
+pub struct MarkedPath<'a> {
+    /// The path in the original scene.
+    pub path: &'a PathNode,
+    /// The id that finds it in the written document.
+    pub id: String,
+    /// Transform from the path's coordinates to the canvas at rest.
+    pub abs: Affine,
+    /// The units it lies in, outermost first.
+    pub units: Vec<usize>,
+}
+
+/// The static document and where the animated nodes are in it.
+pub struct Marked<'a> {
+    /// `scene_svg`'s text of the marked scene.
+    pub svg: String,
+    /// Id of each unit's node, by unit index.
+    pub unit_ids: HashMap<usize, String>,
+    /// Paths inside units, in document order.
+    pub paths: Vec<MarkedPath<'a>>,
+    /// Ids that exist only to be found, to remove when splicing.
+    pub markers: HashSet<String>,
+    /// Every id in the document (to name new elements without collisions).
+    pub taken: HashSet<String>,
+}
+
+/// Writes `scene` with ids on the unit nodes of `units` and on every path inside them.
+pub fn mark<'a>(scene: &'a Scene, units: &HashSet<usize>) -> Marked<'a> {
+    let mut count: HashMap<&str, usize> = HashMap::new();
+    count_ids(&scene.root, &mut count);
+    let mut taken: HashSet<String> = count.keys().map(|s| s.to_string()).collect();
+    let mut st = MarkState {
+        units,
+        count: &count,
+        taken: &mut taken,
+        unit_ids: HashMap::new(),
+        paths: Vec::new(),
+        markers: HashSet::new(),
+    };
+    let mut root = scene.root.clone();
+    st.group(
+        &scene.root,
+        &mut root,
+        scene.root.transform,
+        &mut Vec::new(),
+    );
+    let (unit_ids, paths, markers) = (st.unit_ids, st.paths, st.markers);
+    let marked = Scene {
+        root,
+        ..scene.clone()
+    };
+    Marked {
+        svg: scene_svg(&marked),
+        unit_ids,
+        paths,
+        markers,
+        taken,
+    }
+}
+
+fn count_ids<'s>(g: &'s Group, count: &mut HashMap<&'s str, usize>) {
+    if !g.id.is_empty() {
+        *count.entry(&g.id).or_default() += 1;
+    }
+    for child in &g.children {
+        match child {
+            Node::Group(h) => count_ids(h, count),
+            Node::Path(p) if !p.id.is_empty() => *count.entry(&p.id).or_default() += 1,
+            Node::Path(_) => {}
+        }
+    }
+}
+
+struct MarkState<'a, 'c> {
+    units: &'c HashSet<usize>,
+    count: &'c HashMap<&'a str, usize>,
+    taken: &'c mut HashSet<String>,
+    unit_ids: HashMap<usize, String>,
+    paths: Vec<MarkedPath<'a>>,
+    markers: HashSet<String>,
+}
+
+impl<'a> MarkState<'a, '_> {
+    /// The id to find a node by: its own when unique, else a fresh marker.
+    fn findable(&mut self, own: &str, hint: &str) -> (String, bool) {
+        if !own.is_empty() && self.count.get(own) == Some(&1) {
+            return (own.to_string(), false);
+        }
+        let mut name = format!("gmotion-{hint}");
+        while self.taken.contains(&name) {
+            name.push('_');
+        }
+        self.taken.insert(name.clone());
+        self.markers.insert(name.clone());
+        (name, true)
+    }
+
+    /// Walks `orig` and its copy `out` together; `abs` maps the group's content to the canvas.
+    fn group(&mut self, orig: &'a Group, out: &mut Group, abs: Affine, inside: &mut Vec<usize>) {
+        for (o, n) in orig.children.iter().zip(out.children.iter_mut()) {
+            let unit = o.unit().filter(|u| self.units.contains(u));
+            if let Some(u) = unit {
+                let (id, _) = self.findable(o.id(), &format!("u{u}"));
+                set_id(n, &id);
+                self.unit_ids.insert(u, id);
+                inside.push(u);
+            }
+            match (o, n) {
+                (Node::Group(og), Node::Group(ng)) => {
+                    self.group(og, ng, abs * og.transform, inside)
+                }
+                (Node::Path(op), Node::Path(np)) if !inside.is_empty() => {
+                    let hint = format!("p{}", self.paths.len());
+                    let id = match unit {
+                        Some(u) => self.unit_ids[&u].clone(),
+                        None => self.findable(&op.id, &hint).0,
+                    };
+                    np.id.clone_from(&id);
+                    self.paths.push(MarkedPath {
+                        path: op,
+                        id,
+                        abs,
+                        units: inside.clone(),
+                    });
+                }
+                _ => {}
+            }
+            if unit.is_some() {
+                inside.pop();
+            }
+        }
+    }
+}
+
+fn set_id(n: &mut Node, id: &str) {
+    match n {
+        Node::Group(g) => id.clone_into(&mut g.id),
+        Node::Path(p) => id.clone_into(&mut p.id),
+    }
+}
+
+/// A tag in the document: byte range and shape.
+#[derive(Clone, Copy, Debug)]
+pub struct Tag {
+    /// Offset of `<`.
+    pub start: usize,
+    /// Offset just past `>`.
+    pub end: usize,
+    /// `</…>`.
+    pub closing: bool,
+    /// `<…/>`.
+    pub empty: bool,
+}
+
+/// An element: its start tag and, for non-empty elements, the offset past its end tag.
+#[derive(Clone, Copy, Debug)]
+pub struct Element {
+    /// The start tag.
+    pub tag: Tag,
+    /// Offset just past the element (its end tag, or the empty tag).
+    pub end: usize,
+}
+
+/// Every tag of a document the static writer produced (no comments, CDATA or `>` in
+/// attribute values).
+pub fn tags(svg: &str) -> Vec<Tag> {
+    let mut out = Vec::new();
+    let mut i = 0;
+    let b = svg.as_bytes();
+    while let Some(off) = svg[i..].find('<') {
+        let start = i + off;
+        let Some(len) = svg[start..].find('>') else {
+            break;
+        };
+        let end = start + len + 1;
+        out.push(Tag {
+            start,
+            end,
+            closing: b.get(start + 1) == Some(&b'/'),
+            empty: b[end - 2] == b'/',
+        });
+        i = end;
+    }
+    out
+}
+
+/// The value of attribute `name` in a tag's text, with its byte range in that text.
+pub fn attr<'s>(tag: &'s str, name: &str) -> Option<(std::ops::Range<usize>, &'s str)> {
+    let pat = format!(" {name}=\"");
+    let at = tag.find(&pat)? + pat.len();
+    let len = tag[at..].find('"')?;
+    Some((at..at + len, &tag[at..at + len]))
+}
+
+/// The elements that carry an id, by id (the first one when an id repeats).
+pub fn elements_by_id(svg: &str) -> HashMap<String, Element> {
+    let mut found = HashMap::new();
+    let mut open: Vec<Tag> = Vec::new();
+    let finish = |t: Tag, end: usize, found: &mut HashMap<String, Element>| {
+        if let Some((_, id)) = attr(&svg[t.start..t.end], "id") {
+            found
+                .entry(id.to_string())
+                .or_insert(Element { tag: t, end });
+        }
+    };
+    for t in tags(svg) {
+        if t.closing {
+            if let Some(o) = open.pop() {
+                finish(o, t.end, &mut found);
+            }
+        } else if t.empty {
+            finish(t, t.end, &mut found);
+        } else if !svg[t.start..].starts_with("<?") {
+            open.push(t);
+        }
+    }
+    found
+}
+
+/// Text edits on a document: insertions and replacements at byte offsets.
+#[derive(Default)]
+pub struct Edits {
+    list: Vec<(usize, usize, u32, String)>,
+    seq: u32,
+}
+
+impl Edits {
+    /// Replaces `range` by `text`.
+    pub fn replace(&mut self, range: std::ops::Range<usize>, text: String) {
+        self.list.push((range.start, range.end, self.seq, text));
+        self.seq += 1;
+    }
+
+    /// Inserts `text` at `at`; insertions at one offset keep the order they were made in.
+    pub fn insert(&mut self, at: usize, text: String) {
+        self.replace(at..at, text);
+    }
+
+    /// The edited document. Replaced ranges must not overlap.
+    pub fn apply(mut self, doc: &str) -> String {
+        self.list.sort_by_key(|e| (e.0, e.1 != e.0, e.2));
+        let extra: usize = self.list.iter().map(|e| e.3.len()).sum();
+        let mut out = String::with_capacity(doc.len() + extra);
+        let mut at = 0;
+        for (start, end, _, text) in self.list {
+            out.push_str(&doc[at..start.max(at)]);
+            out.push_str(&text);
+            at = at.max(end);
+        }
+        out.push_str(&doc[at..]);
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn finds_elements_and_attributes() {
+        let doc = "<svg a=\"1\">\n<g id=\"x\">\n<path id=\"y\" d=\"M0 0\"/>\n</g>\n</svg>\n";
+        let els = elements_by_id(doc);
+        let x = els["x"];
+        assert_eq!(
+            &doc[x.tag.start..x.end],
+            "<g id=\"x\">\n<path id=\"y\" d=\"M0 0\"/>\n</g>"
+        );
+        let y = els["y"];
+        assert_eq!(attr(&doc[y.tag.start..y.tag.end], "d").unwrap().1, "M0 0");
+    }
+
+    #[test]
+    fn edits_apply_in_order() {
+        let mut e = Edits::default();
+        e.insert(3, "b".into());
+        e.replace(1..2, "X".into());
+        e.insert(3, "c".into());
+        e.insert(0, "<".into());
+        assert_eq!(e.apply("0123"), "<0X2bc3");
+    }
+}

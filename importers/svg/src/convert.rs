@@ -1,0 +1,591 @@
+//! usvg tree → scene tree, choosing and tagging the animated units on the way.
+//!
+//! usvg adds groups of its own (for an element's transform or opacity) and drops ids inside
+//! `use` instances; units and tags are therefore decided on source elements, found through
+//! the ids [`Source`] guarantees, never on usvg's structure.
+
+use std::collections::{HashMap, HashSet};
+use std::sync::Arc;
+
+use kurbo::{Affine, BezPath, Point, Rect};
+use usvg::roxmltree::NodeId;
+use usvg::tiny_skia_path::PathSegment;
+
+use super::source::{Scope, Source};
+use super::{ImportOptions, Units};
+use gmotion::color::Color;
+use gmotion::scene::{
+    ClipPath, Fill, FillRule, Group, LineCap, LineJoin, LinearGradient, Mask, MaskKind, Node,
+    Paint, PathNode, Pattern, RadialGradient, Spread, Stop, Stroke,
+};
+
+/// An animated unit found during conversion.
+pub(super) struct Unit {
+    pub tag: String,
+    pub node_path: Vec<usize>,
+    pub parent_transform: Affine,
+}
+
+/// The converted tree with its units (in paint order) and warnings.
+pub(super) struct Converted {
+    pub root: Group,
+    pub units: Vec<Unit>,
+    pub warnings: Vec<(String, String)>,
+}
+
+/// Converts a usvg tree parsed from `src.prepared`.
+pub(super) fn convert(tree: &usvg::Tree, src: &Source, opts: &ImportOptions) -> Converted {
+    let mut c = Converter {
+        src,
+        opts: *opts,
+        warnings: Vec::new(),
+        warned: HashSet::new(),
+        ids: HashSet::new(),
+        linear: HashMap::new(),
+        radial: HashMap::new(),
+        gradients: HashMap::new(),
+        patterns: HashMap::new(),
+        clips: HashMap::new(),
+        masks: HashMap::new(),
+        units: Vec::new(),
+        path: Vec::new(),
+        zip: None,
+    };
+    let root_elem = src.doc.root_element();
+    let mut ctx = Ctx {
+        scope: src.scope(root_elem, Scope::default(), opts.tag_from, None),
+        abs: Affine::IDENTITY,
+        units: true,
+        near: None,
+    };
+    let mut root = Group::new();
+    let top = tree.root();
+    // The viewBox mapping arrives as usvg's only top-level group; it becomes the root's
+    // transform, as the scene model documents.
+    match top.children() {
+        [usvg::Node::Group(g)] if g.id().is_empty() && is_plain(g) => {
+            root.transform = affine(g.transform());
+            ctx.abs = root.transform;
+            c.children(g, &mut root, ctx);
+        }
+        _ => c.children(top, &mut root, ctx),
+    }
+    Converted {
+        root,
+        units: c.units,
+        warnings: c.warnings,
+    }
+}
+
+/// A group that only transforms.
+fn is_plain(g: &usvg::Group) -> bool {
+    g.opacity() == usvg::Opacity::ONE
+        && g.clip_path().is_none()
+        && g.mask().is_none()
+        && g.filters().is_empty()
+        && g.blend_mode() == usvg::BlendMode::Normal
+}
+
+#[derive(Clone, Copy)]
+struct Ctx<'a> {
+    /// Tags seen so far.
+    scope: Scope<'a>,
+    /// Transform from the current group's coordinates to the canvas.
+    abs: Affine,
+    /// Whether nodes here may become units (not inside a unit, a clip, a mask or a pattern).
+    units: bool,
+    /// The nearest source element, to name in warnings.
+    near: Option<NodeId>,
+}
+
+impl Ctx<'_> {
+    /// The context for clip, mask and pattern content: no units, no tags.
+    fn plain(near: Option<NodeId>) -> Self {
+        Ctx {
+            scope: Scope::default(),
+            abs: Affine::IDENTITY,
+            units: false,
+            near,
+        }
+    }
+}
+
+/// The shapes of a `use` instance whose paths usvg left without ids, in paint order, and
+/// the referenced element their tag lookup stops at.
+struct Zip {
+    limit: NodeId,
+    shapes: std::vec::IntoIter<NodeId>,
+}
+
+struct Converter<'s, 'a> {
+    src: &'s Source<'a>,
+    opts: ImportOptions,
+    warnings: Vec<(String, String)>,
+    warned: HashSet<String>,
+    /// Real ids given to scene nodes so far (each is used once).
+    ids: HashSet<String>,
+    linear: HashMap<usize, Arc<LinearGradient>>,
+    radial: HashMap<usize, Arc<RadialGradient>>,
+    /// Gradients by value (see [`gradient_key`]).
+    gradients: HashMap<Vec<u32>, Paint>,
+    patterns: HashMap<usize, Arc<Pattern>>,
+    clips: HashMap<usize, Arc<ClipPath>>,
+    masks: HashMap<usize, Arc<Mask>>,
+    units: Vec<Unit>,
+    /// Child indices from the root to the group being filled.
+    path: Vec<usize>,
+    zip: Option<Zip>,
+}
+
+/// Identity of a usvg paint server, clip or mask: they are shared through `Arc`s.
+fn key<T>(arc: &T) -> usize {
+    arc as *const T as usize
+}
+
+fn affine(t: usvg::Transform) -> Affine {
+    Affine::new([
+        t.sx as f64,
+        t.ky as f64,
+        t.kx as f64,
+        t.sy as f64,
+        t.tx as f64,
+        t.ty as f64,
+    ])
+}
+
+fn rect(r: usvg::NonZeroRect) -> Rect {
+    Rect::new(
+        r.left() as f64,
+        r.top() as f64,
+        r.right() as f64,
+        r.bottom() as f64,
+    )
+}
+
+fn bez(path: &usvg::tiny_skia_path::Path) -> BezPath {
+    let pt = |p: usvg::tiny_skia_path::Point| Point::new(p.x as f64, p.y as f64);
+    let mut out = BezPath::new();
+    for seg in path.segments() {
+        match seg {
+            PathSegment::MoveTo(p) => out.move_to(pt(p)),
+            PathSegment::LineTo(p) => out.line_to(pt(p)),
+            PathSegment::QuadTo(a, p) => out.quad_to(pt(a), pt(p)),
+            PathSegment::CubicTo(a, b, p) => out.curve_to(pt(a), pt(b), pt(p)),
+            PathSegment::Close => out.close_path(),
+        }
+    }
+    out
+}
+
+fn count_paths(g: &usvg::Group) -> usize {
+    g.children()
+        .iter()
+        .map(|n| match n {
+            usvg::Node::Path(_) => 1,
+            usvg::Node::Group(g) => count_paths(g),
+            _ => 0,
+        })
+        .sum()
+}
+
+fn has_path(g: &Group) -> bool {
+    g.children.iter().any(|n| match n {
+        Node::Path(_) => true,
+        Node::Group(g) => has_path(g),
+    })
+}
+
+/// What a usvg group stands for.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum GroupKind {
+    /// A group usvg made for an element (or for its own reasons).
+    Element,
+    /// The outlines of a `<text>` element.
+    Text,
+}
+
+impl<'s, 'a> Converter<'s, 'a> {
+    fn warn(&mut self, near: Option<NodeId>, what: &str) {
+        let place = near
+            .and_then(|id| self.src.node(id))
+            .map_or_else(|| "<svg>".to_string(), |n| self.src.describe(n));
+        if self.warned.insert(format!("{place}: {what}")) {
+            self.warnings.push((place, what.to_string()));
+        }
+    }
+
+    /// The scene id for a usvg id: real ids once each, synthetic ones dropped.
+    fn keep_id(&mut self, id: &str) -> String {
+        if id.is_empty() || self.src.is_synthetic(id) || !self.ids.insert(id.to_string()) {
+            return String::new();
+        }
+        id.to_string()
+    }
+
+    fn register(&mut self, tag: &str, parent_transform: Affine, index: usize) -> usize {
+        let mut node_path = self.path.clone();
+        node_path.push(index);
+        self.units.push(Unit {
+            tag: tag.to_string(),
+            node_path,
+            parent_transform,
+        });
+        self.units.len() - 1
+    }
+
+    fn children(&mut self, g: &usvg::Group, dst: &mut Group, ctx: Ctx<'s>) {
+        for child in g.children() {
+            match child {
+                usvg::Node::Group(g) => self.group(g, GroupKind::Element, dst, ctx),
+                usvg::Node::Path(p) => self.path(p, dst, ctx),
+                usvg::Node::Text(t) => {
+                    let near = self.src.element(t.id()).map(|e| e.id()).or(ctx.near);
+                    if t.flattened().children().is_empty() {
+                        self.warn(near, "text dropped: no font to draw it with");
+                    } else {
+                        self.warn(near, "text converted to outlines with the system fonts");
+                        self.group(t.flattened(), GroupKind::Text, dst, ctx);
+                    }
+                }
+                usvg::Node::Image(i) => {
+                    let near = self.src.element(i.id()).map(|e| e.id()).or(ctx.near);
+                    self.warn(near, "image dropped (images are not supported)");
+                }
+            }
+        }
+    }
+
+    /// The tag that makes a group a unit under the chosen unit rule, if it has one (text is
+    /// a unit whatever its tag: it answers with its scope's).
+    fn unit_tag(
+        &self,
+        elem: usvg::roxmltree::Node<'s, 'a>,
+        kind: GroupKind,
+        scope: Scope<'s>,
+    ) -> Option<&'s str> {
+        let from = self.opts.tag_from;
+        match (self.opts.units, kind) {
+            (Units::Paths, _) => None,
+            (_, GroupKind::Text) => Some(scope.tag("text")),
+            (Units::Auto, GroupKind::Element) => self.src.own_tag(elem, from, false),
+            (Units::Groups, GroupKind::Element) => self.src.own_tag(elem, from, true),
+        }
+    }
+
+    fn group(&mut self, g: &usvg::Group, kind: GroupKind, dst: &mut Group, ctx: Ctx<'s>) {
+        let elem = self.src.element(g.id());
+        let near = elem.map(|e| e.id()).or(ctx.near);
+        if !g.filters().is_empty() {
+            self.warn(near, "filter ignored (filters are not supported)");
+        }
+        if g.blend_mode() != usvg::BlendMode::Normal {
+            self.warn(
+                near,
+                &format!(
+                    "mix-blend-mode {} ignored (blend modes are not supported)",
+                    g.blend_mode()
+                ),
+            );
+        }
+        let from = self.opts.tag_from;
+        let scope = match elem {
+            Some(e) if ctx.units => self.src.scope(e, ctx.scope, from, None),
+            _ => ctx.scope,
+        };
+        // A group unit is tagged with the tag that makes it one (for a `use`, possibly the
+        // referenced group's), which is the nearest source anyway except for a layer name
+        // under an explicit tag further up.
+        let unit_tag = elem
+            .filter(|_| ctx.units)
+            .and_then(|e| self.unit_tag(e, kind, scope));
+        let is_unit = unit_tag.is_some();
+        let transform = affine(g.transform());
+        let opacity = g.opacity().get();
+        let clip_path = g.clip_path().map(|c| self.clip(c, near));
+        let mask = g.mask().map(|m| self.mask(m, near));
+        let id = self.keep_id(g.id());
+        let inner = Ctx {
+            scope,
+            abs: ctx.abs * transform,
+            units: ctx.units && !is_unit,
+            near,
+        };
+
+        let zip = match elem {
+            Some(e) if inner.units => self
+                .src
+                .use_shapes(e)
+                .filter(|(_, shapes)| shapes.len() == count_paths(g))
+                .map(|(limit, shapes)| Zip {
+                    limit,
+                    shapes: shapes.into_iter(),
+                }),
+            _ => None,
+        };
+        let outer_zip = zip.is_some().then(|| std::mem::replace(&mut self.zip, zip));
+
+        let transparent = id.is_empty()
+            && transform == Affine::IDENTITY
+            && opacity == 1.0
+            && clip_path.is_none()
+            && mask.is_none()
+            && !is_unit;
+        if transparent {
+            self.children(g, dst, inner);
+        } else {
+            let mut out = Group {
+                id,
+                transform,
+                opacity,
+                clip_path,
+                mask,
+                children: Vec::new(),
+                unit: None,
+            };
+            let index = dst.children.len();
+            self.path.push(index);
+            self.children(g, &mut out, inner);
+            self.path.pop();
+            if let Some(tag) = unit_tag.filter(|_| has_path(&out)) {
+                out.unit = Some(self.register(tag, ctx.abs, index));
+            }
+            if !out.children.is_empty() {
+                dst.children.push(Node::Group(out));
+            }
+        }
+        if let Some(z) = outer_zip {
+            self.zip = z;
+        }
+    }
+
+    fn path(&mut self, p: &usvg::Path, dst: &mut Group, ctx: Ctx<'s>) {
+        let from = self.opts.tag_from;
+        let mut elem = self.src.element(p.id());
+        let mut limit = None;
+        if elem.is_none()
+            && ctx.units
+            && let Some(zip) = &mut self.zip
+        {
+            // A path of a `use` instance: take the next shape of the referenced content.
+            elem = zip.shapes.next().and_then(|id| self.src.node(id));
+            limit = Some(zip.limit);
+        }
+        if !p.is_visible() {
+            return;
+        }
+        let near = elem.map(|e| e.id()).or(ctx.near);
+        if p.rendering_mode() != usvg::ShapeRendering::GeometricPrecision {
+            self.warn(near, "shape-rendering ignored (always anti-aliased)");
+        }
+        let fill = p.fill().map(|f| Fill {
+            paint: self.paint(f.paint(), near),
+            opacity: f.opacity().get(),
+            rule: match f.rule() {
+                usvg::FillRule::NonZero => FillRule::NonZero,
+                usvg::FillRule::EvenOdd => FillRule::EvenOdd,
+            },
+        });
+        let stroke = p.stroke().map(|s| self.stroke(s, near));
+        let mut node = PathNode {
+            id: self.keep_id(p.id()),
+            path: bez(p.data()),
+            fill,
+            stroke,
+            stroke_first: p.paint_order() == usvg::PaintOrder::StrokeAndFill,
+            unit: None,
+        };
+        if ctx.units {
+            let scope = elem.map_or(ctx.scope, |e| self.src.scope(e, ctx.scope, from, limit));
+            let name = elem.map_or("path", |e| e.tag_name().name());
+            node.unit = Some(self.register(scope.tag(name), ctx.abs, dst.children.len()));
+        }
+        dst.children.push(Node::Path(node));
+    }
+
+    fn stroke(&mut self, s: &usvg::Stroke, near: Option<NodeId>) -> Stroke {
+        Stroke {
+            paint: self.paint(s.paint(), near),
+            opacity: s.opacity().get(),
+            width: s.width().get() as f64,
+            cap: match s.linecap() {
+                usvg::LineCap::Butt => LineCap::Butt,
+                usvg::LineCap::Round => LineCap::Round,
+                usvg::LineCap::Square => LineCap::Square,
+            },
+            join: match s.linejoin() {
+                usvg::LineJoin::Miter => LineJoin::Miter,
+                usvg::LineJoin::MiterClip => LineJoin::MiterClip,
+                usvg::LineJoin::Round => LineJoin::Round,
+                usvg::LineJoin::Bevel => LineJoin::Bevel,
+            },
+            miter_limit: s.miterlimit().get() as f64,
+            dash: s.dasharray().map(|d| d.iter().map(|&v| v as f64).collect()),
+            dash_offset: s.dashoffset() as f64,
+        }
+    }
+
+    fn paint(&mut self, p: &usvg::Paint, near: Option<NodeId>) -> Paint {
+        match p {
+            usvg::Paint::Color(c) => Paint::Solid(Color::rgb8(c.red, c.green, c.blue)),
+            usvg::Paint::LinearGradient(lg) => {
+                let lg: &usvg::LinearGradient = lg;
+                if let Some(arc) = self.linear.get(&key(lg)) {
+                    return Paint::Linear(arc.clone());
+                }
+                let value = [lg.x1(), lg.y1(), lg.x2(), lg.y2(), 0.0, 0.0];
+                let same = gradient_key(0, value, lg);
+                let arc = self.gradients.entry(same).or_insert_with(|| {
+                    Paint::Linear(Arc::new(LinearGradient {
+                        id: lg.id().to_string(),
+                        start: Point::new(lg.x1() as f64, lg.y1() as f64),
+                        end: Point::new(lg.x2() as f64, lg.y2() as f64),
+                        transform: affine(lg.transform()),
+                        spread: spread(lg.spread_method()),
+                        stops: stops(lg.stops()),
+                    }))
+                });
+                if let Paint::Linear(a) = arc {
+                    self.linear.insert(key(lg), a.clone());
+                }
+                arc.clone()
+            }
+            usvg::Paint::RadialGradient(rg) => {
+                let rg: &usvg::RadialGradient = rg;
+                if let Some(arc) = self.radial.get(&key(rg)) {
+                    return Paint::Radial(arc.clone());
+                }
+                let value = [
+                    rg.cx(),
+                    rg.cy(),
+                    rg.r().get(),
+                    rg.fx(),
+                    rg.fy(),
+                    rg.fr().get(),
+                ];
+                let same = gradient_key(1, value, rg);
+                let arc = self.gradients.entry(same).or_insert_with(|| {
+                    Paint::Radial(Arc::new(RadialGradient {
+                        id: rg.id().to_string(),
+                        center: Point::new(rg.cx() as f64, rg.cy() as f64),
+                        radius: rg.r().get() as f64,
+                        focal: Point::new(rg.fx() as f64, rg.fy() as f64),
+                        focal_radius: rg.fr().get() as f64,
+                        transform: affine(rg.transform()),
+                        spread: spread(rg.spread_method()),
+                        stops: stops(rg.stops()),
+                    }))
+                });
+                if let Paint::Radial(a) = arc {
+                    self.radial.insert(key(rg), a.clone());
+                }
+                arc.clone()
+            }
+            usvg::Paint::Pattern(pat) => Paint::Pattern(self.pattern(pat, near)),
+        }
+    }
+
+    /// Converts clip, mask or pattern content: never units, and a `use` instance being
+    /// matched must not lose shapes to it.
+    fn content(&mut self, g: &usvg::Group, near: Option<NodeId>) -> Group {
+        let zip = self.zip.take();
+        let mut root = Group::new();
+        self.children(g, &mut root, Ctx::plain(near));
+        self.zip = zip;
+        root
+    }
+
+    fn pattern(&mut self, p: &usvg::Pattern, near: Option<NodeId>) -> Arc<Pattern> {
+        if let Some(a) = self.patterns.get(&key(p)) {
+            return a.clone();
+        }
+        let root = self.content(p.root(), near);
+        let arc = Arc::new(Pattern {
+            id: p.id().to_string(),
+            rect: rect(p.rect()),
+            transform: affine(p.transform()),
+            root,
+        });
+        self.patterns.insert(key(p), arc.clone());
+        arc
+    }
+
+    fn clip(&mut self, c: &usvg::ClipPath, near: Option<NodeId>) -> Arc<ClipPath> {
+        if let Some(a) = self.clips.get(&key(c)) {
+            return a.clone();
+        }
+        let root = self.content(c.root(), near);
+        let clip_path = c.clip_path().map(|n| self.clip(n, near));
+        let arc = Arc::new(ClipPath {
+            id: c.id().to_string(),
+            transform: affine(c.transform()),
+            clip_path,
+            root,
+        });
+        self.clips.insert(key(c), arc.clone());
+        arc
+    }
+
+    fn mask(&mut self, m: &usvg::Mask, near: Option<NodeId>) -> Arc<Mask> {
+        if let Some(a) = self.masks.get(&key(m)) {
+            return a.clone();
+        }
+        let root = self.content(m.root(), near);
+        let mask = m.mask().map(|n| self.mask(n, near));
+        let kind = match m.kind() {
+            usvg::MaskType::Luminance => MaskKind::Luminance,
+            usvg::MaskType::Alpha => MaskKind::Alpha,
+        };
+        let arc = Arc::new(Mask {
+            id: m.id().to_string(),
+            rect: rect(m.rect()),
+            kind,
+            mask,
+            root,
+        });
+        self.masks.insert(key(m), arc.clone());
+        arc
+    }
+}
+
+/// Everything that makes two usvg gradients paint the same: usvg copies a gradient for
+/// each element it fills in `objectBoundingBox` units, and copies on equal boxes (repeated
+/// elements, `use` instances) are merged back into one.
+fn gradient_key(kind: u32, geometry: [f32; 6], g: &usvg::BaseGradient) -> Vec<u32> {
+    let t = g.transform();
+    let mut k = vec![kind, g.spread_method() as u32];
+    k.extend(
+        geometry
+            .iter()
+            .chain(&[t.sx, t.ky, t.kx, t.sy, t.tx, t.ty])
+            .map(|v| v.to_bits()),
+    );
+    for s in g.stops() {
+        let c = s.color();
+        k.extend([s.offset().get().to_bits(), s.opacity().get().to_bits()]);
+        k.push(u32::from_be_bytes([0, c.red, c.green, c.blue]));
+    }
+    k
+}
+
+fn spread(s: usvg::SpreadMethod) -> Spread {
+    match s {
+        usvg::SpreadMethod::Pad => Spread::Pad,
+        usvg::SpreadMethod::Reflect => Spread::Reflect,
+        usvg::SpreadMethod::Repeat => Spread::Repeat,
+    }
+}
+
+fn stops(stops: &[usvg::Stop]) -> Vec<Stop> {
+    stops
+        .iter()
+        .map(|s| {
+            let c = s.color();
+            let mut color = Color::rgb8(c.red, c.green, c.blue);
+            color.a = s.opacity().get();
+            Stop {
+                offset: s.offset().get(),
+                color,
+            }
+        })
+        .collect()
+}

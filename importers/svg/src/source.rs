@@ -1,0 +1,376 @@
+//! The source document as the designer wrote it: element lookup, synthetic ids and tags.
+//!
+//! usvg keeps only `id` attributes, so every element that can become a usvg node and has
+//! no usable id gets a synthetic one before usvg sees the text. Afterwards any usvg node
+//! leads back to its source element, where `data-tag`, `class` and `inkscape:label` are
+//! still there to read.
+
+use std::collections::{HashMap, HashSet};
+
+use usvg::roxmltree::{self, Document, Node, NodeId};
+
+use super::ImportError;
+use crate::tags::{TagFrom, first_class, strip_counter};
+
+const SVG_NS: &str = "http://www.w3.org/2000/svg";
+const XLINK_NS: &str = "http://www.w3.org/1999/xlink";
+const INKSCAPE_NS: &str = "http://www.inkscape.org/namespaces/inkscape";
+
+/// Elements usvg turns into nodes that carry their id.
+const MAPPED: &[&str] = &[
+    "g", "a", "use", "svg", "switch", "path", "rect", "circle", "ellipse", "line", "polyline",
+    "polygon", "text", "image",
+];
+
+/// Basic shapes: the elements a `use` instance's paths can come from.
+const SHAPES: &[&str] = &[
+    "path", "rect", "circle", "ellipse", "line", "polyline", "polygon",
+];
+
+/// Containers a shape inside a referenced element can sit in and still be drawn.
+const TRANSPARENT_CONTAINERS: &[&str] = &["g", "a", "symbol", "svg"];
+
+/// The parsed source plus the text prepared for usvg.
+pub(super) struct Source<'a> {
+    pub doc: Document<'a>,
+    /// The source text with synthetic ids inserted (borrowed when none were needed).
+    pub prepared: std::borrow::Cow<'a, str>,
+    /// Whether the document has `<text>` (usvg then needs fonts).
+    pub has_text: bool,
+    prefix: String,
+    synthetic: Vec<NodeId>,
+    by_id: HashMap<String, NodeId>,
+}
+
+/// The tag sources seen on the way from the root to a node (nearest wins).
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Scope<'a> {
+    /// Nearest explicit tag (`data-tag`, class or label, as `TagFrom` selects).
+    explicit: Option<&'a str>,
+    /// Nearest layer name (a `<g>` id without its counter).
+    layer: Option<&'a str>,
+    /// The source element this scope was last extended with.
+    elem: Option<NodeId>,
+}
+
+impl<'a> Scope<'a> {
+    /// The tag: the explicit one, else the layer name, else `name`.
+    pub fn tag<'b>(&self, name: &'b str) -> &'b str
+    where
+        'a: 'b,
+    {
+        self.explicit.or(self.layer).unwrap_or(name)
+    }
+}
+
+fn is_svg(node: Node) -> bool {
+    node.is_element() && matches!(node.tag_name().namespace(), None | Some(SVG_NS))
+}
+
+fn named(node: Node, names: &[&str]) -> bool {
+    is_svg(node) && names.contains(&node.tag_name().name())
+}
+
+/// Turns a roxmltree error into one that names the file, line and column.
+fn xml_error(e: roxmltree::Error, source_name: &str) -> ImportError {
+    let pos = e.pos();
+    let message = e.to_string().replacen(&format!(" at {pos}"), "", 1);
+    ImportError::Xml {
+        source_name: source_name.to_string(),
+        line: pos.row,
+        column: pos.col,
+        message,
+    }
+}
+
+impl<'a> Source<'a> {
+    /// Parses `text` and prepares the copy usvg will read.
+    pub fn parse(text: &'a str, source_name: &str) -> Result<Source<'a>, ImportError> {
+        // The same options usvg uses, so both parses see the same document.
+        let opt = roxmltree::ParsingOptions {
+            allow_dtd: true,
+            ..Default::default()
+        };
+        let doc = Document::parse_with_options(text, opt).map_err(|e| xml_error(e, source_name))?;
+        let root = doc.root_element();
+        if !(is_svg(root) && root.tag_name().name() == "svg") {
+            return Err(ImportError::NotSvg {
+                source_name: source_name.to_string(),
+                found: root.tag_name().name().to_string(),
+            });
+        }
+
+        let mut by_id = HashMap::new();
+        let mut ids: HashSet<&str> = HashSet::new();
+        for node in doc.descendants().filter(|n| n.is_element()) {
+            if let Some(id) = node.attribute("id") {
+                ids.insert(id);
+            }
+        }
+        let mut prefix = String::from("__gm");
+        while ids.iter().any(|id| id.starts_with(prefix.as_str())) {
+            prefix.push('_');
+        }
+
+        // (byte range to replace, node): an empty range inserts a new attribute.
+        let mut edits: Vec<(std::ops::Range<usize>, NodeId)> = Vec::new();
+        let mut has_text = false;
+        for node in doc.descendants().filter(|n| named(*n, MAPPED)) {
+            has_text |= node.tag_name().name() == "text";
+            if node == root {
+                continue;
+            }
+            let own = node
+                .attributes()
+                .find(|a| a.name() == "id" && a.namespace().is_none());
+            match own {
+                Some(a) if !by_id.contains_key(a.value()) => {
+                    by_id.insert(a.value().to_string(), node.id());
+                }
+                // usvg resolves a duplicated id to its first element, so renaming a later
+                // one changes no reference and lets it be told apart.
+                Some(a) => edits.push((a.range_value(), node.id())),
+                None => {
+                    let start = node.range().start + 1;
+                    let name_len = text[start..]
+                        .find(|c: char| c.is_ascii_whitespace() || c == '/' || c == '>')
+                        .unwrap_or(0);
+                    let at = start + name_len;
+                    edits.push((at..at, node.id()));
+                }
+            }
+        }
+
+        let mut synthetic = Vec::with_capacity(edits.len());
+        let prepared = if edits.is_empty() {
+            std::borrow::Cow::Borrowed(text)
+        } else {
+            let mut out = String::with_capacity(text.len() + edits.len() * 16);
+            let mut last = 0;
+            for (range, node) in edits {
+                out.push_str(&text[last..range.start]);
+                let n = synthetic.len();
+                synthetic.push(node);
+                if range.is_empty() {
+                    out.push_str(&format!(" id=\"{prefix}{n}\""));
+                } else {
+                    out.push_str(&format!("{prefix}{n}"));
+                }
+                last = range.end;
+            }
+            out.push_str(&text[last..]);
+            std::borrow::Cow::Owned(out)
+        };
+        Ok(Source {
+            doc,
+            prepared,
+            has_text,
+            prefix,
+            synthetic,
+            by_id,
+        })
+    }
+
+    /// Whether a usvg id is one this module invented.
+    pub fn is_synthetic(&self, id: &str) -> bool {
+        self.synthetic_index(id).is_some()
+    }
+
+    fn synthetic_index(&self, id: &str) -> Option<usize> {
+        let n: usize = id.strip_prefix(self.prefix.as_str())?.parse().ok()?;
+        (n < self.synthetic.len()).then_some(n)
+    }
+
+    /// The source element of a usvg node id.
+    pub fn element(&self, id: &str) -> Option<Node<'_, 'a>> {
+        if id.is_empty() {
+            return None;
+        }
+        let node = match self.synthetic_index(id) {
+            Some(n) => self.synthetic[n],
+            None => *self.by_id.get(id)?,
+        };
+        self.doc.get_node(node)
+    }
+
+    /// A short description of an element for messages: `<rect id="a"> (line 4)`; ids the
+    /// element does not own (duplicates) are left out.
+    pub fn describe(&self, node: Node) -> String {
+        let line = self.doc.text_pos_at(node.range().start).row;
+        let name = node.tag_name().name();
+        match node
+            .attribute("id")
+            .filter(|id| self.by_id.get(*id) == Some(&node.id()))
+        {
+            Some(id) => format!("<{name} id=\"{id}\"> (line {line})"),
+            None => format!("<{name}> (line {line})"),
+        }
+    }
+
+    /// The explicit tag written on `node` itself.
+    pub fn explicit_tag<'s>(&'s self, node: Node<'s, 'a>, from: TagFrom) -> Option<&'s str> {
+        self.explicit(node, from, true)
+    }
+
+    /// The explicit tag on `node`, reading `inkscape:label` only with `labels`.
+    fn explicit<'s>(&'s self, node: Node<'s, 'a>, from: TagFrom, labels: bool) -> Option<&'s str> {
+        let nonempty = |v: Option<&'s str>| v.map(str::trim).filter(|v| !v.is_empty());
+        let data = || nonempty(node.attribute("data-tag"));
+        let class = || node.attribute("class").and_then(first_class);
+        let label = || nonempty(node.attribute((INKSCAPE_NS, "label"))).filter(|_| labels);
+        match from {
+            TagFrom::Auto => data().or_else(class).or_else(label),
+            TagFrom::DataTag => data(),
+            TagFrom::Class => class(),
+            TagFrom::Label => label(),
+            TagFrom::Layer => None,
+        }
+    }
+
+    /// The layer name `node` gives, if it is a `<g>` with an id of its own.
+    fn layer_name<'s>(&'s self, node: Node<'s, 'a>) -> Option<&'s str> {
+        if !named(node, &["g"]) {
+            return None;
+        }
+        let id = node.attribute("id")?;
+        (self.by_id.get(id) == Some(&node.id())).then(|| strip_counter(id))
+    }
+
+    /// The tag a container element carries itself (for units): its explicit tag, with
+    /// `layers` its layer name too; a `use` also carries its referenced container's tag.
+    /// The label of an Inkscape layer (`inkscape:groupmode="layer"`) names a layer, like an
+    /// Illustrator layer id, so it counts only with `layers`.
+    pub fn own_tag<'s>(
+        &'s self,
+        node: Node<'s, 'a>,
+        from: TagFrom,
+        layers: bool,
+    ) -> Option<&'s str> {
+        let here = |n: Node<'s, 'a>| {
+            let layer_group = n.attribute((INKSCAPE_NS, "groupmode")) == Some("layer");
+            let explicit = self.explicit(n, from, layers || !layer_group);
+            explicit.or_else(|| {
+                if layers && from.reads_layers() {
+                    self.layer_name(n)
+                } else {
+                    None
+                }
+            })
+        };
+        here(node).or_else(|| {
+            let target = self.use_target(node)?;
+            named(target, TRANSPARENT_CONTAINERS)
+                .then(|| here(target))
+                .flatten()
+        })
+    }
+
+    /// Extends `parent` with the tag sources from `elem` up to where `parent` was taken,
+    /// or up to and including `limit`.
+    pub fn scope<'s>(
+        &'s self,
+        elem: Node<'s, 'a>,
+        parent: Scope<'s>,
+        from: TagFrom,
+        limit: Option<NodeId>,
+    ) -> Scope<'s> {
+        let outer = parent.elem.and_then(|id| self.doc.get_node(id));
+        let mut scope = Scope {
+            elem: Some(elem.id()),
+            ..parent
+        };
+        let (mut explicit, mut layer) = (None, None);
+        for node in elem.ancestors().filter(|n| n.is_element()) {
+            if outer.is_some_and(|o| o.ancestors().any(|a| a == node)) {
+                break;
+            }
+            if explicit.is_none() && from.reads_attributes() {
+                explicit = self.explicit_tag(node, from);
+            }
+            if layer.is_none() && from.reads_layers() {
+                layer = self.layer_name(node);
+            }
+            if limit == Some(node.id()) {
+                break;
+            }
+        }
+        scope.explicit = explicit.or(parent.explicit);
+        scope.layer = layer.or(parent.layer);
+        scope
+    }
+
+    /// The element a `use` references.
+    pub fn use_target<'s>(&'s self, node: Node<'s, 'a>) -> Option<Node<'s, 'a>> {
+        if !named(node, &["use"]) {
+            return None;
+        }
+        let href = node
+            .attribute((XLINK_NS, "href"))
+            .or_else(|| node.attribute("href"))?;
+        let id = href.trim().strip_prefix('#')?;
+        self.doc.get_node(*self.by_id.get(id)?)
+    }
+
+    /// The shapes a `use` instance draws, in paint order, when that can be told from the
+    /// source alone: `None` when the referenced content holds anything usvg may expand
+    /// differently (nested `use`, text, images, switches).
+    pub fn use_shapes<'s>(&'s self, node: Node<'s, 'a>) -> Option<(NodeId, Vec<NodeId>)> {
+        let target = self.use_target(node)?;
+        if named(target, SHAPES) {
+            return Some((target.id(), vec![target.id()]));
+        }
+        if !named(target, TRANSPARENT_CONTAINERS) {
+            return None;
+        }
+        let mut shapes = Vec::new();
+        let mut stack: Vec<Node> = target.children().rev().collect();
+        while let Some(n) = stack.pop() {
+            if !is_svg(n) {
+                continue;
+            }
+            let name = n.tag_name().name();
+            if SHAPES.contains(&name) {
+                shapes.push(n.id());
+            } else if TRANSPARENT_CONTAINERS.contains(&name) {
+                stack.extend(n.children().rev());
+            } else if matches!(name, "use" | "text" | "image" | "switch" | "foreignObject") {
+                return None;
+            }
+        }
+        Some((target.id(), shapes))
+    }
+
+    /// A node by its roxmltree id.
+    pub fn node(&self, id: NodeId) -> Option<Node<'_, 'a>> {
+        self.doc.get_node(id)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn synthetic_ids_are_inserted_and_resolved() {
+        let text = r#"<svg xmlns="http://www.w3.org/2000/svg"><g><rect/><circle id="c"/><path id="c"/></g></svg>"#;
+        let src = Source::parse(text, "t.svg").unwrap();
+        let prepared = Document::parse(&src.prepared).unwrap();
+        let ids: Vec<_> = prepared
+            .descendants()
+            .filter_map(|n| n.attribute("id"))
+            .collect();
+        assert_eq!(ids, ["__gm0", "__gm1", "c", "__gm2"]);
+        assert_eq!(src.element("__gm1").unwrap().tag_name().name(), "rect");
+        assert_eq!(src.element("__gm2").unwrap().tag_name().name(), "path");
+        assert_eq!(src.element("c").unwrap().tag_name().name(), "circle");
+        assert!(src.element("__gm3").is_none());
+    }
+
+    #[test]
+    fn prefix_avoids_existing_ids() {
+        let text = r#"<svg xmlns="http://www.w3.org/2000/svg"><rect id="__gm0"/><rect/></svg>"#;
+        let src = Source::parse(text, "t.svg").unwrap();
+        assert!(src.prepared.contains("id=\"__gm_0\""));
+        assert!(!src.is_synthetic("__gm0"));
+    }
+}

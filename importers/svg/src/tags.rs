@@ -1,0 +1,56 @@
+//! Where shape tags come from, and how layer names become tags.
+//!
+//! Design tools name layers with ids (`<g id="Wheel_2">`) and make them unique with a
+//! counter; the counter is noise to a grammar author, so [`strip_counter`] removes it and
+//! every wheel gets the tag `Wheel`. Which attributes are read is [`TagFrom`].
+
+pub use gmotion::tagging::TagFrom;
+
+/// Removes a trailing layer counter: `_12`, `-3`, or Illustrator's `_12_`. A name that is
+/// only a counter is kept as it is, so a tag is never empty.
+///
+/// ```
+/// use gmotion_import_svg::tags::strip_counter;
+/// assert_eq!(strip_counter("Wheel_2"), "Wheel");
+/// assert_eq!(strip_counter("arm-13"), "arm");
+/// assert_eq!(strip_counter("eye_1_"), "eye");
+/// assert_eq!(strip_counter("layer"), "layer");
+/// assert_eq!(strip_counter("_7"), "_7");
+/// ```
+pub fn strip_counter(name: &str) -> &str {
+    let body = name.strip_suffix('_').unwrap_or(name);
+    let digits = body.trim_end_matches(|c: char| c.is_ascii_digit());
+    if digits.len() == body.len() {
+        return name;
+    }
+    match digits.strip_suffix(['_', '-']) {
+        Some(stem) if !stem.is_empty() => stem,
+        _ => name,
+    }
+}
+
+/// The first class name of a `class` attribute value, if any.
+pub fn first_class(value: &str) -> Option<&str> {
+    value.split_ascii_whitespace().next()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn counters_are_removed_only_at_the_end() {
+        assert_eq!(strip_counter("Layer_1"), "Layer");
+        assert_eq!(strip_counter("a_1_b"), "a_1_b");
+        assert_eq!(strip_counter("x2"), "x2");
+        assert_eq!(strip_counter("x_"), "x_");
+        assert_eq!(strip_counter("wheel__3"), "wheel_");
+        assert_eq!(strip_counter(""), "");
+    }
+
+    #[test]
+    fn first_class_skips_whitespace() {
+        assert_eq!(first_class("  hero big "), Some("hero"));
+        assert_eq!(first_class("   "), None);
+    }
+}
