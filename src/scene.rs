@@ -6,11 +6,13 @@
 //! is in user units after usvg's normalisation: gradients and patterns are in user space,
 //! `viewBox` is folded into the root group's transform.
 
+use std::collections::HashMap;
 use std::sync::Arc;
 
 use kurbo::{Affine, BezPath, Point, Rect};
 
 use crate::color::Color;
+use crate::measure::measure;
 
 /// A whole picture: its canvas size, the node tree and the animated shapes.
 #[derive(Clone, Debug)]
@@ -334,5 +336,124 @@ impl Scene {
     /// The canvas rectangle.
     pub fn canvas(&self) -> Rect {
         Rect::new(0.0, 0.0, self.width, self.height)
+    }
+}
+
+impl Fill {
+    /// An opaque non-zero fill of one colour.
+    pub fn solid(color: Color) -> Fill {
+        Fill {
+            paint: Paint::Solid(color),
+            opacity: 1.0,
+            rule: FillRule::NonZero,
+        }
+    }
+}
+
+impl Stroke {
+    /// An opaque stroke of one colour and width, with SVG's default cap, join and miter
+    /// limit and no dashes.
+    pub fn solid(color: Color, width: f64) -> Stroke {
+        Stroke {
+            paint: Paint::Solid(color),
+            opacity: 1.0,
+            width,
+            cap: LineCap::Butt,
+            join: LineJoin::Miter,
+            miter_limit: 4.0,
+            dash: None,
+            dash_offset: 0.0,
+        }
+    }
+}
+
+/// Builds a [`Scene`] in code. Each unit added becomes a child of the root and a
+/// [`Shape`], measured as an importer measures it ([`measure`]: area centroid, bounds,
+/// representative paint), tagged, numbered within its tag in the order added, and drawn
+/// in that order.
+///
+/// ```
+/// use gmotion::color::Color;
+/// use gmotion::scene::{Fill, SceneBuilder};
+/// use kurbo::{Point, Rect, Shape as _};
+///
+/// let scene = SceneBuilder::new(100.0, 80.0)
+///     .path("box", Rect::new(10.0, 10.0, 30.0, 50.0).to_path(0.1), Some(Fill::solid(Color::BLACK)), None)
+///     .path("box", Rect::new(60.0, 10.0, 70.0, 20.0).to_path(0.1), None, None)
+///     .build();
+/// assert_eq!(scene.shapes[1].id, 1);
+/// assert!((scene.shapes[0].centroid - Point::new(20.0, 30.0)).hypot() < 1e-9);
+/// ```
+#[derive(Clone, Debug)]
+pub struct SceneBuilder {
+    scene: Scene,
+    ids: HashMap<String, usize>,
+}
+
+impl SceneBuilder {
+    /// An empty canvas of `width` × `height` user units.
+    pub fn new(width: f64, height: f64) -> SceneBuilder {
+        SceneBuilder {
+            scene: Scene {
+                width,
+                height,
+                root: Group::new(),
+                shapes: Vec::new(),
+            },
+            ids: HashMap::new(),
+        }
+    }
+
+    /// Adds `node` (a path or a whole group) as a unit tagged `tag`.
+    pub fn unit(mut self, tag: &str, mut node: Node) -> SceneBuilder {
+        let index = self.scene.shapes.len();
+        match &mut node {
+            Node::Path(p) => p.unit = Some(index),
+            Node::Group(g) => g.unit = Some(index),
+        }
+        let m = measure(&node, Affine::IDENTITY);
+        let id = self.ids.entry(tag.to_string()).or_default();
+        self.scene.shapes.push(Shape {
+            tag: tag.to_string(),
+            id: *id,
+            group: 0,
+            z: index,
+            node_path: vec![self.scene.root.children.len()],
+            parent_transform: Affine::IDENTITY,
+            centroid: m.map_or(Point::ORIGIN, |m| m.centroid),
+            bbox: m.map_or(Rect::ZERO, |m| m.bbox),
+            fill: m.map_or(Color::BLACK, |m| m.fill),
+            stroke: m.map_or(Color::BLACK, |m| m.stroke),
+            stroke_width: m.map_or(1.0, |m| m.stroke_width),
+        });
+        *id += 1;
+        self.scene.root.children.push(node);
+        self
+    }
+
+    /// Adds a path as a unit tagged `tag`.
+    pub fn path(
+        self,
+        tag: &str,
+        path: BezPath,
+        fill: Option<Fill>,
+        stroke: Option<Stroke>,
+    ) -> SceneBuilder {
+        self.unit(
+            tag,
+            Node::Path(PathNode {
+                id: String::new(),
+                path,
+                fill,
+                stroke,
+                stroke_first: false,
+                unit: None,
+            }),
+        )
+    }
+
+    /// The scene.
+    pub fn build(self) -> Scene {
+        self.scene
     }
 }

@@ -4,48 +4,23 @@
 use gmotion::color::Color;
 use gmotion::engine::{EngineError, RunOptions, run};
 use gmotion::motion::{Animation, ShapeState};
-use gmotion::scene::{Group, Node, PathNode, Scene, Shape};
-use kurbo::{Affine, BezPath, Point, Rect, Shape as _};
+use gmotion::scene::{Fill, Node, Scene, SceneBuilder, Stroke};
+use kurbo::{Affine, Point, Rect, Shape as _};
 use proptest::prelude::*;
 
 /// A scene of axis-aligned squares: (tag, centre, side).
 fn scene(items: &[(&str, (f64, f64), f64)]) -> Scene {
-    let mut root = Group::new();
-    let mut shapes = Vec::new();
-    let mut counts = std::collections::HashMap::<String, usize>::new();
-    for (i, (tag, (x, y), side)) in items.iter().enumerate() {
+    let mut b = SceneBuilder::new(400.0, 300.0);
+    for (tag, (x, y), side) in items {
         let rect = Rect::from_center_size((*x, *y), (*side, *side));
-        let path: BezPath = rect.to_path(0.1);
-        root.children.push(Node::Path(PathNode {
-            id: String::new(),
-            path,
-            fill: None,
-            stroke: None,
-            stroke_first: false,
-            unit: Some(i),
-        }));
-        let id = counts.entry(tag.to_string()).or_default();
-        shapes.push(Shape {
-            tag: tag.to_string(),
-            id: *id,
-            group: 0,
-            z: i,
-            node_path: vec![i],
-            parent_transform: Affine::IDENTITY,
-            centroid: Point::new(*x, *y),
-            bbox: rect,
-            fill: Color::rgb(0.2, 0.4, 0.6),
-            stroke: Color::BLACK,
-            stroke_width: 2.0,
-        });
-        *id += 1;
+        b = b.path(
+            tag,
+            rect.to_path(0.1),
+            Some(Fill::solid(Color::rgb(0.2, 0.4, 0.6))),
+            Some(Stroke::solid(Color::BLACK, 2.0)),
+        );
     }
-    Scene {
-        width: 400.0,
-        height: 300.0,
-        root,
-        shapes,
-    }
+    b.build()
 }
 
 fn animate(scene: Scene, src: &str) -> Result<Animation, EngineError> {

@@ -18,6 +18,7 @@
 pub mod alexa;
 pub mod component;
 pub mod grid;
+pub mod reduce;
 pub mod sampler;
 
 use std::sync::Arc;

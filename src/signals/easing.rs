@@ -7,6 +7,8 @@
 //! step responses of low-pass filters, so they are convex easings: monotone, within
 //! `[0, 1]`, and with zero initial velocity from order 2 on (the hypothesis of Claim 1).
 
+use kurbo::{CubicBez, ParamCurve};
+
 use super::error::{SignalError, finite, positive, whole};
 
 /// Largest B-spline order accepted by [`Easing::BSpline`].
@@ -223,7 +225,9 @@ impl Ease {
     }
 }
 
-/// Solves the CSS cubic-bezier timing function at `x` (Newton, then bisection fallback).
+/// Solves the CSS cubic-bezier timing function at `x`: Newton's method from `t = x`, which
+/// converges in a few steps on most curves (the engine evaluates easings every frame), and
+/// [`solve_bezier_x`] where Newton stalls on a flat stretch.
 fn cubic_bezier([x1, y1, x2, y2]: [f64; 4], x: f64) -> f64 {
     let bez = |a: f64, b: f64, t: f64| {
         let mt = 1.0 - t;
@@ -245,17 +249,31 @@ fn cubic_bezier([x1, y1, x2, y2]: [f64; 4], x: f64) -> f64 {
         }
         t = (t - err / d).clamp(0.0, 1.0);
     }
-    let (mut lo, mut hi) = (0.0, 1.0);
-    t = x;
-    for _ in 0..60 {
-        if bez(x1, x2, t) < x {
-            lo = t;
-        } else {
-            hi = t;
-        }
-        t = 0.5 * (lo + hi);
+    let curve = CubicBez::new((0.0, 0.0), (x1, y1), (x2, y2), (1.0, 1.0));
+    bez(y1, y2, solve_bezier_x(&curve, x))
+}
+
+/// The parameter where a cubic Bézier whose x grows monotonically (a timing curve, or a
+/// piece or mirror of one) reaches `x`; 0 before its start and 1 past its end. Bisection, to
+/// full `f64` precision in 64 halvings: robust on the flat ends where Newton stalls. This is
+/// the one solver the engine and both exporters use for eased keyframes.
+pub fn solve_bezier_x(curve: &CubicBez, x: f64) -> f64 {
+    if x <= curve.p0.x {
+        return 0.0;
     }
-    bez(y1, y2, t)
+    if x >= curve.p3.x {
+        return 1.0;
+    }
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for _ in 0..64 {
+        let mid = 0.5 * (lo + hi);
+        if curve.eval(mid).x < x {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
 }
 
 /// The CDF of the cardinal B-spline of order `k` stretched onto `[0, 1]`, at `u ∈ (0, 1)`.

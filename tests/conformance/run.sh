@@ -6,6 +6,8 @@
 #                                                   MATRIX=full does the same)
 #   bash tests/conformance/run.sh --matrix-only    (skip the corpus and the example grammars)
 #   GMOTION=target/quick/gmotion bash tests/conformance/run.sh   (play that binary, no build)
+#   PROFILE=quick bash tests/conformance/run.sh   (build and test with that cargo profile;
+#                                                  default release)
 #
 # 1. installs the players (install.sh, idempotent) and builds gmotion (release);
 # 2. converts the resvg corpus with `gmotion convert` and with python-lottie, and exports
@@ -25,6 +27,7 @@ root="$(cd "$here/../.." && pwd)"
 corpus="${CORPUS:-$root/tests/corpus/resvg}"
 out="${CONFORMANCE_OUT:-$root/target/conformance}"
 matrix="${MATRIX:-sample}"
+profile="${PROFILE:-release}"
 main_run=1
 while [ $# -gt 0 ]; do
     case "$1" in
@@ -40,8 +43,8 @@ bash "$here/install.sh"
 if [ -n "${GMOTION:-}" ]; then
     gm="$(cd "$(dirname "$GMOTION")" && pwd)/$(basename "$GMOTION")"
 else
-    (cd "$root" && cargo build --release --quiet)
-    gm="${CARGO_TARGET_DIR:-$root/target}/release/gmotion"
+    (cd "$root" && cargo build --profile "$profile" --quiet -p gmotion-cli)
+    gm="${CARGO_TARGET_DIR:-$root/target}/$profile/gmotion"
 fi
 [ -d "$corpus" ] || { echo "conformance: corpus not found at $corpus" >&2; exit 1; }
 
@@ -56,7 +59,7 @@ if [ "$main_run" = 1 ]; then
     python3 "$here/schema_check.py" --list "$out/gmotion_lottie_files.txt" || status=1
 
     echo "== in-process conversion time (tests/lottie.rs)"
-    (cd "$root" && cargo test --release --quiet --test gmotion lottie::corpus_converts_in_process -- --nocapture 2>&1) \
+    (cd "$root" && cargo test --profile "$profile" --quiet -p gmotion-cli --test gmotion lottie::corpus_converts_in_process -- --nocapture 2>&1) \
         | grep "lottie corpus conversion" > "$out/in_process.txt" || status=1
 
     echo "== playing: lottie-web"

@@ -2,30 +2,11 @@
 //! that what a player reconstructs (linear interpolation between the kept keyframes) stays
 //! within the error bound, measured as the displacement of check points in canvas units.
 
+use gmotion::motion::reduce::greedy;
 use kurbo::{Affine, Point, Vec2};
 
 use super::geometry::{Contour, svd};
 use super::model::{Ease, Keyframe, N, Prop, Transform, Value};
-
-/// Greedy keyframe reduction over `n` samples: keeps the first and last, and from each kept
-/// sample jumps as far as `fits(i, j)` allows (`fits` says whether interpolating from `i`
-/// to `j` reproduces every sample between them). Adjacent samples always fit.
-pub fn reduce(n: usize, fits: impl Fn(usize, usize) -> bool) -> Vec<usize> {
-    if n == 0 {
-        return Vec::new();
-    }
-    let mut kept = vec![0];
-    let mut i = 0;
-    while i + 1 < n {
-        let mut j = i + 1;
-        while j + 1 < n && fits(i, j + 1) {
-            j += 1;
-        }
-        kept.push(j);
-        i = j;
-    }
-    kept
-}
 
 /// The parameters a skew-free two-level transform interpolates:
 /// `T(p)·R(phi)·S(s)·R(theta)·T(-anchor)`, angles in radians.
@@ -219,7 +200,7 @@ pub fn bake_rigid(samples: &[RigidSample], anchor: Point, tolerance: f64) -> Vec
             .fold(0.0, f64::max)
             * s.gain
     };
-    let kept = reduce(samples.len(), |i, j| {
+    let kept = greedy(samples.len(), |i, j| {
         let (_, rebuilt) = fit_segment(&frames, &ps, i, j);
         rebuilt
             .iter()
@@ -285,7 +266,7 @@ pub fn bake_rigid(samples: &[RigidSample], anchor: Point, tolerance: f64) -> Vec
 /// `shapes[k]`) into keyframed Lottie paths, one property per contour, within `tolerance`
 /// after scaling by `gain` (how much the path's placement magnifies lengths).
 pub fn bake_paths(frames: &[f64], shapes: &[Vec<Contour>], gain: f64, tolerance: f64) -> Vec<Prop> {
-    let kept = reduce(frames.len(), |i, j| {
+    let kept = greedy(frames.len(), |i, j| {
         (i + 1..j).all(|m| {
             let f = (frames[m] - frames[i]) / (frames[j] - frames[i]);
             shapes[m]
@@ -320,13 +301,6 @@ pub fn bake_paths(frames: &[f64], shapes: &[Vec<Contour>], gain: f64, tolerance:
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn reduce_keeps_ends_and_skips_fitting_runs() {
-        let kept = reduce(10, |i, j| j - i <= 3);
-        assert_eq!(kept, vec![0, 3, 6, 9]);
-        assert_eq!(reduce(1, |_, _| true), vec![0]);
-    }
 
     #[test]
     fn decomposition_is_continuous_through_a_turn() {

@@ -9,9 +9,10 @@
 
 use kurbo::{CubicBez, ParamCurve, Point};
 
-use super::bake::reduce;
 use super::model::{Ease, Keyframe, N, Value};
+use gmotion::motion::reduce::greedy;
 use gmotion::motion::{Timing, Tint};
+use gmotion::signals::easing::solve_bezier_x;
 
 /// Values compared the way output is written: equal when no player could tell them apart.
 pub trait Near {
@@ -218,8 +219,8 @@ fn eased<V: Clone + Near>(
         CubicBez::new((0.0, 0.0), (x1, y1), (x2, y2), (1.0, 1.0))
     };
     let progress = |y: f64| if reversed { 1.0 - y } else { y };
-    let sa = solve_x(&curve, ua);
-    let sb = solve_x(&curve, ub);
+    let sa = solve_bezier_x(&curve, ua);
+    let sb = solve_bezier_x(&curve, ub);
     let pieces = split_monotone(&curve, sa, sb);
     let mut t = a;
     push_key(keys, a * fps, value(progress(curve.eval(sa).y)));
@@ -270,26 +271,6 @@ fn split_monotone(curve: &CubicBez, s0: f64, s1: f64) -> Vec<(f64, f64)> {
     vec![(s0, mid), (mid, s1)]
 }
 
-/// The curve parameter where `x(s) = x` (x is monotone for CSS easing curves).
-fn solve_x(curve: &CubicBez, x: f64) -> f64 {
-    if x <= 0.0 {
-        return 0.0;
-    }
-    if x >= 1.0 {
-        return 1.0;
-    }
-    let (mut lo, mut hi) = (0.0, 1.0);
-    for _ in 0..60 {
-        let mid = 0.5 * (lo + hi);
-        if curve.eval(mid).x < x {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
-}
-
 /// Keys for `[a, b]` from progress sampled at every frame, thinned so that linear
 /// interpolation stays within `tolerance` of the progress.
 fn sampled<V: Clone + Near>(
@@ -310,7 +291,7 @@ fn sampled<V: Clone + Near>(
     );
     times.push(b);
     let ps: Vec<f64> = times.iter().map(|t| progress(*t)).collect();
-    let kept = reduce(times.len(), |i, j| {
+    let kept = greedy(times.len(), |i, j| {
         (i + 1..j).all(|m| {
             let f = (times[m] - times[i]) / (times[j] - times[i]);
             (ps[i] + (ps[j] - ps[i]) * f - ps[m]).abs() <= tolerance

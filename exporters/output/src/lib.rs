@@ -206,7 +206,7 @@ pub fn write_with_progress(
         source,
     };
     let frames = || render_frames(anim, opts.size, tick).map_err(raster_err);
-    match Format::of(path)? {
+    let written = match Format::of(path)? {
         Format::Png => {
             let t = opts.time;
             if !t.is_finite() || t < 0.0 || t > anim.duration {
@@ -215,36 +215,13 @@ pub fn write_with_progress(
                     duration: anim.duration,
                 });
             }
-            let pm =
-                raster::render_sized(&frame::frame_svg(anim, t), opts.size).map_err(raster_err)?;
-            raster::save_png(&pm, path).map_err(raster_err)?;
-            Ok(Vec::new())
+            return write_png(path, &frame::frame_svg(anim, t), opts.size);
         }
-        Format::Frames => {
-            raster::write_frames(&frames()?, path).map_err(raster_err)?;
-            Ok(Vec::new())
-        }
-        Format::Gif => {
-            raster::write_gif(&frames()?, anim.fps, anim.looping, path).map_err(raster_err)?;
-            Ok(Vec::new())
-        }
-        Format::Apng => {
-            raster::write_apng(&frames()?, anim.fps, anim.looping, path).map_err(raster_err)?;
-            Ok(Vec::new())
-        }
+        Format::Frames => raster::write_frames(&frames()?, path),
+        Format::Gif => raster::write_gif(&frames()?, anim.fps, anim.looping, path),
+        Format::Apng => raster::write_apng(&frames()?, anim.fps, anim.looping, path),
         Format::Lottie => {
-            let lopts = LottieOptions {
-                tolerance: opts.tolerance,
-                size: opts.size,
-                ..Default::default()
-            };
-            let (json, warnings) =
-                lottie::to_lottie(anim, &lopts).map_err(|source| OutputError::Lottie {
-                    path: path.to_path_buf(),
-                    source,
-                })?;
-            write_file(path, json.as_bytes())?;
-            Ok(warnings)
+            return write_lottie(path, lottie::to_lottie(anim, &lottie_options(opts)));
         }
         Format::Svg => {
             let sopts = smil::SmilOptions {
@@ -258,9 +235,11 @@ pub fn write_with_progress(
                     source,
                 })?;
             write_file(path, svg.as_bytes())?;
-            Ok(warnings)
+            return Ok(warnings);
         }
-    }
+    };
+    written.map_err(raster_err)?;
+    Ok(Vec::new())
 }
 
 /// Writes a still `scene` to `path`: `.png` rendered, `.json` a still Lottie, `.svg` a clean
@@ -270,31 +249,9 @@ pub fn write_still(
     path: &Path,
     opts: &Options,
 ) -> Result<Vec<Warning>, OutputError> {
-    let raster_err = |source| OutputError::Raster {
-        path: path.to_path_buf(),
-        source,
-    };
     match Format::of(path)? {
-        Format::Png => {
-            let pm =
-                raster::render_sized(&frame::scene_svg(scene), opts.size).map_err(raster_err)?;
-            raster::save_png(&pm, path).map_err(raster_err)?;
-            Ok(Vec::new())
-        }
-        Format::Lottie => {
-            let lopts = LottieOptions {
-                tolerance: opts.tolerance,
-                size: opts.size,
-                ..Default::default()
-            };
-            let (json, warnings) =
-                lottie::still_to_lottie(scene, &lopts).map_err(|source| OutputError::Lottie {
-                    path: path.to_path_buf(),
-                    source,
-                })?;
-            write_file(path, json.as_bytes())?;
-            Ok(warnings)
-        }
+        Format::Png => write_png(path, &frame::scene_svg(scene), opts.size),
+        Format::Lottie => write_lottie(path, lottie::still_to_lottie(scene, &lottie_options(opts))),
         Format::Svg => {
             let svg = frame::scene_svg(scene);
             let svg = match opts.size.fit(scene.width, scene.height) {
@@ -309,6 +266,38 @@ pub fn write_still(
             format,
         }),
     }
+}
+
+/// Renders one SVG document to a PNG file.
+fn write_png(path: &Path, svg: &str, size: OutputSize) -> Result<Vec<Warning>, OutputError> {
+    let raster_err = |source| OutputError::Raster {
+        path: path.to_path_buf(),
+        source,
+    };
+    let pm = raster::render_sized(svg, size).map_err(raster_err)?;
+    raster::save_png(&pm, path).map_err(raster_err)?;
+    Ok(Vec::new())
+}
+
+fn lottie_options(opts: &Options) -> LottieOptions {
+    LottieOptions {
+        tolerance: opts.tolerance,
+        size: opts.size,
+        ..Default::default()
+    }
+}
+
+/// Writes an exporter's Lottie (or says why it refused) and passes its warnings on.
+fn write_lottie(
+    path: &Path,
+    exported: Result<lottie::LottieOutput, lottie::LottieError>,
+) -> Result<Vec<Warning>, OutputError> {
+    let (json, warnings) = exported.map_err(|source| OutputError::Lottie {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    write_file(path, json.as_bytes())?;
+    Ok(warnings)
 }
 
 fn write_file(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {

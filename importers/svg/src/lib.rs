@@ -18,7 +18,6 @@
 //! [`Units`].
 
 mod convert;
-mod measure;
 mod source;
 pub mod tags;
 
@@ -26,8 +25,8 @@ use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 
-use crate::measure::{Measure, measure};
 use gmotion::Warning;
+use gmotion::measure::{Measure, measure};
 use gmotion::scene::{Scene, Shape};
 pub use gmotion::tagging::{TagFrom, Units};
 

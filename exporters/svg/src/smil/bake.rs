@@ -15,36 +15,6 @@ pub fn sample_times(a: f64, b: f64, rate: f64, min: usize, extra: &[f64]) -> Vec
     ts
 }
 
-/// Indices of the samples to keep (always the first and the last) so that at every dropped
-/// sample `k`, interpolating between its kept neighbours `i < k < j` errs by at most `tol`
-/// as `err(k, i, j)` measures it. Ramer–Douglas–Peucker: split at the worst sample until
-/// every span fits.
-pub fn reduce(n: usize, tol: f64, err: impl Fn(usize, usize, usize) -> f64) -> Vec<usize> {
-    if n <= 2 {
-        return (0..n).collect();
-    }
-    let mut keep = vec![false; n];
-    keep[0] = true;
-    keep[n - 1] = true;
-    let mut stack = vec![(0, n - 1)];
-    while let Some((i, j)) = stack.pop() {
-        let mut worst = (0.0, 0);
-        for k in i + 1..j {
-            let e = err(k, i, j);
-            if e > worst.0 {
-                worst = (e, k);
-            }
-        }
-        if worst.0 > tol {
-            let k = worst.1;
-            keep[k] = true;
-            stack.push((i, k));
-            stack.push((k, j));
-        }
-    }
-    (0..n).filter(|&k| keep[k]).collect()
-}
-
 /// Where sample `k` falls between samples `i` and `j`, as a fraction.
 pub fn fraction(ts: &[f64], k: usize, i: usize, j: usize) -> f64 {
     let span = ts[j] - ts[i];
@@ -58,12 +28,13 @@ pub fn fraction(ts: &[f64], k: usize, i: usize, j: usize) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use gmotion::motion::reduce::ramer_douglas_peucker;
 
     #[test]
     fn straight_lines_keep_their_ends() {
         let ts = sample_times(0.0, 1.0, 100.0, 4, &[]);
         let v: Vec<f64> = ts.iter().map(|t| 3.0 * t).collect();
-        let keep = reduce(ts.len(), 1e-9, |k, i, j| {
+        let keep = ramer_douglas_peucker(ts.len(), 1e-9, |k, i, j| {
             let s = fraction(&ts, k, i, j);
             (v[i] + (v[j] - v[i]) * s - v[k]).abs()
         });
@@ -79,7 +50,7 @@ mod tests {
             let s = fraction(&ts, k, i, j);
             (v[i] + (v[j] - v[i]) * s - v[k]).abs()
         };
-        let keep = reduce(ts.len(), 0.25, err);
+        let keep = ramer_douglas_peucker(ts.len(), 0.25, err);
         assert!(
             keep.len() > 2 && keep.len() < ts.len() / 3,
             "{} of {}",

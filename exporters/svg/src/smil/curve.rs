@@ -7,9 +7,11 @@
 //! at its extrema in value (each piece is then monotone) and halved until every piece's
 //! normalised control points fit.
 
+use gmotion::motion::reduce::ramer_douglas_peucker;
 use kurbo::{CubicBez, ParamCurve, Point};
 
 use gmotion::motion::Timing;
+use gmotion::signals::easing::solve_bezier_x;
 
 /// How a channel arrives at a key from the key before it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -94,7 +96,7 @@ pub fn progress_keys(timing: &Timing, a: f64, b: f64) -> Option<Vec<Key<f64>>> {
         } else {
             CubicBez::new((0.0, 0.0), (x1, y1), (x2, y2), (1.0, 1.0))
         };
-        let (s0, s1) = (solve_x(&curve, u(m0)), solve_x(&curve, u(m1)));
+        let (s0, s1) = (solve_bezier_x(&curve, u(m0)), solve_bezier_x(&curve, u(m1)));
         let sub = curve.subsegment(s0..s1);
         let mut cuts = y_extrema(&sub);
         cuts.push(1.0);
@@ -158,26 +160,6 @@ fn is_linear([x1, y1, x2, y2]: [f64; 4]) -> bool {
     (x1 - y1).abs() < 1e-12 && (x2 - y2).abs() < 1e-12
 }
 
-/// The parameter where a curve with monotone x reaches `x` (bisection: robust at flat ends).
-fn solve_x(c: &CubicBez, x: f64) -> f64 {
-    if x <= c.p0.x {
-        return 0.0;
-    }
-    if x >= c.p3.x {
-        return 1.0;
-    }
-    let (mut lo, mut hi) = (0.0, 1.0);
-    for _ in 0..64 {
-        let mid = 0.5 * (lo + hi);
-        if c.eval(mid).x < x {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
-}
-
 /// Parameters in `(0, 1)` where the curve's y turns, sorted.
 fn y_extrema(c: &CubicBez) -> Vec<f64> {
     // y'(s) = 3[(1-s)²d0 + 2(1-s)s·d1 + s²d2] with dᵢ the control point differences.
@@ -229,7 +211,7 @@ pub fn sampled_progress(
             Ease::Linear
         }
     };
-    let keep = super::bake::reduce(ts.len(), tolerance, |k, i, j| {
+    let keep = ramer_douglas_peucker(ts.len(), tolerance, |k, i, j| {
         let x = super::bake::fraction(ts, k, i, j);
         let y = match piece(i, j) {
             // With x1 = 1/3 and x2 = 2/3 the spline's x is its parameter.

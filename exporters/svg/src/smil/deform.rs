@@ -7,10 +7,11 @@ use std::fmt::Write;
 
 use kurbo::{Affine, BezPath, PathEl, Point};
 
-use super::bake::{fraction, reduce, sample_times};
+use super::bake::{fraction, sample_times};
 use super::curve::Key;
 use super::xml::{COORD, num};
 use gmotion::motion::Track;
+use gmotion::motion::reduce::ramer_douglas_peucker;
 
 /// The keys of the path's `d` over `[0, dur]`, the path in its own coordinates `abs` away
 /// from the canvas and deformed by `tracks` (outermost first, applied innermost first).
@@ -42,7 +43,7 @@ pub fn d_keys(
                 .collect()
         })
         .collect();
-    let keep = reduce(ts.len(), tolerance, |k, lo, hi| {
+    let keep = ramer_douglas_peucker(ts.len(), tolerance, |k, lo, hi| {
         let s = fraction(&ts, k, lo, hi);
         frames[k]
             .iter()

@@ -6,8 +6,9 @@
 use gmotion::motion::{AttrSeg, Blendable, Tint, Track};
 
 use super::attr::{Bake, attr_keys};
-use super::bake::{fraction, reduce, sample_times};
+use super::bake::{fraction, sample_times};
 use super::curve::Key;
+use gmotion::motion::reduce::ramer_douglas_peucker;
 
 /// Largest error of a baked colour or tint component (half an 8-bit step).
 pub const COLOR_TOL: f64 = 0.5 / 255.0;
@@ -81,7 +82,7 @@ impl<'a, T: Blendable + PartialEq> Chain<'a, T> {
                         .unwrap_or(self.rest)
                 };
                 let vs: Vec<T> = ts.iter().map(|&t| value(t)).collect();
-                let keep = reduce(ts.len(), bake.tolerance, |k, lo, hi| {
+                let keep = ramer_douglas_peucker(ts.len(), bake.tolerance, |k, lo, hi| {
                     (bake.dist)(vs[lo].blend(vs[hi], fraction(&ts, k, lo, hi)), vs[k])
                 });
                 Some((keep.iter().map(|&k| Key::linear(ts[k], vs[k])).collect(), 1))

@@ -18,10 +18,11 @@
 
 use kurbo::{Affine, Point};
 
-use super::bake::{fraction, reduce, sample_times};
+use super::bake::{fraction, sample_times};
 use super::curve::{Key, progress_keys, sampled_progress};
 use super::decompose::Decomposed;
 use gmotion::motion::component::product_at;
+use gmotion::motion::reduce::ramer_douglas_peucker;
 use gmotion::motion::{Component, Interp, MotionKind, MotionSeg, Track};
 
 /// A SMIL `animateTransform` type.
@@ -377,7 +378,7 @@ impl Samples {
         play: impl Fn(V) -> Affine,
     ) -> Vec<usize> {
         let truth: Vec<Affine> = vs.iter().map(|&v| play(v)).collect();
-        reduce(self.ts.len(), tolerance, |i, lo, hi| {
+        ramer_douglas_peucker(self.ts.len(), tolerance, |i, lo, hi| {
             let v = lerp(vs[lo], vs[hi], fraction(&self.ts, i, lo, hi));
             self.error(i, play(v), truth[i])
         })
@@ -553,7 +554,7 @@ fn whole_track(
     let ts = sample_times(0.0, ctx.dur, ctx.rate, 8, &extra);
     let truth: Vec<Affine> = ts.iter().map(|&t| track.transform_at(t)).collect();
     let dec = decompose_all(&truth);
-    let keep = reduce(ts.len(), ctx.tolerance, |i, lo, hi| {
+    let keep = ramer_douglas_peucker(ts.len(), ctx.tolerance, |i, lo, hi| {
         let m = dec[lo].lerp(dec[hi], fraction(&ts, i, lo, hi)).to_affine();
         max_gap(m, truth[i], corners)
     });

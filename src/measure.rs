@@ -1,17 +1,20 @@
 //! Measurements of scene geometry in canvas coordinates: bounds, the area centroid of the
-//! filled geometry and the representative paint that [`Shape`](gmotion::scene::Shape) records.
+//! filled geometry and the representative paint that [`Shape`](crate::scene::Shape) records.
 //!
 //! The centroid is the centroid of what is actually painted: each path's interior follows
 //! its fill rule (an even-odd star has a hole, a non-zero one does not) and overlapping
 //! paths of one unit count once. Curves are flattened only here, to a tolerance of 1/400
 //! of each path's size (the centroid moves by far less), and resolved with `i_overlay`.
+//!
+//! Importers measure every unit they make with it, and so does [`SceneBuilder`](crate::scene::SceneBuilder),
+//! so a scene built in code has exactly the shapes an imported one would.
 
 use i_overlay::core::fill_rule::FillRule as OverlayRule;
 use i_overlay::float::simplify::SimplifyShape;
 use kurbo::{Affine, BezPath, PathEl, Point, Rect, Shape as _};
 
-use gmotion::color::Color;
-use gmotion::scene::{FillRule, Node, Paint};
+use crate::color::Color;
+use crate::scene::{FillRule, Node, Paint};
 
 /// What [`measure`] finds out about a node.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -166,7 +169,7 @@ fn area_centroid(shapes: &[Vec<Vec<[f64; 2]>>], bbox: Rect) -> Option<Point> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use gmotion::scene::{Fill, Group, PathNode};
+    use crate::scene::{Fill, Group, PathNode};
     use kurbo::{Circle, Shape};
 
     fn filled(path: BezPath, rule: FillRule) -> Node {
