@@ -257,12 +257,20 @@ fn scene_path(given: Option<&Path>, grammar_path: &Path, g: &Loaded) -> Result<O
     Ok(Some(path))
 }
 
-fn run_options(r: &RunArgs) -> RunOptions {
-    RunOptions {
+/// The grammar run's options; `--fps` is checked here so the message names the flag.
+fn run_options(r: &RunArgs) -> Result<RunOptions> {
+    if let Some(fps) = r.fps
+        && !(fps.is_finite() && fps > 0.0)
+    {
+        return Err(CliError::msg(format!(
+            "--fps must be a positive number, found {fps}"
+        )));
+    }
+    Ok(RunOptions {
         seed: r.seed,
         fps: r.fps,
         max_steps: r.max_steps,
-    }
+    })
 }
 
 fn progress(len: usize, what: &str) -> ProgressBar {
@@ -354,7 +362,7 @@ fn build(
         )));
     };
     let scene = load_scene(&scene_path, &import_options(import, &g.settings))?;
-    let (anim, stats) = engine::run(scene, &g.grammar, &run_options(run))
+    let (anim, stats) = engine::run(scene, &g.grammar, &run_options(run)?)
         .map_err(|e| engine_error(grammar_path, &g.src, &e))?;
     for w in &stats.warnings {
         eprintln!("{}: warning: {w}", grammar_path.display());
@@ -422,7 +430,7 @@ fn check(
         .map(|p| load_scene(&p, &import_options(import, &loaded.settings)))
         .transpose()?;
     let g = &loaded.grammar;
-    let report = engine::check::check(g, scene.as_ref(), &run_options(run))
+    let report = engine::check::check(g, scene.as_ref(), &run_options(run)?)
         .map_err(|e| engine_error(grammar_path, &loaded.src, &e))?;
     print!("{}", report.text);
     if let Some(out) = graph {

@@ -180,7 +180,7 @@ fn run_here(
     if let Some(f) = opts.fps {
         if !(f.is_finite() && f > 0.0) {
             return Err(EngineError::general(format!(
-                "--fps must be a positive number, found {f}"
+                "the frame rate must be a positive number, found {f}"
             )));
         }
         settings.fps = f;

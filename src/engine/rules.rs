@@ -37,11 +37,6 @@ impl AnimType {
         ("opacity", AnimType::Opacity),
         ("stroke-width", AnimType::StrokeWidth),
     ];
-
-    /// True for the types that move the shape.
-    pub fn is_motion(self) -> bool {
-        matches!(self, AnimType::Affine | AnimType::Towards | AnimType::Path)
-    }
 }
 
 /// The operator of a timeslice rule, with its arguments checked.

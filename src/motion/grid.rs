@@ -132,11 +132,6 @@ impl Grid {
         Arc::as_ptr(&self.cells[0]).cast::<()>()
     }
 
-    /// True when every cell holds the same transform.
-    pub fn is_constant(&self) -> bool {
-        matches!(self.field, Field::Constant(_))
-    }
-
     fn cell(&self, c: usize, r: usize) -> &Arc<[Component]> {
         if self.cells.len() == 1 {
             &self.cells[0]
@@ -186,18 +181,6 @@ impl Grid {
                 out.into()
             }
         }
-    }
-
-    /// The bounding box of the cells, for pictures and debugging.
-    pub fn cell_rect(&self, c: usize, r: usize) -> Rect {
-        let w = self.area.width() / self.cols as f64;
-        let h = self.area.height() / self.rows as f64;
-        Rect::new(
-            self.area.x0 + c as f64 * w,
-            self.area.y0 + r as f64 * h,
-            self.area.x0 + (c + 1) as f64 * w,
-            self.area.y0 + (r + 1) as f64 * h,
-        )
     }
 }
 

@@ -143,11 +143,6 @@ impl Kind {
     }
 }
 
-/// Whether `name` is a spatial operator (aliases included).
-pub fn is_operator(name: &str) -> bool {
-    Kind::of(name).is_some()
-}
-
 /// Every spatial operator name, for error messages.
 pub const OPERATORS: &str = "ungroup, regroup, regularSplit, outline, streamlineSplit, place, fill, stipple, invert, perturb";
 

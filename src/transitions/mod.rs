@@ -27,15 +27,16 @@ pub use targets::{Attr, Channel, Target, TargetValue, Targets};
 pub const DEFAULT_SYSTEM: &str = "spring(0.5, 0)";
 
 /// Why transitions could not be produced.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[derive(Debug, thiserror::Error)]
 pub enum TransitionError {
     /// The TARGETS file could not be read.
-    #[error("{path}: cannot read the file: {message}")]
+    #[error("{path}: cannot read the file: {source}")]
     Read {
         /// The file.
         path: String,
         /// What the system said.
-        message: String,
+        #[source]
+        source: std::io::Error,
     },
     /// The TARGETS text is malformed.
     #[error("{file}{location}: {message}")]

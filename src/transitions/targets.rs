@@ -220,7 +220,7 @@ impl Targets {
     pub fn load(path: &std::path::Path) -> Result<Targets, TransitionError> {
         let text = std::fs::read_to_string(path).map_err(|e| TransitionError::Read {
             path: path.display().to_string(),
-            message: e.to_string(),
+            source: e,
         })?;
         Targets::parse(&text).map_err(|e| e.in_file(&path.display().to_string()))
     }

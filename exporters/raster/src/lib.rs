@@ -55,12 +55,13 @@ pub enum RenderError {
         others: Vec<String>,
     },
     /// Encoding or writing the file failed; nothing was left at `path`.
-    #[error("{}: {message}", path.display())]
+    #[error("{}: {source}", path.display())]
     Write {
         /// The target file.
         path: PathBuf,
         /// What failed.
-        message: String,
+        #[source]
+        source: io::Error,
     },
 }
 
@@ -118,16 +119,18 @@ pub fn render_sized(svg: &str, size: OutputSize) -> Result<Pixmap, RenderError> 
     Ok(pixmap)
 }
 
-fn write_error(path: &Path, e: impl std::fmt::Display) -> RenderError {
+fn write_error(path: &Path, source: io::Error) -> RenderError {
     RenderError::Write {
         path: path.to_path_buf(),
-        message: e.to_string(),
+        source,
     }
 }
 
 /// Writes a PNG (straight alpha, as PNG requires).
 pub fn save_png(pixmap: &Pixmap, path: &Path) -> Result<(), RenderError> {
-    let bytes = pixmap.encode_png().map_err(|e| write_error(path, e))?;
+    let bytes = pixmap
+        .encode_png()
+        .map_err(|e| write_error(path, io::Error::other(e)))?;
     atomic::write_bytes(path, &bytes).map_err(|e| write_error(path, e))
 }
 
@@ -375,7 +378,7 @@ pub fn write_frames(frames: &[Pixmap], dir: &Path) -> Result<(), RenderError> {
     let old = check_frame_folder(dir)?;
     let encoded: Vec<Vec<u8>> = frames
         .par_iter()
-        .map(|f| f.encode_png().map_err(|e| write_error(dir, e)))
+        .map(|f| f.encode_png().map_err(|e| write_error(dir, io::Error::other(e))))
         .collect::<Result<_, _>>()?;
     let tmp = atomic::temp_path(dir);
     let moved = (|| -> io::Result<()> {
