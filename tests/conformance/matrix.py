@@ -729,17 +729,19 @@ def export(case, out, gm):
 
 
 def translucent_paint_overlap(doc):
-    """Whether some shape group below 100% opacity (fixed or animated) holds both a fill and
-    a stroke. lottie-web's canvas renderer and rlottie apply a group's opacity to each paint
-    in it, so they draw where the stroke overlaps the fill darker than a group composited
-    whole (resvg, lottie-web svg, ThorVG, browsers); see KNOWN."""
-    def paints(items, kinds):
+    """Whether some shape group or layer below 100% opacity (fixed or animated) holds more
+    than one paint (a fill and a stroke, or several drawn paths). lottie-web's canvas
+    renderer applies such opacity to each paint in it, so it draws where one paint overlaps
+    another darker than a group composited whole (resvg, lottie-web svg, ThorVG, rlottie,
+    browsers); see KNOWN."""
+    def paints(items):
+        n = 0
         for it in items:
             if it.get("ty") in ("fl", "gf", "st", "gs"):
-                kinds.add("fill" if it["ty"] in ("fl", "gf") else "stroke")
+                n += 1
             elif it.get("ty") == "gr":
-                paints(it.get("it", []), kinds)
-        return kinds
+                n += paints(it.get("it", []))
+        return n
 
     def translucent(o):
         if not isinstance(o, dict):
@@ -752,13 +754,23 @@ def translucent_paint_overlap(doc):
                 continue
             inner = it.get("it", [])
             tr = next((x for x in inner if x.get("ty") == "tr"), {})
-            if translucent(tr.get("o")) and paints(inner, set()) == {"fill", "stroke"}:
+            if translucent(tr.get("o")) and paints(inner) > 1:
                 return True
             if walk(inner):
                 return True
         return False
 
-    return any(walk(layer.get("shapes", [])) for layer in doc.get("layers", []))
+    assets = {a.get("id"): a.get("layers", []) for a in doc.get("assets", [])}
+
+    def layer_paints(layer):
+        if "refId" in layer:
+            return sum(layer_paints(sub) for sub in assets.get(layer["refId"], []))
+        return paints(layer.get("shapes", []))
+
+    every = [layer for layers in [doc.get("layers", [])] + list(assets.values()) for layer in layers]
+    return any(walk(layer.get("shapes", [])) or
+               (translucent(layer.get("ks", {}).get("o")) and layer_paints(layer) > 1)
+               for layer in every)
 
 
 def schema_validator():
@@ -842,11 +854,23 @@ def player_pngs(c, player):
 
 
 NA = "n/a"
-# Players that draw a translucent group's stroke-over-fill overlap darker (opacity applied
-# per paint; see translucent_paint_overlap). Their frames of such cases are reported as
-# "known", not failed; every other player still judges those cases.
-KNOWN = ("lottie-web-canvas", "rlottie")
-KNOWN_NOTE = "known (group opacity applied per paint): "
+# Players that draw where one paint of a translucent group or layer overlaps another darker
+# (opacity applied per paint; see translucent_paint_overlap). Their frames of such cases are
+# reported as "known", not failed; every other player still judges those cases.
+# lottie-web 5.13's canvas renderer multiplies the context's globalAlpha by a layer's opacity
+# (CVBaseElement renderFrame: ctxOpacity(finalTransform.localOpacity)) and by each shape
+# group's (renderStyledShapes: ctxOpacity(coOp)), then fills and strokes straight onto the
+# canvas, with no offscreen buffer. Minimal reproducer: one 100x100 shape layer holding a
+# rectangle (20..80) with a blue fill over a green (0, 0.6, 0) stroke 8 wide, at opacity 50
+# either on the layer's ks.o or on the group's tr.o. At 2x, pixel (44, 44), where the fill
+# covers the stroke, is premultiplied (0, 38, 128, 192) in the canvas renderer both ways
+# (the stroke shows through: two paints composited one after the other), and plain
+# half-blue, (0, 0, 125..128, 125..128), in lottie-web svg, ThorVG and rlottie for the layer.
+# rlottie applies a group's opacity per paint too (0, 38, 127, 190), but not a layer's,
+# and does not dim the layers beneath a translucent layer, so the exporter puts a
+# translucent shape's opacity on its layer.
+KNOWN = ("lottie-web-canvas",)
+KNOWN_NOTE = "known (opacity applied per paint): "
 # Bake error bound (canvas px) for the exports. Compared at 2x, an edge the exporter moves by
 # its full bound changes an antialiased pixel by up to 2·bound of coverage, and a frame fails
 # on pixels off by more than 32/255: so the bound must stay under 32/255/2 ≈ 0.063 px. At 0.1
@@ -949,9 +973,9 @@ def report(argv):
               f"{data['uncovered_pairs']}." + (f" {refused} case(s) must be refused with a located error "
                                                  "(`arc` on a channel that is not a position) and were; they "
                                                  "count under export only." if refused else ""),
-              "", "`(+N known)`: frames of lottie-web's canvas renderer and rlottie that differ only because "
-              "they apply a translucent group's opacity to each paint (a shape's stroke over its own fill "
-              "draws darker); the other players judge those cases in full. Baked motion is exported with "
+              "", "`(+N known)`: frames of lottie-web's canvas renderer that differ only because "
+              "it applies a translucent group's or layer's opacity to each paint (a shape's stroke over its "
+              "own fill draws darker); the other players judge those cases in full. Baked motion is exported with "
               f"`--tolerance {TOLERANCE}`.", ""]
     # Failures per dimension value.
     fail_rows = []

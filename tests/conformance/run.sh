@@ -5,6 +5,9 @@
 #   bash tests/conformance/run.sh --matrix full    (the whole conformance matrix, ~350 cases;
 #                                                   MATRIX=full does the same)
 #   bash tests/conformance/run.sh --matrix-only    (skip the corpus and the example grammars)
+#   bash tests/conformance/run.sh --matrix-only --only gm-0171,tr-0048
+#                                                  (just those matrix cases, e.g. to re-check
+#                                                   failures without replaying the whole matrix)
 #   GMOTION=target/quick/gmotion bash tests/conformance/run.sh   (play that binary, no build)
 #   PROFILE=quick bash tests/conformance/run.sh   (build and test with that cargo profile;
 #                                                  default release)
@@ -29,11 +32,13 @@ out="${CONFORMANCE_OUT:-$root/target/conformance}"
 matrix="${MATRIX:-sample}"
 profile="${PROFILE:-release}"
 main_run=1
+only=()
 while [ $# -gt 0 ]; do
     case "$1" in
         --matrix) matrix="${2:?--matrix takes sample or full}"; shift 2 ;;
         --matrix-only) main_run=0; shift ;;
-        *) echo "conformance: unknown argument $1 (--matrix sample|full, --matrix-only)" >&2; exit 2 ;;
+        --only) only=(--only "${2:?--only takes case names, comma-separated}"); shift 2 ;;
+        *) echo "conformance: unknown argument $1 (--matrix sample|full, --matrix-only, --only NAMES)" >&2; exit 2 ;;
     esac
 done
 case "$matrix" in sample|full) ;; *) echo "conformance: --matrix is sample or full, not $matrix" >&2; exit 2 ;; esac
@@ -81,7 +86,7 @@ m="$out/matrix"
 mstart=$SECONDS
 echo "== matrix ($matrix): checking the generator, exporting, rendering gmotion's reference frames"
 python3 "$here/matrix.py" selftest || status=1
-python3 "$here/matrix.py" prepare "$m" "$gm" --matrix "$matrix"
+python3 "$here/matrix.py" prepare "$m" "$gm" --matrix "$matrix" "${only[@]}"
 echo "== matrix: lottie-web (svg and canvas renderers)"
 node "$here/lottie_web.mjs" "$m/lottie_web_jobs.json" || echo "matrix: a player exited with an error; its missing frames fail below"
 echo "== matrix: rlottie"

@@ -40,13 +40,14 @@ impl Player {
         Player::Thorvg,
     ];
 
-    /// The players that draw a translucent group as a whole. lottie-web's canvas renderer
-    /// and rlottie apply a group's opacity to each fill and stroke in it, so where a
-    /// translucent shape's stroke overlaps its own fill they draw the overlap darker
-    /// (and rlottie's layer opacity dims the layers beneath, so the exporter cannot move
-    /// it there). A shape with both a fill and a stroke under partial opacity is judged by
-    /// these.
-    pub const WHOLE_GROUP_OPACITY: [Player; 2] = [Player::LottieWebSvg, Player::Thorvg];
+    /// The players that draw a translucent shape as a whole. lottie-web's canvas renderer
+    /// applies a group's or a layer's opacity to each fill and stroke in it, so where a
+    /// translucent shape's stroke overlaps its own fill it draws the overlap darker
+    /// (tests/conformance/matrix.py, KNOWN, has a minimal reproducer). rlottie does that
+    /// for a group's opacity only, so the exporter puts a shape's opacity on its layer. A
+    /// shape with both a fill and a stroke under partial opacity is judged by these.
+    pub const WHOLE_GROUP_OPACITY: [Player; 3] =
+        [Player::LottieWebSvg, Player::Rlottie, Player::Thorvg];
 
     fn name(self) -> &'static str {
         match self {

@@ -63,6 +63,9 @@ pub struct UnitInfo {
     pub centroid: Point,
 }
 
+/// How far apart two stroke width factors may be and still make one key value.
+pub const WIDTH_FACTOR_TOLERANCE: f64 = 1e-3;
+
 /// Converts a track. `frames` is the animation's frame count, `tolerance` the baking
 /// error bound in canvas units.
 pub fn unit_motion(
@@ -76,7 +79,7 @@ pub fn unit_motion(
         opacity: attr_keys(&track.opacity, fps, 1.0, |v| v, 1e-3),
         fill: attr_keys(&track.fill, fps, Tint::NONE, |t| t, 0.5 / 255.0),
         stroke: attr_keys(&track.stroke, fps, Tint::NONE, |t| t, 0.5 / 255.0),
-        stroke_width: attr_keys(&track.stroke_width, fps, 1.0, |v| v, 1e-3),
+        stroke_width: attr_keys(&track.stroke_width, fps, 1.0, |v| v, WIDTH_FACTOR_TOLERANCE),
         ..UnitMotion::default()
     };
     if track.motions.is_empty() {

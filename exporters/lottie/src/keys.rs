@@ -12,6 +12,7 @@ use kurbo::{CubicBez, ParamCurve, Point};
 use super::model::{Ease, Keyframe, N, Value};
 use gmotion::motion::reduce::greedy;
 use gmotion::motion::{Timing, Tint};
+use gmotion::signals::Easing;
 use gmotion::signals::easing::solve_bezier_x;
 
 /// Values compared the way output is written: equal when no player could tell them apart.
@@ -323,6 +324,50 @@ pub fn to_keyframes<V: Near>(keys: &[Key<V>], to_value: impl Fn(&V) -> Value) ->
             }
         })
         .collect()
+}
+
+/// `keys` with every eased stretch that carries the value out of its range sampled as one
+/// linear key per frame. Players interpolate each channel along the keyframe's easing, and
+/// an overshooting Bézier (`cubic(0.3, -0.3, 0.7, 1.3)`) passes the ends it eases between:
+/// near a colour channel's 0 or 1, or full opacity, that leaves the range. The model clamps
+/// there, and so do lottie-web and ThorVG, but rlottie wraps: a yellow whose red passes 1
+/// drew green (matrix gm-0187), a layer faded from 100% drew at about 0% while its
+/// opacity overshot (gm-0199). `leaves(a, b, lo, hi)` tells whether a stretch from `a` to
+/// `b` leaves the range at some progress in `[lo, hi]`; `clamped(a, b, p)` is the model's
+/// value at progress `p`.
+pub fn within_range<V: Clone>(
+    keys: &[Key<V>],
+    leaves: impl Fn(&V, &V, f64, f64) -> bool,
+    clamped: impl Fn(&V, &V, f64) -> V,
+) -> Vec<Key<V>> {
+    let mut out = Vec::with_capacity(keys.len());
+    for (k, next) in keys.iter().zip(keys.iter().skip(1)) {
+        out.push(k.clone());
+        let Some(ease) = k.ease.filter(|_| !k.hold) else {
+            continue;
+        };
+        let curve = Easing::CubicBezier(ease);
+        let (lo, hi) = (0..=256)
+            .map(|i| curve.apply(i as f64 / 256.0))
+            .fold((0.0_f64, 1.0_f64), |(lo, hi), p| (lo.min(p), hi.max(p)));
+        if (lo, hi) == (0.0, 1.0) || !leaves(&k.v, &next.v, lo, hi) {
+            continue;
+        }
+        out.last_mut().expect("just pushed").ease = None;
+        let mut f = k.t.floor() + 1.0;
+        while f < next.t {
+            let p = curve.apply((f - k.t) / (next.t - k.t));
+            out.push(Key {
+                t: f,
+                v: clamped(&k.v, &next.v, p),
+                ease: None,
+                hold: false,
+            });
+            f += 1.0;
+        }
+    }
+    out.extend(keys.last().cloned());
+    out
 }
 
 #[cfg(test)]

@@ -9,7 +9,7 @@
 
 use kurbo::{Affine, Point, Rect, Vec2};
 
-use super::keys::{Key, to_keyframes};
+use super::keys::{Key, to_keyframes, within_range};
 use super::model::{
     Dash, Fill as LFill, Gradient, GradientFill, GradientStops, GradientStroke, N, Prop, Shape,
     Stroke as LStroke, StrokeStyle, Value,
@@ -64,7 +64,28 @@ fn color_prop(c: Color, tint: &[Key<Tint>]) -> Prop {
     if tint.is_empty() {
         return Prop::fixed(rgb(c));
     }
-    Prop::keyed(to_keyframes(tint, |t| rgb(t.apply(c))))
+    // `apply` clamps, as the model does.
+    let keys = within_range(
+        tint,
+        |a, b, lo, hi| tint_leaves_range(c, *a, *b, lo, hi),
+        |a, b, p| a.lerp(*b, p as f32),
+    );
+    Prop::keyed(to_keyframes(&keys, |t| rgb(t.apply(c))))
+}
+
+/// Whether some channel of `c` tinted from `a` to `b` leaves `[0, 1]` at a progress in
+/// `[lo, hi]` (see `within_range`).
+fn tint_leaves_range(c: Color, a: Tint, b: Tint, lo: f64, hi: f64) -> bool {
+    let shown = |t: Tint, k: usize| {
+        let own = [c.r, c.g, c.b][k];
+        (own * (1.0 - t.weight) + t.sum[k]) as f64
+    };
+    (0..3).any(|k| {
+        let (x, y) = (shown(a, k), shown(b, k));
+        [lo, hi]
+            .iter()
+            .any(|p| !(-1e-6..=1.0 + 1e-6).contains(&(x + (y - x) * p)))
+    })
 }
 
 fn fill_rule(r: FillRule) -> u8 {

@@ -23,10 +23,10 @@ use std::sync::Arc;
 
 use kurbo::{Affine, BezPath, Point, Rect, Shape as _, Vec2};
 
-use super::animate::{UnitMotion, is_even, static_level};
+use super::animate::{UnitMotion, WIDTH_FACTOR_TOLERANCE, is_even, static_level};
 use super::bake::bake_paths;
 use super::geometry::{Contour, contours, decompose, max_stretch};
-use super::keys::to_keyframes;
+use super::keys::{Key, to_keyframes, within_range};
 use super::model::{
     Asset, Bezier, Group as LGroup, Layer, LayerType, Mask as LMask, N, PathShape, Prop, Shape,
     Transform, Value,
@@ -279,23 +279,10 @@ impl<'a> Builder<'a> {
             });
         let opacity = g.opacity as f64 * env.alpha;
         if opacity < 1.0 {
-            let o = Prop::scalar(N::coord(opacity * 100.0));
-            match content.shapes.as_mut() {
-                // rlottie lets a translucent layer dim everything under it, so shape layers
-                // carry opacity on a group (which lottie-web also draws as group opacity).
-                Some(shapes) => {
-                    let mut it = std::mem::take(shapes);
-                    it.push(Shape::Transform(Transform {
-                        o: Some(o),
-                        ..Transform::empty()
-                    }));
-                    *shapes = vec![Shape::Group(LGroup {
-                        nm: String::new(),
-                        it,
-                    })];
-                }
-                None => content.ks.o = Some(o),
-            }
+            // On the layer, which every player but lottie-web's canvas renderer composites
+            // whole; rlottie and ThorVG apply a shape group's opacity to each paint or path
+            // in it (see `unit`).
+            content.ks.o = Some(Prop::scalar(N::coord(opacity * 100.0)));
         }
         let mut matte_group: Option<(Group, u8)> = None;
         match clip {
@@ -489,7 +476,18 @@ impl<'a> Builder<'a> {
             if motion.opacity.is_empty() {
                 Prop::scalar(N::coord(base * 100.0))
             } else {
-                Prop::keyed(to_keyframes(&motion.opacity, |m| {
+                // The model clamps the factor to [0, 1] (frame_svg).
+                let at = |a: &f64, b: &f64, p: f64| a + (b - a) * p;
+                let keys = within_range(
+                    &motion.opacity,
+                    |a, b, lo, hi| {
+                        [lo, hi]
+                            .iter()
+                            .any(|&p| !(0.0..=1.0).contains(&at(a, b, p)))
+                    },
+                    |a, b, p| at(a, b, p).clamp(0.0, 1.0),
+                );
+                Prop::keyed(to_keyframes(&keys, |m| {
                     Value::Scalar(N::coord(base * m * 100.0))
                 }))
             }
@@ -518,16 +516,13 @@ impl<'a> Builder<'a> {
                 }
             }
             let mut l = comp.layer(LayerType::Shape, name.clone(), self.op);
-            if painting_groups(&it) > 1 {
-                // ThorVG applies a group's opacity to each path in it (so a path over
-                // another shows the one beneath, and a stroke baked to an outline shows
-                // the fill), but composites a layer's as a whole.
-                l.ks.o = Some(opacity(env.alpha));
-            } else if let Some(Shape::Transform(tr)) = it.last_mut() {
-                // One path: opacity on the outermost group rather than the layer (see
-                // `isolate`), which every player draws over the path's fill and stroke.
-                tr.o = Some(opacity(env.alpha));
-            }
+            // Opacity on the layer, not the named group: rlottie applies a group's opacity
+            // to each paint in it (a stroke over its own fill draws darker) and ThorVG to
+            // each path (a path over another shows the one beneath, a stroke baked to an
+            // outline shows the fill), while both composite a layer's whole without
+            // dimming the layers beneath. lottie-web's svg renderer does too; its canvas
+            // renderer applies either per paint (matrix.py, KNOWN).
+            l.ks.o = Some(opacity(env.alpha));
             l.shapes = Some(vec![Shape::Group(LGroup { nm: name, it })]);
             comp.items.push(Item::Layers(vec![l]));
             return;
@@ -618,21 +613,25 @@ impl<'a> Builder<'a> {
             .filter(|m| !m.deform_frames.is_empty())
             .map(|m| (env.unit.expect("unit"), m.deform_frames.clone()));
         // A stroke under uneven scaling is drawn as its filled outline: players other than
-        // lottie-web widen strokes by one averaged factor, while an outline transforms
-        // exactly. Not when its width animates or its outline moves per vertex.
+        // lottie-web widen strokes by one averaged factor (rlottie) or scale the pen along
+        // the canvas axes by the matrix's column lengths (ThorVG; wrong once the scaling
+        // is rotated, as a skew's is), while an outline transforms exactly. Not when its
+        // width animates or its outline moves per vertex.
         let uneven = !is_even(acc) || motion.as_ref().is_some_and(|m| m.anisotropic);
         let outline = p
             .stroke
             .as_ref()
             .filter(|s| {
-                uneven
-                    && deform.is_none()
-                    && anim.stroke_width.is_empty()
-                    && matches!(s.paint, Paint::Solid(_) | Paint::Linear(_))
+                uneven && deform.is_none() && matches!(s.paint, Paint::Solid(_) | Paint::Linear(_))
             })
-            .map(|s| {
+            .zip(held_factor(anim.stroke_width))
+            .map(|(s, factor)| {
                 let tolerance = 0.01 / max_stretch(acc).max(1e-9);
-                contours(&outline_path(&p.path, s, tolerance))
+                let s = Stroke {
+                    width: s.width * factor,
+                    ..s.clone()
+                };
+                contours(&outline_path(&p.path, &s, tolerance))
             });
         let stroke = match (&p.stroke, &outline) {
             (Some(s), Some(o)) => {
@@ -1018,6 +1017,19 @@ enum Part {
     Layered(Group),
 }
 
+/// The stroke width factor that `keys` hold throughout (1 without keys), or `None` when
+/// the width changes. Smoothing rebuilds every channel from filtered samples, and a
+/// constant width comes back within float noise of itself as keys of one value: that is
+/// no width animation.
+fn held_factor(keys: &[Key<f64>]) -> Option<f64> {
+    let Some(first) = keys.first() else {
+        return Some(1.0);
+    };
+    keys.iter()
+        .all(|k| (k.v - first.v).abs() <= WIDTH_FACTOR_TOLERANCE)
+        .then_some(first.v)
+}
+
 /// How many paints `g` draws, counting to two.
 fn paints(g: &Group) -> usize {
     let mut n = 0;
@@ -1028,26 +1040,6 @@ fn paints(g: &Group) -> usize {
         };
         if n > 1 {
             break;
-        }
-    }
-    n
-}
-
-/// How many of the groups in `items` (itself one) paint directly, counting up to 2: each
-/// is one drawn path, with its fill and stroke, in the players.
-fn painting_groups(items: &[Shape]) -> usize {
-    let mut n = items.iter().any(|s| {
-        matches!(
-            s,
-            Shape::Fill(_) | Shape::Stroke(_) | Shape::GradientFill(_) | Shape::GradientStroke(_)
-        )
-    }) as usize;
-    for s in items {
-        if n > 1 {
-            break;
-        }
-        if let Shape::Group(g) = s {
-            n += painting_groups(&g.it);
         }
     }
     n

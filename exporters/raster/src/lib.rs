@@ -378,7 +378,10 @@ pub fn write_frames(frames: &[Pixmap], dir: &Path) -> Result<(), RenderError> {
     let old = check_frame_folder(dir)?;
     let encoded: Vec<Vec<u8>> = frames
         .par_iter()
-        .map(|f| f.encode_png().map_err(|e| write_error(dir, io::Error::other(e))))
+        .map(|f| {
+            f.encode_png()
+                .map_err(|e| write_error(dir, io::Error::other(e)))
+        })
         .collect::<Result<_, _>>()?;
     let tmp = atomic::temp_path(dir);
     let moved = (|| -> io::Result<()> {
