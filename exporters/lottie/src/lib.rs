@@ -30,9 +30,9 @@ mod animate;
 mod bake;
 mod geometry;
 mod keys;
+mod layers;
 mod model;
 mod paint;
-mod still;
 
 use rayon::prelude::*;
 
@@ -175,7 +175,7 @@ fn write(
     } else {
         0.25
     };
-    let mut builder = still::Builder::new(scene, tracks, motions, fps, op, tolerance);
+    let mut builder = layers::Builder::new(scene, tracks, motions, fps, op, tolerance);
     let mut layers = builder.layers(size);
     let size = match opts.size.fit(w, h) {
         Some(fit) => {

@@ -1,0 +1,441 @@
+//! The scene tree as Lottie layers and shapes.
+//!
+//! Plain content (paths, and groups whose effect can be folded into their children) becomes
+//! nested shape groups in one shape layer, each path in a group carrying its full transform
+//! as at most two skew-free levels. Whatever needs compositing of its own becomes a layer:
+//!
+//! - a group with a clip path: layer masks (`masksProperties`, mode add) when the clip is
+//!   a union of single-contour non-zero outlines, else an alpha track matte drawn from the
+//!   clip content filled white;
+//! - a group with a mask: a luma (or alpha) track matte drawn from the mask content, itself
+//!   clipped to the mask rectangle (a layer mask) and by the group's clip when that needs
+//!   a matte too (clip and mask multiply, so the clip can be carried by the mask);
+//! - a group with opacity below 1 that paints more than once: a layer with that opacity
+//!   (group opacity composites the whole group, unlike per-paint opacity);
+//! - a pattern paint: its tiles as content under an alpha matte of the painted outline;
+//! - an animated shape: its own layer named `tag:id` (see [`super::animate`]).
+//!
+//! A layer holding only shapes is a shape layer; one holding layers is a precomposition,
+//! whose content is drawn offset by a margin because players clip a precomposition to
+//! its rectangle, which starts at the origin.
+//!
+//! This module walks the tree and decides what becomes a layer; the submodules hold the
+//! rest, by concern: [`mattes`] (clip paths and masks), [`units`] (animated shapes),
+//! [`paths`] (fills, strokes, outlines, deformation) and [`patterns`].
+
+mod mattes;
+mod paths;
+mod patterns;
+mod units;
+
+use std::sync::Arc;
+
+use kurbo::{Affine, BezPath, Point, Rect, Shape as _, Vec2};
+
+use super::animate::{UnitMotion, WIDTH_FACTOR_TOLERANCE, is_even, static_level};
+use super::bake::bake_paths;
+use super::geometry::{Contour, contours, decompose, max_stretch};
+use super::keys::{Key, to_keyframes, within_range};
+use super::model::{
+    Asset, Bezier, Group as LGroup, Layer, LayerType, Mask as LMask, N, PathShape, Prop, Shape,
+    Transform, Value,
+};
+use super::paint::{self, PaintAnim, Styled};
+use gmotion::color::Color;
+use gmotion::motion::Track;
+use gmotion::scene::{
+    ClipPath, Fill, FillRule, Group, LineCap, LineJoin, Mask, MaskKind, Node, Paint, PathNode,
+    Pattern, Scene, Stroke,
+};
+use mattes::{ClipKind, clip_group, mask, mask_group};
+
+/// What applies to the nodes being emitted.
+#[derive(Clone, Copy, Debug)]
+struct Env {
+    /// Opacity folded down from groups that paint once.
+    alpha: f64,
+    /// The animated shape being emitted, if any.
+    unit: Option<usize>,
+    /// From the current composition's coordinates to the canvas.
+    to_canvas: Affine,
+    /// The current composition's size.
+    size: (u32, u32),
+}
+
+/// An emitted piece, in paint order.
+enum Item {
+    /// A shape group for the current shape layer.
+    Shape(Box<Shape>),
+    /// Finished layers, bottom first.
+    Layers(Vec<Layer>),
+}
+
+/// A composition being built.
+struct Comp {
+    items: Vec<Item>,
+    next_ind: u32,
+}
+
+impl Comp {
+    fn new(next_ind: u32) -> Comp {
+        Comp {
+            items: Vec::new(),
+            next_ind,
+        }
+    }
+
+    fn layer(&mut self, ty: LayerType, nm: String, op: f64) -> Layer {
+        self.next_ind += 1;
+        Layer::new(ty, nm, self.next_ind, 0.0, op)
+    }
+
+    fn only_shapes(&self) -> bool {
+        self.items.iter().all(|i| matches!(i, Item::Shape(_)))
+    }
+
+    /// The shapes, topmost first (for a composition of shapes only).
+    fn into_shapes(self) -> Vec<Shape> {
+        let mut out: Vec<Shape> = Vec::with_capacity(self.items.len());
+        for item in self.items.into_iter().rev() {
+            if let Item::Shape(s) = item {
+                out.push(*s);
+            }
+        }
+        out
+    }
+
+    /// The layers, topmost first; runs of shapes become shape layers.
+    fn into_layers(mut self, op: f64) -> Vec<Layer> {
+        let mut bottom_up: Vec<Layer> = Vec::new();
+        let mut run: Vec<Shape> = Vec::new();
+        let items = std::mem::take(&mut self.items);
+        for item in items {
+            match item {
+                Item::Shape(s) => run.push(*s),
+                Item::Layers(ls) => {
+                    self.flush(&mut run, &mut bottom_up, op);
+                    bottom_up.extend(ls);
+                }
+            }
+        }
+        self.flush(&mut run, &mut bottom_up, op);
+        bottom_up.reverse();
+        bottom_up
+    }
+
+    fn flush(&mut self, run: &mut Vec<Shape>, out: &mut Vec<Layer>, op: f64) {
+        if run.is_empty() {
+            return;
+        }
+        let name = match run.as_slice() {
+            [Shape::Group(g)] if !g.nm.is_empty() => g.nm.clone(),
+            _ => "shapes".to_string(),
+        };
+        let mut l = self.layer(LayerType::Shape, name, op);
+        l.shapes = Some(run.drain(..).rev().collect());
+        out.push(l);
+    }
+}
+
+/// Builds the layers of a scene (or an animation's scene with its tracks).
+pub struct Builder<'a> {
+    scene: &'a Scene,
+    tracks: &'a [Track],
+    motions: Vec<UnitMotion>,
+    fps: f64,
+    op: f64,
+    tolerance: f64,
+    margin: f64,
+    /// Warnings, one per dropped or approximated feature, naming the element.
+    pub warnings: Vec<String>,
+    /// Precompositions made so far.
+    pub assets: Vec<Asset>,
+}
+
+impl<'a> Builder<'a> {
+    /// A builder for `scene`; `motions[i]` and `tracks[i]` belong to `scene.shapes[i]`
+    /// (both empty for a still).
+    pub fn new(
+        scene: &'a Scene,
+        tracks: &'a [Track],
+        motions: Vec<UnitMotion>,
+        fps: f64,
+        op: f64,
+        tolerance: f64,
+    ) -> Builder<'a> {
+        let margin = scene.width.max(scene.height).ceil().max(1.0);
+        Builder {
+            scene,
+            tracks,
+            motions,
+            fps,
+            op,
+            tolerance,
+            margin,
+            warnings: Vec::new(),
+            assets: Vec::new(),
+        }
+    }
+
+    /// The root composition's layers, topmost first.
+    pub fn layers(&mut self, size: (u32, u32)) -> Vec<Layer> {
+        let env = Env {
+            alpha: 1.0,
+            unit: None,
+            to_canvas: Affine::IDENTITY,
+            size,
+        };
+        let mut comp = Comp::new(0);
+        let root = self.scene.root.clone();
+        self.node(&Node::Group(root), Affine::IDENTITY, env, &mut comp);
+        let next = comp.next_ind;
+        let mut layers = comp.into_layers(self.op);
+        // Lottie sizes are whole pixels: stretch a fractional canvas onto them, through a
+        // null parent (exact for every layer whatever its own transform).
+        let scale = Vec2::new(
+            size.0 as f64 / self.scene.width,
+            size.1 as f64 / self.scene.height,
+        );
+        if (scale - Vec2::new(1.0, 1.0)).hypot() > 1e-9 {
+            let ind = layers.iter().map(|l| l.ind).max().unwrap_or(next) + 1;
+            for l in layers.iter_mut().filter(|l| l.parent.is_none()) {
+                l.parent = Some(ind);
+            }
+            let mut null = Layer::new(LayerType::Null, "canvas".to_string(), ind, 0.0, self.op);
+            null.ks.s = Some(Prop::vec(vec![
+                N::fine(scale.x * 100.0),
+                N::fine(scale.y * 100.0),
+            ]));
+            layers.push(null);
+        }
+        layers
+    }
+
+    fn motion(&self, unit: usize) -> Option<&UnitMotion> {
+        self.motions.get(unit).filter(|m| m.is_animated())
+    }
+
+    fn node(&mut self, node: &Node, acc: Affine, env: Env, comp: &mut Comp) {
+        if let Some(u) = node.unit()
+            && env.unit != Some(u)
+            && u < self.scene.shapes.len()
+        {
+            return self.unit(node, u, acc, env, comp);
+        }
+        match node {
+            Node::Path(p) => self.path(p, acc, env, comp),
+            Node::Group(g) => self.group(g, acc, env, comp),
+        }
+    }
+
+    fn children(&mut self, g: &Group, acc: Affine, env: Env, comp: &mut Comp) {
+        for child in &g.children {
+            self.node(child, acc, env, comp);
+        }
+    }
+
+    // ----- groups -----------------------------------------------------------------
+
+    fn group(&mut self, g: &Group, acc: Affine, mut env: Env, comp: &mut Comp) {
+        if g.opacity <= 0.0 || g.children.is_empty() {
+            return;
+        }
+        let clip = g.clip_path.as_deref().map(|c| self.classify_clip(c));
+        if matches!(clip, Some(ClipKind::Empty)) {
+            return;
+        }
+        let isolate = clip.is_some() || g.mask.is_some() || (g.opacity < 1.0 && paints(g) > 1);
+        if !isolate {
+            env.alpha *= g.opacity as f64;
+            return self.children(g, acc * g.transform, env, comp);
+        }
+        let layers = self.isolate(g, clip, acc, env, comp);
+        comp.items.push(Item::Layers(layers));
+    }
+
+    /// Draws `g` as a layer of its own (plus its matte layer), bottom first.
+    fn isolate(
+        &mut self,
+        g: &Group,
+        clip: Option<ClipKind>,
+        acc: Affine,
+        env: Env,
+        comp: &mut Comp,
+    ) -> Vec<Layer> {
+        let inner = acc * g.transform;
+        let name = if g.id.is_empty() {
+            "group".to_string()
+        } else {
+            g.id.clone()
+        };
+        let sub_env = Env { alpha: 1.0, ..env };
+        let layered = self.children_need_layers(g, env.unit);
+        let (mut content, local) =
+            self.content_layer(&name, layered, sub_env, comp, |b, env, acc0, sub| {
+                b.children(g, acc0 * inner, env, sub);
+            });
+        let opacity = g.opacity as f64 * env.alpha;
+        if opacity < 1.0 {
+            // On the layer, which every player but lottie-web's canvas renderer composites
+            // whole; rlottie and ThorVG apply a shape group's opacity to each paint or path
+            // in it (see `unit`).
+            content.ks.o = Some(Prop::scalar(N::coord(opacity * 100.0)));
+        }
+        let mut matte_group: Option<(Group, u8)> = None;
+        match clip {
+            Some(ClipKind::Masks(cs)) => {
+                content.masks = cs
+                    .iter()
+                    .map(|c| mask(&c.transformed(local * inner)))
+                    .collect();
+                content.has_mask = Some(true);
+            }
+            Some(ClipKind::Matte) => {
+                let c = g.clip_path.as_ref().expect("a matte clip has a clip path");
+                matte_group = Some((clip_group(c), 1));
+            }
+            Some(ClipKind::Empty) | None => {}
+        }
+        if let Some(m) = &g.mask {
+            // A clip that needs a matte rides on the mask's matte (both multiply).
+            let clip = matte_group
+                .take()
+                .map(|_| g.clip_path.clone().expect("clip"));
+            let mode = if m.kind == MaskKind::Luminance { 3 } else { 1 };
+            matte_group = Some((mask_group(m, clip), mode));
+        }
+        let mut out = vec![content];
+        if let Some((mg, mode)) = matte_group {
+            let matte_env = Env {
+                alpha: 1.0,
+                unit: None,
+                ..env
+            };
+            let mut matte = self.one_layer(&mg, inner, matte_env, comp);
+            matte.td = Some(1);
+            let content = &mut out[0];
+            content.tt = Some(mode);
+            content.tp = Some(matte.ind);
+            out.push(matte);
+        }
+        out
+    }
+
+    /// A layer holding what `draw` emits: a shape layer when `layered` is false (only
+    /// shapes), else a precomposition drawn with the margin offset. `draw` gets the
+    /// environment and the offset to prepend to transforms. Returns the layer and the map
+    /// from the current composition's coordinates into the layer's own.
+    fn content_layer(
+        &mut self,
+        name: &str,
+        layered: bool,
+        env: Env,
+        comp: &mut Comp,
+        draw: impl Fn(&mut Self, Env, Affine, &mut Comp),
+    ) -> (Layer, Affine) {
+        if !layered {
+            let mut sub = Comp::new(comp.next_ind);
+            draw(self, env, Affine::IDENTITY, &mut sub);
+            comp.next_ind = sub.next_ind;
+            let mut l = comp.layer(LayerType::Shape, name.to_string(), self.op);
+            l.shapes = Some(sub.into_shapes());
+            return (l, Affine::IDENTITY);
+        }
+        // Offset so that nothing falls left of or above the precomposition's clip rectangle.
+        let m = self.margin;
+        let offset = Affine::translate((m, m));
+        let size = (env.size.0 + 2 * m as u32, env.size.1 + 2 * m as u32);
+        let inner_env = Env {
+            to_canvas: env.to_canvas * offset.inverse(),
+            size,
+            ..env
+        };
+        let mut sub = Comp::new(0);
+        draw(self, inner_env, offset, &mut sub);
+        let id = format!("comp_{}", self.assets.len());
+        let layers = sub.into_layers(self.op);
+        self.assets.push(Asset {
+            id: id.clone(),
+            layers,
+        });
+        let mut l = comp.layer(LayerType::Precomp, name.to_string(), self.op);
+        l.ref_id = Some(id);
+        l.w = Some(size.0);
+        l.h = Some(size.1);
+        l.ks.a = Some(Prop::vec(vec![N::coord(m), N::coord(m)]));
+        (l, offset)
+    }
+
+    /// Whether drawing `node` makes layers (so its container must be a precomposition).
+    fn needs_layers(&self, node: &Node, unit: Option<usize>) -> bool {
+        if let Some(u) = node.unit()
+            && unit != Some(u)
+            && self.motion(u).is_some()
+        {
+            return true;
+        }
+        match node {
+            Node::Path(p) => {
+                let pattern = |paint: &Paint| matches!(paint, Paint::Pattern(_));
+                p.fill.as_ref().is_some_and(|f| pattern(&f.paint))
+                    || p.stroke.as_ref().is_some_and(|s| pattern(&s.paint))
+            }
+            Node::Group(g) => {
+                g.clip_path.is_some()
+                    || g.mask.is_some()
+                    || (g.opacity < 1.0 && paints(g) > 1)
+                    || g.children.iter().any(|c| self.needs_layers(c, unit))
+            }
+        }
+    }
+
+    fn children_need_layers(&self, g: &Group, unit: Option<usize>) -> bool {
+        g.children.iter().any(|c| self.needs_layers(c, unit))
+    }
+
+    /// `g` as exactly one layer (a track matte source must be a single layer).
+    fn one_layer(&mut self, g: &Group, acc: Affine, env: Env, comp: &mut Comp) -> Layer {
+        let clip = g.clip_path.as_deref().map(|c| self.classify_clip(c));
+        let needs_matte = g.mask.is_some() || matches!(clip, Some(ClipKind::Matte));
+        if matches!(clip, Some(ClipKind::Empty)) {
+            // Nothing shows: an empty shape layer.
+            let mut l = comp.layer(LayerType::Shape, g.id.clone(), self.op);
+            l.shapes = Some(Vec::new());
+            return l;
+        }
+        if !needs_matte {
+            let mut layers = self.isolate(g, clip, acc, env, comp);
+            return layers.remove(0);
+        }
+        let name = if g.id.is_empty() {
+            "matte".to_string()
+        } else {
+            g.id.clone()
+        };
+        let (l, _) = self.content_layer(&name, true, env, comp, |b, env, acc0, sub| {
+            let clip = g.clip_path.as_deref().map(|c| b.classify_clip(c));
+            let layers = b.isolate(g, clip, acc0 * acc, env, sub);
+            sub.items.push(Item::Layers(layers));
+        });
+        l
+    }
+
+    // ----- animated shapes -------------------------------------------------------------
+
+    // ----- paths -------------------------------------------------------------------
+}
+
+/// How many paints `g` draws, counting to two.
+fn paints(g: &Group) -> usize {
+    let mut n = 0;
+    for c in &g.children {
+        n += match c {
+            Node::Path(p) => p.fill.is_some() as usize + p.stroke.is_some() as usize,
+            Node::Group(h) => paints(h),
+        };
+        if n > 1 {
+            break;
+        }
+    }
+    n
+}

@@ -1,0 +1,183 @@
+//! Animated units: each animated shape as a layer of its own, named `tag:id`, with its
+//! motion as nested transform levels (see `crate::animate`).
+
+use super::*;
+
+impl Builder<'_> {
+    pub(super) fn unit(&mut self, node: &Node, u: usize, acc: Affine, env: Env, comp: &mut Comp) {
+        let shape = &self.scene.shapes[u];
+        let name = format!("{}:{}", shape.tag, shape.id);
+        let unit_env = Env {
+            unit: Some(u),
+            ..env
+        };
+        let Some(motion) = self.motion(u).cloned() else {
+            // Still: a named group (or its layers, when it needs some).
+            let mut sub = Comp::new(comp.next_ind);
+            self.node(node, acc, unit_env, &mut sub);
+            comp.next_ind = sub.next_ind;
+            if sub.only_shapes() {
+                let mut it = sub.into_shapes();
+                if it.is_empty() {
+                    return;
+                }
+                // A single path's group takes the shape's name; several get a named parent.
+                if let [Shape::Group(g)] = it.as_mut_slice() {
+                    g.nm = name;
+                    comp.items.push(Item::Shape(Box::new(it.remove(0))));
+                    return;
+                }
+                it.push(Shape::Transform(Transform::empty()));
+                comp.items
+                    .push(Item::Shape(Box::new(Shape::Group(LGroup { nm: name, it }))));
+            } else {
+                comp.items.extend(sub.items);
+            }
+            return;
+        };
+        let levels = conjugate(motion.levels.clone(), env.to_canvas);
+        let opacity = |base: f64| -> Prop {
+            if motion.opacity.is_empty() {
+                Prop::scalar(N::coord(base * 100.0))
+            } else {
+                // The model clamps the factor to [0, 1] (frame_svg).
+                let at = |a: &f64, b: &f64, p: f64| a + (b - a) * p;
+                let keys = within_range(
+                    &motion.opacity,
+                    |a, b, lo, hi| {
+                        [lo, hi]
+                            .iter()
+                            .any(|&p| !(0.0..=1.0).contains(&at(a, b, p)))
+                    },
+                    |a, b, p| at(a, b, p).clamp(0.0, 1.0),
+                );
+                Prop::keyed(to_keyframes(&keys, |m| {
+                    Value::Scalar(N::coord(base * m * 100.0))
+                }))
+            }
+        };
+        let content_env = Env {
+            alpha: 1.0,
+            ..unit_env
+        };
+        let mut sub = Comp::new(comp.next_ind);
+        self.node(node, acc, content_env, &mut sub);
+        if sub.only_shapes() {
+            comp.next_ind = sub.next_ind;
+            // The content sits in the innermost level's group, the outermost is the
+            // named group itself.
+            let mut it = sub.into_shapes();
+            if levels.is_empty() {
+                it.push(Shape::Transform(Transform::empty()));
+            }
+            for (k, level) in levels.iter().enumerate().rev() {
+                it.push(Shape::Transform(level.clone()));
+                if k > 0 {
+                    it = vec![Shape::Group(LGroup {
+                        nm: String::new(),
+                        it,
+                    })];
+                }
+            }
+            let mut l = comp.layer(LayerType::Shape, name.clone(), self.op);
+            // Opacity on the layer, not the named group: rlottie applies a group's opacity
+            // to each paint in it (a stroke over its own fill draws darker) and ThorVG to
+            // each path (a path over another shows the one beneath, a stroke baked to an
+            // outline shows the fill), while both composite a layer's whole without
+            // dimming the layers beneath. lottie-web's svg renderer does too; its canvas
+            // renderer applies either per paint (matrix.py, KNOWN).
+            l.ks.o = Some(opacity(env.alpha));
+            l.shapes = Some(vec![Shape::Group(LGroup { nm: name, it })]);
+            comp.items.push(Item::Layers(vec![l]));
+            return;
+        }
+        // Layers inside: the transform levels become a chain of null layers they parent to.
+        let mut nulls = Vec::with_capacity(levels.len());
+        for (k, level) in levels.iter().enumerate() {
+            let nm = if k == 0 {
+                name.clone()
+            } else {
+                format!("{name}/{k}")
+            };
+            let mut n = sub.layer(LayerType::Null, nm, self.op);
+            n.ks = full_transform(level.clone());
+            n.parent = nulls.last().map(|p: &Layer| p.ind);
+            nulls.push(n);
+        }
+        let innermost = nulls.last().map(|n| n.ind);
+        let mut layers = Vec::new();
+        let mut run = Vec::new();
+        let items = std::mem::take(&mut sub.items);
+        for item in items {
+            match item {
+                Item::Shape(s) => run.push(*s),
+                Item::Layers(ls) => {
+                    sub.flush(&mut run, &mut layers, self.op);
+                    layers.extend(ls);
+                }
+            }
+        }
+        sub.flush(&mut run, &mut layers, self.op);
+        comp.next_ind = sub.next_ind;
+        for l in &mut layers {
+            if l.parent.is_none() {
+                l.parent = innermost;
+            }
+            if l.td.is_none() {
+                let base = match &l.ks.o {
+                    Some(Prop::Fixed(Value::Scalar(x))) => x.0 / 100.0,
+                    _ => 1.0,
+                };
+                l.ks.o = Some(opacity(base * env.alpha));
+            }
+        }
+        if let Some(first) = layers.first_mut()
+            && nulls.is_empty()
+        {
+            first.nm = name;
+        }
+        layers.extend(nulls);
+        comp.items.push(Item::Layers(layers));
+    }
+}
+
+/// Moves canvas-space levels into a composition whose map to the canvas is `to_canvas`
+/// (a translation): `C⁻¹·L₁·…·Lₙ·C`.
+pub(super) fn conjugate(mut levels: Vec<Transform>, to_canvas: Affine) -> Vec<Transform> {
+    let shift = -to_canvas.translation();
+    if shift == Vec2::ZERO || levels.is_empty() {
+        return levels;
+    }
+    let n = levels.len();
+    shift_prop(&mut levels[0].p, shift);
+    shift_prop(&mut levels[n - 1].a, shift);
+    levels
+}
+
+pub(super) fn shift_prop(p: &mut Option<Prop>, by: Vec2) {
+    let add = |v: &mut Value| {
+        if let Value::Vec(xs) = v
+            && xs.len() >= 2
+        {
+            xs[0] = N::coord(xs[0].0 + by.x);
+            xs[1] = N::coord(xs[1].0 + by.y);
+        }
+    };
+    match p {
+        None => *p = Some(Prop::vec(vec![N::coord(by.x), N::coord(by.y)])),
+        Some(Prop::Fixed(v)) => add(v),
+        Some(Prop::Animated(keys)) => keys.iter_mut().for_each(|k| add(&mut k.s)),
+    }
+}
+
+/// A transform with every channel written (for layers).
+pub(super) fn full_transform(t: Transform) -> Transform {
+    let d = Transform::layer_identity();
+    Transform {
+        a: t.a.or(d.a),
+        p: t.p.or(d.p),
+        s: t.s.or(d.s),
+        r: t.r.or(d.r),
+        o: t.o.or(d.o),
+    }
+}
