@@ -405,21 +405,33 @@ impl SceneBuilder {
     }
 
     /// Adds `node` (a path or a whole group) as a unit tagged `tag`.
-    pub fn unit(mut self, tag: &str, mut node: Node) -> SceneBuilder {
+    pub fn unit(self, tag: &str, node: Node) -> SceneBuilder {
+        self.unit_under(tag, None, node)
+    }
+
+    /// Adds `node` as a unit tagged `tag`, inside `parent` (a group, its children ignored:
+    /// the unit becomes its only child) when one is given, as a unit sits inside a layer
+    /// whose transform places it.
+    pub fn unit_under(mut self, tag: &str, parent: Option<Group>, mut node: Node) -> SceneBuilder {
         let index = self.scene.shapes.len();
         match &mut node {
             Node::Path(p) => p.unit = Some(index),
             Node::Group(g) => g.unit = Some(index),
         }
-        let m = measure(&node, Affine::IDENTITY);
+        let top = self.scene.root.children.len();
+        let (parent_transform, node_path) = match &parent {
+            Some(g) => (g.transform, vec![top, 0]),
+            None => (Affine::IDENTITY, vec![top]),
+        };
+        let m = measure(&node, parent_transform);
         let id = self.ids.entry(tag.to_string()).or_default();
         self.scene.shapes.push(Shape {
             tag: tag.to_string(),
             id: *id,
             group: 0,
             z: index,
-            node_path: vec![self.scene.root.children.len()],
-            parent_transform: Affine::IDENTITY,
+            node_path,
+            parent_transform,
             centroid: m.map_or(Point::ORIGIN, |m| m.centroid),
             bbox: m.map_or(Rect::ZERO, |m| m.bbox),
             fill: m.map_or(Color::BLACK, |m| m.fill),
@@ -427,6 +439,13 @@ impl SceneBuilder {
             stroke_width: m.map_or(1.0, |m| m.stroke_width),
         });
         *id += 1;
+        let node = match parent {
+            Some(mut g) => {
+                g.children = vec![node];
+                Node::Group(g)
+            }
+            None => node,
+        };
         self.scene.root.children.push(node);
         self
     }

@@ -12,7 +12,7 @@ use gmotion::motion::{
 };
 use gmotion::scene::{
     ClipPath, Fill, FillRule, Group, LineCap, LineJoin, Mask, MaskKind, Node, Paint, PathNode,
-    RadialGradient, Scene, Shape, Spread, Stop, Stroke,
+    RadialGradient, Scene, SceneBuilder, Spread, Stop, Stroke,
 };
 use gmotion::signals::Easing;
 use gmotion_export_lottie::{LottieOptions, still_to_lottie, to_lottie};
@@ -285,40 +285,24 @@ fn stroke(width: f64) -> Option<Stroke> {
     })
 }
 
-/// A scene whose shapes are the given paths (tag `t`), each directly under the root.
+/// A scene whose shapes are the given paths (tag `t`, ids `p0`, `p1`, …), each directly
+/// under the root, measured as the importer measures them.
 fn scene(paths: Vec<(BezPath, Option<Fill>, Option<Stroke>)>) -> Scene {
-    let mut root = Group::new();
-    let mut shapes = Vec::new();
+    let mut b = SceneBuilder::new(400.0, 300.0);
     for (i, (path, fill, stroke)) in paths.into_iter().enumerate() {
-        let bbox = path.bounding_box();
-        shapes.push(Shape {
-            tag: "t".into(),
-            id: i,
-            group: 0,
-            z: i,
-            node_path: vec![i],
-            parent_transform: Affine::IDENTITY,
-            centroid: bbox.center(),
-            bbox,
-            fill: Color::BLACK,
-            stroke: Color::BLACK,
-            stroke_width: 1.0,
-        });
-        root.children.push(Node::Path(PathNode {
-            id: format!("p{i}"),
-            path,
-            fill,
-            stroke,
-            stroke_first: false,
-            unit: Some(i),
-        }));
+        b = b.unit(
+            "t",
+            Node::Path(PathNode {
+                id: format!("p{i}"),
+                path,
+                fill,
+                stroke,
+                stroke_first: false,
+                unit: None,
+            }),
+        );
     }
-    Scene {
-        width: 400.0,
-        height: 300.0,
-        root,
-        shapes,
-    }
+    b.build()
 }
 
 fn timing(start: f64, end: f64, delay: f64, ease: Easing, reversed: bool) -> Timing {
@@ -827,7 +811,6 @@ fn tints_opacity_and_stroke_width_follow_the_model() {
 /// ThorVG applies a shape group's opacity to each path in it, so this is layer opacity.
 #[test]
 fn translucent_shape_of_two_paths_composites_as_a_whole() {
-    let mut s = scene(vec![]);
     let square = PathNode {
         id: "square".into(),
         path: rect_path(Rect::new(100.0, 100.0, 300.0, 250.0)),
@@ -844,23 +827,10 @@ fn translucent_shape_of_two_paths_composites_as_a_whole() {
     };
     let mut g = Group::new();
     g.id = "pair".into();
-    g.unit = Some(0);
     g.children = vec![Node::Path(square), Node::Path(circle)];
-    let bbox = Rect::new(100.0, 100.0, 300.0, 250.0);
-    s.shapes.push(Shape {
-        tag: "t".into(),
-        id: 0,
-        group: 0,
-        z: 0,
-        node_path: vec![0],
-        parent_transform: Affine::IDENTITY,
-        centroid: bbox.center(),
-        bbox,
-        fill: Color::BLACK,
-        stroke: Color::BLACK,
-        stroke_width: 1.0,
-    });
-    s.root.children.push(Node::Group(g));
+    let s = SceneBuilder::new(400.0, 300.0)
+        .unit("t", Node::Group(g))
+        .build();
     let mut track = Track::default();
     fade(
         &mut track,

@@ -13,7 +13,7 @@ use gmotion::motion::{
 };
 use gmotion::scene::{
     Fill, FillRule, Group, LineCap, LineJoin, LinearGradient, Node, Paint, PathNode, Pattern,
-    Scene, Shape, Spread, Stop, Stroke,
+    Scene, SceneBuilder, Shape, Spread, Stop, Stroke,
 };
 use gmotion::signals::Easing;
 use gmotion_export_svg::smil::{SmilError, SmilOptions, smil_document, to_smil};
@@ -47,15 +47,11 @@ pub fn item(id: &'static str, rect: Rect, c: Color) -> Item {
     }
 }
 
-/// A scene of path units, each optionally inside its own transformed group.
+/// A scene of path units (tag `s`), each optionally inside its own transformed group,
+/// measured as the importer measures them.
 pub fn scene(width: f64, height: f64, items: Vec<Item>) -> Scene {
-    let mut root = Group::new();
-    let mut shapes = Vec::new();
-    for (i, it) in items.into_iter().enumerate() {
-        let fill_color = match &it.fill {
-            Paint::Solid(c) => *c,
-            _ => Color::BLACK,
-        };
+    let mut b = SceneBuilder::new(width, height);
+    for it in items {
         let node = Node::Path(PathNode {
             id: it.id.to_string(),
             path: it.path.clone(),
@@ -64,51 +60,19 @@ pub fn scene(width: f64, height: f64, items: Vec<Item>) -> Scene {
                 opacity: 1.0,
                 rule: FillRule::NonZero,
             }),
-            stroke: it.stroke.map(|(c, w)| Stroke {
-                paint: Paint::Solid(c),
-                opacity: 1.0,
-                width: w,
-                cap: LineCap::Butt,
-                join: LineJoin::Miter,
-                miter_limit: 4.0,
-                dash: None,
-                dash_offset: 0.0,
-            }),
+            stroke: it.stroke.map(|(c, w)| Stroke::solid(c, w)),
             stroke_first: false,
-            unit: Some(i),
+            unit: None,
         });
-        let node_path = if it.parent == Affine::IDENTITY {
-            root.children.push(node);
-            vec![root.children.len() - 1]
-        } else {
+        let parent = (it.parent != Affine::IDENTITY).then(|| {
             let mut g = Group::new();
             g.id = format!("{}-parent", it.id);
             g.transform = it.parent;
-            g.children.push(node);
-            root.children.push(Node::Group(g));
-            vec![root.children.len() - 1, 0]
-        };
-        let bbox = (it.parent * it.path.clone()).bounding_box();
-        shapes.push(Shape {
-            tag: "s".into(),
-            id: i,
-            group: 0,
-            z: i,
-            node_path,
-            parent_transform: it.parent,
-            centroid: bbox.center(),
-            bbox,
-            fill: fill_color,
-            stroke: it.stroke.map_or(Color::BLACK, |s| s.0),
-            stroke_width: it.stroke.map_or(1.0, |s| s.1),
+            g
         });
+        b = b.unit_under("s", parent, node);
     }
-    Scene {
-        width,
-        height,
-        root,
-        shapes,
-    }
+    b.build()
 }
 
 /// A timing over `[start, end]`.
