@@ -21,6 +21,7 @@
 //!   from time 0. A pre-applied per-vertex motion stays in the art's frame: it deforms the
 //!   drawn points themselves, innermost ([`crate::motion::Track::deform`]).
 
+use std::cell::Cell;
 use std::sync::Arc;
 
 use kurbo::{Affine, Point, Vec2};
@@ -54,13 +55,15 @@ const REST: State = State {
 /// beats hashing (and allocates only when the first entry arrives).
 struct VecMap<K, V>(Vec<(K, V)>);
 
-impl<K: PartialEq, V> VecMap<K, V> {
-    fn new() -> Self {
+impl<K, V> Default for VecMap<K, V> {
+    fn default() -> Self {
         VecMap(Vec::new())
     }
+}
 
-    fn with_capacity(n: usize) -> Self {
-        VecMap(Vec::with_capacity(n))
+impl<K: PartialEq, V> VecMap<K, V> {
+    fn clear(&mut self) {
+        self.0.clear();
     }
 
     fn get(&self, k: &K) -> Option<&V> {
@@ -121,16 +124,43 @@ enum Phase {
     Done,
 }
 
+/// What composition order and twin bookkeeping read of an animation instance (copied, so a
+/// layer holds no reference count).
+#[derive(Clone, Copy, Debug)]
+struct Span {
+    /// Identifies the instance (shared by the pieces of a split slice).
+    id: *const AnimInst,
+    world: bool,
+    start: f64,
+    end: f64,
+    step: usize,
+    reversed: bool,
+}
+
+impl Span {
+    fn of(a: &Arc<AnimInst>) -> Span {
+        Span {
+            id: Arc::as_ptr(a),
+            world: matches!(a.spec, AnimSpec::Motion { world: true, .. }),
+            start: a.start,
+            end: a.end,
+            step: a.step,
+            reversed: a.reversed,
+        }
+    }
+}
+
 /// One motion on one shape: its transform in its own frame, and the frame.
 struct Layer {
-    inst: Arc<AnimInst>,
+    inst: Span,
     /// The motion resolved where it began (canvas at its start, or the layer frame of a
     /// pre-applied inverted slice).
     kind: MotionKind,
     /// Carries `kind` onto the canvas: what the motions outer to it did since.
     frame: Affine,
-    /// `kind` carried by `frame`, computed when the frame last changed.
-    canvas: MotionKind,
+    /// `kind` carried by `frame`, computed when the frame last changed; `None` while the
+    /// frame is the identity (most layers: the copy would only cost).
+    canvas: Option<MotionKind>,
     phase: Phase,
     /// A pre-applied per-vertex motion: it deforms the drawn art itself (innermost, see
     /// [`crate::motion::Track::deform`]), so it stays in the art's frame and is never carried.
@@ -138,10 +168,10 @@ struct Layer {
 }
 
 impl Layer {
-    fn new(inst: Arc<AnimInst>, kind: MotionKind, frame: Affine, phase: Phase) -> Layer {
+    fn new(inst: Span, kind: MotionKind, frame: Affine, phase: Phase) -> Layer {
         let art = phase == Phase::Pending && matches!(kind, MotionKind::Vertex { .. });
         let frame = if art { Affine::IDENTITY } else { frame };
-        let canvas = carried(&kind, frame);
+        let canvas = (frame != Affine::IDENTITY).then(|| carried(&kind, frame));
         Layer {
             inst,
             kind,
@@ -157,7 +187,12 @@ impl Layer {
             return;
         }
         self.frame = by * self.frame;
-        self.canvas = carried(&self.kind, self.frame);
+        self.canvas = Some(carried(&self.kind, self.frame));
+    }
+
+    /// The motion on the canvas.
+    fn canvas(&self) -> &MotionKind {
+        self.canvas.as_ref().unwrap_or(&self.kind)
     }
 }
 
@@ -171,8 +206,74 @@ fn timing(a: &AnimInst) -> Timing {
     }
 }
 
+/// The working buffers of [`track`], kept per thread and reused from shape to shape:
+/// compiling a shape needs nine small vectors, and allocating and freeing them for every
+/// shape was a large share of its cost. Empty between shapes (nothing is kept alive).
+#[derive(Default)]
+struct Scratch {
+    /// The shape's motion layers, one per motion instance (found by [`Span::id`]).
+    layers: Vec<Layer>,
+    /// States at slice starts, to find where an attribute change began.
+    history: Vec<(f64, State)>,
+    /// The latest forward motion layer set at each expansion step: its inverted twin
+    /// continues it.
+    forward_at_step: VecMap<usize, usize>,
+    /// Values a forward attribute change started from, by (step, channel), for its inv_ twin.
+    before: VecMap<(usize, usize), State>,
+    /// The composition order of the current slice's changes (indices into its list).
+    ordered: Vec<usize>,
+    /// The layer index of each segment of the current window.
+    window: Vec<usize>,
+    /// The relative transform of each segment of the current window.
+    rels: Vec<Affine>,
+    /// [`Roles::firsts`].
+    firsts: Vec<*const AnimInst>,
+    /// [`Roles::new`]'s steps of the forward changes seen so far.
+    forward_steps: Vec<usize>,
+}
+
+impl Scratch {
+    fn clear(&mut self) {
+        self.layers.clear();
+        self.history.clear();
+        self.forward_at_step.clear();
+        self.before.clear();
+        self.ordered.clear();
+        self.window.clear();
+        self.rels.clear();
+        self.firsts.clear();
+        self.forward_steps.clear();
+    }
+}
+
+thread_local! {
+    /// One per thread compiling shapes (the rayon workers, or the caller for small scenes).
+    static SCRATCH: Cell<Scratch> = Cell::default();
+}
+
 /// Compiles one shape's timeline into its track.
 pub fn track(shape: &Shape, slices: &[Slice]) -> Track {
+    SCRATCH.with(|cell| {
+        let mut scratch = cell.take();
+        let track = compile(shape, slices, &mut scratch);
+        scratch.clear();
+        cell.set(scratch);
+        track
+    })
+}
+
+fn compile(shape: &Shape, slices: &[Slice], scratch: &mut Scratch) -> Track {
+    let Scratch {
+        layers,
+        history,
+        forward_at_step,
+        before,
+        ordered,
+        window,
+        rels,
+        firsts,
+        forward_steps,
+    } = scratch;
     let mut track = Track::default();
     // Reserve each channel's segments up front: one per (slice, change) of that kind.
     let mut counts = [0usize; 5];
@@ -185,11 +286,7 @@ pub fn track(shape: &Shape, slices: &[Slice]) -> Track {
     track.opacity.reserve_exact(counts[3]);
     track.stroke_width.reserve_exact(counts[4]);
 
-    let roles = Roles::new(shape, slices);
-    // At most one layer per motion piece: reserved once rather than grown (this was the
-    // largest allocation cost of compiling a shape).
-    let mut layers: Vec<Layer> = Vec::with_capacity(counts[0]);
-    let mut layer_of: VecMap<*const AnimInst, usize> = VecMap::with_capacity(counts[0]);
+    let roles = Roles::new(shape, slices, firsts, forward_steps);
     let mut state = REST;
     // The pre-applied inverted slices, earliest outermost: the shape starts in their end
     // states (each resolved about the centroid the later ones leave it at).
@@ -211,26 +308,13 @@ pub fn track(shape: &Shape, slices: &[Slice]) -> Track {
         }
         for ((a, _), kind) in roles.first_motions.iter().zip(kinds.into_iter().rev()) {
             let f = full(a, &kind);
-            layer_of.insert(Arc::as_ptr(a), layers.len());
-            layers.push(Layer::new(Arc::clone(a), kind, first_frame, Phase::Pending));
+            layers.push(Layer::new(Span::of(a), kind, first_frame, Phase::Pending));
             first_frame *= f;
         }
         state.transform = first_frame;
     }
-    // States at slice starts, to find where an attribute change began.
-    let mut history: Vec<(f64, State)> = Vec::with_capacity(slices.len());
-    // The latest forward motion layer set at each expansion step: its inverted twin
-    // continues it.
-    let mut forward_at_step: VecMap<usize, usize> = VecMap::new();
-    // Values a forward attribute change started from, by (step, channel), for its inv_ twin.
-    let mut before: VecMap<(usize, usize), State> = VecMap::new();
     // Per channel: the value under a run of pre-applied changes, while one is open.
     let mut run_base: [Option<State>; 4] = [None; 4];
-    // The composition order of the current slice's changes (buffer reused across slices).
-    let mut ordered: Vec<&Arc<AnimInst>> = Vec::new();
-    // Layer index of each segment of the current window, and their relative transforms.
-    let mut window: Vec<usize> = Vec::new();
-    let mut rels: Vec<Affine> = Vec::new();
 
     for (i, slice) in slices.iter().enumerate() {
         history.push((slice.t0, state));
@@ -244,9 +328,13 @@ pub fn track(shape: &Shape, slices: &[Slice]) -> Track {
         if slice.anims.is_empty() {
             continue;
         }
-        // Slice starts ascend, so the last one at `tau` is found by bisection (a change
-        // inherited from a long slice began many slices back).
+        // The state where a change set at `tau` began: the current one for a change set on
+        // this slice; else, slice starts ascending, the last one at `tau` is found by
+        // bisection (a change inherited from a long slice began many slices back).
         let at_start = |tau: f64| {
+            if (t0 - tau).abs() <= 1e-9 {
+                return state;
+            }
             let n = history.partition_point(|(t, _)| *t <= tau + 1e-9);
             n.checked_sub(1)
                 .map(|i| history[i])
@@ -254,31 +342,31 @@ pub fn track(shape: &Shape, slices: &[Slice]) -> Track {
                 .map_or(state, |(_, s)| s)
         };
         let window_start = state.transform;
-        outermost_first(&slice.anims, &roles, &mut ordered);
+        outermost_first(&slice.anims, &roles, ordered);
         window.clear();
-        for &a in &ordered {
-            let begun = at_start(a.start);
+        for &k in ordered.iter() {
+            let a = &slice.anims[k];
             let tm = timing(a);
             let role = roles.of(a);
             match &a.spec {
                 AnimSpec::Motion { .. } => {
-                    let li = match layer_of.get(&Arc::as_ptr(a)) {
-                        Some(&li) => li,
+                    let id = Arc::as_ptr(a);
+                    let li = match layers.iter().position(|l| l.inst.id == id) {
+                        Some(li) => li,
                         None => {
                             let layer = match (role, forward_at_step.get(&a.step)) {
                                 (Role::Paired, Some(&twin)) => {
                                     let t = &mut layers[twin];
                                     t.phase = Phase::Done;
-                                    Layer::new(a.clone(), t.kind.clone(), t.frame, Phase::Running)
+                                    Layer::new(Span::of(a), t.kind.clone(), t.frame, Phase::Running)
                                 }
                                 _ => {
                                     let kind = resolve(a, window_start * shape.centroid);
-                                    Layer::new(a.clone(), kind, Affine::IDENTITY, Phase::Running)
+                                    Layer::new(Span::of(a), kind, Affine::IDENTITY, Phase::Running)
                                 }
                             };
                             let li = layers.len();
                             layers.push(layer);
-                            layer_of.insert(Arc::as_ptr(a), li);
                             if role == Role::Forward {
                                 if let Some(&old) = forward_at_step.get(&a.step) {
                                     layers[old].phase = Phase::Done;
@@ -293,12 +381,13 @@ pub fn track(shape: &Shape, slices: &[Slice]) -> Track {
                         t0,
                         t1,
                         timing: tm,
-                        kind: layers[li].canvas.clone(),
+                        kind: layers[li].canvas().clone(),
                         start: window_start,
                     });
                     window.push(li);
                 }
                 spec => {
+                    let begun = at_start(a.start);
                     let ch = channel(spec).unwrap_or(0);
                     let get = |s: &State| match ch {
                         0 => Value::Tint(s.fill),
@@ -306,14 +395,7 @@ pub fn track(shape: &Shape, slices: &[Slice]) -> Track {
                         2 => Value::Num(s.opacity),
                         _ => Value::Num(s.width),
                     };
-                    let target = match spec {
-                        AnimSpec::Fill(c) | AnimSpec::Border(c) => Value::Tint(Tint::full(*c)),
-                        AnimSpec::Opacity(x) => Value::Num(*x),
-                        AnimSpec::StrokeWidth(w) if shape.stroke_width > 0.0 => {
-                            Value::Num(w / shape.stroke_width)
-                        }
-                        _ => Value::Num(1.0),
-                    };
+                    let target = target_of(shape, spec);
                     // Value at progress 0 and 1 (a reversed change starts at 1).
                     let (from, to) = match role {
                         Role::Forward => {
@@ -351,18 +433,23 @@ pub fn track(shape: &Shape, slices: &[Slice]) -> Track {
             }
             state.transform = outer * window_start;
             // Layers not playing here: pre-applied ones lie under everything; a forward
-            // motion awaiting its twin is carried by the motions that wrap it and span it.
+            // motion awaiting its twin is carried by the motions that wrap it and span it,
+            // which began no later than it did (none, when every motion here began later).
+            let earliest = window
+                .iter()
+                .map(|&li| layers[li].inst.start)
+                .fold(f64::INFINITY, f64::min);
             for li in 0..layers.len() {
                 match layers[li].phase {
                     Phase::Pending => layers[li].carry(outer),
-                    Phase::Awaiting => {
-                        let by = wrapping(&layers, li, &window, &rels);
+                    Phase::Awaiting if earliest <= layers[li].inst.start + 1e-9 => {
+                        let by = wrapping(layers, li, window, rels);
                         layers[li].carry(by);
                     }
                     _ => {}
                 }
             }
-            for &li in &window {
+            for &li in window.iter() {
                 let l = &mut layers[li];
                 if l.inst.end <= t1 + 1e-9 {
                     l.phase = if l.inst.reversed || forward_at_step.get(&l.inst.step) != Some(&li) {
@@ -470,11 +557,14 @@ fn push_attr(
     }
 }
 
-/// Every reversed animation of a timeline classified once, in time order (a forward one is
-/// always [`Role::Forward`], so only reversed ones are stored: most timelines have none, and
-/// then nothing here allocates).
+/// Every reversed animation of a timeline classified once, in time order. A forward one is
+/// always [`Role::Forward`] and a reversed one [`Role::Paired`] unless listed as
+/// pre-applied, so only the pre-applied ones are stored: most timelines have none (the
+/// usual `[a, b, inv_a]` pairs every reversed one), and then nothing here allocates.
 struct Roles<'a> {
-    roles: VecMap<*const AnimInst, Role>,
+    /// The reversed animations classified [`Role::First`]; every other reversed one is
+    /// [`Role::Paired`].
+    firsts: &'a [*const AnimInst],
     /// Pre-applied inverted motions, earliest first (ties in composition order), with the
     /// index of the slice they begin on.
     first_motions: Vec<(&'a Arc<AnimInst>, usize)>,
@@ -484,23 +574,29 @@ struct Roles<'a> {
 }
 
 impl<'a> Roles<'a> {
-    fn new(shape: &Shape, slices: &'a [Slice]) -> Roles<'a> {
-        let mut roles = Roles {
-            roles: VecMap::new(),
-            first_motions: Vec::new(),
-            under: VecMap::new(),
-        };
+    /// Classifies the reversed animations of `slices`, the pre-applied ones into `firsts`
+    /// (`forward_steps` is a buffer), which the result then reads.
+    fn new(
+        shape: &Shape,
+        slices: &'a [Slice],
+        firsts: &'a mut Vec<*const AnimInst>,
+        forward_steps: &mut Vec<usize>,
+    ) -> Roles<'a> {
         if !slices.iter().any(|s| s.anims.iter().any(|a| a.reversed)) {
-            return roles;
+            return Roles {
+                firsts,
+                first_motions: Vec::new(),
+                under: VecMap::default(),
+            };
         }
         // Steps of the forward changes seen so far: a reversed change is paired when its
         // step is among them.
-        let mut forward_steps: Vec<usize> = Vec::with_capacity(slices.len());
+        let mut first_motions = Vec::new();
         let mut firsts_here: Vec<&'a Arc<AnimInst>> = Vec::new();
         let mut first_attrs = false;
         for (si, slice) in slices.iter().enumerate() {
             // Inverted slices that come first compose innermost, in the order the slice
-            // composes its motions (outermost first, see `outermost_order`).
+            // composes its motions (outermost first, see `outermost_first`).
             firsts_here.clear();
             for a in slice.anims.iter() {
                 if !a.reversed {
@@ -510,28 +606,25 @@ impl<'a> Roles<'a> {
                     continue;
                 }
                 // A change split over several slices is seen once per piece; only its first
-                // piece classifies it.
-                if roles.roles.get(&Arc::as_ptr(a)).is_some() {
+                // piece classifies it (a paired one stays paired: the steps only grow).
+                let id = Arc::as_ptr(a);
+                if forward_steps.contains(&a.step) || firsts.contains(&id) {
                     continue;
                 }
-                let role = if forward_steps.contains(&a.step) {
-                    Role::Paired
-                } else {
-                    Role::First
-                };
-                roles.roles.insert(Arc::as_ptr(a), role);
-                if role == Role::First {
-                    match channel(&a.spec) {
-                        None => firsts_here.push(a),
-                        Some(_) => first_attrs = true,
-                    }
+                firsts.push(id);
+                match channel(&a.spec) {
+                    None => firsts_here.push(a),
+                    Some(_) => first_attrs = true,
                 }
             }
-            firsts_here.sort_by(|a, b| wraps(b, a));
-            roles
-                .first_motions
-                .extend(firsts_here.iter().map(|&a| (a, si)));
+            firsts_here.sort_by(|a, b| wraps(&Span::of(b), &Span::of(a)));
+            first_motions.extend(firsts_here.iter().map(|&a| (a, si)));
         }
+        let mut roles = Roles {
+            firsts,
+            first_motions,
+            under: VecMap::default(),
+        };
         if first_attrs {
             roles.under = roles.under_of(shape, slices);
         }
@@ -551,7 +644,7 @@ impl<'a> Roles<'a> {
             }
             channels[ch].push((a, self.of(a)));
         }
-        let mut under = VecMap::new();
+        let mut under = VecMap::default();
         for list in &channels {
             for w in list.windows(2) {
                 if w[0].1 == Role::First && w[1].1 == Role::First {
@@ -564,12 +657,12 @@ impl<'a> Roles<'a> {
 
     fn of(&self, a: &Arc<AnimInst>) -> Role {
         if !a.reversed {
-            return Role::Forward;
+            Role::Forward
+        } else if self.firsts.contains(&Arc::as_ptr(a)) {
+            Role::First
+        } else {
+            Role::Paired
         }
-        self.roles
-            .get(&Arc::as_ptr(a))
-            .copied()
-            .unwrap_or(Role::Forward)
     }
 
     fn under(&self, a: &Arc<AnimInst>) -> Option<Value> {
@@ -699,42 +792,23 @@ fn conjugate(c: Component, l: Affine, tol: f64) -> Component {
 /// travels. An inverted twin takes its twin's place (same
 /// rule), so it undoes the twin in place; pre-applied inverted slices lie innermost.
 /// Attribute changes do not compose and keep their order.
-fn outermost_first<'a>(
-    anims: &'a [Arc<AnimInst>],
-    roles: &Roles,
-    out: &mut Vec<&'a Arc<AnimInst>>,
-) {
-    outermost_order(anims, out);
-    let motions = out
-        .iter()
-        .take_while(|a| matches!(a.spec, AnimSpec::Motion { .. }))
-        .count();
-    // Stable: pre-applied motions move to the end of the motions, in their order.
-    out[..motions].sort_by_key(|a| roles.of(a) == Role::First);
-}
-
-fn outermost_order<'a>(anims: &'a [Arc<AnimInst>], out: &mut Vec<&'a Arc<AnimInst>>) {
+fn outermost_first(anims: &[Arc<AnimInst>], roles: &Roles, out: &mut Vec<usize>) {
+    let is_motion = |k: &usize| matches!(anims[*k].spec, AnimSpec::Motion { .. });
     out.clear();
-    out.extend(
-        anims
-            .iter()
-            .filter(|a| matches!(&a.spec, AnimSpec::Motion { .. })),
-    );
-    out.sort_by(|a, b| wraps(b, a));
-    out.extend(
-        anims
-            .iter()
-            .filter(|a| !matches!(&a.spec, AnimSpec::Motion { .. })),
-    );
+    out.extend((0..anims.len()).filter(is_motion));
+    out.sort_by(|&x, &y| wraps(&Span::of(&anims[y]), &Span::of(&anims[x])));
+    let motions = out.len();
+    out.extend((0..anims.len()).filter(|k| !is_motion(k)));
+    // Stable: pre-applied motions move to the end of the motions, in their order.
+    out[..motions].sort_by_key(|&k| roles.of(&anims[k]) == Role::First);
 }
 
 /// How motion `a` composes against `b` when both play: `Greater` when `a` is outer. World
 /// wraps local; then a motion inherited from a longer slice wraps what its pieces add (so
 /// it keeps running undisturbed through them); then, on one slice, the later rule wraps.
-fn wraps(a: &AnimInst, b: &AnimInst) -> std::cmp::Ordering {
-    let world = |x: &AnimInst| matches!(x.spec, AnimSpec::Motion { world: true, .. });
-    world(a)
-        .cmp(&world(b))
+fn wraps(a: &Span, b: &Span) -> std::cmp::Ordering {
+    a.world
+        .cmp(&b.world)
         .then((a.end - a.start).total_cmp(&(b.end - b.start)))
         .then(a.step.cmp(&b.step))
 }
