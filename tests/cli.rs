@@ -211,19 +211,22 @@ fn check_prints_statistics_and_writes_the_graph() {
 #[test]
 fn check_expands_group_grammars() {
     let g = root().join("grammars");
-    let pieces_line = |out: &str| {
-        out.lines()
+    // `check` on an example's grammar and scene: its whole report and the pieces line.
+    let check = |name: &str| {
+        let out = run_ok(
+            bin()
+                .arg("check")
+                .arg(g.join(format!("{name}.gm")))
+                .arg(g.join(format!("{name}.svg"))),
+        );
+        let line = out
+            .lines()
             .find(|l| l.starts_with("spatial expansion:"))
             .unwrap_or_else(|| panic!("no spatial expansion line in {out}"))
-            .to_string()
+            .to_string();
+        (out, line)
     };
-    let out = run_ok(
-        bin()
-            .arg("check")
-            .arg(g.join("growing_tangle.gm"))
-            .arg(g.join("growing_tangle.svg")),
-    );
-    let line = pieces_line(&out);
+    let (out, line) = check("growing_tangle");
     // `disc` is cut into rings and pieces (tagged `ink` and `piece`); `paper` is left alone.
     assert!(!line.contains("disc ×"), "{line}");
     for tag in ["ink ×", "piece ×", "paper ×1"] {
@@ -232,13 +235,7 @@ fn check_expands_group_grammars() {
     assert!(out.contains("spatial rules applied: 3 of 3"), "{out}");
     assert!(out.contains("\nrules applied: 3 of 3"), "{out}");
     assert!(!out.contains("`disc` match no rule"), "{out}");
-    let out = run_ok(
-        bin()
-            .arg("check")
-            .arg(g.join("regroup.gm"))
-            .arg(g.join("regroup.svg")),
-    );
-    let line = pieces_line(&out);
+    let (out, line) = check("regroup");
     assert!(!line.contains("p0 ×") && line.contains("done ×"), "{line}");
     assert!(out.contains("spatial rules applied: 11 of 11"), "{out}");
     assert!(out.contains("the result stands still"), "{out}");

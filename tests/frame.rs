@@ -51,12 +51,8 @@ fn animate(scene: Scene, unit: usize, track: Track) -> Animation {
     }
 }
 
-fn rigid(pivot: Point, components: Vec<Component>) -> Track {
-    let kind = MotionKind::Rigid {
-        pivot,
-        blend: Arc::from([(1.0, Arc::from(components))]),
-        interp: Interp::Linear,
-    };
+/// A track of one motion of `kind` over the whole second.
+fn track(kind: MotionKind) -> Track {
     Track {
         motions: vec![MotionSeg {
             t0: 0.0,
@@ -67,6 +63,14 @@ fn rigid(pivot: Point, components: Vec<Component>) -> Track {
         }],
         ..Track::default()
     }
+}
+
+fn rigid(pivot: Point, components: Vec<Component>) -> Track {
+    track(MotionKind::Rigid {
+        pivot,
+        blend: Arc::from([(1.0, Arc::from(components))]),
+        interp: Interp::Linear,
+    })
 }
 
 /// The fraction of differing pixels between the frame and the hand-written picture.
@@ -183,17 +187,7 @@ fn vertex_deformation_moves_every_point() {
     let scene = scene_with(RECT);
     let field = Field::Constant(Arc::from([Component::Translate(Vec2::new(60.0, 0.0))]));
     let grid = Arc::new(Grid::new(2, 2, scene.canvas(), field));
-    let kind = MotionKind::Vertex { grid, pivot: None };
-    let track = Track {
-        motions: vec![MotionSeg {
-            t0: 0.0,
-            t1: 1.0,
-            timing: timing(),
-            kind,
-            start: Affine::IDENTITY,
-        }],
-        ..Track::default()
-    };
+    let track = track(MotionKind::Vertex { grid, pivot: None });
     assert!(track.deforms());
     let anim = animate(scene, 1, track);
     assert!(

@@ -1,6 +1,6 @@
 //! The grammar language front end: parsing, error recovery and error rendering.
 
-use gmotion::grammar::ast::{Arg, BinOp, Expr, ExprKind, Grammar, Rule, TagRef};
+use gmotion::grammar::ast::{Arg, Expr, ExprKind, Grammar, Rule, TagRef};
 use gmotion::grammar::{DIRECTIVES, Diagnostics, parse};
 
 fn ok(src: &str) -> Grammar {
@@ -49,15 +49,7 @@ fn sexp(e: &Expr) -> String {
         }
         ExprKind::Neg(inner) => format!("(neg {})", sexp(inner)),
         ExprKind::Binary { op, lhs, rhs } => {
-            let op = match op {
-                BinOp::Add => "+",
-                BinOp::Sub => "-",
-                BinOp::Mul => "*",
-                BinOp::Div => "/",
-                BinOp::Rem => "%",
-                BinOp::Pow => "^",
-            };
-            format!("({op} {} {})", sexp(lhs), sexp(rhs))
+            format!("({} {} {})", op.symbol(), sexp(lhs), sexp(rhs))
         }
         ExprKind::Size(c, r) => format!("{c}x{r}"),
     }

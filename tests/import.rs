@@ -63,28 +63,30 @@ fn tags_come_from_the_nearest_source() {
 
 #[test]
 fn a_single_source_ignores_the_others() {
-    let by = |from| {
-        tags(&import(SOURCES, with(from, Units::Paths)).scene)
+    for (from, want) in [
+        (
+            TagFrom::DataTag,
+            ["bolt", "rect", "circle", "circle", "circle", "path"],
+        ),
+        (
+            TagFrom::Class,
+            ["x", "car", "circle", "pine", "circle", "path"],
+        ),
+        (
+            TagFrom::Label,
+            ["rect", "rect", "oak", "circle", "circle", "path"],
+        ),
+        (
+            TagFrom::Layer,
+            ["Wheels", "Wheels", "Trees", "Trees", "Trees", "path"],
+        ),
+    ] {
+        let got: Vec<String> = tags(&import(SOURCES, with(from, Units::Paths)).scene)
             .into_iter()
             .map(|(t, _)| t)
-            .collect::<Vec<_>>()
-    };
-    assert_eq!(
-        by(TagFrom::DataTag),
-        ["bolt", "rect", "circle", "circle", "circle", "path"]
-    );
-    assert_eq!(
-        by(TagFrom::Class),
-        ["x", "car", "circle", "pine", "circle", "path"]
-    );
-    assert_eq!(
-        by(TagFrom::Label),
-        ["rect", "rect", "oak", "circle", "circle", "path"]
-    );
-    assert_eq!(
-        by(TagFrom::Layer),
-        ["Wheels", "Wheels", "Trees", "Trees", "Trees", "path"]
-    );
+            .collect();
+        assert_eq!(got, want, "{from:?}");
+    }
 }
 
 #[test]

@@ -346,16 +346,23 @@ fn scene() -> Scene {
 }
 
 fn run(grammar: &str, seed: u64) -> Result<(Scene, gmotion::tangle::TangleStats), TangleError> {
-    let g = gmotion::grammar::parse(grammar).unwrap();
-    let rules: Vec<&Rule> = g.rules.iter().collect();
-    expand(
-        &scene(),
-        &rules,
+    run_with(
+        grammar,
         &TangleOptions {
             seed,
             ..TangleOptions::default()
         },
     )
+}
+
+/// Expands the tile scene by `grammar` with `opts`.
+fn run_with(
+    grammar: &str,
+    opts: &TangleOptions,
+) -> Result<(Scene, gmotion::tangle::TangleStats), TangleError> {
+    let g = gmotion::grammar::parse(grammar).unwrap();
+    let rules: Vec<&Rule> = g.rules.iter().collect();
+    expand(&scene(), &rules, opts)
 }
 
 fn canvas_area(s: &Scene, tag: &str) -> f64 {
@@ -481,26 +488,22 @@ fn runaway_grammars_stop_with_an_error() {
         ("outline(1) : tile -> [tile, tile]\n", "outline"),
         ("regroup(1) : tile -> [tile]\n", "regroup"),
     ] {
-        let g = gmotion::grammar::parse(grammar).unwrap();
-        let rules: Vec<&Rule> = g.rules.iter().collect();
         let opts = TangleOptions {
             max_steps: 40,
             ..TangleOptions::default()
         };
-        let err = expand(&scene(), &rules, &opts).unwrap_err();
+        let err = run_with(grammar, &opts).unwrap_err();
         assert!(
             matches!(err, TangleError::MaxSteps { steps: 40, .. }),
             "{err}"
         );
         assert!(err.to_string().contains(&format!("`{op}` at 1:1")), "{err}");
     }
-    let g = gmotion::grammar::parse("regularSplit(line, 2, 1) : tile -> [tile]\n").unwrap();
-    let rules: Vec<&Rule> = g.rules.iter().collect();
     let opts = TangleOptions {
         max_shapes: 1000,
         ..TangleOptions::default()
     };
-    let err = expand(&scene(), &rules, &opts).unwrap_err();
+    let err = run_with("regularSplit(line, 2, 1) : tile -> [tile]\n", &opts).unwrap_err();
     assert!(
         matches!(err, TangleError::MaxShapes { limit: 1000, .. }),
         "{err}"

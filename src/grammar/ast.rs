@@ -109,6 +109,20 @@ pub enum BinOp {
     Pow,
 }
 
+impl BinOp {
+    /// The operator as the grammar spells it.
+    pub fn symbol(self) -> &'static str {
+        match self {
+            BinOp::Add => "+",
+            BinOp::Sub => "-",
+            BinOp::Mul => "*",
+            BinOp::Div => "/",
+            BinOp::Rem => "%",
+            BinOp::Pow => "^",
+        }
+    }
+}
+
 /// Expression kinds.
 #[derive(Clone, Debug)]
 pub enum ExprKind {

@@ -271,19 +271,19 @@ mod tests {
         );
     }
 
+    /// The caret line of an error at `at` in `src`.
+    fn caret_line(src: &str, at: Span) -> String {
+        let d = Diagnostic::new(at, "x");
+        d.render("f", src).lines().nth(3).unwrap().to_string()
+    }
+
     #[test]
     fn tabs_are_kept_and_empty_spans_get_one_caret() {
-        let src = "\tab";
-        let d = Diagnostic::new(span(1, 3, 2, 2), "x");
-        let caret = d.render("f", src).lines().nth(3).unwrap().to_string();
-        assert_eq!(caret, "  | \t ^");
+        assert_eq!(caret_line("\tab", span(1, 3, 2, 2)), "  | \t ^");
     }
 
     #[test]
     fn multi_line_span_underlines_its_first_line_only() {
-        let src = "ab(\ncd)";
-        let d = Diagnostic::new(span(1, 3, 2, 7), "x");
-        let caret = d.render("f", src).lines().nth(3).unwrap().to_string();
-        assert_eq!(caret, "  |   ^");
+        assert_eq!(caret_line("ab(\ncd)", span(1, 3, 2, 7)), "  |   ^");
     }
 }

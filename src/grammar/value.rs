@@ -329,14 +329,7 @@ fn binary(op: BinOp, a: Value, b: Value, span: Span, rhs_span: Span) -> Result<V
             Str(l)
         }
         (op, a, b) => {
-            let symbol = match op {
-                BinOp::Add => "+",
-                BinOp::Sub => "-",
-                BinOp::Mul => "*",
-                BinOp::Div => "/",
-                BinOp::Rem => "%",
-                BinOp::Pow => "^",
-            };
+            let symbol = op.symbol();
             let e = EvalError::new(
                 span,
                 format!(

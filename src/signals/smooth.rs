@@ -342,6 +342,15 @@ fn sub_spec(arg: &CallArg, name: &str) -> Result<SmoothSpec, SignalError> {
     }
 }
 
+/// An IIR system discretised the default way; wrapping it in `zoh(…)` and the like picks
+/// another method.
+fn iir(system: IirSystem) -> SmoothSpec {
+    SmoothSpec::Iir {
+        system,
+        method: Discretization::default(),
+    }
+}
+
 fn from_call(name: &str, args: &[CallArg]) -> Result<SmoothSpec, SignalError> {
     match name {
         "none" | "identity" => {
@@ -388,10 +397,7 @@ fn from_call(name: &str, args: &[CallArg]) -> Result<SmoothSpec, SignalError> {
                 num(name, args, 0, "duration")?,
                 num(name, args, 1, "bounce")?,
             )?;
-            Ok(SmoothSpec::Iir {
-                system: IirSystem::Spring(s),
-                method: Discretization::default(),
-            })
+            Ok(iir(IirSystem::Spring(s)))
         }
         "msd" | "mass_spring_damper" => {
             arity(name, args, 3, 3, "mass, stiffness and damping")?;
@@ -400,10 +406,7 @@ fn from_call(name: &str, args: &[CallArg]) -> Result<SmoothSpec, SignalError> {
                 num(name, args, 1, "stiffness")?,
                 num(name, args, 2, "damping")?,
             )?;
-            Ok(SmoothSpec::Iir {
-                system: IirSystem::Spring(s),
-                method: Discretization::default(),
-            })
+            Ok(iir(IirSystem::Spring(s)))
         }
         "lowpass" => {
             arity(name, args, 2, 2, "a number of poles and a time constant")?;
@@ -418,10 +421,7 @@ fn from_call(name: &str, args: &[CallArg]) -> Result<SmoothSpec, SignalError> {
                 "low-pass time constant",
                 num(name, args, 1, "time constant")?,
             )?;
-            Ok(SmoothSpec::Iir {
-                system: IirSystem::Lowpass { n, tau },
-                method: Discretization::default(),
-            })
+            Ok(iir(IirSystem::Lowpass { n, tau }))
         }
         "zoh" | "impulse" | "tustin" | "bilinear" | "matched" => {
             arity(name, args, 1, 1, "one IIR system such as `spring(0.5, 0)`")?;

@@ -121,7 +121,6 @@ pub fn offset(region: &Region, distance: f64, grid: &Grid) -> Region {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::tangle::polygon::Polygon;
     use kurbo::Rect;
 
     fn grid() -> Grid {
@@ -129,15 +128,7 @@ mod tests {
     }
 
     fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Region {
-        Region::from_polygon(Polygon {
-            outer: vec![
-                Point::new(x0, y0),
-                Point::new(x1, y0),
-                Point::new(x1, y1),
-                Point::new(x0, y1),
-            ],
-            holes: vec![],
-        })
+        Region::from_rect(Rect::new(x0, y0, x1, y1))
     }
 
     #[test]

@@ -616,18 +616,10 @@ impl SegmentIndex {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::tangle::polygon::Polygon;
+    use kurbo::Rect;
 
     fn rect(w: f64, h: f64) -> Region {
-        Region::from_polygon(Polygon {
-            outer: vec![
-                Point::new(0.0, 0.0),
-                Point::new(w, 0.0),
-                Point::new(w, h),
-                Point::new(0.0, h),
-            ],
-            holes: vec![],
-        })
+        Region::from_rect(Rect::new(0.0, 0.0, w, h))
     }
 
     #[test]

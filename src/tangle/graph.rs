@@ -175,15 +175,7 @@ fn expr_text(e: &Expr) -> String {
         ),
         ExprKind::Neg(x) => format!("-{}", expr_text(x)),
         ExprKind::Binary { op, lhs, rhs } => {
-            let sym = match op {
-                crate::grammar::ast::BinOp::Add => "+",
-                crate::grammar::ast::BinOp::Sub => "-",
-                crate::grammar::ast::BinOp::Mul => "*",
-                crate::grammar::ast::BinOp::Div => "/",
-                crate::grammar::ast::BinOp::Rem => "%",
-                crate::grammar::ast::BinOp::Pow => "^",
-            };
-            format!("{} {sym} {}", expr_text(lhs), expr_text(rhs))
+            format!("{} {} {}", expr_text(lhs), op.symbol(), expr_text(rhs))
         }
         ExprKind::Size(c, r) => format!("{c}x{r}"),
     }

@@ -13,7 +13,7 @@ use kurbo::{Affine, Point, Rect, Vec2};
 
 use super::boolean::{difference, intersect, normalize, union_all};
 use super::noise::Rng;
-use super::polygon::{Grid, Polygon, Region};
+use super::polygon::{Grid, Polygon, Region, scanline_crossings};
 use crate::scene::FillRule;
 
 /// What is placed.
@@ -74,13 +74,7 @@ impl Raster {
         let mut xs = Vec::new();
         for r in 0..rows {
             let y = bb.y0 + (r as f64 + 0.5) * h;
-            xs.clear();
-            for (a, b) in region.edges() {
-                if (a.y > y) != (b.y > y) {
-                    xs.push(a.x + (y - a.y) * (b.x - a.x) / (b.y - a.y));
-                }
-            }
-            xs.sort_by(f64::total_cmp);
+            scanline_crossings(region.edges(), y, &mut xs);
             for span in xs.chunks_exact(2) {
                 // Cells whose centres lie within the span.
                 let c0 = ((span[0] - bb.x0) / h - 0.5).ceil().max(0.0) as usize;
@@ -633,15 +627,7 @@ mod tests {
     use crate::tangle::noise::key;
 
     fn square_region(s: f64) -> Region {
-        Region::from_polygon(Polygon {
-            outer: vec![
-                Point::new(0.0, 0.0),
-                Point::new(s, 0.0),
-                Point::new(s, s),
-                Point::new(0.0, s),
-            ],
-            holes: vec![],
-        })
+        Region::from_rect(Rect::new(0.0, 0.0, s, s))
     }
 
     #[test]

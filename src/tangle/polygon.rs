@@ -96,6 +96,23 @@ pub struct Region {
     pub polygons: Vec<Polygon>,
 }
 
+/// The x coordinates where the horizontal line at height `y` crosses `edges`, sorted, into
+/// `xs` (cleared first, so one buffer serves every scanline). Consecutive pairs bound the
+/// spans inside; an edge counts when exactly one end lies above `y`.
+pub(crate) fn scanline_crossings(
+    edges: impl Iterator<Item = (Point, Point)>,
+    y: f64,
+    xs: &mut Vec<f64>,
+) {
+    xs.clear();
+    for (a, b) in edges {
+        if (a.y > y) != (b.y > y) {
+            xs.push(a.x + (y - a.y) * (b.x - a.x) / (b.y - a.y));
+        }
+    }
+    xs.sort_by(f64::total_cmp);
+}
+
 /// Signed area of a closed ring (positive when counter-clockwise with y up).
 pub fn ring_area(ring: &[Point]) -> f64 {
     let n = ring.len();
@@ -221,13 +238,7 @@ impl Polygon {
             } else {
                 y
             };
-            xs.clear();
-            for (a, b) in self.edges() {
-                if (a.y > y) != (b.y > y) {
-                    xs.push(a.x + (y - a.y) * (b.x - a.x) / (b.y - a.y));
-                }
-            }
-            xs.sort_by(f64::total_cmp);
+            scanline_crossings(self.edges(), y, &mut xs);
             for pair in xs.chunks_exact(2) {
                 let w = pair[1] - pair[0];
                 if best.is_none_or(|(bw, _)| w > bw) {
@@ -287,6 +298,20 @@ impl Region {
     /// A region of one polygon.
     pub fn from_polygon(p: Polygon) -> Region {
         Region { polygons: vec![p] }
+    }
+
+    /// The rectangle `r` as a region of one polygon without holes, its outer ring starting
+    /// at `(x0, y0)` with positive signed area as outer rings have.
+    pub fn from_rect(r: Rect) -> Region {
+        Region::from_polygon(Polygon {
+            outer: vec![
+                Point::new(r.x0, r.y0),
+                Point::new(r.x1, r.y0),
+                Point::new(r.x1, r.y1),
+                Point::new(r.x0, r.y1),
+            ],
+            holes: vec![],
+        })
     }
 
     /// Whether the region has no polygons.

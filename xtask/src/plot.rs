@@ -130,6 +130,18 @@ fn fmt_tick(v: f64, step: f64) -> String {
     format!("{v:.decimals$}")
 }
 
+/// The ticks of an axis over `[lo, hi]`, each with its label.
+fn ticks(lo: f64, hi: f64) -> Vec<(f64, String)> {
+    let step = tick_step(hi - lo);
+    let mut out = Vec::new();
+    let mut v = (lo / step).ceil() * step;
+    while v <= hi + 1e-9 {
+        out.push((v, fmt_tick(v, step)));
+        v += step;
+    }
+    out
+}
+
 /// Draws `panel` at `(x0, y0)` into `svg`.
 fn draw_panel(svg: &mut String, panel: &Panel, x0: f64, y0: f64) {
     let pts = panel.series.iter().flat_map(|s| s.points.iter());
@@ -177,32 +189,24 @@ fn draw_panel(svg: &mut String, panel: &Panel, x0: f64, y0: f64) {
         r##"<rect x="{left}" y="{top}" width="{w}" height="{h}" fill="#fbfbfb" stroke="#999999" stroke-width="1"/>"##
     );
     // Grid and ticks.
-    let xs = tick_step(xmax - xmin);
-    let mut v = (xmin / xs).ceil() * xs;
-    while v <= xmax + 1e-9 {
+    for (v, label) in ticks(xmin, xmax) {
         let x = sx(v);
         let _ = writeln!(
             svg,
-            r##"<path d="M{x:.1} {top} V{:.1}" stroke="#e4e4e4"/><text x="{x:.1}" y="{:.1}" font-size="11" text-anchor="middle" fill="#444444">{}</text>"##,
+            r##"<path d="M{x:.1} {top} V{:.1}" stroke="#e4e4e4"/><text x="{x:.1}" y="{:.1}" font-size="11" text-anchor="middle" fill="#444444">{label}</text>"##,
             top + h,
             top + h + 14.0,
-            fmt_tick(v, xs)
         );
-        v += xs;
     }
-    let ys = tick_step(ymax - ymin);
-    let mut v = (ymin / ys).ceil() * ys;
-    while v <= ymax + 1e-9 {
+    for (v, label) in ticks(ymin, ymax) {
         let y = sy(v);
         let _ = writeln!(
             svg,
-            r##"<path d="M{left} {y:.1} H{:.1}" stroke="#e4e4e4"/><text x="{:.1}" y="{:.1}" font-size="11" text-anchor="end" fill="#444444">{}</text>"##,
+            r##"<path d="M{left} {y:.1} H{:.1}" stroke="#e4e4e4"/><text x="{:.1}" y="{:.1}" font-size="11" text-anchor="end" fill="#444444">{label}</text>"##,
             left + w,
             left - 5.0,
             y + 4.0,
-            fmt_tick(v, ys)
         );
-        v += ys;
     }
     if ymin < 0.0 && ymax > 0.0 {
         let _ = writeln!(

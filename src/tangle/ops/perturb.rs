@@ -92,19 +92,10 @@ pub fn perturb(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::tangle::polygon::Polygon;
     use kurbo::Rect;
 
     fn rect(x0: f64, x1: f64) -> Region {
-        Region::from_polygon(Polygon {
-            outer: vec![
-                Point::new(x0, 0.0),
-                Point::new(x1, 0.0),
-                Point::new(x1, 40.0),
-                Point::new(x0, 40.0),
-            ],
-            holes: vec![],
-        })
+        Region::from_rect(Rect::new(x0, 0.0, x1, 40.0))
     }
 
     #[test]

@@ -252,19 +252,19 @@ pub fn regular_split(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::tangle::polygon::Polygon;
     use kurbo::Rect;
 
     fn rect(w: f64, h: f64) -> Region {
-        Region::from_polygon(Polygon {
-            outer: vec![
-                Point::new(0.0, 0.0),
-                Point::new(w, 0.0),
-                Point::new(w, h),
-                Point::new(0.0, h),
-            ],
-            holes: vec![],
-        })
+        Region::from_rect(Rect::new(0.0, 0.0, w, h))
+    }
+
+    /// Parameters for parallel copies of `curve` only (no dual cuts).
+    fn stripes(curve: Curve, offsets: &[f64]) -> SplitParams {
+        SplitParams {
+            curve,
+            offsets: offsets.to_vec(),
+            dual: false,
+        }
     }
 
     fn grid() -> Grid {
@@ -274,11 +274,7 @@ mod tests {
     #[test]
     fn stripes_and_grids() {
         let r = rect(100.0, 50.0);
-        let p = SplitParams {
-            curve: Curve::Line,
-            offsets: vec![10.0],
-            dual: false,
-        };
+        let p = stripes(Curve::Line, &[10.0]);
         let pieces = regular_split(&r, Vec2::new(1.0, 0.0), &p, &grid()).unwrap();
         assert_eq!(pieces.len(), 10);
         assert!(
@@ -297,11 +293,7 @@ mod tests {
     #[test]
     fn cycling_offsets_and_zigzags() {
         let r = rect(100.0, 50.0);
-        let p = SplitParams {
-            curve: Curve::Line,
-            offsets: vec![10.0, 30.0],
-            dual: false,
-        };
+        let p = stripes(Curve::Line, &[10.0, 30.0]);
         let pieces = regular_split(&r, Vec2::new(1.0, 0.0), &p, &grid()).unwrap();
         let areas: Vec<f64> = pieces.iter().map(|p| p.region.area().round()).collect();
         // Cuts at 10, 40, 50, 80, 90.
@@ -311,11 +303,7 @@ mod tests {
             Point::new(5.0, 4.0),
             Point::new(10.0, 0.0),
         ]);
-        let p = SplitParams {
-            curve: zig,
-            offsets: vec![12.0],
-            dual: false,
-        };
+        let p = stripes(zig, &[12.0]);
         let pieces = regular_split(&r, Vec2::new(0.0, 1.0), &p, &grid()).unwrap();
         let total: f64 = pieces.iter().map(|p| p.region.area()).sum();
         assert!((total - 5000.0).abs() < 1e-6);
@@ -325,35 +313,19 @@ mod tests {
     #[test]
     fn degenerate_parameters_are_errors() {
         let r = rect(10.0, 10.0);
-        let bad = SplitParams {
-            curve: Curve::Line,
-            offsets: vec![0.0],
-            dual: false,
-        };
+        let bad = stripes(Curve::Line, &[0.0]);
         assert!(regular_split(&r, Vec2::new(1.0, 0.0), &bad, &grid()).is_err());
         let closed = Curve::Polyline(vec![
             Point::new(0.0, 0.0),
             Point::new(1.0, 1.0),
             Point::new(0.0, 0.0),
         ]);
-        let p = SplitParams {
-            curve: closed,
-            offsets: vec![1.0],
-            dual: false,
-        };
+        let p = stripes(closed, &[1.0]);
         assert!(regular_split(&r, Vec2::new(1.0, 0.0), &p, &grid()).is_err());
-        let p = SplitParams {
-            curve: Curve::Line,
-            offsets: vec![1e-6],
-            dual: false,
-        };
+        let p = stripes(Curve::Line, &[1e-6]);
         assert!(regular_split(&r, Vec2::new(1.0, 0.0), &p, &grid()).is_err());
         // An offset larger than the shape misses it: the shape comes back whole.
-        let p = SplitParams {
-            curve: Curve::Line,
-            offsets: vec![50.0],
-            dual: false,
-        };
+        let p = stripes(Curve::Line, &[50.0]);
         let pieces = regular_split(&r, Vec2::new(1.0, 0.0), &p, &grid()).unwrap();
         assert_eq!(pieces.len(), 1);
     }

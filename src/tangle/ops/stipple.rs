@@ -147,15 +147,7 @@ mod tests {
     #[test]
     fn marks_lie_inside_at_the_asked_density() {
         let grid = Grid::for_bounds(Rect::new(0.0, 0.0, 100.0, 100.0)).unwrap();
-        let r = Region::from_polygon(Polygon {
-            outer: vec![
-                Point::new(0.0, 0.0),
-                Point::new(100.0, 0.0),
-                Point::new(100.0, 100.0),
-                Point::new(0.0, 100.0),
-            ],
-            holes: vec![],
-        });
+        let r = Region::from_rect(Rect::new(0.0, 0.0, 100.0, 100.0));
         for kind in [StippleKind::Dots, StippleKind::Dashes, StippleKind::Curves] {
             let p = StippleParams {
                 kind,

@@ -55,21 +55,12 @@ pub fn streamline_split(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::tangle::polygon::Polygon;
     use kurbo::{Point, Rect};
 
     #[test]
     fn circular_split_makes_rings() {
         let grid = Grid::for_bounds(Rect::new(0.0, 0.0, 100.0, 100.0)).unwrap();
-        let r = Region::from_polygon(Polygon {
-            outer: vec![
-                Point::new(0.0, 0.0),
-                Point::new(60.0, 0.0),
-                Point::new(60.0, 60.0),
-                Point::new(0.0, 60.0),
-            ],
-            holes: vec![],
-        });
+        let r = Region::from_rect(Rect::new(0.0, 0.0, 60.0, 60.0));
         let c = FieldKind::Circular(Point::new(30.0, 30.0));
         let pieces = streamline_split(&r, c, 8.0, 1.0, Vec2::new(1.0, 0.0), &grid).unwrap();
         // Three full rings plus a disc, and the corners.
