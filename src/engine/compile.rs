@@ -27,7 +27,7 @@ use std::sync::Arc;
 use kurbo::{Affine, Point, Vec2};
 
 use crate::motion::{
-    AttrSeg, Component, Interp, Lookup, MotionKind, MotionSeg, Timing, Tint, Track,
+    AttrSeg, Channel, Component, Interp, Lookup, MotionKind, MotionSeg, Timing, Tint, Track,
 };
 use crate::scene::Shape;
 
@@ -100,14 +100,14 @@ enum Role {
     First,
 }
 
-/// The attribute channel an animation changes (`None` for motions).
-fn channel(spec: &AnimSpec) -> Option<usize> {
+/// The channel an animation changes.
+fn channel(spec: &AnimSpec) -> Channel {
     match spec {
-        AnimSpec::Motion { .. } => None,
-        AnimSpec::Fill(_) => Some(0),
-        AnimSpec::Border(_) => Some(1),
-        AnimSpec::Opacity(_) => Some(2),
-        AnimSpec::StrokeWidth(_) => Some(3),
+        AnimSpec::Motion { .. } => Channel::Transform,
+        AnimSpec::Fill(_) => Channel::Fill,
+        AnimSpec::Border(_) => Channel::Stroke,
+        AnimSpec::Opacity(_) => Channel::Opacity,
+        AnimSpec::StrokeWidth(_) => Channel::StrokeWidth,
     }
 }
 
@@ -219,7 +219,7 @@ struct Scratch {
     /// continues it.
     forward_at_step: VecMap<usize, usize>,
     /// Values a forward attribute change started from, by (step, channel), for its inv_ twin.
-    before: VecMap<(usize, usize), State>,
+    before: VecMap<(usize, Channel), State>,
     /// The composition order of the current slice's changes (indices into its list).
     ordered: Vec<usize>,
     /// The layer index of each segment of the current window.
@@ -276,15 +276,21 @@ fn compile(shape: &Shape, slices: &[Slice], scratch: &mut Scratch) -> Track {
     } = scratch;
     let mut track = Track::default();
     // Reserve each channel's segments up front: one per (slice, change) of that kind.
-    let mut counts = [0usize; 5];
+    let mut counts = [0usize; Channel::COUNT];
     for a in slices.iter().flat_map(|s| s.anims.iter()) {
-        counts[channel(&a.spec).map_or(0, |c| c + 1)] += 1;
+        counts[channel(&a.spec) as usize] += 1;
     }
-    track.motions.reserve_exact(counts[0]);
-    track.fill.reserve_exact(counts[1]);
-    track.stroke.reserve_exact(counts[2]);
-    track.opacity.reserve_exact(counts[3]);
-    track.stroke_width.reserve_exact(counts[4]);
+    track
+        .motions
+        .reserve_exact(counts[Channel::Transform as usize]);
+    track.fill.reserve_exact(counts[Channel::Fill as usize]);
+    track.stroke.reserve_exact(counts[Channel::Stroke as usize]);
+    track
+        .opacity
+        .reserve_exact(counts[Channel::Opacity as usize]);
+    track
+        .stroke_width
+        .reserve_exact(counts[Channel::StrokeWidth as usize]);
 
     let roles = Roles::new(shape, slices, firsts, forward_steps);
     let mut state = REST;
@@ -314,7 +320,7 @@ fn compile(shape: &Shape, slices: &[Slice], scratch: &mut Scratch) -> Track {
         state.transform = first_frame;
     }
     // Per channel: the value under a run of pre-applied changes, while one is open.
-    let mut run_base: [Option<State>; 4] = [None; 4];
+    let mut run_base: [Option<State>; Channel::COUNT] = [None; Channel::COUNT];
 
     for (i, slice) in slices.iter().enumerate() {
         history.push((slice.t0, state));
@@ -388,30 +394,30 @@ fn compile(shape: &Shape, slices: &[Slice], scratch: &mut Scratch) -> Track {
                 }
                 spec => {
                     let begun = at_start(a.start);
-                    let ch = channel(spec).unwrap_or(0);
+                    let ch = channel(spec);
                     let get = |s: &State| match ch {
-                        0 => Value::Tint(s.fill),
-                        1 => Value::Tint(s.stroke),
-                        2 => Value::Num(s.opacity),
-                        _ => Value::Num(s.width),
+                        Channel::Fill => Value::Tint(s.fill),
+                        Channel::Stroke => Value::Tint(s.stroke),
+                        Channel::Opacity => Value::Num(s.opacity),
+                        Channel::StrokeWidth | Channel::Transform => Value::Num(s.width),
                     };
                     let target = target_of(shape, spec);
                     // Value at progress 0 and 1 (a reversed change starts at 1).
                     let (from, to) = match role {
                         Role::Forward => {
-                            run_base[ch] = None;
+                            run_base[ch as usize] = None;
                             before.get_or_insert_with((a.step, ch), || begun);
                             (get(&begun), target)
                         }
                         Role::Paired => {
-                            run_base[ch] = None;
+                            run_base[ch as usize] = None;
                             let back = before.get(&(a.step, ch)).map_or(get(&REST), &get);
                             (back, get(&begun))
                         }
                         Role::First => {
                             // Back to what lies underneath: the next pre-applied change of
                             // this channel, or the value under the whole run.
-                            let base = *run_base[ch].get_or_insert(begun);
+                            let base = *run_base[ch as usize].get_or_insert(begun);
                             let under = roles.under(a).unwrap_or_else(|| get(&base));
                             (under, target)
                         }
@@ -511,7 +517,7 @@ enum Value {
 #[allow(clippy::too_many_arguments)]
 fn push_attr(
     track: &mut Track,
-    ch: usize,
+    ch: Channel,
     t0: f64,
     t1: f64,
     timing: Timing,
@@ -540,19 +546,19 @@ fn push_attr(
         });
     }
     match (ch, from, to) {
-        (0, Value::Tint(f), Value::Tint(t)) => {
+        (Channel::Fill, Value::Tint(f), Value::Tint(t)) => {
             push(&mut track.fill, t0, t1, timing, f, t, pre_applied)
         }
-        (1, Value::Tint(f), Value::Tint(t)) => {
+        (Channel::Stroke, Value::Tint(f), Value::Tint(t)) => {
             push(&mut track.stroke, t0, t1, timing, f, t, pre_applied)
         }
-        (2, Value::Num(f), Value::Num(t)) => {
+        (Channel::Opacity, Value::Num(f), Value::Num(t)) => {
             push(&mut track.opacity, t0, t1, timing, f, t, pre_applied)
         }
-        (_, Value::Num(f), Value::Num(t)) => {
+        (Channel::StrokeWidth, Value::Num(f), Value::Num(t)) => {
             push(&mut track.stroke_width, t0, t1, timing, f, t, pre_applied)
         }
-        // A channel's values are all of its kind.
+        // A channel's values are all of its kind, and motions are not attributes.
         _ => {}
     }
 }
@@ -613,8 +619,8 @@ impl<'a> Roles<'a> {
                 }
                 firsts.push(id);
                 match channel(&a.spec) {
-                    None => firsts_here.push(a),
-                    Some(_) => first_attrs = true,
+                    Channel::Transform => firsts_here.push(a),
+                    _ => first_attrs = true,
                 }
             }
             firsts_here.sort_by(|a, b| wraps(&Span::of(b), &Span::of(a)));
@@ -634,15 +640,17 @@ impl<'a> Roles<'a> {
     /// For each pre-applied attribute change followed (in its channel, each change counted
     /// once) by another pre-applied one: that one's target.
     fn under_of(&self, shape: &Shape, slices: &[Slice]) -> VecMap<*const AnimInst, Value> {
-        let mut channels: [Vec<(&Arc<AnimInst>, Role)>; 4] = Default::default();
+        let mut channels: [Vec<(&Arc<AnimInst>, Role)>; Channel::COUNT] = Default::default();
         for a in slices.iter().flat_map(|s| s.anims.iter()) {
-            let Some(ch) = channel(&a.spec) else {
-                continue;
-            };
-            if channels[ch].iter().any(|(b, _)| Arc::ptr_eq(a, b)) {
+            let ch = channel(&a.spec);
+            if ch == Channel::Transform {
                 continue;
             }
-            channels[ch].push((a, self.of(a)));
+            let list = &mut channels[ch as usize];
+            if list.iter().any(|(b, _)| Arc::ptr_eq(a, b)) {
+                continue;
+            }
+            list.push((a, self.of(a)));
         }
         let mut under = VecMap::default();
         for list in &channels {

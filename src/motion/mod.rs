@@ -32,6 +32,27 @@ pub use component::Component;
 pub use grid::{Blend, Field, Grid, Lookup};
 pub use sampler::{Playhead, Sampler};
 
+/// The five things a shape's track animates, each a list of its own in a [`Track`]: its
+/// transform ([`Track::motions`]), fill and stroke tints, opacity and stroke width. The
+/// discriminants index per-channel arrays, in this order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Channel {
+    /// The shape's transform (motion windows).
+    Transform = 0,
+    /// The fill tint.
+    Fill = 1,
+    /// The stroke tint.
+    Stroke = 2,
+    /// The opacity factor.
+    Opacity = 3,
+    /// The stroke-width factor.
+    StrokeWidth = 4,
+}
+
+impl Channel {
+    /// How many channels there are.
+    pub const COUNT: usize = 5;
+}
 /// How a motion's transform is interpolated between its neutral and full value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Interp {

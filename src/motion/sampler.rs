@@ -238,7 +238,7 @@ fn remembered(comps: &[Component], p: f64, slot: u32, products: &mut Products) -
 }
 
 /// One attribute channel of every shape, flat in shape order.
-struct Channel<T> {
+struct ChangeList<T> {
     /// Segment start times.
     t0: Vec<f64>,
     /// Segment end and the value held from then on: what most frames read.
@@ -247,9 +247,9 @@ struct Channel<T> {
     moving: Vec<(Clock, T, T)>,
 }
 
-impl<T: Blendable> Channel<T> {
-    fn with_capacity(n: usize) -> Channel<T> {
-        Channel {
+impl<T: Blendable> ChangeList<T> {
+    fn with_capacity(n: usize) -> ChangeList<T> {
+        ChangeList {
             t0: Vec::with_capacity(n),
             settled: Vec::with_capacity(n),
             moving: Vec::with_capacity(n),
@@ -374,10 +374,10 @@ struct Part<'a> {
     /// The shared component lists met, by the slot number this part gave them (their
     /// address); [`Sampler::new`] renumbers the slots over all parts.
     shared: Vec<usize>,
-    fill: Channel<Tint>,
-    stroke: Channel<Tint>,
-    opacity: Channel<f64>,
-    width: Channel<f64>,
+    fill: ChangeList<Tint>,
+    stroke: ChangeList<Tint>,
+    opacity: ChangeList<f64>,
+    width: ChangeList<f64>,
 }
 
 impl<'a> Sampler<'a> {
@@ -483,10 +483,10 @@ impl<'a> Part<'a> {
             inverses: Vec::with_capacity(total),
             eases: Vec::new(),
             shared: Vec::new(),
-            fill: Channel::with_capacity(count(|t| t.fill.len())),
-            stroke: Channel::with_capacity(count(|t| t.stroke.len())),
-            opacity: Channel::with_capacity(count(|t| t.opacity.len())),
-            width: Channel::with_capacity(count(|t| t.stroke_width.len())),
+            fill: ChangeList::with_capacity(count(|t| t.fill.len())),
+            stroke: ChangeList::with_capacity(count(|t| t.stroke.len())),
+            opacity: ChangeList::with_capacity(count(|t| t.opacity.len())),
+            width: ChangeList::with_capacity(count(|t| t.stroke_width.len())),
         };
         let mut slots = HashMap::new();
         for track in tracks {
@@ -666,7 +666,7 @@ impl<'a> Part<'a> {
         self.fold(segs, start, t, &mut [])
     }
 
-    /// [`Channel::mode`] for the transform.
+    /// [`ChangeList::mode`] for the transform.
     #[inline(always)]
     fn transform_mode(
         &self,

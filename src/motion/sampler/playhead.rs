@@ -18,19 +18,19 @@ use super::{
     Blendable, Component, EMPTY_SLOT, Mode, NO_INVERSE, PART, Pace, Part, Products, SLOW, Sampler,
     ShapeState, Tint, remembered,
 };
-use crate::motion::grid;
+use crate::motion::{Channel, grid};
 use crate::signals::Easing;
 
 /// [`Playhead`] position of a channel that is not running.
 const IDLE: u32 = u32::MAX;
 
-/// Channels of a shape, in the order of [`Head::until`]'s entries.
-const TRANSFORM: usize = 0;
-const FILL: usize = 1;
-const STROKE: usize = 2;
-const OPACITY: usize = 3;
-const WIDTH: usize = 4;
-const CHANNELS: usize = 5;
+// A shape's channels index [`Head::until`]'s entries.
+const TRANSFORM: usize = Channel::Transform as usize;
+const FILL: usize = Channel::Fill as usize;
+const STROKE: usize = Channel::Stroke as usize;
+const OPACITY: usize = Channel::Opacity as usize;
+const WIDTH: usize = Channel::StrokeWidth as usize;
+const CHANNELS: usize = Channel::COUNT;
 
 /// A running transform window, as a frame evaluates it.
 // The list of these is read front to back every frame: boxing the large variant would
@@ -90,7 +90,7 @@ struct Change<T> {
 }
 
 impl<T: Blendable> Change<T> {
-    /// `Channel::at` inside the change, step for step.
+    /// `ChangeList::at` inside the change, step for step.
     #[inline(always)]
     fn at(&self, t: f64, eases: &[Easing]) -> T {
         self.from.blend(self.to, self.pace.progress(t, eases))
@@ -146,7 +146,7 @@ impl<R> Running<R> {
 
 /// One attribute channel of one shape, as [`Running::follow`] needs it.
 struct Attr<'c, T> {
-    channel: &'c super::Channel<T>,
+    channel: &'c super::ChangeList<T>,
     /// True for the second channel of its kind (stroke, stroke width).
     second: bool,
     key: usize,
@@ -366,7 +366,7 @@ impl Part<'_> {
     }
 }
 
-impl<T: Blendable> super::Channel<T> {
+impl<T: Blendable> super::ChangeList<T> {
     /// Entry `k`, running, as a playhead keeps it.
     fn change(&self, k: usize) -> Change<T> {
         let (clock, from, to) = self.moving[k];
