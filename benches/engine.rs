@@ -11,8 +11,8 @@ use std::hint::black_box;
 use criterion::{BatchSize, BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use gmotion::engine::{RunOptions, run};
 use gmotion::motion::Animation;
-use gmotion::scene::{Group, Node, PathNode, Scene, Shape};
-use kurbo::{Affine, BezPath, Point, Rect};
+use gmotion::scene::{Scene, SceneBuilder};
+use kurbo::{BezPath, Rect};
 use rayon::prelude::*;
 
 /// The allocator the `gmotion` binary uses, so the numbers are what the command gets.
@@ -23,9 +23,7 @@ static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 fn scene(n: usize, tags: usize) -> Scene {
     let side = (n as f64).sqrt().ceil() as usize;
     let (w, h) = (1920.0, 1080.0);
-    let mut root = Group::new();
-    let mut shapes = Vec::with_capacity(n);
-    let mut per_tag = vec![0usize; tags];
+    let mut b = SceneBuilder::new(w, h);
     for i in 0..n {
         let (c, r) = (i % side, i / side);
         let x = (c as f64 + 0.5) * w / side as f64;
@@ -38,35 +36,9 @@ fn scene(n: usize, tags: usize) -> Scene {
         path.line_to((rect.x1, rect.y1));
         path.line_to((rect.x0, rect.y1));
         path.close_path();
-        root.children.push(Node::Path(PathNode {
-            id: String::new(),
-            path,
-            fill: None,
-            stroke: None,
-            stroke_first: false,
-            unit: Some(i),
-        }));
-        shapes.push(Shape {
-            tag: format!("g{t}"),
-            id: per_tag[t],
-            group: 0,
-            z: i,
-            node_path: vec![i],
-            parent_transform: Affine::IDENTITY,
-            centroid: Point::new(x, y),
-            bbox: rect,
-            fill: gmotion::color::Color::BLACK,
-            stroke: gmotion::color::Color::BLACK,
-            stroke_width: 1.0,
-        });
-        per_tag[t] += 1;
+        b = b.path(&format!("g{t}"), path, None, None);
     }
-    Scene {
-        width: w,
-        height: h,
-        root,
-        shapes,
-    }
+    b.build()
 }
 
 /// A grammar with `1 + 10·tags + extra` rules: a shared split, then per shape tag a chain
