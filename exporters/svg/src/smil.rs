@@ -327,6 +327,7 @@ impl Writer<'_> {
                 dur,
                 tolerance: self.opts.tolerance,
                 rate: self.opts.bake_rate,
+                fps: self.anim.fps,
             };
             match transform::plan(track, shape.parent_transform, &corners, &ctx) {
                 Ok(p) => plan = p,

@@ -102,6 +102,33 @@ pub struct Ctx {
     pub tolerance: f64,
     /// Samples per second when baking.
     pub rate: f64,
+    /// The animation's frame rate: every frame instant is sampled too, so that baked motion
+    /// is within the tolerance where gmotion renders its frames (between uniform samples a
+    /// fast curve can stray further).
+    pub fps: f64,
+}
+
+impl Ctx {
+    /// The frame instants inside `[a, b]`.
+    fn frame_times(&self, a: f64, b: f64) -> impl Iterator<Item = f64> + '_ {
+        let fps = if self.fps.is_finite() && self.fps > 0.0 {
+            self.fps
+        } else {
+            0.0
+        };
+        let first = (a * fps).ceil().max(0.0) as usize;
+        let last = if fps > 0.0 {
+            (b * fps).floor().max(0.0) as usize
+        } else {
+            0
+        };
+        let n = if fps > 0.0 && last >= first {
+            (last - first + 1).min(1 << 16)
+        } else {
+            0
+        };
+        (first..first + n).map(move |i| i as f64 / fps)
+    }
 }
 
 /// A group before its static factors are folded into its neighbours.
@@ -339,7 +366,9 @@ impl Window<'_> {
 
     fn samples(&self) -> Samples {
         let (act0, act1) = self.seg().timing.active();
-        let ts = sample_times(self.a, self.b, self.ctx.rate, 8, &[act0, act1]);
+        let mut extra = vec![act0, act1];
+        extra.extend(self.ctx.frame_times(self.a, self.b));
+        let ts = sample_times(self.a, self.b, self.ctx.rate, 8, &extra);
         let product = |segs: &[MotionSeg], t: f64| {
             segs.iter()
                 .fold(Affine::IDENTITY, |m, s| m * s.relative_at(t))
@@ -551,6 +580,7 @@ fn whole_track(
         // Just before each boundary too, so that a jump there stays a jump.
         extra.extend([s.t0, s.t1, x, y, s.t0 - 1e-6, s.t1 - 1e-6]);
     }
+    extra.extend(ctx.frame_times(0.0, ctx.dur));
     let ts = sample_times(0.0, ctx.dur, ctx.rate, 8, &extra);
     let truth: Vec<Affine> = ts.iter().map(|&t| track.transform_at(t)).collect();
     let dec = decompose_all(&truth);
