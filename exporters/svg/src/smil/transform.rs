@@ -18,7 +18,7 @@
 
 use kurbo::{Affine, Point};
 
-use super::bake::{fraction, sample_times};
+use super::bake::{fraction, frame_times, sample_times};
 use super::curve::{Key, progress_keys, sampled_progress};
 use super::decompose::Decomposed;
 use gmotion::motion::component::product_at;
@@ -110,24 +110,8 @@ pub struct Ctx {
 
 impl Ctx {
     /// The frame instants inside `[a, b]`.
-    fn frame_times(&self, a: f64, b: f64) -> impl Iterator<Item = f64> + '_ {
-        let fps = if self.fps.is_finite() && self.fps > 0.0 {
-            self.fps
-        } else {
-            0.0
-        };
-        let first = (a * fps).ceil().max(0.0) as usize;
-        let last = if fps > 0.0 {
-            (b * fps).floor().max(0.0) as usize
-        } else {
-            0
-        };
-        let n = if fps > 0.0 && last >= first {
-            (last - first + 1).min(1 << 16)
-        } else {
-            0
-        };
-        (first..first + n).map(move |i| i as f64 / fps)
+    fn frame_times(&self, a: f64, b: f64) -> Vec<f64> {
+        frame_times(a, b, self.fps)
     }
 }
 
