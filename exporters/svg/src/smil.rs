@@ -305,6 +305,7 @@ impl Writer<'_> {
     fn bake<T>(&self, tolerance: f64, dist: &'static dyn Fn(T, T) -> f64) -> Bake<'static, T> {
         Bake {
             rate: self.opts.bake_rate,
+            fps: self.anim.fps,
             tolerance,
             dist,
         }
@@ -327,6 +328,7 @@ impl Writer<'_> {
                 dur,
                 tolerance: self.opts.tolerance,
                 rate: self.opts.bake_rate,
+                fps: self.anim.fps,
             };
             match transform::plan(track, shape.parent_transform, &corners, &ctx) {
                 Ok(p) => plan = p,
@@ -494,6 +496,7 @@ impl Writer<'_> {
                 &deforming,
                 dur,
                 self.opts.bake_rate,
+                self.anim.fps,
                 self.opts.tolerance,
             ) {
                 Some(keys) => {

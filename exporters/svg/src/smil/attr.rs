@@ -4,7 +4,7 @@
 //! holds, jumps (equal-time keys) and eased runs; every run is exact because the value is
 //! linear in the progress. The progress of an easing SMIL cannot say is sampled and reduced.
 
-use super::bake::sample_times;
+use super::bake::{frame_times, sample_times};
 use super::curve::{Key, progress_keys, sampled_progress};
 use gmotion::motion::{AttrSeg, Blendable};
 
@@ -12,6 +12,8 @@ use gmotion::motion::{AttrSeg, Blendable};
 pub struct Bake<'a, T> {
     /// Samples per second.
     pub rate: f64,
+    /// The animation's frame rate (every frame instant is sampled too).
+    pub fps: f64,
     /// Largest allowed `dist` between the played and the true value.
     pub tolerance: f64,
     /// Distance between two values.
@@ -53,7 +55,9 @@ pub fn attr_keys<T: Blendable + PartialEq>(
             None => {
                 baked += 1;
                 let (x, y) = seg.timing.active();
-                let ts = sample_times(a, b, bake.rate, 8, &[x, y]);
+                let mut extra = vec![x, y];
+                extra.extend(frame_times(a, b, bake.fps));
+                let ts = sample_times(a, b, bake.rate, 8, &extra);
                 let value = |p: f64| seg.from.blend(seg.to, p);
                 let ps = sampled_progress(&seg.timing, &ts, bake.tolerance, |_, played, truth| {
                     (bake.dist)(value(played), value(truth))

@@ -15,6 +15,19 @@ pub fn sample_times(a: f64, b: f64, rate: f64, min: usize, extra: &[f64]) -> Vec
     ts
 }
 
+/// The frame instants `k / fps` inside `[a, b]` (none when `fps` is not positive): baked
+/// values are reduced against these too, so that they are within the tolerance where gmotion
+/// renders its frames (between uniform samples a fast curve can stray further).
+pub fn frame_times(a: f64, b: f64, fps: f64) -> Vec<f64> {
+    if !(fps.is_finite() && fps > 0.0) || b < a {
+        return Vec::new();
+    }
+    let first = (a * fps - 1e-9).ceil().max(0.0);
+    let last = (b * fps + 1e-9).floor();
+    let n = ((last - first + 1.0).max(0.0) as usize).min(1 << 16);
+    (0..n).map(|i| (first + i as f64) / fps).collect()
+}
+
 /// Where sample `k` falls between samples `i` and `j`, as a fraction.
 pub fn fraction(ts: &[f64], k: usize, i: usize, j: usize) -> f64 {
     let span = ts[j] - ts[i];

@@ -7,7 +7,7 @@ use std::fmt::Write;
 
 use kurbo::{Affine, BezPath, PathEl, Point};
 
-use super::bake::{fraction, sample_times};
+use super::bake::{fraction, frame_times, sample_times};
 use super::curve::Key;
 use super::xml::{COORD, num};
 use gmotion::motion::Track;
@@ -22,6 +22,7 @@ pub fn d_keys(
     tracks: &[&Track],
     dur: f64,
     rate: f64,
+    fps: f64,
     tolerance: f64,
 ) -> Option<Vec<Key<String>>> {
     if abs.determinant().abs() <= 1e-12 {
@@ -34,6 +35,7 @@ pub fn d_keys(
         let (x, y) = s.timing.active();
         extra.extend([s.t0, s.t1, x, y]);
     }
+    extra.extend(frame_times(0.0, dur, fps));
     let ts = sample_times(0.0, dur, rate, 8, &extra);
     let frames: Vec<Vec<Point>> = ts
         .iter()

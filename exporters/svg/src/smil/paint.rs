@@ -6,7 +6,7 @@
 use gmotion::motion::{AttrSeg, Blendable, Tint, Track};
 
 use super::attr::{Bake, attr_keys};
-use super::bake::{fraction, sample_times};
+use super::bake::{fraction, frame_times, sample_times};
 use super::curve::Key;
 use gmotion::motion::reduce::ramer_douglas_peucker;
 
@@ -74,6 +74,7 @@ impl<'a, T: Blendable + PartialEq> Chain<'a, T> {
                     let (x, y) = s.timing.active();
                     extra.extend([s.t0, s.t1, x, y]);
                 }
+                extra.extend(frame_times(0.0, dur, bake.fps));
                 let ts = sample_times(0.0, dur, bake.rate, 8, &extra);
                 let value = |t: f64| {
                     many.iter()

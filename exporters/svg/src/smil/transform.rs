@@ -18,7 +18,7 @@
 
 use kurbo::{Affine, Point};
 
-use super::bake::{fraction, sample_times};
+use super::bake::{fraction, frame_times, sample_times};
 use super::curve::{Key, progress_keys, sampled_progress};
 use super::decompose::Decomposed;
 use gmotion::motion::component::product_at;
@@ -102,6 +102,17 @@ pub struct Ctx {
     pub tolerance: f64,
     /// Samples per second when baking.
     pub rate: f64,
+    /// The animation's frame rate: every frame instant is sampled too, so that baked motion
+    /// is within the tolerance where gmotion renders its frames (between uniform samples a
+    /// fast curve can stray further).
+    pub fps: f64,
+}
+
+impl Ctx {
+    /// The frame instants inside `[a, b]`.
+    fn frame_times(&self, a: f64, b: f64) -> Vec<f64> {
+        frame_times(a, b, self.fps)
+    }
 }
 
 /// A group before its static factors are folded into its neighbours.
@@ -339,7 +350,9 @@ impl Window<'_> {
 
     fn samples(&self) -> Samples {
         let (act0, act1) = self.seg().timing.active();
-        let ts = sample_times(self.a, self.b, self.ctx.rate, 8, &[act0, act1]);
+        let mut extra = vec![act0, act1];
+        extra.extend(self.ctx.frame_times(self.a, self.b));
+        let ts = sample_times(self.a, self.b, self.ctx.rate, 8, &extra);
         let product = |segs: &[MotionSeg], t: f64| {
             segs.iter()
                 .fold(Affine::IDENTITY, |m, s| m * s.relative_at(t))
@@ -551,6 +564,7 @@ fn whole_track(
         // Just before each boundary too, so that a jump there stays a jump.
         extra.extend([s.t0, s.t1, x, y, s.t0 - 1e-6, s.t1 - 1e-6]);
     }
+    extra.extend(ctx.frame_times(0.0, ctx.dur));
     let ts = sample_times(0.0, ctx.dur, ctx.rate, 8, &extra);
     let truth: Vec<Affine> = ts.iter().map(|&t| track.transform_at(t)).collect();
     let dec = decompose_all(&truth);
