@@ -702,7 +702,8 @@ def export(case, out, gm):
     case["warnings"] = [line for line in err.splitlines() if "warning" in line.lower()][:5]
     with open(lj, encoding="utf-8") as f:
         doc = json.load(f)
-    case["per_paint_opacity"] = translucent_paint_overlap(doc)
+    case["per_paint_opacity"] = translucent_paint_overlap(doc, layers=True)
+    case["per_paint_group_opacity"] = translucent_paint_overlap(doc, layers=False)
     n, fps = int(round(doc["op"] - doc["ip"])), float(doc["fr"])
     if case["family"] == "tr":
         times = targets(dims)[3] + [0.3]
@@ -728,7 +729,7 @@ def export(case, out, gm):
     return case
 
 
-def translucent_paint_overlap(doc):
+def translucent_paint_overlap(doc, layers):
     """Whether some shape group or layer below 100% opacity (fixed or animated) holds more
     than one paint (a fill and a stroke, or several drawn paths). lottie-web's canvas
     renderer applies such opacity to each paint in it, so it draws where one paint overlaps
@@ -769,7 +770,7 @@ def translucent_paint_overlap(doc):
 
     every = [layer for layers in [doc.get("layers", [])] + list(assets.values()) for layer in layers]
     return any(walk(layer.get("shapes", [])) or
-               (translucent(layer.get("ks", {}).get("o")) and layer_paints(layer) > 1)
+               (layers and translucent(layer.get("ks", {}).get("o")) and layer_paints(layer) > 1)
                for layer in every)
 
 
@@ -866,10 +867,13 @@ NA = "n/a"
 # covers the stroke, is premultiplied (0, 38, 128, 192) in the canvas renderer both ways
 # (the stroke shows through: two paints composited one after the other), and plain
 # half-blue, (0, 0, 125..128, 125..128), in lottie-web svg, ThorVG and rlottie for the layer.
-# rlottie applies a group's opacity per paint too (0, 38, 127, 190), but not a layer's,
-# and does not dim the layers beneath a translucent layer, so the exporter puts a
-# translucent shape's opacity on its layer.
-KNOWN = ("lottie-web-canvas",)
+# rlottie applies a group's opacity per paint too (0, 38, 127, 190), but not a layer's; the
+# exporter still keeps a single-path shape's opacity on its group, because each translucent
+# layer in rlottie dims everything beneath it by about 1/255 and that adds up (the cube
+# example's background fell to alpha 215 with opacity on ~50 layers). So rlottie's frames
+# of cases with a translucent group holding several paints are known too.
+# Player -> the case flag that makes its frames known.
+KNOWN = {"lottie-web-canvas": "per_paint_opacity", "rlottie": "per_paint_group_opacity"}
 KNOWN_NOTE = "known (opacity applied per paint): "
 # Bake error bound (canvas px) for the exports. Compared at 2x, an edge the exporter moves by
 # its full bound changes an antialiased pixel by up to 2·bound of coverage, and a frame fails
@@ -934,7 +938,7 @@ def judge(c):
                 f"{len(bad)}/{len(offs)} frames off, worst {worst[player] * 100:.2f}% ({shown})"
         else:
             res[player] = None
-        if res[player] is not None and player in KNOWN and c.get("per_paint_opacity"):
+        if res[player] is not None and player in KNOWN and c.get(KNOWN[player]):
             res[player] = KNOWN_NOTE + res[player]
     return res, worst
 
@@ -973,9 +977,10 @@ def report(argv):
               f"{data['uncovered_pairs']}." + (f" {refused} case(s) must be refused with a located error "
                                                  "(`arc` on a channel that is not a position) and were; they "
                                                  "count under export only." if refused else ""),
-              "", "`(+N known)`: frames of lottie-web's canvas renderer that differ only because "
-              "it applies a translucent group's or layer's opacity to each paint (a shape's stroke over its "
-              "own fill draws darker); the other players judge those cases in full. Baked motion is exported with "
+              "", "`(+N known)`: frames of lottie-web's canvas renderer (a translucent group's or layer's "
+              "opacity) and rlottie (a translucent group's) that differ only because they apply that opacity "
+              "to each paint (a shape's stroke over its own fill draws darker); the other players judge "
+              "those cases in full. Baked motion is exported with "
               f"`--tolerance {TOLERANCE}`.", ""]
     # Failures per dimension value.
     fail_rows = []

@@ -44,10 +44,11 @@ impl Player {
     /// applies a group's or a layer's opacity to each fill and stroke in it, so where a
     /// translucent shape's stroke overlaps its own fill it draws the overlap darker
     /// (tests/conformance/matrix.py, KNOWN, has a minimal reproducer). rlottie does that
-    /// for a group's opacity only, so the exporter puts a shape's opacity on its layer. A
-    /// shape with both a fill and a stroke under partial opacity is judged by these.
-    pub const WHOLE_GROUP_OPACITY: [Player; 3] =
-        [Player::LottieWebSvg, Player::Rlottie, Player::Thorvg];
+    /// for a group's opacity, and the exporter keeps a single-path shape's opacity on its
+    /// group because rlottie's translucent layers dim everything beneath them a little
+    /// (which adds up over many layers). A shape with both a fill and a stroke under
+    /// partial opacity is judged by these.
+    pub const WHOLE_GROUP_OPACITY: [Player; 2] = [Player::LottieWebSvg, Player::Thorvg];
 
     fn name(self) -> &'static str {
         match self {

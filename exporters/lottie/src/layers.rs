@@ -276,10 +276,24 @@ impl<'a> Builder<'a> {
             });
         let opacity = g.opacity as f64 * env.alpha;
         if opacity < 1.0 {
-            // On the layer, which every player but lottie-web's canvas renderer composites
-            // whole; rlottie and ThorVG apply a shape group's opacity to each paint or path
-            // in it (see `unit`).
-            content.ks.o = Some(Prop::scalar(N::coord(opacity * 100.0)));
+            let o = Prop::scalar(N::coord(opacity * 100.0));
+            match content.shapes.as_mut() {
+                // Shape layers carry opacity on a group (which lottie-web also draws as group
+                // opacity): rlottie's translucent layer dims everything under it by about
+                // 1/255, which adds up over many layers (see `unit`).
+                Some(shapes) => {
+                    let mut it = std::mem::take(shapes);
+                    it.push(Shape::Transform(Transform {
+                        o: Some(o),
+                        ..Transform::empty()
+                    }));
+                    *shapes = vec![Shape::Group(LGroup {
+                        nm: String::new(),
+                        it,
+                    })];
+                }
+                None => content.ks.o = Some(o),
+            }
         }
         let mut matte_group: Option<(Group, u8)> = None;
         match clip {

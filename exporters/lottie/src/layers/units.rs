@@ -80,13 +80,21 @@ impl Builder<'_> {
                 }
             }
             let mut l = comp.layer(LayerType::Shape, name.clone(), self.op);
-            // Opacity on the layer, not the named group: rlottie applies a group's opacity
-            // to each paint in it (a stroke over its own fill draws darker) and ThorVG to
-            // each path (a path over another shows the one beneath, a stroke baked to an
-            // outline shows the fill), while both composite a layer's whole without
-            // dimming the layers beneath. lottie-web's svg renderer does too; its canvas
-            // renderer applies either per paint (matrix.py, KNOWN).
-            l.ks.o = Some(opacity(env.alpha));
+            if painting_groups(&it) > 1 {
+                // ThorVG applies a group's opacity to each path in it (so a path over
+                // another shows the one beneath, and a stroke baked to an outline shows
+                // the fill), but composites a layer's as a whole.
+                l.ks.o = Some(opacity(env.alpha));
+            } else if let Some(Shape::Transform(tr)) = it.last_mut() {
+                // One path: opacity on the outermost group rather than the layer. rlottie
+                // composites a translucent layer by dimming everything beneath it by about
+                // 1/255, which adds up: the cube example's background fell to alpha 215
+                // under its ~50 fading units (its frames 81 and 98, 96% of pixels off) when
+                // every unit carried its opacity on its layer. A group's opacity every player
+                // draws over the path; rlottie and lottie-web's canvas apply it to fill and
+                // stroke separately (matrix.py, KNOWN).
+                tr.o = Some(opacity(env.alpha));
+            }
             l.shapes = Some(vec![Shape::Group(LGroup { nm: name, it })]);
             comp.items.push(Item::Layers(vec![l]));
             return;
@@ -180,4 +188,24 @@ pub(super) fn full_transform(t: Transform) -> Transform {
         r: t.r.or(d.r),
         o: t.o.or(d.o),
     }
+}
+
+/// How many of `items`' groups (counting `items` itself) draw a fill or stroke of their
+/// own, counting to two.
+fn painting_groups(items: &[Shape]) -> usize {
+    let mut n = items.iter().any(|s| {
+        matches!(
+            s,
+            Shape::Fill(_) | Shape::Stroke(_) | Shape::GradientFill(_) | Shape::GradientStroke(_)
+        )
+    }) as usize;
+    for s in items {
+        if n > 1 {
+            break;
+        }
+        if let Shape::Group(g) = s {
+            n += painting_groups(&g.it);
+        }
+    }
+    n
 }
