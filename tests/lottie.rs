@@ -1469,3 +1469,41 @@ fn delayed_windows_follow_the_model() {
     }
     assert_eq!(cases, 100);
 }
+
+/// Many translucent shapes over an opaque background: every player must leave the
+/// background opaque. Each translucent rlottie layer dims everything beneath it by about
+/// 1/255, which adds up, so the exporter keeps a single-path shape's opacity on its group
+/// (the cube example's background fell to alpha 215 when 50-odd fading units carried their
+/// opacity on their layers).
+#[test]
+fn many_translucent_shapes_leave_the_background_opaque() {
+    let mut paths = vec![(
+        rect_path(Rect::new(0.0, 0.0, 400.0, 300.0)),
+        solid(Color::rgb(0.95, 0.93, 0.9)),
+        None,
+    )];
+    for k in 0..60 {
+        let (x, y) = (
+            20.0 + 60.0 * (k % 6) as f64,
+            20.0 + 45.0 * (k / 6) as f64 * 0.6,
+        );
+        paths.push((
+            rect_path(Rect::new(x, y, x + 30.0, y + 20.0)),
+            solid(Color::rgb(0.2, 0.3, 0.7)),
+            None,
+        ));
+    }
+    let s = scene(paths);
+    let mut tracks = vec![Track::default(); s.shapes.len()];
+    for track in tracks.iter_mut().skip(1) {
+        fade(
+            track,
+            timing(0.0, 1.0, 0.0, Easing::Linear, false),
+            1.0,
+            0.4,
+        );
+    }
+    let anim = animation(s, tracks, 1.0);
+    let (json, _) = to_lottie(&anim, &LottieOptions::default()).unwrap();
+    plays("many-translucent", &anim, &json, &Player::ALL);
+}
