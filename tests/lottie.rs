@@ -11,7 +11,7 @@ use gmotion::motion::{
     Track,
 };
 use gmotion::scene::{
-    ClipPath, Fill, FillRule, Group, LineCap, LineJoin, Mask, MaskKind, Node, Paint, PathNode,
+    ClipPath, Fill, FillRule, Group, LineJoin, Mask, MaskKind, Node, Paint, PathNode,
     RadialGradient, Scene, SceneBuilder, Spread, Stop, Stroke,
 };
 use gmotion::signals::Easing;
@@ -273,16 +273,7 @@ fn solid(c: Color) -> Option<Fill> {
 }
 
 fn stroke(width: f64) -> Option<Stroke> {
-    Some(Stroke {
-        paint: Paint::Solid(Color::BLACK),
-        opacity: 1.0,
-        width,
-        cap: LineCap::Butt,
-        join: LineJoin::Miter,
-        miter_limit: 4.0,
-        dash: None,
-        dash_offset: 0.0,
-    })
+    Some(Stroke::solid(Color::BLACK, width))
 }
 
 /// A scene whose shapes are the given paths (tag `t`, ids `p0`, `p1`, …), each directly

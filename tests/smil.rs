@@ -1539,6 +1539,26 @@ fn a_cut_away_fill_change_is_never_played() {
     }
 }
 
+/// The conformance matrix's bake tolerance (`matrix.py`, TOLERANCE), in canvas units.
+const MATRIX_TOLERANCE: f64 = 0.05;
+
+/// `grammar` run on the SVG text `svg`, and its SMIL at [`MATRIX_TOLERANCE`].
+fn baked_at_matrix_tolerance(svg: &str, grammar: &str) -> (Animation, String) {
+    use gmotion::engine::{RunOptions, run};
+    use gmotion_import_svg::{ImportOptions, parse as parse_svg};
+    let scene = parse_svg(svg, "t.svg", &ImportOptions::default())
+        .unwrap()
+        .scene;
+    let g = gmotion::grammar::parse(grammar).unwrap();
+    let (a, _) = run(scene, &g, &RunOptions::default()).unwrap();
+    let opts = SmilOptions {
+        tolerance: MATRIX_TOLERANCE,
+        ..SmilOptions::default()
+    };
+    let (svg, _) = to_smil(&a, &opts).unwrap();
+    (a, svg)
+}
+
 /// Baked motion was reduced against a uniform grid of samples only, so between two samples
 /// a fast curve could stray well past the tolerance, and frame instants fall between them:
 /// gm-0146 of the conformance matrix (a 0.12 s B-spline ease, Alexa interpolation) put
@@ -1546,8 +1566,6 @@ fn a_cut_away_fill_change_is_never_played() {
 /// frame instant baked motion must be within the tolerance.
 #[test]
 fn baked_motion_is_within_tolerance_at_every_frame() {
-    use gmotion::engine::{RunOptions, run};
-    use gmotion_import_svg::{ImportOptions, parse as parse_svg};
     let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="200" height="150">
       <rect id="s0" data-tag="s" x="30" y="40" width="40" height="30" fill="#e4572e"/>
       <rect id="s1" data-tag="s" x="110" y="80" width="36" height="36" fill="#17bebb"/>
@@ -1559,16 +1577,7 @@ fn baked_motion_is_within_tolerance_at_every_frame() {
         timesplit(0.5, 0.5) : [b, (s, c)] -> [m, f]\n\
         animate(affine, world, 0.3 * d * id / n, translate(40, -20), ease=bspline(3), \
         grid=3x2, lookup=exact, interp=alexa) : [m, (s, c)] -> [m1]\n";
-    let scene = parse_svg(svg, "t.svg", &ImportOptions::default())
-        .unwrap()
-        .scene;
-    let g = gmotion::grammar::parse(grammar).unwrap();
-    let (a, _) = run(scene, &g, &RunOptions::default()).unwrap();
-    let opts = SmilOptions {
-        tolerance: 0.05,
-        ..SmilOptions::default()
-    };
-    let (svg, _) = to_smil(&a, &opts).unwrap();
+    let (a, svg) = baked_at_matrix_tolerance(svg, grammar);
     let doc = Doc::parse(&svg);
     let mut moved = 0;
     for (u, shape) in a.scene.shapes.iter().enumerate() {
@@ -1595,9 +1604,9 @@ fn baked_motion_is_within_tolerance_at_every_frame() {
                 .map(|&q| (got * q - want * q).hypot())
                 .fold(0.0, f64::max);
             assert!(
-                off <= opts.tolerance + 1e-3,
+                off <= MATRIX_TOLERANCE + 1e-3,
                 "shape {u} at frame {k}: off by {off} (tolerance {})",
-                opts.tolerance
+                MATRIX_TOLERANCE
             );
         }
     }
@@ -1611,8 +1620,6 @@ fn baked_motion_is_within_tolerance_at_every_frame() {
 /// points must be within the tolerance.
 #[test]
 fn baked_deformation_is_within_tolerance_at_every_frame() {
-    use gmotion::engine::{RunOptions, run};
-    use gmotion_import_svg::{ImportOptions, parse as parse_svg};
     let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="200" height="150">
       <rect id="s0" data-tag="s" x="32" y="32" width="36" height="36" fill="#e4572e"/>
       <rect id="s1" data-tag="s" x="86" y="76" width="28" height="28" fill="#76b041"/>
@@ -1623,16 +1630,7 @@ fn baked_deformation_is_within_tolerance_at_every_frame() {
         timesplit(0.5, 0.5) : [a, (s, c)] -> [m, inv_m]\n\
         animate(affine, local, 0.9 * d, rotate(60, 10, 5), ease=ease-in, grid=1x1, \
         lookup=vertex, interp=alexa) : [m, (s, c)] -> [m1]\n";
-    let scene = parse_svg(svg, "t.svg", &ImportOptions::default())
-        .unwrap()
-        .scene;
-    let g = gmotion::grammar::parse(grammar).unwrap();
-    let (a, _) = run(scene, &g, &RunOptions::default()).unwrap();
-    let opts = SmilOptions {
-        tolerance: 0.05,
-        ..SmilOptions::default()
-    };
-    let (svg, _) = to_smil(&a, &opts).unwrap();
+    let (a, svg) = baked_at_matrix_tolerance(svg, grammar);
     let doc = Doc::parse(&svg);
     let mut paths = Vec::new();
     paths_in_units(&a.scene.root, &mut Vec::new(), &mut paths);
@@ -1662,10 +1660,10 @@ fn baked_deformation_is_within_tolerance_at_every_frame() {
             for (i, w) in want.iter().enumerate() {
                 let d = (Point::new(got[2 * i], got[2 * i + 1]) - *w).hypot();
                 assert!(
-                    d <= opts.tolerance + 1e-3,
+                    d <= MATRIX_TOLERANCE + 1e-3,
                     "{} point {i} at frame {k}: off by {d} (tolerance {})",
                     p.id,
-                    opts.tolerance
+                    MATRIX_TOLERANCE
                 );
             }
         }
