@@ -1,18 +1,15 @@
 """Renders Lottie frames with rlottie (PyPI rlottie-python) to transparent PNGs.
 
-    python3 rlottie_render.py JOBS.json
-
-JOBS.json is the job list lottie_web.mjs reads:
-[{"json": "a.json", "width": 300, "frames": [0, 5], "out": ["a-0.png", "a-5.png"]}, ...].
-A job that fails is reported on stderr and its PNGs are not written.
+    python3 rlottie_render.py JOBS.json | --serve   (player_jobs.py: the jobs and the modes)
 """
 
-import json
 import sys
 
 import numpy as np
 from PIL import Image
 from rlottie_python import LottieAnimation
+
+import player_jobs
 
 
 def render(job):
@@ -33,18 +30,5 @@ def render(job):
         anim.lottie_animation_destroy()
 
 
-def main(argv):
-    with open(argv[1], encoding="utf-8") as f:
-        jobs = json.load(f)
-    failed = 0
-    for job in jobs:
-        try:
-            render(job)
-        except Exception as e:  # noqa: BLE001 - any player failure is reported per file
-            failed += 1
-            print(f"rlottie: {job['json']}: {e}", file=sys.stderr)
-    return 0
-
-
 if __name__ == "__main__":
-    sys.exit(main(sys.argv))
+    sys.exit(player_jobs.main("rlottie", render, sys.argv))

@@ -1,20 +1,17 @@
 """Renders Lottie frames with ThorVG (PyPI thorvg-python, which bundles libthorvg) to
 transparent PNGs.
 
-    python3 thorvg_render.py JOBS.json
-
-JOBS.json is the job list lottie_web.mjs reads:
-[{"json": "a.json", "width": 300, "frames": [0, 5], "out": ["a-0.png", "a-5.png"]}, ...].
-A job that fails is reported on stderr and its PNGs are not written.
+    python3 thorvg_render.py JOBS.json | --serve   (player_jobs.py: the jobs and the modes)
 """
 
-import json
 import os
 import sys
 
 import numpy as np
 import thorvg_python as tvg
 from PIL import Image
+
+import player_jobs
 
 
 def check(result, what):
@@ -51,17 +48,6 @@ def render(engine, job):
         anim._del()
 
 
-def main(argv):
-    with open(argv[1], encoding="utf-8") as f:
-        jobs = json.load(f)
-    engine = tvg.Engine(threads=0)
-    for job in jobs:
-        try:
-            render(engine, job)
-        except Exception as e:  # noqa: BLE001 - any player failure is reported per file
-            print(f"thorvg: {job['json']}: {e}", file=sys.stderr)
-    return 0
-
-
 if __name__ == "__main__":
-    sys.exit(main(sys.argv))
+    engine = tvg.Engine(threads=0)
+    sys.exit(player_jobs.main("thorvg", lambda job: render(engine, job), sys.argv))

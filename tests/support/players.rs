@@ -6,8 +6,10 @@
 //! `install.sh`, which `scripts/test.sh` runs first). A missing player is a failure, not a
 //! skip: a test that cannot see the player has not checked anything.
 
+use std::io::{BufRead, BufReader, Write};
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Child, ChildStdin, ChildStdout, Command, Stdio};
+use std::sync::{Mutex, PoisonError};
 
 use gmotion::motion::Animation;
 use gmotion_export_raster::{Pixmap, compare, render, save_png};
@@ -90,16 +92,79 @@ fn conformance_dir() -> PathBuf {
     crate::support::root().join("tests/conformance")
 }
 
-fn run(mut cmd: Command, what: &str) {
-    let out = cmd
-        .output()
-        .unwrap_or_else(|e| panic!("{what}: cannot start ({e}); run tests/conformance/install.sh"));
-    assert!(
-        out.status.success(),
-        "{what} failed ({}): {}",
-        out.status,
-        String::from_utf8_lossy(&out.stderr)
-    );
+/// A player kept running for the whole test binary (its script's `--serve` mode): each test
+/// sends it one job list and waits for the answer, so that the tests do not each pay the
+/// start of Chromium or of a Python player. The player exits when the test binary closes
+/// its stdin, by exiting.
+struct Server {
+    child: Child,
+    stdin: ChildStdin,
+    stdout: BufReader<ChildStdout>,
+}
+
+/// lottie-web in Chromium, rlottie and ThorVG, each started on first use.
+static LOTTIE_WEB: Mutex<Option<Server>> = Mutex::new(None);
+static RLOTTIE: Mutex<Option<Server>> = Mutex::new(None);
+static THORVG: Mutex<Option<Server>> = Mutex::new(None);
+
+/// Plays `jobs` on the player in `slot` (started with `program script --serve` if it is not
+/// running) and returns the jobs that failed, as the player words them. The player's
+/// stderr goes to `players/NAME.log` in the test's temporary folder.
+fn play(
+    slot: &Mutex<Option<Server>>,
+    name: &str,
+    program: &str,
+    script: &str,
+    jobs: &str,
+) -> Vec<String> {
+    // A test that failed while holding the lock leaves the player in a good state (it
+    // answered before the test's assertions ran), so a poisoned lock is still usable.
+    let mut guard = slot.lock().unwrap_or_else(PoisonError::into_inner);
+    let log = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("players")
+        .join(format!("{name}.log"));
+    if guard.is_none() {
+        std::fs::create_dir_all(log.parent().unwrap()).expect("create the players folder");
+        let stderr = std::fs::File::create(&log).expect("create the player's log");
+        let mut child = Command::new(program)
+            .arg(conformance_dir().join(script))
+            .arg("--serve")
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(stderr)
+            .spawn()
+            .unwrap_or_else(|e| {
+                panic!("{name}: cannot start ({e}); run tests/conformance/install.sh")
+            });
+        let stdin = child.stdin.take().expect("piped stdin");
+        let stdout = BufReader::new(child.stdout.take().expect("piped stdout"));
+        *guard = Some(Server {
+            child,
+            stdin,
+            stdout,
+        });
+    }
+    let server = guard.as_mut().expect("started above");
+    let mut answer = String::new();
+    let asked = writeln!(server.stdin, "{jobs}").and_then(|()| server.stdin.flush());
+    let answered = asked.and_then(|()| server.stdout.read_line(&mut answer));
+    let errors = match answered {
+        Ok(n) if n > 0 => serde_json::from_str::<serde_json::Value>(&answer)
+            .ok()
+            .and_then(|v| serde_json::from_value::<Vec<String>>(v["errors"].clone()).ok()),
+        _ => None,
+    };
+    match errors {
+        Some(errors) => errors,
+        None => {
+            let status = server.child.try_wait();
+            *guard = None;
+            panic!(
+                "{name} stopped answering ({status:?}, answer {answer:?}); its stderr is in {}",
+                log.display()
+            )
+        }
+    }
 }
 
 /// Plays `lottie` (the export of `anim`) in `players` at the given frame numbers and
@@ -142,39 +207,36 @@ pub fn assert_plays_like_model(
         }
         jobs.push((p, job));
     }
-    let write_jobs = |name: &str, pick: &dyn Fn(Player) -> bool| -> Option<PathBuf> {
+    let jobs_of = |pick: &dyn Fn(Player) -> bool| -> Option<String> {
         let list: Vec<&serde_json::Value> = jobs
             .iter()
             .filter(|(p, _)| pick(*p))
             .map(|(_, j)| j)
             .collect();
-        if list.is_empty() {
-            return None;
-        }
-        let path = dir.join(name);
-        std::fs::write(&path, serde_json::to_string(&list).unwrap()).expect("write jobs");
-        Some(path)
+        (!list.is_empty()).then(|| serde_json::to_string(&list).expect("jobs as JSON"))
     };
-    let here = conformance_dir();
-    if let Some(j) = write_jobs("web.json", &|p| {
-        matches!(p, Player::LottieWebSvg | Player::LottieWebCanvas)
-    }) {
-        let mut c = Command::new("node");
-        c.arg(here.join("lottie_web.mjs")).arg(j).env("PAGES", "1");
-        run(c, "lottie-web");
-    }
-    if let Some(j) = write_jobs("rlottie.json", &|p| p == Player::Rlottie) {
-        let mut c = Command::new("python3");
-        c.arg(here.join("rlottie_render.py")).arg(j);
-        run(c, "rlottie");
-    }
-    if let Some(j) = write_jobs("thorvg.json", &|p| p == Player::Thorvg) {
-        let mut c = Command::new("python3");
-        c.arg(here.join("thorvg_render.py")).arg(j);
-        run(c, "ThorVG");
-    }
-
     let mut failures = Vec::new();
+    if let Some(j) = jobs_of(&|p| matches!(p, Player::LottieWebSvg | Player::LottieWebCanvas)) {
+        failures.extend(play(
+            &LOTTIE_WEB,
+            "lottie-web",
+            "node",
+            "lottie_web.mjs",
+            &j,
+        ));
+    }
+    if let Some(j) = jobs_of(&|p| p == Player::Rlottie) {
+        failures.extend(play(
+            &RLOTTIE,
+            "rlottie",
+            "python3",
+            "rlottie_render.py",
+            &j,
+        ));
+    }
+    if let Some(j) = jobs_of(&|p| p == Player::Thorvg) {
+        failures.extend(play(&THORVG, "thorvg", "python3", "thorvg_render.py", &j));
+    }
     for &f in frames {
         let model = render(&frame_svg(anim, f / anim.fps), width).expect("render the model");
         save_png(&model, &dir.join(format!("model-{f}.png"))).expect("save the model frame");

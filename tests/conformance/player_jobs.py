@@ -1,0 +1,45 @@
+"""The job loop both Python players share (rlottie_render.py, thorvg_render.py).
+
+    python3 PLAYER.py JOBS.json   plays the jobs of one file and exits;
+    python3 PLAYER.py --serve     reads one JSON job list per line on stdin, plays it, and
+                                  answers one line {"errors": [...]} on stdout; it exits at
+                                  the end of stdin. The Rust tests keep one such player
+                                  running for the whole test binary, so that each test does
+                                  not pay the player's start-up (tests/support/players.rs).
+
+A job list is what lottie_web.mjs reads:
+[{"json": "a.json", "width": 300, "frames": [0, 5], "out": ["a-0.png", "a-5.png"]}, ...].
+A job that fails is reported (stderr, or the answer's errors) and its PNGs are not written.
+"""
+
+import json
+import sys
+
+
+def play_all(name, render, jobs):
+    """Plays every job with `render(job)`; returns the failures as messages."""
+    errors = []
+    for job in jobs:
+        try:
+            render(job)
+        except Exception as e:  # noqa: BLE001 - any player failure is reported per file
+            errors.append(f"{name}: {job.get('json')}: {e}")
+    return errors
+
+
+def main(name, render, argv):
+    """The command line of a player script: a jobs file, or --serve."""
+    if len(argv) == 2 and argv[1] == "--serve":
+        for line in sys.stdin:
+            if line.strip():
+                errors = play_all(name, render, json.loads(line))
+                print(json.dumps({"errors": errors}), flush=True)
+        return 0
+    if len(argv) != 2:
+        print(f"usage: {argv[0]} JOBS.json | --serve", file=sys.stderr)
+        return 2
+    with open(argv[1], encoding="utf-8") as f:
+        jobs = json.load(f)
+    for e in play_all(name, render, jobs):
+        print(e, file=sys.stderr)
+    return 0
