@@ -102,17 +102,11 @@ fn run(mut cmd: Command, what: &str) {
     );
 }
 
-/// Plays `lottie` (the export of `anim`) in `players` at the given frame numbers and
-/// asserts that every frame matches gmotion's own rendering of `anim` at `frame / fps`,
-/// `width` pixels wide. `case` names the files written under the test's temporary folder.
-pub fn assert_plays_like_model(
-    case: &str,
-    anim: &Animation,
-    lottie: &str,
-    frames: &[f64],
-    width: u32,
-    players: &[Player],
-) {
+/// Plays `lottie` in `players` at the given frame numbers, `width` pixels wide, and returns
+/// the folder holding the frames: `{player}-{frame}.png` (see [`frame_path`]). `case`
+/// names the folder under the test's temporary folder. A player that fails to start fails
+/// the test; a frame it could not draw is missing from the folder.
+pub fn play(case: &str, lottie: &str, frames: &[f64], width: u32, players: &[Player]) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
         .join("players")
         .join(case);
@@ -173,7 +167,26 @@ pub fn assert_plays_like_model(
         c.arg(here.join("thorvg_render.py")).arg(j);
         run(c, "ThorVG");
     }
+    dir
+}
 
+/// Where [`play`] put `player`'s frame `frame`.
+pub fn frame_path(dir: &Path, player: Player, frame: f64) -> PathBuf {
+    dir.join(format!("{}-{frame}.png", player.name()))
+}
+
+/// Plays `lottie` (the export of `anim`) in `players` at the given frame numbers and
+/// asserts that every frame matches gmotion's own rendering of `anim` at `frame / fps`,
+/// `width` pixels wide. `case` names the files written under the test's temporary folder.
+pub fn assert_plays_like_model(
+    case: &str,
+    anim: &Animation,
+    lottie: &str,
+    frames: &[f64],
+    width: u32,
+    players: &[Player],
+) {
+    let dir = play(case, lottie, frames, width, players);
     let mut failures = Vec::new();
     for &f in frames {
         let model = render(&frame_svg(anim, f / anim.fps), width).expect("render the model");

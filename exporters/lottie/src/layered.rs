@@ -132,17 +132,7 @@ pub fn over_source(
                     let mut null = Layer::new(LayerType::Null, nm, 0, ip, op);
                     null.ks = full_transform(level);
                     retime(&mut null.ks, |t| ip + t);
-                    let mut v = serde_json::to_value(&null).unwrap_or(Json::Null);
-                    if let Some(o) = v.as_object_mut() {
-                        o.insert("ind".into(), Json::from(next_ind));
-                        o.insert("sr".into(), Json::from(1));
-                        o.insert("ao".into(), Json::from(0));
-                        match parent.take() {
-                            Some(p) => o.insert("parent".into(), p),
-                            None => o.remove("parent"),
-                        };
-                    }
-                    nulls.push(v);
+                    nulls.push(null_json(&null, next_ind, parent.take()));
                     parent = Some(Json::from(next_ind));
                     next_ind += 1;
                 }
@@ -168,6 +158,36 @@ pub fn over_source(
     }
     layers.extend(nulls);
     Ok((json.to_string(), warnings))
+}
+
+/// A null layer as After Effects writes one, keys in its order: `ddd` first, since
+/// rlottie reads a layer's transform as 3D (ignoring `r`) unless it has seen `ddd: 0`.
+fn null_json(null: &Layer, ind: i64, parent: Option<Json>) -> Json {
+    let mut o = serde_json::Map::new();
+    o.insert("ddd".into(), Json::from(0));
+    o.insert("ind".into(), Json::from(ind));
+    o.insert("ty".into(), Json::from(3));
+    o.insert("nm".into(), Json::from(null.nm.clone()));
+    if let Some(p) = parent {
+        o.insert("parent".into(), p);
+    }
+    o.insert("sr".into(), Json::from(1));
+    o.insert(
+        "ks".into(),
+        serde_json::to_value(&null.ks).unwrap_or(Json::Null),
+    );
+    o.insert("ao".into(), Json::from(0));
+    o.insert(
+        "ip".into(),
+        serde_json::to_value(null.ip).unwrap_or(Json::Null),
+    );
+    o.insert(
+        "op".into(),
+        serde_json::to_value(null.op).unwrap_or(Json::Null),
+    );
+    o.insert("st".into(), Json::from(0));
+    o.insert("bm".into(), Json::from(0));
+    Json::Object(o)
 }
 
 /// Canvas-space levels acting in the space of a parent whose world transform at the

@@ -596,24 +596,17 @@ pub struct ShapeItem {
     pub kind: ShapeKind,
 }
 
-/// How deep shape groups may nest (serde_json's own limit on the document is 128 levels).
-const MAX_GROUP_DEPTH: usize = 64;
-
-fn shape_items(v: &Value, at: &Loc, depth: usize) -> Result<Vec<ShapeItem>> {
-    if depth > MAX_GROUP_DEPTH {
-        return error(
-            at,
-            format!("shape groups nest deeper than {MAX_GROUP_DEPTH} levels"),
-        );
-    }
+/// Shape items. Groups nest at most about 60 deep: serde_json refuses documents nested
+/// deeper than 128 levels, which bounds this recursion (and the builder's).
+fn shape_items(v: &Value, at: &Loc) -> Result<Vec<ShapeItem>> {
     array(v, at)?
         .iter()
         .enumerate()
-        .map(|(i, s)| shape_item(s, &at.idx(i), depth))
+        .map(|(i, s)| shape_item(s, &at.idx(i)))
         .collect()
 }
 
-fn shape_item(v: &Value, at: &Loc, depth: usize) -> Result<ShapeItem> {
+fn shape_item(v: &Value, at: &Loc) -> Result<ShapeItem> {
     let o = object(v, at)?;
     let ty = match o.get("ty") {
         Some(Value::String(s)) => s.as_str(),
@@ -628,7 +621,7 @@ fn shape_item(v: &Value, at: &Loc, depth: usize) -> Result<ShapeItem> {
     let num = |key: &str| opt_property::<Vec<f64>>(o, key, at);
     let kind = match ty {
         "gr" => ShapeKind::Group(match o.get("it") {
-            Some(it) => shape_items(it, &at.key("it"), depth + 1)?,
+            Some(it) => shape_items(it, &at.key("it"))?,
             None => Vec::new(),
         }),
         "sh" => ShapeKind::Path {
@@ -834,7 +827,7 @@ fn layer(v: &Value, at: &Loc) -> Result<Layer> {
         None => Transform::default(),
     };
     let shapes = match (kind, o.get("shapes")) {
-        (LayerKind::Shape, Some(s)) => shape_items(s, &at.key("shapes"), 0)?,
+        (LayerKind::Shape, Some(s)) => shape_items(s, &at.key("shapes"))?,
         _ => Vec::new(),
     };
     let non_empty = |key: &str| {
