@@ -319,7 +319,7 @@ fn a_turn_and_a_fade_on_top_play_in_lottie_web_and_rlottie() {
         );
         // The square fades to half its opacity and stays where it was.
         let alpha = |f: f64| {
-            let pm = Pixmap::load_png(&frame_path(&played, p, f)).unwrap();
+            let pm = Pixmap::load_png(frame_path(&played, p, f)).unwrap();
             let w = pm.width() as usize;
             pm.pixels()[160 * w + 160].alpha() as f64 / 255.0
         };

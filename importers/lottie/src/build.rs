@@ -121,7 +121,7 @@ impl<'a> Builder<'a> {
             }
             for &j in chain.iter().rev() {
                 let l = &layers[j];
-                base = base * eval::matrix(&l.ks, local_time(l, t));
+                base *= eval::matrix(&l.ks, local_time(l, t));
                 memo[j] = Some(base);
             }
             for j in chain {
