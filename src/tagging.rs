@@ -1,6 +1,7 @@
 //! How an importer names shapes and chooses the animated units: the options that the
 //! grammar's `tag_from` and `units` directives (and the command line's `--tag-from` and
-//! `--units`) set. The importers implement them; the core only carries the choice.
+//! `--units`) set, and the name handling every importer shares ([`strip_counter`],
+//! [`grammar_name`]). The importers implement the choice; the core only carries it.
 
 /// Which source attribute names a shape's tag.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -49,4 +50,66 @@ pub enum Units {
     /// Every outermost group that carries a tag itself, layer ids and Inkscape layer labels
     /// included, is a unit; visible paths outside such groups are units of their own.
     Groups,
+}
+
+/// Removes a trailing layer counter: `_12`, `-3`, or Illustrator's `_12_`. A name that is
+/// only a counter is kept as it is, so a tag is never empty.
+///
+/// Design tools make layer names unique with a counter; the counter is noise to a grammar
+/// author, so every `Wheel_2` is a `Wheel`.
+///
+/// ```
+/// use gmotion::tagging::strip_counter;
+/// assert_eq!(strip_counter("Wheel_2"), "Wheel");
+/// assert_eq!(strip_counter("arm-13"), "arm");
+/// assert_eq!(strip_counter("eye_1_"), "eye");
+/// assert_eq!(strip_counter("layer"), "layer");
+/// assert_eq!(strip_counter("_7"), "_7");
+/// ```
+pub fn strip_counter(name: &str) -> &str {
+    let body = name.strip_suffix('_').unwrap_or(name);
+    let digits = body.trim_end_matches(|c: char| c.is_ascii_digit());
+    if digits.len() == body.len() {
+        return name;
+    }
+    match digits.strip_suffix(['_', '-']) {
+        Some(stem) if !stem.is_empty() => stem,
+        _ => name,
+    }
+}
+
+/// A free-form layer name as a name a grammar can write without quotes: every run of
+/// characters that cannot continue an identifier (spaces, punctuation) becomes one `_`,
+/// leading and trailing ones are dropped, a name starting with a digit gets a leading `_`,
+/// and a name that would read as an inverted tag (`inv_…`) too. `None` when nothing is left.
+///
+/// ```
+/// use gmotion::tagging::grammar_name;
+/// assert_eq!(grammar_name("Left arm 2").as_deref(), Some("Left_arm_2"));
+/// assert_eq!(grammar_name("  wheel (front) ").as_deref(), Some("wheel_front"));
+/// assert_eq!(grammar_name("3D box").as_deref(), Some("_3D_box"));
+/// assert_eq!(grammar_name("inv_x").as_deref(), Some("_inv_x"));
+/// assert_eq!(grammar_name("!!"), None);
+/// ```
+pub fn grammar_name(name: &str) -> Option<String> {
+    let mut out = String::with_capacity(name.len());
+    let mut gap = false;
+    for c in name.chars() {
+        if c.is_alphanumeric() || c == '_' {
+            if gap && !out.is_empty() {
+                out.push('_');
+            }
+            gap = false;
+            out.push(c);
+        } else {
+            gap = true;
+        }
+    }
+    if out.is_empty() {
+        return None;
+    }
+    if out.starts_with(|c: char| c.is_ascii_digit()) || out.starts_with("inv_") {
+        out.insert(0, '_');
+    }
+    Some(out)
 }

@@ -15,6 +15,7 @@ mod frame;
 mod grammar_parse;
 mod import;
 mod lottie;
+mod lottie_import;
 mod sampler;
 mod signals;
 mod smil;

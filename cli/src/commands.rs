@@ -10,8 +10,9 @@ use gmotion::motion::Animation;
 use gmotion::scene::Scene;
 use gmotion::{TagFrom, Units, Warning};
 use gmotion_export_raster as raster;
+use gmotion_import_lottie as lottie_import;
 use gmotion_import_svg::{self as svg_import, ImportOptions};
-use gmotion_output::{self as output, Format};
+use gmotion_output::{self as output, Format, LottieSource};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use super::output::{check_writable, write_atomic};
@@ -63,11 +64,20 @@ pub fn run(cmd: Command) -> Result<()> {
         Command::Check {
             files,
             graph,
+            shapes,
             run,
             import,
         } => {
+            if let [one] = files.as_slice()
+                && shapes
+                && kind_of(one) == Kind::Scene
+            {
+                let loaded = load_scene(one, &import_options(&import, &Settings::default()))?;
+                print!("{}", shape_list(one, &loaded));
+                return Ok(());
+            }
             let (scene, grammar) = scene_and_grammar(&files, Order::GrammarFirst)?;
-            check(grammar, scene, graph.as_deref(), &run, &import)
+            check(grammar, scene, graph.as_deref(), shapes, &run, &import)
         }
     }
 }
@@ -81,8 +91,9 @@ enum Kind {
     Unknown,
 }
 
-/// A file's kind by its extension (`.gm`, `.svg`), else by its first character: SVG
-/// starts with `<` (after a byte-order mark and blanks), a grammar never does.
+/// A file's kind by its extension (`.gm`; `.svg`, `.json`), else by its first character:
+/// SVG starts with `<` and Lottie JSON with `{` (after a byte-order mark and blanks), a
+/// grammar never does.
 fn kind_of(path: &Path) -> Kind {
     let ext = path
         .extension()
@@ -90,7 +101,7 @@ fn kind_of(path: &Path) -> Kind {
         .map(str::to_ascii_lowercase);
     match ext.as_deref() {
         Some("gm") => return Kind::Grammar,
-        Some("svg") => return Kind::Scene,
+        Some("svg" | "json") => return Kind::Scene,
         _ => {}
     }
     let mut head = [0u8; 512];
@@ -106,7 +117,7 @@ fn kind_of(path: &Path) -> Kind {
         .chars()
         .next()
     {
-        Some('<') => Kind::Scene,
+        Some('<' | '{') => Kind::Scene,
         Some(_) => Kind::Grammar,
         None => Kind::Unknown,
     }
@@ -192,12 +203,91 @@ fn output_size(render: &RenderArgs, settings: &Settings) -> OutputSize {
     }
 }
 
-fn load_scene(path: &Path, options: &ImportOptions) -> Result<Scene> {
+/// A scene, and the Lottie document it came from when it came from one.
+struct LoadedScene {
+    scene: Scene,
+    source: Option<LottieSource>,
+}
+
+/// Whether a scene file is Lottie JSON: by its `.json` extension, else by starting with
+/// `{` (an SVG starts with `<`).
+fn is_lottie(path: &Path) -> bool {
+    if let Some(ext) = path.extension().and_then(|e| e.to_str()) {
+        if ext.eq_ignore_ascii_case("json") {
+            return true;
+        }
+        if ext.eq_ignore_ascii_case("svg") || ext.eq_ignore_ascii_case("svgz") {
+            return false;
+        }
+    }
+    let mut head = [0u8; 64];
+    let n = std::fs::File::open(path)
+        .and_then(|mut f| std::io::Read::read(&mut f, &mut head))
+        .unwrap_or(0);
+    String::from_utf8_lossy(&head[..n])
+        .trim_start_matches('\u{feff}')
+        .trim_start()
+        .starts_with('{')
+}
+
+fn load_scene(path: &Path, options: &ImportOptions) -> Result<LoadedScene> {
+    if is_lottie(path) {
+        let imported = lottie_import::load(path, &lottie_import::ImportOptions::default())
+            .map_err(|e| CliError::msg(e.to_string()))?;
+        for w in &imported.warnings {
+            eprintln!("{}: warning: {w}", path.display());
+        }
+        return Ok(LoadedScene {
+            scene: imported.scene,
+            source: Some(imported.source),
+        });
+    }
     let imported = svg_import::load(path, options).map_err(|e| CliError::msg(e.to_string()))?;
     for w in &imported.warnings {
         eprintln!("{}: warning: {w}", path.display());
     }
-    Ok(imported.scene)
+    Ok(LoadedScene {
+        scene: imported.scene,
+        source: None,
+    })
+}
+
+/// The units of a scene, one line each: tag and id, bounding box, centroid, and for a
+/// Lottie scene the layers the unit moves.
+fn shape_list(path: &Path, loaded: &LoadedScene) -> String {
+    use std::fmt::Write as _;
+    let scene = &loaded.scene;
+    let mut out = format!(
+        "{}: {} units ({} × {})\n",
+        path.display(),
+        scene.shapes.len(),
+        scene.width,
+        scene.height
+    );
+    for (i, s) in scene.shapes.iter().enumerate() {
+        let b = s.bbox;
+        let _ = write!(
+            out,
+            "  {}:{}  box [{:.1}, {:.1}, {:.1}, {:.1}]  centroid ({:.1}, {:.1})",
+            s.tag, s.id, b.x0, b.y0, b.x1, b.y1, s.centroid.x, s.centroid.y
+        );
+        if let Some(src) = &loaded.source
+            && let Some(unit) = src.units.get(i)
+        {
+            let names: Vec<String> = unit
+                .layers
+                .iter()
+                .filter_map(|&li| src.document.layers.get(li))
+                .map(|l| match l.ind {
+                    Some(ind) => format!("\"{}\" (ind {ind})", l.nm),
+                    None => format!("\"{}\"", l.nm),
+                })
+                .collect();
+            let _ = write!(out, "  layer {}", names.join(" + matte "));
+        }
+        out.push('\n');
+    }
+    out
 }
 
 /// A grammar file, parsed, with its header read.
@@ -293,6 +383,7 @@ fn print_warnings(out: &Path, warnings: &[Warning]) {
 
 fn write_animation(
     anim: &Animation,
+    source: Option<&LottieSource>,
     out: &Path,
     time: f64,
     render: &RenderArgs,
@@ -308,7 +399,7 @@ fn write_animation(
         Format::Frames | Format::Gif | Format::Apng
     );
     let pb = progress(if frames { anim.frame_count() } else { 0 }, "rendering");
-    let warnings = output::write_with_progress(anim, out, &opts, &|| pb.inc(1))
+    let warnings = output::write_over_source(anim, source, out, &opts, &|| pb.inc(1))
         .map_err(|e| CliError::msg(e.to_string()))?;
     pb.finish_and_clear();
     print_warnings(out, &warnings);
@@ -353,7 +444,7 @@ fn build(
     grammar_path: &Path,
     run: &RunArgs,
     import: &ImportArgs,
-) -> Result<(Animation, Settings)> {
+) -> Result<(Animation, Settings, Option<LottieSource>)> {
     let g = load_grammar(grammar_path)?;
     let Some(scene_path) = scene_path(scene, grammar_path, &g)? else {
         return Err(CliError::msg(format!(
@@ -361,13 +452,13 @@ fn build(
             grammar_path.display()
         )));
     };
-    let scene = load_scene(&scene_path, &import_options(import, &g.settings))?;
-    let (anim, stats) = engine::run(scene, &g.grammar, &run_options(run)?)
+    let loaded = load_scene(&scene_path, &import_options(import, &g.settings))?;
+    let (anim, stats) = engine::run(loaded.scene, &g.grammar, &run_options(run)?)
         .map_err(|e| engine_error(grammar_path, &g.src, &e))?;
     for w in &stats.warnings {
         eprintln!("{}: warning: {w}", grammar_path.display());
     }
-    Ok((anim, g.settings))
+    Ok((anim, g.settings, loaded.source))
 }
 
 fn animate(
@@ -381,10 +472,10 @@ fn animate(
 ) -> Result<()> {
     validate_render(render)?;
     check_outputs(outputs)?;
-    let (anim, settings) = build(scene, grammar, run, import)?;
+    let (anim, settings, source) = build(scene, grammar, run, import)?;
     let size = output_size(render, &settings);
     for o in outputs {
-        write_animation(&anim, o, time, render, size)?;
+        write_animation(&anim, source.as_ref(), o, time, render, size)?;
     }
     Ok(())
 }
@@ -400,7 +491,7 @@ fn convert(
         check_writable(o)?;
     }
     let settings = Settings::default();
-    let scene = load_scene(input, &import_options(import, &settings))?;
+    let loaded = load_scene(input, &import_options(import, &settings))?;
     let size = output_size(render, &settings);
     let opts = output::Options {
         tolerance: render.tolerance,
@@ -409,7 +500,8 @@ fn convert(
     };
     for out in outputs {
         let warnings =
-            output::write_still(&scene, out, &opts).map_err(|e| CliError::msg(e.to_string()))?;
+            output::write_still_over_source(&loaded.scene, loaded.source.as_ref(), out, &opts)
+                .map_err(|e| CliError::msg(e.to_string()))?;
         print_warnings(out, &warnings);
     }
     Ok(())
@@ -419,6 +511,7 @@ fn check(
     grammar_path: &Path,
     scene: Option<&Path>,
     graph: Option<&Path>,
+    shapes: bool,
     run: &RunArgs,
     import: &ImportArgs,
 ) -> Result<()> {
@@ -426,13 +519,18 @@ fn check(
     if let Some(out) = graph {
         check_writable(out)?;
     }
-    let scene = scene_path(scene, grammar_path, &loaded)?
-        .map(|p| load_scene(&p, &import_options(import, &loaded.settings)))
+    let path = scene_path(scene, grammar_path, &loaded)?;
+    let scene = path
+        .as_ref()
+        .map(|p| load_scene(p, &import_options(import, &loaded.settings)))
         .transpose()?;
     let g = &loaded.grammar;
-    let report = engine::check::check(g, scene.as_ref(), &run_options(run)?)
+    let report = engine::check::check(g, scene.as_ref().map(|s| &s.scene), &run_options(run)?)
         .map_err(|e| engine_error(grammar_path, &loaded.src, &e))?;
     print!("{}", report.text);
+    if shapes && let (Some(p), Some(s)) = (&path, &scene) {
+        print!("{}", shape_list(p, s));
+    }
     if let Some(out) = graph {
         let rules: Vec<&gmotion::grammar::ast::Rule> = g.rules.iter().collect();
         let spatial = rules.iter().any(|r| r.spatial);
@@ -492,7 +590,7 @@ fn transitions(
     let t = gmotion::transitions::targets::Targets::load(targets)
         .map_err(|e| CliError::msg(e.to_string()))?;
     let settings = Settings::default();
-    let scene = load_scene(scene, &import_options(import, &settings))?;
+    let scene = load_scene(scene, &import_options(import, &settings))?.scene;
     let system = t.default_system(spec);
     let fps = t.frame_rate(fps);
     let anim =
@@ -505,7 +603,7 @@ fn transitions(
         })?;
     let size = output_size(render, &settings);
     for o in outputs {
-        write_animation(&anim, o, time, render, size)?;
+        write_animation(&anim, None, o, time, render, size)?;
     }
     Ok(())
 }
@@ -549,7 +647,7 @@ fn demo(out: &Path, example: &str) -> Result<()> {
         height: None,
         tolerance: 0.25,
     };
-    let (anim, settings) = build(Some(&scene), &grammar, &run, &import)?;
+    let (anim, settings, source) = build(Some(&scene), &grammar, &run, &import)?;
     let size = output_size(&render, &settings);
     let names = [
         "frames",
@@ -558,7 +656,7 @@ fn demo(out: &Path, example: &str) -> Result<()> {
         &format!("{example}.svg"),
     ];
     for n in names {
-        write_animation(&anim, &out.join(n), 0.0, &render, size)?;
+        write_animation(&anim, source.as_ref(), &out.join(n), 0.0, &render, size)?;
     }
     let json = std::fs::read_to_string(out.join(format!("{example}.json")))
         .map_err(|e| CliError::msg(format!("{}: {e}", out.display())))?;

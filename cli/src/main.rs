@@ -37,9 +37,11 @@ enum Command {
         #[arg(long, default_value = "abstract")]
         example: String,
     },
-    /// Convert a still SVG: to PNG (render), Lottie JSON, or a clean SVG.
+    /// Convert a still SVG: to PNG (render), Lottie JSON, or a clean SVG. A Lottie input
+    /// (`.json`) is written back as it was read to `.json`, and drawn at its first frame
+    /// to `.png` and `.svg`.
     Convert {
-        /// Input SVG.
+        /// Input SVG or Lottie JSON.
         input: PathBuf,
         /// Output file(s): .png, .json (Lottie) or .svg.
         #[arg(short, long, required = true)]
@@ -52,7 +54,7 @@ enum Command {
     /// Run a grammar on a scene and write the animation.
     #[command(override_usage = "gmotion animate [OPTIONS] --output <OUTPUT> [SCENE] <GRAMMAR>")]
     Animate {
-        /// `[SCENE] GRAMMAR`: the scene (SVG) may be left out when the grammar names it
+        /// `[SCENE] GRAMMAR`: the scene (SVG or Lottie JSON) may be left out when the grammar names it
         /// with `scene FILE`; given, it overrides that. The grammar is told apart by its
         /// `.gm` extension (else by not being SVG), so either order works.
         #[arg(required = true, num_args = 1..=2, value_name = "FILE")]
@@ -103,15 +105,21 @@ enum Command {
     /// Parse and validate a grammar without rendering; with a scene (given, or named by
     /// the grammar's `scene`), also expand it and print rule, tag and expansion
     /// statistics.
-    #[command(override_usage = "gmotion check [OPTIONS] <GRAMMAR> [SCENE]")]
+    #[command(
+        override_usage = "gmotion check [OPTIONS] <GRAMMAR> [SCENE]\n       gmotion check --shapes <SCENE>"
+    )]
     Check {
         /// `GRAMMAR [SCENE]`: the grammar (.gm), and the scene to expand it on, which
-        /// overrides the grammar's `scene`. Told apart as for `animate`.
+        /// overrides the grammar's `scene`. Told apart as for `animate`. With `--shapes`,
+        /// a scene alone.
         #[arg(required = true, num_args = 1..=2, value_name = "FILE")]
         files: Vec<PathBuf>,
         /// Write the grammar graph: `.dot` (Graphviz) or `.svg` (a drawing; group grammars).
         #[arg(long)]
         graph: Option<PathBuf>,
+        /// List the scene's units: tag and id, box, centroid (and a Lottie scene's layers).
+        #[arg(long)]
+        shapes: bool,
         #[command(flatten)]
         run: RunArgs,
         #[command(flatten)]

@@ -110,7 +110,7 @@ static THORVG: Mutex<Option<Server>> = Mutex::new(None);
 /// Plays `jobs` on the player in `slot` (started with `program script --serve` if it is not
 /// running) and returns the jobs that failed, as the player words them. The player's
 /// stderr goes to `players/NAME.log` in the test's temporary folder.
-fn play(
+fn ask(
     slot: &Mutex<Option<Server>>,
     name: &str,
     program: &str,
@@ -167,17 +167,11 @@ fn play(
     }
 }
 
-/// Plays `lottie` (the export of `anim`) in `players` at the given frame numbers and
-/// asserts that every frame matches gmotion's own rendering of `anim` at `frame / fps`,
-/// `width` pixels wide. `case` names the files written under the test's temporary folder.
-pub fn assert_plays_like_model(
-    case: &str,
-    anim: &Animation,
-    lottie: &str,
-    frames: &[f64],
-    width: u32,
-    players: &[Player],
-) {
+/// Plays `lottie` in `players` at the given frame numbers, `width` pixels wide, and returns
+/// the folder holding the frames: `{player}-{frame}.png` (see [`frame_path`]). `case`
+/// names the folder under the test's temporary folder. A player that fails to start, or
+/// cannot draw the file, fails the test.
+pub fn play(case: &str, lottie: &str, frames: &[f64], width: u32, players: &[Player]) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
         .join("players")
         .join(case);
@@ -217,31 +211,46 @@ pub fn assert_plays_like_model(
     };
     let mut failures = Vec::new();
     if let Some(j) = jobs_of(&|p| matches!(p, Player::LottieWebSvg | Player::LottieWebCanvas)) {
-        failures.extend(play(
-            &LOTTIE_WEB,
-            "lottie-web",
-            "node",
-            "lottie_web.mjs",
-            &j,
-        ));
+        failures.extend(ask(&LOTTIE_WEB, "lottie-web", "node", "lottie_web.mjs", &j));
     }
     if let Some(j) = jobs_of(&|p| p == Player::Rlottie) {
-        failures.extend(play(
-            &RLOTTIE,
-            "rlottie",
-            "python3",
-            "rlottie_render.py",
-            &j,
-        ));
+        failures.extend(ask(&RLOTTIE, "rlottie", "python3", "rlottie_render.py", &j));
     }
     if let Some(j) = jobs_of(&|p| p == Player::Thorvg) {
-        failures.extend(play(&THORVG, "thorvg", "python3", "thorvg_render.py", &j));
+        failures.extend(ask(&THORVG, "thorvg", "python3", "thorvg_render.py", &j));
     }
+    assert!(
+        failures.is_empty(),
+        "{case}: players could not draw it (files in {}):\n{}",
+        dir.display(),
+        failures.join("\n")
+    );
+    dir
+}
+
+/// Where [`play`] put `player`'s frame `frame`.
+pub fn frame_path(dir: &Path, player: Player, frame: f64) -> PathBuf {
+    dir.join(format!("{}-{frame}.png", player.name()))
+}
+
+/// Plays `lottie` (the export of `anim`) in `players` at the given frame numbers and
+/// asserts that every frame matches gmotion's own rendering of `anim` at `frame / fps`,
+/// `width` pixels wide. `case` names the files written under the test's temporary folder.
+pub fn assert_plays_like_model(
+    case: &str,
+    anim: &Animation,
+    lottie: &str,
+    frames: &[f64],
+    width: u32,
+    players: &[Player],
+) {
+    let dir = play(case, lottie, frames, width, players);
+    let mut failures = Vec::new();
     for &f in frames {
         let model = render(&frame_svg(anim, f / anim.fps), width).expect("render the model");
         save_png(&model, &dir.join(format!("model-{f}.png"))).expect("save the model frame");
         for &p in players {
-            let got_path = dir.join(format!("{}-{f}.png", p.name()));
+            let got_path = frame_path(&dir, p, f);
             match Pixmap::load_png(&got_path) {
                 Ok(got) if (got.width(), got.height()) == (model.width(), model.height()) => {
                     let off = compare(&model, &got, OFF);

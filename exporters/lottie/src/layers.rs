@@ -48,6 +48,7 @@ use gmotion::scene::{
     Pattern, Scene, Stroke,
 };
 use mattes::{ClipKind, clip_group, mask, mask_group};
+pub(crate) use units::{conjugate, full_transform};
 
 /// What applies to the nodes being emitted.
 #[derive(Clone, Copy, Debug)]

@@ -20,6 +20,9 @@
 //!   non-Bézier easing, per-vertex deformation) sampled per frame and reduced greedily
 //!   within [`LottieOptions::tolerance`] canvas units (the `bake` module).
 //!
+//! A scene imported from Lottie is written back over its source instead ([`layered`]): the
+//! document as it was read, with gmotion's motion layered on top.
+//!
 //! What is approximated, with a warning naming the element: focal radii of radial
 //! gradients, radial gradients stretched on strokes, `miter-clip` joins, repeating
 //! gradients with a focal point, patterns too fine to tile. Lottie players loop by
@@ -30,6 +33,7 @@ mod animate;
 mod bake;
 mod geometry;
 mod keys;
+pub mod layered;
 mod layers;
 mod model;
 mod paint;

@@ -31,6 +31,11 @@ use gmotion_export_raster::{self as raster, Pixmap, RenderError};
 use gmotion_export_svg::{frame, smil};
 use rayon::prelude::*;
 
+/// The source document of a scene imported from Lottie: a `.json` output of such a scene
+/// is that document written back, with the animation's motion layered on top
+/// ([`gmotion_export_lottie::layered`]).
+pub use gmotion_import_lottie::Source as LottieSource;
+
 /// What an output path asks for, by its extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
@@ -240,6 +245,47 @@ pub fn write_with_progress(
     };
     written.map_err(raster_err)?;
     Ok(Vec::new())
+}
+
+/// [`write_with_progress`] for a scene imported from `source`: a `.json` output is the
+/// source document with the motion layered on top; other formats render the scene.
+pub fn write_over_source(
+    anim: &Animation,
+    source: Option<&LottieSource>,
+    path: &Path,
+    opts: &Options,
+    tick: &(dyn Fn() + Sync),
+) -> Result<Vec<Warning>, OutputError> {
+    match source {
+        Some(src) if Format::of(path)? == Format::Lottie => write_lottie(
+            path,
+            lottie::layered::over_source(anim, src, &lottie_options(opts)),
+        ),
+        _ => write_with_progress(anim, path, opts, tick),
+    }
+}
+
+/// [`write_still`] for a scene imported from `source`: a `.json` output is the source
+/// document as it was read (the identity); other formats render the scene.
+pub fn write_still_over_source(
+    scene: &Scene,
+    source: Option<&LottieSource>,
+    path: &Path,
+    opts: &Options,
+) -> Result<Vec<Warning>, OutputError> {
+    match source {
+        Some(src) if Format::of(path)? == Format::Lottie => {
+            let mut warnings = Vec::new();
+            if opts.size.fit(scene.width, scene.height).is_some() {
+                warnings.push(Warning::new(
+                    "--width/--height do not resize a Lottie source; its composition size is kept",
+                ));
+            }
+            write_file(path, lottie::layered::source_verbatim(src).as_bytes())?;
+            Ok(warnings)
+        }
+        _ => write_still(scene, path, opts),
+    }
 }
 
 /// Writes a still `scene` to `path`: `.png` rendered, `.json` a still Lottie, `.svg` a clean

@@ -6,28 +6,14 @@
 
 pub use gmotion::tagging::TagFrom;
 
-/// Removes a trailing layer counter: `_12`, `-3`, or Illustrator's `_12_`. A name that is
-/// only a counter is kept as it is, so a tag is never empty.
+/// Removes a trailing layer counter (shared with the other importers; see
+/// [`gmotion::tagging::strip_counter`]).
 ///
 /// ```
 /// use gmotion_import_svg::tags::strip_counter;
 /// assert_eq!(strip_counter("Wheel_2"), "Wheel");
-/// assert_eq!(strip_counter("arm-13"), "arm");
-/// assert_eq!(strip_counter("eye_1_"), "eye");
-/// assert_eq!(strip_counter("layer"), "layer");
-/// assert_eq!(strip_counter("_7"), "_7");
 /// ```
-pub fn strip_counter(name: &str) -> &str {
-    let body = name.strip_suffix('_').unwrap_or(name);
-    let digits = body.trim_end_matches(|c: char| c.is_ascii_digit());
-    if digits.len() == body.len() {
-        return name;
-    }
-    match digits.strip_suffix(['_', '-']) {
-        Some(stem) if !stem.is_empty() => stem,
-        _ => name,
-    }
-}
+pub use gmotion::tagging::strip_counter;
 
 /// The first class name of a `class` attribute value, if any.
 pub fn first_class(value: &str) -> Option<&str> {

@@ -151,7 +151,7 @@ impl Builder<'_> {
 
 /// Moves canvas-space levels into a composition whose map to the canvas is `to_canvas`
 /// (a translation): `C⁻¹·L₁·…·Lₙ·C`.
-pub(super) fn conjugate(mut levels: Vec<Transform>, to_canvas: Affine) -> Vec<Transform> {
+pub(crate) fn conjugate(mut levels: Vec<Transform>, to_canvas: Affine) -> Vec<Transform> {
     let shift = -to_canvas.translation();
     if shift == Vec2::ZERO || levels.is_empty() {
         return levels;
@@ -162,7 +162,7 @@ pub(super) fn conjugate(mut levels: Vec<Transform>, to_canvas: Affine) -> Vec<Tr
     levels
 }
 
-pub(super) fn shift_prop(p: &mut Option<Prop>, by: Vec2) {
+pub(crate) fn shift_prop(p: &mut Option<Prop>, by: Vec2) {
     let add = |v: &mut Value| {
         if let Value::Vec(xs) = v
             && xs.len() >= 2
@@ -179,7 +179,7 @@ pub(super) fn shift_prop(p: &mut Option<Prop>, by: Vec2) {
 }
 
 /// A transform with every channel written (for layers).
-pub(super) fn full_transform(t: Transform) -> Transform {
+pub(crate) fn full_transform(t: Transform) -> Transform {
     let d = Transform::layer_identity();
     Transform {
         a: t.a.or(d.a),

@@ -1,0 +1,326 @@
+//! Motion layered onto a Lottie source: the document an animation's scene was imported
+//! from ([`gmotion_import_lottie::Source`]) written back as it was read, with gmotion's
+//! motion on top.
+//!
+//! This writer lives in the Lottie exporter, which depends on the Lottie importer for the
+//! source model, rather than in the importer: it needs the exporter's keyframe and
+//! transform-level writing (`unit_motion`, `to_keyframes`, the skew-free levels) — one
+//! keyframe writer for both kinds of Lottie output — and an importer must know nothing of
+//! animations. Dependencies stay one way: core ← importer ← exporter ← output.
+//!
+//! What it does to the source (nothing else is re-encoded: unknown keys, masks, effects,
+//! expressions, text, legacy keyframes and `v` pass through as they were read):
+//!
+//! - a unit with affine motion gets a chain of new null layers (`ty` 3, `nm` "gmotion TAG
+//!   ID", fresh `ind`s, `ip`/`op` covering the composition) holding its motion's transform
+//!   levels — the ones the plain export writes — parented where the unit's layer was, and
+//!   the layer is re-parented to the chain. The motion is conjugated by the parent's world
+//!   transform at the reference frame, so it acts about the same pivot as in gmotion's
+//!   model; when the parent itself animates, the motion rides along with it. A matte
+//!   source moves with its target through a chain of its own.
+//! - opacity motion is multiplied into the unit layer's `ks.o`: keyframes of the static
+//!   value times the multiplier; where both animate, the product sampled at every frame.
+//!   An opacity an expression drives is left alone, with a warning naming the layer.
+//! - colour, stroke-width and per-vertex motion are not layered yet: a warning names the
+//!   unit.
+//!
+//! Layers keep their names; null layers gmotion adds are appended after the existing
+//! layers, where they cannot change which layer a track matte applies to.
+
+use kurbo::{Affine, Point};
+use serde_json::Value as Json;
+
+use gmotion::Warning;
+use gmotion::motion::Animation;
+use gmotion_import_lottie::Source;
+use gmotion_import_lottie::eval;
+
+use crate::animate::{UnitInfo, static_level, unit_motion};
+use crate::geometry::decompose;
+use crate::keys::{to_keyframes, within_range};
+use crate::layers::{conjugate, full_transform};
+use crate::model::{Keyframe, Layer, LayerType, N, Prop, Transform, Value};
+use crate::{LottieError, LottieOptions, LottieOutput};
+
+/// The source document as it was read (JSON-equal to the file, apart from key order).
+pub fn source_verbatim(source: &Source) -> String {
+    source.json.to_string()
+}
+
+/// Writes `source` with the motion of `anim` (whose scene was imported from it) layered on
+/// top.
+pub fn over_source(
+    anim: &Animation,
+    source: &Source,
+    opts: &LottieOptions,
+) -> Result<LottieOutput, LottieError> {
+    if !(anim.fps.is_finite() && anim.fps > 0.0 && anim.duration.is_finite() && anim.duration > 0.0)
+    {
+        return Err(LottieError::Timing {
+            fps: anim.fps,
+            duration: anim.duration,
+        });
+    }
+    let shapes = anim.scene.shapes.len();
+    if anim.tracks.len() != shapes || source.units.len() != shapes {
+        return Err(LottieError::Tracks {
+            tracks: anim.tracks.len(),
+            shapes: source.units.len(),
+        });
+    }
+    let mut warnings = Vec::new();
+    if opts.size.fit(anim.scene.width, anim.scene.height).is_some() {
+        warnings.push(Warning::new(
+            "--width/--height do not resize a Lottie source; its composition size is kept",
+        ));
+    }
+    let doc = &source.document;
+    let fr = doc.fr;
+    let (ip, op) = (doc.ip, doc.op);
+    let frames = (anim.duration * fr).ceil().max(1.0) as usize;
+    let mut json = source.json.clone();
+    let Some(layers) = json.get_mut("layers").and_then(Json::as_array_mut) else {
+        return Ok((json.to_string(), warnings));
+    };
+    let mut next_ind = layers
+        .iter()
+        .filter_map(|l| l.get("ind").and_then(Json::as_f64))
+        .fold(0.0_f64, f64::max) as i64
+        + 1;
+    let mut nulls: Vec<Json> = Vec::new();
+    for (u, (track, shape)) in anim.tracks.iter().zip(&anim.scene.shapes).enumerate() {
+        let info = UnitInfo {
+            bbox: shape.bbox,
+            centroid: shape.centroid,
+        };
+        let motion = unit_motion(track, info, fr, frames, opts.tolerance);
+        if !motion.is_animated() {
+            continue;
+        }
+        let unit = &source.units[u];
+        let name = format!("{}:{}", shape.tag, shape.id);
+        if !(motion.fill.is_empty()
+            && motion.stroke.is_empty()
+            && motion.stroke_width.is_empty()
+            && motion.deform_frames.is_empty())
+        {
+            warnings.push(Warning::about(
+                name.clone(),
+                "colour, stroke-width and per-vertex motion are not yet layered onto a Lottie source; left out",
+            ));
+        }
+        if !motion.levels.is_empty() {
+            for (k, (&li, &parent_world)) in unit.layers.iter().zip(&unit.parent_world).enumerate()
+            {
+                let Some(levels) = in_parent_space(&motion.levels, parent_world) else {
+                    warnings.push(Warning::about(
+                        name.clone(),
+                        "its parent layer is scaled to nothing at the reference frame; the motion is left out",
+                    ));
+                    continue;
+                };
+                let Some(layer) = layers.get_mut(li).and_then(Json::as_object_mut) else {
+                    continue;
+                };
+                let mut parent = layer.get("parent").cloned();
+                let role = if k == 0 { "" } else { " matte" };
+                for (n, level) in levels.into_iter().enumerate() {
+                    let nm = match n {
+                        0 => format!("gmotion {} {}{role}", shape.tag, shape.id),
+                        n => format!("gmotion {} {}{role}/{n}", shape.tag, shape.id),
+                    };
+                    let mut null = Layer::new(LayerType::Null, nm, 0, ip, op);
+                    null.ks = full_transform(level);
+                    retime(&mut null.ks, |t| ip + t);
+                    nulls.push(null_json(&null, next_ind, parent.take()));
+                    parent = Some(Json::from(next_ind));
+                    next_ind += 1;
+                }
+                if let Some(p) = parent {
+                    layer.insert("parent".into(), p);
+                }
+            }
+        }
+        if !motion.opacity.is_empty()
+            && let Some(&li) = unit.layers.first()
+            && let Some(layer) = layers.get_mut(li)
+        {
+            multiply_opacity(
+                layer,
+                li,
+                source,
+                track,
+                &motion.opacity,
+                &name,
+                &mut warnings,
+            );
+        }
+    }
+    layers.extend(nulls);
+    Ok((json.to_string(), warnings))
+}
+
+/// A null layer as After Effects writes one, keys in its order: `ddd` first, since
+/// rlottie reads a layer's transform as 3D (ignoring `r`) unless it has seen `ddd: 0`.
+fn null_json(null: &Layer, ind: i64, parent: Option<Json>) -> Json {
+    let mut o = serde_json::Map::new();
+    o.insert("ddd".into(), Json::from(0));
+    o.insert("ind".into(), Json::from(ind));
+    o.insert("ty".into(), Json::from(3));
+    o.insert("nm".into(), Json::from(null.nm.clone()));
+    if let Some(p) = parent {
+        o.insert("parent".into(), p);
+    }
+    o.insert("sr".into(), Json::from(1));
+    o.insert(
+        "ks".into(),
+        serde_json::to_value(&null.ks).unwrap_or(Json::Null),
+    );
+    o.insert("ao".into(), Json::from(0));
+    o.insert(
+        "ip".into(),
+        serde_json::to_value(null.ip).unwrap_or(Json::Null),
+    );
+    o.insert(
+        "op".into(),
+        serde_json::to_value(null.op).unwrap_or(Json::Null),
+    );
+    o.insert("st".into(), Json::from(0));
+    o.insert("bm".into(), Json::from(0));
+    Json::Object(o)
+}
+
+/// Canvas-space levels acting in the space of a parent whose world transform at the
+/// reference frame is `a`: `A⁻¹·L₁·…·Lₙ·A` as levels. `None` when `a` is singular.
+fn in_parent_space(levels: &[Transform], a: Affine) -> Option<Vec<Transform>> {
+    let [m11, m12, m21, m22, _, _] = a.as_coeffs();
+    if (m11 - 1.0).abs() < 1e-12
+        && m12.abs() < 1e-12
+        && m21.abs() < 1e-12
+        && (m22 - 1.0).abs() < 1e-12
+    {
+        // A translation (or nothing): shift the pivot and the position.
+        return Some(conjugate(levels.to_vec(), a));
+    }
+    if a.determinant().abs() < 1e-12 {
+        return None;
+    }
+    let mut out: Vec<Transform> = decompose(a.inverse(), Point::ORIGIN)
+        .iter()
+        .map(static_level)
+        .collect();
+    out.extend(levels.iter().cloned());
+    out.extend(decompose(a, Point::ORIGIN).iter().map(static_level));
+    Some(out)
+}
+
+/// Moves every keyframe time of `tr` through `f`.
+fn retime(tr: &mut Transform, f: impl Fn(f64) -> f64) {
+    for p in [&mut tr.a, &mut tr.p, &mut tr.s, &mut tr.r, &mut tr.o]
+        .into_iter()
+        .flatten()
+    {
+        if let Prop::Animated(keys) = p {
+            for k in keys {
+                k.t = N::coord(f(k.t.0));
+            }
+        }
+    }
+}
+
+/// Multiplies the opacity multiplier `keys` (frames from the animation's start at the
+/// source's frame rate) into layer `li`'s `ks.o`.
+fn multiply_opacity(
+    layer: &mut Json,
+    li: usize,
+    source: &Source,
+    track: &gmotion::motion::Track,
+    keys: &[crate::keys::Key<f64>],
+    name: &str,
+    warnings: &mut Vec<Warning>,
+) {
+    let doc = &source.document;
+    let Some(model) = doc.layers.get(li) else {
+        return;
+    };
+    let label = format!("{name} (layer \"{}\")", model.nm);
+    if model.ks.o.as_ref().is_some_and(|o| o.expression) {
+        warnings.push(Warning::about(
+            label,
+            "an expression drives its opacity; gmotion's opacity motion is left out",
+        ));
+        return;
+    }
+    // Keyframe times of a layer's properties are in its own time.
+    let local = |t: f64| (doc.ip + t - model.st) / model.sr;
+    let animated = matches!(
+        model.ks.o.as_ref().map(|o| &o.value),
+        Some(gmotion_import_lottie::model::Prop::Animated(_))
+    );
+    let prop = if animated {
+        // Both animate: the product at every frame of the composition.
+        let frames = (doc.op - doc.ip).ceil().max(1.0) as usize;
+        let samples: Vec<(f64, f64)> = (0..=frames)
+            .map(|f| {
+                let comp = doc.ip + f as f64;
+                let own = eval::scalar(model.ks.o.as_ref(), (comp - model.st) / model.sr, 100.0);
+                let m = track.state_at(f as f64 / doc.fr).opacity.clamp(0.0, 1.0);
+                ((comp - model.st) / model.sr, own * m)
+            })
+            .collect();
+        let mut kept: Vec<Keyframe> = Vec::new();
+        for (i, &(t, v)) in samples.iter().enumerate() {
+            // Drop samples on the line through their neighbours.
+            if i > 0 && i + 1 < samples.len() {
+                let (t0, v0) = samples[i - 1];
+                let (t1, v1) = samples[i + 1];
+                let line = v0 + (v1 - v0) * (t - t0) / (t1 - t0);
+                if (line - v).abs() < 0.05 {
+                    continue;
+                }
+            }
+            kept.push(Keyframe {
+                t: N::coord(t),
+                s: Value::Scalar(N::coord(v)),
+                ease: Some(crate::model::Ease::LINEAR),
+                hold: false,
+            });
+        }
+        if let Some(last) = kept.last_mut() {
+            last.ease = None;
+        }
+        Prop::keyed(kept)
+    } else {
+        let base = eval::scalar(model.ks.o.as_ref(), 0.0, 100.0);
+        let at = |a: &f64, b: &f64, p: f64| a + (b - a) * p;
+        let keys = within_range(
+            keys,
+            |a, b, lo, hi| {
+                [lo, hi]
+                    .iter()
+                    .any(|&p| !(0.0..=1.0).contains(&at(a, b, p)))
+            },
+            |a, b, p| at(a, b, p).clamp(0.0, 1.0),
+        );
+        let mut kfs = to_keyframes(&keys, |m| Value::Scalar(N::coord(base * m)));
+        for k in &mut kfs {
+            k.t = N::coord(local(k.t.0));
+        }
+        Prop::keyed(kfs)
+    };
+    let Some(ks) = layer.get_mut("ks").and_then(Json::as_object_mut) else {
+        if let Some(l) = layer.as_object_mut() {
+            let mut ks = serde_json::Map::new();
+            ks.insert(
+                "o".into(),
+                serde_json::to_value(&prop).unwrap_or(Json::Null),
+            );
+            l.insert("ks".into(), Json::Object(ks));
+        }
+        return;
+    };
+    ks.insert(
+        "o".into(),
+        serde_json::to_value(&prop).unwrap_or(Json::Null),
+    );
+}

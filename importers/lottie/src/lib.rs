@@ -1,0 +1,272 @@
+//! Lottie import: a Bodymovin / After Effects JSON document as a gmotion [`Scene`] whose
+//! animated units are the layers of its root composition, plus the document itself, kept
+//! whole for verbatim pass-through ([`Source`]).
+//!
+//! **Units.** Every root layer that draws (shape, precomposition, solid, image, text) is a
+//! unit; null layers are rigs (they move their children, but are not units); a track
+//! matte's source layer (`td`) moves with the layer it mattes, as one unit; hidden layers
+//! are not units. Units are in paint order (bottom layer first), and ids count within a
+//! tag in that order. Tags come from layer names ([`tags`]).
+//!
+//! **Geometry.** The document is evaluated at a reference frame (the first frame unless
+//! [`ImportOptions::frame`] says otherwise): parenting builds every layer's world
+//! transform; shape layers' groups, paths (`sh`), rectangles, ellipses, stars and
+//! polygons, fills and strokes (with dashes) become painted paths; precompositions are
+//! expanded (time remap and stretch included); solids are filled rectangles; alpha and luma
+//! track mattes become masks. Each unit is measured on that geometry (centroid, bounds,
+//! paint), and gmotion's own renderer draws that still. Keyframes are evaluated with their
+//! per-component Bézier easing, holds, legacy end values (`e`), split positions, and
+//! spatial tangents (by Bézier parameter, not arc length).
+//!
+//! **Not drawn** (with a warning naming the first place and how many): layer masks,
+//! gradients (their first stop's colour instead), trim paths, repeaters, merge paths, round
+//! corners and other shape modifiers, images (their rectangle is measured), text (measured
+//! as a point), inverted track mattes, expressions (the property's own value is used),
+//! precomposition clipping to its rectangle.
+//!
+//! **Errors.** Nothing in the input can make the import panic: every value is checked as it
+//! is read, and every error names its JSON location (`$.layers[3].ks.p.k[1].s`). Parent
+//! cycles, precomposition cycles, precompositions nested deeper than
+//! [`build::MAX_PRECOMP_DEPTH`], more than [`build::MAX_DRAWN_LAYERS`] layers to draw, and
+//! numbers beyond ±[`model::MAX_MAGNITUDE`] are errors; serde_json refuses documents
+//! nested deeper than 128 levels.
+#![forbid(unsafe_code)]
+
+pub mod build;
+pub mod eval;
+pub mod model;
+pub mod tags;
+
+use std::path::{Path, PathBuf};
+
+use kurbo::{Affine, Point, Rect};
+use serde_json::Value;
+
+use gmotion::Warning;
+use gmotion::color::Color;
+use gmotion::measure::measure;
+use gmotion::scene::{Group, Node, Scene, Shape};
+
+use model::{Document, Loc};
+
+/// How to import.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ImportOptions {
+    /// The reference frame (composition frames) at which units are measured and the still
+    /// scene drawn; `None` is the composition's first frame (`ip`).
+    pub frame: Option<f64>,
+}
+
+/// The root layers one unit moves.
+#[derive(Clone, Debug, PartialEq)]
+pub struct UnitLayers {
+    /// Indices into the document's root `layers`: the unit's layer first, then its track
+    /// matte's source when it has one.
+    pub layers: Vec<usize>,
+    /// For each of `layers`, its parent's world transform at the reference frame (the
+    /// identity for a layer without a parent): where a motion in canvas space must be
+    /// conjugated to act in the parent's space.
+    pub parent_world: Vec<Affine>,
+}
+
+/// The source document of an imported scene, for the exporter that writes it back with
+/// gmotion's motion layered on top.
+#[derive(Clone, Debug)]
+pub struct Source {
+    /// The document as read (every key, known or not).
+    pub json: Value,
+    /// The typed model of what gmotion reads.
+    pub document: Document,
+    /// For each unit of the scene (`scene.shapes[i]`), its layers.
+    pub units: Vec<UnitLayers>,
+    /// The reference frame the scene was measured at.
+    pub frame: f64,
+}
+
+/// An imported scene, its source and what could not be kept.
+#[derive(Clone, Debug)]
+pub struct Imported {
+    /// The scene at the reference frame.
+    pub scene: Scene,
+    /// The document, for pass-through export.
+    pub source: Source,
+    /// What is not drawn, one per kind, about its first place (`$.layers[2]`): `what (N places)`.
+    pub warnings: Vec<Warning>,
+}
+
+/// Why a document could not be imported.
+#[derive(Debug, thiserror::Error)]
+pub enum ImportError {
+    /// The file could not be read.
+    #[error("{}: cannot read the file: {source}", path.display())]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// What the system said.
+        source: std::io::Error,
+    },
+    /// The text is not JSON.
+    #[error("{source_name}:{line}:{column}: malformed JSON: {message}")]
+    Json {
+        /// The file name.
+        source_name: String,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// What serde_json said.
+        message: String,
+    },
+    /// The JSON is not a Lottie animation gmotion can read.
+    #[error("{source_name}: {at}: {message}")]
+    Lottie {
+        /// The file name.
+        source_name: String,
+        /// Where in the document.
+        at: Loc,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+/// Imports a Lottie file.
+pub fn load(path: &Path, opts: &ImportOptions) -> Result<Imported, ImportError> {
+    let text = std::fs::read_to_string(path).map_err(|source| ImportError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    parse(&text, &path.display().to_string(), opts)
+}
+
+/// Imports Lottie JSON text; `source_name` names it in errors and warnings.
+pub fn parse(text: &str, source_name: &str, opts: &ImportOptions) -> Result<Imported, ImportError> {
+    let json: Value = serde_json::from_str(text.trim_start_matches('\u{feff}')).map_err(|e| {
+        let message = e.to_string();
+        let message = message
+            .rsplit_once(" at line ")
+            .map_or(message.as_str(), |(m, _)| m)
+            .to_string();
+        ImportError::Json {
+            source_name: source_name.to_string(),
+            line: e.line(),
+            column: e.column(),
+            message,
+        }
+    })?;
+    from_json(json, source_name, opts)
+}
+
+/// Imports a parsed document.
+pub fn from_json(
+    json: Value,
+    source_name: &str,
+    opts: &ImportOptions,
+) -> Result<Imported, ImportError> {
+    let located = |e: model::ModelError| ImportError::Lottie {
+        source_name: source_name.to_string(),
+        at: e.at,
+        message: e.message,
+    };
+    let document = Document::read(&json).map_err(located)?;
+    let frame = opts.frame.unwrap_or(document.ip);
+    if !frame.is_finite() {
+        return Err(ImportError::Lottie {
+            source_name: source_name.to_string(),
+            at: Loc::root(),
+            message: format!("the reference frame {frame} is not a number"),
+        });
+    }
+    let (root, shapes, units, warnings) = scene_of(&document, frame).map_err(located)?;
+    let scene = Scene {
+        width: document.w,
+        height: document.h,
+        root,
+        shapes,
+    };
+    let warnings = warnings
+        .into_iter()
+        .map(|(at, what)| Warning::about(at, what))
+        .collect();
+    Ok(Imported {
+        scene,
+        source: Source {
+            json,
+            document,
+            units,
+            frame,
+        },
+        warnings,
+    })
+}
+
+type Built = (Group, Vec<Shape>, Vec<UnitLayers>, Vec<(String, String)>);
+
+fn scene_of(doc: &Document, frame: f64) -> model::Result<Built> {
+    let mut b = build::Builder::new(doc);
+    let layers = &doc.layers;
+    let worlds = b.worlds(layers, frame)?;
+    let mut by_ind = std::collections::HashMap::new();
+    for (i, l) in layers.iter().enumerate() {
+        if let Some(ind) = l.ind {
+            by_ind.entry(ind).or_insert(i);
+        }
+    }
+    let parent_world = |i: usize| -> Affine {
+        layers[i]
+            .parent
+            .and_then(|p| by_ind.get(&p))
+            .map_or(Affine::IDENTITY, |&j| worlds[j])
+    };
+    let mut root = Group::new();
+    let mut shapes = Vec::new();
+    let mut units = Vec::new();
+    let mut counts: std::collections::HashMap<String, usize> = Default::default();
+    let mut stack = Vec::new();
+    for i in (0..layers.len()).rev() {
+        let l = &layers[i];
+        if !l.kind.draws() || l.hidden || l.td {
+            continue;
+        }
+        let mut node = b.drawn(layers, i, &worlds, frame, &mut stack)?;
+        if !(l.ip <= frame && frame < l.op) {
+            // Not on screen at the reference frame: measured, but not drawn in the still.
+            node.opacity = 0.0;
+        }
+        let index = shapes.len();
+        node.unit = Some(index);
+        let node = Node::Group(node);
+        let m = measure(&node, Affine::IDENTITY);
+        let at = worlds[i] * Point::ORIGIN;
+        let tag = tags::layer_tag(&l.nm, l.kind);
+        let id = counts.entry(tag.clone()).or_default();
+        shapes.push(Shape {
+            tag,
+            id: *id,
+            group: 0,
+            z: index,
+            node_path: vec![root.children.len()],
+            parent_transform: Affine::IDENTITY,
+            centroid: m.map_or(at, |m| m.centroid),
+            bbox: m.map_or(Rect::from_points(at, at), |m| m.bbox),
+            fill: m.map_or(Color::BLACK, |m| m.fill),
+            stroke: m.map_or(Color::BLACK, |m| m.stroke),
+            stroke_width: m.map_or(1.0, |m| m.stroke_width),
+        });
+        *id += 1;
+        let mut members = vec![i];
+        members.extend(build::Builder::matte_source(layers, i));
+        units.push(UnitLayers {
+            parent_world: members.iter().map(|&j| parent_world(j)).collect(),
+            layers: members,
+        });
+        root.children.push(node);
+    }
+    Ok((root, shapes, units, b.warnings()))
+}
+
+impl Source {
+    /// The composition frame a time in seconds from the animation's start is.
+    pub fn frame_at(&self, seconds: f64) -> f64 {
+        self.document.ip + seconds * self.document.fr
+    }
+}

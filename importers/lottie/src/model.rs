@@ -1,0 +1,985 @@
+//! The parts of a Lottie document gmotion reads, as typed values taken from serde_json's
+//! tree of the document.
+//!
+//! The model is read from a [`serde_json::Value`] rather than derived with serde: every
+//! error then names its JSON location (`$.layers[3].ks.p.k[1].s`), which a derived model
+//! cannot do without another crate, and whatever the model does not know (masks, effects,
+//! text documents, match names, unknown keys) simply stays in the source tree, which the
+//! importer keeps whole for verbatim pass-through ([`crate::Source`]). Nothing here is
+//! written back: the exporter edits the source tree itself.
+
+use std::fmt;
+
+use serde_json::{Map, Value};
+
+/// A JSON location in the document, written as a path from the root: `$.layers[3].ks.p`.
+#[derive(Clone, Debug, PartialEq, Eq, Hash, Default)]
+pub struct Loc(String);
+
+impl Loc {
+    /// The document's root, `$`.
+    pub fn root() -> Loc {
+        Loc("$".to_string())
+    }
+
+    /// The member `key` of the object here.
+    pub fn key(&self, key: &str) -> Loc {
+        Loc(format!("{}.{key}", self.0))
+    }
+
+    /// The element `i` of the array here.
+    pub fn idx(&self, i: usize) -> Loc {
+        Loc(format!("{}[{i}]", self.0))
+    }
+
+    /// The path as text.
+    pub fn as_str(&self) -> &str {
+        &self.0
+    }
+}
+
+impl fmt::Display for Loc {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+/// Something in the document that cannot be read, and where.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ModelError {
+    /// Where.
+    pub at: Loc,
+    /// What is wrong.
+    pub message: String,
+}
+
+pub(crate) type Result<T> = std::result::Result<T, ModelError>;
+
+pub(crate) fn error<T>(at: &Loc, message: impl Into<String>) -> Result<T> {
+    Err(ModelError {
+        at: at.clone(),
+        message: message.into(),
+    })
+}
+
+/// Numbers beyond this magnitude are refused: no real animation needs them, and products
+/// of a few of them would overflow to infinity in the geometry.
+pub const MAX_MAGNITUDE: f64 = 1e9;
+
+fn kind(v: &Value) -> &'static str {
+    match v {
+        Value::Null => "null",
+        Value::Bool(_) => "a boolean",
+        Value::Number(_) => "a number",
+        Value::String(_) => "a string",
+        Value::Array(_) => "an array",
+        Value::Object(_) => "an object",
+    }
+}
+
+/// A finite number of sane magnitude (booleans read as 0 and 1, as players read them).
+pub(crate) fn number(v: &Value, at: &Loc) -> Result<f64> {
+    let x = match v {
+        Value::Number(n) => n.as_f64(),
+        Value::Bool(b) => Some(f64::from(u8::from(*b))),
+        other => return error(at, format!("expected a number, found {}", kind(other))),
+    };
+    match x {
+        Some(x) if x.is_finite() && x.abs() <= MAX_MAGNITUDE => Ok(x),
+        _ => error(
+            at,
+            format!("the number is out of range (beyond ±{MAX_MAGNITUDE})"),
+        ),
+    }
+}
+
+fn object<'a>(v: &'a Value, at: &Loc) -> Result<&'a Map<String, Value>> {
+    v.as_object().map_or_else(
+        || error(at, format!("expected an object, found {}", kind(v))),
+        Ok,
+    )
+}
+
+fn array<'a>(v: &'a Value, at: &Loc) -> Result<&'a [Value]> {
+    v.as_array().map_or_else(
+        || error(at, format!("expected an array, found {}", kind(v))),
+        |a| Ok(a.as_slice()),
+    )
+}
+
+fn opt_number(o: &Map<String, Value>, key: &str, at: &Loc) -> Result<Option<f64>> {
+    match o.get(key) {
+        None | Some(Value::Null) => Ok(None),
+        Some(v) => number(v, &at.key(key)).map(Some),
+    }
+}
+
+fn opt_int(o: &Map<String, Value>, key: &str, at: &Loc) -> Result<Option<i64>> {
+    Ok(opt_number(o, key, at)?.map(|x| x.round() as i64))
+}
+
+fn opt_string(o: &Map<String, Value>, key: &str, at: &Loc) -> Result<Option<String>> {
+    match o.get(key) {
+        None | Some(Value::Null) => Ok(None),
+        Some(Value::String(s)) => Ok(Some(s.clone())),
+        // Names are sometimes numbers in hand-made files; players show them as text.
+        Some(Value::Number(n)) => Ok(Some(n.to_string())),
+        Some(v) => error(
+            &at.key(key),
+            format!("expected a string, found {}", kind(v)),
+        ),
+    }
+}
+
+fn flag(o: &Map<String, Value>, key: &str, at: &Loc) -> Result<bool> {
+    Ok(opt_number(o, key, at)?.is_some_and(|x| x != 0.0))
+}
+
+/// A value a property can take: read from JSON, interpolated between keyframes.
+pub trait PropValue: Clone + fmt::Debug {
+    /// Reads one value.
+    fn read(v: &Value, at: &Loc) -> Result<Self>;
+    /// The value a fraction `p` of the way to `other` (per component; `self` where the
+    /// two do not match).
+    fn lerp(&self, other: &Self, p: &[f64]) -> Self;
+}
+
+impl PropValue for Vec<f64> {
+    fn read(v: &Value, at: &Loc) -> Result<Self> {
+        match v {
+            Value::Array(xs) => xs
+                .iter()
+                .enumerate()
+                .map(|(i, x)| number(x, &at.idx(i)))
+                .collect(),
+            other => Ok(vec![number(other, at)?]),
+        }
+    }
+
+    fn lerp(&self, other: &Self, p: &[f64]) -> Self {
+        if other.len() != self.len() {
+            return self.clone();
+        }
+        self.iter()
+            .zip(other)
+            .enumerate()
+            .map(|(k, (a, b))| {
+                let p = p.get(k).or(p.last()).copied().unwrap_or(0.0);
+                a + (b - a) * p
+            })
+            .collect()
+    }
+}
+
+/// A Bézier outline as Lottie writes it: vertices with in and out tangents relative to
+/// them.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Bezier {
+    /// Whether the outline is closed (`None` when the file leaves it out).
+    pub closed: Option<bool>,
+    /// Vertices.
+    pub v: Vec<[f64; 2]>,
+    /// In tangents, relative to their vertex.
+    pub i: Vec<[f64; 2]>,
+    /// Out tangents, relative to their vertex.
+    pub o: Vec<[f64; 2]>,
+}
+
+fn points(o: &Map<String, Value>, key: &str, at: &Loc) -> Result<Vec<[f64; 2]>> {
+    let Some(v) = o.get(key) else {
+        return Ok(Vec::new());
+    };
+    let at = at.key(key);
+    array(v, &at)?
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let at = at.idx(i);
+            let xs = array(p, &at)?;
+            match xs {
+                [x, y, ..] => Ok([number(x, &at.idx(0))?, number(y, &at.idx(1))?]),
+                _ => error(&at, "expected a point [x, y]"),
+            }
+        })
+        .collect()
+}
+
+impl PropValue for Bezier {
+    fn read(v: &Value, at: &Loc) -> Result<Self> {
+        // Keyframe values wrap the outline in an array of one.
+        if let Value::Array(xs) = v {
+            return match xs.first() {
+                Some(first) => Bezier::read(first, &at.idx(0)),
+                None => Ok(Bezier::default()),
+            };
+        }
+        let o = object(v, at)?;
+        let closed = match o.get("c") {
+            None | Some(Value::Null) => None,
+            Some(Value::Bool(b)) => Some(*b),
+            Some(c) => Some(number(c, &at.key("c"))? != 0.0),
+        };
+        Ok(Bezier {
+            closed,
+            v: points(o, "v", at)?,
+            i: points(o, "i", at)?,
+            o: points(o, "o", at)?,
+        })
+    }
+
+    fn lerp(&self, other: &Self, p: &[f64]) -> Self {
+        if other.v.len() != self.v.len() || other.i.len() != self.i.len() {
+            return self.clone();
+        }
+        let p = p.first().copied().unwrap_or(0.0);
+        let mix = |a: &[[f64; 2]], b: &[[f64; 2]]| {
+            a.iter()
+                .zip(b)
+                .map(|(a, b)| [a[0] + (b[0] - a[0]) * p, a[1] + (b[1] - a[1]) * p])
+                .collect()
+        };
+        Bezier {
+            closed: self.closed,
+            v: mix(&self.v, &other.v),
+            i: mix(&self.i, &other.i),
+            o: mix(&self.o, &other.o),
+        }
+    }
+}
+
+/// A keyframe's easing handle: one `x`, `y` per component (or one for all).
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Ease {
+    /// Time coordinates.
+    pub x: Vec<f64>,
+    /// Value coordinates.
+    pub y: Vec<f64>,
+}
+
+/// One keyframe. Files before Bodymovin 5.5 give each keyframe its end value `e` and end
+/// with a keyframe that has only a time.
+#[derive(Clone, Debug)]
+pub struct Keyframe<T> {
+    /// Frame (in the layer's time).
+    pub t: f64,
+    /// Start value.
+    pub s: Option<T>,
+    /// End value (legacy).
+    pub e: Option<T>,
+    /// Out handle (easing from this keyframe).
+    pub o: Option<Ease>,
+    /// In handle (easing into the next keyframe).
+    pub i: Option<Ease>,
+    /// Hold until the next keyframe.
+    pub hold: bool,
+    /// Spatial out tangent (positions).
+    pub to: Option<Vec<f64>>,
+    /// Spatial in tangent (positions).
+    pub ti: Option<Vec<f64>>,
+}
+
+/// A property: a static value or keyframes.
+#[derive(Clone, Debug)]
+pub enum Prop<T> {
+    /// Not animated.
+    Static(T),
+    /// Keyframed.
+    Animated(Vec<Keyframe<T>>),
+}
+
+/// A property with where it is and whether an expression drives it.
+#[derive(Clone, Debug)]
+pub struct Property<T> {
+    /// The value.
+    pub value: Prop<T>,
+    /// Whether an expression (`x`) drives it (gmotion does not run expressions).
+    pub expression: bool,
+    /// Where it is.
+    pub at: Loc,
+}
+
+fn ease(v: &Value, at: &Loc) -> Result<Ease> {
+    let o = object(v, at)?;
+    let axis = |key: &str| -> Result<Vec<f64>> {
+        match o.get(key) {
+            None => Ok(Vec::new()),
+            Some(v) => Vec::<f64>::read(v, &at.key(key)),
+        }
+    };
+    Ok(Ease {
+        x: axis("x")?,
+        y: axis("y")?,
+    })
+}
+
+fn keyframe<T: PropValue>(v: &Value, at: &Loc) -> Result<Keyframe<T>> {
+    let o = object(v, at)?;
+    let Some(t) = opt_number(o, "t", at)? else {
+        return error(at, "a keyframe needs its time `t`");
+    };
+    let value = |key: &str| -> Result<Option<T>> {
+        match o.get(key) {
+            None | Some(Value::Null) => Ok(None),
+            Some(v) => T::read(v, &at.key(key)).map(Some),
+        }
+    };
+    let handle = |key: &str| -> Result<Option<Ease>> {
+        o.get(key).map(|v| ease(v, &at.key(key))).transpose()
+    };
+    let tangent = |key: &str| -> Result<Option<Vec<f64>>> {
+        match o.get(key) {
+            None | Some(Value::Null) => Ok(None),
+            Some(v) => Vec::<f64>::read(v, &at.key(key)).map(Some),
+        }
+    };
+    Ok(Keyframe {
+        t,
+        s: value("s")?,
+        e: value("e")?,
+        o: handle("o")?,
+        i: handle("i")?,
+        hold: flag(o, "h", at)?,
+        to: tangent("to")?,
+        ti: tangent("ti")?,
+    })
+}
+
+/// Reads a property object (`{"a": 0, "k": …}`).
+pub fn property<T: PropValue>(v: &Value, at: &Loc) -> Result<Property<T>> {
+    let o = object(v, at)?;
+    let expression = o.get("x").is_some_and(|x| !x.is_null());
+    let k_at = at.key("k");
+    let Some(k) = o.get("k") else {
+        return error(at, "a property needs its value `k`");
+    };
+    // Old files leave out `a`; keyframes are told by being objects with a time.
+    let keyed = match o.get("a") {
+        Some(a) if !a.is_null() => number(a, &at.key("a"))? != 0.0,
+        _ => false,
+    } || k
+        .as_array()
+        .and_then(|xs| xs.first())
+        .is_some_and(|f| f.get("t").is_some());
+    let value = if keyed {
+        let frames = array(k, &k_at)?;
+        if frames.is_empty() {
+            return error(&k_at, "an animated property needs at least one keyframe");
+        }
+        Prop::Animated(
+            frames
+                .iter()
+                .enumerate()
+                .map(|(i, f)| keyframe(f, &k_at.idx(i)))
+                .collect::<Result<_>>()?,
+        )
+    } else {
+        Prop::Static(T::read(k, &k_at)?)
+    };
+    Ok(Property {
+        value,
+        expression,
+        at: at.clone(),
+    })
+}
+
+fn opt_property<T: PropValue>(
+    o: &Map<String, Value>,
+    key: &str,
+    at: &Loc,
+) -> Result<Option<Property<T>>> {
+    match o.get(key) {
+        None | Some(Value::Null) => Ok(None),
+        Some(v) => property(v, &at.key(key)).map(Some),
+    }
+}
+
+/// A numeric property.
+pub type Num = Property<Vec<f64>>;
+
+/// A position: one property, or (split position) one per axis.
+#[derive(Clone, Debug)]
+pub enum Position {
+    /// `p` as one property.
+    Joined(Num),
+    /// `p.s`: separate `x` and `y` properties.
+    Split {
+        /// X.
+        x: Num,
+        /// Y.
+        y: Num,
+    },
+}
+
+/// A transform (a layer's `ks`, or a shape group's `tr`):
+/// `T(p)·R(r)·Skew(sk, sa)·S(s)·T(-a)`, with opacity `o`.
+#[derive(Clone, Debug, Default)]
+pub struct Transform {
+    /// Anchor point.
+    pub a: Option<Num>,
+    /// Position.
+    pub p: Option<Position>,
+    /// Scale, in percent.
+    pub s: Option<Num>,
+    /// Rotation in degrees, clockwise (`rz` on 3D layers).
+    pub r: Option<Num>,
+    /// Opacity, in percent.
+    pub o: Option<Num>,
+    /// Skew angle in degrees.
+    pub sk: Option<Num>,
+    /// Skew axis in degrees.
+    pub sa: Option<Num>,
+}
+
+impl Transform {
+    /// Reads a transform object.
+    pub fn read(v: &Value, at: &Loc) -> Result<Transform> {
+        let o = object(v, at)?;
+        let p = match o.get("p") {
+            None | Some(Value::Null) => None,
+            Some(p) => {
+                let p_at = at.key("p");
+                let po = object(p, &p_at)?;
+                if po
+                    .get("s")
+                    .is_some_and(|s| s.as_bool() == Some(true) || s == 1)
+                {
+                    let axis = |k: &str| -> Result<Num> {
+                        match po.get(k) {
+                            Some(v) => property(v, &p_at.key(k)),
+                            None => error(&p_at, format!("a split position needs `{k}`")),
+                        }
+                    };
+                    Some(Position::Split {
+                        x: axis("x")?,
+                        y: axis("y")?,
+                    })
+                } else {
+                    Some(Position::Joined(property(p, &p_at)?))
+                }
+            }
+        };
+        Ok(Transform {
+            a: opt_property(o, "a", at)?,
+            p,
+            s: opt_property(o, "s", at)?,
+            r: match opt_property(o, "r", at)? {
+                Some(r) => Some(r),
+                None => opt_property(o, "rz", at)?,
+            },
+            o: opt_property(o, "o", at)?,
+            sk: opt_property(o, "sk", at)?,
+            sa: opt_property(o, "sa", at)?,
+        })
+    }
+
+    /// Whether an expression drives any channel.
+    pub fn has_expression(&self) -> bool {
+        let p = match &self.p {
+            Some(Position::Joined(p)) => p.expression,
+            Some(Position::Split { x, y }) => x.expression || y.expression,
+            None => false,
+        };
+        p || [&self.a, &self.s, &self.r, &self.o, &self.sk, &self.sa]
+            .iter()
+            .any(|c| c.as_ref().is_some_and(|c| c.expression))
+    }
+}
+
+/// A dash entry of a stroke: `d` (dash), `g` (gap) or `o` (offset).
+#[derive(Clone, Debug)]
+pub struct Dash {
+    /// `d`, `g` or `o`.
+    pub n: String,
+    /// Its length.
+    pub v: Num,
+}
+
+/// What a shape item is.
+#[derive(Clone, Debug)]
+pub enum ShapeKind {
+    /// `gr`: items, topmost first, the group's `tr` among them.
+    Group(Vec<ShapeItem>),
+    /// `sh`: a Bézier outline; `closed` is the legacy closed flag of the item.
+    Path {
+        /// The outline.
+        ks: Property<Bezier>,
+        /// Pre-4.4.18 files say `closed` on the item.
+        closed: Option<bool>,
+    },
+    /// `rc`: a rectangle about its centre `p`, size `s`, corner roundness `r`.
+    Rect {
+        /// Centre.
+        p: Option<Num>,
+        /// Size.
+        s: Option<Num>,
+        /// Corner radius.
+        r: Option<Num>,
+    },
+    /// `el`: an ellipse about its centre `p`, size `s`.
+    Ellipse {
+        /// Centre.
+        p: Option<Num>,
+        /// Size.
+        s: Option<Num>,
+    },
+    /// `sr`: a star (`sy` 1) or polygon (`sy` 2).
+    Star {
+        /// 1 star, 2 polygon.
+        sy: i64,
+        /// Centre.
+        p: Option<Num>,
+        /// Outer radius.
+        or: Option<Num>,
+        /// Inner radius (stars).
+        ir: Option<Num>,
+        /// Rotation, degrees.
+        r: Option<Num>,
+        /// Number of points.
+        pt: Option<Num>,
+    },
+    /// `fl`: a solid fill.
+    Fill {
+        /// Colour `[r, g, b(, a)]`.
+        c: Option<Num>,
+        /// Opacity, percent.
+        o: Option<Num>,
+        /// 1 non-zero, 2 even-odd.
+        rule: i64,
+    },
+    /// `st`: a solid stroke.
+    Stroke {
+        /// Colour.
+        c: Option<Num>,
+        /// Opacity, percent.
+        o: Option<Num>,
+        /// Width.
+        w: Option<Num>,
+        /// Line cap: 1 butt, 2 round, 3 square.
+        lc: i64,
+        /// Line join: 1 miter, 2 round, 3 bevel.
+        lj: i64,
+        /// Miter limit.
+        ml: f64,
+        /// Dashes.
+        dashes: Vec<Dash>,
+    },
+    /// `gf` / `gs`: a gradient fill or stroke (gmotion reads its first stop's colour).
+    Gradient {
+        /// Whether it is a stroke (`gs`).
+        stroke: bool,
+        /// Opacity, percent.
+        o: Option<Num>,
+        /// Stops: `[offset, r, g, b, …]`.
+        stops: Option<Num>,
+        /// Stroke width (`gs`).
+        w: Option<Num>,
+        /// Fill rule (`gf`).
+        rule: i64,
+    },
+    /// `tr`: the group's transform.
+    Transform(Transform),
+    /// Anything else (modifiers such as trim paths, repeaters, merge paths; unknown types):
+    /// its `ty`.
+    Other(String),
+}
+
+/// A shape item with its name, visibility and location.
+#[derive(Clone, Debug)]
+pub struct ShapeItem {
+    /// Where it is.
+    pub at: Loc,
+    /// `nm`.
+    pub nm: String,
+    /// `hd`: hidden items draw nothing.
+    pub hidden: bool,
+    /// What it is.
+    pub kind: ShapeKind,
+}
+
+/// Shape items. Groups nest at most about 60 deep: serde_json refuses documents nested
+/// deeper than 128 levels, which bounds this recursion (and the builder's).
+fn shape_items(v: &Value, at: &Loc) -> Result<Vec<ShapeItem>> {
+    array(v, at)?
+        .iter()
+        .enumerate()
+        .map(|(i, s)| shape_item(s, &at.idx(i)))
+        .collect()
+}
+
+fn shape_item(v: &Value, at: &Loc) -> Result<ShapeItem> {
+    let o = object(v, at)?;
+    let ty = match o.get("ty") {
+        Some(Value::String(s)) => s.as_str(),
+        Some(other) => {
+            return error(
+                &at.key("ty"),
+                format!("expected a shape type string, found {}", kind(other)),
+            );
+        }
+        None => return error(at, "a shape item needs its type `ty`"),
+    };
+    let num = |key: &str| opt_property::<Vec<f64>>(o, key, at);
+    let kind = match ty {
+        "gr" => ShapeKind::Group(match o.get("it") {
+            Some(it) => shape_items(it, &at.key("it"))?,
+            None => Vec::new(),
+        }),
+        "sh" => ShapeKind::Path {
+            ks: match o.get("ks") {
+                Some(ks) => property(ks, &at.key("ks"))?,
+                None => return error(at, "a path (`sh`) needs its outline `ks`"),
+            },
+            closed: match o.get("closed") {
+                Some(Value::Bool(b)) => Some(*b),
+                _ => None,
+            },
+        },
+        "rc" => ShapeKind::Rect {
+            p: num("p")?,
+            s: num("s")?,
+            r: num("r")?,
+        },
+        "el" => ShapeKind::Ellipse {
+            p: num("p")?,
+            s: num("s")?,
+        },
+        "sr" => ShapeKind::Star {
+            sy: opt_int(o, "sy", at)?.unwrap_or(1),
+            p: num("p")?,
+            or: num("or")?,
+            ir: num("ir")?,
+            r: num("r")?,
+            pt: num("pt")?,
+        },
+        "fl" => ShapeKind::Fill {
+            c: num("c")?,
+            o: num("o")?,
+            rule: opt_int(o, "r", at)?.unwrap_or(1),
+        },
+        "st" => {
+            let mut dashes = Vec::new();
+            if let Some(d) = o.get("d") {
+                let d_at = at.key("d");
+                for (i, e) in array(d, &d_at)?.iter().enumerate() {
+                    let e_at = d_at.idx(i);
+                    let eo = object(e, &e_at)?;
+                    let n = opt_string(eo, "n", &e_at)?.unwrap_or_default();
+                    if let Some(v) = opt_property(eo, "v", &e_at)? {
+                        dashes.push(Dash { n, v });
+                    }
+                }
+            }
+            ShapeKind::Stroke {
+                c: num("c")?,
+                o: num("o")?,
+                w: num("w")?,
+                lc: opt_int(o, "lc", at)?.unwrap_or(2),
+                lj: opt_int(o, "lj", at)?.unwrap_or(2),
+                ml: opt_number(o, "ml", at)?.unwrap_or(4.0),
+                dashes,
+            }
+        }
+        "gf" | "gs" => {
+            let stops = match o.get("g") {
+                Some(g) => {
+                    let g_at = at.key("g");
+                    let go = object(g, &g_at)?;
+                    opt_property(go, "k", &g_at)?
+                }
+                None => None,
+            };
+            ShapeKind::Gradient {
+                stroke: ty == "gs",
+                o: num("o")?,
+                stops,
+                w: num("w")?,
+                rule: opt_int(o, "r", at)?.unwrap_or(1),
+            }
+        }
+        "tr" => ShapeKind::Transform(Transform::read(v, at)?),
+        other => ShapeKind::Other(other.to_string()),
+    };
+    Ok(ShapeItem {
+        at: at.clone(),
+        nm: opt_string(o, "nm", at)?.unwrap_or_default(),
+        hidden: o.get("hd").and_then(Value::as_bool).unwrap_or(false),
+        kind,
+    })
+}
+
+/// The layer types of the format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LayerKind {
+    /// `ty` 0: a precomposition.
+    Precomp,
+    /// `ty` 1: a solid rectangle.
+    Solid,
+    /// `ty` 2: an image.
+    Image,
+    /// `ty` 3: a null (a transform others parent to; draws nothing).
+    Null,
+    /// `ty` 4: shapes.
+    Shape,
+    /// `ty` 5: text.
+    Text,
+    /// Anything else (audio, camera, data…): draws nothing gmotion knows.
+    Other(i64),
+}
+
+impl LayerKind {
+    fn of(ty: i64) -> LayerKind {
+        match ty {
+            0 => LayerKind::Precomp,
+            1 => LayerKind::Solid,
+            2 => LayerKind::Image,
+            3 => LayerKind::Null,
+            4 => LayerKind::Shape,
+            5 => LayerKind::Text,
+            other => LayerKind::Other(other),
+        }
+    }
+
+    /// The kind's name, the tag of layers with a default name.
+    pub fn name(self) -> &'static str {
+        match self {
+            LayerKind::Precomp => "precomp",
+            LayerKind::Solid => "solid",
+            LayerKind::Image => "image",
+            LayerKind::Null => "null",
+            LayerKind::Shape => "shape",
+            LayerKind::Text => "text",
+            LayerKind::Other(_) => "layer",
+        }
+    }
+
+    /// Whether layers of this kind draw something (and so can be units).
+    pub fn draws(self) -> bool {
+        !matches!(self, LayerKind::Null | LayerKind::Other(_))
+    }
+}
+
+/// A layer.
+#[derive(Clone, Debug)]
+pub struct Layer {
+    /// Where it is.
+    pub at: Loc,
+    /// Its type.
+    pub kind: LayerKind,
+    /// Name.
+    pub nm: String,
+    /// Index (`ind`), which `parent` and `tp` refer to.
+    pub ind: Option<i64>,
+    /// The parent layer's `ind`.
+    pub parent: Option<i64>,
+    /// In point (composition frames).
+    pub ip: f64,
+    /// Out point (composition frames).
+    pub op: f64,
+    /// Start time (composition frames).
+    pub st: f64,
+    /// Time stretch.
+    pub sr: f64,
+    /// Transform.
+    pub ks: Transform,
+    /// Shapes (shape layers), topmost first.
+    pub shapes: Vec<ShapeItem>,
+    /// Asset id (precomp and image layers).
+    pub ref_id: Option<String>,
+    /// Width (precomp layers' clip rectangle).
+    pub w: Option<f64>,
+    /// Height.
+    pub h: Option<f64>,
+    /// Solid colour (`sc`, `#rrggbb`).
+    pub solid_color: Option<String>,
+    /// Solid width.
+    pub sw: Option<f64>,
+    /// Solid height.
+    pub sh: Option<f64>,
+    /// Time remap (precomp layers), in seconds.
+    pub tm: Option<Num>,
+    /// `td`: this layer is the track matte of another.
+    pub td: bool,
+    /// `tt`: the track matte mode (1 alpha, 2 inverted alpha, 3 luma, 4 inverted luma).
+    pub tt: Option<i64>,
+    /// `tp`: the matte layer's `ind` (newer files; older ones use the layer above).
+    pub tp: Option<i64>,
+    /// `hd`: hidden.
+    pub hidden: bool,
+    /// Whether it has layer masks (`masksProperties`).
+    pub has_masks: bool,
+    /// Whether it has effects (`ef`).
+    pub has_effects: bool,
+}
+
+fn layer(v: &Value, at: &Loc) -> Result<Layer> {
+    let o = object(v, at)?;
+    let ty = match opt_int(o, "ty", at)? {
+        Some(ty) => ty,
+        None => return error(at, "a layer needs its type `ty`"),
+    };
+    let kind = LayerKind::of(ty);
+    let sr = opt_number(o, "sr", at)?.unwrap_or(1.0);
+    if sr <= 0.0 {
+        return error(&at.key("sr"), "the time stretch `sr` must be positive");
+    }
+    let ks = match o.get("ks") {
+        Some(ks) => Transform::read(ks, &at.key("ks"))?,
+        None => Transform::default(),
+    };
+    let shapes = match (kind, o.get("shapes")) {
+        (LayerKind::Shape, Some(s)) => shape_items(s, &at.key("shapes"))?,
+        _ => Vec::new(),
+    };
+    let non_empty = |key: &str| {
+        o.get(key)
+            .and_then(Value::as_array)
+            .is_some_and(|a| !a.is_empty())
+    };
+    Ok(Layer {
+        at: at.clone(),
+        kind,
+        nm: opt_string(o, "nm", at)?.unwrap_or_default(),
+        ind: opt_int(o, "ind", at)?,
+        parent: opt_int(o, "parent", at)?,
+        ip: opt_number(o, "ip", at)?.unwrap_or(0.0),
+        op: opt_number(o, "op", at)?.unwrap_or(f64::MAX),
+        st: opt_number(o, "st", at)?.unwrap_or(0.0),
+        sr,
+        ks,
+        shapes,
+        ref_id: opt_string(o, "refId", at)?,
+        w: opt_number(o, "w", at)?,
+        h: opt_number(o, "h", at)?,
+        solid_color: opt_string(o, "sc", at)?,
+        sw: opt_number(o, "sw", at)?,
+        sh: opt_number(o, "sh", at)?,
+        tm: opt_property(o, "tm", at)?,
+        td: flag(o, "td", at)?,
+        tt: opt_int(o, "tt", at)?,
+        tp: opt_int(o, "tp", at)?,
+        hidden: o.get("hd").and_then(Value::as_bool).unwrap_or(false),
+        has_masks: non_empty("masksProperties"),
+        has_effects: non_empty("ef"),
+    })
+}
+
+fn read_layers(v: &Value, at: &Loc) -> Result<Vec<Layer>> {
+    array(v, at)?
+        .iter()
+        .enumerate()
+        .map(|(i, l)| layer(l, &at.idx(i)))
+        .collect()
+}
+
+/// An asset: a precomposition (with layers) or an image.
+#[derive(Clone, Debug)]
+pub struct Asset {
+    /// Where it is.
+    pub at: Loc,
+    /// Its id (`refId` of the layers that use it).
+    pub id: String,
+    /// A precomposition's layers.
+    pub layers: Option<Vec<Layer>>,
+    /// Width (images).
+    pub w: Option<f64>,
+    /// Height (images).
+    pub h: Option<f64>,
+}
+
+/// The document's animation.
+#[derive(Clone, Debug)]
+pub struct Document {
+    /// The Bodymovin version that wrote it (`v`).
+    pub version: Option<String>,
+    /// Frame rate.
+    pub fr: f64,
+    /// First frame.
+    pub ip: f64,
+    /// The frame after the last one.
+    pub op: f64,
+    /// Width.
+    pub w: f64,
+    /// Height.
+    pub h: f64,
+    /// The root composition's layers, topmost first.
+    pub layers: Vec<Layer>,
+    /// Assets.
+    pub assets: Vec<Asset>,
+}
+
+impl Document {
+    /// Reads the model of a parsed document.
+    pub fn read(v: &Value) -> Result<Document> {
+        let at = Loc::root();
+        let o = object(v, &at)?;
+        let need = |key: &str| -> Result<f64> {
+            match opt_number(o, key, &at)? {
+                Some(x) => Ok(x),
+                None => error(&at, format!("a Lottie animation needs `{key}`")),
+            }
+        };
+        let fr = need("fr")?;
+        let (ip, op, w, h) = (need("ip")?, need("op")?, need("w")?, need("h")?);
+        if fr <= 0.0 {
+            return error(&at.key("fr"), "the frame rate `fr` must be positive");
+        }
+        if op <= ip {
+            return error(
+                &at.key("op"),
+                format!("the out point `op` ({op}) must come after the in point `ip` ({ip})"),
+            );
+        }
+        if w <= 0.0 || h <= 0.0 {
+            return error(&at, format!("the size {w}×{h} must be positive"));
+        }
+        let layers = match o.get("layers") {
+            Some(l) => read_layers(l, &at.key("layers"))?,
+            None => return error(&at, "a Lottie animation needs `layers`"),
+        };
+        let mut assets = Vec::new();
+        if let Some(a) = o.get("assets") {
+            let a_at = at.key("assets");
+            for (i, asset) in array(a, &a_at)?.iter().enumerate() {
+                let at = a_at.idx(i);
+                let ao = object(asset, &at)?;
+                assets.push(Asset {
+                    id: opt_string(ao, "id", &at)?.unwrap_or_default(),
+                    layers: match ao.get("layers") {
+                        Some(l) => Some(read_layers(l, &at.key("layers"))?),
+                        None => None,
+                    },
+                    w: opt_number(ao, "w", &at)?,
+                    h: opt_number(ao, "h", &at)?,
+                    at,
+                });
+            }
+        }
+        Ok(Document {
+            version: match o.get("v") {
+                Some(Value::String(s)) => Some(s.clone()),
+                _ => None,
+            },
+            fr,
+            ip,
+            op,
+            w,
+            h,
+            layers,
+            assets,
+        })
+    }
+
+    /// Whether the file predates Bodymovin `major.minor.patch`.
+    pub fn older_than(&self, version: (u32, u32, u32)) -> bool {
+        let Some(v) = &self.version else {
+            return false;
+        };
+        let mut parts = v.split('.').map(|p| p.trim().parse::<u32>().unwrap_or(0));
+        let found = (
+            parts.next().unwrap_or(0),
+            parts.next().unwrap_or(0),
+            parts.next().unwrap_or(0),
+        );
+        found < version
+    }
+}

@@ -1,0 +1,514 @@
+//! Lottie in: the real binary on Lottie scenes. The identity (`convert X.json -o Y.json`)
+//! on lottie-web's own test animations, judged by Python's JSON reader (not the one that
+//! wrote them); units, tags and parenting on small generated documents; a grammar on top
+//! played in lottie-web and rlottie, judged by what the players draw; hostile documents.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use gmotion_export_raster::Pixmap;
+use serde_json::{Value, json};
+
+use crate::support::players::{Player, frame_path, play};
+use crate::support::root;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_gmotion"))
+}
+
+fn out_dir(name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("lottie_import")
+        .join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Runs `cmd`; returns (success, stdout, stderr).
+fn run(cmd: &mut Command) -> (bool, String, String) {
+    let out = cmd.output().expect("run gmotion");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// A 200×200 composition of 60 frames at 30 fps. Layers say `ddd` first, as After
+/// Effects writes them: rlottie reads a layer's transform as 3D (ignoring `r`) unless it
+/// has seen `ddd: 0`.
+fn doc(layers: Value, assets: Value) -> Value {
+    json!({"v": "5.7.0", "fr": 30, "ip": 0, "op": 60, "w": 200, "h": 200, "nm": "test",
+           "ddd": 0, "assets": assets, "layers": layers, "markers": [], "unknownKey": {"kept": [1, 2]}})
+}
+
+fn ks(p: [f64; 2], r: f64, s: f64) -> Value {
+    json!({"o": {"a": 0, "k": 100}, "r": {"a": 0, "k": r}, "p": {"a": 0, "k": [p[0], p[1], 0]},
+           "a": {"a": 0, "k": [0, 0, 0]}, "s": {"a": 0, "k": [s, s, 100]}})
+}
+
+/// A shape layer holding one `w`×`h` rectangle about its origin, filled with `rgb`.
+fn rect_layer(
+    nm: &str,
+    ind: i64,
+    parent: Option<i64>,
+    p: [f64; 2],
+    wh: [f64; 2],
+    rgb: [f64; 3],
+) -> Value {
+    let mut l = json!({"ddd": 0, "ty": 4, "nm": nm, "ind": ind, "ip": 0, "op": 60, "st": 0, "sr": 1,
+        "ks": ks(p, 0.0, 100.0), "ao": 0, "bm": 0, "mn": "ADBE Vector Layer",
+        "shapes": [{"ty": "gr", "nm": "Group 1", "it": [
+            {"ty": "rc", "d": 1, "p": {"a": 0, "k": [0, 0]}, "s": {"a": 0, "k": wh}, "r": {"a": 0, "k": 0}},
+            {"ty": "fl", "c": {"a": 0, "k": [rgb[0], rgb[1], rgb[2], 1]}, "o": {"a": 0, "k": 100}, "r": 1},
+            {"ty": "tr", "p": {"a": 0, "k": [0, 0]}, "a": {"a": 0, "k": [0, 0]}, "s": {"a": 0, "k": [100, 100]},
+             "r": {"a": 0, "k": 0}, "o": {"a": 0, "k": 100}}]}]});
+    if let Some(p) = parent {
+        l["parent"] = json!(p);
+    }
+    l
+}
+
+fn null_layer(nm: &str, ind: i64, ks: Value) -> Value {
+    json!({"ddd": 0, "ty": 3, "nm": nm, "ind": ind, "ip": 0, "op": 60, "st": 0, "sr": 1, "ks": ks, "ao": 0})
+}
+
+fn write_json(dir: &Path, name: &str, v: &Value) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, serde_json::to_string_pretty(v).unwrap()).unwrap();
+    p
+}
+
+/// Whether two JSON files hold equal documents, read by Python (correctly rounded floats,
+/// key order ignored), so the check does not share a parser with what wrote them.
+fn json_equal(a: &Path, b: &Path) -> bool {
+    let out = Command::new("python3")
+        .arg("-c")
+        .arg("import json, sys\nr = lambda p: json.load(open(p, encoding='utf-8-sig'))\nsys.exit(0 if r(sys.argv[1]) == r(sys.argv[2]) else 3)")
+        .arg(a)
+        .arg(b)
+        .output()
+        .expect("python3 runs (tests/conformance/install.sh)");
+    match out.status.code() {
+        Some(0) => true,
+        Some(3) => false,
+        _ => panic!("python3 failed: {}", String::from_utf8_lossy(&out.stderr)),
+    }
+}
+
+#[test]
+fn convert_is_the_identity_on_lottie_web_test_animations() {
+    let folder = root().join("tests/conformance/node_modules/lottie-web/test/animations");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&folder)
+        .unwrap_or_else(|e| {
+            panic!(
+                "{}: {e}; run tests/conformance/install.sh",
+                folder.display()
+            )
+        })
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 10, "lottie-web's test animations: {files:?}");
+    let dir = out_dir("identity");
+    let mut different = Vec::new();
+    for f in &files {
+        let out = dir.join(f.file_name().unwrap());
+        let (ok, _, err) = run(bin().arg("convert").arg(f).arg("-o").arg(&out));
+        assert!(ok, "{}: {err}", f.display());
+        if !json_equal(f, &out) {
+            different.push(f.display().to_string());
+        }
+    }
+    assert!(different.is_empty(), "not the identity: {different:?}");
+}
+
+/// The units `check --shapes` lists: (tag:id, box, layer names).
+fn units(path: &Path) -> Vec<(String, [f64; 4], String)> {
+    let (ok, out, err) = run(bin().arg("check").arg("--shapes").arg(path));
+    assert!(ok, "{err}");
+    out.lines()
+        .skip(1)
+        .map(|l| {
+            let l = l.trim();
+            let (name, rest) = l.split_once("  box [").expect("a unit line");
+            let (b, rest) = rest.split_once(']').unwrap();
+            let b: Vec<f64> = b.split(',').map(|x| x.trim().parse().unwrap()).collect();
+            let layers = rest.split_once("layer ").map_or("", |x| x.1).to_string();
+            (name.to_string(), [b[0], b[1], b[2], b[3]], layers)
+        })
+        .collect()
+}
+
+#[test]
+fn layers_are_units_tagged_from_their_names() {
+    let dir = out_dir("units");
+    let mut hidden = rect_layer("hidden", 9, None, [10.0, 10.0], [4.0, 4.0], [0.0, 0.0, 0.0]);
+    hidden["hd"] = json!(true);
+    let mut matte = rect_layer(
+        "cutout",
+        7,
+        None,
+        [100.0, 150.0],
+        [20.0, 20.0],
+        [1.0, 1.0, 1.0],
+    );
+    matte["td"] = json!(1);
+    let mut body = rect_layer(
+        "Body",
+        8,
+        None,
+        [100.0, 150.0],
+        [40.0, 10.0],
+        [0.0, 0.0, 1.0],
+    );
+    body["tt"] = json!(1);
+    let layers = json!([
+        null_layer("Null 1", 1, ks([50.0, 0.0], 0.0, 100.0)),
+        rect_layer("Wheel 2 Outlines", 2, Some(1), [20.0, 30.0], [10.0, 10.0], [1.0, 0.0, 0.0]),
+        rect_layer("Wheel 1", 3, None, [20.0, 30.0], [10.0, 10.0], [1.0, 0.0, 0.0]),
+        rect_layer("Shape Layer 3", 4, Some(1), [0.0, 100.0], [20.0, 40.0], [0.0, 1.0, 0.0]),
+        hidden,
+        matte,
+        body,
+        {"ty": 1, "nm": "Dark Gray Solid 1", "ind": 10, "ip": 0, "op": 60, "st": 0, "sr": 1,
+         "ks": ks([0.0, 0.0], 0.0, 100.0), "sc": "#333333", "sw": 200, "sh": 200},
+    ]);
+    let path = write_json(&dir, "units.json", &doc(layers, json!([])));
+    let got = units(&path);
+    let names: Vec<&str> = got.iter().map(|u| u.0.as_str()).collect();
+    // Paint order, bottom first: ids count within a tag in that order; the null, the
+    // hidden layer and the matte source are no units.
+    assert_eq!(
+        names,
+        ["solid:0", "Body:0", "shape:0", "Wheel:0", "Wheel:1"]
+    );
+    let by = |n: &str| got.iter().find(|u| u.0 == n).unwrap();
+    // Parenting: the null moves its children by (50, 0).
+    assert_eq!(by("Wheel:1").1, [65.0, 25.0, 75.0, 35.0]);
+    assert_eq!(by("Wheel:0").1, [15.0, 25.0, 25.0, 35.0]);
+    assert_eq!(by("shape:0").1, [40.0, 80.0, 60.0, 120.0]);
+    assert_eq!(by("solid:0").1, [0.0, 0.0, 200.0, 200.0]);
+    // The matte moves with its target, and names come back as they were.
+    assert_eq!(
+        by("Body:0").2,
+        "\"Body\" (ind 8) + matte \"cutout\" (ind 7)"
+    );
+    assert_eq!(by("Wheel:1").2, "\"Wheel 2 Outlines\" (ind 2)");
+
+    // Nothing moves: the output is the input, unknown keys included.
+    let g = dir.join("still.gm");
+    std::fs::write(&g, "duration 2s\nfps 30\n").unwrap();
+    let out = dir.join("out.json");
+    let (ok, _, err) = run(bin().arg("animate").arg(&path).arg(&g).arg("-o").arg(&out));
+    assert!(ok, "{err}");
+    assert!(json_equal(&path, &out));
+}
+
+/// Red pixels' count, centroid and second moments (`xx`, `yy`, `xy`) in a player's frame.
+fn moments(png: &Path, pick: impl Fn(u8, u8, u8, u8) -> bool) -> (f64, [f64; 2], [f64; 3]) {
+    let pm = Pixmap::load_png(png).unwrap_or_else(|e| panic!("{}: {e}", png.display()));
+    let w = pm.width() as usize;
+    let mut pts = Vec::new();
+    for (i, p) in pm.pixels().iter().enumerate() {
+        if pick(p.red(), p.green(), p.blue(), p.alpha()) {
+            pts.push(((i % w) as f64 + 0.5, (i / w) as f64 + 0.5));
+        }
+    }
+    let n = pts.len() as f64;
+    assert!(n > 20.0, "{}: too few pixels ({n})", png.display());
+    let c = pts
+        .iter()
+        .fold([0.0, 0.0], |a, p| [a[0] + p.0 / n, a[1] + p.1 / n]);
+    let m = pts.iter().fold([0.0; 3], |a, p| {
+        let (dx, dy) = (p.0 - c[0], p.1 - c[1]);
+        [a[0] + dx * dx / n, a[1] + dy * dy / n, a[2] + dx * dy / n]
+    });
+    (n, c, m)
+}
+
+#[test]
+fn a_turn_and_a_fade_on_top_play_in_lottie_web_and_rlottie() {
+    let dir = out_dir("turn");
+    // A bar under a rotated, scaled null, and a square under nothing; the bar's own layer
+    // carries an AE name and an unknown key, which must come back.
+    let mut bar = rect_layer(
+        "Bar Outlines",
+        2,
+        Some(1),
+        [10.0, 5.0],
+        [60.0, 16.0],
+        [1.0, 0.0, 0.0],
+    );
+    bar["mn"] = json!("ADBE Vector Layer");
+    let layers = json!([
+        null_layer("Rig", 1, ks([90.0, 80.0], 30.0, 150.0)),
+        bar,
+        rect_layer(
+            "dot",
+            3,
+            None,
+            [160.0, 160.0],
+            [24.0, 24.0],
+            [0.0, 0.0, 1.0]
+        ),
+    ]);
+    let src = write_json(&dir, "scene.json", &doc(layers, json!([])));
+    // The grammar lasts 1 s of the 2 s composition: from frame 30 on the end state holds.
+    let g = dir.join("turn.gm");
+    std::fs::write(
+        &g,
+        "duration 1s\nfps 30\n\
+         animate(affine, local, 0, rotate(90)) : [all, Bar] -> [turned]\n\
+         animate(opacity, local, 0, 0.5) : [all, dot] -> [faded]\n",
+    )
+    .unwrap();
+    let out = dir.join("out.json");
+    let (ok, _, err) = run(bin().arg("animate").arg(&src).arg(&g).arg("-o").arg(&out));
+    assert!(ok, "{err}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    let v: Value = serde_json::from_str(&text).unwrap();
+    let layers = v["layers"].as_array().unwrap();
+    assert_eq!(layers[1]["nm"], "Bar Outlines");
+    assert_eq!(layers[1]["mn"], "ADBE Vector Layer");
+    assert_eq!(v["unknownKey"], json!({"kept": [1, 2]}));
+    let null = layers
+        .iter()
+        .find(|l| l["nm"] == "gmotion Bar 0")
+        .expect("a null layer for the bar's motion");
+    assert_eq!(null["ty"], 3);
+    assert_eq!(null["parent"], 1, "gmotion's nulls hang where the bar did");
+    // The bar hangs from a chain of gmotion's nulls that starts at that one.
+    let mut at = layers[1]["parent"].clone();
+    let mut chain = 0;
+    while at != null["ind"] {
+        let l = layers.iter().find(|l| l["ind"] == at).expect("a parent");
+        let nm = l["nm"].as_str().unwrap();
+        assert!(nm.starts_with("gmotion Bar 0/"), "{nm}");
+        at = l["parent"].clone();
+        chain += 1;
+        assert!(chain < 10);
+    }
+
+    let players = [Player::LottieWebSvg, Player::Rlottie];
+    let frames = [0.0, 45.0];
+    let played = play("lottie_import-turn", &text, &frames, 200, &players);
+    let red = |r: u8, g: u8, b: u8, a: u8| a > 128 && r > 128 && g < 64 && b < 64;
+    let blue = |r: u8, g: u8, b: u8, a: u8| a > 0 && b > 16 && r < 16 && g < 16;
+    for p in players {
+        let (n0, c0, m0) = moments(&frame_path(&played, p, 0.0), red);
+        let (n1, c1, m1) = moments(&frame_path(&played, p, 45.0), red);
+        // A quarter turn about the bar's centroid: the centroid stays, the second moments
+        // swap their axes and the cross moment changes sign; the area is kept.
+        let msg =
+            format!("{p:?}: frame 0 {n0} px at {c0:?} {m0:?}, frame 45 {n1} px at {c1:?} {m1:?}");
+        assert!(
+            (c0[0] - c1[0]).abs() < 1.0 && (c0[1] - c1[1]).abs() < 1.0,
+            "{msg}"
+        );
+        assert!((n0 - n1).abs() < 0.03 * n0, "{msg}");
+        let scale = m0[0].max(m0[1]);
+        assert!((m1[0] - m0[1]).abs() < 0.05 * scale, "{msg}");
+        assert!((m1[1] - m0[0]).abs() < 0.05 * scale, "{msg}");
+        assert!((m1[2] + m0[2]).abs() < 0.05 * scale, "{msg}");
+        assert!(
+            m0[2].abs() > 0.2 * scale,
+            "the bar starts at an angle: {msg}"
+        );
+        // The square fades to half its opacity and stays where it was.
+        let alpha = |f: f64| {
+            let pm = Pixmap::load_png(frame_path(&played, p, f)).unwrap();
+            let w = pm.width() as usize;
+            pm.pixels()[160 * w + 160].alpha() as f64 / 255.0
+        };
+        assert!((alpha(0.0) - 1.0).abs() < 0.02, "{p:?}: {}", alpha(0.0));
+        assert!((alpha(45.0) - 0.5).abs() < 0.03, "{p:?}: {}", alpha(45.0));
+        let (_, d0, _) = moments(&frame_path(&played, p, 0.0), blue);
+        let (_, d1, _) = moments(&frame_path(&played, p, 45.0), blue);
+        assert!(
+            (d0[0] - d1[0]).abs() < 1.0 && (d0[1] - d1[1]).abs() < 1.0,
+            "{p:?}: {d0:?} {d1:?}"
+        );
+    }
+}
+
+/// Runs `check --shapes` on `text` and returns the error message (the command must fail,
+/// without panicking).
+fn refused(name: &str, text: &str) -> String {
+    let dir = out_dir("hostile");
+    let path = dir.join(format!("{name}.json"));
+    std::fs::write(&path, text).unwrap();
+    let start = std::time::Instant::now();
+    let (ok, _, err) = run(bin().arg("check").arg("--shapes").arg(&path));
+    assert!(!ok, "{name}: accepted");
+    assert!(!err.contains("panicked"), "{name}: {err}");
+    assert!(
+        start.elapsed().as_secs() < 20,
+        "{name}: took {:?}",
+        start.elapsed()
+    );
+    err
+}
+
+fn precomp(ref_id: &str, ind: i64) -> Value {
+    json!({"ddd": 0, "ty": 0, "nm": "pc", "ind": ind, "refId": ref_id, "ip": 0, "op": 60, "st": 0, "sr": 1,
+           "w": 200, "h": 200, "ks": ks([0.0, 0.0], 0.0, 100.0)})
+}
+
+#[test]
+fn hostile_documents_get_located_errors() {
+    let bar = |p: Value| {
+        let mut l = rect_layer("a", 1, None, [0.0, 0.0], [4.0, 4.0], [1.0, 0.0, 0.0]);
+        l["ks"]["p"]["k"] = p;
+        l
+    };
+    let cases: Vec<(&str, String, &str)> = vec![
+        (
+            "syntax",
+            "{\"v\": \"5.7.0\",\n \"fr\": }".into(),
+            ":2:8: malformed JSON",
+        ),
+        (
+            "not_object",
+            "[1, 2]".into(),
+            "$: expected an object, found an array",
+        ),
+        (
+            "no_rate",
+            json!({"ip": 0, "op": 1, "w": 1, "h": 1, "layers": []}).to_string(),
+            "$: a Lottie animation needs `fr`",
+        ),
+        (
+            "nan_string",
+            doc(json!([]), json!([]))
+                .to_string()
+                .replace("\"fr\":30", "\"fr\":\"NaN\""),
+            "$.fr: expected a number, found a string",
+        ),
+        (
+            "overflow",
+            doc(json!([]), json!([]))
+                .to_string()
+                .replace("\"fr\":30", "\"fr\":1e400"),
+            "malformed JSON",
+        ),
+        (
+            "huge",
+            doc(json!([bar(json!([1e300, 0]))]), json!([])).to_string(),
+            "$.layers[0].ks.p.k[0]: the number is out of range",
+        ),
+        (
+            "wrong_type",
+            doc(json!({"a": 1}), json!([])).to_string(),
+            "$.layers: expected an array, found an object",
+        ),
+        (
+            "bad_keyframe",
+            doc(
+                json!([bar(json!([{"t": 0, "s": [0, "x"]}, {"t": 5}]))]),
+                json!([]),
+            )
+            .to_string(),
+            "$.layers[0].ks.p.k[0].s[1]: expected a number",
+        ),
+        (
+            "parent_cycle",
+            {
+                let mut a = rect_layer("a", 1, Some(2), [0.0, 0.0], [4.0, 4.0], [1.0, 0.0, 0.0]);
+                let b = rect_layer("b", 2, Some(3), [0.0, 0.0], [4.0, 4.0], [1.0, 0.0, 0.0]);
+                let c = rect_layer("c", 3, Some(1), [0.0, 0.0], [4.0, 4.0], [1.0, 0.0, 0.0]);
+                a["nm"] = json!("a");
+                doc(json!([a, b, c]), json!([])).to_string()
+            },
+            "$.layers[0].parent: the layers' parents form a cycle",
+        ),
+        (
+            "precomp_cycle",
+            doc(
+                json!([precomp("x", 1)]),
+                json!([
+            {"id": "x", "layers": [precomp("y", 1)]}, {"id": "y", "layers": [precomp("x", 1)]}]),
+            )
+            .to_string(),
+            "$.assets[1].layers[0].refId: precompositions form a cycle: x → y → x",
+        ),
+        (
+            "precomp_deep",
+            {
+                let assets: Vec<Value> = (0..40).map(|i| json!({"id": format!("c{i}"), "layers": [precomp(&format!("c{}", i + 1), 1)]})).collect();
+                doc(json!([precomp("c0", 1)]), Value::Array(assets)).to_string()
+            },
+            "precompositions nest deeper than 32 levels",
+        ),
+        (
+            "precomp_fan_out",
+            {
+                // Ten uses of the next precomposition at each of nine levels: 10⁹ layers.
+                let assets: Vec<Value> = (0..9)
+                    .map(|i| {
+                        json!({"id": format!("f{i}"),
+                "layers": (0..10).map(|k| precomp(&format!("f{}", i + 1), k)).collect::<Vec<_>>()})
+                    })
+                    .collect();
+                let mut assets = assets;
+                assets.push(json!({"id": "f9", "layers": [rect_layer("leaf", 1, None, [0.0, 0.0], [2.0, 2.0], [1.0, 0.0, 0.0])]}));
+                doc(json!([precomp("f0", 1)]), Value::Array(assets)).to_string()
+            },
+            "layers to draw",
+        ),
+        (
+            "deep_groups",
+            {
+                let mut g =
+                    json!({"ty": "fl", "c": {"a": 0, "k": [1, 0, 0]}, "o": {"a": 0, "k": 100}});
+                for _ in 0..100 {
+                    g = json!({"ty": "gr", "it": [g]});
+                }
+                let mut l = rect_layer("a", 1, None, [0.0, 0.0], [4.0, 4.0], [1.0, 0.0, 0.0]);
+                l["shapes"] = json!([g]);
+                doc(json!([l]), json!([])).to_string()
+            },
+            "malformed JSON: recursion limit exceeded",
+        ),
+        (
+            "deep_json",
+            format!("{}{}", "[".repeat(5000), "]".repeat(5000)),
+            "recursion limit exceeded",
+        ),
+        (
+            "shape_type",
+            {
+                let mut l = rect_layer("a", 1, None, [0.0, 0.0], [4.0, 4.0], [1.0, 0.0, 0.0]);
+                l["shapes"][0]["it"][0]["ty"] = json!(5);
+                doc(json!([l]), json!([])).to_string()
+            },
+            "$.layers[0].shapes[0].it[0].ty: expected a shape type string, found a number",
+        ),
+    ];
+    let mut wrong = Vec::new();
+    for (name, text, expected) in &cases {
+        let err = refused(name, text);
+        if !err.contains(expected) {
+            wrong.push(format!("{name}: expected {expected:?} in {err:?}"));
+        }
+    }
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}
+
+#[test]
+fn huge_keyframe_arrays_import_in_bounded_time() {
+    let dir = out_dir("huge_keys");
+    let keys: Vec<Value> = (0..200_000)
+        .map(|t| json!({"t": t, "s": [t % 200, 50], "o": {"x": [0.3], "y": [0]}, "i": {"x": [0.7], "y": [1]}}))
+        .collect();
+    let mut l = rect_layer("runner", 1, None, [0.0, 0.0], [4.0, 4.0], [1.0, 0.0, 0.0]);
+    l["ks"]["p"] = json!({"a": 1, "k": keys});
+    let path = write_json(&dir, "huge.json", &doc(json!([l]), json!([])));
+    let start = std::time::Instant::now();
+    let got = units(&path);
+    assert!(start.elapsed().as_secs() < 30, "took {:?}", start.elapsed());
+    assert_eq!(got.len(), 1);
+    assert_eq!(got[0].1, [-2.0, 48.0, 2.0, 52.0]);
+}
