@@ -339,6 +339,26 @@ impl Scene {
     }
 }
 
+impl PathNode {
+    /// A path painted with `fill` and `stroke`, the fill first, that is not (yet) an
+    /// animated unit.
+    pub fn new(
+        id: impl Into<String>,
+        path: BezPath,
+        fill: Option<Fill>,
+        stroke: Option<Stroke>,
+    ) -> PathNode {
+        PathNode {
+            id: id.into(),
+            path,
+            fill,
+            stroke,
+            stroke_first: false,
+            unit: None,
+        }
+    }
+}
+
 impl Fill {
     /// An opaque non-zero fill of one colour.
     pub fn solid(color: Color) -> Fill {
@@ -460,14 +480,7 @@ impl SceneBuilder {
     ) -> SceneBuilder {
         self.unit(
             tag,
-            Node::Path(PathNode {
-                id: String::new(),
-                path,
-                fill,
-                stroke,
-                stroke_first: false,
-                unit: None,
-            }),
+            Node::Path(PathNode::new(String::new(), path, fill, stroke)),
         )
     }
 

@@ -265,11 +265,7 @@ fn rect_path(r: Rect) -> BezPath {
 }
 
 fn solid(c: Color) -> Option<Fill> {
-    Some(Fill {
-        paint: Paint::Solid(c),
-        opacity: 1.0,
-        rule: FillRule::NonZero,
-    })
+    Some(Fill::solid(c))
 }
 
 fn stroke(width: f64) -> Option<Stroke> {
@@ -283,17 +279,15 @@ fn scene(paths: Vec<(BezPath, Option<Fill>, Option<Stroke>)>) -> Scene {
     for (i, (path, fill, stroke)) in paths.into_iter().enumerate() {
         b = b.unit(
             "t",
-            Node::Path(PathNode {
-                id: format!("p{i}"),
-                path,
-                fill,
-                stroke,
-                stroke_first: false,
-                unit: None,
-            }),
+            Node::Path(PathNode::new(format!("p{i}"), path, fill, stroke)),
         );
     }
     b.build()
+}
+
+/// A scene of one black rectangle (`p0`, tag `t`).
+fn black_rect(r: Rect) -> Scene {
+    scene(vec![(rect_path(r), solid(Color::BLACK), None)])
 }
 
 fn timing(start: f64, end: f64, delay: f64, ease: Easing, reversed: bool) -> Timing {
@@ -347,6 +341,21 @@ fn animation(scene: Scene, tracks: Vec<Track>, duration: f64) -> Animation {
         looping: true,
         tracks,
     }
+}
+
+/// A looping animation of `s`'s one shape, moved by `kind` over the whole window of its
+/// timing.
+fn one_motion(s: Scene, tm: &Timing, kind: &MotionKind, duration: f64) -> Animation {
+    let mut track = Track::default();
+    push(&mut track, tm.start, tm.end, tm, kind);
+    animation(s, vec![track], duration)
+}
+
+/// `anim` exported with the default options, and its parsed document.
+fn export(anim: &Animation) -> (String, Value) {
+    let (json, _) = to_lottie(anim, &LottieOptions::default()).unwrap();
+    let doc = parse(&json);
+    (json, doc)
 }
 
 const EASE_IN_OUT: Easing = Easing::CubicBezier([0.42, 0.0, 0.58, 1.0]);
@@ -434,8 +443,7 @@ fn layers_are_named_tag_id_and_carry_no_skew() {
     );
     push(&mut tracks[1], 0.0, 2.0, &tm, &kind);
     let anim = animation(s, tracks, 2.0);
-    let (json, _) = to_lottie(&anim, &LottieOptions::default()).unwrap();
-    let doc = parse(&json);
+    let (json, doc) = export(&anim);
     assert_eq!(doc["w"], 400);
     assert_eq!(doc["h"], 300);
     assert_eq!(doc["fr"], 30);
@@ -455,12 +463,7 @@ fn layers_are_named_tag_id_and_carry_no_skew() {
 
 #[test]
 fn one_window_has_keyframes_at_the_active_ends_only() {
-    let s = scene(vec![(
-        rect_path(Rect::new(10.0, 10.0, 50.0, 50.0)),
-        solid(Color::BLACK),
-        None,
-    )]);
-    let mut track = Track::default();
+    let s = black_rect(Rect::new(10.0, 10.0, 50.0, 50.0));
     let tm = timing(0.5, 2.5, 0.5, EASE_IN_OUT, false);
     let kind = rigid(
         Point::new(30.0, 30.0),
@@ -471,8 +474,7 @@ fn one_window_has_keyframes_at_the_active_ends_only() {
         ],
         Interp::Linear,
     );
-    push(&mut track, 0.5, 2.5, &tm, &kind);
-    let anim = animation(s, vec![track], 3.0);
+    let anim = one_motion(s, &tm, &kind, 3.0);
     let (json, warnings) = to_lottie(&anim, &LottieOptions::default()).unwrap();
     assert!(warnings.is_empty(), "{warnings:?}");
     let doc = parse(&json);
@@ -611,12 +613,7 @@ fn split_reversed_and_shared_windows_are_exact() {
 /// motion does; the reduction must still cut the per-frame keys threefold.
 #[test]
 fn smooth_baked_motion_is_three_times_smaller_than_per_frame() {
-    let s = scene(vec![(
-        rect_path(Rect::new(50.0, 50.0, 110.0, 90.0)),
-        solid(Color::BLACK),
-        None,
-    )]);
-    let mut track = Track::default();
+    let s = black_rect(Rect::new(50.0, 50.0, 110.0, 90.0));
     // Alexa interpolation of a rotation with a translation is a spiral, not what Lottie's
     // component-wise interpolation draws: it must be sampled and reduced.
     let tm = timing(0.0, 4.0, 0.0, EASE_IN_OUT, false);
@@ -629,8 +626,7 @@ fn smooth_baked_motion_is_three_times_smaller_than_per_frame() {
         ],
         Interp::Alexa,
     );
-    push(&mut track, 0.0, 4.0, &tm, &kind);
-    let anim = animation(s, vec![track], 4.0);
+    let anim = one_motion(s, &tm, &kind, 4.0);
     let tolerance = 0.25;
     let (json, _) = to_lottie(
         &anim,
@@ -668,12 +664,7 @@ fn smooth_baked_motion_is_three_times_smaller_than_per_frame() {
 
 #[test]
 fn bilinear_blend_is_sampled_within_tolerance() {
-    let s = scene(vec![(
-        rect_path(Rect::new(150.0, 120.0, 190.0, 160.0)),
-        solid(Color::BLACK),
-        None,
-    )]);
-    let mut track = Track::default();
+    let s = black_rect(Rect::new(150.0, 120.0, 190.0, 160.0));
     let tm = timing(0.0, 2.0, 0.0, Easing::Linear, false);
     let blend: Blend = Arc::from([
         (0.6, Arc::from([Component::Rotate(90.0)].as_slice())),
@@ -687,10 +678,8 @@ fn bilinear_blend_is_sampled_within_tolerance() {
         blend,
         interp: Interp::Linear,
     };
-    push(&mut track, 0.0, 2.0, &tm, &kind);
-    let anim = animation(s, vec![track], 2.0);
-    let (json, _) = to_lottie(&anim, &LottieOptions::default()).unwrap();
-    let doc = parse(&json);
+    let anim = one_motion(s, &tm, &kind, 2.0);
+    let (json, doc) = export(&anim);
     assert!(max_error(&anim, &doc, 1) <= 0.25);
     plays("bilinear-blend", &anim, &json, &Player::ALL);
 }
@@ -709,18 +698,9 @@ fn vertex_deformation_becomes_path_keyframes() {
         Rect::new(0.0, 0.0, 400.0, 300.0),
         Field::Towards(Point::new(200.0, 150.0)),
     ));
-    let mut track = Track::default();
     let tm = timing(0.0, 2.0, 0.0, EASE_IN_OUT, false);
-    push(
-        &mut track,
-        0.0,
-        2.0,
-        &tm,
-        &MotionKind::Vertex { grid, pivot: None },
-    );
-    let anim = animation(s, vec![track], 2.0);
-    let (json, _) = to_lottie(&anim, &LottieOptions::default()).unwrap();
-    let doc = parse(&json);
+    let anim = one_motion(s, &tm, &MotionKind::Vertex { grid, pivot: None }, 2.0);
+    let (json, doc) = export(&anim);
     assert!(max_error(&anim, &doc, 1) <= 0.25);
     // The outline is keyframed, not the transform.
     let sh = json.find(r#""ty":"sh","ks":{"a":1"#);
@@ -762,8 +742,7 @@ fn tints_opacity_and_stroke_width_follow_the_model() {
         to: 4.0,
     });
     let anim = animation(s, vec![track], 2.0);
-    let (json, _) = to_lottie(&anim, &LottieOptions::default()).unwrap();
-    let doc = parse(&json);
+    let (json, doc) = export(&anim);
     for k in 0..=120 {
         let frame = k as f64 / 2.0;
         let t = frame / 30.0;
@@ -858,22 +837,20 @@ fn stroke_with_held_width_under_skew_is_an_outline() {
     if let Node::Path(p) = &mut s.root.children[0] {
         p.stroke.as_mut().unwrap().join = LineJoin::Round;
     }
-    let mut track = Track::default();
     let tm = timing(0.0, 1.0, 0.0, EASE_IN_OUT, false);
     let kind = rigid(
         Point::new(200.0, 110.0),
         &[Component::Skew(40.0, 0.0)],
         Interp::Linear,
     );
-    push(&mut track, 0.0, 1.0, &tm, &kind);
-    track.stroke_width.push(AttrSeg {
+    let mut anim = one_motion(s, &tm, &kind, 1.0);
+    anim.tracks[0].stroke_width.push(AttrSeg {
         t0: 0.0,
         t1: 1.0,
         timing: tm,
         from: 1.0,
         to: 1.0 - 1e-12,
     });
-    let anim = animation(s, vec![track], 1.0);
     let (json, _) = to_lottie(&anim, &LottieOptions::default()).unwrap();
     plays("held-width-under-skew", &anim, &json, &Player::ALL);
 }
@@ -915,25 +892,14 @@ fn overshooting_colour_and_opacity_stay_in_range() {
 
 #[test]
 fn output_is_deterministic() {
-    let s = scene(vec![(
-        rect_path(Rect::new(10.0, 10.0, 50.0, 50.0)),
-        solid(Color::BLACK),
-        None,
-    )]);
-    let mut track = Track::default();
+    let s = black_rect(Rect::new(10.0, 10.0, 50.0, 50.0));
     let tm = timing(0.0, 2.0, 0.0, EASE_IN_OUT, false);
-    push(
-        &mut track,
-        0.0,
-        2.0,
-        &tm,
-        &rigid(
-            Point::new(30.0, 30.0),
-            &[Component::Rotate(33.0)],
-            Interp::Alexa,
-        ),
+    let turn = rigid(
+        Point::new(30.0, 30.0),
+        &[Component::Rotate(33.0)],
+        Interp::Alexa,
     );
-    let anim = animation(s, vec![track], 2.0);
+    let anim = one_motion(s, &tm, &turn, 2.0);
     let a = to_lottie(&anim, &LottieOptions::default()).unwrap().0;
     let b = to_lottie(&anim, &LottieOptions::default()).unwrap().0;
     assert_eq!(a, b);
@@ -958,14 +924,23 @@ fn still(root: Group) -> Scene {
 }
 
 fn path_node(id: &str, path: BezPath, fill: Option<Fill>) -> Node {
-    Node::Path(PathNode {
-        id: id.into(),
-        path,
-        fill,
-        stroke: None,
-        stroke_first: false,
-        unit: None,
-    })
+    Node::Path(PathNode::new(id, path, fill, None))
+}
+
+/// A group painting the whole 200 × 200 canvas black (one path, `r`).
+fn black_canvas() -> Group {
+    group_with(vec![path_node(
+        "r",
+        rect_path(Rect::new(0.0, 0.0, 200.0, 200.0)),
+        solid(Color::BLACK),
+    )])
+}
+
+/// The Lottie document of the still scene holding `g` alone.
+fn still_doc(g: Group) -> Value {
+    let root = group_with(vec![Node::Group(g)]);
+    let (json, _) = still_to_lottie(&still(root), &LottieOptions::default()).unwrap();
+    parse(&json)
 }
 
 #[test]
@@ -983,18 +958,9 @@ fn clip_paths_become_layer_masks_and_masks_luma_mattes() {
     let clipped = Group {
         id: "clipped".into(),
         clip_path: Some(clip),
-        ..group_with(vec![path_node(
-            "r",
-            rect_path(Rect::new(0.0, 0.0, 200.0, 200.0)),
-            solid(Color::BLACK),
-        )])
+        ..black_canvas()
     };
-    let (json, _) = still_to_lottie(
-        &still(group_with(vec![Node::Group(clipped)])),
-        &LottieOptions::default(),
-    )
-    .unwrap();
-    let doc = parse(&json);
+    let doc = still_doc(clipped);
     let layer = &doc["layers"][0];
     assert_eq!(layer["hasMask"], true);
     assert_eq!(layer["masksProperties"].as_array().unwrap().len(), 1);
@@ -1014,18 +980,9 @@ fn clip_paths_become_layer_masks_and_masks_luma_mattes() {
     let masked = Group {
         id: "masked".into(),
         mask: Some(mask),
-        ..group_with(vec![path_node(
-            "r",
-            rect_path(Rect::new(0.0, 0.0, 200.0, 200.0)),
-            solid(Color::BLACK),
-        )])
+        ..black_canvas()
     };
-    let (json, _) = still_to_lottie(
-        &still(group_with(vec![Node::Group(masked)])),
-        &LottieOptions::default(),
-    )
-    .unwrap();
-    let doc = parse(&json);
+    let doc = still_doc(masked);
     let layers = doc["layers"].as_array().unwrap();
     // Topmost first: the matte, then the layer it mattes.
     assert_eq!(layers[0]["td"], 1);
@@ -1080,26 +1037,10 @@ fn unsupported_paint_features_warn_naming_the_element() {
 
 #[test]
 fn bad_animations_are_errors_not_panics() {
-    let s = scene(vec![(
-        rect_path(Rect::new(10.0, 10.0, 50.0, 50.0)),
-        solid(Color::BLACK),
-        None,
-    )]);
-    let anim = Animation {
-        scene: s.clone(),
-        duration: 0.0,
-        fps: 30.0,
-        looping: true,
-        tracks: vec![Track::default()],
-    };
+    let s = black_rect(Rect::new(10.0, 10.0, 50.0, 50.0));
+    let anim = animation(s.clone(), vec![Track::default()], 0.0);
     assert!(to_lottie(&anim, &LottieOptions::default()).is_err());
-    let anim = Animation {
-        scene: s.clone(),
-        duration: 1.0,
-        fps: 30.0,
-        looping: true,
-        tracks: vec![],
-    };
+    let anim = animation(s.clone(), vec![], 1.0);
     assert!(to_lottie(&anim, &LottieOptions::default()).is_err());
     let mut empty = s;
     empty.width = 0.0;

@@ -12,12 +12,14 @@ use gmotion::motion::{
     Track,
 };
 use gmotion::scene::{
-    Fill, FillRule, Group, LineCap, LineJoin, LinearGradient, Node, Paint, PathNode, Pattern,
-    Scene, SceneBuilder, Shape, Spread, Stop, Stroke,
+    Fill, Group, LinearGradient, Node, Paint, PathNode, Pattern, Scene, SceneBuilder, Shape,
+    Spread, Stop, Stroke,
 };
 use gmotion::signals::Easing;
 use gmotion_export_svg::smil::{SmilError, SmilOptions, smil_document, to_smil};
 use kurbo::{Affine, BezPath, Point, Rect, Shape as _, Vec2};
+
+use crate::support::{run_grammar, scene_of, vertices};
 
 // ---------------------------------------------------------------------------------------
 // Hand-built animations
@@ -47,23 +49,23 @@ pub fn item(id: &'static str, rect: Rect, c: Color) -> Item {
     }
 }
 
+/// A path node `r` filled with `c`, with an opaque stroke `stroke` (colour and width).
+fn rect_node(id: &str, r: Rect, c: Color, stroke: Option<(Color, f64)>) -> PathNode {
+    let stroke = stroke.map(|(c, w)| Stroke::solid(c, w));
+    PathNode::new(id, r.to_path(0.1), Some(Fill::solid(c)), stroke)
+}
+
 /// A scene of path units (tag `s`), each optionally inside its own transformed group,
 /// measured as the importer measures them.
 pub fn scene(width: f64, height: f64, items: Vec<Item>) -> Scene {
     let mut b = SceneBuilder::new(width, height);
     for it in items {
-        let node = Node::Path(PathNode {
-            id: it.id.to_string(),
-            path: it.path.clone(),
-            fill: Some(Fill {
-                paint: it.fill,
-                opacity: 1.0,
-                rule: FillRule::NonZero,
-            }),
-            stroke: it.stroke.map(|(c, w)| Stroke::solid(c, w)),
-            stroke_first: false,
-            unit: None,
-        });
+        let fill = Fill {
+            paint: it.fill,
+            ..Fill::solid(Color::BLACK)
+        };
+        let stroke = it.stroke.map(|(c, w)| Stroke::solid(c, w));
+        let node = Node::Path(PathNode::new(it.id, it.path, Some(fill), stroke));
         let parent = (it.parent != Affine::IDENTITY).then(|| {
             let mut g = Group::new();
             g.id = format!("{}-parent", it.id);
@@ -110,6 +112,13 @@ pub fn windows(track: &mut Track, kind: &MotionKind, timing: &Timing, cuts: &[f6
     }
 }
 
+/// A track that plays one motion in the windows between consecutive `cuts` ([`windows`]).
+fn moved(kind: &MotionKind, timing: &Timing, cuts: &[f64]) -> Track {
+    let mut t = Track::default();
+    windows(&mut t, kind, timing, cuts);
+    t
+}
+
 fn anim(scene: Scene, duration: f64, looping: bool, tracks: Vec<Track>) -> Animation {
     Animation {
         scene,
@@ -118,6 +127,13 @@ fn anim(scene: Scene, duration: f64, looping: bool, tracks: Vec<Track>) -> Anima
         looping,
         tracks,
     }
+}
+
+/// The shape `a` (the rectangle `r` filled with `c`) alone on a 200 × 200 canvas, played by
+/// `track`.
+fn lone(r: Rect, c: Color, duration: f64, looping: bool, track: Track) -> Animation {
+    let items = vec![item("a", r, c)];
+    anim(scene(200.0, 200.0, items), duration, looping, vec![track])
 }
 
 fn ease_in_out() -> Easing {
@@ -143,39 +159,21 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
 
     // A square turning half a turn about its centre, eased.
     let r = square(70.0, 70.0, 60.0);
-    let mut t = Track::default();
-    windows(
-        &mut t,
-        &rigid(c(r), &[Component::Rotate(180.0)], Interp::Linear),
-        &timing(0.5, 2.5, ease_in_out()),
-        &[0.5, 2.5],
-    );
-    out.push((
-        "rotate-pivot",
-        true,
-        anim(
-            scene(200.0, 200.0, vec![item("a", r, red())]),
-            3.0,
-            false,
-            vec![t],
-        ),
-    ));
+    let turn = rigid(c(r), &[Component::Rotate(180.0)], Interp::Linear);
+    let t = moved(&turn, &timing(0.5, 2.5, ease_in_out()), &[0.5, 2.5]);
+    out.push(("rotate-pivot", true, lone(r, red(), 3.0, false, t)));
 
     // Scale and move a stroked rectangle.
     let r = Rect::new(40.0, 80.0, 100.0, 120.0);
     let mut it = item("a", r, blue());
     it.stroke = Some((Color::BLACK, 4.0));
-    let mut t = Track::default();
     let comps = [
         Component::Translate(Vec2::new(30.0, 10.0)),
         Component::Scale(Vec2::new(2.0, 0.5)),
     ];
-    windows(
-        &mut t,
-        &rigid(c(r), &comps, Interp::Linear),
-        &timing(0.0, 2.0, Easing::CubicBezier([0.0, 0.0, 0.58, 1.0])),
-        &[0.0, 2.0],
-    );
+    let ease_out = Easing::CubicBezier([0.0, 0.0, 0.58, 1.0]);
+    let kind = rigid(c(r), &comps, Interp::Linear);
+    let t = moved(&kind, &timing(0.0, 2.0, ease_out), &[0.0, 2.0]);
     out.push((
         "scale",
         true,
@@ -184,38 +182,22 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
 
     // One motion cut into two windows by a later timesplit, then another motion.
     let r = square(20.0, 20.0, 40.0);
-    let mut t = Track::default();
     let comps = [
         Component::Translate(Vec2::new(80.0, 0.0)),
         Component::Rotate(90.0),
     ];
+    let kind = rigid(c(r), &comps, Interp::Linear);
+    let mut t = moved(&kind, &timing(0.0, 2.0, ease_in_out()), &[0.0, 0.8, 2.0]);
+    let moved_centre = t.transform_at(2.0) * c(r);
+    let shrink = [Component::Scale(Vec2::new(0.5, 0.5))];
+    let kind = rigid(moved_centre, &shrink, Interp::Linear);
     windows(
         &mut t,
-        &rigid(c(r), &comps, Interp::Linear),
-        &timing(0.0, 2.0, ease_in_out()),
-        &[0.0, 0.8, 2.0],
-    );
-    let moved = t.transform_at(2.0) * c(r);
-    windows(
-        &mut t,
-        &rigid(
-            moved,
-            &[Component::Scale(Vec2::new(0.5, 0.5))],
-            Interp::Linear,
-        ),
+        &kind,
         &timing(2.0, 3.0, Easing::Linear),
         &[2.0, 3.0],
     );
-    out.push((
-        "chained",
-        true,
-        anim(
-            scene(200.0, 200.0, vec![item("a", r, red())]),
-            3.0,
-            false,
-            vec![t],
-        ),
-    ));
+    out.push(("chained", true, lone(r, red(), 3.0, false, t)));
 
     // A motion and its inverse slice, looping.
     let r = square(30.0, 60.0, 50.0);
@@ -228,23 +210,13 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
         Interp::Linear,
     );
     let ease = Easing::CubicBezier([0.6, 0.0, 0.9, 0.4]);
-    let mut t = Track::default();
-    windows(&mut t, &kind, &timing(0.0, 1.5, ease.clone()), &[0.0, 1.5]);
+    let mut t = moved(&kind, &timing(0.0, 1.5, ease.clone()), &[0.0, 1.5]);
     let back = Timing {
         reversed: true,
         ..timing(1.5, 3.0, ease)
     };
     windows(&mut t, &kind, &back, &[1.5, 2.2, 3.0]);
-    out.push((
-        "reversed",
-        true,
-        anim(
-            scene(200.0, 200.0, vec![item("a", r, blue())]),
-            3.0,
-            true,
-            vec![t],
-        ),
-    ));
+    out.push(("reversed", true, lone(r, blue(), 3.0, true, t)));
 
     // Tints: a solid fill, a stroke, and a gradient fill.
     let mut a = item("a", square(20.0, 20.0, 70.0), red());
@@ -285,20 +257,7 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
         ..Track::default()
     };
     // A checker pattern: two coloured squares per 20 × 20 tile.
-    let cell = |x: f64, y: f64, c: Color| {
-        Node::Path(PathNode {
-            id: String::new(),
-            path: square(x, y, 10.0).to_path(0.1),
-            fill: Some(Fill {
-                paint: Paint::Solid(c),
-                opacity: 1.0,
-                rule: FillRule::NonZero,
-            }),
-            stroke: None,
-            stroke_first: false,
-            unit: None,
-        })
-    };
+    let cell = |x: f64, y: f64, c: Color| Node::Path(rect_node("", square(x, y, 10.0), c, None));
     let mut tile = Group::new();
     tile.children = vec![
         cell(0.0, 0.0, Color::rgb8(240, 120, 0)),
@@ -355,17 +314,12 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
         * Affine::rotate(0.5)
         * Affine::scale_non_uniform(1.5, 0.8);
     let centre = (a.parent * r.to_path(0.1)).bounding_box().center();
-    let mut t = Track::default();
     let comps = [
         Component::Translate(Vec2::new(50.0, 30.0)),
         Component::Rotate(45.0),
     ];
-    windows(
-        &mut t,
-        &rigid(centre, &comps, Interp::Linear),
-        &timing(0.0, 2.0, ease_in_out()),
-        &[0.0, 2.0],
-    );
+    let kind = rigid(centre, &comps, Interp::Linear);
+    let t = moved(&kind, &timing(0.0, 2.0, ease_in_out()), &[0.0, 2.0]);
     out.push((
         "parent",
         true,
@@ -395,54 +349,24 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
         ..first.clone()
     };
     t.motions = vec![first, second];
-    out.push((
-        "shared-window",
-        true,
-        anim(
-            scene(200.0, 200.0, vec![item("a", r, blue())]),
-            2.0,
-            false,
-            vec![t],
-        ),
-    ));
+    out.push(("shared-window", true, lone(r, blue(), 2.0, false, t)));
 
     // An easing that overshoots, and skews on either axis.
     let r = square(20.0, 80.0, 40.0);
-    let mut t = Track::default();
-    windows(
-        &mut t,
-        &rigid(
-            c(r),
-            &[
-                Component::Translate(Vec2::new(100.0, 0.0)),
-                Component::Skew(20.0, 0.0),
-                Component::Skew(0.0, -15.0),
-            ],
-            Interp::Linear,
-        ),
-        &timing(0.0, 2.0, Easing::CubicBezier([0.3, -0.6, 0.4, 1.7])),
-        &[0.0, 2.0],
-    );
-    out.push((
-        "overshoot-skew",
-        true,
-        anim(
-            scene(200.0, 200.0, vec![item("a", r, red())]),
-            2.0,
-            false,
-            vec![t],
-        ),
-    ));
+    let skews = [
+        Component::Translate(Vec2::new(100.0, 0.0)),
+        Component::Skew(20.0, 0.0),
+        Component::Skew(0.0, -15.0),
+    ];
+    let overshoot = Easing::CubicBezier([0.3, -0.6, 0.4, 1.7]);
+    let kind = rigid(c(r), &skews, Interp::Linear);
+    let t = moved(&kind, &timing(0.0, 2.0, overshoot), &[0.0, 2.0]);
+    out.push(("overshoot-skew", true, lone(r, red(), 2.0, false, t)));
 
     // A window whose start does not continue the previous one: the state jumps.
     let r = square(30.0, 30.0, 40.0);
-    let mut t = Track::default();
-    windows(
-        &mut t,
-        &rigid(c(r), &[Component::Rotate(60.0)], Interp::Linear),
-        &timing(0.0, 1.0, Easing::Linear),
-        &[0.0, 1.0],
-    );
+    let turn = rigid(c(r), &[Component::Rotate(60.0)], Interp::Linear);
+    let mut t = moved(&turn, &timing(0.0, 1.0, Easing::Linear), &[0.0, 1.0]);
     let start = Affine::translate((40.0, 50.0)) * t.transform_at(1.0);
     t.motions.push(MotionSeg {
         t0: 1.5,
@@ -455,31 +379,14 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
         ),
         start,
     });
-    out.push((
-        "jump",
-        true,
-        anim(
-            scene(200.0, 200.0, vec![item("a", r, blue())]),
-            3.0,
-            false,
-            vec![t],
-        ),
-    ));
+    out.push(("jump", true, lone(r, blue(), 3.0, false, t)));
 
     // Changes with no duration: a motion and an opacity that happen at one instant, and a
     // fill change that starts from another colour than the one held before it.
     let r = square(40.0, 40.0, 50.0);
-    let mut t = Track::default();
-    windows(
-        &mut t,
-        &rigid(
-            c(r),
-            &[Component::Translate(Vec2::new(60.0, 20.0))],
-            Interp::Linear,
-        ),
-        &timing(1.0, 1.0, Easing::Linear),
-        &[0.5, 1.5],
-    );
+    let slide = [Component::Translate(Vec2::new(60.0, 20.0))];
+    let kind = rigid(c(r), &slide, Interp::Linear);
+    let mut t = moved(&kind, &timing(1.0, 1.0, Easing::Linear), &[0.5, 1.5]);
     let step = |t0: f64, from: f64, to: f64| AttrSeg {
         t0,
         t1: t0 + 0.5,
@@ -496,69 +403,26 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
         to: Tint::full(to),
     };
     t.fill = vec![tint(0.5, red(), blue()), tint(1.8, Color::WHITE, red())];
-    out.push((
-        "instant",
-        true,
-        anim(
-            scene(200.0, 200.0, vec![item("a", r, blue())]),
-            3.0,
-            false,
-            vec![t],
-        ),
-    ));
+    out.push(("instant", true, lone(r, blue(), 3.0, false, t)));
 
     // What SMIL cannot say: Alexa interpolation, B-spline easing, a bilinear blend.
     let r = square(70.0, 70.0, 50.0);
-    let mut t = Track::default();
-    windows(
-        &mut t,
-        &rigid(
-            c(r),
-            &[
-                Component::Rotate(200.0),
-                Component::Scale(Vec2::new(1.6, 0.7)),
-            ],
-            Interp::Alexa,
-        ),
-        &timing(0.0, 2.0, Easing::Linear),
-        &[0.0, 2.0],
-    );
-    out.push((
-        "baked-alexa",
-        false,
-        anim(
-            scene(200.0, 200.0, vec![item("a", r, red())]),
-            2.0,
-            false,
-            vec![t],
-        ),
-    ));
+    let comps = [
+        Component::Rotate(200.0),
+        Component::Scale(Vec2::new(1.6, 0.7)),
+    ];
+    let kind = rigid(c(r), &comps, Interp::Alexa);
+    let t = moved(&kind, &timing(0.0, 2.0, Easing::Linear), &[0.0, 2.0]);
+    out.push(("baked-alexa", false, lone(r, red(), 2.0, false, t)));
 
     let r = square(30.0, 70.0, 50.0);
-    let mut t = Track::default();
-    windows(
-        &mut t,
-        &rigid(
-            c(r),
-            &[
-                Component::Translate(Vec2::new(100.0, 0.0)),
-                Component::Rotate(90.0),
-            ],
-            Interp::Linear,
-        ),
-        &timing(0.0, 2.0, Easing::BSpline(4)),
-        &[0.0, 2.0],
-    );
-    out.push((
-        "baked-easing",
-        false,
-        anim(
-            scene(200.0, 200.0, vec![item("a", r, blue())]),
-            2.0,
-            false,
-            vec![t],
-        ),
-    ));
+    let comps = [
+        Component::Translate(Vec2::new(100.0, 0.0)),
+        Component::Rotate(90.0),
+    ];
+    let kind = rigid(c(r), &comps, Interp::Linear);
+    let t = moved(&kind, &timing(0.0, 2.0, Easing::BSpline(4)), &[0.0, 2.0]);
+    out.push(("baked-easing", false, lone(r, blue(), 2.0, false, t)));
 
     let r = square(70.0, 70.0, 50.0);
     let blend: Blend = Arc::from([
@@ -568,51 +432,17 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
         ),
         (0.5, Arc::from([Component::Rotate(120.0)])),
     ]);
-    let mut t = Track::default();
-    windows(
-        &mut t,
-        &MotionKind::Rigid {
-            pivot: c(r),
-            blend,
-            interp: Interp::Linear,
-        },
-        &timing(0.0, 2.0, ease_in_out()),
-        &[0.0, 2.0],
-    );
-    out.push((
-        "baked-bilinear",
-        false,
-        anim(
-            scene(200.0, 200.0, vec![item("a", r, red())]),
-            2.0,
-            false,
-            vec![t],
-        ),
-    ));
+    let kind = MotionKind::Rigid {
+        pivot: c(r),
+        blend,
+        interp: Interp::Linear,
+    };
+    let t = moved(&kind, &timing(0.0, 2.0, ease_in_out()), &[0.0, 2.0]);
+    out.push(("baked-bilinear", false, lone(r, red(), 2.0, false, t)));
 
     // A group unit (two paths moving and tinted as one) inside a transformed group.
     let solid = |id: &str, r: Rect, c: Color, stroke: bool| {
-        Node::Path(PathNode {
-            id: id.to_string(),
-            path: r.to_path(0.1),
-            fill: Some(Fill {
-                paint: Paint::Solid(c),
-                opacity: 1.0,
-                rule: FillRule::NonZero,
-            }),
-            stroke: stroke.then_some(Stroke {
-                paint: Paint::Solid(Color::BLACK),
-                opacity: 1.0,
-                width: 3.0,
-                cap: LineCap::Butt,
-                join: LineJoin::Miter,
-                miter_limit: 4.0,
-                dash: None,
-                dash_offset: 0.0,
-            }),
-            stroke_first: false,
-            unit: None,
-        })
+        Node::Path(rect_node(id, r, c, stroke.then_some((Color::BLACK, 3.0))))
     };
     let mut unit = Group::new();
     unit.id = "pair".into();
@@ -652,20 +482,12 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
         stroke: Color::BLACK,
         stroke_width: 3.0,
     };
-    let mut t = Track::default();
-    windows(
-        &mut t,
-        &rigid(
-            bbox.center(),
-            &[
-                Component::Rotate(-70.0),
-                Component::Translate(Vec2::new(20.0, 10.0)),
-            ],
-            Interp::Linear,
-        ),
-        &timing(0.0, 2.0, ease_in_out()),
-        &[0.0, 2.0],
-    );
+    let comps = [
+        Component::Rotate(-70.0),
+        Component::Translate(Vec2::new(20.0, 10.0)),
+    ];
+    let kind = rigid(bbox.center(), &comps, Interp::Linear);
+    let mut t = moved(&kind, &timing(0.0, 2.0, ease_in_out()), &[0.0, 2.0]);
     t.fill.push(AttrSeg {
         t0: 0.5,
         t1: 2.5,
@@ -760,26 +582,12 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
         Rect::new(0.0, 0.0, 200.0, 200.0),
         Field::Towards(Point::new(100.0, 100.0)),
     );
-    let mut t = Track::default();
-    windows(
-        &mut t,
-        &MotionKind::Vertex {
-            grid: Arc::new(grid),
-            pivot: None,
-        },
-        &timing(0.0, 2.0, ease_in_out()),
-        &[0.0, 2.0],
-    );
-    out.push((
-        "deform",
-        false,
-        anim(
-            scene(200.0, 200.0, vec![item("a", r, blue())]),
-            2.0,
-            false,
-            vec![t],
-        ),
-    ));
+    let kind = MotionKind::Vertex {
+        grid: Arc::new(grid),
+        pivot: None,
+    };
+    let t = moved(&kind, &timing(0.0, 2.0, ease_in_out()), &[0.0, 2.0]);
+    out.push(("deform", false, lone(r, blue(), 2.0, false, t)));
 
     out
 }
@@ -897,6 +705,17 @@ impl Doc {
             at = self.els[p].parent;
         }
         m
+    }
+
+    /// The opacity `e` is drawn with at `t`: the product of its own and its ancestors'.
+    fn opacity(&self, e: usize, t: f64) -> f64 {
+        let mut opacity = 1.0;
+        let mut at = Some(e);
+        while let Some(i) = at {
+            opacity *= self.value(i, "opacity", t).map_or(1.0, |v| v[0]);
+            at = self.els[i].parent;
+        }
+        opacity
     }
 
     /// The value of `attr` on `e` at `t`: the played animation, else the attribute.
@@ -1084,6 +903,30 @@ fn every_animation_element_is_well_formed() {
     }
 }
 
+/// How far unit `u`'s played transform is from the model's at a time: the largest distance
+/// between where the two put a corner of the unit's box.
+fn transform_error<'a>(doc: &'a Doc, a: &'a Animation, u: usize) -> impl Fn(f64) -> f64 + 'a {
+    let shape = &a.scene.shapes[u];
+    let node = a.scene.unit_node(u).unwrap();
+    let e = doc.by_id(node.id());
+    let own = match node {
+        Node::Group(g) => g.transform,
+        Node::Path(_) => Affine::IDENTITY,
+    };
+    let b = shape.bbox;
+    let back = (shape.parent_transform * own).inverse();
+    let corners =
+        [(b.x0, b.y0), (b.x1, b.y0), (b.x1, b.y1), (b.x0, b.y1)].map(|c| back * Point::from(c));
+    move |t| {
+        let got = doc.total(e, t);
+        let want = a.tracks[u].transform_at(t) * shape.parent_transform * own;
+        corners
+            .iter()
+            .map(|&q| (got * q - want * q).hypot())
+            .fold(0.0, f64::max)
+    }
+}
+
 #[test]
 fn transforms_play_as_the_model_moves() {
     for (name, exact, a) in cases() {
@@ -1097,28 +940,12 @@ fn transforms_play_as_the_model_moves() {
         };
         let (svg, _) = to_smil(&a, &SmilOptions::default()).unwrap();
         let doc = Doc::parse(&svg);
-        for (u, shape) in a.scene.shapes.iter().enumerate() {
+        for u in 0..a.scene.shapes.len() {
             if a.tracks[u].motions.is_empty() {
                 continue;
             }
-            let node = a.scene.unit_node(u).unwrap();
-            let e = doc.by_id(node.id());
-            let own = match node {
-                Node::Group(g) => g.transform,
-                Node::Path(_) => Affine::IDENTITY,
-            };
-            let b = shape.bbox;
-            let back = (shape.parent_transform * own).inverse();
-            let corners = [(b.x0, b.y0), (b.x1, b.y0), (b.x1, b.y1), (b.x0, b.y1)]
-                .map(|c| back * Point::from(c));
-            let mut worst: f64 = 0.0;
-            for t in instants(&a) {
-                let got = doc.total(e, t);
-                let want = a.tracks[u].transform_at(t) * shape.parent_transform * own;
-                for q in corners {
-                    worst = worst.max((got * q - want * q).hypot());
-                }
-            }
+            let off = transform_error(&doc, &a, u);
+            let worst = instants(&a).into_iter().map(off).fold(0.0, f64::max);
             assert!(
                 worst <= tol,
                 "{name}: shape {u} off by {worst} (allowed {tol})"
@@ -1218,12 +1045,7 @@ fn colours_opacity_and_widths_play_as_the_model_changes() {
                 }
                 // Opacity sits on the units' wrappers: the product along the ancestors,
                 // over the nodes' own opacities.
-                let mut opacity = 1.0;
-                let mut at = Some(e);
-                while let Some(i) = at {
-                    opacity *= doc.value(i, "opacity", t).map_or(1.0, |v| v[0]);
-                    at = doc.els[i].parent;
-                }
+                let opacity = doc.opacity(e, t);
                 let own: f64 = own_opacity(&a.scene.root, &p.id).unwrap();
                 let want = own * states.iter().map(|s| s.opacity).product::<f64>();
                 assert!(
@@ -1261,12 +1083,7 @@ fn deformation_plays_within_tolerance() {
         unreachable!()
     };
     let e = doc.by_id(&p.id);
-    let rest: Vec<Point> = p
-        .path
-        .elements()
-        .iter()
-        .filter_map(|el| el.end_point())
-        .collect();
+    let rest = vertices(&p.path);
     for t in instants(&a)
         .into_iter()
         .chain((0..40).map(|i| i as f64 * 0.0497))
@@ -1457,12 +1274,7 @@ fn jumps_at_frame_times_play_the_side_the_model_shows() {
             );
             let w = doc.value(e, "stroke-width", t).map_or(2.0, |v| v[0]);
             assert!((w - 2.0 * s.stroke_width).abs() < 1e-3, "{ctx}: width {w}");
-            let mut opacity = 1.0;
-            let mut up = Some(e);
-            while let Some(i) = up {
-                opacity *= doc.value(i, "opacity", t).map_or(1.0, |v| v[0]);
-                up = doc.els[i].parent;
-            }
+            let opacity = doc.opacity(e, t);
             assert!(
                 (opacity - s.opacity).abs() < 1e-3,
                 "{ctx}: opacity {opacity}"
@@ -1486,8 +1298,6 @@ fn jumps_at_frame_times_play_the_side_the_model_shows() {
 /// played colour must lie between the colours the engine shows on either side.
 #[test]
 fn a_cut_away_fill_change_is_never_played() {
-    use gmotion::engine::{RunOptions, run};
-    use gmotion_import_svg::{ImportOptions, parse as parse_svg};
     let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="200" height="150">
       <circle id="s0" data-tag="s" cx="50" cy="50" r="18" fill="#e4572e"/>
       <rect id="c0" data-tag="c" x="70" y="100" width="60" height="30" fill="#ffc914"/>
@@ -1498,11 +1308,7 @@ fn a_cut_away_fill_change_is_never_played() {
         timesplit(0.5, 0.5) : [a, (s, c)] -> [m, inv_m]\n\
         animate(affine, world, 0, translate(12, 4)) : [m, (s, c)] -> [m1]\n\
         animate(fill, local, 0, #00798c) : [m1, (s, c)] -> [m2]\n";
-    let scene = parse_svg(svg, "t.svg", &ImportOptions::default())
-        .unwrap()
-        .scene;
-    let g = gmotion::grammar::parse(grammar).unwrap();
-    let (a, _) = run(scene, &g, &RunOptions::default()).unwrap();
+    let a = run_grammar(scene_of(svg), grammar);
     let (svg, _) = to_smil(&a, &SmilOptions::default()).unwrap();
     let doc = Doc::parse(&svg);
     let mut paths = Vec::new();
@@ -1544,13 +1350,7 @@ const MATRIX_TOLERANCE: f64 = 0.05;
 
 /// `grammar` run on the SVG text `svg`, and its SMIL at [`MATRIX_TOLERANCE`].
 fn baked_at_matrix_tolerance(svg: &str, grammar: &str) -> (Animation, String) {
-    use gmotion::engine::{RunOptions, run};
-    use gmotion_import_svg::{ImportOptions, parse as parse_svg};
-    let scene = parse_svg(svg, "t.svg", &ImportOptions::default())
-        .unwrap()
-        .scene;
-    let g = gmotion::grammar::parse(grammar).unwrap();
-    let (a, _) = run(scene, &g, &RunOptions::default()).unwrap();
+    let a = run_grammar(scene_of(svg), grammar);
     let opts = SmilOptions {
         tolerance: MATRIX_TOLERANCE,
         ..SmilOptions::default()
@@ -1580,29 +1380,14 @@ fn baked_motion_is_within_tolerance_at_every_frame() {
     let (a, svg) = baked_at_matrix_tolerance(svg, grammar);
     let doc = Doc::parse(&svg);
     let mut moved = 0;
-    for (u, shape) in a.scene.shapes.iter().enumerate() {
+    for u in 0..a.scene.shapes.len() {
         if a.tracks[u].motions.is_empty() {
             continue;
         }
         moved += 1;
-        let node = a.scene.unit_node(u).unwrap();
-        let e = doc.by_id(node.id());
-        let own = match node {
-            Node::Group(g) => g.transform,
-            Node::Path(_) => Affine::IDENTITY,
-        };
-        let b = shape.bbox;
-        let back = (shape.parent_transform * own).inverse();
-        let corners =
-            [(b.x0, b.y0), (b.x1, b.y0), (b.x1, b.y1), (b.x0, b.y1)].map(|c| back * Point::from(c));
+        let error = transform_error(&doc, &a, u);
         for k in 0..a.frame_count() {
-            let t = a.frame_time(k);
-            let got = doc.total(e, t);
-            let want = a.tracks[u].transform_at(t) * shape.parent_transform * own;
-            let off = corners
-                .iter()
-                .map(|&q| (got * q - want * q).hypot())
-                .fold(0.0, f64::max);
+            let off = error(a.frame_time(k));
             assert!(
                 off <= MATRIX_TOLERANCE + 1e-3,
                 "shape {u} at frame {k}: off by {off} (tolerance {})",
@@ -1642,12 +1427,7 @@ fn baked_deformation_is_within_tolerance_at_every_frame() {
         }
         deformed += 1;
         let e = doc.by_id(&p.id);
-        let rest: Vec<Point> = p
-            .path
-            .elements()
-            .iter()
-            .filter_map(|el| el.end_point())
-            .collect();
+        let rest = vertices(&p.path);
         for k in 0..a.frame_count() {
             let t = a.frame_time(k);
             let got = doc.value(e, "d", t).unwrap();

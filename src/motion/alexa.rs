@@ -141,18 +141,12 @@ pub fn power(m: Affine, p: f64) -> Affine {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn close(a: Affine, b: Affine) -> bool {
-        a.as_coeffs()
-            .iter()
-            .zip(b.as_coeffs())
-            .all(|(x, y)| (x - y).abs() < 1e-7)
-    }
+    use crate::motion::affine_within;
 
     #[test]
     fn half_power_of_rotation_is_half_rotation() {
         let r = Affine::rotate(1.2);
-        assert!(close(power(r, 0.5), Affine::rotate(0.6)));
+        assert!(affine_within(power(r, 0.5), Affine::rotate(0.6), 1e-7));
     }
 
     #[test]
@@ -160,8 +154,8 @@ mod tests {
         let m = Affine::translate((30.0, -4.0))
             * Affine::rotate(0.7)
             * Affine::scale_non_uniform(2.0, 0.5);
-        assert!(close(power(m, 0.25) * power(m, 0.75), m));
-        assert!(close(power(m, 1.0 - 1e-12), m));
+        assert!(affine_within(power(m, 0.25) * power(m, 0.75), m, 1e-7));
+        assert!(affine_within(power(m, 1.0 - 1e-12), m, 1e-7));
     }
 
     #[test]

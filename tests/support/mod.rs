@@ -2,6 +2,12 @@
 
 use std::path::{Path, PathBuf};
 
+use gmotion::engine::RunOptions;
+use gmotion::motion::Animation;
+use gmotion::scene::Scene;
+use gmotion_import_svg::ImportOptions;
+use kurbo::{BezPath, Point};
+
 pub mod players;
 
 /// The repository's root (the tests belong to the `cli` crate, one folder down).
@@ -14,4 +20,29 @@ pub fn root() -> &'static Path {
 /// A file of `grammars/`.
 pub fn grammar_file(name: &str) -> PathBuf {
     root().join("grammars").join(name)
+}
+
+/// A path's vertices: the end point of every element (a close adds none).
+pub fn vertices(path: &BezPath) -> Vec<Point> {
+    path.elements()
+        .iter()
+        .filter_map(|el| el.end_point())
+        .collect()
+}
+
+/// The scene of the SVG text `svg`, imported with the default options.
+pub fn scene_of(svg: &str) -> Scene {
+    gmotion_import_svg::parse(svg, "t.svg", &ImportOptions::default())
+        .unwrap()
+        .scene
+}
+
+/// The animation `grammar` makes of `scene` with the default options; a grammar or run
+/// error panics with its message.
+pub fn run_grammar(scene: Scene, grammar: &str) -> Animation {
+    let g = gmotion::grammar::parse(grammar)
+        .unwrap_or_else(|d| panic!("{}", d.render("case.gm", grammar)));
+    gmotion::engine::run(scene, &g, &RunOptions::default())
+        .unwrap_or_else(|e| panic!("{e}\n{grammar}"))
+        .0
 }

@@ -228,13 +228,7 @@ pub fn max_stretch(m: Affine) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn close(a: Affine, b: Affine) -> bool {
-        a.as_coeffs()
-            .iter()
-            .zip(b.as_coeffs())
-            .all(|(x, y)| (x - y).abs() < 1e-9)
-    }
+    use gmotion::motion::affine_within;
 
     fn product(levels: &[Trs]) -> Affine {
         levels
@@ -254,7 +248,10 @@ mod tests {
         ];
         for m in cases {
             let levels = decompose(m, Point::new(10.0, 20.0));
-            assert!(close(product(&levels), m), "{m:?} -> {levels:?}");
+            assert!(
+                affine_within(product(&levels), m, 1e-9),
+                "{m:?} -> {levels:?}"
+            );
         }
     }
 

@@ -138,13 +138,25 @@ impl Comp {
     }
 }
 
+/// What a document's layers are built from: a scene and, for an animation, its shapes'
+/// tracks and the motions baked from them (`tracks[i]` and `motions[i]` belong to
+/// `scene.shapes[i]`; both are empty for a still).
+pub struct Source<'a> {
+    /// The scene.
+    pub scene: &'a Scene,
+    /// The shapes' tracks.
+    pub tracks: &'a [Track],
+    /// The shapes' motions, as the layers key them.
+    pub motions: Vec<UnitMotion>,
+    /// Frames per second.
+    pub fps: f64,
+    /// The out point: the frame the document ends at.
+    pub op: f64,
+}
+
 /// Builds the layers of a scene (or an animation's scene with its tracks).
 pub struct Builder<'a> {
-    scene: &'a Scene,
-    tracks: &'a [Track],
-    motions: Vec<UnitMotion>,
-    fps: f64,
-    op: f64,
+    src: Source<'a>,
     tolerance: f64,
     margin: f64,
     /// Warnings, one per dropped or approximated feature, naming the element.
@@ -154,23 +166,11 @@ pub struct Builder<'a> {
 }
 
 impl<'a> Builder<'a> {
-    /// A builder for `scene`; `motions[i]` and `tracks[i]` belong to `scene.shapes[i]`
-    /// (both empty for a still).
-    pub fn new(
-        scene: &'a Scene,
-        tracks: &'a [Track],
-        motions: Vec<UnitMotion>,
-        fps: f64,
-        op: f64,
-        tolerance: f64,
-    ) -> Builder<'a> {
-        let margin = scene.width.max(scene.height).ceil().max(1.0);
+    /// A builder for `src`, baking deformed paths within `tolerance`.
+    pub fn new(src: Source<'a>, tolerance: f64) -> Builder<'a> {
+        let margin = src.scene.width.max(src.scene.height).ceil().max(1.0);
         Builder {
-            scene,
-            tracks,
-            motions,
-            fps,
-            op,
+            src,
             tolerance,
             margin,
             warnings: Vec::new(),
@@ -187,22 +187,22 @@ impl<'a> Builder<'a> {
             size,
         };
         let mut comp = Comp::new(0);
-        let root = self.scene.root.clone();
+        let root = self.src.scene.root.clone();
         self.node(&Node::Group(root), Affine::IDENTITY, env, &mut comp);
         let next = comp.next_ind;
-        let mut layers = comp.into_layers(self.op);
+        let mut layers = comp.into_layers(self.src.op);
         // Lottie sizes are whole pixels: stretch a fractional canvas onto them, through a
         // null parent (exact for every layer whatever its own transform).
         let scale = Vec2::new(
-            size.0 as f64 / self.scene.width,
-            size.1 as f64 / self.scene.height,
+            size.0 as f64 / self.src.scene.width,
+            size.1 as f64 / self.src.scene.height,
         );
         if (scale - Vec2::new(1.0, 1.0)).hypot() > 1e-9 {
             let ind = layers.iter().map(|l| l.ind).max().unwrap_or(next) + 1;
             for l in layers.iter_mut().filter(|l| l.parent.is_none()) {
                 l.parent = Some(ind);
             }
-            let mut null = Layer::new(LayerType::Null, "canvas".to_string(), ind, 0.0, self.op);
+            let mut null = Layer::new(LayerType::Null, "canvas".to_string(), ind, 0.0, self.src.op);
             null.ks.s = Some(Prop::vec(vec![
                 N::fine(scale.x * 100.0),
                 N::fine(scale.y * 100.0),
@@ -213,13 +213,13 @@ impl<'a> Builder<'a> {
     }
 
     fn motion(&self, unit: usize) -> Option<&UnitMotion> {
-        self.motions.get(unit).filter(|m| m.is_animated())
+        self.src.motions.get(unit).filter(|m| m.is_animated())
     }
 
     fn node(&mut self, node: &Node, acc: Affine, env: Env, comp: &mut Comp) {
         if let Some(u) = node.unit()
             && env.unit != Some(u)
-            && u < self.scene.shapes.len()
+            && u < self.src.scene.shapes.len()
         {
             return self.unit(node, u, acc, env, comp);
         }
@@ -352,7 +352,7 @@ impl<'a> Builder<'a> {
             let mut sub = Comp::new(comp.next_ind);
             draw(self, env, Affine::IDENTITY, &mut sub);
             comp.next_ind = sub.next_ind;
-            let mut l = comp.layer(LayerType::Shape, name.to_string(), self.op);
+            let mut l = comp.layer(LayerType::Shape, name.to_string(), self.src.op);
             l.shapes = Some(sub.into_shapes());
             return (l, Affine::IDENTITY);
         }
@@ -368,12 +368,12 @@ impl<'a> Builder<'a> {
         let mut sub = Comp::new(0);
         draw(self, inner_env, offset, &mut sub);
         let id = format!("comp_{}", self.assets.len());
-        let layers = sub.into_layers(self.op);
+        let layers = sub.into_layers(self.src.op);
         self.assets.push(Asset {
             id: id.clone(),
             layers,
         });
-        let mut l = comp.layer(LayerType::Precomp, name.to_string(), self.op);
+        let mut l = comp.layer(LayerType::Precomp, name.to_string(), self.src.op);
         l.ref_id = Some(id);
         l.w = Some(size.0);
         l.h = Some(size.1);
@@ -414,7 +414,7 @@ impl<'a> Builder<'a> {
         let needs_matte = g.mask.is_some() || matches!(clip, Some(ClipKind::Matte));
         if matches!(clip, Some(ClipKind::Empty)) {
             // Nothing shows: an empty shape layer.
-            let mut l = comp.layer(LayerType::Shape, g.id.clone(), self.op);
+            let mut l = comp.layer(LayerType::Shape, g.id.clone(), self.src.op);
             l.shapes = Some(Vec::new());
             return l;
         }

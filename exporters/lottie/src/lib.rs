@@ -45,6 +45,7 @@ use gmotion::Warning;
 use gmotion::canvas::{Fit, OutputSize};
 use gmotion::motion::{Animation, Track};
 use gmotion::scene::{Scene, Shape};
+use layers::Source;
 
 /// Options of the Lottie export.
 #[derive(Clone, Debug, PartialEq)]
@@ -143,30 +144,31 @@ pub fn to_lottie(anim: &Animation, opts: &LottieOptions) -> Result<LottieOutput,
             .map(motion)
             .collect()
     };
-    write(
-        &anim.scene,
-        &anim.tracks,
+    let src = Source {
+        scene: &anim.scene,
+        tracks: &anim.tracks,
         motions,
-        anim.fps,
-        frames as f64,
-        opts,
-    )
+        fps: anim.fps,
+        op: frames as f64,
+    };
+    write(src, opts)
 }
 
 /// Writes a still scene as a one-frame Lottie.
 pub fn still_to_lottie(scene: &Scene, opts: &LottieOptions) -> Result<LottieOutput, LottieError> {
-    write(scene, &[], Vec::new(), 30.0, 1.0, opts)
+    let src = Source {
+        scene,
+        tracks: &[],
+        motions: Vec::new(),
+        fps: 30.0,
+        op: 1.0,
+    };
+    write(src, opts)
 }
 
-fn write(
-    scene: &Scene,
-    tracks: &[Track],
-    motions: Vec<UnitMotion>,
-    fps: f64,
-    op: f64,
-    opts: &LottieOptions,
-) -> Result<LottieOutput, LottieError> {
-    let (w, h) = (scene.width, scene.height);
+fn write(src: Source, opts: &LottieOptions) -> Result<LottieOutput, LottieError> {
+    let (w, h) = (src.scene.width, src.scene.height);
+    let (fps, op) = (src.fps, src.op);
     if !(w.is_finite() && h.is_finite() && w > 0.0 && h > 0.0) {
         return Err(LottieError::Size {
             width: w,
@@ -179,7 +181,7 @@ fn write(
     } else {
         0.25
     };
-    let mut builder = layers::Builder::new(scene, tracks, motions, fps, op, tolerance);
+    let mut builder = layers::Builder::new(src, tolerance);
     let mut layers = builder.layers(size);
     let size = match opts.size.fit(w, h) {
         Some(fit) => {

@@ -7,6 +7,8 @@
 //! draw by putting the path into the gradient's space ([`Styled::InSpace`]). Reflected and
 //! repeated spreads are unrolled into extra stops over the area the path covers.
 
+use std::sync::Arc;
+
 use kurbo::{Affine, Point, Rect, Vec2};
 
 use super::keys::{Key, to_keyframes, within_range};
@@ -41,7 +43,7 @@ pub enum Styled {
     /// `space` and the geometry `space⁻¹ · path`.
     InSpace(Shape, Affine),
     /// A pattern: Lottie has no such paint, so the caller tiles it under a matte.
-    Pattern(std::sync::Arc<Pattern>, f32),
+    Pattern(Arc<Pattern>, f32),
 }
 
 /// Most periods a reflected or repeated gradient is unrolled into.
@@ -105,38 +107,23 @@ pub fn fill(
 ) -> Option<Styled> {
     let o = percent(f.opacity as f64);
     let r = fill_rule(f.rule);
-    Some(match &f.paint {
-        Paint::Solid(c) => Styled::Item(Shape::Fill(LFill {
-            o,
-            c: color_prop(*c, anim.fill),
-            r,
-        })),
-        Paint::Pattern(p) => Styled::Pattern(p.clone(), f.opacity),
-        Paint::Linear(g) => match linear(g, bbox, anim.fill, element, warn) {
-            GradOut::Solid(c) => Styled::Item(Shape::Fill(LFill {
+    Some(
+        match resolve(&f.paint, bbox, anim.fill, false, element, warn) {
+            Resolved::Solid(c) => Styled::Item(Shape::Fill(LFill {
                 o,
                 c: color_prop(c, anim.fill),
                 r,
             })),
-            GradOut::Grad(grad, _) => {
+            Resolved::Pattern(p) => Styled::Pattern(p, f.opacity),
+            Resolved::Grad(grad, None) => {
                 Styled::Item(Shape::GradientFill(GradientFill { o, r, grad: *grad }))
             }
-        },
-        Paint::Radial(g) => match radial(g, bbox, anim.fill, false, element, warn) {
-            GradOut::Solid(c) => Styled::Item(Shape::Fill(LFill {
-                o,
-                c: color_prop(c, anim.fill),
-                r,
-            })),
-            GradOut::Grad(grad, None) => {
-                Styled::Item(Shape::GradientFill(GradientFill { o, r, grad: *grad }))
-            }
-            GradOut::Grad(grad, Some(space)) => Styled::InSpace(
+            Resolved::Grad(grad, Some(space)) => Styled::InSpace(
                 Shape::GradientFill(GradientFill { o, r, grad: *grad }),
                 space,
             ),
         },
-    })
+    )
 }
 
 /// The stroke's style item.
@@ -151,38 +138,39 @@ pub fn stroke(
     let style = stroke_style(s, anim.stroke_width, element, warn);
     // The stroke covers half its width beyond the outline.
     let area = bbox.inflate(s.width / 2.0, s.width / 2.0);
-    Some(match &s.paint {
-        Paint::Solid(c) => Styled::Item(Shape::Stroke(LStroke {
-            o,
-            c: color_prop(*c, anim.stroke),
-            style,
-        })),
-        Paint::Pattern(p) => Styled::Pattern(p.clone(), s.opacity),
-        Paint::Linear(g) => match linear(g, area, anim.stroke, element, warn) {
-            GradOut::Solid(c) => Styled::Item(Shape::Stroke(LStroke {
+    Some(
+        match resolve(&s.paint, area, anim.stroke, true, element, warn) {
+            Resolved::Solid(c) => Styled::Item(Shape::Stroke(LStroke {
                 o,
                 c: color_prop(c, anim.stroke),
                 style,
             })),
-            GradOut::Grad(grad, _) => Styled::Item(Shape::GradientStroke(GradientStroke {
+            Resolved::Pattern(p) => Styled::Pattern(p, s.opacity),
+            Resolved::Grad(grad, _) => Styled::Item(Shape::GradientStroke(GradientStroke {
                 o,
                 grad: *grad,
                 style,
             })),
         },
-        Paint::Radial(g) => match radial(g, area, anim.stroke, true, element, warn) {
-            GradOut::Solid(c) => Styled::Item(Shape::Stroke(LStroke {
-                o,
-                c: color_prop(c, anim.stroke),
-                style,
-            })),
-            GradOut::Grad(grad, _) => Styled::Item(Shape::GradientStroke(GradientStroke {
-                o,
-                grad: *grad,
-                style,
-            })),
-        },
-    })
+    )
+}
+
+/// `paint` as Lottie takes it, a gradient laid over `area` (where the fill or stroke it
+/// belongs to paints, in the path's coordinates) and tinted by `tint`.
+fn resolve(
+    paint: &Paint,
+    area: Rect,
+    tint: &[Key<Tint>],
+    is_stroke: bool,
+    element: &str,
+    warn: &mut Vec<String>,
+) -> Resolved {
+    match paint {
+        Paint::Solid(c) => Resolved::Solid(*c),
+        Paint::Pattern(p) => Resolved::Pattern(p.clone()),
+        Paint::Linear(g) => linear(g, area, tint, element, warn),
+        Paint::Radial(g) => radial(g, area, tint, is_stroke, element, warn),
+    }
 }
 
 fn stroke_style(
@@ -245,12 +233,15 @@ fn stroke_style(
     }
 }
 
-enum GradOut {
-    /// The gradient paints one colour everywhere.
+/// A paint as Lottie takes it ([`resolve`]). A gradient comes to `Solid` or `Grad`.
+enum Resolved {
+    /// One colour: a solid paint, or a gradient that paints one colour everywhere.
     Solid(Color),
     /// A Lottie gradient, and the space the path must be drawn in when it is not the
     /// path's own.
     Grad(Box<Gradient>, Option<Affine>),
+    /// A pattern, which the layers draw ([`Styled::Pattern`]).
+    Pattern(Arc<Pattern>),
 }
 
 /// Stops after unrolling `periods` (first, count) of a reflected or repeated spread.
@@ -324,8 +315,8 @@ fn linear(
     tint: &[Key<Tint>],
     element: &str,
     warn: &mut Vec<String>,
-) -> GradOut {
-    let solid = |c: Color| GradOut::Solid(c);
+) -> Resolved {
+    let solid = |c: Color| Resolved::Solid(c);
     if let Some(c) = single(&g.stops) {
         return solid(c);
     }
@@ -387,7 +378,7 @@ fn linear(
         a: None,
         g: stops_prop(&stops, tint),
     };
-    GradOut::Grad(Box::new(grad), None)
+    Resolved::Grad(Box::new(grad), None)
 }
 
 /// Whether `m` maps circles to circles (rotation, uniform scale, reflection, translation).
@@ -404,12 +395,12 @@ fn radial(
     is_stroke: bool,
     element: &str,
     warn: &mut Vec<String>,
-) -> GradOut {
+) -> Resolved {
     if let Some(c) = single(&g.stops) {
-        return GradOut::Solid(c);
+        return Resolved::Solid(c);
     }
     if g.radius <= 0.0 || !g.transform.determinant().is_normal() {
-        return GradOut::Solid(g.stops.last().map_or(Color::BLACK, |s| s.color));
+        return Resolved::Solid(g.stops.last().map_or(Color::BLACK, |s| s.color));
     }
     let concentric = (g.focal - g.center).hypot() <= 1e-9 * g.radius;
     let fr = g.focal_radius.clamp(0.0, g.radius * 0.999);
@@ -497,7 +488,7 @@ fn radial(
         a,
         g: stops_prop(&stops, tint),
     };
-    GradOut::Grad(Box::new(grad), space)
+    Resolved::Grad(Box::new(grad), space)
 }
 
 /// The gradient coordinate of `x` for a radial gradient with focal point `f`, centre `c`
@@ -583,7 +574,7 @@ mod tests {
             spread: Spread::Pad,
             stops: vec![stop(0.0, Color::BLACK), stop(1.0, Color::WHITE)],
         };
-        let GradOut::Grad(grad, None) = linear(
+        let Resolved::Grad(grad, None) = linear(
             &g,
             Rect::new(0.0, 0.0, 10.0, 10.0),
             &[],

@@ -223,8 +223,19 @@ pub fn write_with_progress(
             return write_png(path, &frame::frame_svg(anim, t), opts.size);
         }
         Format::Frames => raster::write_frames(&frames()?, path),
-        Format::Gif => raster::write_gif(&frames()?, anim.fps, anim.looping, path),
-        Format::Apng => raster::write_apng(&frames()?, anim.fps, anim.looping, path),
+        format @ (Format::Gif | Format::Apng) => {
+            let frames = frames()?;
+            let played = raster::Frames {
+                frames: &frames,
+                fps: anim.fps,
+                looping: anim.looping,
+            };
+            if format == Format::Gif {
+                raster::write_gif(played, path)
+            } else {
+                raster::write_apng(played, path)
+            }
+        }
         Format::Lottie => {
             return write_lottie(path, lottie::to_lottie(anim, &lottie_options(opts)));
         }

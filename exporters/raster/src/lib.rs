@@ -134,20 +134,36 @@ pub fn save_png(pixmap: &Pixmap, path: &Path) -> Result<(), RenderError> {
     atomic::write_bytes(path, &bytes).map_err(|e| write_error(path, e))
 }
 
-/// Checks that `frames` is a non-empty run of equally sized images and `fps` is usable.
-fn check_frames(frames: &[Pixmap], fps: f64) -> Result<(u32, u32), RenderError> {
-    if !(fps.is_finite() && fps > 0.0) {
-        return Err(RenderError::Fps(fps));
-    }
-    let first = frames.first().ok_or(RenderError::NoFrames)?;
-    let want = (first.width(), first.height());
-    for (index, f) in frames.iter().enumerate() {
-        let got = (f.width(), f.height());
-        if got != want {
-            return Err(RenderError::FrameSize { index, got, want });
+/// A rendered animation, as an animated GIF or PNG holds it: its frames, shown `fps` a
+/// second, repeating forever when `looping`, else played once.
+#[derive(Clone, Copy, Debug)]
+pub struct Frames<'a> {
+    /// The frames in order, all of one size.
+    pub frames: &'a [Pixmap],
+    /// Frames per second.
+    pub fps: f64,
+    /// Whether the animation repeats.
+    pub looping: bool,
+}
+
+impl Frames<'_> {
+    /// The frames' size, once checked that they are a non-empty run of equally sized
+    /// images and `fps` is usable.
+    fn size(&self) -> Result<(u32, u32), RenderError> {
+        let fps = self.fps;
+        if !(fps.is_finite() && fps > 0.0) {
+            return Err(RenderError::Fps(fps));
         }
+        let first = self.frames.first().ok_or(RenderError::NoFrames)?;
+        let want = (first.width(), first.height());
+        for (index, f) in self.frames.iter().enumerate() {
+            let got = (f.width(), f.height());
+            if got != want {
+                return Err(RenderError::FrameSize { index, got, want });
+            }
+        }
+        Ok(want)
     }
-    Ok(want)
 }
 
 /// The frame's pixels with straight alpha, as image formats store them.
@@ -203,15 +219,9 @@ fn gif_schedule(n: usize, fps: f64) -> Vec<(usize, u16)> {
 /// Writes an animated GIF: one palette of up to 256 colours per frame (NeuQuant when a
 /// frame has more), alpha thresholded to fully transparent or opaque as GIF requires, and
 /// frame delays in GIF's 1/100 s that add up to the exact time (see `gif_schedule`:
-/// above 50 fps, 50 frames a second are shown). `looping` repeats forever, otherwise it plays
-/// once.
-pub fn write_gif(
-    frames: &[Pixmap],
-    fps: f64,
-    looping: bool,
-    path: &Path,
-) -> Result<(), RenderError> {
-    let (w, h) = check_frames(frames, fps)?;
+/// above 50 fps, 50 frames a second are shown).
+pub fn write_gif(anim: Frames, path: &Path) -> Result<(), RenderError> {
+    let (w, h) = anim.size()?;
     let (w16, h16) = match (u16::try_from(w), u16::try_from(h)) {
         (Ok(w), Ok(h)) => (w, h),
         _ => {
@@ -221,17 +231,17 @@ pub fn write_gif(
             });
         }
     };
-    let schedule = gif_schedule(frames.len(), fps);
+    let schedule = gif_schedule(anim.frames.len(), anim.fps);
     atomic::write_with(path, |out| -> io::Result<()> {
         let mut enc = gif::Encoder::new(out, w16, h16, &[]).map_err(io::Error::other)?;
-        let repeat = if looping {
+        let repeat = if anim.looping {
             gif::Repeat::Infinite
         } else {
             gif::Repeat::Finite(0)
         };
         enc.set_repeat(repeat).map_err(io::Error::other)?;
         for &(k, delay) in &schedule {
-            let mut rgba = straight_rgba(&frames[k]);
+            let mut rgba = straight_rgba(&anim.frames[k]);
             let mut frame = gif::Frame::from_rgba_speed(w16, h16, &mut rgba, 10);
             frame.delay = delay;
             // Frames are whole pictures with transparency: clear before drawing the next.
@@ -290,23 +300,17 @@ fn apng_delays(n: usize, fps: f64) -> Vec<(u16, u16)> {
 }
 
 /// Writes an animated PNG with full alpha and exact frame delays (see `apng_delays`).
-/// `looping` repeats forever, otherwise it plays once.
-pub fn write_apng(
-    frames: &[Pixmap],
-    fps: f64,
-    looping: bool,
-    path: &Path,
-) -> Result<(), RenderError> {
-    let (w, h) = check_frames(frames, fps)?;
-    let delays = apng_delays(frames.len(), fps);
+pub fn write_apng(anim: Frames, path: &Path) -> Result<(), RenderError> {
+    let (w, h) = anim.size()?;
+    let delays = apng_delays(anim.frames.len(), anim.fps);
     atomic::write_with(path, |out| -> io::Result<()> {
         let mut enc = png::Encoder::new(&mut *out, w, h);
         enc.set_color(png::ColorType::Rgba);
         enc.set_depth(png::BitDepth::Eight);
-        enc.set_animated(frames.len() as u32, if looping { 0 } else { 1 })
+        enc.set_animated(anim.frames.len() as u32, if anim.looping { 0 } else { 1 })
             .map_err(io::Error::other)?;
         let mut writer = enc.write_header().map_err(io::Error::other)?;
-        for (f, &(num, den)) in frames.iter().zip(&delays) {
+        for (f, &(num, den)) in anim.frames.iter().zip(&delays) {
             writer.set_frame_delay(num, den).map_err(io::Error::other)?;
             writer
                 .write_image_data(&straight_rgba(f))
@@ -442,6 +446,15 @@ pub fn compare(a: &Pixmap, b: &Pixmap, tol: u8) -> f64 {
 mod tests {
     use super::*;
 
+    /// `frames` at `fps`, looping or played once.
+    fn played(frames: &[Pixmap], fps: f64, looping: bool) -> Frames<'_> {
+        Frames {
+            frames,
+            fps,
+            looping,
+        }
+    }
+
     const SQUARE: &str = r##"<svg xmlns="http://www.w3.org/2000/svg" width="20" height="10"><rect width="10" height="10" fill="#f00"/></svg>"##;
 
     #[test]
@@ -485,7 +498,7 @@ mod tests {
     #[test]
     fn apng_holds_every_frame_with_its_delay() {
         let path = temp("anim.png");
-        write_apng(&frames(), 25.0, false, &path).unwrap();
+        write_apng(played(&frames(), 25.0, false), &path).unwrap();
         let mut dec =
             png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&path).unwrap()))
                 .read_info()
@@ -507,7 +520,7 @@ mod tests {
     #[test]
     fn gif_holds_every_frame_with_transparency() {
         let path = temp("anim.gif");
-        write_gif(&frames(), 20.0, true, &path).unwrap();
+        write_gif(played(&frames(), 20.0, true), &path).unwrap();
         let mut opts = gif::DecodeOptions::new();
         opts.set_color_output(gif::ColorOutput::RGBA);
         let mut dec = opts.read_info(std::fs::File::open(&path).unwrap()).unwrap();
@@ -546,7 +559,7 @@ mod tests {
             // Two seconds; 2·fps frames is a whole number for every rate here.
             let n = (2.0 * fps) as usize;
             let path = temp(&format!("tempo-{fps}.gif"));
-            write_gif(&numbered(n), fps, true, &path).unwrap();
+            write_gif(played(&numbered(n), fps, true), &path).unwrap();
             let mut opts = gif::DecodeOptions::new();
             opts.set_color_output(gif::ColorOutput::RGBA);
             let mut dec = opts.read_info(std::fs::File::open(&path).unwrap()).unwrap();
@@ -595,7 +608,7 @@ mod tests {
         for fps in rates {
             let n = (2.0 * fps).round() as usize;
             let path = temp(&format!("tempo-{fps}.png"));
-            write_apng(&numbered(n), fps, true, &path).unwrap();
+            write_apng(played(&numbered(n), fps, true), &path).unwrap();
             let file = std::io::BufReader::new(std::fs::File::open(&path).unwrap());
             let mut dec = png::Decoder::new(file).read_info().unwrap();
             let mut buf = vec![0; dec.output_buffer_size().unwrap()];
@@ -655,12 +668,12 @@ mod tests {
         assert!(matches!(render("<svg", 10), Err(RenderError::Svg(_))));
         let dir = std::env::temp_dir();
         assert!(matches!(
-            write_gif(&[], 10.0, true, &dir.join("x.gif")),
+            write_gif(played(&[], 10.0, true), &dir.join("x.gif")),
             Err(RenderError::NoFrames)
         ));
         let frames = [Pixmap::new(2, 2).unwrap(), Pixmap::new(3, 2).unwrap()];
         assert!(matches!(
-            write_apng(&frames, 10.0, true, &dir.join("x.png")),
+            write_apng(played(&frames, 10.0, true), &dir.join("x.png")),
             Err(RenderError::FrameSize { index: 1, .. })
         ));
     }

@@ -21,6 +21,15 @@ use paint::Paint;
 use regular_split::SplitParams;
 use stipple::StippleParams;
 
+/// The operators' unit-test case: the grid of a 100 × 100 canvas and a square region of
+/// side `side` in its top-left corner.
+#[cfg(test)]
+fn test_square(side: f64) -> (Grid, Region) {
+    use kurbo::Rect;
+    let grid = Grid::for_bounds(Rect::new(0.0, 0.0, 100.0, 100.0)).unwrap();
+    (grid, Region::from_rect(Rect::new(0.0, 0.0, side, side)))
+}
+
 /// Which field a streamline split follows.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum StreamKind {

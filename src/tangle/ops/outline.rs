@@ -26,12 +26,11 @@ pub fn outline(region: &Region, distance: f64, grid: &Grid) -> Result<(Region, R
 #[cfg(test)]
 mod tests {
     use super::*;
-    use kurbo::Rect;
+    use crate::tangle::ops::test_square;
 
     #[test]
     fn ring_and_core_partition_a_square() {
-        let grid = Grid::for_bounds(Rect::new(0.0, 0.0, 100.0, 100.0)).unwrap();
-        let r = Region::from_rect(Rect::new(0.0, 0.0, 50.0, 50.0));
+        let (grid, r) = test_square(50.0);
         let (out, inner) = outline(&r, 5.0, &grid).unwrap();
         assert!((inner.area() - 1600.0).abs() < 0.5, "{}", inner.area());
         assert!((out.area() + inner.area() - 2500.0).abs() < 1e-6);

@@ -142,12 +142,11 @@ pub fn stipple(
 mod tests {
     use super::*;
     use crate::tangle::noise::key;
-    use kurbo::Rect;
+    use crate::tangle::ops::test_square;
 
     #[test]
     fn marks_lie_inside_at_the_asked_density() {
-        let grid = Grid::for_bounds(Rect::new(0.0, 0.0, 100.0, 100.0)).unwrap();
-        let r = Region::from_rect(Rect::new(0.0, 0.0, 100.0, 100.0));
+        let (grid, r) = test_square(100.0);
         for kind in [StippleKind::Dots, StippleKind::Dashes, StippleKind::Curves] {
             let p = StippleParams {
                 kind,

@@ -55,12 +55,12 @@ pub fn streamline_split(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use kurbo::{Point, Rect};
+    use crate::tangle::ops::test_square;
+    use kurbo::Point;
 
     #[test]
     fn circular_split_makes_rings() {
-        let grid = Grid::for_bounds(Rect::new(0.0, 0.0, 100.0, 100.0)).unwrap();
-        let r = Region::from_rect(Rect::new(0.0, 0.0, 60.0, 60.0));
+        let (grid, r) = test_square(60.0);
         let c = FieldKind::Circular(Point::new(30.0, 30.0));
         let pieces = streamline_split(&r, c, 8.0, 1.0, Vec2::new(1.0, 0.0), &grid).unwrap();
         // Three full rings plus a disc, and the corners.

@@ -100,18 +100,16 @@ pub(super) fn whiten(nodes: &[Node]) -> Vec<Node> {
             })),
             Node::Path(p) => {
                 let f = p.fill.as_ref()?;
-                Some(Node::Path(PathNode {
-                    id: p.id.clone(),
-                    path: p.path.clone(),
-                    fill: Some(Fill {
-                        paint: Paint::Solid(Color::WHITE),
-                        opacity: 1.0,
-                        rule: f.rule,
-                    }),
-                    stroke: None,
-                    stroke_first: false,
-                    unit: None,
-                }))
+                let white = Fill {
+                    rule: f.rule,
+                    ..Fill::solid(Color::WHITE)
+                };
+                Some(Node::Path(PathNode::new(
+                    p.id.clone(),
+                    p.path.clone(),
+                    Some(white),
+                    None,
+                )))
             }
         })
         .collect()
@@ -160,18 +158,12 @@ pub(super) fn rect_clip(r: Rect) -> Arc<ClipPath> {
         transform: Affine::IDENTITY,
         clip_path: None,
         root: Group {
-            children: vec![Node::Path(PathNode {
-                id: String::new(),
+            children: vec![Node::Path(PathNode::new(
+                String::new(),
                 path,
-                fill: Some(Fill {
-                    paint: Paint::Solid(Color::WHITE),
-                    opacity: 1.0,
-                    rule: FillRule::NonZero,
-                }),
-                stroke: None,
-                stroke_first: false,
-                unit: None,
-            })],
+                Some(Fill::solid(Color::WHITE)),
+                None,
+            ))],
             ..Group::new()
         },
     })

@@ -249,11 +249,11 @@ impl Builder<'_> {
                 .collect();
         }
         let back = to.inverse();
-        let track = &self.tracks[u];
+        let track = &self.src.tracks[u];
         let shapes: Vec<Vec<Contour>> = frames
             .iter()
             .map(|f| {
-                let t = f / self.fps;
+                let t = f / self.src.fps;
                 cs.iter()
                     .map(|c| {
                         let m = |p: &Point| back * track.deform(to * *p, t);

@@ -71,30 +71,21 @@ impl Builder<'_> {
             }
         }
         let outline_node = match outline {
-            Outline::Fill(f) => PathNode {
-                id: String::new(),
-                path: path.clone(),
-                fill: Some(Fill {
-                    paint: Paint::Solid(Color::WHITE),
-                    opacity: 1.0,
+            Outline::Fill(f) => {
+                let white = Fill {
                     rule: f.rule,
-                }),
-                stroke: None,
-                stroke_first: false,
-                unit: None,
-            },
-            Outline::Stroke(s) => PathNode {
-                id: String::new(),
-                path: path.clone(),
-                fill: None,
-                stroke: Some(Stroke {
+                    ..Fill::solid(Color::WHITE)
+                };
+                PathNode::new(String::new(), path.clone(), Some(white), None)
+            }
+            Outline::Stroke(s) => {
+                let white = Stroke {
                     paint: Paint::Solid(Color::WHITE),
                     opacity: 1.0,
                     ..s
-                }),
-                stroke_first: false,
-                unit: None,
-            },
+                };
+                PathNode::new(String::new(), path.clone(), None, Some(white))
+            }
         };
         let mask = Mask {
             id: format!("{}-outline", pat.id),

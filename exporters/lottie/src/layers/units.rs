@@ -5,7 +5,7 @@ use super::*;
 
 impl Builder<'_> {
     pub(super) fn unit(&mut self, node: &Node, u: usize, acc: Affine, env: Env, comp: &mut Comp) {
-        let shape = &self.scene.shapes[u];
+        let shape = &self.src.scene.shapes[u];
         let name = format!("{}:{}", shape.tag, shape.id);
         let unit_env = Env {
             unit: Some(u),
@@ -79,7 +79,7 @@ impl Builder<'_> {
                     })];
                 }
             }
-            let mut l = comp.layer(LayerType::Shape, name.clone(), self.op);
+            let mut l = comp.layer(LayerType::Shape, name.clone(), self.src.op);
             if painting_groups(&it) > 1 {
                 // ThorVG applies a group's opacity to each path in it (so a path over
                 // another shows the one beneath, and a stroke baked to an outline shows
@@ -107,7 +107,7 @@ impl Builder<'_> {
             } else {
                 format!("{name}/{k}")
             };
-            let mut n = sub.layer(LayerType::Null, nm, self.op);
+            let mut n = sub.layer(LayerType::Null, nm, self.src.op);
             n.ks = full_transform(level.clone());
             n.parent = nulls.last().map(|p: &Layer| p.ind);
             nulls.push(n);
@@ -120,12 +120,12 @@ impl Builder<'_> {
             match item {
                 Item::Shape(s) => run.push(*s),
                 Item::Layers(ls) => {
-                    sub.flush(&mut run, &mut layers, self.op);
+                    sub.flush(&mut run, &mut layers, self.src.op);
                     layers.extend(ls);
                 }
             }
         }
-        sub.flush(&mut run, &mut layers, self.op);
+        sub.flush(&mut run, &mut layers, self.src.op);
         comp.next_ind = sub.next_ind;
         for l in &mut layers {
             if l.parent.is_none() {

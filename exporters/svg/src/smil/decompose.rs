@@ -83,13 +83,7 @@ impl Decomposed {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn close(a: Affine, b: Affine) -> bool {
-        a.as_coeffs()
-            .iter()
-            .zip(b.as_coeffs())
-            .all(|(x, y)| (x - y).abs() < 1e-9)
-    }
+    use gmotion::motion::affine_within;
 
     #[test]
     fn round_trips_general_maps() {
@@ -100,7 +94,7 @@ mod tests {
             Affine::skew(0.4, -0.3) * Affine::translate((3.0, 9.0)),
         ] {
             let d = Decomposed::of(m).unwrap();
-            assert!(close(d.to_affine(), m), "{m:?} -> {d:?}");
+            assert!(affine_within(d.to_affine(), m, 1e-9), "{m:?} -> {d:?}");
         }
     }
 
