@@ -158,9 +158,13 @@ struct Layer {
     kind: MotionKind,
     /// Carries `kind` onto the canvas: what the motions outer to it did since.
     frame: Affine,
-    /// `kind` carried by `frame`, computed when the frame last changed; `None` while the
-    /// frame is the identity (most layers: the copy would only cost).
+    /// `kind` carried by `frame`, computed when a segment reads it after the frame changed
+    /// (a layer is carried after every slice it plays or waits in, but read only on the
+    /// slices it plays: most carried frames are never read). `None` while the frame is the
+    /// identity (most layers: the copy would only cost).
     canvas: Option<MotionKind>,
+    /// Whether `canvas` is out of date with `frame`.
+    stale: bool,
     phase: Phase,
     /// A pre-applied per-vertex motion: it deforms the drawn art itself (innermost, see
     /// [`crate::motion::Track::deform`]), so it stays in the art's frame and is never carried.
@@ -171,12 +175,12 @@ impl Layer {
     fn new(inst: Span, kind: MotionKind, frame: Affine, phase: Phase) -> Layer {
         let art = phase == Phase::Pending && matches!(kind, MotionKind::Vertex { .. });
         let frame = if art { Affine::IDENTITY } else { frame };
-        let canvas = (frame != Affine::IDENTITY).then(|| carried(&kind, frame));
         Layer {
             inst,
             kind,
             frame,
-            canvas,
+            canvas: None,
+            stale: frame != Affine::IDENTITY,
             phase,
             art,
         }
@@ -187,11 +191,15 @@ impl Layer {
             return;
         }
         self.frame = by * self.frame;
-        self.canvas = Some(carried(&self.kind, self.frame));
+        self.stale = true;
     }
 
     /// The motion on the canvas.
-    fn canvas(&self) -> &MotionKind {
+    fn canvas(&mut self) -> &MotionKind {
+        if self.stale {
+            self.canvas = Some(carried(&self.kind, self.frame));
+            self.stale = false;
+        }
         self.canvas.as_ref().unwrap_or(&self.kind)
     }
 }
