@@ -15,7 +15,7 @@ use rayon::prelude::*;
 
 use crate::color::Color;
 use crate::grammar::ast::{Expr, ExprKind};
-use crate::grammar::value::{Env, Value, eval};
+use crate::grammar::value::{Env, Value, arithmetic, eval};
 use crate::motion::{Component, Field, Grid, Interp, Lookup};
 use crate::scene::{Scene, Shape};
 use crate::signals::Easing;
@@ -300,6 +300,9 @@ where
 }
 
 fn num(e: &Expr, env: &mut ShapeEnv) -> Result<f64, EngineError> {
+    if let Some(x) = arithmetic(e, env) {
+        return Ok(x);
+    }
     let v = eval(e, env)?;
     let x = v
         .as_num()

@@ -269,7 +269,40 @@ pub fn eval(expr: &Expr, env: &mut dyn Env) -> Result<Value, EvalError> {
 
 /// Evaluates `expr` and reads it as a number.
 fn num(expr: &Expr, env: &mut dyn Env) -> Result<f64, EvalError> {
+    if let Some(x) = arithmetic(expr, env) {
+        return Ok(x);
+    }
     eval(expr, env)?.as_num().map_err(|e| e.at(expr.span))
+}
+
+/// `expr` by the arithmetic-only route: numbers, variables, `pi`, unary minus and the
+/// binary operators on numbers, each step computed exactly as [`eval`] computes it.
+/// `None` when the expression needs [`eval`]: a call, a tuple, a name that is not a
+/// variable, division by zero, a result that is not finite. It has no side effects (no
+/// `rand()` draws), so [`eval`] can then start over and give the value or the located
+/// error. Per-shape expressions such as `0.01 * (id % 30)` are evaluated for every shape at
+/// every step; this route skips building and matching [`Value`]s for them.
+pub fn arithmetic(expr: &Expr, env: &dyn Env) -> Option<f64> {
+    let x = match &expr.kind {
+        ExprKind::Num(v) => *v,
+        ExprKind::Ident(name) if name == "pi" => std::f64::consts::PI,
+        ExprKind::Ident(name) => env.var(name)?,
+        ExprKind::Neg(inner) => -arithmetic(inner, env)?,
+        ExprKind::Binary { op, lhs, rhs } => {
+            let (a, b) = (arithmetic(lhs, env)?, arithmetic(rhs, env)?);
+            match op {
+                BinOp::Add => a + b,
+                BinOp::Sub => a - b,
+                BinOp::Mul => a * b,
+                BinOp::Div | BinOp::Rem if b == 0.0 => return None,
+                BinOp::Div => a / b,
+                BinOp::Rem => a - b * (a / b).floor(),
+                BinOp::Pow => a.powf(b),
+            }
+        }
+        _ => return None,
+    };
+    x.is_finite().then_some(x)
 }
 
 /// A variable, `pi`, or else a keyword.
@@ -659,6 +692,62 @@ mod tests {
             Ok(v) => panic!("{src} evaluated to {v:?}"),
             Err(e) => e,
         }
+    }
+
+    /// The arithmetic route gives exactly what `eval` gives, and declines (leaving `eval` to
+    /// decide) wherever `eval` fails or needs more than arithmetic: built from every
+    /// operator, variables, `pi`, nesting, zero divisors, overflow and non-arithmetic parts.
+    #[test]
+    fn arithmetic_route_agrees_with_eval() {
+        let atoms = [
+            "0",
+            "-0",
+            "2.5",
+            "id",
+            "w",
+            "pi",
+            "(h - 30)",
+            "1e300",
+            "rand(1, 2)",
+            "nope",
+        ];
+        let ops = ["+", "-", "*", "/", "%", "^"];
+        let mut taken = 0;
+        for a in atoms {
+            for op in ops {
+                for b in atoms {
+                    for src in [format!("{a} {op} {b}"), format!("-({a} {op} {b}) * id % 7")] {
+                        let expr = arg(&src).value;
+                        let env = TestEnv {
+                            draws: vec![0.5; 4],
+                        };
+                        let fast = arithmetic(&expr, &env);
+                        let slow = eval(
+                            &expr,
+                            &mut TestEnv {
+                                draws: vec![0.5; 4],
+                            },
+                        );
+                        match (fast, slow) {
+                            (Some(x), Ok(Value::Num(y))) => {
+                                assert_eq!(x.to_bits(), y.to_bits(), "{src}");
+                                taken += 1;
+                            }
+                            (Some(x), other) => panic!("{src}: arithmetic {x}, eval {other:?}"),
+                            (None, Ok(Value::Num(_))) => assert!(
+                                src.contains("rand") || src.contains("nope"),
+                                "{src}: arithmetic declined what eval computes"
+                            ),
+                            (None, _) => {}
+                        }
+                    }
+                }
+            }
+        }
+        assert!(
+            taken > 500,
+            "only {taken} expressions took the arithmetic route"
+        );
     }
 
     #[test]
