@@ -36,7 +36,11 @@ pub const LIMITS: &[(&str, u64, &str)] = &[
         gmotion_output::DEFAULT_MAX_ANIMATION_PIXELS,
         "pixels of all frames of a GIF, APNG or frames folder",
     ),
-    ("steps", 10_000_000, "largest --max-steps or max_steps"),
+    (
+        "steps",
+        100_000,
+        "largest --max-steps or max_steps (expansion time grows with its square)",
+    ),
 ];
 
 /// The limits in force.
