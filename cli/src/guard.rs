@@ -103,7 +103,7 @@ impl Limits {
     /// Refuses `frames` frames past the `frames` limit; `what` says where they come from.
     pub fn check_frames(&self, frames: f64, what: &str) -> Result<()> {
         let limit = self.get("frames");
-        if !(frames <= limit as f64) {
+        if frames.is_nan() || frames > limit as f64 {
             return Err(CliError::msg(format!(
                 "{what} make {} frames, more than the limit of {limit} (raise it with --limit frames=N)",
                 short(frames)
