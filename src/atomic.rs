@@ -1,34 +1,193 @@
 //! All-or-nothing file output: write to a temporary file beside the target, then rename,
 //! so a failed export never leaves a partial file where the user expects a result.
+//!
+//! Three more guarantees hold for a whole run:
+//!
+//! - **Every temporary file is known.** Each one this module creates is registered until it
+//!   is renamed into place or removed, so [`remove_temporaries`] can delete them all (the
+//!   command line calls it from its SIGINT/SIGTERM handler), and [`Staging`] removes them
+//!   when dropped.
+//! - **Several outputs land together.** While a [`Staging`] is open, finished files are
+//!   not renamed into place: they wait in their temporary files until
+//!   [`Staging::commit`] renames them all, so when a later output fails, none of the
+//!   earlier ones is written and no existing file is replaced.
+//! - **Only regular files are replaced.** [`check_target`] refuses a directory, a device,
+//!   a FIFO or a socket as a file output (renaming over `/dev/full` would replace the
+//!   device node with a regular file).
 
 use std::fs::File;
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+/// What is left to do to put one staged output in place.
+type Commit = Box<dyn FnOnce() -> io::Result<()> + Send>;
+
+/// Temporary files and folders that exist right now (created here, not yet renamed or
+/// removed).
+static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// The outputs waiting for [`Staging::commit`], when a staging is open.
+static STAGED: Mutex<Option<Vec<Commit>>> = Mutex::new(None);
+
+fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    // A panic while holding the lock leaves the list as it was; it is still usable.
+    m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Records `path` as a temporary this process owns until [`forget`] is called.
+pub fn register(path: &Path) {
+    lock(&LIVE).push(path.to_path_buf());
+}
+
+/// Forgets a temporary recorded by [`register`] (it was renamed or removed).
+pub fn forget(path: &Path) {
+    let mut live = lock(&LIVE);
+    if let Some(i) = live.iter().position(|p| p == path) {
+        live.swap_remove(i);
+    }
+}
+
+/// Removes every temporary file and folder this process has created and not yet put in
+/// place. Safe to call from a signal-handling thread; the targets are never touched.
+pub fn remove_temporaries() {
+    let live = std::mem::take(&mut *lock(&LIVE));
+    for p in live {
+        if p.is_dir() {
+            let _ = std::fs::remove_dir_all(&p);
+        } else {
+            let _ = std::fs::remove_file(&p);
+        }
+    }
+}
+
+/// Refuses an output path that exists and is not a regular file (or a symbolic link to
+/// one): a directory, a device, a FIFO or a socket would be replaced by a regular file.
+pub fn check_target(path: &Path) -> io::Result<()> {
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_file() => Ok(()),
+        Ok(m) => {
+            let kind = if m.is_dir() {
+                "a directory"
+            } else {
+                "not a regular file (a device, FIFO or socket)"
+            };
+            Err(io::Error::other(format!(
+                "{kind}; gmotion replaces only regular files"
+            )))
+        }
+        Err(e) if e.kind() == io::ErrorKind::NotFound => Ok(()),
+        Err(e) => Err(e),
+    }
+}
+
+/// Runs `commit` now, or later with the other outputs when a [`Staging`] is open; `tmp`
+/// is removed if the staging is dropped without committing.
+pub fn finish(tmp: &Path, commit: Commit) -> io::Result<()> {
+    let mut staged = lock(&STAGED);
+    match staged.as_mut() {
+        Some(list) => {
+            list.push(commit);
+            Ok(())
+        }
+        None => {
+            drop(staged);
+            let r = commit();
+            if r.is_err() {
+                discard(tmp);
+            }
+            r
+        }
+    }
+}
+
+/// Removes a temporary file or folder and forgets it.
+fn discard(tmp: &Path) {
+    if tmp.is_dir() {
+        let _ = std::fs::remove_dir_all(tmp);
+    } else {
+        let _ = std::fs::remove_file(tmp);
+    }
+    forget(tmp);
+}
+
+/// Outputs written together: while a `Staging` lives, every file written through this
+/// module waits in its temporary file; [`Staging::commit`] puts them all in place, and
+/// dropping it uncommitted removes them. One staging at a time per process.
+#[derive(Debug)]
+pub struct Staging {
+    _private: (),
+}
+
+impl Staging {
+    /// Opens a staging.
+    pub fn begin() -> Staging {
+        *lock(&STAGED) = Some(Vec::new());
+        Staging { _private: () }
+    }
+
+    /// Puts every staged output in place, in the order written. Renames within a folder
+    /// do not fail in practice once the data is written; should one fail, the others
+    /// are still put in place and the first error is returned.
+    pub fn commit(self) -> io::Result<()> {
+        let list = lock(&STAGED).take().unwrap_or_default();
+        let mut first = Ok(());
+        for c in list {
+            let r = c();
+            if first.is_ok() {
+                first = r;
+            }
+        }
+        remove_temporaries();
+        first
+    }
+}
+
+impl Drop for Staging {
+    fn drop(&mut self) {
+        // Committed: the list is gone. Dropped early (an error, a panic): discard.
+        if lock(&STAGED).take().is_some() {
+            remove_temporaries();
+        }
+    }
+}
+
 /// Creates `path` by running `write` on a buffered temporary file in the same directory
-/// and renaming it into place once `write` and the flush succeed. On error the temporary
-/// file is removed and `path` is left as it was.
+/// and renaming it into place once `write` and the flush succeed (or when the open
+/// [`Staging`] commits). On error the temporary file is removed and `path` is left as it
+/// was. A `path` that exists and is not a regular file is refused ([`check_target`]).
 pub fn write_with<E, F>(path: &Path, write: F) -> Result<(), E>
 where
     E: From<io::Error>,
     F: FnOnce(&mut BufWriter<File>) -> Result<(), E>,
 {
+    check_target(path)?;
     let tmp = temp_path(path);
+    register(&tmp);
     let result = (|| {
         let mut out = BufWriter::new(File::create(&tmp)?);
         write(&mut out)?;
         let file = out.into_inner().map_err(|e| e.into_error())?;
         file.sync_all()?;
         drop(file);
-        std::fs::rename(&tmp, path)?;
         Ok(())
     })();
     if result.is_err() {
         // The temporary file is ours and incomplete; failing to remove it changes nothing.
-        let _ = std::fs::remove_file(&tmp);
+        discard(&tmp);
+        return result;
     }
-    result
+    let (from, to) = (tmp.clone(), path.to_path_buf());
+    finish(
+        &tmp,
+        Box::new(move || {
+            std::fs::rename(&from, &to)?;
+            forget(&from);
+            Ok(())
+        }),
+    )?;
+    Ok(())
 }
 
 /// Writes `bytes` to `path` atomically.
@@ -65,6 +224,25 @@ mod tests {
         assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
         write_bytes(&target, b"done").unwrap();
         assert_eq!(std::fs::read(&target).unwrap(), b"done");
+
+        // Staged: nothing lands until commit; dropped, nothing lands at all.
+        let (a, b) = (dir.join("a.txt"), dir.join("b.txt"));
+        let staging = Staging::begin();
+        write_bytes(&a, b"a").unwrap();
+        write_bytes(&target, b"new").unwrap();
+        assert!(!a.exists());
+        drop(staging);
+        assert!(!a.exists());
+        assert_eq!(std::fs::read(&target).unwrap(), b"done");
+        let staging = Staging::begin();
+        write_bytes(&a, b"a").unwrap();
+        write_bytes(&b, b"b").unwrap();
+        staging.commit().unwrap();
+        assert_eq!(std::fs::read(&b).unwrap(), b"b");
+        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 3);
+
+        // A directory is not replaced.
+        assert!(write_bytes(&dir, b"x").is_err());
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

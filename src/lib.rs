@@ -43,6 +43,7 @@ pub mod canvas;
 pub mod color;
 pub mod engine;
 pub mod grammar;
+pub mod input;
 pub mod measure;
 pub mod motion;
 pub mod scene;

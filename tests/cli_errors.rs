@@ -1,8 +1,13 @@
 //! Bad input, table-driven, through the real binary: every case exits with status 1 (not a
 //! panic's 101), says what and where, and leaves no output file behind.
+//!
+//! Hostile input (issue 18) too: every case must finish within a time bound (a FIFO must
+//! not block, a bomb must not expand), and every file the case starts with must be there
+//! afterwards, byte for byte (no input or pre-existing output is ever overwritten).
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
 
 const SCENE: &str = r#"<svg xmlns="http://www.w3.org/2000/svg" width="100" height="80">
   <rect data-tag="s" x="10" y="10" width="20" height="20" fill="red"/>
@@ -22,6 +27,606 @@ struct Case {
     expect: Vec<&'static str>,
     /// Output that must not exist afterwards (relative to the case directory).
     output: &'static str,
+}
+
+/// A case with more to it than [`Case`]: something to set up in its directory first
+/// (FIFOs, links, folders; the names it makes are not strays), and the exit status
+/// expected (0 for inputs that succeed with a warning).
+struct Hostile {
+    case: Case,
+    setup: fn(&Path) -> Vec<&'static str>,
+    code: i32,
+}
+
+fn no_setup(_: &Path) -> Vec<&'static str> {
+    Vec::new()
+}
+
+fn fifo(dir: &Path, name: &'static str) -> Vec<&'static str> {
+    let status = Command::new("mkfifo").arg(dir.join(name)).status().unwrap();
+    assert!(status.success(), "mkfifo");
+    vec![name]
+}
+
+const STROKED: &str = r#"<svg xmlns="http://www.w3.org/2000/svg" width="100" height="80">
+  <rect data-tag="s" x="10" y="10" width="20" height="20" fill="red" stroke="black" stroke-width="2"/>
+  <circle data-tag="c" cx="60" cy="40" r="10" fill="blue"/>
+</svg>
+"#;
+
+const TARGETS: &str = r#"{"fps": 30, "duration": 1, "targets": [{"time": 0, "tag": "s", "id": 0, "attr": "dx", "value": 0}, {"time": 0.5, "tag": "s", "id": 0, "attr": "dx", "value": 20}]}"#;
+
+/// `svg` with an `<image>` of `href`, and a picture beside it that it may reference.
+fn image_svg(href: &str) -> Vec<u8> {
+    format!(
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="100" height="80">
+  <rect data-tag="s" x="10" y="10" width="20" height="20" fill="red"/>
+  <image id="pic" href="{href}" width="10" height="10"/>
+</svg>
+"#
+    )
+    .into_bytes()
+}
+
+/// A quadratic entity expansion: a 2 kB entity referenced 1000 times (2 MB of text).
+fn entity_bomb() -> Vec<u8> {
+    let value = "x".repeat(2000);
+    let refs = "&big;".repeat(1000);
+    format!(
+        r#"<?xml version="1.0"?>
+<!DOCTYPE svg [
+  <!ENTITY big "{value}">
+]>
+<svg xmlns="http://www.w3.org/2000/svg" width="100" height="80">
+  <rect data-tag="s" width="20" height="20"/>
+  <text>{refs}</text>
+</svg>
+"#
+    )
+    .into_bytes()
+}
+
+/// A gzip stream of `n` bytes of spaces after an SVG opening (a `.svgz` bomb when large).
+fn svgz(n: usize) -> Vec<u8> {
+    use std::io::Write;
+    let mut enc = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::best());
+    enc.write_all(b"<svg xmlns='http://www.w3.org/2000/svg' width='10' height='10'><rect width='5' height='5'/>")
+        .unwrap();
+    let chunk = vec![b' '; 1 << 16];
+    let mut left = n;
+    while left > 0 {
+        let k = left.min(chunk.len());
+        enc.write_all(&chunk[..k]).unwrap();
+        left -= k;
+    }
+    enc.write_all(b"</svg>").unwrap();
+    enc.finish().unwrap()
+}
+
+fn hostile(case: Case) -> Hostile {
+    Hostile {
+        case,
+        setup: no_setup,
+        code: 1,
+    }
+}
+
+fn hostile_cases() -> Vec<Hostile> {
+    let files = |scene: &str, grammar: &str| -> Vec<(&'static str, Vec<u8>)> {
+        // (a scene and a grammar, by content)
+        vec![
+            ("scene.svg", scene.as_bytes().to_vec()),
+            ("g.gm", grammar.as_bytes().to_vec()),
+        ]
+    };
+    let mut v = vec![
+        // 1. Numbers that would crash the renderer: refused with the frame and the shape.
+        hostile(Case {
+            name: "stroke-width 1e10 in the scene",
+            files: files(
+                &STROKED.replace("stroke-width=\"2\"", "stroke-width=\"1e10\""),
+                GOOD,
+            ),
+            args: vec!["convert", "{d}/scene.svg", "-o", "{d}/out.png"],
+            expect: vec!["out.png", "shape s:0", "±1e8 px"],
+            output: "out.png",
+        }),
+        hostile(Case {
+            name: "animated stroke-width 1e10",
+            files: files(
+                STROKED,
+                "duration 1s\nanimate(stroke-width, local, 0, 1e10) : [all, s] -> [m]\n",
+            ),
+            args: vec!["animate", "{d}/scene.svg", "{d}/g.gm", "-o", "{d}/out.gif"],
+            expect: vec!["out.gif", "frame 1 ", "shape s:0", "±1e8 px"],
+            output: "out.gif",
+        }),
+        hostile(Case {
+            name: "scale(1e10) on a stroked shape",
+            files: files(
+                STROKED,
+                "duration 1s\nanimate(affine, local, 0, scale(1e10)) : [all, s] -> [m]\n",
+            ),
+            args: vec![
+                "animate",
+                "{d}/scene.svg",
+                "{d}/g.gm",
+                "-o",
+                "{d}/out.png",
+                "--time",
+                "0.5",
+            ],
+            expect: vec![
+                "out.png",
+                "frame 15 ",
+                "shape s:0",
+                "stroke width, scale or coordinate",
+            ],
+            output: "out.png",
+        }),
+        // 2. Never destructive.
+        hostile(Case {
+            name: "output is the scene",
+            files: files(SCENE, GOOD),
+            args: vec![
+                "animate",
+                "{d}/scene.svg",
+                "{d}/g.gm",
+                "-o",
+                "{d}/scene.svg",
+            ],
+            expect: vec!["scene.svg", "refusing to write over an input"],
+            output: "scene.svg",
+        }),
+        hostile(Case {
+            name: "output is the grammar, second of two",
+            files: files(SCENE, GOOD),
+            args: vec![
+                "animate",
+                "{d}/scene.svg",
+                "{d}/g.gm",
+                "-o",
+                "{d}/out.json",
+                "-o",
+                "{d}/g.gm",
+            ],
+            expect: vec!["g.gm", "refusing to write over an input"],
+            output: "out.json",
+        }),
+        hostile(Case {
+            name: "convert onto itself",
+            files: files(SCENE, GOOD),
+            args: vec!["convert", "{d}/scene.svg", "-o", "{d}/scene.svg"],
+            expect: vec!["scene.svg", "refusing to write over an input"],
+            output: "scene.svg",
+        }),
+        hostile(Case {
+            name: "check --graph onto the grammar",
+            files: files(SCENE, GOOD),
+            args: vec!["check", "{d}/g.gm", "--graph", "{d}/g.gm"],
+            expect: vec!["g.gm", "refusing to write over an input"],
+            output: "g.gm",
+        }),
+        hostile(Case {
+            name: "transitions onto its targets",
+            files: vec![("scene.svg", SCENE.into()), ("t.json", TARGETS.into())],
+            args: vec![
+                "transitions",
+                "{d}/scene.svg",
+                "{d}/t.json",
+                "-o",
+                "{d}/t.json",
+            ],
+            expect: vec!["t.json", "refusing to write over an input"],
+            output: "t.json",
+        }),
+        Hostile {
+            case: args_case(
+                "output is a device (through a link)",
+                &["convert", "{d}/scene.svg", "-o", "{d}/dev.png"],
+                &["dev.png", "a device"],
+                "none",
+            ),
+            setup: |d| {
+                std::os::unix::fs::symlink("/dev/null", d.join("dev.png")).unwrap();
+                vec!["dev.png"]
+            },
+            code: 1,
+        },
+        hostile(args_case(
+            "output is /dev/full",
+            &["convert", "{d}/scene.svg", "-o", "/dev/full"],
+            &["/dev/full", "a device"],
+            "none",
+        )),
+        hostile(Case {
+            name: "second output fails: the first is not written, the old one kept",
+            files: vec![
+                ("scene.svg", STROKED.into()),
+                (
+                    "g.gm",
+                    "duration 1s\nanimate(stroke-width, local, 0, 1e10) : [all, s] -> [m]\n".into(),
+                ),
+                ("out.json", b"precious".to_vec()),
+            ],
+            args: vec![
+                "animate",
+                "{d}/scene.svg",
+                "{d}/g.gm",
+                "-o",
+                "{d}/out.json",
+                "-o",
+                "{d}/new.svg",
+                "-o",
+                "{d}/out.gif",
+            ],
+            expect: vec!["out.gif", "shape s:0"],
+            output: "new.svg",
+        }),
+        // 3. File-access policy: refused references are warnings naming the element.
+        Hostile {
+            case: Case {
+                name: "image with an absolute path",
+                files: vec![
+                    ("scene.svg", image_svg("/etc/hostname")),
+                    ("g.gm", GOOD.into()),
+                ],
+                args: vec!["convert", "{d}/scene.svg", "-o", "{d}/out.json"],
+                expect: vec![
+                    "<image id=\"pic\"> (line 3)",
+                    "/etc/hostname",
+                    "outside the SVG's folder",
+                    "--allow-path",
+                ],
+                output: "none",
+            },
+            setup: no_setup,
+            code: 0,
+        },
+        Hostile {
+            case: Case {
+                name: "image escaping with ..",
+                files: vec![
+                    ("scene.svg", image_svg("../../../../../../etc/hostname")),
+                    ("g.gm", GOOD.into()),
+                ],
+                args: vec!["convert", "{d}/scene.svg", "-o", "{d}/out.json"],
+                expect: vec!["<image id=\"pic\">", "outside the SVG's folder"],
+                output: "none",
+            },
+            setup: no_setup,
+            code: 0,
+        },
+        Hostile {
+            case: Case {
+                name: "image on /dev/zero",
+                files: vec![("scene.svg", image_svg("/dev/zero")), ("g.gm", GOOD.into())],
+                args: vec![
+                    "convert",
+                    "{d}/scene.svg",
+                    "-o",
+                    "{d}/out.json",
+                    "--allow-path",
+                    "/dev",
+                ],
+                expect: vec!["<image id=\"pic\">", "/dev/zero", "a device"],
+                output: "none",
+            },
+            setup: no_setup,
+            code: 0,
+        },
+        Hostile {
+            case: Case {
+                name: "image on a FIFO beside the scene",
+                files: vec![("scene.svg", image_svg("pipe.png")), ("g.gm", GOOD.into())],
+                args: vec!["convert", "{d}/scene.svg", "-o", "{d}/out.json"],
+                expect: vec!["<image id=\"pic\">", "pipe.png", "a FIFO"],
+                output: "none",
+            },
+            setup: |d| fifo(d, "pipe.png"),
+            code: 0,
+        },
+        // Inputs are regular files: a FIFO is an error at once, not a hang.
+        Hostile {
+            case: args_case(
+                "scene is a FIFO",
+                &["animate", "{d}/pipe.svg", "{d}/g.gm", "-o", "{d}/out.png"],
+                &["pipe.svg", "a FIFO", "regular files"],
+                "out.png",
+            ),
+            setup: |d| fifo(d, "pipe.svg"),
+            code: 1,
+        },
+        Hostile {
+            case: args_case(
+                "grammar is a FIFO",
+                &[
+                    "animate",
+                    "{d}/scene.svg",
+                    "{d}/pipe.gm",
+                    "-o",
+                    "{d}/out.png",
+                ],
+                &["pipe.gm", "a FIFO"],
+                "out.png",
+            ),
+            setup: |d| fifo(d, "pipe.gm"),
+            code: 1,
+        },
+        Hostile {
+            case: args_case(
+                "targets is a FIFO",
+                &[
+                    "transitions",
+                    "{d}/scene.svg",
+                    "{d}/pipe.json",
+                    "-o",
+                    "{d}/out.json",
+                ],
+                &["pipe.json", "a FIFO"],
+                "out.json",
+            ),
+            setup: |d| fifo(d, "pipe.json"),
+            code: 1,
+        },
+        Hostile {
+            case: args_case(
+                "output through a link to the scene",
+                &["convert", "{d}/scene.svg", "-o", "{d}/link.svg"],
+                &["link.svg", "refusing to write over an input"],
+                "none",
+            ),
+            setup: |d| {
+                std::os::unix::fs::symlink(d.join("scene.svg"), d.join("link.svg")).unwrap();
+                vec!["link.svg"]
+            },
+            code: 1,
+        },
+        Hostile {
+            case: args_case(
+                "output is a directory",
+                &["convert", "{d}/scene.svg", "-o", "{d}/dir.png"],
+                &["dir.png", "a directory"],
+                "none",
+            ),
+            setup: |d| {
+                std::fs::create_dir(d.join("dir.png")).unwrap();
+                vec!["dir.png"]
+            },
+            code: 1,
+        },
+        // 4. Limits: each names itself and how to raise it.
+        hostile(args_case(
+            "--fps 1e9",
+            &[
+                "animate",
+                "{d}/scene.svg",
+                "{d}/g.gm",
+                "-o",
+                "{d}/out.gif",
+                "--fps",
+                "1e9",
+            ],
+            &["g.gm", "1e9 frames", "--limit frames=N"],
+            "out.gif",
+        )),
+        hostile(case(
+            "duration 1e308",
+            "duration 1e308s\nanimate(affine, world, 0, translate(10, 0)) : [all, s] -> [m]\n",
+            &["g.gm", "frames", "--limit frames=N"],
+        )),
+        hostile(args_case(
+            "frames limit lowered",
+            &[
+                "animate",
+                "{d}/scene.svg",
+                "{d}/g.gm",
+                "-o",
+                "{d}/out.json",
+                "--limit",
+                "frames=5",
+            ],
+            &["30 frames", "limit of 5"],
+            "out.json",
+        )),
+        hostile(args_case(
+            "--width 16384 gif",
+            &[
+                "animate",
+                "{d}/scene.svg",
+                "{d}/g.gm",
+                "-o",
+                "{d}/out.gif",
+                "--width",
+                "16384",
+            ],
+            &["out.gif", "--limit animation-pixels=N"],
+            "out.gif",
+        )),
+        hostile(args_case(
+            "pixels limit",
+            &[
+                "convert",
+                "{d}/scene.svg",
+                "-o",
+                "{d}/out.png",
+                "--width",
+                "10000",
+            ],
+            &["out.png", "--limit pixels=N"],
+            "out.png",
+        )),
+        hostile(args_case(
+            "--max-steps u64::MAX",
+            &[
+                "animate",
+                "{d}/scene.svg",
+                "{d}/g.gm",
+                "-o",
+                "{d}/out.json",
+                "--max-steps",
+                "18446744073709551615",
+            ],
+            &["--max-steps", "--limit steps=N"],
+            "out.json",
+        )),
+        hostile(case(
+            "max_steps directive past the limit",
+            "duration 1s\nmax_steps 1000000000\nanimate(affine, world, 0, translate(10, 0)) : [all, s] -> [m]\n",
+            &["g.gm", "max_steps", "--limit steps=N"],
+        )),
+        hostile(args_case(
+            "unknown limit",
+            &[
+                "convert",
+                "{d}/scene.svg",
+                "-o",
+                "{d}/out.png",
+                "--limit",
+                "wombats=3",
+            ],
+            &["unknown limit `wombats`", "frames"],
+            "out.png",
+        )),
+        hostile(args_case(
+            "input-bytes limit",
+            &[
+                "convert",
+                "{d}/scene.svg",
+                "-o",
+                "{d}/out.png",
+                "--limit",
+                "input-bytes=100",
+            ],
+            &["scene.svg", "limit of 100 bytes", "input-bytes"],
+            "out.png",
+        )),
+        hostile(args_case(
+            "xml-nodes limit",
+            &[
+                "convert",
+                "{d}/scene.svg",
+                "-o",
+                "{d}/out.png",
+                "--limit",
+                "xml-nodes=3",
+            ],
+            &["scene.svg", "limit of 3 XML nodes", "xml-nodes"],
+            "out.png",
+        )),
+        hostile(scene_case(
+            "entity expansion",
+            &entity_bomb(),
+            &["scene.svg", "7:", "XML entities", "xml-entity-bytes"],
+        )),
+        Hostile {
+            case: Case {
+                name: "svgz bomb",
+                files: vec![("scene.svgz", svgz(80 << 20)), ("g.gm", GOOD.into())],
+                args: vec!["convert", "{d}/scene.svgz", "-o", "{d}/out.png"],
+                expect: vec![
+                    "scene.svgz",
+                    "decompresses to more than the limit",
+                    "svgz-bytes",
+                ],
+                output: "out.png",
+            },
+            setup: no_setup,
+            code: 1,
+        },
+        hostile(Case {
+            name: "--system nested 100000 deep",
+            files: vec![("scene.svg", SCENE.into()), ("t.json", TARGETS.into())],
+            args: vec![
+                "transitions",
+                "{d}/scene.svg",
+                "{d}/t.json",
+                "-o",
+                "{d}/out.json",
+                "--system",
+                deep_system(),
+            ],
+            expect: vec!["--system", "more than 64 deep"],
+            output: "out.json",
+        }),
+        hostile(Case {
+            name: "targets' system nested 100000 deep",
+            files: vec![
+                ("scene.svg", SCENE.into()),
+                (
+                    "t.json",
+                    TARGETS
+                        .replacen(
+                            "{",
+                            &format!("{{\"system\": \"{}\", ", "cascade(".repeat(100_000)),
+                            1,
+                        )
+                        .into_bytes(),
+                ),
+            ],
+            args: vec![
+                "transitions",
+                "{d}/scene.svg",
+                "{d}/t.json",
+                "-o",
+                "{d}/out.json",
+            ],
+            expect: vec!["t.json", "more than 64 deep"],
+            output: "out.json",
+        }),
+        // 5. Line endings and encodings.
+        hostile(case(
+            "lone CR line endings",
+            "# a comment\rduration 1s\rwiggle(3) : [all, s] -> [m]\r",
+            &["g.gm:3:1", "wiggle"],
+        )),
+        hostile(case(
+            "CRLF line endings",
+            "# a comment\r\nduration 1s\r\nwiggle(3) : [all, s] -> [m]\r\n",
+            &["g.gm:3:1", "wiggle"],
+        )),
+        hostile(case(
+            "BOM then an error",
+            "\u{feff}duration 1s\nwiggle(3) : [all, s] -> [m]\n",
+            &["g.gm:2:1", "wiggle"],
+        )),
+        Hostile {
+            case: Case {
+                name: "grammar in UTF-16",
+                files: vec![
+                    ("scene.svg", SCENE.into()),
+                    ("g.gm", vec![0xff, 0xfe, b'd', 0, b'u', 0]),
+                ],
+                args: vec!["animate", "{d}/scene.svg", "{d}/g.gm", "-o", "{d}/out.png"],
+                expect: vec!["g.gm:1:1", "UTF-16"],
+                output: "out.png",
+            },
+            setup: no_setup,
+            code: 1,
+        },
+        Hostile {
+            case: Case {
+                name: "invalid UTF-8 on line 3",
+                files: vec![
+                    ("scene.svg", SCENE.into()),
+                    ("g.gm", b"duration 1s\n# ok\n# b\xffad\n".to_vec()),
+                ],
+                args: vec!["animate", "{d}/scene.svg", "{d}/g.gm", "-o", "{d}/out.png"],
+                expect: vec!["g.gm:3:4", "not UTF-8"],
+                output: "out.png",
+            },
+            setup: no_setup,
+            code: 1,
+        },
+    ];
+    v.extend(cases().into_iter().map(hostile));
+    v
+}
+
+/// `cascade(` 10 000 times (an argument may hold 128 kB): a stack overflow before the
+/// parser bounded its depth.
+fn deep_system() -> &'static str {
+    Box::leak("cascade(".repeat(10_000).into_boxed_str())
 }
 
 fn case(name: &'static str, grammar: &str, expect: &[&'static str]) -> Case {
@@ -141,27 +746,78 @@ fn case_dir(i: usize) -> PathBuf {
     d
 }
 
+/// How long any case may take: rejected input is rejected quickly (most take
+/// milliseconds; the bound is generous for a loaded machine, not a target).
+const TIME_BOUND: Duration = Duration::from_secs(20);
+
+/// Runs the binary with `args`, killing it past [`TIME_BOUND`]; its exit code (`None` when
+/// killed or crashed by a signal), stderr and time taken.
+fn run_bounded(args: &[String]) -> (Option<i32>, String, Duration) {
+    let bin = env!("CARGO_BIN_EXE_gmotion");
+    let start = Instant::now();
+    let mut child = Command::new(bin)
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stderr = child.stderr.take().unwrap();
+    let reader = std::thread::spawn(move || {
+        let mut s = String::new();
+        std::io::Read::read_to_string(&mut stderr, &mut s).ok();
+        s
+    });
+    let status = loop {
+        if let Some(st) = child.try_wait().unwrap() {
+            break Some(st);
+        }
+        if start.elapsed() > TIME_BOUND {
+            let _ = child.kill();
+            let _ = child.wait();
+            break None;
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    let elapsed = start.elapsed();
+    let text = reader.join().unwrap_or_default();
+    (status.and_then(|s| s.code()), text, elapsed)
+}
+
 #[test]
 fn bad_input_is_reported_cleanly() {
-    let bin = env!("CARGO_BIN_EXE_gmotion");
-    let all = cases();
-    assert!(all.len() >= 25);
+    let all = hostile_cases();
+    assert!(all.len() >= 75);
     let mut failures = Vec::new();
-    for (i, c) in all.iter().enumerate() {
+    for (i, h) in all.iter().enumerate() {
+        let c = &h.case;
         let dir = case_dir(i);
         for (name, bytes) in &c.files {
             std::fs::write(dir.join(name), bytes).unwrap();
         }
+        let made = (h.setup)(&dir);
         let d = dir.display().to_string();
         let args: Vec<String> = c.args.iter().map(|a| a.replace("{d}", &d)).collect();
-        let out = Command::new(bin).args(&args).output().unwrap();
-        let stderr = String::from_utf8_lossy(&out.stderr);
-        let code = out.status.code();
+        let (code, stderr, elapsed) = run_bounded(&args);
         let mut problems = Vec::new();
-        if code != Some(1) && code != Some(2) {
+        if elapsed > TIME_BOUND {
+            problems.push(format!("took {elapsed:?}, more than {TIME_BOUND:?}"));
+        }
+        let ok_code = if h.code == 1 {
+            code == Some(1) || code == Some(2)
+        } else {
+            code == Some(h.code)
+        };
+        if !ok_code {
             problems.push(format!(
-                "exit status {code:?} (1 = error, 2 = usage; anything else is a crash)"
+                "exit status {code:?}, expected {} (1 = error, 2 = usage; anything else is a crash)",
+                h.code
             ));
+        }
+        for (name, bytes) in &c.files {
+            if std::fs::read(dir.join(name)).ok().as_deref() != Some(bytes.as_slice()) {
+                problems.push(format!("{name} was changed or removed"));
+            }
         }
         for e in &c.expect {
             let e = e.replace("{d}", &d);
@@ -173,7 +829,13 @@ fn bad_input_is_reported_cleanly() {
             problems.push("panicked".into());
         }
         let leftover = Path::new(&dir).join(c.output);
-        let expected_files: Vec<_> = c.files.iter().map(|f| f.0).collect();
+        let mut expected_files: Vec<_> = c.files.iter().map(|f| f.0).collect();
+        expected_files.extend(made);
+        if h.code == 0 {
+            // Succeeding cases write their output; only strays count.
+            expected_files.push(c.output);
+            expected_files.push("out.json");
+        }
         if leftover.exists() && !expected_files.contains(&c.output) {
             problems.push(format!("left {} behind", leftover.display()));
         }

@@ -15,20 +15,29 @@ use gmotion_import_svg::{self as svg_import, ImportOptions};
 use gmotion_output::{self as output, Format, LottieSource};
 use indicatif::{ProgressBar, ProgressStyle};
 
+use super::guard::{self, Limits};
 use super::output::{check_writable, write_atomic};
 use super::report::{CliError, Result, engine_error};
 use super::{Command, ImportArgs, RenderArgs, RunArgs, TagFromArg, UnitsArg};
 
+/// What every command is run under: the limits and the file-access policy.
+pub struct Ctx {
+    /// `--limit` applied to the defaults.
+    pub limits: Limits,
+    /// `--allow-path` folders.
+    pub allow: Vec<PathBuf>,
+}
+
 /// Runs one command.
-pub fn run(cmd: Command) -> Result<()> {
+pub fn run(cmd: Command, ctx: &Ctx) -> Result<()> {
     match cmd {
-        Command::Demo { output, example } => demo(&output, &example),
+        Command::Demo { output, example } => demo(&output, &example, ctx),
         Command::Convert {
             input,
             output,
             render,
             import,
-        } => convert(&input, &output, &render, &import),
+        } => convert(&input, &output, &render, &import, ctx),
         Command::Animate {
             files,
             output,
@@ -38,7 +47,7 @@ pub fn run(cmd: Command) -> Result<()> {
             import,
         } => {
             let (scene, grammar) = scene_and_grammar(&files, Order::SceneFirst)?;
-            animate(scene, grammar, &output, time, &run, &render, &import)
+            animate(scene, grammar, &output, time, &run, &render, &import, ctx)
         }
         Command::Transitions {
             scene,
@@ -60,6 +69,7 @@ pub fn run(cmd: Command) -> Result<()> {
             time,
             &render,
             &import,
+            ctx,
         ),
         Command::Check {
             files,
@@ -72,12 +82,12 @@ pub fn run(cmd: Command) -> Result<()> {
                 && shapes
                 && kind_of(one) == Kind::Scene
             {
-                let loaded = load_scene(one, &import_options(&import, &Settings::default()))?;
+                let loaded = load_scene(one, &import_options(&import, &Settings::default()), ctx)?;
                 print!("{}", shape_list(one, &loaded));
                 return Ok(());
             }
             let (scene, grammar) = scene_and_grammar(&files, Order::GrammarFirst)?;
-            check(grammar, scene, graph.as_deref(), shapes, &run, &import)
+            check(grammar, scene, graph.as_deref(), shapes, &run, &import, ctx)
         }
     }
 }
@@ -103,6 +113,11 @@ fn kind_of(path: &Path) -> Kind {
         Some("gm") => return Kind::Grammar,
         Some("svg" | "json") => return Kind::Scene,
         _ => {}
+    }
+    // A FIFO or device is not opened (it could block or never end); reading it later
+    // gives the error.
+    if !matches!(gmotion::input::irregular_kind(path), Ok(None)) {
+        return Kind::Unknown;
     }
     let mut head = [0u8; 512];
     let n = match std::fs::File::open(path).and_then(|mut f| std::io::Read::read(&mut f, &mut head))
@@ -220,6 +235,9 @@ fn is_lottie(path: &Path) -> bool {
             return false;
         }
     }
+    if !matches!(gmotion::input::irregular_kind(path), Ok(None)) {
+        return false;
+    }
     let mut head = [0u8; 64];
     let n = std::fs::File::open(path)
         .and_then(|mut f| std::io::Read::read(&mut f, &mut head))
@@ -230,7 +248,7 @@ fn is_lottie(path: &Path) -> bool {
         .starts_with('{')
 }
 
-fn load_scene(path: &Path, options: &ImportOptions) -> Result<LoadedScene> {
+fn load_scene(path: &Path, options: &ImportOptions, ctx: &Ctx) -> Result<LoadedScene> {
     if is_lottie(path) {
         let imported = lottie_import::load(path, &lottie_import::ImportOptions::default())
             .map_err(|e| CliError::msg(e.to_string()))?;
@@ -242,7 +260,9 @@ fn load_scene(path: &Path, options: &ImportOptions) -> Result<LoadedScene> {
             source: Some(imported.source),
         });
     }
-    let imported = svg_import::load(path, options).map_err(|e| CliError::msg(e.to_string()))?;
+    let policy = ctx.limits.svg_policy(&ctx.allow);
+    let imported =
+        svg_import::load_with(path, options, &policy).map_err(|e| CliError::msg(e.to_string()))?;
     for w in &imported.warnings {
         eprintln!("{}: warning: {w}", path.display());
     }
@@ -297,14 +317,13 @@ struct Loaded {
     settings: Settings,
 }
 
-fn load_grammar(path: &Path) -> Result<Loaded> {
-    let bytes = std::fs::read(path)
+fn load_grammar(path: &Path, ctx: &Ctx) -> Result<Loaded> {
+    let bytes = gmotion::input::read_regular(path, ctx.limits.get("input-bytes"))
         .map_err(|e| CliError::msg(format!("{}: cannot read grammar: {e}", path.display())))?;
-    let src = String::from_utf8(bytes).map_err(|e| {
+    let src = gmotion::input::utf8_text(bytes).map_err(|e| {
         CliError::msg(format!(
-            "{}: the grammar is not UTF-8 text (byte {})",
-            path.display(),
-            e.utf8_error().valid_up_to()
+            "{}:{e} (the grammar must be UTF-8)",
+            path.display()
         ))
     })?;
     let grammar = grammar::parse(&src).map_err(|d| {
@@ -348,7 +367,15 @@ fn scene_path(given: Option<&Path>, grammar_path: &Path, g: &Loaded) -> Result<O
 }
 
 /// The grammar run's options; `--fps` is checked here so the message names the flag.
-fn run_options(r: &RunArgs) -> Result<RunOptions> {
+fn run_options(r: &RunArgs, limits: &Limits) -> Result<RunOptions> {
+    let steps = limits.get("steps");
+    if let Some(m) = r.max_steps
+        && m as u64 > steps
+    {
+        return Err(CliError::msg(format!(
+            "--max-steps {m} is more than the limit of {steps} (raise it with --limit steps=N)"
+        )));
+    }
     if let Some(fps) = r.fps
         && !(fps.is_finite() && fps > 0.0)
     {
@@ -388,11 +415,14 @@ fn write_animation(
     time: f64,
     render: &RenderArgs,
     size: OutputSize,
+    limits: &Limits,
 ) -> Result<()> {
     let opts = output::Options {
         tolerance: render.tolerance,
         size,
         time,
+        max_pixels: limits.get("pixels"),
+        max_animation_pixels: limits.get("animation-pixels"),
     };
     let frames = matches!(
         Format::of(out).map_err(|e| CliError::msg(e.to_string()))?,
@@ -427,14 +457,30 @@ fn validate_render(render: &RenderArgs) -> Result<()> {
 
 /// Checks each output can be written before any work: a known format, an existing
 /// folder, and a frames folder that may be written fresh.
-fn check_outputs(outputs: &[PathBuf]) -> Result<()> {
+fn check_outputs(outputs: &[PathBuf], inputs: &[&Path]) -> Result<()> {
+    let outs: Vec<&Path> = outputs.iter().map(PathBuf::as_path).collect();
+    guard::check_not_input(&outs, inputs)?;
     for o in outputs {
-        if Format::of(o).map_err(|e| CliError::msg(e.to_string()))? == Format::Frames {
+        let frames = Format::of(o).map_err(|e| CliError::msg(e.to_string()))? == Format::Frames;
+        guard::check_output_kind(o, frames)?;
+        if frames {
             raster::check_frame_folder(o).map_err(|e| CliError::msg(e.to_string()))?;
         }
         check_writable(o)?;
     }
     Ok(())
+}
+
+/// Writes every output with `write`, all or none: each waits in its temporary file until
+/// all are written, then all are renamed into place.
+fn write_all(outputs: &[PathBuf], mut write: impl FnMut(&Path) -> Result<()>) -> Result<()> {
+    let staging = gmotion::atomic::Staging::begin();
+    for o in outputs {
+        write(o)?;
+    }
+    staging
+        .commit()
+        .map_err(|e| CliError::msg(format!("cannot put the outputs in place: {e}")))
 }
 
 /// Parses, expands and compiles; errors point into the grammar. Also returns the
@@ -444,16 +490,37 @@ fn build(
     grammar_path: &Path,
     run: &RunArgs,
     import: &ImportArgs,
+    outputs: &[PathBuf],
+    ctx: &Ctx,
 ) -> Result<(Animation, Settings, Option<LottieSource>)> {
-    let g = load_grammar(grammar_path)?;
+    let g = load_grammar(grammar_path, ctx)?;
+    let fps = run.fps.unwrap_or(g.settings.fps);
+    ctx.limits.check_frames(
+        g.settings.duration * fps,
+        &format!(
+            "{}: error: duration {}s at {} fps",
+            grammar_path.display(),
+            guard::short(g.settings.duration),
+            guard::short(fps)
+        ),
+    )?;
+    let steps = ctx.limits.get("steps");
+    if run.max_steps.is_none() && g.settings.max_steps as u64 > steps {
+        return Err(CliError::msg(format!(
+            "{}: error: max_steps {} is more than the limit of {steps} (raise it with --limit steps=N)",
+            grammar_path.display(),
+            g.settings.max_steps
+        )));
+    }
     let Some(scene_path) = scene_path(scene, grammar_path, &g)? else {
         return Err(CliError::msg(format!(
             "{}: error: no scene to animate: give one on the command line (`gmotion animate SCENE GRAMMAR`) or name it in the grammar (`scene FILE`)",
             grammar_path.display()
         )));
     };
-    let loaded = load_scene(&scene_path, &import_options(import, &g.settings))?;
-    let (anim, stats) = engine::run(loaded.scene, &g.grammar, &run_options(run)?)
+    check_outputs(outputs, &[&scene_path, grammar_path])?;
+    let loaded = load_scene(&scene_path, &import_options(import, &g.settings), ctx)?;
+    let (anim, stats) = engine::run(loaded.scene, &g.grammar, &run_options(run, &ctx.limits)?)
         .map_err(|e| engine_error(grammar_path, &g.src, &e))?;
     for w in &stats.warnings {
         eprintln!("{}: warning: {w}", grammar_path.display());
@@ -469,15 +536,16 @@ fn animate(
     run: &RunArgs,
     render: &RenderArgs,
     import: &ImportArgs,
+    ctx: &Ctx,
 ) -> Result<()> {
     validate_render(render)?;
-    check_outputs(outputs)?;
-    let (anim, settings, source) = build(scene, grammar, run, import)?;
+    let inputs: Vec<&Path> = scene.into_iter().chain([grammar]).collect();
+    check_outputs(outputs, &inputs)?;
+    let (anim, settings, source) = build(scene, grammar, run, import, outputs, ctx)?;
     let size = output_size(render, &settings);
-    for o in outputs {
-        write_animation(&anim, source.as_ref(), o, time, render, size)?;
-    }
-    Ok(())
+    write_all(outputs, |o| {
+        write_animation(&anim, source.as_ref(), o, time, render, size, &ctx.limits)
+    })
 }
 
 fn convert(
@@ -485,26 +553,32 @@ fn convert(
     outputs: &[PathBuf],
     render: &RenderArgs,
     import: &ImportArgs,
+    ctx: &Ctx,
 ) -> Result<()> {
     validate_render(render)?;
+    let outs: Vec<&Path> = outputs.iter().map(PathBuf::as_path).collect();
+    guard::check_not_input(&outs, &[input])?;
     for o in outputs {
+        guard::check_output_kind(o, false)?;
         check_writable(o)?;
     }
     let settings = Settings::default();
-    let loaded = load_scene(input, &import_options(import, &settings))?;
+    let loaded = load_scene(input, &import_options(import, &settings), ctx)?;
     let size = output_size(render, &settings);
     let opts = output::Options {
         tolerance: render.tolerance,
         size,
         time: 0.0,
+        max_pixels: ctx.limits.get("pixels"),
+        max_animation_pixels: ctx.limits.get("animation-pixels"),
     };
-    for out in outputs {
+    write_all(outputs, |out| {
         let warnings =
             output::write_still_over_source(&loaded.scene, loaded.source.as_ref(), out, &opts)
                 .map_err(|e| CliError::msg(e.to_string()))?;
         print_warnings(out, &warnings);
-    }
-    Ok(())
+        Ok(())
+    })
 }
 
 fn check(
@@ -514,19 +588,27 @@ fn check(
     shapes: bool,
     run: &RunArgs,
     import: &ImportArgs,
+    ctx: &Ctx,
 ) -> Result<()> {
-    let loaded = load_grammar(grammar_path)?;
+    let loaded = load_grammar(grammar_path, ctx)?;
+    let path = scene_path(scene, grammar_path, &loaded)?;
     if let Some(out) = graph {
+        let inputs: Vec<&Path> = path.as_deref().into_iter().chain([grammar_path]).collect();
+        guard::check_not_input(&[out], &inputs)?;
+        guard::check_output_kind(out, false)?;
         check_writable(out)?;
     }
-    let path = scene_path(scene, grammar_path, &loaded)?;
     let scene = path
         .as_ref()
-        .map(|p| load_scene(p, &import_options(import, &loaded.settings)))
+        .map(|p| load_scene(p, &import_options(import, &loaded.settings), ctx))
         .transpose()?;
     let g = &loaded.grammar;
-    let report = engine::check::check(g, scene.as_ref().map(|s| &s.scene), &run_options(run)?)
-        .map_err(|e| engine_error(grammar_path, &loaded.src, &e))?;
+    let report = engine::check::check(
+        g,
+        scene.as_ref().map(|s| &s.scene),
+        &run_options(run, &ctx.limits)?,
+    )
+    .map_err(|e| engine_error(grammar_path, &loaded.src, &e))?;
     print!("{}", report.text);
     if shapes && let (Some(p), Some(s)) = (&path, &scene) {
         print!("{}", shape_list(p, s));
@@ -564,6 +646,7 @@ fn transitions(
     time: f64,
     render: &RenderArgs,
     import: &ImportArgs,
+    ctx: &Ctx,
 ) -> Result<()> {
     validate_render(render)?;
     if let Some(fps) = fps
@@ -580,7 +663,7 @@ fn transitions(
             "--duration must be a positive number of seconds, found {d}"
         )));
     }
-    check_outputs(outputs)?;
+    check_outputs(outputs, &[scene, targets])?;
     let spec = system
         .map(|s| {
             gmotion::signals::smooth::SmoothSpec::parse(s)
@@ -590,9 +673,13 @@ fn transitions(
     let t = gmotion::transitions::targets::Targets::load(targets)
         .map_err(|e| CliError::msg(e.to_string()))?;
     let settings = Settings::default();
-    let scene = load_scene(scene, &import_options(import, &settings))?.scene;
+    let scene = load_scene(scene, &import_options(import, &settings), ctx)?.scene;
     let system = t.default_system(spec);
     let fps = t.frame_rate(fps);
+    if let Some(d) = duration {
+        ctx.limits
+            .check_frames(d * fps, &format!("--duration {d}s at {fps} fps"))?;
+    }
     let anim =
         gmotion::transitions::run(&scene, &t, &system, fps, duration).map_err(|e| match e {
             // A target naming a missing tag is an error in the targets file: say which.
@@ -601,11 +688,18 @@ fn transitions(
             }
             e => CliError::msg(e.to_string()),
         })?;
+    ctx.limits.check_frames(
+        anim.duration * anim.fps,
+        &format!(
+            "{}: the targets' {}s at {fps} fps",
+            targets.display(),
+            anim.duration
+        ),
+    )?;
     let size = output_size(render, &settings);
-    for o in outputs {
-        write_animation(&anim, None, o, time, render, size)?;
-    }
-    Ok(())
+    write_all(outputs, |o| {
+        write_animation(&anim, None, o, time, render, size, &ctx.limits)
+    })
 }
 
 /// The folder that holds the bundled examples.
@@ -617,7 +711,7 @@ fn grammars_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../grammars")
 }
 
-fn demo(out: &Path, example: &str) -> Result<()> {
+fn demo(out: &Path, example: &str, ctx: &Ctx) -> Result<()> {
     let dir = grammars_dir();
     let grammar = dir.join(format!("{example}.gm"));
     let scene = dir.join(format!("{example}.svg"));
@@ -647,7 +741,7 @@ fn demo(out: &Path, example: &str) -> Result<()> {
         height: None,
         tolerance: 0.25,
     };
-    let (anim, settings, source) = build(Some(&scene), &grammar, &run, &import)?;
+    let (anim, settings, source) = build(Some(&scene), &grammar, &run, &import, &[], ctx)?;
     let size = output_size(&render, &settings);
     let names = [
         "frames",
@@ -656,7 +750,15 @@ fn demo(out: &Path, example: &str) -> Result<()> {
         &format!("{example}.svg"),
     ];
     for n in names {
-        write_animation(&anim, source.as_ref(), &out.join(n), 0.0, &render, size)?;
+        write_animation(
+            &anim,
+            source.as_ref(),
+            &out.join(n),
+            0.0,
+            &render,
+            size,
+            &ctx.limits,
+        )?;
     }
     let json = std::fs::read_to_string(out.join(format!("{example}.json")))
         .map_err(|e| CliError::msg(format!("{}: {e}", out.display())))?;

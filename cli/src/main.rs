@@ -9,6 +9,7 @@
 static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 mod commands;
+mod guard;
 mod output;
 mod report;
 
@@ -24,6 +25,15 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Raise or lower a limit, `NAME=N` (repeatable): input-bytes, svgz-bytes,
+    /// xml-entity-bytes, xml-nodes, frames, pixels, animation-pixels, steps (see the
+    /// README's "Limits").
+    #[arg(long = "limit", value_name = "NAME=N", global = true)]
+    limits: Vec<String>,
+    /// A folder whose files an SVG may reference (`<image href>`), besides its own
+    /// folder (repeatable).
+    #[arg(long = "allow-path", value_name = "DIR", global = true)]
+    allow_paths: Vec<PathBuf>,
 }
 
 #[derive(Subcommand, Debug)]
@@ -195,7 +205,19 @@ enum UnitsArg {
 /// Parses arguments, runs the command, prints errors; the exit code says how it went.
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    match commands::run(cli.command) {
+    guard::clean_up_on_signals();
+    let limits = match guard::Limits::parse(&cli.limits) {
+        Ok(l) => l,
+        Err(e) => {
+            eprintln!("{e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let ctx = commands::Ctx {
+        limits,
+        allow: cli.allow_paths,
+    };
+    match commands::run(cli.command, &ctx) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("{e}");

@@ -80,17 +80,25 @@ impl Diagnostic {
     fn caret_len(&self, src: &str) -> usize {
         let end = self.span.end.min(src.len()).max(self.span.start);
         let text = src.get(self.span.start..end).unwrap_or("");
-        text.split('\n').next().unwrap_or("").chars().count().max(1)
+        text.split(['\n', '\r'])
+            .next()
+            .unwrap_or("")
+            .chars()
+            .count()
+            .max(1)
     }
 }
 
 /// The text of 1-based line `line` without its line terminator (empty past the end).
+/// Lines end at `\n`, `\r\n` or a lone `\r`, as the lexer counts them.
 fn source_line(src: &str, line: u32) -> &str {
-    let text = src
-        .split('\n')
+    src.split('\n')
+        .flat_map(|l| {
+            let l = l.strip_suffix('\r').unwrap_or(l);
+            l.split('\r')
+        })
         .nth(line.saturating_sub(1) as usize)
-        .unwrap_or("");
-    text.strip_suffix('\r').unwrap_or(text)
+        .unwrap_or("")
 }
 
 /// Spaces up to column `col` (tabs kept, so the caret lines up with the source above it),

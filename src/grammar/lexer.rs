@@ -144,7 +144,9 @@ impl Lexer<'_> {
     fn bump(&mut self) -> Option<char> {
         let c = self.peek()?;
         self.pos += c.len_utf8();
-        if c == '\n' {
+        // A lone carriage return (classic Mac OS line endings) ends a line too; in `\r\n`
+        // the `\n` does.
+        if c == '\n' || (c == '\r' && self.peek() != Some('\n')) {
             self.line += 1;
             self.col = 1;
         } else {
@@ -185,14 +187,21 @@ impl Lexer<'_> {
     fn run(&mut self) {
         loop {
             // A byte-order mark, which some Windows editors write, is whitespace too.
-            self.bump_while(|c| matches!(c, ' ' | '\t' | '\r' | '\u{feff}'));
+            while let Some(c) = self.peek() {
+                let blank = matches!(c, ' ' | '\t' | '\u{feff}')
+                    || (c == '\r' && self.peek_at(1) == Some('\n'));
+                if !blank {
+                    break;
+                }
+                self.bump();
+            }
             let start = (self.pos, self.line, self.col);
             let Some(c) = self.peek() else {
                 self.push(Tok::Eof, start);
                 return;
             };
             match c {
-                '\n' => {
+                '\n' | '\r' => {
                     self.bump();
                     self.push(Tok::Newline, start);
                 }
@@ -249,7 +258,7 @@ impl Lexer<'_> {
 
     /// Skips to the end of the line, leaving the newline for the next token.
     fn skip_comment(&mut self) {
-        self.bump_while(|c| c != '\n');
+        self.bump_while(|c| c != '\n' && c != '\r');
     }
 
     /// Lexes `#` + 3, 6 or 8 hex digits not followed by a word character as a colour.
@@ -278,7 +287,7 @@ impl Lexer<'_> {
         let mut value = String::new();
         loop {
             match self.peek() {
-                None | Some('\n') => {
+                None | Some('\n' | '\r') => {
                     self.error(
                         start,
                         "unterminated string".into(),
@@ -302,7 +311,7 @@ impl Lexer<'_> {
                         other => {
                             // Report the bad escape and drop the rest of the string, so one
                             // mistake gives one error.
-                            self.bump_while(|c| c != '"' && c != '\n');
+                            self.bump_while(|c| c != '"' && c != '\n' && c != '\r');
                             if self.peek() == Some('"') {
                                 self.bump();
                             }

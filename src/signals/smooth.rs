@@ -107,7 +107,11 @@ pub enum SmoothSpec {
 impl SmoothSpec {
     /// Parses a text spelling such as `fir(bspline(3), 0.3)`.
     pub fn parse(text: &str) -> Result<SmoothSpec, SignalError> {
-        let mut p = Parser { src: text, pos: 0 };
+        let mut p = Parser {
+            src: text,
+            pos: 0,
+            depth: 0,
+        };
         p.skip_ws();
         let (name, args) = match p.arg()? {
             CallArg::Call(name, args) => (name, args),
@@ -563,7 +567,13 @@ impl fmt::Display for SmoothSpec {
 struct Parser<'a> {
     src: &'a str,
     pos: usize,
+    /// Calls open around the current position.
+    depth: usize,
 }
+
+/// The deepest calls may nest in a system description (`cascade(cascade(…))`): deeper
+/// text is refused with a position instead of overflowing the stack.
+pub const MAX_SYSTEM_NESTING: usize = 64;
 
 impl Parser<'_> {
     fn error_at(&self, byte: usize, message: &str) -> SignalError {
@@ -655,6 +665,14 @@ impl Parser<'_> {
         self.skip_ws();
         let mut args = Vec::new();
         if self.peek() == Some('(') {
+            if self.depth >= MAX_SYSTEM_NESTING {
+                return Err(self.error_at(
+                    start,
+                    &format!(
+                        "the system description nests calls more than {MAX_SYSTEM_NESTING} deep"
+                    ),
+                ));
+            }
             self.pos += 1;
             self.skip_ws();
             if self.peek() == Some(')') {
@@ -662,7 +680,10 @@ impl Parser<'_> {
                 return Ok(CallArg::Call(name, args));
             }
             loop {
-                args.push(self.arg()?);
+                self.depth += 1;
+                let arg = self.arg();
+                self.depth -= 1;
+                args.push(arg?);
                 self.skip_ws();
                 match self.peek() {
                     Some(',') => self.pos += 1,

@@ -218,10 +218,13 @@ impl Targets {
 
     /// Reads and parses a file (JSON or CSV by content).
     pub fn load(path: &std::path::Path) -> Result<Targets, TransitionError> {
-        let text = std::fs::read_to_string(path).map_err(|e| TransitionError::Read {
-            path: path.display().to_string(),
-            source: e,
-        })?;
+        let text =
+            crate::input::read_text(path, crate::input::DEFAULT_MAX_INPUT_BYTES).map_err(|e| {
+                TransitionError::Read {
+                    path: path.display().to_string(),
+                    source: e,
+                }
+            })?;
         Targets::parse(&text).map_err(|e| e.in_file(&path.display().to_string()))
     }
 

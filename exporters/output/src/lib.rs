@@ -24,7 +24,7 @@ use std::path::{Path, PathBuf};
 
 use gmotion::Warning;
 use gmotion::canvas::OutputSize;
-use gmotion::motion::Animation;
+use gmotion::motion::{Animation, ShapeState};
 use gmotion::scene::Scene;
 use gmotion_export_lottie::{self as lottie, LottieOptions};
 use gmotion_export_raster::{self as raster, Pixmap, RenderError};
@@ -94,7 +94,17 @@ pub struct Options {
     pub size: OutputSize,
     /// The time, in seconds, of the frame a `.png` output shows.
     pub time: f64,
+    /// The most pixels one rendered image may have (`--limit pixels=N`; default
+    /// [`raster::DEFAULT_MAX_PIXELS`]).
+    pub max_pixels: u64,
+    /// The most pixels all the frames of a GIF, APNG or frames folder may have together,
+    /// since they are held in memory until written (`--limit animation-pixels=N`; default
+    /// [`DEFAULT_MAX_ANIMATION_PIXELS`]).
+    pub max_animation_pixels: u64,
 }
+
+/// The default of [`Options::max_animation_pixels`]: 2²⁸ pixels, 1 GiB of RGBA frames.
+pub const DEFAULT_MAX_ANIMATION_PIXELS: u64 = 1 << 28;
 
 impl Default for Options {
     fn default() -> Options {
@@ -102,6 +112,8 @@ impl Default for Options {
             tolerance: 0.25,
             size: OutputSize::default(),
             time: 0.0,
+            max_pixels: raster::DEFAULT_MAX_PIXELS,
+            max_animation_pixels: DEFAULT_MAX_ANIMATION_PIXELS,
         }
     }
 }
@@ -135,6 +147,59 @@ pub enum OutputError {
         time: f64,
         /// The animation's duration.
         duration: f64,
+    },
+    /// A frame cannot be drawn: something in it lies beyond what the renderer reaches
+    /// (a huge stroke width, scale or coordinate), or it has too many pixels.
+    #[error(
+        "{}: frame {frame} (t = {time:.3}s){}: {source}",
+        path.display(),
+        shape.as_ref().map(|s| format!(", shape {s}")).unwrap_or_default()
+    )]
+    Frame {
+        /// The output.
+        path: PathBuf,
+        /// The frame's index (0 for a still picture).
+        frame: usize,
+        /// The frame's time in seconds.
+        time: f64,
+        /// The shape (`tag:id`) reaching farthest, when the error is about reach.
+        shape: Option<String>,
+        /// What failed.
+        #[source]
+        source: RenderError,
+    },
+    /// A still picture cannot be drawn (see [`OutputError::Frame`]).
+    #[error(
+        "{}{}: {source}",
+        path.display(),
+        shape.as_ref().map(|s| format!(": shape {s}")).unwrap_or_default()
+    )]
+    Still {
+        /// The output.
+        path: PathBuf,
+        /// The shape (`tag:id`) reaching farthest, when the error is about reach.
+        shape: Option<String>,
+        /// What failed.
+        #[source]
+        source: RenderError,
+    },
+    /// A GIF, APNG or frames folder would hold more pixels than allowed.
+    #[error(
+        "{}: {frames} frames of {width}x{height} px are {} pixels, more than the limit of {limit} (raise it with --limit animation-pixels=N, or lower --fps, --width or --height)",
+        path.display(),
+        *frames as u64 * u64::from(*width) * u64::from(*height)
+    )]
+    AnimationPixels {
+        /// The output.
+        path: PathBuf,
+        /// Frames.
+        frames: usize,
+        /// Frame width.
+        width: u32,
+        /// Frame height.
+        height: u32,
+        /// The limit.
+        limit: u64,
     },
     /// Rendering or writing pixels failed.
     #[error("{}: {source}", path.display())]
@@ -181,16 +246,97 @@ pub fn render_frames(
     size: OutputSize,
     tick: &(dyn Fn() + Sync),
 ) -> Result<Vec<Pixmap>, RenderError> {
+    render_frames_limited(anim, size, raster::DEFAULT_MAX_PIXELS, tick).map_err(|(_, e)| e)
+}
+
+/// [`render_frames`] with a pixel limit per frame; an error comes with its frame's index.
+fn render_frames_limited(
+    anim: &Animation,
+    size: OutputSize,
+    max_pixels: u64,
+    tick: &(dyn Fn() + Sync),
+) -> Result<Vec<Pixmap>, (usize, RenderError)> {
     let sampler = anim.sampler();
     (0..anim.frame_count())
         .into_par_iter()
         .map(|i| {
             let svg = frame::sampled_frame_svg(anim, &sampler, anim.frame_time(i));
-            let r = raster::render_sized(&svg, size);
+            let r = raster::render_limited(&svg, size, max_pixels).map_err(|e| (i, e));
             tick();
             r
         })
         .collect()
+}
+
+/// The pixel size a raster output of a `width` × `height` canvas has at `size` (the
+/// canvas's own size, rounded, when none is asked for), as the renderer computes it.
+fn raster_size(width: f64, height: f64, size: OutputSize) -> (u32, u32) {
+    let own = |v: f64| v.round().clamp(1.0, f64::from(u32::MAX)) as u32;
+    let size = if size == OutputSize::default() {
+        OutputSize {
+            width: Some(own(width)),
+            height: None,
+        }
+    } else {
+        size
+    };
+    size.fit(width, height)
+        .map_or((own(width), own(height)), |f| (f.width, f.height))
+}
+
+/// The shape reaching farthest from the output's origin in `states` (rest geometry moved
+/// by each state, its stroke widened by the state's factor), as `tag:id`: what a
+/// [`RenderError::OutOfRange`] is most likely about.
+fn farthest_shape(scene: &Scene, states: &[ShapeState]) -> Option<String> {
+    let mut best: Option<(f64, String)> = None;
+    for (i, shape) in scene.shapes.iter().enumerate() {
+        let st = states.get(i).copied().unwrap_or(ShapeState::REST);
+        let b = shape.bbox;
+        let ts = st.transform;
+        let half = 0.5 * shape.stroke_width * st.stroke_width.abs() * ts.determinant().abs().sqrt();
+        let reach = [(b.x0, b.y0), (b.x1, b.y0), (b.x0, b.y1), (b.x1, b.y1)]
+            .into_iter()
+            .map(|(x, y)| {
+                let p = ts * kurbo::Point::new(x, y);
+                p.x.abs().max(p.y.abs()) + half
+            })
+            .fold(
+                0.0,
+                |a: f64, r| if r.is_nan() { f64::INFINITY } else { a.max(r) },
+            );
+        if best.as_ref().is_none_or(|(r, _)| reach > *r) {
+            best = Some((reach, format!("{}:{}", shape.tag, shape.id)));
+        }
+    }
+    best.map(|(_, name)| name)
+}
+
+/// An error drawing frame `frame` of `anim` as an [`OutputError`] naming the frame, and the
+/// shape when the error is about reach.
+fn frame_error(
+    path: &Path,
+    anim: &Animation,
+    frame: usize,
+    time: f64,
+    e: RenderError,
+) -> OutputError {
+    let shape = match e {
+        RenderError::OutOfRange { .. } => farthest_shape(&anim.scene, &anim.evaluate(time)),
+        _ => None,
+    };
+    match e {
+        RenderError::OutOfRange { .. } | RenderError::TooManyPixels { .. } => OutputError::Frame {
+            path: path.to_path_buf(),
+            frame,
+            time,
+            shape,
+            source: e,
+        },
+        source => OutputError::Raster {
+            path: path.to_path_buf(),
+            source,
+        },
+    }
 }
 
 /// Writes `anim` to `path` in the format its name asks for and returns what the format
@@ -210,8 +356,28 @@ pub fn write_with_progress(
         path: path.to_path_buf(),
         source,
     };
-    let frames = || render_frames(anim, opts.size, tick).map_err(raster_err);
-    let written = match Format::of(path)? {
+    let format = Format::of(path)?;
+    if matches!(format, Format::Frames | Format::Gif | Format::Apng) {
+        let (width, height) = raster_size(anim.scene.width, anim.scene.height, opts.size);
+        let frames = anim.frame_count();
+        let total = frames as u64 * u64::from(width) * u64::from(height);
+        if total > opts.max_animation_pixels {
+            return Err(OutputError::AnimationPixels {
+                path: path.to_path_buf(),
+                frames,
+                width,
+                height,
+                limit: opts.max_animation_pixels,
+            });
+        }
+        raster::check_pixels(width, height, opts.max_pixels)
+            .map_err(|e| frame_error(path, anim, 0, 0.0, e))?;
+    }
+    let frames = || {
+        render_frames_limited(anim, opts.size, opts.max_pixels, tick)
+            .map_err(|(i, e)| frame_error(path, anim, i, anim.frame_time(i), e))
+    };
+    let written = match format {
         Format::Png => {
             let t = opts.time;
             if !t.is_finite() || t < 0.0 || t > anim.duration {
@@ -220,7 +386,10 @@ pub fn write_with_progress(
                     duration: anim.duration,
                 });
             }
-            return write_png(path, &frame::frame_svg(anim, t), opts.size);
+            let pm = raster::render_limited(&frame::frame_svg(anim, t), opts.size, opts.max_pixels)
+                .map_err(|e| frame_error(path, anim, (t * anim.fps).round() as usize, t, e))?;
+            raster::save_png(&pm, path).map_err(raster_err)?;
+            return Ok(Vec::new());
         }
         Format::Frames => raster::write_frames(&frames()?, path),
         format @ (Format::Gif | Format::Apng) => {
@@ -307,7 +476,32 @@ pub fn write_still(
     opts: &Options,
 ) -> Result<Vec<Warning>, OutputError> {
     match Format::of(path)? {
-        Format::Png => write_png(path, &frame::scene_svg(scene), opts.size),
+        Format::Png => {
+            let pm = raster::render_limited(&frame::scene_svg(scene), opts.size, opts.max_pixels)
+                .map_err(|e| {
+                let shape = matches!(e, RenderError::OutOfRange { .. })
+                    .then(|| farthest_shape(scene, &[]))
+                    .flatten();
+                match e {
+                    RenderError::OutOfRange { .. } | RenderError::TooManyPixels { .. } => {
+                        OutputError::Still {
+                            path: path.to_path_buf(),
+                            shape,
+                            source: e,
+                        }
+                    }
+                    source => OutputError::Raster {
+                        path: path.to_path_buf(),
+                        source,
+                    },
+                }
+            })?;
+            raster::save_png(&pm, path).map_err(|source| OutputError::Raster {
+                path: path.to_path_buf(),
+                source,
+            })?;
+            Ok(Vec::new())
+        }
         Format::Lottie => write_lottie(path, lottie::still_to_lottie(scene, &lottie_options(opts))),
         Format::Svg => {
             let svg = frame::scene_svg(scene);
@@ -323,17 +517,6 @@ pub fn write_still(
             format,
         }),
     }
-}
-
-/// Renders one SVG document to a PNG file.
-fn write_png(path: &Path, svg: &str, size: OutputSize) -> Result<Vec<Warning>, OutputError> {
-    let raster_err = |source| OutputError::Raster {
-        path: path.to_path_buf(),
-        source,
-    };
-    let pm = raster::render_sized(svg, size).map_err(raster_err)?;
-    raster::save_png(&pm, path).map_err(raster_err)?;
-    Ok(Vec::new())
 }
 
 fn lottie_options(opts: &Options) -> LottieOptions {

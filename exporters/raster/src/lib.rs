@@ -26,6 +26,32 @@ pub enum RenderError {
         /// Height in pixels.
         height: u32,
     },
+    /// Something in the picture lies farther from the output's origin than the rasteriser's
+    /// fixed-point arithmetic reaches ([`MAX_DRAWN_COORD`]): a huge stroke width, scale or
+    /// coordinate. Nothing was drawn; drawing it would crash inside tiny-skia.
+    #[error(
+        "a {what} reaches {extent:.3e} px from the output's origin; the renderer draws within ±{:.0e} px (a stroke width, scale or coordinate too large to draw)",
+        MAX_DRAWN_COORD
+    )]
+    OutOfRange {
+        /// What reaches that far: `path`, `stroked path`, `clip path` ….
+        what: &'static str,
+        /// How far, in output pixels (infinite or NaN for non-finite geometry).
+        extent: f64,
+    },
+    /// The image would hold more pixels than allowed (see [`check_pixels`]).
+    #[error(
+        "a {width}x{height} px image has {} pixels, more than the limit of {limit} (raise it with --limit pixels=N)",
+        u64::from(*width) * u64::from(*height)
+    )]
+    TooManyPixels {
+        /// Width in pixels.
+        width: u32,
+        /// Height in pixels.
+        height: u32,
+        /// The limit.
+        limit: u64,
+    },
     /// An animation needs at least one frame.
     #[error("no frames to write")]
     NoFrames,
@@ -83,6 +109,12 @@ pub fn render(svg: &str, width: u32) -> Result<Pixmap, RenderError> {
 /// fit the art inside and centre it; neither is the document's own size, rounded), on a
 /// transparent background, like [`render`].
 pub fn render_sized(svg: &str, size: OutputSize) -> Result<Pixmap, RenderError> {
+    render_limited(svg, size, DEFAULT_MAX_PIXELS)
+}
+
+/// [`render_sized`] refusing an image of more than `max_pixels` pixels
+/// ([`RenderError::TooManyPixels`]) before allocating it.
+pub fn render_limited(svg: &str, size: OutputSize, max_pixels: u64) -> Result<Pixmap, RenderError> {
     let tree = usvg::Tree::from_str(svg, &usvg::Options::default())
         .map_err(|e| RenderError::Svg(e.to_string()))?;
     let (w, h) = (
@@ -102,6 +134,8 @@ pub fn render_sized(svg: &str, size: OutputSize) -> Result<Pixmap, RenderError> 
         height: 0,
     })?;
     let (width, height) = (fit.width, fit.height);
+    check_pixels(width, height, max_pixels)?;
+    check_drawable(&tree, fit.scale, fit.offset.x, fit.offset.y)?;
     let mut pixmap = Pixmap::new(width, height).ok_or(RenderError::Size { width, height })?;
     let scale = fit.scale as f32;
     resvg::render(
@@ -117,6 +151,79 @@ pub fn render_sized(svg: &str, size: OutputSize) -> Result<Pixmap, RenderError> 
         &mut pixmap.as_mut(),
     );
     Ok(pixmap)
+}
+
+/// The farthest, in output pixels, that anything drawn may reach from the output's origin.
+///
+/// tiny-skia supersamples anti-aliased paths in 32-bit fixed point and panics (or indexes
+/// past its buffers) on a path whose bounds reach about 5·10⁸ px (`stroke-width="1e10"`,
+/// `scale(1e10)` on a stroked shape). Every path of a picture, stroke included, clip paths
+/// and masks too, is checked against this bound before anything is drawn.
+pub const MAX_DRAWN_COORD: f64 = 1e8;
+
+/// Checks that every path of `tree`, mapped to output pixels by `scale` and `(dx, dy)`,
+/// lies within [`MAX_DRAWN_COORD`] of the origin (see [`RenderError::OutOfRange`]).
+pub fn check_drawable(tree: &usvg::Tree, scale: f64, dx: f64, dy: f64) -> Result<(), RenderError> {
+    fn reach(r: usvg::Rect, scale: f64, dx: f64, dy: f64) -> f64 {
+        let xs = [f64::from(r.left()), f64::from(r.right())];
+        let ys = [f64::from(r.top()), f64::from(r.bottom())];
+        let x = xs
+            .iter()
+            .map(|x| (x * scale + dx).abs())
+            .fold(0.0, f64::max);
+        let y = ys
+            .iter()
+            .map(|y| (y * scale + dy).abs())
+            .fold(0.0, f64::max);
+        let all = xs.iter().chain(&ys);
+        if all.clone().any(|v| !v.is_finite()) {
+            return f64::INFINITY;
+        }
+        x.max(y)
+    }
+    fn group(g: &usvg::Group, scale: f64, dx: f64, dy: f64, sub: bool) -> Result<(), RenderError> {
+        for node in g.children() {
+            if let usvg::Node::Path(p) = node {
+                let stroked = p.stroke().is_some();
+                let extent = reach(p.abs_stroke_bounding_box(), scale, dx, dy);
+                if extent.is_nan() || extent > MAX_DRAWN_COORD {
+                    let what = match (sub, stroked) {
+                        (true, _) => "path inside a clip path, mask or pattern",
+                        (false, true) => "stroked path",
+                        (false, false) => "path",
+                    };
+                    return Err(RenderError::OutOfRange { what, extent });
+                }
+            }
+            if let usvg::Node::Group(h) = node {
+                group(h, scale, dx, dy, sub)?;
+            }
+            let mut found = Ok(());
+            node.subroots(|s| {
+                if found.is_ok() {
+                    found = group(s, scale, dx, dy, true);
+                }
+            });
+            found?;
+        }
+        Ok(())
+    }
+    group(tree.root(), scale, dx, dy, false)
+}
+
+/// The default largest number of pixels of one image: 2²⁶ (8192 × 8192, 256 MiB of RGBA).
+pub const DEFAULT_MAX_PIXELS: u64 = 1 << 26;
+
+/// Checks that a `width` × `height` image holds at most `limit` pixels.
+pub fn check_pixels(width: u32, height: u32, limit: u64) -> Result<(), RenderError> {
+    if u64::from(width) * u64::from(height) > limit {
+        return Err(RenderError::TooManyPixels {
+            width,
+            height,
+            limit,
+        });
+    }
+    Ok(())
 }
 
 fn write_error(path: &Path, source: io::Error) -> RenderError {
@@ -388,32 +495,48 @@ pub fn write_frames(frames: &[Pixmap], dir: &Path) -> Result<(), RenderError> {
         })
         .collect::<Result<_, _>>()?;
     let tmp = atomic::temp_path(dir);
-    let moved = (|| -> io::Result<()> {
+    atomic::register(&tmp);
+    let written = (|| -> io::Result<()> {
         std::fs::create_dir(&tmp)?;
         for (i, bytes) in encoded.iter().enumerate() {
             std::fs::write(tmp.join(frame_file_name(i)), bytes)?;
         }
-        std::fs::create_dir_all(dir)?;
-        for i in 0..encoded.len() {
-            let name = frame_file_name(i);
-            std::fs::rename(tmp.join(&name), dir.join(&name))?;
-        }
         Ok(())
     })();
-    // Whatever happened, the hidden folder is ours and holds nothing the user needs.
-    let _ = std::fs::remove_dir_all(&tmp);
-    moved.map_err(|e| write_error(dir, e))?;
-    let fresh: std::collections::HashSet<String> =
-        (0..encoded.len()).map(frame_file_name).collect();
-    for path in old {
-        let stale = path
-            .file_name()
-            .is_some_and(|n| !fresh.contains(&*n.to_string_lossy()));
-        if stale {
-            std::fs::remove_file(&path).map_err(|e| write_error(&path, e))?;
-        }
+    if let Err(e) = written {
+        // The hidden folder is ours and holds nothing the user needs.
+        let _ = std::fs::remove_dir_all(&tmp);
+        atomic::forget(&tmp);
+        return Err(write_error(dir, e));
     }
-    Ok(())
+    let n = encoded.len();
+    let (from, to) = (tmp.clone(), dir.to_path_buf());
+    // Moving the frames in (now, or when the open staging commits), then removing the
+    // frames of an earlier, longer run.
+    let commit = move || -> io::Result<()> {
+        let moved = (|| -> io::Result<()> {
+            std::fs::create_dir_all(&to)?;
+            for i in 0..n {
+                let name = frame_file_name(i);
+                std::fs::rename(from.join(&name), to.join(&name))?;
+            }
+            Ok(())
+        })();
+        let _ = std::fs::remove_dir_all(&from);
+        atomic::forget(&from);
+        moved?;
+        let fresh: std::collections::HashSet<String> = (0..n).map(frame_file_name).collect();
+        for path in old {
+            let stale = path
+                .file_name()
+                .is_some_and(|n| !fresh.contains(&*n.to_string_lossy()));
+            if stale {
+                std::fs::remove_file(&path)?;
+            }
+        }
+        Ok(())
+    };
+    atomic::finish(&tmp, Box::new(commit)).map_err(|e| write_error(dir, e))
 }
 
 /// The fraction of pixels (of the area both images cover) where some channel differs by

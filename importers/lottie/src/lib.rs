@@ -131,10 +131,12 @@ pub enum ImportError {
 
 /// Imports a Lottie file.
 pub fn load(path: &Path, opts: &ImportOptions) -> Result<Imported, ImportError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ImportError::Read {
-        path: path.to_path_buf(),
-        source,
-    })?;
+    let text = gmotion::input::read_text(path, gmotion::input::DEFAULT_MAX_INPUT_BYTES).map_err(
+        |source| ImportError::Read {
+            path: path.to_path_buf(),
+            source,
+        },
+    )?;
     parse(&text, &path.display().to_string(), opts)
 }
 

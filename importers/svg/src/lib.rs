@@ -17,6 +17,7 @@
 //! otherwise take their tags from the `use` and its ancestors. The unit rules are in
 //! [`Units`].
 
+mod access;
 mod convert;
 mod source;
 pub mod tags;
@@ -37,6 +38,43 @@ pub struct ImportOptions {
     pub tag_from: TagFrom,
     /// Which nodes are animated units.
     pub units: Units,
+}
+
+/// What an SVG may make gmotion read, and how much: the file-access policy and the limits
+/// of the SVG importer. [`Policy::default`] is what `gmotion` uses unless told otherwise.
+///
+/// Files an SVG references (`<image href>`, `<feImage href>`) are read only when they lie
+/// inside the SVG's own folder or one of [`Policy::allowed_dirs`] (after resolving `..` and
+/// symbolic links) and are regular files; data URIs are always allowed. Anything else
+/// (absolute paths elsewhere, `..` escapes, devices, FIFOs) is refused with a warning naming
+/// the element, and the element is dropped.
+#[derive(Clone, Debug)]
+pub struct Policy {
+    /// Folders besides the SVG's own whose files it may reference (`--allow-path DIR`).
+    pub allowed_dirs: Vec<PathBuf>,
+    /// Largest SVG file read, and largest referenced file (default
+    /// [`gmotion::input::DEFAULT_MAX_INPUT_BYTES`]; `--limit input-bytes=N`).
+    pub max_file_bytes: u64,
+    /// Largest decompressed size of a `.svgz` (default 64 MiB; `--limit svgz-bytes=N`).
+    pub max_svgz_bytes: u64,
+    /// Most text XML entities may expand to in total (default 1 MiB;
+    /// `--limit xml-entity-bytes=N`): a pre-check, since the XML parser has no such limit.
+    pub max_entity_bytes: u64,
+    /// Most XML nodes (elements, text, attributes' owners) a document may have (default
+    /// 1 000 000; `--limit xml-nodes=N`).
+    pub max_xml_nodes: u32,
+}
+
+impl Default for Policy {
+    fn default() -> Policy {
+        Policy {
+            allowed_dirs: Vec::new(),
+            max_file_bytes: gmotion::input::DEFAULT_MAX_INPUT_BYTES,
+            max_svgz_bytes: 64 << 20,
+            max_entity_bytes: 1 << 20,
+            max_xml_nodes: 1_000_000,
+        }
+    }
 }
 
 /// An imported scene with what could not be kept.
@@ -112,19 +150,52 @@ pub enum ImportError {
 
 /// Imports an SVG (or gzip-compressed `.svgz`) file; external images resolve relative to it.
 pub fn load(path: &Path, opts: &ImportOptions) -> Result<Imported, ImportError> {
+    load_with(path, opts, &Policy::default())
+}
+
+/// Decompresses gzip `bytes`, refusing more than `limit` bytes of output.
+fn gunzip(bytes: &[u8], limit: u64) -> Result<Vec<u8>, String> {
+    use std::io::Read;
+    let mut out = Vec::new();
+    flate2::read::GzDecoder::new(bytes)
+        .take(limit.saturating_add(1))
+        .read_to_end(&mut out)
+        .map_err(|e| format!("the .svgz does not decompress: {e}"))?;
+    if out.len() as u64 > limit {
+        return Err(format!(
+            "the .svgz decompresses to more than the limit of {limit} bytes (raise it with --limit svgz-bytes=N)"
+        ));
+    }
+    Ok(out)
+}
+
+/// [`load`] under `policy`: what the file may reference and how large it may be.
+pub fn load_with(
+    path: &Path,
+    opts: &ImportOptions,
+    policy: &Policy,
+) -> Result<Imported, ImportError> {
     let name = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|source| ImportError::Read {
-        path: path.to_path_buf(),
-        source,
+    let bytes = gmotion::input::read_regular(path, policy.max_file_bytes).map_err(|source| {
+        ImportError::Read {
+            path: path.to_path_buf(),
+            source,
+        }
     })?;
     let bytes = if bytes.starts_with(&[0x1f, 0x8b]) {
-        usvg::decompress_svgz(&bytes).map_err(|e| ImportError::Encoding {
+        gunzip(&bytes, policy.max_svgz_bytes).map_err(|message| ImportError::Encoding {
             source_name: name.clone(),
-            message: e.to_string(),
+            message,
         })?
     } else {
         bytes
     };
+    if bytes.starts_with(&[0xff, 0xfe]) || bytes.starts_with(&[0xfe, 0xff]) {
+        return Err(ImportError::Encoding {
+            source_name: name,
+            message: "1:1: UTF-16 text (it starts with a UTF-16 byte-order mark); only UTF-8 SVG is supported".into(),
+        });
+    }
     let text = std::str::from_utf8(&bytes).map_err(|e| ImportError::Encoding {
         source_name: name.clone(),
         message: format!(
@@ -132,12 +203,17 @@ pub fn load(path: &Path, opts: &ImportOptions) -> Result<Imported, ImportError> 
             e.valid_up_to()
         ),
     })?;
-    parse_in(text, &name, path.parent(), opts)
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    parse_in(text, &name, Some(dir), opts, policy)
 }
 
-/// Imports SVG text; `source_name` names it in errors and warnings.
+/// Imports SVG text; `source_name` names it in errors and warnings. It has no folder, so
+/// it may reference no files (data URIs only).
 pub fn parse(text: &str, source_name: &str, opts: &ImportOptions) -> Result<Imported, ImportError> {
-    parse_in(text, source_name, None, opts)
+    parse_in(text, source_name, None, opts, &Policy::default())
 }
 
 fn parse_in(
@@ -145,10 +221,14 @@ fn parse_in(
     source_name: &str,
     dir: Option<&Path>,
     opts: &ImportOptions,
+    policy: &Policy,
 ) -> Result<Imported, ImportError> {
-    let src = source::Source::parse(text, source_name)?;
+    source::check_entities(text, source_name, policy.max_entity_bytes)?;
+    let src = source::Source::parse(text, source_name, policy.max_xml_nodes)?;
+    let refused = std::sync::Arc::new(std::sync::Mutex::new(Vec::<(String, String)>::new()));
     let mut uopt = usvg::Options {
         resources_dir: dir.map(Path::to_path_buf),
+        image_href_resolver: access::resolver(dir, policy, refused.clone()),
         ..Default::default()
     };
     if src.has_text {
@@ -164,7 +244,14 @@ fn parse_in(
         },
     })?;
 
-    let converted = convert::convert(&tree, &src, opts);
+    let mut converted = convert::convert(&tree, &src, opts);
+    let refused = std::mem::take(&mut *refused.lock().unwrap_or_else(|e| e.into_inner()));
+    for (href, why) in refused {
+        converted.warnings.push((
+            src.place_of_href(&href),
+            format!("file `{href}` not read: {why}"),
+        ));
+    }
     let mut shapes = Vec::with_capacity(converted.units.len());
     let mut counts: std::collections::HashMap<String, usize> = Default::default();
     let mut scene = Scene {

@@ -71,6 +71,108 @@ fn named(node: Node, names: &[&str]) -> bool {
     is_svg(node) && names.contains(&node.tag_name().name())
 }
 
+/// Refuses a document whose XML entities would expand to more than `limit` bytes in
+/// total (a "billion laughs" or a quadratic blow-up): the XML parser expands every
+/// reference and has no such limit. Entities are read from the internal DTD subset;
+/// each reference in the document counts its entity's full expansion.
+pub(super) fn check_entities(text: &str, source_name: &str, limit: u64) -> Result<(), ImportError> {
+    let Some(doctype) = text.find("<!DOCTYPE") else {
+        return Ok(());
+    };
+    let (Some(open), Some(close)) = (
+        text[doctype..].find('[').map(|i| doctype + i),
+        text[doctype..].find("]>").map(|i| doctype + i),
+    ) else {
+        return Ok(());
+    };
+    if open > close {
+        return Ok(());
+    }
+    let subset = &text[open + 1..close];
+    let mut values: HashMap<&str, &str> = HashMap::new();
+    let mut rest = subset;
+    while let Some(i) = rest.find("<!ENTITY") {
+        rest = &rest[i + 8..];
+        let decl = rest.trim_start();
+        if decl.starts_with('%') {
+            continue;
+        }
+        let name_end = decl.find(|c: char| c.is_whitespace()).unwrap_or(decl.len());
+        let name = &decl[..name_end];
+        let after = decl[name_end..].trim_start();
+        let Some(q) = after.chars().next().filter(|c| *c == '"' || *c == '\'') else {
+            continue;
+        };
+        let Some(end) = after[1..].find(q) else {
+            continue;
+        };
+        values.entry(name).or_insert(&after[1..1 + end]);
+    }
+    if values.is_empty() {
+        return Ok(());
+    }
+    // Expanded sizes, deepest first; a loop or a depth past roxmltree's ten levels is the
+    // parser's error to report, so it counts as infinite here only past the limit.
+    fn size<'t>(
+        name: &str,
+        values: &HashMap<&'t str, &'t str>,
+        memo: &mut HashMap<String, u64>,
+        depth: u32,
+    ) -> u64 {
+        if let Some(&n) = memo.get(name) {
+            return n;
+        }
+        let Some(value) = values.get(name) else {
+            return name.len() as u64 + 2;
+        };
+        if depth > 16 {
+            return u64::MAX;
+        }
+        let mut total = 0u64;
+        let mut rest = *value;
+        while let Some(i) = rest.find('&') {
+            total = total.saturating_add(i as u64);
+            rest = &rest[i + 1..];
+            match rest.find(';') {
+                Some(j) if !rest[..j].starts_with('#') => {
+                    total = total.saturating_add(size(&rest[..j], values, memo, depth + 1));
+                    rest = &rest[j + 1..];
+                }
+                _ => total = total.saturating_add(1),
+            }
+        }
+        total = total.saturating_add(rest.len() as u64);
+        memo.insert(name.to_string(), total);
+        total
+    }
+    let mut memo = HashMap::new();
+    let body = &text[close + 2..];
+    let mut total = 0u64;
+    let mut rest = body;
+    while let Some(i) = rest.find('&') {
+        rest = &rest[i + 1..];
+        if let Some(j) = rest.find(';')
+            && values.contains_key(&rest[..j])
+        {
+            total = total.saturating_add(size(&rest[..j], &values, &mut memo, 0));
+            if total > limit {
+                let at = text.len() - rest.len() - 1;
+                let pos = text[..at].matches('\n').count() + 1;
+                let col = at - text[..at].rfind('\n').map_or(0, |k| k + 1) + 1;
+                return Err(ImportError::Encoding {
+                    source_name: source_name.to_string(),
+                    message: format!(
+                        "{pos}:{col}: XML entities expand to more than the limit of {limit} bytes here (`&{};`; raise it with --limit xml-entity-bytes=N)",
+                        &rest[..j]
+                    ),
+                });
+            }
+            rest = &rest[j + 1..];
+        }
+    }
+    Ok(())
+}
+
 /// Turns a roxmltree error into one that names the file, line and column.
 fn xml_error(e: roxmltree::Error, source_name: &str) -> ImportError {
     let pos = e.pos();
@@ -85,13 +187,27 @@ fn xml_error(e: roxmltree::Error, source_name: &str) -> ImportError {
 
 impl<'a> Source<'a> {
     /// Parses `text` and prepares the copy usvg will read.
-    pub fn parse(text: &'a str, source_name: &str) -> Result<Source<'a>, ImportError> {
-        // The same options usvg uses, so both parses see the same document.
+    pub fn parse(
+        text: &'a str,
+        source_name: &str,
+        max_nodes: u32,
+    ) -> Result<Source<'a>, ImportError> {
+        // The same options usvg uses, so both parses see the same document, with a limit
+        // on the number of nodes.
         let opt = roxmltree::ParsingOptions {
             allow_dtd: true,
+            nodes_limit: max_nodes,
             ..Default::default()
         };
-        let doc = Document::parse_with_options(text, opt).map_err(|e| xml_error(e, source_name))?;
+        let doc = Document::parse_with_options(text, opt).map_err(|e| match e {
+            roxmltree::Error::NodesLimitReached => ImportError::Encoding {
+                source_name: source_name.to_string(),
+                message: format!(
+                    "the document has more than the limit of {max_nodes} XML nodes (raise it with --limit xml-nodes=N)"
+                ),
+            },
+            e => xml_error(e, source_name),
+        })?;
         let root = doc.root_element();
         if !(is_svg(root) && root.tag_name().name() == "svg") {
             return Err(ImportError::NotSvg {
@@ -204,6 +320,25 @@ impl<'a> Source<'a> {
         {
             Some(id) => format!("<{name} id=\"{id}\"> (line {line})"),
             None => format!("<{name}> (line {line})"),
+        }
+    }
+
+    /// The `<image>` or `<feImage>` elements referencing `href`, described for a warning.
+    pub fn place_of_href(&self, href: &str) -> String {
+        let places: Vec<String> = self
+            .doc
+            .descendants()
+            .filter(|n| n.is_element() && matches!(n.tag_name().name(), "image" | "feImage"))
+            .filter(|n| {
+                n.attributes()
+                    .any(|a| a.name() == "href" && a.value().trim() == href.trim())
+            })
+            .map(|n| self.describe(n))
+            .collect();
+        if places.is_empty() {
+            "<image>".to_string()
+        } else {
+            places.join(", ")
         }
     }
 
@@ -353,7 +488,7 @@ mod tests {
     #[test]
     fn synthetic_ids_are_inserted_and_resolved() {
         let text = r#"<svg xmlns="http://www.w3.org/2000/svg"><g><rect/><circle id="c"/><path id="c"/></g></svg>"#;
-        let src = Source::parse(text, "t.svg").unwrap();
+        let src = Source::parse(text, "t.svg", u32::MAX).unwrap();
         let prepared = Document::parse(&src.prepared).unwrap();
         let ids: Vec<_> = prepared
             .descendants()
@@ -369,7 +504,7 @@ mod tests {
     #[test]
     fn prefix_avoids_existing_ids() {
         let text = r#"<svg xmlns="http://www.w3.org/2000/svg"><rect id="__gm0"/><rect/></svg>"#;
-        let src = Source::parse(text, "t.svg").unwrap();
+        let src = Source::parse(text, "t.svg", u32::MAX).unwrap();
         assert!(src.prepared.contains("id=\"__gm_0\""));
         assert!(!src.is_synthetic("__gm0"));
     }

@@ -1,0 +1,181 @@
+//! Hostile input: the limits users can see and raise (`--limit NAME=N`), the file-access
+//! policy (`--allow-path DIR`), outputs that may not overwrite inputs, and removal of
+//! temporary files on SIGINT/SIGTERM.
+
+use std::path::{Path, PathBuf};
+
+use super::report::{CliError, Result};
+
+/// Every limit, its name for `--limit`, its default and what it bounds (the README's
+/// "Limits" section lists the same).
+pub const LIMITS: &[(&str, u64, &str)] = &[
+    (
+        "input-bytes",
+        gmotion::input::DEFAULT_MAX_INPUT_BYTES,
+        "size of a scene, grammar, targets file or referenced image",
+    ),
+    (
+        "svgz-bytes",
+        64 << 20,
+        "decompressed size of a .svgz (or gzip data URI)",
+    ),
+    (
+        "xml-entity-bytes",
+        1 << 20,
+        "total text XML entities expand to",
+    ),
+    ("xml-nodes", 1_000_000, "XML nodes of an SVG"),
+    ("frames", 10_000, "frames of an animation (duration × fps)"),
+    (
+        "pixels",
+        gmotion_export_raster::DEFAULT_MAX_PIXELS,
+        "pixels of one rendered image",
+    ),
+    (
+        "animation-pixels",
+        gmotion_output::DEFAULT_MAX_ANIMATION_PIXELS,
+        "pixels of all frames of a GIF, APNG or frames folder",
+    ),
+    (
+        "steps",
+        100_000,
+        "largest --max-steps or max_steps (expansion time grows with its square)",
+    ),
+];
+
+/// The limits in force.
+#[derive(Clone, Debug)]
+pub struct Limits {
+    values: Vec<u64>,
+}
+
+impl Limits {
+    /// The defaults, with each `NAME=N` of `--limit` applied.
+    pub fn parse(args: &[String]) -> Result<Limits> {
+        let mut values: Vec<u64> = LIMITS.iter().map(|l| l.1).collect();
+        for a in args {
+            let names = || LIMITS.iter().map(|l| l.0).collect::<Vec<_>>().join(", ");
+            let Some((name, value)) = a.split_once('=') else {
+                return Err(CliError::msg(format!(
+                    "--limit {a}: expected NAME=N, one of {}",
+                    names()
+                )));
+            };
+            let Some(i) = LIMITS.iter().position(|l| l.0 == name.trim()) else {
+                return Err(CliError::msg(format!(
+                    "--limit {a}: unknown limit `{name}`; the limits are {}",
+                    names()
+                )));
+            };
+            let v = value.trim();
+            let parsed = v.parse::<u64>().ok().or_else(|| {
+                v.parse::<f64>()
+                    .ok()
+                    .filter(|f| f.is_finite() && *f >= 0.0 && *f < 1.8e19)
+                    .map(|f| f as u64)
+            });
+            values[i] = parsed.ok_or_else(|| {
+                CliError::msg(format!("--limit {a}: `{v}` is not a whole number"))
+            })?;
+        }
+        Ok(Limits { values })
+    }
+
+    /// The value of limit `name` (one of [`LIMITS`]).
+    pub fn get(&self, name: &str) -> u64 {
+        LIMITS
+            .iter()
+            .position(|l| l.0 == name)
+            .map_or(u64::MAX, |i| self.values[i])
+    }
+
+    /// The SVG importer's policy under these limits and `--allow-path`.
+    pub fn svg_policy(&self, allow: &[PathBuf]) -> gmotion_import_svg::Policy {
+        gmotion_import_svg::Policy {
+            allowed_dirs: allow.to_vec(),
+            max_file_bytes: self.get("input-bytes"),
+            max_svgz_bytes: self.get("svgz-bytes"),
+            max_entity_bytes: self.get("xml-entity-bytes"),
+            max_xml_nodes: u32::try_from(self.get("xml-nodes")).unwrap_or(u32::MAX),
+        }
+    }
+
+    /// Refuses `frames` frames past the `frames` limit; `what` says where they come from.
+    pub fn check_frames(&self, frames: f64, what: &str) -> Result<()> {
+        let limit = self.get("frames");
+        if frames.is_nan() || frames > limit as f64 {
+            return Err(CliError::msg(format!(
+                "{what} make {} frames, more than the limit of {limit} (raise it with --limit frames=N)",
+                short(frames)
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// `x` as written by a person: plain below a million, else in exponent form.
+pub fn short(x: f64) -> String {
+    if x.abs() < 1e6 {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// The identity of an existing file (device and inode), following symbolic links.
+#[cfg(unix)]
+fn identity(path: &Path) -> Option<(u64, u64)> {
+    use std::os::unix::fs::MetadataExt;
+    std::fs::metadata(path).ok().map(|m| (m.dev(), m.ino()))
+}
+
+#[cfg(not(unix))]
+fn identity(path: &Path) -> Option<PathBuf> {
+    path.canonicalize().ok()
+}
+
+/// Refuses an output that is one of the inputs (the same file, through any link or
+/// spelling), and an existing output that is a device, FIFO or socket, or a directory
+/// where a file is written.
+pub fn check_not_input(outputs: &[&Path], inputs: &[&Path]) -> Result<()> {
+    for o in outputs {
+        let Some(id) = identity(o) else {
+            continue;
+        };
+        if let Some(i) = inputs.iter().find(|i| identity(i).as_ref() == Some(&id)) {
+            return Err(CliError::msg(format!(
+                "{}: refusing to write over an input ({} is the same file); choose another output",
+                o.display(),
+                i.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Refuses an existing output that is not a regular file (a directory is allowed only for
+/// a frames folder, `frames_ok`).
+pub fn check_output_kind(o: &Path, frames_ok: bool) -> Result<()> {
+    match gmotion::input::irregular_kind(o) {
+        Ok(Some("a directory")) if frames_ok => Ok(()),
+        Ok(Some(kind)) => Err(CliError::msg(format!(
+            "{}: cannot write output: it is {kind}; gmotion writes outputs as regular files (or a folder of frames)",
+            o.display()
+        ))),
+        _ => Ok(()),
+    }
+}
+
+/// Removes every temporary file on SIGINT and SIGTERM, then exits with 128 + the signal.
+pub fn clean_up_on_signals() {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM]) else {
+        return;
+    };
+    std::thread::spawn(move || {
+        if let Some(sig) = signals.forever().next() {
+            gmotion::atomic::remove_temporaries();
+            std::process::exit(128 + sig);
+        }
+    });
+}

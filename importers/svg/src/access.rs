@@ -1,0 +1,103 @@
+//! The file-access policy for files an SVG references (`<image href>`, `<feImage href>`):
+//! inside the SVG's folder or an allowed folder, regular files, bounded in size; data URIs
+//! always (a gzip-compressed SVG in one is bounded like a `.svgz`). See [`crate::Policy`].
+
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+
+use usvg::ImageHrefResolver;
+
+use crate::Policy;
+
+/// The references refused so far: (href, why).
+pub(crate) type Refused = Arc<Mutex<Vec<(String, String)>>>;
+
+/// Why `href` (relative to `dir`) may not be read, or the canonical path that may.
+fn check(
+    href: &str,
+    dir: Option<&Path>,
+    allowed: &[PathBuf],
+    max_bytes: u64,
+) -> Result<PathBuf, String> {
+    let raw = href.strip_prefix("file://").unwrap_or(href);
+    if raw.contains("://") {
+        return Err("only files and data URIs are read".into());
+    }
+    let Some(dir) = dir else {
+        return Err("SVG text without a folder may reference data URIs only".into());
+    };
+    let path = dir.join(raw);
+    let real = path
+        .canonicalize()
+        .map_err(|e| format!("cannot resolve it ({e})"))?;
+    let mut roots: Vec<PathBuf> = std::iter::once(dir.to_path_buf())
+        .chain(allowed.iter().cloned())
+        .filter_map(|d| d.canonicalize().ok())
+        .collect();
+    roots.dedup();
+    if !roots.iter().any(|r| real.starts_with(r)) {
+        return Err(format!(
+            "{} lies outside the SVG's folder (an SVG may reference files in its own folder; allow another with --allow-path DIR)",
+            real.display()
+        ));
+    }
+    match gmotion::input::irregular_kind(&real) {
+        Ok(None) => {}
+        Ok(Some(kind)) => return Err(format!("it is {kind}, not a regular file")),
+        Err(e) => return Err(e.to_string()),
+    }
+    let len = std::fs::metadata(&real).map(|m| m.len()).unwrap_or(0);
+    if len > max_bytes {
+        return Err(format!(
+            "it is larger than the limit of {max_bytes} bytes (raise it with --limit input-bytes=N)"
+        ));
+    }
+    Ok(real)
+}
+
+/// usvg's image resolver under `policy`: refused references are recorded in `refused`
+/// (and the element dropped); allowed ones are read by usvg's own resolver.
+pub(crate) fn resolver(
+    dir: Option<&Path>,
+    policy: &Policy,
+    refused: Refused,
+) -> ImageHrefResolver<'static> {
+    let dir = dir.map(Path::to_path_buf);
+    let allowed = policy.allowed_dirs.clone();
+    let max_bytes = policy.max_file_bytes;
+    let max_svgz = policy.max_svgz_bytes;
+    let refused_data = refused.clone();
+    let default_string = ImageHrefResolver::default_string_resolver();
+    let default_data = ImageHrefResolver::default_data_resolver();
+    ImageHrefResolver {
+        resolve_string: Box::new(move |href: &str, opts: &usvg::Options| {
+            match check(href, dir.as_deref(), &allowed, max_bytes) {
+                Ok(real) => default_string(&real.to_string_lossy(), opts),
+                Err(why) => {
+                    refused
+                        .lock()
+                        .unwrap_or_else(|e| e.into_inner())
+                        .push((href.to_string(), why));
+                    None
+                }
+            }
+        }),
+        resolve_data: Box::new(
+            move |mime: &str, data: Arc<Vec<u8>>, opts: &usvg::Options| {
+                if data.starts_with(&[0x1f, 0x8b]) {
+                    match crate::gunzip(&data, max_svgz) {
+                        Ok(plain) => return default_data(mime, Arc::new(plain), opts),
+                        Err(why) => {
+                            refused_data
+                                .lock()
+                                .unwrap_or_else(|e| e.into_inner())
+                                .push(("data:".to_string(), why));
+                            return None;
+                        }
+                    }
+                }
+                default_data(mime, data, opts)
+            },
+        ),
+    }
+}

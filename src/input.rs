@@ -1,0 +1,86 @@
+//! Reading input files safely: regular files only (a FIFO would block forever, a device
+//! such as `/dev/zero` would be read until memory runs out), and at most a given size.
+
+use std::io::{self, Read};
+use std::path::Path;
+
+/// The default largest input file gmotion reads (scene, grammar, targets): 256 MiB.
+pub const DEFAULT_MAX_INPUT_BYTES: u64 = 256 << 20;
+
+/// What `path` is when it is not a regular file (`None` when it is one, or is a symbolic
+/// link to one). Nothing is opened, so a FIFO does not block.
+pub fn irregular_kind(path: &Path) -> io::Result<Option<&'static str>> {
+    let m = std::fs::metadata(path)?;
+    let ft = m.file_type();
+    if ft.is_file() {
+        return Ok(None);
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if ft.is_fifo() {
+            return Ok(Some("a FIFO"));
+        }
+        if ft.is_char_device() || ft.is_block_device() {
+            return Ok(Some("a device"));
+        }
+        if ft.is_socket() {
+            return Ok(Some("a socket"));
+        }
+    }
+    Ok(Some(if ft.is_dir() {
+        "a directory"
+    } else {
+        "not a regular file"
+    }))
+}
+
+/// Reads `path` whole if it is a regular file of at most `max_bytes` bytes. Anything else
+/// is an error whose message says why (`is a FIFO; gmotion reads regular files only`,
+/// `is larger than the limit of … bytes`); the file is not opened when it is not regular.
+pub fn read_regular(path: &Path, max_bytes: u64) -> io::Result<Vec<u8>> {
+    if let Some(kind) = irregular_kind(path)? {
+        return Err(io::Error::other(format!(
+            "it is {kind}; gmotion reads input from regular files only"
+        )));
+    }
+    let file = std::fs::File::open(path)?;
+    let mut bytes = Vec::new();
+    file.take(max_bytes.saturating_add(1))
+        .read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > max_bytes {
+        return Err(io::Error::other(format!(
+            "the file is larger than the limit of {max_bytes} bytes (raise it with --limit input-bytes=N)"
+        )));
+    }
+    Ok(bytes)
+}
+
+/// [`read_regular`] as UTF-8 text; invalid UTF-8 is an error naming the line and column
+/// of the first bad byte, and UTF-16 (told by its byte-order mark) is named as such.
+pub fn read_text(path: &Path, max_bytes: u64) -> io::Result<String> {
+    let bytes = read_regular(path, max_bytes)?;
+    utf8_text(bytes).map_err(io::Error::other)
+}
+
+/// `bytes` as UTF-8 text, or a message naming where it is not (`line L, column C`) or that
+/// it is UTF-16.
+pub fn utf8_text(bytes: Vec<u8>) -> Result<String, String> {
+    if bytes.starts_with(&[0xff, 0xfe]) || bytes.starts_with(&[0xfe, 0xff]) {
+        return Err(
+            "1:1: the file is UTF-16 text (it starts with a UTF-16 byte-order mark); save it as UTF-8"
+                .into(),
+        );
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        let at = e.utf8_error().valid_up_to();
+        let good = &e.as_bytes()[..at];
+        let line = good.iter().filter(|&&b| b == b'\n').count() + 1;
+        let start = good.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+        let column = String::from_utf8_lossy(&good[start..]).chars().count() + 1;
+        format!(
+            "{line}:{column}: the file is not UTF-8 text (invalid byte 0x{:02x} at byte {at})",
+            e.as_bytes()[at]
+        )
+    })
+}
