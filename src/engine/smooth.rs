@@ -84,23 +84,29 @@ pub fn smooth_tracks(
 ) -> Result<(), String> {
     let frames = ((duration * fps).round() as usize).max(1);
     let time = |i: usize| (i as f64 / fps).min(duration);
-    tracks.par_iter_mut().try_for_each(|track| {
-        if track.is_still() {
-            return Ok(());
-        }
-        let raw: Vec<[f64; N]> = (0..=frames).map(|i| pack(track, time(i))).collect();
-        let smoothed = if looping {
-            // Two periods; the second starts from the state the first ended in.
-            let mut twice = raw[..frames].to_vec();
-            twice.extend_from_slice(&raw);
-            let out = smooth_samples(spec, &twice, fps).map_err(|e| e.to_string())?;
-            out[frames..].to_vec()
-        } else {
-            smooth_samples(spec, &raw, fps).map_err(|e| e.to_string())?
-        };
-        *track = rebuild(&smoothed, time);
-        Ok(())
-    })
+    // Every track's result is kept so that the error reported is the first track's,
+    // whichever thread met an error first.
+    let results: Vec<Result<(), String>> = tracks
+        .par_iter_mut()
+        .map(|track| {
+            if track.is_still() {
+                return Ok(());
+            }
+            let raw: Vec<[f64; N]> = (0..=frames).map(|i| pack(track, time(i))).collect();
+            let smoothed = if looping {
+                // Two periods; the second starts from the state the first ended in.
+                let mut twice = raw[..frames].to_vec();
+                twice.extend_from_slice(&raw);
+                let out = smooth_samples(spec, &twice, fps).map_err(|e| e.to_string())?;
+                out[frames..].to_vec()
+            } else {
+                smooth_samples(spec, &raw, fps).map_err(|e| e.to_string())?
+            };
+            *track = rebuild(&smoothed, time);
+            Ok(())
+        })
+        .collect();
+    results.into_iter().collect()
 }
 
 fn rebuild(v: &[[f64; N]], time: impl Fn(usize) -> f64) -> Track {

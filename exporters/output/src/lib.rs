@@ -265,6 +265,10 @@ fn render_frames_limited(
             tick();
             r
         })
+        // Collected in full first so that the error reported is the earliest frame's,
+        // whichever thread met an error first.
+        .collect::<Vec<_>>()
+        .into_iter()
         .collect()
 }
 
