@@ -10,7 +10,6 @@ use gmotion::color::Color;
 use gmotion::motion::{
     Animation, AttrSeg, Component, Interp, MotionKind, MotionSeg, Timing, Tint, Track,
 };
-use gmotion::signals::Easing;
 use gmotion_export_raster::render;
 use gmotion_export_svg::frame::{frame_svg, scene_svg};
 use gmotion_import_svg::{ImportOptions, parse};
@@ -35,13 +34,7 @@ fn animation(text: &str) -> Animation {
     let scene = parse(text, "bench.svg", &ImportOptions::default())
         .unwrap()
         .scene;
-    let timing = Timing {
-        start: 0.0,
-        end: 1.0,
-        delay: 0.0,
-        ease: Easing::Linear,
-        reversed: false,
-    };
+    let timing = Timing::linear(0.0, 1.0);
     let red = Tint::full(Color::rgb(1.0, 0.0, 0.0));
     let tracks = scene
         .shapes

@@ -2,7 +2,7 @@
 //! such as `/dev/zero` would be read until memory runs out), and at most a given size.
 
 use std::io::{self, Read};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The default largest input file gmotion reads (scene, grammar, targets): 256 MiB.
 pub const DEFAULT_MAX_INPUT_BYTES: u64 = 256 << 20;
@@ -33,6 +33,27 @@ pub fn irregular_kind(path: &Path) -> io::Result<Option<&'static str>> {
     } else {
         "not a regular file"
     }))
+}
+
+/// A file that could not be read, and why: the error every reader of input files returns.
+#[derive(Debug, thiserror::Error)]
+#[error("{}: cannot read the file: {source}", path.display())]
+pub struct ReadError {
+    /// The file.
+    pub path: PathBuf,
+    /// What the system (or a limit) said.
+    #[source]
+    pub source: io::Error,
+}
+
+impl ReadError {
+    /// Wraps an error met reading `path` (for `map_err`).
+    pub fn at(path: &Path) -> impl FnOnce(io::Error) -> ReadError + '_ {
+        move |source| ReadError {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
 }
 
 /// Reads `path` whole if it is a regular file of at most `max_bytes` bytes. Anything else

@@ -29,6 +29,11 @@ fn animate(scene: Scene, src: &str) -> Result<Animation, EngineError> {
     run(scene, &g, &RunOptions::default()).map(|(a, _)| a)
 }
 
+/// [`animate`] on a [`scene`] of `items`, which must succeed.
+fn animated(items: &[(&str, (f64, f64), f64)], src: &str) -> Animation {
+    animate(scene(items), src).unwrap()
+}
+
 fn pos(a: &Animation, shape: usize, t: f64) -> Point {
     a.tracks[shape].transform_at(t) * a.scene.shapes[shape].centroid
 }
@@ -39,15 +44,13 @@ fn close(a: Point, b: Point) -> bool {
 
 #[test]
 fn toy_grammar_moves_square_and_loops() {
-    let s = scene(&[("s", (50.0, 150.0), 40.0), ("c", (200.0, 150.0), 20.0)]);
-    let a = animate(
-        s,
+    let a = animated(
+        &[("s", (50.0, 150.0), 40.0), ("c", (200.0, 150.0), 20.0)],
         "duration 4s\n\
          timesplit(0.5, 0.5) : [all, (s, c)] -> [a, inv_a]\n\
          animate(affine, world, 0, translate(100, 0)) : [a, s] -> [t]\n\
          animate(affine, local, 0, scale(0.5)) : [a, c] -> [t]\n",
-    )
-    .unwrap();
+    );
     assert!(close(pos(&a, 0, 0.0), Point::new(50.0, 150.0)));
     assert!(close(pos(&a, 0, 1.0), Point::new(100.0, 150.0)));
     assert!(close(pos(&a, 0, 2.0), Point::new(150.0, 150.0)));
@@ -68,15 +71,13 @@ fn inverted_split_mirrors_tags_and_fractions() {
     // all -> [a, inv_a]; then a splits 0.25/0.75 into [x, y]. On inv_a the split is mirrored:
     // inv_y first (0.75 of it), then inv_x (0.25). Only x moves: at 0.25·2s forward, and in
     // the last 0.25·2s of the timeline backwards.
-    let s = scene(&[("s", (50.0, 50.0), 10.0)]);
-    let a = animate(
-        s,
+    let a = animated(
+        &[("s", (50.0, 50.0), 10.0)],
         "duration 4s\n\
          timesplit(0.5, 0.5) : [all, s] -> [a, inv_a]\n\
          timesplit(0.25, 0.75) : [a, s] -> [x, y]\n\
          animate(affine, world, 0, translate(40, 0)) : [x, s] -> [mx]\n",
-    )
-    .unwrap();
+    );
     assert!(close(pos(&a, 0, 0.5), Point::new(90.0, 50.0)));
     assert!(close(pos(&a, 0, 2.0), Point::new(90.0, 50.0)));
     assert!(close(pos(&a, 0, 3.5), Point::new(90.0, 50.0)));
@@ -115,16 +116,14 @@ fn priority_wins_and_seed_chooses_among_equals() {
 
 #[test]
 fn offsets_delay_and_expressions_stagger() {
-    let s = scene(&[
-        ("d", (10.0, 10.0), 4.0),
-        ("d", (30.0, 10.0), 4.0),
-        ("d", (50.0, 10.0), 4.0),
-    ]);
-    let a = animate(
-        s,
+    let a = animated(
+        &[
+            ("d", (10.0, 10.0), 4.0),
+            ("d", (30.0, 10.0), 4.0),
+            ("d", (50.0, 10.0), 4.0),
+        ],
         "duration 2s\nanimate(affine, world, 0.5 * id, translate(0, 10)) : [all, d] -> [m]\n",
-    )
-    .unwrap();
+    );
     // Shape 2 starts at 1s and has 1s to travel.
     assert!(close(pos(&a, 2, 0.9), Point::new(50.0, 10.0)));
     assert!(close(pos(&a, 2, 1.5), Point::new(50.0, 15.0)));
@@ -135,14 +134,12 @@ fn offsets_delay_and_expressions_stagger() {
 
 #[test]
 fn towards_and_path_reach_their_targets_with_exact_lookup() {
-    let s = scene(&[("d", (10.0, 10.0), 4.0), ("e", (300.0, 200.0), 4.0)]);
-    let a = animate(
-        s,
+    let a = animated(
+        &[("d", (10.0, 10.0), 4.0), ("e", (300.0, 200.0), 4.0)],
         "duration 1s\nlookup exact\n\
          animate(towards, world, 0, (200, 100)) : [all, d] -> [m]\n\
          animate(path, world, 0, \"M 0 250 L 400 250\") : [all, e] -> [m]\n",
-    )
-    .unwrap();
+    );
     assert!(close(pos(&a, 0, 1.0), Point::new(200.0, 100.0)));
     assert!(close(pos(&a, 1, 1.0), Point::new(300.0, 250.0)));
 }
@@ -150,16 +147,14 @@ fn towards_and_path_reach_their_targets_with_exact_lookup() {
 #[test]
 fn nearest_grid_lookup_moves_a_cell_together() {
     // 2x1 grid over a 400-wide canvas: cell centres at x=100 and x=300.
-    let s = scene(&[
-        ("d", (20.0, 150.0), 4.0),
-        ("d", (180.0, 150.0), 4.0),
-        ("d", (250.0, 150.0), 4.0),
-    ]);
-    let a = animate(
-        s,
+    let a = animated(
+        &[
+            ("d", (20.0, 150.0), 4.0),
+            ("d", (180.0, 150.0), 4.0),
+            ("d", (250.0, 150.0), 4.0),
+        ],
         "duration 1s\ngrid 2x1\nanimate(towards, world, 0, (200, 150)) : [all, d] -> [m]\n",
-    )
-    .unwrap();
+    );
     let d0 = pos(&a, 0, 1.0) - Point::new(20.0, 150.0);
     let d1 = pos(&a, 1, 1.0) - Point::new(180.0, 150.0);
     let d2 = pos(&a, 2, 1.0) - Point::new(250.0, 150.0);
@@ -169,14 +164,12 @@ fn nearest_grid_lookup_moves_a_cell_together() {
 
 #[test]
 fn split_of_an_animated_slice_keeps_the_motion() {
-    let s = scene(&[("s", (0.0, 0.0), 2.0)]);
-    let a = animate(
-        s,
+    let a = animated(
+        &[("s", (0.0, 0.0), 2.0)],
         "duration 2s\n\
          animate(affine, world, 0, translate(100, 0)) : [all, s] -> [m]\n\
          timesplit(0.3, 0.7) : [m, s] -> [p, q]\n",
-    )
-    .unwrap();
+    );
     for t in [0.0, 0.3, 0.6, 1.0, 1.7, 2.0] {
         assert!(close(pos(&a, 0, t), Point::new(50.0 * t, 0.0)), "t = {t}");
     }
@@ -330,12 +323,10 @@ proptest! {
 
 #[test]
 fn rotation_about_a_point_keeps_the_point_fixed_while_playing() {
-    let s = scene(&[("s", (200.0, 50.0), 10.0)]);
-    let a = animate(
-        s,
+    let a = animated(
+        &[("s", (200.0, 50.0), 10.0)],
         "duration 1s\nanimate(affine, world, 0, rotate(180, 200, 150)) : [all, s] -> [m]\n",
-    )
-    .unwrap();
+    );
     for t in [0.25, 0.5, 0.75, 1.0] {
         let p = pos(&a, 0, t);
         assert!(

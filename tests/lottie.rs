@@ -290,16 +290,6 @@ fn black_rect(r: Rect) -> Scene {
     scene(vec![(rect_path(r), solid(Color::BLACK), None)])
 }
 
-fn timing(start: f64, end: f64, delay: f64, ease: Easing, reversed: bool) -> Timing {
-    Timing {
-        start,
-        end,
-        delay,
-        ease,
-        reversed,
-    }
-}
-
 fn rigid(pivot: Point, comps: &[Component], interp: Interp) -> MotionKind {
     let blend: Blend = Arc::from([(1.0, Arc::from(comps))]);
     MotionKind::Rigid {
@@ -435,7 +425,7 @@ fn layers_are_named_tag_id_and_carry_no_skew() {
         ),
     ]);
     let mut tracks = vec![Track::default(), Track::default()];
-    let tm = timing(0.0, 2.0, 0.0, Easing::Linear, false);
+    let tm = Timing::new(0.0, 2.0, 0.0, Easing::Linear, false);
     let kind = rigid(
         Point::new(125.0, 35.0),
         &[Component::Skew(30.0, 0.0), Component::Rotate(45.0)],
@@ -464,7 +454,7 @@ fn layers_are_named_tag_id_and_carry_no_skew() {
 #[test]
 fn one_window_has_keyframes_at_the_active_ends_only() {
     let s = black_rect(Rect::new(10.0, 10.0, 50.0, 50.0));
-    let tm = timing(0.5, 2.5, 0.5, EASE_IN_OUT, false);
+    let tm = Timing::new(0.5, 2.5, 0.5, EASE_IN_OUT, false);
     let kind = rigid(
         Point::new(30.0, 30.0),
         &[
@@ -528,8 +518,8 @@ fn split_reversed_and_shared_windows_are_exact() {
     let mut a = Track::default();
     // A slice [0, 2] animated, split at 0.8 (two windows of one motion), then its inverted
     // twin over [2, 4] (reversed timing), as `[a, inv_a]` does.
-    let fwd = timing(0.0, 2.0, 0.3, EASE_IN_OUT, false);
-    let back = timing(2.0, 4.0, 0.3, EASE_IN_OUT, true);
+    let fwd = Timing::new(0.0, 2.0, 0.3, EASE_IN_OUT, false);
+    let back = Timing::new(2.0, 4.0, 0.3, EASE_IN_OUT, true);
     let kind = rigid(
         Point::new(40.0, 50.0),
         &[
@@ -543,7 +533,7 @@ fn split_reversed_and_shared_windows_are_exact() {
     push(&mut a, 2.0, 4.0, &back, &kind);
     // Two motions sharing a window, then one that starts elsewhere (a jump).
     let mut b = Track::default();
-    let t1 = timing(
+    let t1 = Timing::new(
         0.5,
         3.0,
         0.0,
@@ -578,7 +568,7 @@ fn split_reversed_and_shared_windows_are_exact() {
         kind: k2,
         start,
     });
-    let t2 = timing(3.0, 4.0, 0.0, Easing::Linear, false);
+    let t2 = Timing::new(3.0, 4.0, 0.0, Easing::Linear, false);
     let k3 = rigid(
         Point::ORIGIN,
         &[Component::Translate(Vec2::new(0.0, -50.0))],
@@ -616,7 +606,7 @@ fn smooth_baked_motion_is_three_times_smaller_than_per_frame() {
     let s = black_rect(Rect::new(50.0, 50.0, 110.0, 90.0));
     // Alexa interpolation of a rotation with a translation is a spiral, not what Lottie's
     // component-wise interpolation draws: it must be sampled and reduced.
-    let tm = timing(0.0, 4.0, 0.0, EASE_IN_OUT, false);
+    let tm = Timing::new(0.0, 4.0, 0.0, EASE_IN_OUT, false);
     let kind = rigid(
         Point::new(80.0, 70.0),
         &[
@@ -665,7 +655,7 @@ fn smooth_baked_motion_is_three_times_smaller_than_per_frame() {
 #[test]
 fn bilinear_blend_is_sampled_within_tolerance() {
     let s = black_rect(Rect::new(150.0, 120.0, 190.0, 160.0));
-    let tm = timing(0.0, 2.0, 0.0, Easing::Linear, false);
+    let tm = Timing::new(0.0, 2.0, 0.0, Easing::Linear, false);
     let blend: Blend = Arc::from([
         (0.6, Arc::from([Component::Rotate(90.0)].as_slice())),
         (
@@ -698,7 +688,7 @@ fn vertex_deformation_becomes_path_keyframes() {
         Rect::new(0.0, 0.0, 400.0, 300.0),
         Field::Towards(Point::new(200.0, 150.0)),
     ));
-    let tm = timing(0.0, 2.0, 0.0, EASE_IN_OUT, false);
+    let tm = Timing::new(0.0, 2.0, 0.0, EASE_IN_OUT, false);
     let anim = one_motion(s, &tm, &MotionKind::Vertex { grid, pivot: None }, 2.0);
     let (json, doc) = export(&anim);
     assert!(max_error(&anim, &doc, 1) <= 0.25);
@@ -717,8 +707,8 @@ fn tints_opacity_and_stroke_width_follow_the_model() {
     )]);
     let mut track = Track::default();
     let red = Tint::full(Color::rgb(1.0, 0.0, 0.0));
-    let tm = timing(0.0, 1.0, 0.2, EASE_IN_OUT, false);
-    let back = timing(1.0, 2.0, 0.0, EASE_IN_OUT, true);
+    let tm = Timing::new(0.0, 1.0, 0.2, EASE_IN_OUT, false);
+    let back = Timing::new(1.0, 2.0, 0.0, EASE_IN_OUT, true);
     track.fill.push(AttrSeg {
         t0: 0.0,
         t1: 1.0,
@@ -737,7 +727,7 @@ fn tints_opacity_and_stroke_width_follow_the_model() {
     track.stroke_width.push(AttrSeg {
         t0: 0.5,
         t1: 2.0,
-        timing: timing(0.5, 2.0, 0.0, Easing::Linear, false),
+        timing: Timing::new(0.5, 2.0, 0.0, Easing::Linear, false),
         from: 1.0,
         to: 4.0,
     });
@@ -804,7 +794,7 @@ fn translucent_shape_of_two_paths_composites_as_a_whole() {
     let mut track = Track::default();
     fade(
         &mut track,
-        timing(0.0, 1.0, 0.0, Easing::Linear, false),
+        Timing::new(0.0, 1.0, 0.0, Easing::Linear, false),
         1.0,
         0.3,
     );
@@ -837,7 +827,7 @@ fn stroke_with_held_width_under_skew_is_an_outline() {
     if let Node::Path(p) = &mut s.root.children[0] {
         p.stroke.as_mut().unwrap().join = LineJoin::Round;
     }
-    let tm = timing(0.0, 1.0, 0.0, EASE_IN_OUT, false);
+    let tm = Timing::new(0.0, 1.0, 0.0, EASE_IN_OUT, false);
     let kind = rigid(
         Point::new(200.0, 110.0),
         &[Component::Skew(40.0, 0.0)],
@@ -874,7 +864,7 @@ fn overshooting_colour_and_opacity_stay_in_range() {
         ),
     ]);
     let overshoot = Easing::CubicBezier([0.3, -0.3, 0.7, 1.3]);
-    let tm = timing(0.0, 1.0, 0.0, overshoot, false);
+    let tm = Timing::new(0.0, 1.0, 0.0, overshoot, false);
     let mut tint = Track::default();
     tint.fill.push(AttrSeg {
         t0: 0.0,
@@ -893,7 +883,7 @@ fn overshooting_colour_and_opacity_stay_in_range() {
 #[test]
 fn output_is_deterministic() {
     let s = black_rect(Rect::new(10.0, 10.0, 50.0, 50.0));
-    let tm = timing(0.0, 2.0, 0.0, EASE_IN_OUT, false);
+    let tm = Timing::new(0.0, 2.0, 0.0, EASE_IN_OUT, false);
     let turn = rigid(
         Point::new(30.0, 30.0),
         &[Component::Rotate(33.0)],
@@ -1430,7 +1420,7 @@ fn many_translucent_shapes_leave_the_background_opaque() {
     for track in tracks.iter_mut().skip(1) {
         fade(
             track,
-            timing(0.0, 1.0, 0.0, Easing::Linear, false),
+            Timing::new(0.0, 1.0, 0.0, Easing::Linear, false),
             1.0,
             0.4,
         );

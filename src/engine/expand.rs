@@ -15,7 +15,7 @@ use rayon::prelude::*;
 
 use crate::color::Color;
 use crate::grammar::ast::{Expr, ExprKind};
-use crate::grammar::value::{Env, Value, arithmetic, eval};
+use crate::grammar::value::{Env, Value, arithmetic, eval, geometry_var};
 use crate::motion::{Component, Field, Grid, Interp, Lookup};
 use crate::scene::{Scene, Shape};
 use crate::signals::Easing;
@@ -143,20 +143,12 @@ impl Env for ShapeEnv<'_> {
         Some(match name {
             "id" => s.id as f64,
             "n" => self.n as f64,
-            "cx" => s.centroid.x,
-            "cy" => s.centroid.y,
-            "w" => s.bbox.width(),
-            "h" => s.bbox.height(),
-            "x0" => s.bbox.x0,
-            "y0" => s.bbox.y0,
             "z" => s.z as f64,
             "group" => s.group as f64,
             "t0" => self.t0,
             "d" => self.d,
             "step" => self.step as f64,
-            "W" => self.canvas.0,
-            "H" => self.canvas.1,
-            _ => return None,
+            _ => return geometry_var(name, s.centroid, s.bbox, self.canvas),
         })
     }
 
@@ -303,17 +295,9 @@ fn num(e: &Expr, env: &mut ShapeEnv) -> Result<f64, EngineError> {
     if let Some(x) = arithmetic(e, env) {
         return Ok(x);
     }
-    let v = eval(e, env)?;
-    let x = v
-        .as_num()
-        .map_err(|m| EngineError::at(e.span, m.to_string()))?;
-    if !x.is_finite() {
-        return Err(EngineError::at(
-            e.span,
-            format!("value is not a finite number ({x})"),
-        ));
-    }
-    Ok(x)
+    super::finite_number(&eval(e, env)?, e.span, |x| {
+        format!("value is not a finite number ({x})")
+    })
 }
 
 fn shape_note(shape: &Shape) -> String {

@@ -246,6 +246,23 @@ fn run_here(
     Ok((anim, stats))
 }
 
+/// `v` as a finite number, or an error at `span`: `v`'s own when it is not a number,
+/// `not_finite(x)` when it is infinite or NaN.
+pub(crate) fn finite_number(
+    v: &crate::grammar::value::Value,
+    span: Span,
+    not_finite: impl FnOnce(f64) -> String,
+) -> Result<f64, EngineError> {
+    let x = v
+        .as_num()
+        .map_err(|m| EngineError::at(span, m.to_string()))?;
+    if x.is_finite() {
+        Ok(x)
+    } else {
+        Err(EngineError::at(span, not_finite(x)))
+    }
+}
+
 fn scene_tags(scene: &Scene) -> Vec<&str> {
     let mut tags: Vec<&str> = scene.shapes.iter().map(|s| s.tag.as_str()).collect();
     tags.sort_unstable();

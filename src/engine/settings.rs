@@ -106,16 +106,9 @@ fn one(d: &Directive) -> Result<&crate::grammar::ast::Expr, EngineError> {
 fn num(d: &Directive) -> Result<f64, EngineError> {
     let e = one(d)?;
     let v = eval(e, &mut NoEnv).map_err(EngineError::from)?;
-    let x = v
-        .as_num()
-        .map_err(|m| EngineError::at(e.span, m.to_string()))?;
-    if !x.is_finite() {
-        return Err(EngineError::at(
-            e.span,
-            format!("`{}` must be a finite number", d.name),
-        ));
-    }
-    Ok(x)
+    super::finite_number(&v, e.span, |_| {
+        format!("`{}` must be a finite number", d.name)
+    })
 }
 
 fn positive(d: &Directive) -> Result<f64, EngineError> {

@@ -52,6 +52,28 @@ pub trait Env {
     fn noise(&self, x: f64, y: f64) -> f64;
 }
 
+/// The variables every shape has from its geometry: `cx`, `cy` (centroid), `w`, `h`,
+/// `x0`, `y0` (bounding box), `W`, `H` (the canvas). Shared by the timeslice and the group
+/// grammars' environments so the two cannot drift apart.
+pub fn geometry_var(
+    name: &str,
+    centroid: kurbo::Point,
+    bbox: kurbo::Rect,
+    canvas: (f64, f64),
+) -> Option<f64> {
+    Some(match name {
+        "cx" => centroid.x,
+        "cy" => centroid.y,
+        "w" => bbox.width(),
+        "h" => bbox.height(),
+        "x0" => bbox.x0,
+        "y0" => bbox.y0,
+        "W" => canvas.0,
+        "H" => canvas.1,
+        _ => return None,
+    })
+}
+
 /// An error while evaluating an expression, at the sub-expression that caused it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EvalError {

@@ -88,16 +88,22 @@ pub struct Timing {
 }
 
 impl Timing {
-    /// A change over all of `[start, end]`, linear, forward: what sampled tracks (smoothing,
-    /// transitions) use between two samples.
-    pub fn linear(start: f64, end: f64) -> Timing {
+    /// A change over `[start, end]` that begins `delay` seconds in (before the end when
+    /// `reversed`), its progress shaped by `ease`.
+    pub fn new(start: f64, end: f64, delay: f64, ease: Easing, reversed: bool) -> Timing {
         Timing {
             start,
             end,
-            delay: 0.0,
-            ease: Easing::Linear,
-            reversed: false,
+            delay,
+            ease,
+            reversed,
         }
+    }
+
+    /// A change over all of `[start, end]`, linear, forward: what sampled tracks (smoothing,
+    /// transitions) use between two samples.
+    pub fn linear(start: f64, end: f64) -> Timing {
+        Timing::new(start, end, 0.0, Easing::Linear, false)
     }
 
     /// The progress `f(t)` that drives the change's endpoints: 0 at the neutral end,
@@ -566,13 +572,7 @@ mod tests {
     use kurbo::Vec2;
 
     fn timing(start: f64, end: f64, reversed: bool) -> Timing {
-        Timing {
-            start,
-            end,
-            delay: 0.0,
-            ease: Easing::Linear,
-            reversed,
-        }
+        Timing::new(start, end, 0.0, Easing::Linear, reversed)
     }
 
     #[test]

@@ -13,7 +13,7 @@ use super::ops::{Op, StreamKind};
 use super::place::{PlaceParams, PlaceShape};
 use super::polygon::{Grid, flatten_rings};
 use crate::grammar::ast::{Arg, Rule, Span};
-use crate::grammar::value::{Env, Value, eval};
+use crate::grammar::value::{Env, Value, eval, geometry_var};
 use crate::scene::FillRule;
 
 /// The variables a spatial rule's arguments can read, for one shape.
@@ -71,16 +71,8 @@ impl Env for ShapeEnv {
             "id" => v.sid as f64,
             "n" => v.n as f64,
             "group" => v.group as f64,
-            "cx" => v.centroid.x,
-            "cy" => v.centroid.y,
-            "w" => v.bbox.width(),
-            "h" => v.bbox.height(),
-            "x0" => v.bbox.x0,
-            "y0" => v.bbox.y0,
-            "W" => v.canvas.0,
-            "H" => v.canvas.1,
             "step" => v.step as f64,
-            _ => return None,
+            _ => return geometry_var(name, v.centroid, v.bbox, v.canvas),
         })
     }
 

@@ -30,14 +30,8 @@ pub const DEFAULT_SYSTEM: &str = "spring(0.5, 0)";
 #[derive(Debug, thiserror::Error)]
 pub enum TransitionError {
     /// The TARGETS file could not be read.
-    #[error("{path}: cannot read the file: {source}")]
-    Read {
-        /// The file.
-        path: String,
-        /// What the system said.
-        #[source]
-        source: std::io::Error,
-    },
+    #[error(transparent)]
+    Read(#[from] crate::input::ReadError),
     /// The TARGETS text is malformed.
     #[error("{file}{location}: {message}")]
     Parse {

@@ -10,7 +10,8 @@ use super::TransitionError;
 use crate::color::Color;
 use crate::signals::SmoothSpec;
 
-/// An attribute a target can set.
+/// An attribute a target can set: one axis of the 2-D position channel, or a whole
+/// one-dimensional (or colour) channel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Attr {
     /// Canvas x of the shape's anchor (absolute).
@@ -21,22 +22,8 @@ pub enum Attr {
     Dx,
     /// Vertical offset from where the shape is drawn.
     Dy,
-    /// Uniform scale factor about the anchor.
-    Scale,
-    /// Horizontal scale factor about the anchor.
-    Sx,
-    /// Vertical scale factor about the anchor.
-    Sy,
-    /// A second horizontal scale factor, for view changes (zoom) that need their own system.
-    Zx,
-    /// A second vertical scale factor, for view changes (zoom) that need their own system.
-    Zy,
-    /// Rotation about the anchor in degrees (clockwise on screen).
-    Rotate,
-    /// Opacity multiplier in `[0, 1]`.
-    Opacity,
-    /// Fill colour (a tint over every painted colour of the shape).
-    Fill,
+    /// A channel other than [`Channel::Position`], set whole under its own name.
+    Whole(Channel),
 }
 
 /// A smoothed channel: attributes that share one signal. `x`, `y`, `dx` and `dy` are the
@@ -65,47 +52,40 @@ pub enum Channel {
 }
 
 impl Attr {
-    /// Every attribute with its spelling.
-    pub const ALL: [(Attr, &'static str); 12] = [
+    /// The position attributes with their spellings.
+    const AXES: [(Attr, &'static str); 4] = [
         (Attr::X, "x"),
         (Attr::Y, "y"),
         (Attr::Dx, "dx"),
         (Attr::Dy, "dy"),
-        (Attr::Scale, "scale"),
-        (Attr::Sx, "sx"),
-        (Attr::Sy, "sy"),
-        (Attr::Zx, "zx"),
-        (Attr::Zy, "zy"),
-        (Attr::Rotate, "rotate"),
-        (Attr::Opacity, "opacity"),
-        (Attr::Fill, "fill"),
     ];
 
-    /// Parses a spelling.
+    /// Parses a spelling: an axis, or the name of a channel other than position.
     pub fn parse(name: &str) -> Option<Attr> {
-        Attr::ALL.iter().find(|(_, n)| *n == name).map(|(a, _)| *a)
+        let axis = Attr::AXES.iter().find(|(_, n)| *n == name).map(|(a, _)| *a);
+        axis.or_else(|| {
+            Channel::parse(name)
+                .filter(|c| *c != Channel::Position)
+                .map(Attr::Whole)
+        })
     }
 
     /// The spelling.
     pub fn name(self) -> &'static str {
-        Attr::ALL
-            .iter()
-            .find(|(a, _)| *a == self)
-            .map_or("?", |(_, n)| n)
+        match self {
+            Attr::Whole(c) => c.name(),
+            axis => Attr::AXES
+                .iter()
+                .find(|(a, _)| *a == axis)
+                .map_or("?", |(_, n)| n),
+        }
     }
 
     /// The channel the attribute drives.
     pub fn channel(self) -> Channel {
         match self {
             Attr::X | Attr::Y | Attr::Dx | Attr::Dy => Channel::Position,
-            Attr::Scale => Channel::Scale,
-            Attr::Sx => Channel::Sx,
-            Attr::Sy => Channel::Sy,
-            Attr::Zx => Channel::Zx,
-            Attr::Zy => Channel::Zy,
-            Attr::Rotate => Channel::Rotate,
-            Attr::Opacity => Channel::Opacity,
-            Attr::Fill => Channel::Fill,
+            Attr::Whole(c) => c,
         }
     }
 }
@@ -218,13 +198,8 @@ impl Targets {
 
     /// Reads and parses a file (JSON or CSV by content).
     pub fn load(path: &std::path::Path) -> Result<Targets, TransitionError> {
-        let text =
-            crate::input::read_text(path, crate::input::DEFAULT_MAX_INPUT_BYTES).map_err(|e| {
-                TransitionError::Read {
-                    path: path.display().to_string(),
-                    source: e,
-                }
-            })?;
+        let text = crate::input::read_text(path, crate::input::DEFAULT_MAX_INPUT_BYTES)
+            .map_err(crate::input::ReadError::at(path))?;
         Targets::parse(&text).map_err(|e| e.in_file(&path.display().to_string()))
     }
 
@@ -656,7 +631,7 @@ fn parse_attr(name: &str, at: &str) -> Result<Attr, TransitionError> {
 }
 
 fn parse_value(attr: Attr, text: &str, at: &str) -> Result<TargetValue, TransitionError> {
-    if attr == Attr::Fill {
+    if attr == Attr::Whole(Channel::Fill) {
         return Color::parse(text).map(TargetValue::Color).ok_or_else(|| {
             TransitionError::parse(
                 at.into(),
@@ -739,7 +714,11 @@ mod tests {
         let a = Targets::from_json(json).unwrap();
         let b = Targets::from_csv(csv).unwrap();
         assert_eq!(a.targets.len(), 3);
-        assert_eq!(a.targets[0].attr, Attr::Fill, "sorted by time");
+        assert_eq!(
+            a.targets[0].attr,
+            Attr::Whole(Channel::Fill),
+            "sorted by time"
+        );
         for (x, y) in a.targets.iter().zip(&b.targets) {
             assert_eq!(
                 (x.time, &x.tag, x.id, x.attr, x.value),

@@ -181,7 +181,7 @@ pub fn example() -> Example {
                     time,
                     "bar",
                     Some(i),
-                    Attr::Sy,
+                    Attr::Whole(Channel::Sy),
                     height(c) / drawn,
                 );
                 last[i] = c;
@@ -189,7 +189,7 @@ pub fn example() -> Example {
         }
     }
     for (time, z) in zoom_path() {
-        push(&mut targets, time, "bar", None, Attr::Zy, z);
+        push(&mut targets, time, "bar", None, Attr::Whole(Channel::Zy), z);
     }
     let none = SmoothSpec::Identity;
     Example {

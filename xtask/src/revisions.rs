@@ -252,7 +252,7 @@ pub fn example() -> Result<Example, ExampleError> {
                 push(
                     time,
                     i,
-                    Attr::Scale,
+                    Attr::Whole(Channel::Scale),
                     TargetValue::Number(if now { 1.0 } else { 0.0 }),
                 );
             }
@@ -263,13 +263,30 @@ pub fn example() -> Result<Example, ExampleError> {
             };
             match (before, now) {
                 (Some(false), true) => {
-                    push(time, i, Attr::Fill, TargetValue::Color(blue));
+                    push(
+                        time,
+                        i,
+                        Attr::Whole(Channel::Fill),
+                        TargetValue::Color(blue),
+                    );
                     if time + BLUE_HOLD < gone {
-                        push(time + BLUE_HOLD, i, Attr::Fill, TargetValue::Color(rest));
+                        push(
+                            time + BLUE_HOLD,
+                            i,
+                            Attr::Whole(Channel::Fill),
+                            TargetValue::Color(rest),
+                        );
                     }
                 }
-                (Some(true), false) => push(time, i, Attr::Fill, TargetValue::Color(red)),
-                (None, _) => push(time, i, Attr::Fill, TargetValue::Color(rest)),
+                (Some(true), false) => {
+                    push(time, i, Attr::Whole(Channel::Fill), TargetValue::Color(red))
+                }
+                (None, _) => push(
+                    time,
+                    i,
+                    Attr::Whole(Channel::Fill),
+                    TargetValue::Color(rest),
+                ),
                 _ => {}
             }
         }

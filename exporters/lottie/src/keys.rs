@@ -375,16 +375,6 @@ mod tests {
     use super::*;
     use gmotion::signals::Easing;
 
-    fn timing(start: f64, end: f64, delay: f64, ease: Easing, reversed: bool) -> Timing {
-        Timing {
-            start,
-            end,
-            delay,
-            ease,
-            reversed,
-        }
-    }
-
     /// Evaluates keys the way a player does (CSS cubic-bezier easing between keys).
     fn eval(keys: &[Key<f64>], frame: f64) -> f64 {
         if frame <= keys[0].t {
@@ -439,7 +429,7 @@ mod tests {
 
     #[test]
     fn eased_window_is_exact() {
-        let t = timing(
+        let t = Timing::new(
             1.0,
             5.0,
             0.5,
@@ -459,7 +449,7 @@ mod tests {
 
     #[test]
     fn reversed_and_partial_windows_are_exact() {
-        let t = timing(
+        let t = Timing::new(
             0.0,
             6.0,
             1.0,
@@ -486,8 +476,8 @@ mod tests {
 
     #[test]
     fn jumps_are_held() {
-        let a = timing(0.0, 3.0, 0.0, Easing::Linear, false);
-        let b = timing(
+        let a = Timing::new(0.0, 3.0, 0.0, Easing::Linear, false);
+        let b = Timing::new(
             3.0,
             6.0,
             0.0,

@@ -37,13 +37,14 @@ pub mod eval;
 pub mod model;
 pub mod tags;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use kurbo::{Affine, Point, Rect};
 use serde_json::Value;
 
 use gmotion::Warning;
 use gmotion::color::Color;
+use gmotion::input::ReadError;
 use gmotion::measure::measure;
 use gmotion::scene::{Group, Node, Scene, Shape};
 
@@ -98,13 +99,8 @@ pub struct Imported {
 #[derive(Debug, thiserror::Error)]
 pub enum ImportError {
     /// The file could not be read.
-    #[error("{}: cannot read the file: {source}", path.display())]
-    Read {
-        /// The file.
-        path: PathBuf,
-        /// What the system said.
-        source: std::io::Error,
-    },
+    #[error(transparent)]
+    Read(#[from] ReadError),
     /// The text is not JSON.
     #[error("{source_name}:{line}:{column}: malformed JSON: {message}")]
     Json {
@@ -131,12 +127,8 @@ pub enum ImportError {
 
 /// Imports a Lottie file.
 pub fn load(path: &Path, opts: &ImportOptions) -> Result<Imported, ImportError> {
-    let text = gmotion::input::read_text(path, gmotion::input::DEFAULT_MAX_INPUT_BYTES).map_err(
-        |source| ImportError::Read {
-            path: path.to_path_buf(),
-            source,
-        },
-    )?;
+    let text = gmotion::input::read_text(path, gmotion::input::DEFAULT_MAX_INPUT_BYTES)
+        .map_err(ReadError::at(path))?;
     parse(&text, &path.display().to_string(), opts)
 }
 

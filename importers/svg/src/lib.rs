@@ -27,6 +27,7 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 
 use gmotion::Warning;
+use gmotion::input::ReadError;
 use gmotion::measure::{Measure, measure};
 use gmotion::scene::{Scene, Shape};
 pub use gmotion::tagging::{TagFrom, Units};
@@ -95,13 +96,8 @@ pub struct Imported {
 #[derive(Debug, thiserror::Error)]
 pub enum ImportError {
     /// The file could not be read.
-    #[error("{}: cannot read the file: {source}", path.display())]
-    Read {
-        /// The file.
-        path: PathBuf,
-        /// What the system said.
-        source: std::io::Error,
-    },
+    #[error(transparent)]
+    Read(#[from] ReadError),
     /// The text is not well-formed XML.
     #[error("{source_name}:{line}:{column}: malformed XML: {message}")]
     Xml {
@@ -176,12 +172,8 @@ pub fn load_with(
     policy: &Policy,
 ) -> Result<Imported, ImportError> {
     let name = path.display().to_string();
-    let bytes = gmotion::input::read_regular(path, policy.max_file_bytes).map_err(|source| {
-        ImportError::Read {
-            path: path.to_path_buf(),
-            source,
-        }
-    })?;
+    let bytes =
+        gmotion::input::read_regular(path, policy.max_file_bytes).map_err(ReadError::at(path))?;
     let bytes = if bytes.starts_with(&[0x1f, 0x8b]) {
         gunzip(&bytes, policy.max_svgz_bytes).map_err(|message| ImportError::Encoding {
             source_name: name.clone(),

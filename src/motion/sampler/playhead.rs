@@ -153,6 +153,17 @@ struct Attr<'c, T> {
     shape: usize,
 }
 
+impl<'c, T> Attr<'c, T> {
+    fn new(channel: &'c super::ChangeList<T>, second: bool, key: usize, shape: usize) -> Self {
+        Attr {
+            channel,
+            second,
+            key,
+            shape,
+        }
+    }
+}
+
 impl<T: Blendable> Running<(Change<T>, bool)> {
     /// Takes an attribute channel's new `mode`: a still value is written to `value` and
     /// the channel leaves the list, a running entry is copied into it.
@@ -263,14 +274,9 @@ impl Head {
             ] {
                 if due(t, until[ch]) {
                     let mode = channel.mode(&mut c[ch], lo, hi, t, Tint::NONE, e);
-                    let (second, key) = (ch == STROKE, key + ch);
+                    let second = ch == STROKE;
                     let value = tint_of(state, second);
-                    let attr = Attr {
-                        channel,
-                        second,
-                        key,
-                        shape: i,
-                    };
+                    let attr = Attr::new(channel, second, key + ch, i);
                     self.tints
                         .follow(&mut self.at, attr, mode, value, &mut until[ch]);
                 }
@@ -281,14 +287,9 @@ impl Head {
             ] {
                 if due(t, until[ch]) {
                     let mode = channel.mode(&mut c[ch], lo, hi, t, 1.0, e);
-                    let (second, key) = (ch == WIDTH, key + ch);
+                    let second = ch == WIDTH;
                     let value = number_of(state, second);
-                    let attr = Attr {
-                        channel,
-                        second,
-                        key,
-                        shape: i,
-                    };
+                    let attr = Attr::new(channel, second, key + ch, i);
                     self.numbers
                         .follow(&mut self.at, attr, mode, value, &mut until[ch]);
                 }
