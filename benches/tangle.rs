@@ -24,10 +24,7 @@ fn village(c: &mut Criterion) {
     let src = std::fs::read_to_string(dir.join("village.gm")).expect("village.gm reads");
     let grammar = gmotion::grammar::parse(&src).expect("village.gm parses");
     let rules: Vec<&Rule> = grammar.rules.iter().collect();
-    let opts = TangleOptions {
-        seed: 1,
-        ..TangleOptions::default()
-    };
+    let opts = TangleOptions::with_seed(1);
     let (out, stats) = expand(&scene, &rules, &opts).expect("village expands");
     let g = graph_stats(&rules);
     eprintln!(
@@ -79,10 +76,7 @@ stipple(dots, 6, 0.8) : core -> [face, dots]
 fn scaling(c: &mut Criterion) {
     let grammar = gmotion::grammar::parse(TILE_GRAMMAR).expect("tile grammar parses");
     let rules: Vec<&Rule> = grammar.rules.iter().collect();
-    let opts = TangleOptions {
-        seed: 1,
-        ..TangleOptions::default()
-    };
+    let opts = TangleOptions::with_seed(1);
     let mut group = c.benchmark_group("tangle_scaling");
     group.sample_size(10);
     for n in [16usize, 64, 256] {

@@ -50,6 +50,8 @@ pub mod scene;
 pub mod signals;
 pub mod tagging;
 pub mod tangle;
+#[cfg(test)]
+mod testing;
 pub mod transitions;
 pub mod warning;
 

@@ -108,6 +108,28 @@ impl Group {
             ..Group::default()
         }
     }
+
+    /// The node at `path` (child indices from this group down, as [`Shape::node_path`]
+    /// holds them), or `None` when the path leaves the tree.
+    pub fn node_at(&self, path: &[usize]) -> Option<&Node> {
+        let (last, parents) = path.split_last()?;
+        let parent = parents
+            .iter()
+            .try_fold(self, |g, &i| match g.children.get(i)? {
+                Node::Group(c) => Some(c),
+                Node::Path(_) => None,
+            })?;
+        parent.children.get(*last)
+    }
+
+    /// [`Group::node_at`], mutable.
+    pub fn node_at_mut(&mut self, path: &[usize]) -> Option<&mut Node> {
+        match (path, self.children.get_mut(*path.first()?)?) {
+            ([_], node) => Some(node),
+            ([_, rest @ ..], Node::Group(g)) => g.node_at_mut(rest),
+            _ => None,
+        }
+    }
 }
 
 /// A path with its paint.

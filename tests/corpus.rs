@@ -22,6 +22,8 @@ use gmotion_export_svg::frame::scene_svg;
 use gmotion_import_svg::{ImportOptions, load};
 use rayon::prelude::*;
 
+use crate::support::files_with_extension;
+
 const TOLERANCE: u8 = 32;
 const MAX_DIFFERING: f64 = 0.01;
 /// Files known to fail, each with why. Any other failure fails the test by name, and so
@@ -181,17 +183,7 @@ fn resvg_direct(svg: &Path, like: &Pixmap) -> Option<Pixmap> {
 #[test]
 fn corpus_round_trips_through_the_scene_model() {
     let dir = corpus_dir();
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| {
-            panic!(
-                "corpus {} not readable ({e}); set GMOTION_CORPUS",
-                dir.display()
-            )
-        })
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "svg"))
-        .collect();
-    files.sort();
+    let files = files_with_extension(&dir, "svg", "set GMOTION_CORPUS");
     assert!(!files.is_empty(), "no SVG files in {}", dir.display());
     let out_dir = std::env::var_os("GMOTION_CORPUS_OUT").map(PathBuf::from);
     if let Some(d) = &out_dir {

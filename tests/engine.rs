@@ -29,9 +29,23 @@ fn animate(scene: Scene, src: &str) -> Result<Animation, EngineError> {
     run(scene, &g, &RunOptions::default()).map(|(a, _)| a)
 }
 
+/// Squares of side 4 tagged `d`, centred at height `y` and each of `xs`.
+fn dots(y: f64, xs: &[f64]) -> Vec<(&'static str, (f64, f64), f64)> {
+    xs.iter().map(|&x| ("d", (x, y), 4.0)).collect()
+}
+
 /// [`animate`] on a [`scene`] of `items`, which must succeed.
 fn animated(items: &[(&str, (f64, f64), f64)], src: &str) -> Animation {
     animate(scene(items), src).unwrap()
+}
+
+/// `g` run on `s` with `seed`, which must succeed.
+fn with_seed(s: &Scene, g: &gmotion::grammar::ast::Grammar, seed: u64) -> Animation {
+    let opts = RunOptions {
+        seed: Some(seed),
+        ..Default::default()
+    };
+    run(s.clone(), g, &opts).unwrap().0
 }
 
 fn pos(a: &Animation, shape: usize, t: f64) -> Point {
@@ -78,11 +92,15 @@ fn inverted_split_mirrors_tags_and_fractions() {
          timesplit(0.25, 0.75) : [a, s] -> [x, y]\n\
          animate(affine, world, 0, translate(40, 0)) : [x, s] -> [mx]\n",
     );
-    assert!(close(pos(&a, 0, 0.5), Point::new(90.0, 50.0)));
-    assert!(close(pos(&a, 0, 2.0), Point::new(90.0, 50.0)));
-    assert!(close(pos(&a, 0, 3.5), Point::new(90.0, 50.0)));
-    assert!(close(pos(&a, 0, 3.75), Point::new(70.0, 50.0)));
-    assert!(close(pos(&a, 0, 4.0), Point::new(50.0, 50.0)));
+    for (t, x) in [
+        (0.5, 90.0),
+        (2.0, 90.0),
+        (3.5, 90.0),
+        (3.75, 70.0),
+        (4.0, 50.0),
+    ] {
+        assert!(close(pos(&a, 0, t), Point::new(x, 50.0)), "t = {t}");
+    }
 }
 
 #[test]
@@ -99,15 +117,7 @@ fn priority_wins_and_seed_chooses_among_equals() {
     let g = gmotion::grammar::parse(&src2).unwrap();
     let mut seen = std::collections::BTreeSet::new();
     for seed in 0..40 {
-        let (a, _) = run(
-            s.clone(),
-            &g,
-            &RunOptions {
-                seed: Some(seed),
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let a = with_seed(&s, &g, seed);
         let p = pos(&a, 0, 1.0);
         seen.insert(((p.x - 50.0).round() as i64, (p.y - 50.0).round() as i64));
     }
@@ -117,11 +127,7 @@ fn priority_wins_and_seed_chooses_among_equals() {
 #[test]
 fn offsets_delay_and_expressions_stagger() {
     let a = animated(
-        &[
-            ("d", (10.0, 10.0), 4.0),
-            ("d", (30.0, 10.0), 4.0),
-            ("d", (50.0, 10.0), 4.0),
-        ],
+        &dots(10.0, &[10.0, 30.0, 50.0]),
         "duration 2s\nanimate(affine, world, 0.5 * id, translate(0, 10)) : [all, d] -> [m]\n",
     );
     // Shape 2 starts at 1s and has 1s to travel.
@@ -148,11 +154,7 @@ fn towards_and_path_reach_their_targets_with_exact_lookup() {
 fn nearest_grid_lookup_moves_a_cell_together() {
     // 2x1 grid over a 400-wide canvas: cell centres at x=100 and x=300.
     let a = animated(
-        &[
-            ("d", (20.0, 150.0), 4.0),
-            ("d", (180.0, 150.0), 4.0),
-            ("d", (250.0, 150.0), 4.0),
-        ],
+        &dots(150.0, &[20.0, 180.0, 250.0]),
         "duration 1s\ngrid 2x1\nanimate(towards, world, 0, (200, 150)) : [all, d] -> [m]\n",
     );
     let d0 = pos(&a, 0, 1.0) - Point::new(20.0, 150.0);
@@ -214,15 +216,7 @@ fn same_seed_same_animation() {
                animate(affine, local, 0, rotate(rand(0, 360))) : [all, all] -> [m]\n";
     let g = gmotion::grammar::parse(src).unwrap();
     let eval = |seed| {
-        let (a, _) = run(
-            s.clone(),
-            &g,
-            &RunOptions {
-                seed: Some(seed),
-                ..Default::default()
-            },
-        )
-        .unwrap();
+        let a = with_seed(&s, &g, seed);
         (0..30)
             .map(|i| a.evaluate(i as f64 * 0.1))
             .collect::<Vec<Vec<ShapeState>>>()
@@ -705,13 +699,7 @@ fn an_offset_not_shorter_than_its_slice_is_a_located_error() {
     let src = "duration 2s\n\
          timesplit(0.5, 0.5) : [all, d] -> [a, inv_a]\n\
          animate(affine, world, 0.5 * id, translate(0, 10)) : [a, d] -> [m]\n";
-    let sc = || {
-        scene(&[
-            ("d", (10.0, 10.0), 4.0),
-            ("d", (30.0, 10.0), 4.0),
-            ("d", (50.0, 10.0), 4.0),
-        ])
-    };
+    let sc = || scene(&dots(10.0, &[10.0, 30.0, 50.0]));
     let e = animate(sc(), src).unwrap_err();
     let span = e.span.expect("located");
     assert_eq!((span.line, span.col), (3, 1), "{e}");
@@ -1029,11 +1017,7 @@ fn editing_the_rules_of_one_shape_tag_leaves_the_others_byte_identical() {
     ];
     let run_with = |src: &str, seed: u64| {
         let g = gmotion::grammar::parse(src).unwrap();
-        let opts = RunOptions {
-            seed: Some(seed),
-            ..Default::default()
-        };
-        per_shape_output(&run(s.clone(), &g, &opts).unwrap().0)
+        per_shape_output(&with_seed(&s, &g, seed))
     };
     for choice in ["group", "shape"] {
         let base_src = edit_grammar(choice, A_RULES);

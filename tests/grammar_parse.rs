@@ -180,15 +180,19 @@ fn hash_followed_by_hex_digits_and_a_space_is_a_colour_not_a_comment() {
 
 #[test]
 fn operator_precedence_and_associativity() {
-    assert_eq!(expr("1 + 2 * 3"), "(+ 1 (* 2 3))");
-    assert_eq!(expr("1 - 2 - 3"), "(- (- 1 2) 3)");
-    assert_eq!(expr("8 / 4 % 3"), "(% (/ 8 4) 3)");
-    assert_eq!(expr("2 ^ 3 ^ 2"), "(^ 2 (^ 3 2))");
-    assert_eq!(expr("-x ^ 2"), "(neg (^ x 2))");
-    assert_eq!(expr("-2"), "-2");
-    assert_eq!(expr("2 * -x"), "(* 2 (neg x))");
-    assert_eq!(expr("(1 + 2) * 3"), "(* (+ 1 2) 3)");
-    assert_eq!(expr("(cx, cy - 10)"), "(tuple cx (- cy 10))");
+    for (src, tree) in [
+        ("1 + 2 * 3", "(+ 1 (* 2 3))"),
+        ("1 - 2 - 3", "(- (- 1 2) 3)"),
+        ("8 / 4 % 3", "(% (/ 8 4) 3)"),
+        ("2 ^ 3 ^ 2", "(^ 2 (^ 3 2))"),
+        ("-x ^ 2", "(neg (^ x 2))"),
+        ("-2", "-2"),
+        ("2 * -x", "(* 2 (neg x))"),
+        ("(1 + 2) * 3", "(* (+ 1 2) 3)"),
+        ("(cx, cy - 10)", "(tuple cx (- cy 10))"),
+    ] {
+        assert_eq!(expr(src), tree, "{src}");
+    }
     assert_eq!(
         expr("rand(0, n) + noise(cx, cy) * 5"),
         "(+ rand(0 n) (* noise(cx cy) 5))"
@@ -217,23 +221,31 @@ fn juxtaposed_calls_are_products() {
 
 #[test]
 fn dashes_in_names_and_subtraction() {
-    assert_eq!(expr("ease-in-out"), "ease-in-out");
-    assert_eq!(expr("stroke-width"), "stroke-width");
-    assert_eq!(expr("a - b"), "(- a b)");
-    assert_eq!(expr("a -b"), "(- a b)");
-    assert_eq!(expr("id-1"), "(- id 1)");
-    assert_eq!(expr("w-h"), "w-h");
+    for (src, tree) in [
+        ("ease-in-out", "ease-in-out"),
+        ("stroke-width", "stroke-width"),
+        ("a - b", "(- a b)"),
+        ("a -b", "(- a b)"),
+        ("id-1", "(- id 1)"),
+        ("w-h", "w-h"),
+    ] {
+        assert_eq!(expr(src), tree, "{src}");
+    }
 }
 
 #[test]
 fn units_fold_into_numbers() {
-    assert_eq!(expr("6s"), "6");
-    assert_eq!(expr("500ms"), "0.5");
-    assert_eq!(expr("30deg"), "30");
-    assert_eq!(expr("50%"), "0.5");
-    assert_eq!(expr("2.5e-1"), "0.25");
-    assert_eq!(expr("7%3"), "(% 7 3)");
-    assert_eq!(expr("4x4"), "4x4");
+    for (src, tree) in [
+        ("6s", "6"),
+        ("500ms", "0.5"),
+        ("30deg", "30"),
+        ("50%", "0.5"),
+        ("2.5e-1", "0.25"),
+        ("7%3", "(% 7 3)"),
+        ("4x4", "4x4"),
+    ] {
+        assert_eq!(expr(src), tree, "{src}");
+    }
     let d = errors("op(5px) : a -> []");
     assert_eq!(d.items[0].message, "unknown unit `px`");
     assert_eq!(positions(&d), [(1, 4)]);

@@ -533,13 +533,8 @@ fn split_reversed_and_shared_windows_are_exact() {
     push(&mut a, 2.0, 4.0, &back, &kind);
     // Two motions sharing a window, then one that starts elsewhere (a jump).
     let mut b = Track::default();
-    let t1 = Timing::new(
-        0.5,
-        3.0,
-        0.0,
-        Easing::CubicBezier([0.3, -0.3, 0.6, 1.4]),
-        false,
-    );
+    let ease = Easing::CubicBezier([0.3, -0.3, 0.6, 1.4]);
+    let t1 = Timing::new(0.5, 3.0, 0.0, ease, false);
     let k1 = rigid(
         Point::ORIGIN,
         &[Component::Translate(Vec2::new(-80.0, 60.0))],

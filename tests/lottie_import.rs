@@ -10,7 +10,7 @@ use gmotion_export_raster::Pixmap;
 use serde_json::{Value, json};
 
 use crate::support::players::{Player, frame_path, play};
-use crate::support::root;
+use crate::support::{files_with_extension, root};
 
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_gmotion"))
@@ -100,17 +100,7 @@ fn json_equal(a: &Path, b: &Path) -> bool {
 #[test]
 fn convert_is_the_identity_on_lottie_web_test_animations() {
     let folder = root().join("tests/conformance/node_modules/lottie-web/test/animations");
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&folder)
-        .unwrap_or_else(|e| {
-            panic!(
-                "{}: {e}; run tests/conformance/install.sh",
-                folder.display()
-            )
-        })
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|x| x == "json"))
-        .collect();
-    files.sort();
+    let files = files_with_extension(&folder, "json", "run tests/conformance/install.sh");
     assert!(files.len() >= 10, "lottie-web's test animations: {files:?}");
     let dir = out_dir("identity");
     let mut different = Vec::new();
@@ -147,23 +137,10 @@ fn layers_are_units_tagged_from_their_names() {
     let dir = out_dir("units");
     let mut hidden = rect_layer("hidden", 9, None, [10.0, 10.0], [4.0, 4.0], [0.0, 0.0, 0.0]);
     hidden["hd"] = json!(true);
-    let mut matte = rect_layer(
-        "cutout",
-        7,
-        None,
-        [100.0, 150.0],
-        [20.0, 20.0],
-        [1.0, 1.0, 1.0],
-    );
+    let mut matte = rect_layer("cutout", 7, None, [100.0, 150.0], [20.0, 20.0], [1.0; 3]);
     matte["td"] = json!(1);
-    let mut body = rect_layer(
-        "Body",
-        8,
-        None,
-        [100.0, 150.0],
-        [40.0, 10.0],
-        [0.0, 0.0, 1.0],
-    );
+    let blue = [0.0, 0.0, 1.0];
+    let mut body = rect_layer("Body", 8, None, [100.0, 150.0], [40.0, 10.0], blue);
     body["tt"] = json!(1);
     let layers = json!([
         null_layer("Null 1", 1, ks([50.0, 0.0], 0.0, 100.0)),

@@ -276,11 +276,7 @@ fn degenerate_shapes_give_clean_results() {
                 .unwrap()
                 .is_empty()
         );
-        let params = PlaceParams {
-            shape: PlaceShape::Circle,
-            size: 5.0,
-            distance: 6.0,
-        };
+        let params = PlaceParams::new(PlaceShape::Circle, 5.0, 6.0);
         assert!(
             place(r, &params, Vec2::new(1.0, 0.0), &mut Rng::new(1), &g, 0.5)
                 .placed
@@ -312,19 +308,9 @@ fn degenerate_shapes_give_clean_results() {
     assert_eq!(pieces.len(), 1);
     assert!((pieces[0].region.area() - square.area()).abs() < 1e-9);
     // Places larger than the shape place nothing.
-    let params = PlaceParams {
-        shape: PlaceShape::Square,
-        size: 500.0,
-        distance: 600.0,
-    };
-    let out = place(
-        &square,
-        &params,
-        Vec2::new(1.0, 0.0),
-        &mut Rng::new(key(&[2])),
-        &g,
-        0.5,
-    );
+    let params = PlaceParams::new(PlaceShape::Square, 500.0, 600.0);
+    let mut rng = Rng::new(key(&[2]));
+    let out = place(&square, &params, Vec2::new(1.0, 0.0), &mut rng, &g, 0.5);
     assert!(out.placed.is_empty());
     assert_eq!(out.remainder, square);
 }
@@ -612,10 +598,7 @@ fn documented_pictures_have_their_sources() {
             .scene;
         let g = gmotion::grammar::parse(&src).expect("grammar parses");
         let rules: Vec<&Rule> = g.rules.iter().collect();
-        let opts = TangleOptions {
-            seed: 3,
-            ..TangleOptions::default()
-        };
+        let opts = TangleOptions::with_seed(3);
         let (_, stats) = expand(&scene, &rules, &opts).expect("grammar expands");
         assert!(stats.warnings.is_empty(), "{stem}: {:?}", stats.warnings);
         assert!(stats.shapes > 0, "{stem}");

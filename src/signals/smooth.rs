@@ -776,10 +776,7 @@ mod tests {
             ("spring(0.5, 0) x", "unexpected text"),
             ("lowpass(2.5, 0.1)", "poles"),
         ];
-        for (text, needle) in cases {
-            let msg = SmoothSpec::parse(text).unwrap_err().to_string();
-            assert!(msg.contains(needle), "{text}: {msg}");
-        }
+        crate::testing::assert_refused(&cases, SmoothSpec::parse);
         let spec = SmoothSpec::parse("arc(0.5, 1)").unwrap();
         assert!(spec.build::<f64>(60.0).is_err());
         assert!(spec.build::<[f64; 2]>(60.0).is_ok());

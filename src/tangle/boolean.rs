@@ -149,13 +149,8 @@ mod tests {
     #[test]
     fn bowtie_is_resolved() {
         let g = grid();
-        let bow = vec![
-            Point::new(0.0, 0.0),
-            Point::new(10.0, 10.0),
-            Point::new(10.0, 0.0),
-            Point::new(0.0, 10.0),
-        ];
-        let r = normalize(&[bow], FillRule::EvenOdd, &g);
+        let bow = [(0., 0.), (10., 10.), (10., 0.), (0., 10.)].map(Point::from);
+        let r = normalize(&[bow.to_vec()], FillRule::EvenOdd, &g);
         assert_eq!(r.polygons.len(), 2);
         assert!((r.area() - 50.0).abs() < 1e-6);
     }

@@ -96,31 +96,6 @@ fn hash_str(s: &str) -> u64 {
     })
 }
 
-/// The node at `path` below `root`.
-fn node_at<'a>(root: &'a Group, path: &[usize]) -> Option<&'a Node> {
-    let (last, parents) = path.split_last()?;
-    let mut g = root;
-    for &i in parents {
-        match g.children.get(i)? {
-            Node::Group(c) => g = c,
-            Node::Path(_) => return None,
-        }
-    }
-    g.children.get(*last)
-}
-
-fn node_at_mut<'a>(root: &'a mut Group, path: &[usize]) -> Option<&'a mut Node> {
-    let (last, parents) = path.split_last()?;
-    let mut g = root;
-    for &i in parents {
-        match g.children.get_mut(i)? {
-            Node::Group(c) => g = c,
-            Node::Path(_) => return None,
-        }
-    }
-    g.children.get_mut(*last)
-}
-
 /// Every path under a node with its transform to the node's parent space, in paint order.
 fn collect_paths<'a>(node: &'a Node, m: Affine, out: &mut Vec<(&'a PathNode, Affine)>) {
     match node {
@@ -140,7 +115,7 @@ fn unit_geometry(
     grid: &Grid,
     tolerance: f64,
 ) -> Option<(Region, Paint)> {
-    let node = node_at(&scene.root, &shape.node_path)?;
+    let node = scene.root.node_at(&shape.node_path)?;
     let mut paths = Vec::new();
     collect_paths(node, shape.parent_transform, &mut paths);
     let (first, _) = paths.first()?;
@@ -496,7 +471,7 @@ fn rebuild(
     let mut pieces: Vec<PieceShape> = Vec::new();
     for &(u, root) in roots {
         let shape = &scene.shapes[u];
-        let Some(node) = node_at(&scene.root, &shape.node_path) else {
+        let Some(node) = scene.root.node_at(&shape.node_path) else {
             continue;
         };
         let to_canvas = inner_transform(node, shape);
@@ -542,7 +517,7 @@ fn rebuild(
                 ..Group::new()
             },
         };
-        if let Some(slot) = node_at_mut(&mut out.root, &shape.node_path) {
+        if let Some(slot) = out.root.node_at_mut(&shape.node_path) {
             *slot = Node::Group(wrapper);
         }
     }

@@ -626,20 +626,10 @@ mod tests {
     fn mean_value_interpolation_is_exact_on_linear_data() {
         // Mean value coordinates reproduce linear functions, holes and concave corners
         // included: boundary values v(p) = (p.x, 2 p.y + 1) come back exactly inside.
-        let outer = vec![
-            Point::new(0.0, 0.0),
-            Point::new(10.0, 0.0),
-            Point::new(10.0, 10.0),
-            Point::new(5.0, 4.0),
-            Point::new(0.0, 10.0),
-        ];
-        let mut hole = vec![
-            Point::new(6.0, 1.0),
-            Point::new(8.0, 1.0),
-            Point::new(8.0, 3.0),
-            Point::new(6.0, 3.0),
-        ];
-        hole.reverse();
+        let points = |xy: &[(f64, f64)]| xy.iter().map(|&p| Point::from(p)).collect::<Vec<_>>();
+        let outer = points(&[(0., 0.), (10., 0.), (10., 10.), (5., 4.), (0., 10.)]);
+        // Clockwise, as holes are.
+        let hole = points(&[(6., 3.), (8., 3.), (8., 1.), (6., 1.)]);
         let linear = |p: Point| Vec2::new(p.x, 2.0 * p.y + 1.0);
         let rings = [outer, hole]
             .into_iter()

@@ -47,6 +47,16 @@ pub struct TangleOptions {
     pub resolution: f64,
 }
 
+impl TangleOptions {
+    /// The default settings with `seed`.
+    pub fn with_seed(seed: u64) -> TangleOptions {
+        TangleOptions {
+            seed,
+            ..TangleOptions::default()
+        }
+    }
+}
+
 impl Default for TangleOptions {
     fn default() -> Self {
         TangleOptions {

@@ -39,6 +39,17 @@ pub struct PlaceParams {
     pub distance: f64,
 }
 
+impl PlaceParams {
+    /// `shape`s of `size`, their centres `distance` apart.
+    pub fn new(shape: PlaceShape, size: f64, distance: f64) -> PlaceParams {
+        PlaceParams {
+            shape,
+            size,
+            distance,
+        }
+    }
+}
+
 /// The result of [`place`]: the placed shapes and what is left of the parent.
 #[derive(Clone, Debug, Default)]
 pub struct Placement {
@@ -647,19 +658,9 @@ mod tests {
     fn places_disjoint_discs_inside() {
         let region = square_region(100.0);
         let grid = Grid::for_bounds(region.bbox()).unwrap();
-        let params = PlaceParams {
-            shape: PlaceShape::Circle,
-            size: 12.0,
-            distance: 16.0,
-        };
-        let out = place(
-            &region,
-            &params,
-            Vec2::new(1.0, 0.0),
-            &mut Rng::new(key(&[1])),
-            &grid,
-            0.5,
-        );
+        let params = PlaceParams::new(PlaceShape::Circle, 12.0, 16.0);
+        let mut rng = Rng::new(key(&[1]));
+        let out = place(&region, &params, Vec2::new(1.0, 0.0), &mut rng, &grid, 0.5);
         assert!(out.placed.len() > 15, "{}", out.placed.len());
         let total: f64 = out.placed.iter().map(Region::area).sum::<f64>() + out.remainder.area();
         assert!((total - 10_000.0).abs() < 1.0, "{total}");

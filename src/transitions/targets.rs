@@ -267,12 +267,7 @@ impl Targets {
                     out.system = Some(parse_system(json_str(v, "system")?, "system")?);
                 }
                 if let Some(v) = map.get("systems") {
-                    let Value::Object(systems) = v else {
-                        return Err(TransitionError::parse(
-                            "systems".into(),
-                            "expected an object of channel: system".into(),
-                        ));
-                    };
+                    let systems = json_object(v, "systems", "channel: system")?;
                     for (key, spec) in systems {
                         let at = format!("systems.{key}");
                         out.systems
@@ -280,12 +275,7 @@ impl Targets {
                     }
                 }
                 if let Some(v) = map.get("anchors") {
-                    let Value::Object(anchors) = v else {
-                        return Err(TransitionError::parse(
-                            "anchors".into(),
-                            "expected an object of tag: [fx, fy]".into(),
-                        ));
-                    };
+                    let anchors = json_object(v, "anchors", "tag: [fx, fy]")?;
                     for (tag, a) in anchors {
                         let at = format!("anchors.{tag}");
                         let pair = match a {
@@ -667,6 +657,17 @@ fn json_str<'a>(v: &'a Value, at: &str) -> Result<&'a str, TransitionError> {
         .ok_or_else(|| TransitionError::parse(at.into(), format!("expected a string, got {v}")))
 }
 
+/// `v` as a JSON object, or an error at `at` saying it should be one of `entries`.
+fn json_object<'a>(
+    v: &'a Value,
+    at: &str,
+    entries: &str,
+) -> Result<&'a serde_json::Map<String, Value>, TransitionError> {
+    v.as_object().ok_or_else(|| {
+        TransitionError::parse(at.into(), format!("expected an object of {entries}"))
+    })
+}
+
 /// Splits one CSV line on commas, honouring double-quoted fields (`""` is a quote).
 fn split_csv(line: &str, at: &str) -> Result<Vec<String>, TransitionError> {
     let mut fields = Vec::new();
@@ -773,9 +774,6 @@ mod tests {
             ("# fps: fast\ntime,tag,id,attr,value\n", "line 1"),
             ("{\"fps\": 0, \"targets\": []}", "fps"),
         ];
-        for (text, needle) in cases {
-            let msg = Targets::parse(text).unwrap_err().to_string();
-            assert!(msg.contains(needle), "{text}: {msg}");
-        }
+        crate::testing::assert_refused(&cases, Targets::parse);
     }
 }

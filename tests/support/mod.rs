@@ -23,6 +23,19 @@ pub fn grammar_file(name: &str) -> PathBuf {
 }
 
 /// A path's vertices: the end point of every element (a close adds none).
+/// The files of `dir` ending in `.ext`, sorted; a folder that cannot be read fails the
+/// test with `hint` (how to get it).
+pub fn files_with_extension(dir: &Path, ext: &str, hint: &str) -> Vec<PathBuf> {
+    let entries = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("{} not readable ({e}); {hint}", dir.display()));
+    let mut files: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == ext))
+        .collect();
+    files.sort();
+    files
+}
+
 pub fn vertices(path: &BezPath) -> Vec<Point> {
     path.elements()
         .iter()

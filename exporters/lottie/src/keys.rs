@@ -429,13 +429,8 @@ mod tests {
 
     #[test]
     fn eased_window_is_exact() {
-        let t = Timing::new(
-            1.0,
-            5.0,
-            0.5,
-            Easing::CubicBezier([0.42, 0.0, 0.58, 1.0]),
-            false,
-        );
+        let ease = Easing::CubicBezier([0.42, 0.0, 0.58, 1.0]);
+        let t = Timing::new(1.0, 5.0, 0.5, ease, false);
         check(
             &[Piece {
                 t0: 1.0,
@@ -449,13 +444,8 @@ mod tests {
 
     #[test]
     fn reversed_and_partial_windows_are_exact() {
-        let t = Timing::new(
-            0.0,
-            6.0,
-            1.0,
-            Easing::CubicBezier([0.3, -0.4, 0.7, 1.6]),
-            true,
-        );
+        let ease = Easing::CubicBezier([0.3, -0.4, 0.7, 1.6]);
+        let t = Timing::new(0.0, 6.0, 1.0, ease, true);
         check(
             &[
                 Piece {
@@ -477,13 +467,8 @@ mod tests {
     #[test]
     fn jumps_are_held() {
         let a = Timing::new(0.0, 3.0, 0.0, Easing::Linear, false);
-        let b = Timing::new(
-            3.0,
-            6.0,
-            0.0,
-            Easing::CubicBezier([0.25, 0.1, 0.25, 1.0]),
-            false,
-        );
+        let ease = Easing::CubicBezier([0.25, 0.1, 0.25, 1.0]);
+        let b = Timing::new(3.0, 6.0, 0.0, ease, false);
         check(
             &[
                 Piece {

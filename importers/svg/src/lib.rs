@@ -255,7 +255,9 @@ fn parse_in(
     // The converter registers only units that hold a path, so a measure exists; the
     // fallback keeps `Node::unit` indices aligned should that ever change.
     let measure_unit = |unit: &convert::Unit| {
-        unit_node(&scene, &unit.node_path)
+        scene
+            .root
+            .node_at(&unit.node_path)
             .and_then(|n| measure(n, unit.parent_transform))
             .unwrap_or(Measure {
                 centroid: kurbo::Point::ORIGIN,
@@ -309,16 +311,4 @@ fn system_fonts() -> std::sync::Arc<usvg::fontdb::Database> {
             std::sync::Arc::new(db)
         })
         .clone()
-}
-
-fn unit_node<'s>(scene: &'s Scene, path: &[usize]) -> Option<&'s gmotion::scene::Node> {
-    let (last, parents) = path.split_last()?;
-    let mut group = &scene.root;
-    for &i in parents {
-        match group.children.get(i)? {
-            gmotion::scene::Node::Group(g) => group = g,
-            gmotion::scene::Node::Path(_) => return None,
-        }
-    }
-    group.children.get(*last)
 }

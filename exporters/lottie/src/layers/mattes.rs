@@ -1,5 +1,12 @@
 //! Clip paths and masks as Lottie: layer masks where the clip is a union of simple
 //! outlines, else track mattes drawn from the clip or mask content.
+//!
+//! A track matte is an ordinary Lottie layer whose pixels are used as coverage, so its
+//! content is built here as a scene [`Group`] (outlines whitened, the clip's own clip
+//! kept) and written by the same walker as the art. That is deliberate, not a shortcut:
+//! matte content can hold nested groups, transforms, clips of clips and masks, and a
+//! second writer for it would have to repeat every one of those cases; the groups built
+//! here are never shown to anything but that walker.
 
 use super::*;
 

@@ -23,17 +23,7 @@ impl Builder<'_> {
             Outline::Fill(_) => path.bounding_box(),
             Outline::Stroke(s) => path.bounding_box().inflate(s.width, s.width),
         };
-        let inv = pat.transform.inverse();
-        let corners = [
-            area.origin(),
-            Point::new(area.x1, area.y0),
-            Point::new(area.x0, area.y1),
-            Point::new(area.x1, area.y1),
-        ];
-        let local = corners.iter().map(|c| inv * *c).fold(
-            Rect::from_points(inv * corners[0], inv * corners[0]),
-            |r, p| r.union_pt(p),
-        );
+        let local = pat.transform.inverse().transform_rect_bbox(area);
         let i0 = ((local.x0 - tile.x0) / tile.width()).floor();
         let i1 = ((local.x1 - tile.x0) / tile.width()).ceil();
         let j0 = ((local.y0 - tile.y0) / tile.height()).floor();
