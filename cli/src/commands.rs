@@ -35,9 +35,10 @@ pub fn run(cmd: Command, ctx: &Ctx) -> Result<()> {
         Command::Convert {
             input,
             output,
+            time,
             render,
             import,
-        } => convert(&input, &output, &render, &import, ctx),
+        } => convert(&input, &output, time, &render, &import, ctx),
         Command::Animate {
             files,
             output,
@@ -183,7 +184,13 @@ fn scene_and_grammar(files: &[PathBuf], order: Order) -> Result<(Option<&Path>, 
 }
 
 /// The importer's options: the command line's, else the grammar's, else the defaults.
-fn import_options(a: &ImportArgs, settings: &Settings) -> ImportOptions {
+/// How to import a scene: as SVG, or as Lottie.
+struct SceneOptions {
+    svg: ImportOptions,
+    lottie: lottie_import::ImportOptions,
+}
+
+fn import_options(a: &ImportArgs, settings: &Settings) -> SceneOptions {
     let tag_from = a.tag_from.map(|t| match t {
         TagFromArg::Auto => TagFrom::Auto,
         TagFromArg::DataTag => TagFrom::DataTag,
@@ -196,9 +203,14 @@ fn import_options(a: &ImportArgs, settings: &Settings) -> ImportOptions {
         UnitsArg::Paths => Units::Paths,
         UnitsArg::Groups => Units::Groups,
     });
-    ImportOptions {
-        tag_from: tag_from.or(settings.tag_from).unwrap_or_default(),
-        units: units.or(settings.units).unwrap_or_default(),
+    SceneOptions {
+        svg: ImportOptions {
+            tag_from: tag_from.or(settings.tag_from).unwrap_or_default(),
+            units: units.or(settings.units).unwrap_or_default(),
+        },
+        lottie: lottie_import::ImportOptions {
+            time: a.reference_time.unwrap_or(0.0),
+        },
     }
 }
 
@@ -248,9 +260,9 @@ fn is_lottie(path: &Path) -> bool {
         .starts_with('{')
 }
 
-fn load_scene(path: &Path, options: &ImportOptions, ctx: &Ctx) -> Result<LoadedScene> {
+fn load_scene(path: &Path, options: &SceneOptions, ctx: &Ctx) -> Result<LoadedScene> {
     if is_lottie(path) {
-        let imported = lottie_import::load(path, &lottie_import::ImportOptions::default())
+        let imported = lottie_import::load(path, &options.lottie)
             .map_err(|e| CliError::msg(e.to_string()))?;
         for w in &imported.warnings {
             eprintln!("{}: warning: {w}", path.display());
@@ -262,7 +274,7 @@ fn load_scene(path: &Path, options: &ImportOptions, ctx: &Ctx) -> Result<LoadedS
     }
     let policy = ctx.limits.svg_policy(&ctx.allow);
     let imported =
-        svg_import::load_with(path, options, &policy).map_err(|e| CliError::msg(e.to_string()))?;
+        svg_import::load_with(path, &options.svg, &policy).map_err(|e| CliError::msg(e.to_string()))?;
     for w in &imported.warnings {
         eprintln!("{}: warning: {w}", path.display());
     }
@@ -551,6 +563,7 @@ fn animate(
 fn convert(
     input: &Path,
     outputs: &[PathBuf],
+    time: f64,
     render: &RenderArgs,
     import: &ImportArgs,
     ctx: &Ctx,
@@ -558,17 +571,38 @@ fn convert(
     validate_render(render)?;
     let outs: Vec<&Path> = outputs.iter().map(PathBuf::as_path).collect();
     guard::check_not_input(&outs, &[input])?;
+    // A Lottie input moves, so it can be played to a folder of frames.
+    let moves = is_lottie(input);
     for o in outputs {
-        guard::check_output_kind(o, false)?;
+        guard::check_output_kind(o, moves)?;
         check_writable(o)?;
+    }
+    if !moves && time != 0.0 {
+        return Err(CliError::msg(format!(
+            "{}: error: --time picks a frame of a Lottie input; an SVG is still",
+            input.display()
+        )));
     }
     let settings = Settings::default();
     let loaded = load_scene(input, &import_options(import, &settings), ctx)?;
+    if let Some(src) = &loaded.source
+        && outputs.iter().any(|o| !Format::of(o).is_ok_and(Format::is_still))
+    {
+        ctx.limits.check_frames(
+            src.duration() * src.fps(),
+            &format!(
+                "{}: error: {}s at {} fps",
+                input.display(),
+                guard::short(src.duration()),
+                guard::short(src.fps())
+            ),
+        )?;
+    }
     let size = output_size(render, &settings);
     let opts = output::Options {
         tolerance: render.tolerance,
         size,
-        time: 0.0,
+        time,
         max_pixels: ctx.limits.get("pixels"),
         max_animation_pixels: ctx.limits.get("animation-pixels"),
     };
@@ -735,6 +769,7 @@ fn demo(out: &Path, example: &str, ctx: &Ctx) -> Result<()> {
     let import = ImportArgs {
         tag_from: None,
         units: None,
+        reference_time: None,
     };
     let render = RenderArgs {
         width: None,

@@ -48,14 +48,20 @@ enum Command {
         example: String,
     },
     /// Convert a still SVG: to PNG (render), Lottie JSON, or a clean SVG. A Lottie input
-    /// (`.json`) is written back as it was read to `.json`, and drawn at its first frame
-    /// to `.png` and `.svg`.
+    /// (`.json`) is written back as it was read to `.json`, played by gmotion's own
+    /// renderer to `.gif`, `.apng` or a folder of frames, and drawn at --time to `.png`
+    /// and `.svg`.
     Convert {
         /// Input SVG or Lottie JSON.
         input: PathBuf,
-        /// Output file(s): .png, .json (Lottie) or .svg.
+        /// Output file(s): .png, .json (Lottie) or .svg; for a Lottie input also .gif,
+        /// .apng or a directory (one PNG per frame).
         #[arg(short, long, required = true)]
         output: Vec<PathBuf>,
+        /// Lottie inputs: the time, in seconds from the composition's start, of the frame
+        /// a .png or .svg shows.
+        #[arg(long, default_value_t = 0.0)]
+        time: f64,
         #[command(flatten)]
         render: RenderArgs,
         #[command(flatten)]
@@ -176,6 +182,10 @@ struct ImportArgs {
     /// What the animated units are (overrides the grammar's `units`; default `auto`).
     #[arg(long, value_enum)]
     units: Option<UnitsArg>,
+    /// Lottie scenes: the time, in seconds from the composition's start, at which units
+    /// are measured (default 0, the first frame).
+    #[arg(long, value_name = "SECONDS")]
+    reference_time: Option<f64>,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]

@@ -24,7 +24,7 @@ use std::path::{Path, PathBuf};
 
 use gmotion::Warning;
 use gmotion::canvas::OutputSize;
-use gmotion::motion::{Animation, ShapeState};
+use gmotion::motion::{Animation, Sampler, ShapeState, Track};
 use gmotion::scene::Scene;
 use gmotion_export_lottie::{self as lottie, LottieOptions};
 use gmotion_export_raster::{self as raster, Pixmap, RenderError};
@@ -183,6 +183,16 @@ pub enum OutputError {
         #[source]
         source: RenderError,
     },
+    /// A frame of a Lottie source could not be evaluated.
+    #[error("{}: frame {frame} of the Lottie source: {message}", path.display())]
+    Source {
+        /// The output.
+        path: PathBuf,
+        /// The frame's index.
+        frame: usize,
+        /// What failed.
+        message: String,
+    },
     /// A GIF, APNG or frames folder would hold more pixels than allowed.
     #[error(
         "{}: {frames} frames of {width}x{height} px are {} pixels, more than the limit of {limit} (raise it with --limit animation-pixels=N, or lower --fps, --width or --height)",
@@ -239,37 +249,67 @@ pub enum OutputError {
     },
 }
 
-/// Renders frames `0..n` of `anim` in parallel at `size`; `tick` is called once per frame
-/// rendered (for a progress bar). Order and bytes do not depend on the thread count.
-pub fn render_frames(
-    anim: &Animation,
-    size: OutputSize,
-    tick: &(dyn Fn() + Sync),
-) -> Result<Vec<Pixmap>, RenderError> {
-    render_frames_limited(anim, size, raster::DEFAULT_MAX_PIXELS, tick).map_err(|(_, e)| e)
+/// What each frame of an output draws: the animation's own scene, or the Lottie source the
+/// scene was imported from evaluated at the frame (a scene that moves by itself); in both
+/// cases moved by the animation's tracks.
+#[derive(Clone, Copy)]
+struct Stage<'a> {
+    anim: &'a Animation,
+    source: Option<&'a LottieSource>,
 }
 
-/// [`render_frames`] with a pixel limit per frame; an error comes with its frame's index.
-fn render_frames_limited(
-    anim: &Animation,
-    size: OutputSize,
-    max_pixels: u64,
-    tick: &(dyn Fn() + Sync),
-) -> Result<Vec<Pixmap>, (usize, RenderError)> {
-    let sampler = anim.sampler();
-    (0..anim.frame_count())
-        .into_par_iter()
-        .map(|i| {
-            let svg = frame::sampled_frame_svg(anim, &sampler, anim.frame_time(i));
-            let r = raster::render_limited(&svg, size, max_pixels).map_err(|e| (i, e));
-            tick();
-            r
-        })
-        // Collected in full first so that the error reported is the earliest frame's,
-        // whichever thread met an error first.
-        .collect::<Vec<_>>()
-        .into_iter()
-        .collect()
+impl Stage<'_> {
+    /// Frame `index` (at time `t`) of `path` rendered, its states read from `sampler` (or
+    /// evaluated directly for a single picture).
+    fn render(
+        &self,
+        sampler: Option<&Sampler>,
+        path: &Path,
+        (index, t): (usize, f64),
+        opts: &Options,
+    ) -> Result<Pixmap, OutputError> {
+        let anim = self.anim;
+        let states = match sampler {
+            Some(s) => s.evaluate(t),
+            None => anim.evaluate(t),
+        };
+        let svg = match self.source {
+            None => frame::frame_with_states(&anim.scene, anim, t, states),
+            Some(src) => {
+                let scene = src.scene_at(src.frame_at(t)).map_err(|e| OutputError::Source {
+                    path: path.to_path_buf(),
+                    frame: index,
+                    message: e.to_string(),
+                })?;
+                frame::frame_with_states(&scene, anim, t, states)
+            }
+        };
+        raster::render_limited(&svg, opts.size, opts.max_pixels)
+            .map_err(|e| frame_error(path, anim, index, t, e))
+    }
+
+    /// Every frame of `path` rendered in parallel; `tick` is called once per frame. Order
+    /// and bytes do not depend on the thread count, nor does which error is reported (the
+    /// earliest frame's).
+    fn render_all(
+        &self,
+        path: &Path,
+        opts: &Options,
+        tick: &(dyn Fn() + Sync),
+    ) -> Result<Vec<Pixmap>, OutputError> {
+        let anim = self.anim;
+        let sampler = anim.sampler();
+        (0..anim.frame_count())
+            .into_par_iter()
+            .map(|i| {
+                let r = self.render(Some(&sampler), path, (i, anim.frame_time(i)), opts);
+                tick();
+                r
+            })
+            .collect::<Vec<_>>()
+            .into_iter()
+            .collect()
+    }
 }
 
 /// The pixel size a raster output of a `width` × `height` canvas has at `size` (the
@@ -356,6 +396,16 @@ pub fn write_with_progress(
     opts: &Options,
     tick: &(dyn Fn() + Sync),
 ) -> Result<Vec<Warning>, OutputError> {
+    write_staged(Stage { anim, source: None }, path, opts, tick)
+}
+
+fn write_staged(
+    stage: Stage,
+    path: &Path,
+    opts: &Options,
+    tick: &(dyn Fn() + Sync),
+) -> Result<Vec<Warning>, OutputError> {
+    let anim = stage.anim;
     let raster_err = |source| OutputError::Raster {
         path: path.to_path_buf(),
         source,
@@ -377,10 +427,6 @@ pub fn write_with_progress(
         raster::check_pixels(width, height, opts.max_pixels)
             .map_err(|e| frame_error(path, anim, 0, 0.0, e))?;
     }
-    let frames = || {
-        render_frames_limited(anim, opts.size, opts.max_pixels, tick)
-            .map_err(|(i, e)| frame_error(path, anim, i, anim.frame_time(i), e))
-    };
     let written = match format {
         Format::Png => {
             let t = opts.time;
@@ -390,14 +436,14 @@ pub fn write_with_progress(
                     duration: anim.duration,
                 });
             }
-            let pm = raster::render_limited(&frame::frame_svg(anim, t), opts.size, opts.max_pixels)
-                .map_err(|e| frame_error(path, anim, (t * anim.fps).round() as usize, t, e))?;
+            let index = (t * anim.fps).round() as usize;
+            let pm = stage.render(None, path, (index, t), opts)?;
             raster::save_png(&pm, path).map_err(raster_err)?;
             return Ok(Vec::new());
         }
-        Format::Frames => raster::write_frames(&frames()?, path),
+        Format::Frames => raster::write_frames(&stage.render_all(path, opts, tick)?, path),
         format @ (Format::Gif | Format::Apng) => {
-            let frames = frames()?;
+            let frames = stage.render_all(path, opts, tick)?;
             let played = raster::Frames {
                 frames: &frames,
                 fps: anim.fps,
@@ -418,11 +464,16 @@ pub fn write_with_progress(
                 size: opts.size,
                 ..Default::default()
             };
-            let (svg, warnings) =
+            let (svg, mut warnings) =
                 smil::to_smil(anim, &sopts).map_err(|source| OutputError::Smil {
                     path: path.to_path_buf(),
                     source,
                 })?;
+            if stage.source.is_some() {
+                warnings.push(Warning::new(
+                    "the SMIL shows the Lottie source as it is at the reference frame, with gmotion's motion; the source's own animation is not converted to SMIL",
+                ));
+            }
             write_file(path, svg.as_bytes())?;
             return Ok(warnings);
         }
@@ -445,7 +496,7 @@ pub fn write_over_source(
             path,
             lottie::layered::over_source(anim, src, &lottie_options(opts)),
         ),
-        _ => write_with_progress(anim, path, opts, tick),
+        _ => write_staged(Stage { anim, source }, path, opts, tick),
     }
 }
 
@@ -468,7 +519,43 @@ pub fn write_still_over_source(
             write_file(path, lottie::layered::source_verbatim(src).as_bytes())?;
             Ok(warnings)
         }
-        _ => write_still(scene, path, opts),
+        // A Lottie source moves by itself: it is played, each frame evaluated from the
+        // document; a `.png` shows the frame at `opts.time`, an `.svg` that frame still.
+        Some(src) => {
+            let duration = src.duration();
+            if !(0.0..=duration).contains(&opts.time) {
+                return Err(OutputError::TimeOutside {
+                    time: opts.time,
+                    duration,
+                });
+            }
+            let played = Animation {
+                scene: scene.clone(),
+                duration,
+                fps: src.fps(),
+                looping: true,
+                tracks: vec![Track::default(); scene.shapes.len()],
+            };
+            if Format::of(path)? == Format::Svg {
+                let frame = src.frame_at(opts.time);
+                let at = src.scene_at(frame).map_err(|e| OutputError::Source {
+                    path: path.to_path_buf(),
+                    frame: (opts.time * src.fps()).round() as usize,
+                    message: e.to_string(),
+                })?;
+                return write_still(&at, path, opts);
+            }
+            write_staged(
+                Stage {
+                    anim: &played,
+                    source: Some(src),
+                },
+                path,
+                opts,
+                &|| {},
+            )
+        }
+        None => write_still(scene, path, opts),
     }
 }
 

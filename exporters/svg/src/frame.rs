@@ -72,17 +72,26 @@ pub fn scene_svg(scene: &Scene) -> String {
 
 /// The animation's frame at time `t` (seconds) as an SVG document.
 pub fn frame_svg(anim: &Animation, t: f64) -> String {
-    frame_with_states(anim, t, anim.evaluate(t))
+    frame_with_states(&anim.scene, anim, t, anim.evaluate(t))
 }
 
 /// [`frame_svg`] with the states read from `sampler` (built once for many frames).
 pub fn sampled_frame_svg(anim: &Animation, sampler: &Sampler, t: f64) -> String {
-    frame_with_states(anim, t, sampler.evaluate(t))
+    frame_with_states(&anim.scene, anim, t, sampler.evaluate(t))
 }
 
-fn frame_with_states(anim: &Animation, t: f64, states: Vec<ShapeState>) -> String {
+/// Frame `t` of `anim` with the shapes' `states` (as [`Animation::evaluate`] or a
+/// [`Sampler`] gives them), drawing `scene` in place of the animation's own scene: for a
+/// scene that moves by itself (a Lottie source evaluated at the frame). `scene` has the
+/// animation's units, in the same order.
+pub fn frame_with_states<'a>(
+    scene: &'a Scene,
+    anim: &'a Animation,
+    t: f64,
+    states: Vec<ShapeState>,
+) -> String {
     let writer = Writer {
-        scene: &anim.scene,
+        scene,
         frame: Some(Frame {
             tracks: &anim.tracks,
             states,

@@ -53,9 +53,9 @@ use model::{Document, Loc};
 /// How to import.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ImportOptions {
-    /// The reference frame (composition frames) at which units are measured and the still
-    /// scene drawn; `None` is the composition's first frame (`ip`).
-    pub frame: Option<f64>,
+    /// The reference time, in seconds from the composition's in point, at which units are
+    /// measured and the still scene drawn (0: the first frame).
+    pub time: f64,
 }
 
 /// The root layers one unit moves.
@@ -162,12 +162,16 @@ pub fn from_json(
         message: e.message,
     };
     let document = Document::read(&json).map_err(located)?;
-    let frame = opts.frame.unwrap_or(document.ip);
-    if !frame.is_finite() {
+    let frame = document.ip + opts.time * document.fr;
+    if !(frame.is_finite() && document.ip <= frame && frame <= document.op) {
         return Err(ImportError::Lottie {
             source_name: source_name.to_string(),
             at: Loc::root(),
-            message: format!("the reference frame {frame} is not a number"),
+            message: format!(
+                "the reference time {}s lies outside the composition (0 to {}s)",
+                opts.time,
+                (document.op - document.ip) / document.fr
+            ),
         });
     }
     let (root, shapes, units, warnings) = scene_of(&document, frame).map_err(located)?;
@@ -262,5 +266,34 @@ impl Source {
     /// The composition frame a time in seconds from the animation's start is.
     pub fn frame_at(&self, seconds: f64) -> f64 {
         self.document.ip + seconds * self.document.fr
+    }
+
+    /// The composition's length in seconds, from its in point to its out point.
+    pub fn duration(&self) -> f64 {
+        (self.document.op - self.document.ip) / self.document.fr
+    }
+
+    /// The composition's frame rate.
+    pub fn fps(&self) -> f64 {
+        self.document.fr
+    }
+
+    /// The scene as the document draws it at composition `frame`: the same units in the
+    /// same order as the imported scene (so an animation's tracks apply to it unchanged),
+    /// each where its layers put it then; a unit whose layer is not on screen at `frame`
+    /// is drawn at zero opacity. This is how gmotion plays a Lottie file itself.
+    pub fn scene_at(&self, frame: f64) -> Result<Scene, ImportError> {
+        let (root, shapes, _, _) =
+            scene_of(&self.document, frame).map_err(|e| ImportError::Lottie {
+                source_name: format!("frame {frame}"),
+                at: e.at,
+                message: e.message,
+            })?;
+        Ok(Scene {
+            width: self.document.w,
+            height: self.document.h,
+            root,
+            shapes,
+        })
     }
 }

@@ -1,0 +1,132 @@
+"""gmotion's own render of Lottie files against the players (issue 15's "own render").
+
+    python3 lottie_own_render.py GMOTION FOLDER OUT [--max-files N] [--min-pass P]
+
+Plays every `*.json` of FOLDER at 5 evenly spaced frames (ip + k·(op − ip)/5) in lottie-web
+(svg renderer), rlottie and `gmotion convert X.json -o f.png --time T`, and compares each
+frame as conformance.py does (a pixel is off when a premultiplied channel differs by more
+than OFF; a frame matches when at most 1% of its pixels are off). The players are the
+oracle only where they agree with each other: a file counts when lottie-web and rlottie
+match at all 5 frames, and gmotion passes it when it matches lottie-web at all 5.
+
+Writes OUT/report.json and prints, per file, the worst frame; exits 1 when fewer than
+--min-pass (a fraction, default 0: report only) of the counted files pass.
+"""
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+from concurrent.futures import ThreadPoolExecutor
+
+from conformance import off_fraction
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+FRAMES = 5
+MATCH = 0.01
+
+
+def render_width(w, h):
+    """About 300 px wide, nudged so that the height is a whole number of pixels: every
+    renderer then scales by the same factor."""
+    return min(range(240, 361), key=lambda x: (abs(x * h / w - round(x * h / w)) > 1e-9, abs(x - 300)))
+
+
+def frames_of(doc):
+    span = doc["op"] - doc["ip"]
+    return sorted({min(int(round(k * span / FRAMES)), max(int(span) - 1, 0)) for k in range(FRAMES)})
+
+
+def run_players(jobs, out):
+    path = os.path.join(out, "jobs.json")
+    with open(path, "w") as f:
+        json.dump(jobs, f)
+    lw = [dict(j, out=[p.replace("{player}", "lottie-web") for p in j["out"]]) for j in jobs]
+    rl = [dict(j, out=[p.replace("{player}", "rlottie") for p in j["out"]]) for j in jobs]
+    for name, js, cmd in [
+        ("lottie-web", lw, ["node", os.path.join(HERE, "lottie_web.mjs")]),
+        ("rlottie", rl, [sys.executable, os.path.join(HERE, "rlottie_render.py")]),
+    ]:
+        p = os.path.join(out, f"jobs-{name}.json")
+        with open(p, "w") as f:
+            json.dump(js, f)
+        r = subprocess.run(cmd + [p], capture_output=True, text=True, timeout=3600)
+        for line in r.stderr.splitlines():
+            print(f"  {line}", file=sys.stderr)
+
+
+def gmotion_frame(gm, src, fr, frame, width, png):
+    t = frame / fr
+    r = subprocess.run(
+        [gm, "convert", src, "-o", png, "--time", repr(t), "--width", str(width)],
+        capture_output=True, text=True, timeout=300,
+    )
+    return None if r.returncode == 0 else r.stderr.strip().splitlines()[-1:]
+
+
+def main(argv):
+    ap = argparse.ArgumentParser()
+    ap.add_argument("gmotion")
+    ap.add_argument("folder")
+    ap.add_argument("out")
+    ap.add_argument("--max-files", type=int, default=0)
+    ap.add_argument("--min-pass", type=float, default=0.0)
+    args = ap.parse_args(argv)
+    os.makedirs(args.out, exist_ok=True)
+    files = sorted(f for f in os.listdir(args.folder) if f.endswith(".json"))
+    if args.max_files:
+        files = files[: args.max_files]
+    docs, jobs = {}, []
+    for name in files:
+        path = os.path.join(args.folder, name)
+        try:
+            with open(path) as f:
+                doc = json.load(f)
+            w, h, fr = float(doc["w"]), float(doc["h"]), float(doc["fr"])
+            frames = frames_of(doc)
+        except Exception as e:  # noqa: BLE001 - a file the players cannot take is skipped, said
+            print(f"{name}: skipped ({e})")
+            continue
+        stem = name[:-5]
+        width = render_width(w, h)
+        docs[name] = (path, fr, frames, width, stem)
+        jobs.append({"json": path, "width": width, "frames": frames,
+                     "out": [os.path.join(args.out, f"{stem}-{f}-{{player}}.png") for f in frames]})
+    run_players(jobs, args.out)
+    gm_errors = {}
+
+    def gm_file(name):
+        path, fr, frames, width, stem = docs[name]
+        for f in frames:
+            err = gmotion_frame(args.gmotion, path, fr, f, width, os.path.join(args.out, f"{stem}-{f}-gmotion.png"))
+            if err:
+                gm_errors[name] = err
+                return
+
+    with ThreadPoolExecutor(max_workers=os.cpu_count() or 2) as pool:
+        list(pool.map(gm_file, docs))
+    report, counted, passed = {}, 0, 0
+    for name, (path, fr, frames, width, stem) in docs.items():
+        png = lambda f, who: os.path.join(args.out, f"{stem}-{f}-{who}.png")  # noqa: E731
+        players = [off_fraction(png(f, "lottie-web"), png(f, "rlottie")) for f in frames]
+        ours = [off_fraction(png(f, "lottie-web"), png(f, "gmotion")) for f in frames]
+        agree = all(p is not None and p <= MATCH for p in players)
+        ok = agree and all(o is not None and o <= MATCH for o in ours)
+        counted += agree
+        passed += ok
+        report[name] = {"frames": frames, "players": players, "gmotion": ours, "agree": agree, "pass": ok,
+                        "error": gm_errors.get(name)}
+        worst = max((o if o is not None else 1.0) for o in ours)
+        flag = "pass" if ok else ("FAIL" if agree else "(players disagree)")
+        print(f"{name}: {flag}  worst frame off {worst:.2%}" + (f"  {gm_errors[name]}" if name in gm_errors else ""))
+    with open(os.path.join(args.out, "report.json"), "w") as f:
+        json.dump(report, f, indent=1)
+    share = passed / counted if counted else 0.0
+    print(f"\n{passed} of {counted} files where lottie-web and rlottie agree pass ({share:.1%}); "
+          f"{len(docs)} files played")
+    return 0 if share >= args.min_pass else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
