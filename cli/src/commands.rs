@@ -262,8 +262,8 @@ fn is_lottie(path: &Path) -> bool {
 
 fn load_scene(path: &Path, options: &SceneOptions, ctx: &Ctx) -> Result<LoadedScene> {
     if is_lottie(path) {
-        let imported = lottie_import::load(path, &options.lottie)
-            .map_err(|e| CliError::msg(e.to_string()))?;
+        let imported =
+            lottie_import::load(path, &options.lottie).map_err(|e| CliError::msg(e.to_string()))?;
         for w in &imported.warnings {
             eprintln!("{}: warning: {w}", path.display());
         }
@@ -273,8 +273,8 @@ fn load_scene(path: &Path, options: &SceneOptions, ctx: &Ctx) -> Result<LoadedSc
         });
     }
     let policy = ctx.limits.svg_policy(&ctx.allow);
-    let imported =
-        svg_import::load_with(path, &options.svg, &policy).map_err(|e| CliError::msg(e.to_string()))?;
+    let imported = svg_import::load_with(path, &options.svg, &policy)
+        .map_err(|e| CliError::msg(e.to_string()))?;
     for w in &imported.warnings {
         eprintln!("{}: warning: {w}", path.display());
     }
@@ -586,7 +586,9 @@ fn convert(
     let settings = Settings::default();
     let loaded = load_scene(input, &import_options(import, &settings), ctx)?;
     if let Some(src) = &loaded.source
-        && outputs.iter().any(|o| !Format::of(o).is_ok_and(Format::is_still))
+        && outputs
+            .iter()
+            .any(|o| !Format::of(o).is_ok_and(Format::is_still))
     {
         ctx.limits.check_frames(
             src.duration() * src.fps(),

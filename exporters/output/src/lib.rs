@@ -276,11 +276,13 @@ impl Stage<'_> {
         let svg = match self.source {
             None => frame::frame_with_states(&anim.scene, anim, t, states),
             Some(src) => {
-                let scene = src.scene_at(src.frame_at(t)).map_err(|e| OutputError::Source {
-                    path: path.to_path_buf(),
-                    frame: index,
-                    message: e.to_string(),
-                })?;
+                let scene = src
+                    .scene_at(src.frame_at(t))
+                    .map_err(|e| OutputError::Source {
+                        path: path.to_path_buf(),
+                        frame: index,
+                        message: e.to_string(),
+                    })?;
                 frame::frame_with_states(&scene, anim, t, states)
             }
         };

@@ -5,17 +5,18 @@
 use std::collections::{BTreeMap, HashMap};
 use std::sync::Arc;
 
-use kurbo::{Affine, BezPath, Ellipse, Point, Rect, RoundedRect, Shape as _, Vec2};
+use kurbo::{Affine, BezPath, Point, Rect, Shape as _, Vec2};
 
 use gmotion::color::Color;
 use gmotion::scene::{
-    Fill, FillRule, Group, LineCap, LineJoin, Mask, MaskKind, Node, Paint, PathNode, Stroke,
+    ClipPath, Fill, FillRule, Group, LineCap, LineJoin, LinearGradient, Mask, MaskKind, Node,
+    Paint, PathNode, RadialGradient, Spread, Stop, Stroke,
 };
 
-use crate::eval;
 use crate::model::{
-    Asset, Document, Layer, LayerKind, Loc, Num, Result, ShapeItem, ShapeKind, error,
+    Asset, Document, Layer, LayerKind, LayerMask, Loc, Num, Result, ShapeItem, ShapeKind, error,
 };
+use crate::{eval, outline};
 
 /// Precompositions may nest this deep.
 pub const MAX_PRECOMP_DEPTH: usize = 32;
@@ -166,9 +167,6 @@ impl<'a> Builder<'a> {
         }
         self.budget -= 1;
         let lt = local_time(l, t);
-        if l.has_masks {
-            self.warn(&l.at.key("masksProperties"), "layer masks are not applied");
-        }
         if l.ks.has_expression() {
             self.warn(
                 &l.at.key("ks"),
@@ -178,8 +176,9 @@ impl<'a> Builder<'a> {
         let mut children = Vec::new();
         match l.kind {
             LayerKind::Shape => {
-                let (nodes, _, _, _) = self.items(&l.shapes, lt)?;
-                children = nodes;
+                let mut outlines = Outlines::default();
+                let scope = self.items(&l.shapes, lt, &mut outlines)?;
+                children = outlines.finish(scope.drawn);
             }
             LayerKind::Solid => {
                 let (w, h) = (l.sw.unwrap_or(0.0), l.sh.unwrap_or(0.0));
@@ -247,14 +246,43 @@ impl<'a> Builder<'a> {
                 let nodes = self.comp_nodes(layers, inner, stack);
                 stack.pop();
                 children = nodes?;
+                // Players clip a precomposition to its own size.
+                if let (Some(w), Some(h)) = (l.w, l.h) {
+                    children = vec![Node::Group(Group {
+                        clip_path: Some(Arc::new(ClipPath {
+                            id: String::new(),
+                            transform: Affine::IDENTITY,
+                            clip_path: None,
+                            root: Group {
+                                children: vec![path_node(
+                                    Rect::new(0.0, 0.0, w, h).to_path(0.1),
+                                    Some(Fill::solid(Color::WHITE)),
+                                    None,
+                                )],
+                                ..Group::new()
+                            },
+                        })),
+                        children,
+                        ..Group::new()
+                    })];
+                }
             }
             LayerKind::Null | LayerKind::Other(_) => {}
         }
-        Ok(Group {
+        let group = Group {
             transform: world,
             opacity: eval::opacity(&l.ks, lt) as f32,
             children,
             ..Group::new()
+        };
+        Ok(match self.layer_masks(l, world, lt) {
+            // The mask is in canvas space: it wraps the layer rather than moving with it.
+            Some(mask) => Group {
+                children: vec![Node::Group(group)],
+                mask: Some(mask),
+                ..Group::new()
+            },
+            None => group,
         })
     }
 
@@ -298,13 +326,15 @@ impl<'a> Builder<'a> {
             }
             return Ok(node);
         };
-        let kind = match l.tt {
-            Some(1) => MaskKind::Alpha,
-            Some(3) => MaskKind::Luminance,
+        let (kind, inverted) = match l.tt {
+            Some(1) => (MaskKind::Alpha, false),
+            Some(2) => (MaskKind::Alpha, true),
+            Some(3) => (MaskKind::Luminance, false),
+            Some(4) => (MaskKind::Luminance, true),
             _ => {
                 self.warn(
                     &l.at.key("tt"),
-                    "inverted track mattes are not drawn by gmotion's own renderer (the matte is left out)",
+                    "an unknown track matte mode; drawn unmatted",
                 );
                 return Ok(node);
             }
@@ -312,53 +342,75 @@ impl<'a> Builder<'a> {
         let source = self.layer_node(&layers[m], worlds[m], t, stack)?;
         let (w, h) = (self.doc.w, self.doc.h);
         let margin = 10.0 * w.max(h);
-        Ok(Group {
-            children: vec![Node::Group(node)],
-            mask: Some(Arc::new(Mask {
+        let area = Rect::new(-margin, -margin, w + margin, h + margin);
+        let mask = |kind: MaskKind, children: Vec<Node>| {
+            Arc::new(Mask {
                 id: String::new(),
-                rect: Rect::new(-margin, -margin, w + margin, h + margin),
+                rect: area,
                 kind,
                 mask: None,
                 root: Group {
-                    children: vec![Node::Group(source)],
+                    children,
                     ..Group::new()
                 },
-            })),
+            })
+        };
+        let everywhere =
+            |color: Color| path_node(area.to_path(0.1), Some(Fill::solid(color)), None);
+        let mut matte = mask(kind, vec![Node::Group(source)]);
+        if inverted {
+            // 1 − coverage: black painted through the matte over white, read as luminance.
+            let through = Group {
+                children: vec![everywhere(Color::BLACK)],
+                mask: Some(matte),
+                ..Group::new()
+            };
+            matte = mask(
+                MaskKind::Luminance,
+                vec![everywhere(Color::WHITE), Node::Group(through)],
+            );
+        }
+        Ok(Group {
+            children: vec![Node::Group(node)],
+            mask: Some(matte),
             ..Group::new()
         })
     }
 
-    /// Shape items at layer frame `t`: the nodes they draw (paint order), the outlines not
-    /// yet painted (which styles further down the list paint), the group transform and
-    /// opacity.
-    fn items(
-        &mut self,
-        items: &[ShapeItem],
-        t: f64,
-    ) -> Result<(Vec<Node>, Vec<BezPath>, Affine, f64)> {
-        let mut pending: Vec<BezPath> = Vec::new();
-        let mut drawn: Vec<Node> = Vec::new(); // topmost first
-        let mut transform = Affine::IDENTITY;
-        let mut opacity = 1.0;
+    /// Shape items at layer frame `t`, read into `out`: what they paint (topmost first)
+    /// and which outlines are visible to styles further down, with the group's transform
+    /// and opacity. Painting waits until every modifier has changed the outlines
+    /// ([`Outlines::finish`]): in Lottie a modifier below a style still changes what the
+    /// style paints, and a modifier changes the outlines of nested groups too.
+    fn items(&mut self, items: &[ShapeItem], t: f64, out: &mut Outlines) -> Result<Scope> {
+        let mut scope = Scope {
+            drawn: Vec::new(),
+            visible: Vec::new(),
+            transform: Affine::IDENTITY,
+            opacity: 1.0,
+        };
         for item in items {
             if item.hidden {
                 continue;
             }
+            let mut add = |path: BezPath, scope: &mut Scope| {
+                scope.visible.push((out.paths.len(), Affine::IDENTITY));
+                out.paths.push(path);
+            };
             match &item.kind {
                 ShapeKind::Group(sub) => {
-                    let (nodes, outlines, m, o) = self.items(sub, t)?;
-                    pending.extend(outlines.into_iter().map(|mut p| {
-                        p.apply_affine(m);
-                        p
-                    }));
-                    if !nodes.is_empty() && o > 0.0 {
-                        drawn.push(Node::Group(Group {
+                    let inner = self.items(sub, t, out)?;
+                    let m = inner.transform;
+                    scope
+                        .visible
+                        .extend(inner.visible.into_iter().map(|(id, a)| (id, m * a)));
+                    if !inner.drawn.is_empty() && inner.opacity > 0.0 {
+                        scope.drawn.push(Draw::Group {
                             id: item.nm.clone(),
                             transform: m,
-                            opacity: o as f32,
-                            children: nodes,
-                            ..Group::new()
-                        }));
+                            opacity: inner.opacity as f32,
+                            children: inner.drawn,
+                        });
                     }
                 }
                 ShapeKind::Path { ks, closed } => {
@@ -366,27 +418,18 @@ impl<'a> Builder<'a> {
                     if closed.is_none() && self.doc.older_than((4, 4, 18)) {
                         closed = Some(false);
                     }
-                    pending.push(eval::outline(ks, t, closed));
+                    add(eval::outline(ks, t, closed), &mut scope);
                 }
-                ShapeKind::Rect { p, s, r } => {
+                ShapeKind::Rect { p, s, r, reversed } => {
                     let c = eval::vec2(p.as_ref(), t, Vec2::ZERO).to_point();
                     let s = eval::vec2(s.as_ref(), t, Vec2::ZERO);
-                    let rect = Rect::from_center_size(c, (s.x.abs(), s.y.abs()));
-                    let r = eval::scalar(r.as_ref(), t, 0.0)
-                        .max(0.0)
-                        .min(rect.width().min(rect.height()) / 2.0);
-                    pending.push(if r > 0.0 {
-                        RoundedRect::from_rect(rect, r).to_path(0.1)
-                    } else {
-                        rect.to_path(0.1)
-                    });
+                    let r = eval::scalar(r.as_ref(), t, 0.0);
+                    add(outline::rect(c, s, r, *reversed), &mut scope);
                 }
-                ShapeKind::Ellipse { p, s } => {
+                ShapeKind::Ellipse { p, s, reversed } => {
                     let c = eval::vec2(p.as_ref(), t, Vec2::ZERO).to_point();
                     let s = eval::vec2(s.as_ref(), t, Vec2::ZERO);
-                    pending.push(
-                        Ellipse::new(c, (s.x.abs() / 2.0, s.y.abs() / 2.0), 0.0).to_path(0.1),
-                    );
+                    add(outline::ellipse(c, s, *reversed), &mut scope);
                 }
                 ShapeKind::Star {
                     sy,
@@ -395,29 +438,32 @@ impl<'a> Builder<'a> {
                     ir,
                     r,
                     pt,
+                    reversed,
                 } => {
-                    pending.push(star(
+                    let path = star(
                         *sy,
                         eval::vec2(p.as_ref(), t, Vec2::ZERO).to_point(),
                         eval::scalar(or.as_ref(), t, 0.0),
                         eval::scalar(ir.as_ref(), t, 0.0),
                         eval::scalar(r.as_ref(), t, 0.0),
                         eval::scalar(pt.as_ref(), t, 5.0),
-                    ));
+                    );
+                    add(
+                        if *reversed {
+                            path.reverse_subpaths()
+                        } else {
+                            path
+                        },
+                        &mut scope,
+                    );
                 }
                 ShapeKind::Fill { c, o, rule } => {
-                    if let Some(path) = joined(&pending) {
-                        let fill = Fill {
-                            paint: Paint::Solid(self.color(c.as_ref(), t)),
-                            opacity: percent(o.as_ref(), t),
-                            rule: if *rule == 2 {
-                                FillRule::EvenOdd
-                            } else {
-                                FillRule::NonZero
-                            },
-                        };
-                        drawn.push(path_node(path, Some(fill), None));
-                    }
+                    let fill = Fill {
+                        paint: Paint::Solid(self.color(c.as_ref(), t)),
+                        opacity: percent(o.as_ref(), t),
+                        rule: fill_rule(*rule),
+                    };
+                    scope.paint(Some(fill), None);
                 }
                 ShapeKind::Stroke {
                     c,
@@ -428,82 +474,82 @@ impl<'a> Builder<'a> {
                     ml,
                     dashes,
                 } => {
-                    if let Some(path) = joined(&pending) {
-                        let mut stroke = Stroke::solid(
-                            self.color(c.as_ref(), t),
-                            eval::scalar(w.as_ref(), t, 1.0).max(0.0),
-                        );
-                        stroke.opacity = percent(o.as_ref(), t);
-                        stroke.cap = match lc {
-                            1 => LineCap::Butt,
-                            3 => LineCap::Square,
-                            _ => LineCap::Round,
-                        };
-                        stroke.join = match lj {
-                            1 => LineJoin::Miter,
-                            3 => LineJoin::Bevel,
-                            _ => LineJoin::Round,
-                        };
-                        stroke.miter_limit = ml.max(1.0);
-                        let mut dash = Vec::new();
-                        for d in dashes {
-                            let v = eval::scalar(Some(&d.v), t, 0.0).max(0.0);
-                            match d.n.as_str() {
-                                "o" => stroke.dash_offset = v,
-                                _ => dash.push(v),
-                            }
+                    let mut stroke = Stroke::solid(
+                        self.color(c.as_ref(), t),
+                        eval::scalar(w.as_ref(), t, 1.0).max(0.0),
+                    );
+                    stroke.opacity = percent(o.as_ref(), t);
+                    stroke.cap = match lc {
+                        1 => LineCap::Butt,
+                        3 => LineCap::Square,
+                        _ => LineCap::Round,
+                    };
+                    stroke.join = match lj {
+                        1 => LineJoin::Miter,
+                        3 => LineJoin::Bevel,
+                        _ => LineJoin::Round,
+                    };
+                    stroke.miter_limit = ml.max(1.0);
+                    let mut dash = Vec::new();
+                    for d in dashes {
+                        let v = eval::scalar(Some(&d.v), t, 0.0).max(0.0);
+                        match d.n.as_str() {
+                            "o" => stroke.dash_offset = v,
+                            _ => dash.push(v),
                         }
-                        if dash.len() % 2 == 1 {
-                            dash.extend(dash.clone());
-                        }
-                        if dash.iter().any(|d| *d > 0.0) {
-                            stroke.dash = Some(dash);
-                        }
-                        drawn.push(path_node(path, None, Some(stroke)));
                     }
+                    if dash.len() % 2 == 1 {
+                        dash.extend(dash.clone());
+                    }
+                    if dash.iter().any(|d| *d > 0.0) {
+                        stroke.dash = Some(dash);
+                    }
+                    scope.paint(None, Some(stroke));
                 }
                 ShapeKind::Gradient {
-                    stroke,
-                    o,
-                    stops,
-                    w,
-                    rule,
+                    stroke, o, w, rule, ..
                 } => {
-                    self.warn(&item.at, "gradients are drawn in their first stop's colour");
-                    if let Some(path) = joined(&pending) {
-                        let v = eval::num(stops.as_ref(), t, &[0.0, 0.0, 0.0, 0.0]);
-                        let c = |k: usize| v.get(k).copied().unwrap_or(0.0).clamp(0.0, 1.0) as f32;
-                        let color = Color::rgb(c(1), c(2), c(3));
-                        let alpha = percent(o.as_ref(), t);
-                        if *stroke {
-                            let mut s =
-                                Stroke::solid(color, eval::scalar(w.as_ref(), t, 1.0).max(0.0));
-                            s.opacity = alpha;
-                            drawn.push(path_node(path, None, Some(s)));
-                        } else {
-                            let f = Fill {
-                                paint: Paint::Solid(color),
-                                opacity: alpha,
-                                rule: if *rule == 2 {
-                                    FillRule::EvenOdd
-                                } else {
-                                    FillRule::NonZero
-                                },
-                            };
-                            drawn.push(path_node(path, Some(f), None));
-                        }
+                    let paint = gradient(&item.kind, t);
+                    let opacity = percent(o.as_ref(), t);
+                    if *stroke {
+                        let mut s =
+                            Stroke::solid(Color::BLACK, eval::scalar(w.as_ref(), t, 1.0).max(0.0));
+                        s.paint = paint;
+                        s.opacity = opacity;
+                        scope.paint(None, Some(s));
+                    } else {
+                        let f = Fill {
+                            paint,
+                            opacity,
+                            rule: fill_rule(*rule),
+                        };
+                        scope.paint(Some(f), None);
                     }
                 }
+                ShapeKind::Trim {
+                    s,
+                    e,
+                    o,
+                    individually,
+                } => {
+                    let trim = outline::Trim {
+                        start: eval::scalar(s.as_ref(), t, 0.0) / 100.0,
+                        end: eval::scalar(e.as_ref(), t, 100.0) / 100.0,
+                        offset: eval::scalar(o.as_ref(), t, 0.0),
+                        individually: *individually,
+                    };
+                    let ids = scope.visible.iter().map(|v| v.0).collect();
+                    out.modifiers.push((trim, ids));
+                }
                 ShapeKind::Transform(tr) => {
-                    transform = eval::matrix(tr, t);
-                    opacity = eval::opacity(tr, t);
+                    scope.transform = eval::matrix(tr, t);
+                    scope.opacity = eval::opacity(tr, t);
                 }
                 ShapeKind::Other(ty) => {
                     let what = match ty.as_str() {
-                        "tm" => "trim paths are",
                         "rd" => "round corners are",
                         "rp" => "repeaters are",
-                        "mm" => "merge paths are",
+                        "mm" => "merge paths are (lottie-web does not apply them either)",
                         "op" => "offset paths are",
                         "pb" => "pucker and bloat are",
                         "tw" => "twists are",
@@ -514,8 +560,116 @@ impl<'a> Builder<'a> {
                 }
             }
         }
-        drawn.reverse();
-        Ok((drawn, pending, transform, opacity))
+        scope.drawn.reverse();
+        Ok(scope)
+    }
+
+    /// Layer masks (`masksProperties`) as one luminance mask over the layer drawn with
+    /// world transform `world` at layer time `t`: white where the layer shows. Masks
+    /// combine in order, as After Effects and lottie-web combine them: each adds to,
+    /// subtracts from or intersects with what the ones before it let through, at its
+    /// opacity; coverage starts empty, or full when the first mask subtracts or
+    /// intersects.
+    fn layer_masks(&mut self, l: &Layer, world: Affine, t: f64) -> Option<Arc<Mask>> {
+        let (w, h) = (self.doc.w, self.doc.h);
+        let margin = 10.0 * w.max(h);
+        let area = Rect::new(-margin, -margin, w + margin, h + margin);
+        let everywhere =
+            |color: Color| path_node(area.to_path(0.1), Some(Fill::solid(color)), None);
+        let active: Vec<&LayerMask> = l.masks.iter().filter(|m| m.mode != "n").collect();
+        let first = active.first()?;
+        let mut children = Vec::new();
+        if matches!(first.mode.as_str(), "s" | "i") {
+            children.push(everywhere(Color::WHITE));
+        }
+        for m in active {
+            let Some(pt) = &m.pt else { continue };
+            if eval::scalar(m.x.as_ref(), t, 0.0) != 0.0 {
+                self.warn(&m.at.key("x"), "mask expansion is not applied");
+            }
+            let mut outline = eval::outline(pt, t, None);
+            outline.apply_affine(world);
+            let opacity = percent(m.o.as_ref(), t);
+            // The mask's coverage painted in `color`: its outline, or for an inverted
+            // mask everything outside it.
+            let coverage = |color: Color| -> Node {
+                let shape = path_node(outline.clone(), Some(Fill::solid(color)), None);
+                let node = if m.inverted {
+                    Node::Group(Group {
+                        children: vec![everywhere(color)],
+                        mask: Some(Arc::new(Mask {
+                            id: String::new(),
+                            rect: area,
+                            kind: MaskKind::Luminance,
+                            mask: None,
+                            root: Group {
+                                children: vec![
+                                    everywhere(Color::WHITE),
+                                    path_node(
+                                        outline.clone(),
+                                        Some(Fill::solid(Color::BLACK)),
+                                        None,
+                                    ),
+                                ],
+                                ..Group::new()
+                            },
+                        })),
+                        ..Group::new()
+                    })
+                } else {
+                    shape
+                };
+                Node::Group(Group {
+                    opacity,
+                    children: vec![node],
+                    ..Group::new()
+                })
+            };
+            match m.mode.as_str() {
+                "a" | "l" => children.push(coverage(Color::WHITE)),
+                "s" => children.push(coverage(Color::BLACK)),
+                "i" | "d" => {
+                    let so_far = std::mem::take(&mut children);
+                    children.push(Node::Group(Group {
+                        children: so_far,
+                        mask: Some(Arc::new(Mask {
+                            id: String::new(),
+                            rect: area,
+                            kind: MaskKind::Luminance,
+                            mask: None,
+                            root: Group {
+                                children: vec![coverage(Color::WHITE)],
+                                ..Group::new()
+                            },
+                        })),
+                        ..Group::new()
+                    }));
+                }
+                other => {
+                    self.warn(
+                        &m.at.key("mode"),
+                        format!("mask mode `{other}` is drawn as add"),
+                    );
+                    children.push(coverage(Color::WHITE));
+                }
+            }
+            if m.mode == "l" || m.mode == "d" {
+                self.warn(
+                    &m.at.key("mode"),
+                    "lighten and darken masks are drawn as add and intersect",
+                );
+            }
+        }
+        Some(Arc::new(Mask {
+            id: String::new(),
+            rect: area,
+            kind: MaskKind::Luminance,
+            mask: None,
+            root: Group {
+                children,
+                ..Group::new()
+            },
+        }))
     }
 
     /// A colour property (0–255 components in files before 4.1.9, as players upgrade them).
@@ -540,12 +694,206 @@ fn percent(o: Option<&Num>, t: f64) -> f32 {
     (eval::scalar(o, t, 100.0) / 100.0).clamp(0.0, 1.0) as f32
 }
 
-fn joined(paths: &[BezPath]) -> Option<BezPath> {
-    let mut out = BezPath::new();
-    for p in paths {
-        out.extend(p.iter());
+fn fill_rule(rule: i64) -> FillRule {
+    if rule == 2 {
+        FillRule::EvenOdd
+    } else {
+        FillRule::NonZero
     }
-    (!out.elements().is_empty()).then_some(out)
+}
+
+/// What one group of shape items holds once read: what it paints (topmost first until
+/// [`Builder::items`] returns, then in paint order), the outlines styles below it in its
+/// parent see (ids into [`Outlines::paths`], each with its transform into this group's
+/// space), and the group's own transform and opacity.
+struct Scope {
+    drawn: Vec<Draw>,
+    visible: Vec<(usize, Affine)>,
+    transform: Affine,
+    opacity: f64,
+}
+
+impl Scope {
+    /// A style painting every outline visible so far.
+    fn paint(&mut self, fill: Option<Fill>, stroke: Option<Stroke>) {
+        self.drawn.push(Draw::Paint {
+            fill,
+            stroke,
+            outlines: self.visible.clone(),
+        });
+    }
+}
+
+/// Painting that waits for the outlines' final geometry.
+enum Draw {
+    /// A fill or stroke of outlines (ids into [`Outlines::paths`], with transforms).
+    Paint {
+        fill: Option<Fill>,
+        stroke: Option<Stroke>,
+        outlines: Vec<(usize, Affine)>,
+    },
+    /// A nested group of shape items.
+    Group {
+        id: String,
+        transform: Affine,
+        opacity: f32,
+        children: Vec<Draw>,
+    },
+}
+
+/// Every outline of a shape layer, and the modifiers that change them (in the order
+/// they apply: nested groups' before their parents', each with the outlines it takes).
+#[derive(Default)]
+pub(crate) struct Outlines {
+    paths: Vec<BezPath>,
+    modifiers: Vec<(outline::Trim, Vec<usize>)>,
+}
+
+impl Outlines {
+    /// Applies the modifiers, then turns `drawn` into scene nodes.
+    fn finish(mut self, drawn: Vec<Draw>) -> Vec<Node> {
+        for (trim, ids) in std::mem::take(&mut self.modifiers) {
+            let mut taken: Vec<BezPath> = ids
+                .iter()
+                .map(|&i| std::mem::take(&mut self.paths[i]))
+                .collect();
+            trim.apply(&mut taken);
+            for (&i, p) in ids.iter().zip(taken) {
+                self.paths[i] = p;
+            }
+        }
+        self.nodes(drawn)
+    }
+
+    fn nodes(&self, drawn: Vec<Draw>) -> Vec<Node> {
+        drawn
+            .into_iter()
+            .filter_map(|d| match d {
+                Draw::Paint {
+                    fill,
+                    stroke,
+                    outlines,
+                } => {
+                    let mut path = BezPath::new();
+                    for (id, m) in outlines {
+                        path.extend(self.paths[id].iter().map(|el| m * el));
+                    }
+                    (!path.elements().is_empty()).then(|| path_node(path, fill, stroke))
+                }
+                Draw::Group {
+                    id,
+                    transform,
+                    opacity,
+                    children,
+                } => {
+                    let children = self.nodes(children);
+                    (!children.is_empty()).then(|| {
+                        Node::Group(Group {
+                            id,
+                            transform,
+                            opacity,
+                            children,
+                            ..Group::new()
+                        })
+                    })
+                }
+            })
+            .collect()
+    }
+}
+
+/// A gradient fill's or stroke's paint at layer time `t`: colour stops with the opacity
+/// stops merged in (each offset of either gets both), in the item's own space; a radial
+/// gradient's focus placed by its highlight as lottie-web places it.
+fn gradient(kind: &ShapeKind, t: f64) -> Paint {
+    let ShapeKind::Gradient {
+        stops,
+        count,
+        radial,
+        start,
+        end,
+        highlight,
+        angle,
+        ..
+    } = kind
+    else {
+        return Paint::Solid(Color::BLACK);
+    };
+    let v = eval::num(stops.as_ref(), t, &[]);
+    let n = (*count).min(v.len() / 4);
+    let colors: Vec<(f64, Color)> = (0..n)
+        .map(|i| {
+            let c = |k: usize| v[4 * i + k].clamp(0.0, 1.0) as f32;
+            (v[4 * i], Color::rgb(c(1), c(2), c(3)))
+        })
+        .collect();
+    let alphas: Vec<(f64, f64)> = v[4 * n..]
+        .chunks_exact(2)
+        .map(|p| (p[0], p[1].clamp(0.0, 1.0)))
+        .collect();
+    let mut offsets: Vec<f64> = colors
+        .iter()
+        .map(|c| c.0)
+        .chain(alphas.iter().map(|a| a.0))
+        .collect();
+    offsets.sort_by(f64::total_cmp);
+    offsets.dedup_by(|a, b| (*a - *b).abs() < 1e-6);
+    let stops: Vec<Stop> = if colors.is_empty() {
+        vec![Stop {
+            offset: 0.0,
+            color: Color::BLACK,
+        }]
+    } else {
+        offsets
+            .iter()
+            .map(|&x| {
+                let mut color = at_offset(&colors, x, Color::BLACK, |a, b, u| a.lerp(b, u as f32));
+                color.a = at_offset(&alphas, x, 1.0, |a, b, u| a + (b - a) * u) as f32;
+                Stop {
+                    offset: x.clamp(0.0, 1.0) as f32,
+                    color,
+                }
+            })
+            .collect()
+    };
+    let s = eval::vec2(start.as_ref(), t, Vec2::ZERO).to_point();
+    let e = eval::vec2(end.as_ref(), t, Vec2::ZERO).to_point();
+    if *radial {
+        let radius = (e - s).hypot();
+        let h = (eval::scalar(highlight.as_ref(), t, 0.0) / 100.0).clamp(-0.99, 0.99);
+        let a = (e - s).atan2() + eval::scalar(angle.as_ref(), t, 0.0).to_radians();
+        Paint::Radial(Arc::new(RadialGradient {
+            id: String::new(),
+            center: s,
+            radius,
+            focal: s + Vec2::from_angle(a) * radius * h,
+            focal_radius: 0.0,
+            transform: Affine::IDENTITY,
+            spread: Spread::Pad,
+            stops,
+        }))
+    } else {
+        Paint::Linear(Arc::new(LinearGradient {
+            id: String::new(),
+            start: s,
+            end: e,
+            transform: Affine::IDENTITY,
+            spread: Spread::Pad,
+            stops,
+        }))
+    }
+}
+
+/// The value of piecewise-linear `stops` (sorted by offset) at `x`, held past the ends;
+/// `none` when there are no stops.
+fn at_offset<T: Copy>(stops: &[(f64, T)], x: f64, none: T, lerp: impl Fn(T, T, f64) -> T) -> T {
+    let i = stops.partition_point(|s| s.0 <= x);
+    match (i.checked_sub(1).map(|j| stops[j]), stops.get(i)) {
+        (Some(a), Some(b)) if b.0 > a.0 => lerp(a.1, b.1, (x - a.0) / (b.0 - a.0)),
+        (Some(a), _) => a.1,
+        (None, Some(b)) => b.1,
+        (None, None) => none,
+    }
 }
 
 fn path_node(path: BezPath, fill: Option<Fill>, stroke: Option<Stroke>) -> Node {

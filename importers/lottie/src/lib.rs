@@ -35,6 +35,7 @@
 pub mod build;
 pub mod eval;
 pub mod model;
+pub mod outline;
 pub mod tags;
 
 use std::path::Path;

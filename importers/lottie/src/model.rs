@@ -514,6 +514,8 @@ pub enum ShapeKind {
         s: Option<Num>,
         /// Corner radius.
         r: Option<Num>,
+        /// `d` 3: drawn counter-clockwise.
+        reversed: bool,
     },
     /// `el`: an ellipse about its centre `p`, size `s`.
     Ellipse {
@@ -521,6 +523,8 @@ pub enum ShapeKind {
         p: Option<Num>,
         /// Size.
         s: Option<Num>,
+        /// `d` 3: drawn counter-clockwise.
+        reversed: bool,
     },
     /// `sr`: a star (`sy` 1) or polygon (`sy` 2).
     Star {
@@ -536,6 +540,8 @@ pub enum ShapeKind {
         r: Option<Num>,
         /// Number of points.
         pt: Option<Num>,
+        /// `d` 3: drawn counter-clockwise.
+        reversed: bool,
     },
     /// `fl`: a solid fill.
     Fill {
@@ -563,18 +569,42 @@ pub enum ShapeKind {
         /// Dashes.
         dashes: Vec<Dash>,
     },
-    /// `gf` / `gs`: a gradient fill or stroke (gmotion reads its first stop's colour).
+    /// `gf` / `gs`: a gradient fill or stroke.
     Gradient {
         /// Whether it is a stroke (`gs`).
         stroke: bool,
         /// Opacity, percent.
         o: Option<Num>,
-        /// Stops: `[offset, r, g, b, …]`.
+        /// Stops: `count` colour stops `[offset, r, g, b, …]`, then any opacity stops
+        /// `[offset, alpha, …]`.
         stops: Option<Num>,
+        /// How many colour stops `stops` starts with (`g.p`).
+        count: usize,
+        /// `t` 2: radial (else linear).
+        radial: bool,
+        /// Start point (the centre of a radial gradient).
+        start: Option<Num>,
+        /// End point (on the end circle of a radial gradient).
+        end: Option<Num>,
+        /// Highlight length, percent of the radius (radial).
+        highlight: Option<Num>,
+        /// Highlight angle, degrees (radial).
+        angle: Option<Num>,
         /// Stroke width (`gs`).
         w: Option<Num>,
         /// Fill rule (`gf`).
         rule: i64,
+    },
+    /// `tm`: trim paths, which cut every outline above it (in its group and nested ones).
+    Trim {
+        /// Start, percent.
+        s: Option<Num>,
+        /// End, percent.
+        e: Option<Num>,
+        /// Offset, degrees.
+        o: Option<Num>,
+        /// `m` 2: the outlines are trimmed one after the other, as one run.
+        individually: bool,
     },
     /// `tr`: the group's transform.
     Transform(Transform),
@@ -619,6 +649,7 @@ fn shape_item(v: &Value, at: &Loc) -> Result<ShapeItem> {
         None => return error(at, "a shape item needs its type `ty`"),
     };
     let num = |key: &str| opt_property::<Vec<f64>>(o, key, at);
+    let reversed = opt_int(o, "d", at)? == Some(3);
     let kind = match ty {
         "gr" => ShapeKind::Group(match o.get("it") {
             Some(it) => shape_items(it, &at.key("it"))?,
@@ -638,10 +669,12 @@ fn shape_item(v: &Value, at: &Loc) -> Result<ShapeItem> {
             p: num("p")?,
             s: num("s")?,
             r: num("r")?,
+            reversed,
         },
         "el" => ShapeKind::Ellipse {
             p: num("p")?,
             s: num("s")?,
+            reversed,
         },
         "sr" => ShapeKind::Star {
             sy: opt_int(o, "sy", at)?.unwrap_or(1),
@@ -650,6 +683,7 @@ fn shape_item(v: &Value, at: &Loc) -> Result<ShapeItem> {
             ir: num("ir")?,
             r: num("r")?,
             pt: num("pt")?,
+            reversed,
         },
         "fl" => ShapeKind::Fill {
             c: num("c")?,
@@ -680,22 +714,35 @@ fn shape_item(v: &Value, at: &Loc) -> Result<ShapeItem> {
             }
         }
         "gf" | "gs" => {
-            let stops = match o.get("g") {
+            let (stops, count) = match o.get("g") {
                 Some(g) => {
                     let g_at = at.key("g");
                     let go = object(g, &g_at)?;
-                    opt_property(go, "k", &g_at)?
+                    let count = opt_int(go, "p", &g_at)?.unwrap_or(0).clamp(0, 1 << 16);
+                    (opt_property(go, "k", &g_at)?, count as usize)
                 }
-                None => None,
+                None => (None, 0),
             };
             ShapeKind::Gradient {
                 stroke: ty == "gs",
                 o: num("o")?,
                 stops,
+                count,
+                radial: opt_int(o, "t", at)? == Some(2),
+                start: num("s")?,
+                end: num("e")?,
+                highlight: num("h")?,
+                angle: num("a")?,
                 w: num("w")?,
                 rule: opt_int(o, "r", at)?.unwrap_or(1),
             }
         }
+        "tm" => ShapeKind::Trim {
+            s: num("s")?,
+            e: num("e")?,
+            o: num("o")?,
+            individually: opt_int(o, "m", at)? == Some(2),
+        },
         "tr" => ShapeKind::Transform(Transform::read(v, at)?),
         other => ShapeKind::Other(other.to_string()),
     };
@@ -805,10 +852,46 @@ pub struct Layer {
     pub tp: Option<i64>,
     /// `hd`: hidden.
     pub hidden: bool,
-    /// Whether it has layer masks (`masksProperties`).
-    pub has_masks: bool,
+    /// Layer masks (`masksProperties`), in order.
+    pub masks: Vec<LayerMask>,
     /// Whether it has effects (`ef`).
     pub has_effects: bool,
+}
+
+/// A layer mask: an outline in the layer's space that adds to, subtracts from or
+/// intersects with what the layer shows.
+#[derive(Clone, Debug)]
+pub struct LayerMask {
+    /// Where it is.
+    pub at: Loc,
+    /// `mode`: `a` add, `s` subtract, `i` intersect, `l` lighten, `d` darken, `f`
+    /// difference, `n` none.
+    pub mode: String,
+    /// The outline (`pt`).
+    pub pt: Option<Property<Bezier>>,
+    /// Opacity, percent.
+    pub o: Option<Num>,
+    /// Expansion (`x`), in pixels.
+    pub x: Option<Num>,
+    /// `inv`: the outline's outside counts.
+    pub inverted: bool,
+}
+
+impl LayerMask {
+    fn read(v: &Value, at: &Loc) -> Result<LayerMask> {
+        let o = object(v, at)?;
+        Ok(LayerMask {
+            at: at.clone(),
+            mode: opt_string(o, "mode", at)?.unwrap_or_else(|| "a".into()),
+            pt: match o.get("pt") {
+                Some(pt) => Some(property(pt, &at.key("pt"))?),
+                None => None,
+            },
+            o: opt_property(o, "o", at)?,
+            x: opt_property(o, "x", at)?,
+            inverted: o.get("inv").and_then(Value::as_bool).unwrap_or(false),
+        })
+    }
 }
 
 fn layer(v: &Value, at: &Loc) -> Result<Layer> {
@@ -858,7 +941,17 @@ fn layer(v: &Value, at: &Loc) -> Result<Layer> {
         tt: opt_int(o, "tt", at)?,
         tp: opt_int(o, "tp", at)?,
         hidden: o.get("hd").and_then(Value::as_bool).unwrap_or(false),
-        has_masks: non_empty("masksProperties"),
+        masks: match o.get("masksProperties") {
+            Some(m) => {
+                let m_at = at.key("masksProperties");
+                array(m, &m_at)?
+                    .iter()
+                    .enumerate()
+                    .map(|(i, v)| LayerMask::read(v, &m_at.idx(i)))
+                    .collect::<Result<_>>()?
+            }
+            None => Vec::new(),
+        },
         has_effects: non_empty("ef"),
     })
 }

@@ -1,0 +1,372 @@
+//! Outlines as the players build them, and the shape modifiers that change them.
+//!
+//! Where an outline starts and which way it runs is not cosmetic in Lottie: dashes start
+//! at the outline's first point and trim paths cut it by length from there. Rectangles,
+//! ellipses and stars are therefore built vertex for vertex as lottie-web builds them
+//! (`ShapeProperty.js`), not with kurbo's shapes, which start elsewhere.
+
+use kurbo::{BezPath, ParamCurve, ParamCurveArclen, PathEl, PathSeg, Point, Vec2};
+
+/// lottie-web's handle length for a quarter ellipse (`roundCorner`).
+const ROUND: f64 = 0.5519;
+
+/// Arc-length accuracy, in user units, for trim paths.
+const ACCURACY: f64 = 1e-3;
+
+/// A rectangle about `c` of size `s` with corner radius `r`: starting at the top-right
+/// corner and running clockwise (down the right side), or counter-clockwise when
+/// `reversed` (`d` 3).
+pub fn rect(c: Point, s: Vec2, r: f64, reversed: bool) -> BezPath {
+    let (hw, hh) = (s.x.abs() / 2.0, s.y.abs() / 2.0);
+    let (l, t, rt, b) = (c.x - hw, c.y - hh, c.x + hw, c.y + hh);
+    let r = r.max(0.0).min(hw).min(hh);
+    let k = r * (1.0 - ROUND);
+    let p = Point::new;
+    let mut path = BezPath::new();
+    if r == 0.0 {
+        path.move_to(p(rt, t));
+        path.line_to(p(rt, b));
+        path.line_to(p(l, b));
+        path.line_to(p(l, t));
+    } else {
+        path.move_to(p(rt, t + r));
+        path.line_to(p(rt, b - r));
+        path.curve_to(p(rt, b - k), p(rt - k, b), p(rt - r, b));
+        path.line_to(p(l + r, b));
+        path.curve_to(p(l + k, b), p(l, b - k), p(l, b - r));
+        path.line_to(p(l, t + r));
+        path.curve_to(p(l, t + k), p(l + k, t), p(l + r, t));
+        path.line_to(p(rt - r, t));
+        path.curve_to(p(rt - k, t), p(rt, t + k), p(rt, t + r));
+    }
+    path.close_path();
+    if reversed {
+        path.reverse_subpaths()
+    } else {
+        path
+    }
+}
+
+/// An ellipse about `c` of size `s`: starting at the top and running clockwise, or
+/// counter-clockwise when `reversed`.
+pub fn ellipse(c: Point, s: Vec2, reversed: bool) -> BezPath {
+    let (a, b) = (s.x.abs() / 2.0, s.y.abs() / 2.0);
+    let dir = if reversed { -1.0 } else { 1.0 };
+    // The four vertices in drawing order, each with its outgoing handle offset (the
+    // incoming one is its negation).
+    let vertices = [
+        (Point::new(c.x, c.y - b), Vec2::new(dir * a * ROUND, 0.0)),
+        (Point::new(c.x + dir * a, c.y), Vec2::new(0.0, b * ROUND)),
+        (Point::new(c.x, c.y + b), Vec2::new(-dir * a * ROUND, 0.0)),
+        (Point::new(c.x - dir * a, c.y), Vec2::new(0.0, -b * ROUND)),
+    ];
+    let mut path = BezPath::new();
+    path.move_to(vertices[0].0);
+    for i in 0..4 {
+        let (v, out) = vertices[i];
+        let (w, w_out) = vertices[(i + 1) % 4];
+        path.curve_to(v + out, w - w_out, w);
+    }
+    path.close_path();
+    path
+}
+
+/// Trim paths (`tm`): the part of each outline between `start` and `end` (fractions of its
+/// length, clamped to 0..1), shifted by `offset` degrees (360° is the whole length).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Trim {
+    /// Start, as a fraction of the length.
+    pub start: f64,
+    /// End, as a fraction of the length.
+    pub end: f64,
+    /// Offset in degrees.
+    pub offset: f64,
+    /// `m` 2: the outlines are trimmed as one run, one after the other, rather than each
+    /// on its own.
+    pub individually: bool,
+}
+
+impl Trim {
+    /// The outlines trimmed, as lottie-web's `TrimModifier` trims them: `paths` are the
+    /// shapes the modifier applies to, topmost first.
+    pub fn apply(&self, paths: &mut [BezPath]) {
+        let o = (self.offset % 360.0) / 360.0;
+        let o = if o < 0.0 { o + 1.0 } else { o };
+        let mut s = self.start.clamp(0.0, 1.0) + o;
+        let mut e = self.end.clamp(0.0, 1.0) + o;
+        if s > e {
+            std::mem::swap(&mut s, &mut e);
+        }
+        let (s, e) = ((s * 1e4).round() * 1e-4, (e * 1e4).round() * 1e-4);
+        if e == s {
+            paths.iter_mut().for_each(|p| *p = BezPath::new());
+            return;
+        }
+        if (s == 0.0 && e == 1.0) || (s == 1.0 && e == 0.0) {
+            return;
+        }
+        let lengths: Vec<f64> = paths.iter().map(length).collect();
+        let total: f64 = lengths.iter().sum();
+        let mut added = 0.0;
+        let together = self.individually && paths.len() > 1;
+        for (path, &len) in paths.iter_mut().zip(&lengths) {
+            let edges = if together {
+                let edges = shape_edges(s, e, len, added, total);
+                added += len;
+                edges
+            } else {
+                vec![(s, e)]
+            };
+            let mut out = BezPath::new();
+            for (a, b) in edges {
+                let spans: Vec<(f64, f64)> = if b <= 1.0 {
+                    vec![(len * a, len * b)]
+                } else if a >= 1.0 {
+                    vec![(len * (a - 1.0), len * (b - 1.0))]
+                } else {
+                    vec![(len * a, len), (0.0, len * (b - 1.0))]
+                };
+                if spans[0].0 == spans[0].1 {
+                    continue;
+                }
+                let mut first = piece(path, spans[0]);
+                if let Some(&second) = spans.get(1) {
+                    let wraps = path.elements().last() == Some(&PathEl::ClosePath);
+                    let rest = piece(path, second);
+                    if wraps {
+                        // A closed outline cut across its start is one run.
+                        first.extend(rest.elements().iter().skip(1).copied());
+                    } else {
+                        first.extend(rest);
+                    }
+                }
+                out.extend(first);
+            }
+            *path = out;
+        }
+    }
+}
+
+/// lottie-web's `calculateShapeEdges`: the part of `[s, e]` (fractions of the modifier's
+/// whole length `total`) that falls on a shape of length `len` starting `added` along.
+fn shape_edges(s: f64, e: f64, len: f64, added: f64, total: f64) -> Vec<(f64, f64)> {
+    let ranges: Vec<(f64, f64)> = if e <= 1.0 {
+        vec![(s, e)]
+    } else if s >= 1.0 {
+        vec![(s - 1.0, e - 1.0)]
+    } else {
+        vec![(s, 1.0), (0.0, e - 1.0)]
+    };
+    let mut out = Vec::new();
+    for (a, b) in ranges {
+        if b * total < added || a * total > added + len {
+            continue;
+        }
+        let from = if a * total <= added {
+            0.0
+        } else {
+            (a * total - added) / len
+        };
+        let to = if b * total >= added + len {
+            1.0
+        } else {
+            (b * total - added) / len
+        };
+        out.push((from, to));
+    }
+    if out.is_empty() {
+        out.push((0.0, 0.0));
+    }
+    out
+}
+
+/// The length of every segment of `path`, closing segments included.
+fn length(path: &BezPath) -> f64 {
+    path.segments().map(|s| s.arclen(ACCURACY)).sum()
+}
+
+/// The part of `path` from length `from` to length `to`, as open subpaths (a closed
+/// subpath that lies wholly within stays closed).
+fn piece(path: &BezPath, (from, to): (f64, f64)) -> BezPath {
+    let mut out = BezPath::new();
+    let mut at = 0.0;
+    for sub in subpaths(path) {
+        let len: f64 = sub.segments().map(|s| s.arclen(ACCURACY)).sum();
+        let (lo, hi) = (from.max(at), to.min(at + len));
+        if hi > lo || (len == 0.0 && from <= at && at <= to) {
+            if lo <= at && hi >= at + len {
+                out.extend(sub.iter());
+            } else {
+                cut(&sub, lo - at, hi - at, &mut out);
+            }
+        }
+        at += len;
+    }
+    out
+}
+
+/// Appends the part of subpath `sub` between lengths `lo` and `hi` to `out`.
+fn cut(sub: &BezPath, lo: f64, hi: f64, out: &mut BezPath) {
+    let mut at = 0.0;
+    let mut started = false;
+    for seg in sub.segments() {
+        let len = seg.arclen(ACCURACY);
+        let (a, b) = (lo.max(at), hi.min(at + len));
+        if b >= a && len > 0.0 && !(b == a && (a == at + len || started)) {
+            let t0 = seg.inv_arclen(a - at, ACCURACY);
+            let t1 = seg.inv_arclen(b - at, ACCURACY);
+            let part = seg.subsegment(t0..t1);
+            if !started {
+                out.move_to(part.eval(0.0));
+                started = true;
+            }
+            push(out, part);
+        }
+        at += len;
+        if at >= hi {
+            break;
+        }
+    }
+}
+
+fn push(out: &mut BezPath, seg: PathSeg) {
+    match seg {
+        PathSeg::Line(l) => out.line_to(l.p1),
+        PathSeg::Quad(q) => out.quad_to(q.p1, q.p2),
+        PathSeg::Cubic(c) => out.curve_to(c.p1, c.p2, c.p3),
+    }
+}
+
+/// `path` split at its move-tos.
+fn subpaths(path: &BezPath) -> Vec<BezPath> {
+    let mut out: Vec<BezPath> = Vec::new();
+    for el in path.elements() {
+        if matches!(el, PathEl::MoveTo(_)) || out.is_empty() {
+            out.push(BezPath::new());
+        }
+        if let Some(last) = out.last_mut() {
+            last.push(*el);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use kurbo::Shape as _;
+
+    fn len(p: &BezPath) -> f64 {
+        length(p)
+    }
+
+    #[test]
+    fn primitives_start_where_lottie_web_starts() {
+        let r = rect(Point::new(0.0, 0.0), Vec2::new(20.0, 10.0), 0.0, false);
+        let first = r.segments().next().unwrap();
+        assert_eq!(first.eval(0.0), Point::new(10.0, -5.0), "top right");
+        assert_eq!(
+            first.eval(1.0),
+            Point::new(10.0, 5.0),
+            "then down the right side"
+        );
+        let e = ellipse(Point::new(0.0, 0.0), Vec2::new(20.0, 10.0), false);
+        let first = e.segments().next().unwrap();
+        assert_eq!(first.eval(0.0), Point::new(0.0, -5.0), "top");
+        assert_eq!(
+            first.eval(1.0),
+            Point::new(10.0, 0.0),
+            "then right: clockwise"
+        );
+        assert!((e.area().abs() - std::f64::consts::PI * 50.0).abs() < 0.5);
+        let back = ellipse(Point::new(0.0, 0.0), Vec2::new(20.0, 10.0), true);
+        assert_eq!(
+            back.segments().next().unwrap().eval(1.0),
+            Point::new(-10.0, 0.0)
+        );
+        let rounded = rect(Point::new(0.0, 0.0), Vec2::new(20.0, 10.0), 2.0, false);
+        assert!((rounded.area().abs() - (200.0 - (4.0 - std::f64::consts::PI) * 4.0)).abs() < 0.2);
+    }
+
+    #[test]
+    fn trim_keeps_the_fraction_of_the_length() {
+        let square = rect(Point::new(5.0, 5.0), Vec2::new(10.0, 10.0), 0.0, false);
+        for (s, e, o, want) in [
+            (0.0, 0.5, 0.0, 20.0),
+            (0.25, 1.0, 0.0, 30.0),
+            (0.6, 0.2, 0.0, 16.0),
+            (0.0, 0.5, 270.0, 20.0),
+            (0.0, 1.0, 90.0, 40.0),
+            (0.3, 0.3, 0.0, 0.0),
+        ] {
+            let mut paths = [square.clone()];
+            Trim {
+                start: s,
+                end: e,
+                offset: o,
+                individually: false,
+            }
+            .apply(&mut paths);
+            assert!(
+                (len(&paths[0]) - want).abs() < 1e-6,
+                "{s} {e} {o}: {}",
+                len(&paths[0])
+            );
+        }
+        // Half of the square starting at its top-right corner runs down and along the bottom.
+        let mut paths = [square.clone()];
+        Trim {
+            start: 0.0,
+            end: 0.5,
+            offset: 0.0,
+            individually: false,
+        }
+        .apply(&mut paths);
+        let pts: Vec<Point> = paths[0].segments().map(|s| s.eval(1.0)).collect();
+        assert_eq!(pts, [Point::new(10.0, 10.0), Point::new(0.0, 10.0)]);
+        // Offset past the start: one run across the corner where the outline closes.
+        let mut paths = [square];
+        Trim {
+            start: 0.0,
+            end: 0.5,
+            offset: 270.0,
+            individually: false,
+        }
+        .apply(&mut paths);
+        let moves = paths[0]
+            .elements()
+            .iter()
+            .filter(|e| matches!(e, PathEl::MoveTo(_)))
+            .count();
+        assert_eq!(moves, 1);
+    }
+
+    #[test]
+    fn individually_trims_the_outlines_as_one_run() {
+        let line = |y: f64| {
+            let mut p = BezPath::new();
+            p.move_to((0.0, y));
+            p.line_to((10.0, y));
+            p
+        };
+        let mut paths = [line(0.0), line(1.0)];
+        Trim {
+            start: 0.0,
+            end: 0.75,
+            offset: 0.0,
+            individually: true,
+        }
+        .apply(&mut paths);
+        assert!((len(&paths[0]) - 10.0).abs() < 1e-9);
+        assert!((len(&paths[1]) - 5.0).abs() < 1e-9);
+        let mut paths = [line(0.0), line(1.0)];
+        Trim {
+            start: 0.0,
+            end: 0.75,
+            offset: 0.0,
+            individually: false,
+        }
+        .apply(&mut paths);
+        assert!((len(&paths[0]) - 7.5).abs() < 1e-9 && (len(&paths[1]) - 7.5).abs() < 1e-9);
+    }
+}
