@@ -122,7 +122,7 @@ impl<'a> Builder<'a> {
             }
             for &j in chain.iter().rev() {
                 let l = &layers[j];
-                base *= eval::matrix(&l.ks, local_time(l, t));
+                base *= eval::matrix(&l.ks, t);
                 memo[j] = Some(base);
             }
             for j in chain {
@@ -166,7 +166,11 @@ impl<'a> Builder<'a> {
             );
         }
         self.budget -= 1;
-        let lt = local_time(l, t);
+        // Keyframe times are in the time of the composition the layer is in (lottie-web
+        // subtracts the layer's start time from both the time and the keyframes'), so
+        // properties are read at `t`; only a precomposition's content runs on its own
+        // clock.
+        let lt = t;
         if l.ks.has_expression() {
             self.warn(
                 &l.at.key("ks"),
@@ -240,7 +244,7 @@ impl<'a> Builder<'a> {
                 // Time remap is in seconds of the precomposition.
                 let inner = match &l.tm {
                     Some(tm) => eval::scalar(Some(tm), lt, 0.0) * self.doc.fr,
-                    None => lt,
+                    None => inner_time(l, t),
                 };
                 stack.push(id);
                 let nodes = self.comp_nodes(layers, inner, stack);
@@ -685,8 +689,9 @@ impl<'a> Builder<'a> {
     }
 }
 
-/// A layer's own time at composition frame `t`.
-pub fn local_time(l: &Layer, t: f64) -> f64 {
+/// The time inside a precomposition layer's composition at frame `t` of the composition
+/// the layer is in: shifted by its start time, slowed by its stretch.
+pub fn inner_time(l: &Layer, t: f64) -> f64 {
     (t - l.st) / l.sr
 }
 

@@ -2,7 +2,7 @@
 //! end values, spatial tangents on positions; transforms as affine maps; outlines as
 //! Bézier paths.
 
-use kurbo::{Affine, BezPath, CubicBez, ParamCurve, Point, Vec2};
+use kurbo::{Affine, BezPath, CubicBez, ParamCurve, ParamCurveArclen, Point, Vec2};
 
 use gmotion::signals::easing::solve_bezier_x;
 
@@ -107,8 +107,8 @@ pub fn num(p: Option<&Num>, t: f64, default: &[f64]) -> Vec<f64> {
     }
 }
 
-/// A position moving along the spatial tangents of keyframe `k` at `progress` (the
-/// Bézier's parameter, an approximation of players' arc-length travel).
+/// A position moving along the spatial tangents of keyframe `k` at `progress`, a fraction
+/// of the path's length.
 fn spatial(p: &Prop<Vec<f64>>, k: usize, progress: f64) -> Option<Vec<f64>> {
     let Prop::Animated(keys) = p else {
         return None;
@@ -124,7 +124,11 @@ fn spatial(p: &Prop<Vec<f64>>, k: usize, progress: f64) -> Option<Vec<f64>> {
     let (p0, p3): (Option<Point>, Option<Point>) = (pt(s), pt(e));
     let (p0, p3) = (p0?, p3?);
     let (o, i): (Option<Point>, Option<Point>) = (pt(to), pt(ti));
-    let c = CubicBez::new(p0, p0 + o?.to_vec2(), p3 + i?.to_vec2(), p3).eval(progress);
+    // Players travel the path at the eased fraction of its length (lottie-web samples it
+    // and walks the samples), stopping at its ends when an easing overshoots.
+    let curve = CubicBez::new(p0, p0 + o?.to_vec2(), p3 + i?.to_vec2(), p3);
+    let length = curve.arclen(1e-3);
+    let c = curve.eval(curve.inv_arclen(progress.clamp(0.0, 1.0) * length, 1e-3));
     let mut out = s.clone();
     out[0] = c.x;
     out[1] = c.y;
