@@ -165,7 +165,10 @@ pub fn matrix(tr: &Transform, t: f64) -> Affine {
     let a = vec2(tr.a.as_ref(), t, Vec2::ZERO);
     let p = position(tr.p.as_ref(), t);
     let s = vec2(tr.s.as_ref(), t, Vec2::new(100.0, 100.0)) / 100.0;
-    let r = scalar(tr.r.as_ref(), t, 0.0).to_radians();
+    let mut r = scalar(tr.r.as_ref(), t, 0.0).to_radians();
+    if tr.auto_orient {
+        r += heading(tr.p.as_ref(), t);
+    }
     let sk = scalar(tr.sk.as_ref(), t, 0.0).to_radians();
     let sa = scalar(tr.sa.as_ref(), t, 0.0).to_radians();
     let skew = if sk == 0.0 {
@@ -176,11 +179,67 @@ pub fn matrix(tr: &Transform, t: f64) -> Affine {
         let tan = (-sk).tan().clamp(-1e6, 1e6);
         Affine::rotate(-sa) * Affine::new([1.0, 0.0, tan, 1.0, 0.0, 0.0]) * Affine::rotate(sa)
     };
-    Affine::translate(p)
-        * Affine::rotate(r)
-        * skew
-        * Affine::scale_non_uniform(s.x, s.y)
-        * Affine::translate(-a)
+    let rx = scalar(tr.rx.as_ref(), t, 0.0).to_radians();
+    let ry = scalar(tr.ry.as_ref(), t, 0.0).to_radians();
+    let or = num(tr.or.as_ref(), t, &[0.0, 0.0, 0.0]);
+    let or: Vec<f64> = (0..3).map(|k| or.get(k).copied().unwrap_or(0.0).to_radians()).collect();
+    if rx == 0.0 && ry == 0.0 && or.iter().all(|x| *x == 0.0) {
+        return Affine::translate(p)
+            * Affine::rotate(r)
+            * skew
+            * Affine::scale_non_uniform(s.x, s.y)
+            * Affine::translate(-a);
+    }
+    // A 3D layer turned out of the picture plane, seen as players without a camera show
+    // it: projected straight onto the plane. lottie-web's order, with its anchor depth.
+    let az = num(tr.a.as_ref(), t, &[0.0, 0.0, 0.0]).get(2).copied().unwrap_or(0.0);
+    let sz = num(tr.s.as_ref(), t, &[100.0, 100.0, 100.0]).get(2).copied().unwrap_or(100.0) / 100.0;
+    let flat = skew * Affine::scale_non_uniform(s.x, s.y) * Affine::translate(-a);
+    let turns: [(usize, f64); 6] = [(2, r), (1, ry), (0, rx), (2, or[2]), (1, or[1]), (0, or[0])];
+    let project = |x: f64, y: f64| -> Point {
+        let q = flat * Point::new(x, y);
+        let mut v = [q.x, q.y, az * sz];
+        for (axis, angle) in turns {
+            let (sin, cos) = angle.sin_cos();
+            // lottie-web's rotateX, rotateY and rotateZ(-angle), for points as columns.
+            let (i, j) = match axis {
+                0 => (2, 1),
+                1 => (0, 2),
+                _ => (0, 1),
+            };
+            let (vi, vj) = (v[i], v[j]);
+            v[i] = vi * cos - vj * sin;
+            v[j] = vi * sin + vj * cos;
+        }
+        Point::new(v[0] + p.x, v[1] + p.y)
+    };
+    let (o, ex, ey) = (project(0.0, 0.0), project(1.0, 0.0), project(0.0, 1.0));
+    Affine::new([ex.x - o.x, ex.y - o.y, ey.x - o.x, ey.y - o.y, o.x, o.y])
+}
+
+/// The direction, in radians, an auto-oriented layer faces at `t`: along its position's
+/// motion, as lottie-web finds it (from a hundredth of a frame before, or after at the
+/// start; before the first keyframe and after the last, the path's end directions).
+fn heading(p: Option<&Position>, t: f64) -> f64 {
+    let Some(Position::Joined(Property {
+        value: Prop::Animated(keys),
+        ..
+    })) = p
+    else {
+        return 0.0;
+    };
+    let (Some(first), Some(last)) = (keys.first(), keys.last()) else {
+        return 0.0;
+    };
+    let (from, to) = if t <= first.t {
+        (first.t, first.t + 0.01)
+    } else if t >= last.t {
+        (last.t - 0.05, last.t)
+    } else {
+        (t - 0.01, t)
+    };
+    let d = position(p, to) - position(p, from);
+    if d.hypot2() == 0.0 { 0.0 } else { d.atan2() }
 }
 
 /// The transform's opacity at `t`, in `0..=1`.

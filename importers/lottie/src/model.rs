@@ -428,6 +428,14 @@ pub struct Transform {
     pub sk: Option<Num>,
     /// Skew axis in degrees.
     pub sa: Option<Num>,
+    /// Rotation about x in degrees (3D layers).
+    pub rx: Option<Num>,
+    /// Rotation about y in degrees (3D layers).
+    pub ry: Option<Num>,
+    /// Orientation `[x, y, z]` in degrees (3D layers).
+    pub or: Option<Num>,
+    /// The layer's `ao`: it turns to face along its motion path.
+    pub auto_orient: bool,
 }
 
 impl Transform {
@@ -469,6 +477,10 @@ impl Transform {
             o: opt_property(o, "o", at)?,
             sk: opt_property(o, "sk", at)?,
             sa: opt_property(o, "sa", at)?,
+            rx: opt_property(o, "rx", at)?,
+            ry: opt_property(o, "ry", at)?,
+            or: opt_property(o, "or", at)?,
+            auto_orient: false,
         })
     }
 
@@ -479,7 +491,9 @@ impl Transform {
             Some(Position::Split { x, y }) => x.expression || y.expression,
             None => false,
         };
-        p || [&self.a, &self.s, &self.r, &self.o, &self.sk, &self.sa]
+        p || [
+            &self.a, &self.s, &self.r, &self.o, &self.sk, &self.sa, &self.rx, &self.ry, &self.or,
+        ]
             .iter()
             .any(|c| c.as_ref().is_some_and(|c| c.expression))
     }
@@ -905,10 +919,11 @@ fn layer(v: &Value, at: &Loc) -> Result<Layer> {
     if sr <= 0.0 {
         return error(&at.key("sr"), "the time stretch `sr` must be positive");
     }
-    let ks = match o.get("ks") {
+    let mut ks = match o.get("ks") {
         Some(ks) => Transform::read(ks, &at.key("ks"))?,
         None => Transform::default(),
     };
+    ks.auto_orient = flag(o, "ao", at)?;
     let shapes = match (kind, o.get("shapes")) {
         (LayerKind::Shape, Some(s)) => shape_items(s, &at.key("shapes"))?,
         _ => Vec::new(),
