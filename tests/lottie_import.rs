@@ -489,3 +489,384 @@ fn huge_keyframe_arrays_import_in_bounded_time() {
     assert_eq!(got.len(), 1);
     assert_eq!(got[0].1, [-2.0, 48.0, 2.0, 52.0]);
 }
+
+/// A shape layer (`ty` 4) named `nm` holding `items` (a group's contents), 60 frames long.
+fn shape_layer(nm: &str, ind: i64, ks: Value, items: Value) -> Value {
+    json!({"ddd": 0, "ty": 4, "nm": nm, "ind": ind, "ip": 0, "op": 60, "st": 0, "sr": 1,
+        "ks": ks, "ao": 0, "bm": 0,
+        "shapes": [{"ty": "gr", "nm": "Group 1", "it": items}]})
+}
+
+/// An animated property from `a` at frame 0 to `b` at frame 60, linear.
+fn anim(a: Value, b: Value) -> Value {
+    json!({"a": 1, "k": [
+        {"t": 0, "s": a, "i": {"x": [1], "y": [1]}, "o": {"x": [0], "y": [0]}},
+        {"t": 60, "s": b}]})
+}
+
+fn fixed(v: Value) -> Value {
+    json!({"a": 0, "k": v})
+}
+
+fn group_tr() -> Value {
+    json!({"ty": "tr", "p": fixed(json!([0, 0])), "a": fixed(json!([0, 0])),
+        "s": fixed(json!([100, 100])), "r": fixed(json!(0)), "o": fixed(json!(100))})
+}
+
+fn solid_fill(rgb: [f64; 3]) -> Value {
+    json!({"ty": "fl", "c": fixed(json!([rgb[0], rgb[1], rgb[2], 1])), "o": fixed(json!(100)), "r": 1})
+}
+
+fn stroke(rgb: [f64; 3], w: f64) -> Value {
+    json!({"ty": "st", "c": fixed(json!([rgb[0], rgb[1], rgb[2], 1])), "o": fixed(json!(100)),
+        "w": fixed(json!(w)), "lc": 1, "lj": 1, "ml": 4})
+}
+
+/// A closed outline through `points`, straight edges.
+fn polygon(points: &[[f64; 2]]) -> Value {
+    let zero = vec![[0.0, 0.0]; points.len()];
+    json!({"c": true, "v": points, "i": zero, "o": zero})
+}
+
+/// One document per feature of gmotion's own Lottie renderer, each made of large, plain
+/// shapes so that the players agree on it: trim paths (simultaneous with an offset,
+/// individual), dashes on an ellipse, layer masks in each mode, inverted and luma track
+/// mattes, linear and radial gradients with opacity stops, a 3D turn, an auto-oriented
+/// layer on a curved path, a precomposition with a start time, stretch and clip, a
+/// rounded rectangle drawn counter-clockwise.
+fn own_render_cases() -> Vec<(&'static str, Value)> {
+    let red = [0.9, 0.1, 0.1];
+    let blue = [0.1, 0.2, 0.9];
+    let centre = ks([100.0, 100.0], 0.0, 100.0);
+    let ellipse = json!({"ty": "el", "p": fixed(json!([0, 0])), "s": fixed(json!([120, 120]))});
+    let rect = |w: f64, h: f64| json!({"ty": "rc", "d": 1, "p": fixed(json!([0, 0])), "s": fixed(json!([w, h])), "r": fixed(json!(0))});
+    let square = polygon(&[[-70.0, -70.0], [70.0, -70.0], [70.0, 70.0], [-70.0, 70.0]]);
+    let mask = |mode: &str, pt: Value, inv: bool| json!({"mode": mode, "inv": inv, "pt": fixed(pt), "o": fixed(json!(100)), "x": fixed(json!(0))});
+    let mut cases = Vec::new();
+
+    let trim = json!({"ty": "tm", "s": anim(json!([0]), json!([40])), "e": anim(json!([30]), json!([100])),
+        "o": fixed(json!(45)), "m": 1});
+    cases.push((
+        "trim",
+        json!([shape_layer(
+            "trim",
+            1,
+            centre.clone(),
+            json!([
+                ellipse,
+                rect(60.0, 160.0),
+                stroke(red, 14.0),
+                trim,
+                group_tr()
+            ])
+        )]),
+    ));
+
+    let together = json!({"ty": "tm", "s": fixed(json!(0)), "e": anim(json!([20]), json!([90])),
+        "o": fixed(json!(0)), "m": 2});
+    cases.push((
+        "trim-individually",
+        json!([shape_layer(
+            "trim2",
+            1,
+            centre.clone(),
+            json!([
+                rect(150.0, 40.0),
+                rect(40.0, 150.0),
+                together,
+                stroke(blue, 10.0),
+                group_tr()
+            ])
+        )]),
+    ));
+
+    let mut dashed = stroke(red, 10.0);
+    // With their names, as After Effects writes them: lottie-web's svg renderer draws
+    // nothing for dashes without.
+    dashed["d"] = json!([{"n": "d", "nm": "dash", "v": fixed(json!(30))},
+        {"n": "g", "nm": "gap", "v": fixed(json!(15))}, {"n": "o", "nm": "offset", "v": fixed(json!(20))}]);
+    cases.push((
+        "dashes",
+        json!([shape_layer(
+            "dashes",
+            1,
+            centre.clone(),
+            json!([ellipse, dashed, group_tr()])
+        )]),
+    ));
+
+    for (name, masks) in [
+        ("mask-add", json!([mask("a", square.clone(), false)])),
+        (
+            "mask-subtract",
+            json!([
+                mask("a", square.clone(), false),
+                mask(
+                    "s",
+                    polygon(&[[-30.0, -90.0], [30.0, -90.0], [30.0, 90.0], [-30.0, 90.0]]),
+                    false
+                )
+            ]),
+        ),
+        (
+            "mask-intersect-inverted",
+            json!([
+                mask("a", square.clone(), false),
+                mask(
+                    "i",
+                    polygon(&[[-40.0, -40.0], [40.0, -40.0], [40.0, 40.0], [-40.0, 40.0]]),
+                    true
+                )
+            ]),
+        ),
+        (
+            "mask-subtract-first",
+            json!([mask(
+                "s",
+                polygon(&[[-50.0, -50.0], [0.0, -50.0], [0.0, 0.0], [-50.0, 0.0]]),
+                false
+            )]),
+        ),
+    ] {
+        let mut l = shape_layer(
+            name,
+            1,
+            centre.clone(),
+            json!([rect(180.0, 180.0), solid_fill(blue), group_tr()]),
+        );
+        l["hasMask"] = json!(true);
+        l["masksProperties"] = masks;
+        cases.push((name, json!([l])));
+    }
+
+    for (name, tt) in [
+        ("matte-inverted-alpha", 2),
+        ("matte-luma", 3),
+        ("matte-inverted-luma", 4),
+    ] {
+        let mut matte = shape_layer(
+            "matte",
+            1,
+            ks([100.0, 100.0], 45.0, 100.0),
+            json!([rect(110.0, 110.0), solid_fill([0.8, 0.8, 0.8]), group_tr()]),
+        );
+        matte["td"] = json!(1);
+        let mut body = shape_layer(
+            "body",
+            2,
+            centre.clone(),
+            json!([rect(170.0, 80.0), solid_fill(red), group_tr()]),
+        );
+        body["tt"] = json!(tt);
+        cases.push((name, json!([matte, body])));
+    }
+
+    // Three colour stops, two opacity stops (opaque to a quarter).
+    let stops = json!({"p": 3, "k": fixed(json!([0, 0.9, 0.1, 0.1, 0.5, 0.1, 0.8, 0.2, 1, 0.1, 0.2, 0.9, 0, 1, 1, 0.25]))});
+    cases.push((
+        "gradient-linear",
+        json!([shape_layer(
+            "gl",
+            1,
+            centre.clone(),
+            json!([rect(180.0, 120.0),
+        {"ty": "gf", "o": fixed(json!(100)), "r": 1, "t": 1, "g": stops,
+         "s": fixed(json!([-90, 0])), "e": anim(json!([90, 0]), json!([0, 60]))}, group_tr()])
+        )]),
+    ));
+    cases.push((
+        "gradient-radial",
+        json!([shape_layer(
+            "gr",
+            1,
+            centre.clone(),
+            json!([ellipse,
+        {"ty": "gf", "o": fixed(json!(100)), "r": 1, "t": 2, "g": stops,
+         "s": fixed(json!([0, 0])), "e": fixed(json!([60, 0])), "h": anim(json!([0]), json!([60])),
+         "a": fixed(json!(30))}, group_tr()])
+        )]),
+    ));
+
+    let mut turned = shape_layer(
+        "turned",
+        1,
+        centre.clone(),
+        json!([rect(120.0, 80.0), solid_fill(red), group_tr()]),
+    );
+    turned["ddd"] = json!(1);
+    turned["ks"] = json!({"o": fixed(json!(100)), "rx": anim(json!([0]), json!([70])), "ry": fixed(json!(30)),
+        "rz": fixed(json!(10)), "or": fixed(json!([0, 0, 0])), "p": fixed(json!([100, 100, 0])),
+        "a": fixed(json!([0, 0, 0])), "s": fixed(json!([100, 100, 100]))});
+    cases.push(("3d", json!([turned])));
+
+    let mut oriented = shape_layer(
+        "arrow",
+        1,
+        centre.clone(),
+        json!([rect(60.0, 20.0), solid_fill(blue), group_tr()]),
+    );
+    oriented["ao"] = json!(1);
+    oriented["ks"]["p"] = json!({"a": 1, "k": [
+        {"t": 0, "s": [40, 160, 0], "to": [40, -120, 0], "ti": [-40, -120, 0],
+         "i": {"x": 1, "y": 1}, "o": {"x": 0, "y": 0}},
+        {"t": 60, "s": [160, 160, 0]}]});
+    cases.push(("auto-orient", json!([oriented])));
+
+    let inner = shape_layer(
+        "inner",
+        1,
+        ks([20.0, 20.0], 0.0, 100.0),
+        json!([{"ty": "rc", "p": anim(json!([0, 0]), json!([100, 100])), "s": fixed(json!([50, 50])),
+                "r": fixed(json!(0))}, solid_fill(red), group_tr()]),
+    );
+    let mut pre = json!({"ddd": 0, "ty": 0, "nm": "pre", "refId": "comp_1", "ind": 1, "ip": 0, "op": 60,
+        "st": 10, "sr": 2, "w": 120, "h": 120, "ks": ks([40.0, 40.0], 0.0, 100.0), "ao": 0, "bm": 0});
+    pre["tm"] = Value::Null;
+    if let Some(o) = pre.as_object_mut() {
+        o.remove("tm");
+    }
+    cases.push((
+        "precomp",
+        json!({"layers": [pre], "assets": [{"id": "comp_1", "layers": [inner]}]}),
+    ));
+
+    let rounded = json!({"ty": "rc", "d": 3, "p": fixed(json!([0, 0])), "s": fixed(json!([160, 100])),
+        "r": fixed(json!(25))});
+    let trim_back = json!({"ty": "tm", "s": fixed(json!(0)), "e": anim(json!([10]), json!([70])),
+        "o": fixed(json!(0)), "m": 1});
+    cases.push((
+        "rounded-reversed",
+        json!([shape_layer(
+            "rounded",
+            1,
+            centre,
+            json!([rounded, trim_back, stroke(blue, 12.0), group_tr()])
+        )]),
+    ));
+    cases
+}
+
+/// Where a player draws a feature otherwise than After Effects and the other players (and
+/// gmotion) do: (case, player, what it does).
+const OWN_RENDER_KNOWN: &[(&str, Player, &str)] = &[
+    (
+        "dashes",
+        Player::Rlottie,
+        "starts the dash pattern elsewhere on an ellipse",
+    ),
+    (
+        "mask-subtract",
+        Player::LottieWebCanvas,
+        "draws subtract masks as add",
+    ),
+    (
+        "mask-subtract-first",
+        Player::LottieWebCanvas,
+        "starts from no coverage when the first mask subtracts",
+    ),
+    (
+        "mask-intersect-inverted",
+        Player::LottieWebSvg,
+        "inverts the intersected mask's outline, not its coverage",
+    ),
+    (
+        "mask-intersect-inverted",
+        Player::LottieWebCanvas,
+        "ignores the intersecting mask",
+    ),
+    (
+        "mask-intersect-inverted",
+        Player::Thorvg,
+        "ignores `inv` on an intersecting mask",
+    ),
+    (
+        "matte-luma",
+        Player::LottieWebCanvas,
+        "draws luma mattes as alpha mattes",
+    ),
+    (
+        "matte-inverted-luma",
+        Player::LottieWebSvg,
+        "does not draw inverted luma mattes (shows the layer unmatted)",
+    ),
+    (
+        "matte-inverted-luma",
+        Player::LottieWebCanvas,
+        "draws nothing for inverted luma mattes",
+    ),
+    (
+        "gradient-linear",
+        Player::LottieWebCanvas,
+        "ignores gradient opacity stops",
+    ),
+    (
+        "gradient-radial",
+        Player::LottieWebCanvas,
+        "ignores gradient opacity stops",
+    ),
+    ("3d", Player::Rlottie, "turns 3D layers in another order"),
+    (
+        "auto-orient",
+        Player::Rlottie,
+        "faces an auto-oriented layer elsewhere at the first frame",
+    ),
+];
+
+/// gmotion's own render of Lottie (`convert X.json -o f.png --time T`) draws each feature
+/// as every player does: lottie-web (both renderers), rlottie and ThorVG, at three frames,
+/// each within 1% of pixels, but for the named differences of one player from the others
+/// (each checked to still differ, so that a list entry cannot outlive its reason).
+#[test]
+fn own_render_draws_each_feature_as_the_players_do() {
+    let dir = out_dir("own_render");
+    let frames = [0.0, 24.0, 47.0];
+    let mut failures = Vec::new();
+    let mut differing = std::collections::HashSet::new();
+    for (name, content) in own_render_cases() {
+        let d = match content.get("layers") {
+            Some(layers) => doc(layers.clone(), content["assets"].clone()),
+            None => doc(content, json!([])),
+        };
+        let text = d.to_string();
+        let src = write_json(&dir, &format!("{name}.json"), &d);
+        let played = play(&format!("own-{name}"), &text, &frames, 200, &Player::ALL);
+        for f in frames {
+            let png = dir.join(format!("{name}-{f}.png"));
+            let t = format!("{}", f / 30.0);
+            let (ok, _, err) = run(bin()
+                .arg("convert")
+                .arg(&src)
+                .args(["--time", &t, "--width", "200", "-o"])
+                .arg(&png));
+            assert!(ok, "{name}: {err}");
+            let ours = Pixmap::load_png(&png).unwrap();
+            for p in Player::ALL {
+                let theirs = Pixmap::load_png(frame_path(&played, p, f)).unwrap();
+                let off = gmotion_export_raster::compare(&ours, &theirs, 32);
+                let known = OWN_RENDER_KNOWN.iter().any(|k| k.0 == name && k.1 == p);
+                if off > 0.01 && !known {
+                    failures.push(format!(
+                        "{name} frame {f}: {p:?} differs on {:.2}% of pixels",
+                        off * 100.0
+                    ));
+                }
+                if off > 0.01 && known {
+                    differing.insert((name, p));
+                }
+            }
+        }
+    }
+    for (name, p, why) in OWN_RENDER_KNOWN {
+        if !differing.contains(&(*name, *p)) {
+            failures.push(format!(
+                "{name}: {p:?} now draws it as gmotion does (listed: {why})"
+            ));
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{}\n(files in {})",
+        failures.join("\n"),
+        dir.display()
+    );
+}

@@ -1,6 +1,6 @@
 """gmotion's own render of Lottie files against the players (issue 15's "own render").
 
-    python3 lottie_own_render.py GMOTION FOLDER OUT [--max-files N] [--min-pass P]
+    python3 lottie_own_render.py GMOTION OUT FOLDER... [--max-files N]
 
 Plays every `*.json` of FOLDER at 5 evenly spaced frames (ip + k·(op − ip)/5) in lottie-web
 (svg renderer), rlottie and `gmotion convert X.json -o f.png --time T`, and compares each
@@ -9,8 +9,9 @@ than OFF; a frame matches when at most 1% of its pixels are off). The players ar
 oracle only where they agree with each other: a file counts when lottie-web and rlottie
 match at all 5 frames, and gmotion passes it when it matches lottie-web at all 5.
 
-Writes OUT/report.json and prints, per file, the worst frame; exits 1 when fewer than
---min-pass (a fraction, default 0: report only) of the counted files pass.
+Writes OUT/report.json and prints, per file, the worst frame. Exits 1 when a counted file
+fails that KNOWN_FAILURES does not name (each with why), so that no new failure hides behind
+a pass rate; a named file that passes is reported, to be taken off the list.
 """
 
 import argparse
@@ -25,6 +26,12 @@ from conformance import off_fraction
 HERE = os.path.dirname(os.path.abspath(__file__))
 FRAMES = 5
 MATCH = 0.01
+
+# Files where lottie-web and rlottie agree but gmotion's own render does not match them.
+KNOWN_FAILURES = {
+    "rlottie-python__image_embedded.json": "image layers are not drawn (the scene model has no raster images)",
+    "rlottie-python__file_transfer.json": "1.1-1.7% of pixels: 1 px strokes anti-aliased differently at mid-motion frames",
+}
 
 
 def render_width(w, h):
@@ -68,18 +75,16 @@ def gmotion_frame(gm, src, fr, frame, width, png):
 def main(argv):
     ap = argparse.ArgumentParser()
     ap.add_argument("gmotion")
-    ap.add_argument("folder")
     ap.add_argument("out")
+    ap.add_argument("folders", nargs="+")
     ap.add_argument("--max-files", type=int, default=0)
-    ap.add_argument("--min-pass", type=float, default=0.0)
     args = ap.parse_args(argv)
     os.makedirs(args.out, exist_ok=True)
-    files = sorted(f for f in os.listdir(args.folder) if f.endswith(".json"))
+    files = sorted((f, os.path.join(d, f)) for d in args.folders for f in os.listdir(d) if f.endswith(".json"))
     if args.max_files:
         files = files[: args.max_files]
     docs, jobs = {}, []
-    for name in files:
-        path = os.path.join(args.folder, name)
+    for name, path in files:
         try:
             with open(path) as f:
                 doc = json.load(f)
@@ -125,7 +130,13 @@ def main(argv):
     share = passed / counted if counted else 0.0
     print(f"\n{passed} of {counted} files where lottie-web and rlottie agree pass ({share:.1%}); "
           f"{len(docs)} files played")
-    return 0 if share >= args.min_pass else 1
+    new = [n for n, r in report.items() if r["agree"] and not r["pass"] and n not in KNOWN_FAILURES]
+    fixed = [n for n in KNOWN_FAILURES if report.get(n, {}).get("pass")]
+    for n in fixed:
+        print(f"{n}: passes now; take it off KNOWN_FAILURES")
+    for n in new:
+        print(f"{n}: FAILS and is not a known failure")
+    return 1 if new else 0
 
 
 if __name__ == "__main__":

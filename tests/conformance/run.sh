@@ -18,6 +18,8 @@
 # 3. validates every Lottie gmotion wrote against the official schema;
 # 4. plays the Lottie files in lottie-web (headless Chromium), rlottie and ThorVG, the SMIL
 #    files in Chromium (smil.mjs), and compares every frame (conformance.py report);
+#    then plays the Lottie corpus (install.sh fetches it) with gmotion's own renderer
+#    against lottie-web and rlottie (lottie_own_render.py);
 # 5. the conformance matrix (matrix.py): generated scenes with grammars and transitions
 #    targets spanning the language, plus every example, played in lottie-web (svg and canvas
 #    renderers), rlottie, ThorVG and Chromium SMIL against gmotion's own render; by default
@@ -80,6 +82,10 @@ if [ "$main_run" = 1 ]; then
 fi
 
 python3 "$here/conformance.py" report "$out" || status=1
+
+    echo "== Lottie own render: gmotion convert X.json -o f.png --time T against lottie-web and rlottie"
+    python3 "$here/lottie_own_render.py" "$gm" "$out/own_render" "$here/lottie-corpus" > "$out/own_render.txt" || status=1
+    tail -n 3 "$out/own_render.txt"
 fi
 
 m="$out/matrix"

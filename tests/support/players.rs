@@ -21,7 +21,7 @@ const OFF: u8 = 32;
 const MAX_OFF: f64 = 0.005;
 
 /// A player that draws Lottie.
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
 pub enum Player {
     /// lottie-web's svg renderer.
     LottieWebSvg,

@@ -14,7 +14,8 @@ use gmotion::scene::{
 };
 
 use crate::model::{
-    Asset, Document, Layer, LayerKind, LayerMask, Loc, Num, Result, ShapeItem, ShapeKind, error,
+    Asset, Document, Gradient, Layer, LayerKind, LayerMask, Loc, Num, Result, ShapeItem, ShapeKind,
+    error,
 };
 use crate::{eval, outline};
 
@@ -510,14 +511,12 @@ impl<'a> Builder<'a> {
                     }
                     scope.paint(None, Some(stroke));
                 }
-                ShapeKind::Gradient {
-                    stroke, o, w, rule, ..
-                } => {
-                    let paint = gradient(&item.kind, t);
-                    let opacity = percent(o.as_ref(), t);
-                    if *stroke {
-                        let mut s =
-                            Stroke::solid(Color::BLACK, eval::scalar(w.as_ref(), t, 1.0).max(0.0));
+                ShapeKind::Gradient(g) => {
+                    let paint = gradient(g, t);
+                    let opacity = percent(g.o.as_ref(), t);
+                    if g.stroke {
+                        let width = eval::scalar(g.w.as_ref(), t, 1.0).max(0.0);
+                        let mut s = Stroke::solid(Color::BLACK, width);
                         s.paint = paint;
                         s.opacity = opacity;
                         scope.paint(None, Some(s));
@@ -525,7 +524,7 @@ impl<'a> Builder<'a> {
                         let f = Fill {
                             paint,
                             opacity,
-                            rule: fill_rule(*rule),
+                            rule: fill_rule(g.rule),
                         };
                         scope.paint(Some(f), None);
                     }
@@ -810,8 +809,8 @@ impl Outlines {
 /// A gradient fill's or stroke's paint at layer time `t`: colour stops with the opacity
 /// stops merged in (each offset of either gets both), in the item's own space; a radial
 /// gradient's focus placed by its highlight as lottie-web places it.
-fn gradient(kind: &ShapeKind, t: f64) -> Paint {
-    let ShapeKind::Gradient {
+fn gradient(g: &Gradient, t: f64) -> Paint {
+    let Gradient {
         stops,
         count,
         radial,
@@ -820,10 +819,7 @@ fn gradient(kind: &ShapeKind, t: f64) -> Paint {
         highlight,
         angle,
         ..
-    } = kind
-    else {
-        return Paint::Solid(Color::BLACK);
-    };
+    } = g;
     let v = eval::num(stops.as_ref(), t, &[]);
     let n = (*count).min(v.len() / 4);
     let colors: Vec<(f64, Color)> = (0..n)

@@ -182,7 +182,9 @@ pub fn matrix(tr: &Transform, t: f64) -> Affine {
     let rx = scalar(tr.rx.as_ref(), t, 0.0).to_radians();
     let ry = scalar(tr.ry.as_ref(), t, 0.0).to_radians();
     let or = num(tr.or.as_ref(), t, &[0.0, 0.0, 0.0]);
-    let or: Vec<f64> = (0..3).map(|k| or.get(k).copied().unwrap_or(0.0).to_radians()).collect();
+    let or: Vec<f64> = (0..3)
+        .map(|k| or.get(k).copied().unwrap_or(0.0).to_radians())
+        .collect();
     if rx == 0.0 && ry == 0.0 && or.iter().all(|x| *x == 0.0) {
         return Affine::translate(p)
             * Affine::rotate(r)
@@ -192,8 +194,15 @@ pub fn matrix(tr: &Transform, t: f64) -> Affine {
     }
     // A 3D layer turned out of the picture plane, seen as players without a camera show
     // it: projected straight onto the plane. lottie-web's order, with its anchor depth.
-    let az = num(tr.a.as_ref(), t, &[0.0, 0.0, 0.0]).get(2).copied().unwrap_or(0.0);
-    let sz = num(tr.s.as_ref(), t, &[100.0, 100.0, 100.0]).get(2).copied().unwrap_or(100.0) / 100.0;
+    let az = num(tr.a.as_ref(), t, &[0.0, 0.0, 0.0])
+        .get(2)
+        .copied()
+        .unwrap_or(0.0);
+    let sz = num(tr.s.as_ref(), t, &[100.0, 100.0, 100.0])
+        .get(2)
+        .copied()
+        .unwrap_or(100.0)
+        / 100.0;
     let flat = skew * Affine::scale_non_uniform(s.x, s.y) * Affine::translate(-a);
     let turns: [(usize, f64); 6] = [(2, r), (1, ry), (0, rx), (2, or[2]), (1, or[1]), (0, or[0])];
     let project = |x: f64, y: f64| -> Point {

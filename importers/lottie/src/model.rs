@@ -494,8 +494,8 @@ impl Transform {
         p || [
             &self.a, &self.s, &self.r, &self.o, &self.sk, &self.sa, &self.rx, &self.ry, &self.or,
         ]
-            .iter()
-            .any(|c| c.as_ref().is_some_and(|c| c.expression))
+        .iter()
+        .any(|c| c.as_ref().is_some_and(|c| c.expression))
     }
 }
 
@@ -584,31 +584,7 @@ pub enum ShapeKind {
         dashes: Vec<Dash>,
     },
     /// `gf` / `gs`: a gradient fill or stroke.
-    Gradient {
-        /// Whether it is a stroke (`gs`).
-        stroke: bool,
-        /// Opacity, percent.
-        o: Option<Num>,
-        /// Stops: `count` colour stops `[offset, r, g, b, …]`, then any opacity stops
-        /// `[offset, alpha, …]`.
-        stops: Option<Num>,
-        /// How many colour stops `stops` starts with (`g.p`).
-        count: usize,
-        /// `t` 2: radial (else linear).
-        radial: bool,
-        /// Start point (the centre of a radial gradient).
-        start: Option<Num>,
-        /// End point (on the end circle of a radial gradient).
-        end: Option<Num>,
-        /// Highlight length, percent of the radius (radial).
-        highlight: Option<Num>,
-        /// Highlight angle, degrees (radial).
-        angle: Option<Num>,
-        /// Stroke width (`gs`).
-        w: Option<Num>,
-        /// Fill rule (`gf`).
-        rule: i64,
-    },
+    Gradient(Box<Gradient>),
     /// `tm`: trim paths, which cut every outline above it (in its group and nested ones).
     Trim {
         /// Start, percent.
@@ -621,10 +597,38 @@ pub enum ShapeKind {
         individually: bool,
     },
     /// `tr`: the group's transform.
-    Transform(Transform),
+    Transform(Box<Transform>),
     /// Anything else (modifiers such as trim paths, repeaters, merge paths; unknown types):
     /// its `ty`.
     Other(String),
+}
+
+/// A gradient fill (`gf`) or stroke (`gs`).
+#[derive(Clone, Debug)]
+pub struct Gradient {
+    /// Whether it is a stroke (`gs`).
+    pub stroke: bool,
+    /// Opacity, percent.
+    pub o: Option<Num>,
+    /// Stops: `count` colour stops `[offset, r, g, b, …]`, then any opacity stops
+    /// `[offset, alpha, …]`.
+    pub stops: Option<Num>,
+    /// How many colour stops `stops` starts with (`g.p`).
+    pub count: usize,
+    /// `t` 2: radial (else linear).
+    pub radial: bool,
+    /// Start point (the centre of a radial gradient).
+    pub start: Option<Num>,
+    /// End point (on the end circle of a radial gradient).
+    pub end: Option<Num>,
+    /// Highlight length, percent of the radius (radial).
+    pub highlight: Option<Num>,
+    /// Highlight angle, degrees (radial).
+    pub angle: Option<Num>,
+    /// Stroke width (`gs`).
+    pub w: Option<Num>,
+    /// Fill rule (`gf`).
+    pub rule: i64,
 }
 
 /// A shape item with its name, visibility and location.
@@ -663,7 +667,11 @@ fn shape_item(v: &Value, at: &Loc) -> Result<ShapeItem> {
         None => return error(at, "a shape item needs its type `ty`"),
     };
     let num = |key: &str| opt_property::<Vec<f64>>(o, key, at);
-    let reversed = opt_int(o, "d", at)? == Some(3);
+    // `d` is the drawing direction of a primitive (and a stroke's dashes): 3 is
+    // counter-clockwise. lottie-web draws a rectangle without `d` counter-clockwise too
+    // (rlottie clockwise); After Effects always writes it.
+    let direction = || opt_int(o, "d", at);
+    let reversed = || -> Result<bool> { Ok(direction()? == Some(3)) };
     let kind = match ty {
         "gr" => ShapeKind::Group(match o.get("it") {
             Some(it) => shape_items(it, &at.key("it"))?,
@@ -683,12 +691,12 @@ fn shape_item(v: &Value, at: &Loc) -> Result<ShapeItem> {
             p: num("p")?,
             s: num("s")?,
             r: num("r")?,
-            reversed,
+            reversed: !matches!(direction()?, Some(1 | 2)),
         },
         "el" => ShapeKind::Ellipse {
             p: num("p")?,
             s: num("s")?,
-            reversed,
+            reversed: reversed()?,
         },
         "sr" => ShapeKind::Star {
             sy: opt_int(o, "sy", at)?.unwrap_or(1),
@@ -697,7 +705,7 @@ fn shape_item(v: &Value, at: &Loc) -> Result<ShapeItem> {
             ir: num("ir")?,
             r: num("r")?,
             pt: num("pt")?,
-            reversed,
+            reversed: reversed()?,
         },
         "fl" => ShapeKind::Fill {
             c: num("c")?,
@@ -737,7 +745,7 @@ fn shape_item(v: &Value, at: &Loc) -> Result<ShapeItem> {
                 }
                 None => (None, 0),
             };
-            ShapeKind::Gradient {
+            ShapeKind::Gradient(Box::new(Gradient {
                 stroke: ty == "gs",
                 o: num("o")?,
                 stops,
@@ -749,7 +757,7 @@ fn shape_item(v: &Value, at: &Loc) -> Result<ShapeItem> {
                 angle: num("a")?,
                 w: num("w")?,
                 rule: opt_int(o, "r", at)?.unwrap_or(1),
-            }
+            }))
         }
         "tm" => ShapeKind::Trim {
             s: num("s")?,
@@ -757,7 +765,7 @@ fn shape_item(v: &Value, at: &Loc) -> Result<ShapeItem> {
             o: num("o")?,
             individually: opt_int(o, "m", at)? == Some(2),
         },
-        "tr" => ShapeKind::Transform(Transform::read(v, at)?),
+        "tr" => ShapeKind::Transform(Box::new(Transform::read(v, at)?)),
         other => ShapeKind::Other(other.to_string()),
     };
     Ok(ShapeItem {
