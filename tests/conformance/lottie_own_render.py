@@ -1,6 +1,6 @@
 """gmotion's own render of Lottie files against the players (issue 15's "own render").
 
-    python3 lottie_own_render.py GMOTION OUT FOLDER... [--max-files N]
+    python3 lottie_own_render.py GMOTION OUT FOLDER... [--max-files N] [--grammar]
 
 Plays every `*.json` of FOLDER at 5 evenly spaced frames (ip + k·(op − ip)/5) in lottie-web
 (svg renderer), rlottie and `gmotion convert X.json -o f.png --time T`, and compares each
@@ -8,6 +8,11 @@ frame as conformance.py does (a pixel is off when a premultiplied channel differ
 than OFF; a frame matches when at most 1% of its pixels are off). The players are the
 oracle only where they agree with each other: a file counts when lottie-web and rlottie
 match at all 5 frames, and gmotion passes it when it matches lottie-web at all 5.
+
+With --grammar, every file gets motion on top first, as a user adds it (issue 15's "a
+grammar on top"): every unit turns 90° over the composition's length and the first unit's
+tag fades to half; the players play the Lottie `gmotion animate` writes (the source with
+gmotion's null layers on top) and gmotion draws `animate … -o f.png --time T` itself.
 
 Writes OUT/report.json and prints, per file, the worst frame. Exits 1 when a counted file
 fails that KNOWN_FAILURES does not name (each with why), so that no new failure hides behind
@@ -32,6 +37,29 @@ KNOWN_FAILURES = {
     "rlottie-python__image_embedded.json": "image layers are not drawn (the scene model has no raster images)",
     "rlottie-python__file_transfer.json": "1.1-1.7% of pixels: 1 px strokes anti-aliased differently at mid-motion frames",
 }
+
+# The same with a grammar on top (--grammar).
+KNOWN_GRAMMAR_FAILURES = dict(KNOWN_FAILURES)
+
+
+def grammar_on_top(gm, src, doc, out, stem):
+    """Writes the grammar for `src` and its layered Lottie; returns (grammar, lottie) paths,
+    or an error line."""
+    r = subprocess.run([gm, "check", "--shapes", src], capture_output=True, text=True, timeout=300)
+    tags = [line.split()[0].rsplit(":", 1)[0] for line in r.stdout.splitlines()[1:] if line.startswith("  ")]
+    if r.returncode != 0 or not tags:
+        return r.stderr.strip().splitlines()[-1:] or ["no units"]
+    fr = float(doc["fr"])
+    grammar = os.path.join(out, f"{stem}.gm")
+    with open(grammar, "w") as f:
+        f.write(f"duration {(doc['op'] - doc['ip']) / fr!r}s\nfps {fr!r}\n"
+                "animate(affine, local, 0, rotate(90)) : [all, all] -> [turned]\n"
+                f"animate(opacity, local, 0, 0.5) : [turned, {tags[0]}] -> [faded]\n")
+    lottie = os.path.join(out, f"{stem}-layered.json")
+    r = subprocess.run([gm, "animate", src, grammar, "-o", lottie], capture_output=True, text=True, timeout=300)
+    if r.returncode != 0:
+        return r.stderr.strip().splitlines()[-1:]
+    return grammar, lottie
 
 
 def render_width(w, h):
@@ -63,10 +91,11 @@ def run_players(jobs, out):
             print(f"  {line}", file=sys.stderr)
 
 
-def gmotion_frame(gm, src, fr, frame, width, png):
+def gmotion_frame(gm, src, grammar, fr, frame, width, png):
     t = frame / fr
+    how = ["animate", src, grammar] if grammar else ["convert", src]
     r = subprocess.run(
-        [gm, "convert", src, "-o", png, "--time", repr(t), "--width", str(width)],
+        [gm, *how, "-o", png, "--time", repr(t), "--width", str(width)],
         capture_output=True, text=True, timeout=300,
     )
     return None if r.returncode == 0 else r.stderr.strip().splitlines()[-1:]
@@ -78,12 +107,14 @@ def main(argv):
     ap.add_argument("out")
     ap.add_argument("folders", nargs="+")
     ap.add_argument("--max-files", type=int, default=0)
+    ap.add_argument("--grammar", action="store_true")
     args = ap.parse_args(argv)
+    known = KNOWN_GRAMMAR_FAILURES if args.grammar else KNOWN_FAILURES
     os.makedirs(args.out, exist_ok=True)
     files = sorted((f, os.path.join(d, f)) for d in args.folders for f in os.listdir(d) if f.endswith(".json"))
     if args.max_files:
         files = files[: args.max_files]
-    docs, jobs = {}, []
+    docs, jobs, gm_errors = {}, [], {}
     for name, path in files:
         try:
             with open(path) as f:
@@ -95,16 +126,24 @@ def main(argv):
             continue
         stem = name[:-5]
         width = render_width(w, h)
-        docs[name] = (path, fr, frames, width, stem)
-        jobs.append({"json": path, "width": width, "frames": frames,
+        grammar, played = None, path
+        if args.grammar:
+            made = grammar_on_top(args.gmotion, path, doc, args.out, stem)
+            if isinstance(made, list):
+                print(f"{name}: gmotion animate failed: {made}")
+                gm_errors[name] = made
+                continue
+            grammar, played = made
+        docs[name] = (path, grammar, fr, frames, width, stem)
+        jobs.append({"json": played, "width": width, "frames": frames,
                      "out": [os.path.join(args.out, f"{stem}-{f}-{{player}}.png") for f in frames]})
     run_players(jobs, args.out)
-    gm_errors = {}
 
     def gm_file(name):
-        path, fr, frames, width, stem = docs[name]
+        path, grammar, fr, frames, width, stem = docs[name]
         for f in frames:
-            err = gmotion_frame(args.gmotion, path, fr, f, width, os.path.join(args.out, f"{stem}-{f}-gmotion.png"))
+            png = os.path.join(args.out, f"{stem}-{f}-gmotion.png")
+            err = gmotion_frame(args.gmotion, path, grammar, fr, f, width, png)
             if err:
                 gm_errors[name] = err
                 return
@@ -112,7 +151,7 @@ def main(argv):
     with ThreadPoolExecutor(max_workers=os.cpu_count() or 2) as pool:
         list(pool.map(gm_file, docs))
     report, counted, passed = {}, 0, 0
-    for name, (path, fr, frames, width, stem) in docs.items():
+    for name, (path, grammar, fr, frames, width, stem) in docs.items():
         png = lambda f, who: os.path.join(args.out, f"{stem}-{f}-{who}.png")  # noqa: E731
         players = [off_fraction(png(f, "lottie-web"), png(f, "rlottie")) for f in frames]
         ours = [off_fraction(png(f, "lottie-web"), png(f, "gmotion")) for f in frames]
@@ -130,10 +169,10 @@ def main(argv):
     share = passed / counted if counted else 0.0
     print(f"\n{passed} of {counted} files where lottie-web and rlottie agree pass ({share:.1%}); "
           f"{len(docs)} files played")
-    new = [n for n, r in report.items() if r["agree"] and not r["pass"] and n not in KNOWN_FAILURES]
-    fixed = [n for n in KNOWN_FAILURES if report.get(n, {}).get("pass")]
+    new = [n for n, r in report.items() if r["agree"] and not r["pass"] and n not in known]
+    fixed = [n for n in known if report.get(n, {}).get("pass")]
     for n in fixed:
-        print(f"{n}: passes now; take it off KNOWN_FAILURES")
+        print(f"{n}: passes now; take it off the known failures")
     for n in new:
         print(f"{n}: FAILS and is not a known failure")
     return 1 if new else 0

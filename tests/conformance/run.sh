@@ -86,6 +86,9 @@ python3 "$here/conformance.py" report "$out" || status=1
     echo "== Lottie own render: gmotion convert X.json -o f.png --time T against lottie-web and rlottie"
     python3 "$here/lottie_own_render.py" "$gm" "$out/own_render" "$here/lottie-corpus" > "$out/own_render.txt" || status=1
     tail -n 3 "$out/own_render.txt"
+    echo "== Lottie with a grammar on top: the layered export in lottie-web and rlottie against gmotion's render"
+    python3 "$here/lottie_own_render.py" "$gm" "$out/own_render_grammar" "$here/lottie-corpus" --grammar > "$out/own_render_grammar.txt" || status=1
+    tail -n 3 "$out/own_render_grammar.txt"
 fi
 
 m="$out/matrix"

@@ -251,8 +251,9 @@ fn multiply_opacity(
         ));
         return;
     }
-    // Keyframe times of a layer's properties are in its own time.
-    let local = |t: f64| (doc.ip + t - model.st) / model.sr;
+    // Keyframe times of a layer's properties are in the time of its composition (players
+    // subtract the start time from both the time and the keyframes).
+    let local = |t: f64| doc.ip + t;
     let animated = matches!(
         model.ks.o.as_ref().map(|o| &o.value),
         Some(gmotion_import_lottie::model::Prop::Animated(_))
@@ -263,9 +264,9 @@ fn multiply_opacity(
         let samples: Vec<(f64, f64)> = (0..=frames)
             .map(|f| {
                 let comp = doc.ip + f as f64;
-                let own = eval::scalar(model.ks.o.as_ref(), (comp - model.st) / model.sr, 100.0);
+                let own = eval::scalar(model.ks.o.as_ref(), comp, 100.0);
                 let m = track.state_at(f as f64 / doc.fr).opacity.clamp(0.0, 1.0);
-                ((comp - model.st) / model.sr, own * m)
+                (comp, own * m)
             })
             .collect();
         let mut kept: Vec<Keyframe> = Vec::new();

@@ -29,6 +29,7 @@ use gmotion::scene::Scene;
 use gmotion_export_lottie::{self as lottie, LottieOptions};
 use gmotion_export_raster::{self as raster, Pixmap, RenderError};
 use gmotion_export_svg::{frame, smil};
+use kurbo::Affine;
 use rayon::prelude::*;
 
 /// The source document of a scene imported from Lottie: a `.json` output of such a scene
@@ -269,20 +270,21 @@ impl Stage<'_> {
         opts: &Options,
     ) -> Result<Pixmap, OutputError> {
         let anim = self.anim;
-        let states = match sampler {
+        let mut states = match sampler {
             Some(s) => s.evaluate(t),
             None => anim.evaluate(t),
         };
         let svg = match self.source {
             None => frame::frame_with_states(&anim.scene, anim, t, states),
             Some(src) => {
-                let scene = src
-                    .scene_at(src.frame_at(t))
-                    .map_err(|e| OutputError::Source {
-                        path: path.to_path_buf(),
-                        frame: index,
-                        message: e.to_string(),
-                    })?;
+                let (scene, moved) =
+                    src.scene_at(src.frame_at(t))
+                        .map_err(|e| OutputError::Source {
+                            path: path.to_path_buf(),
+                            frame: index,
+                            message: e.to_string(),
+                        })?;
+                riding(src, &mut states, &moved);
                 frame::frame_with_states(&scene, anim, t, states)
             }
         };
@@ -311,6 +313,45 @@ impl Stage<'_> {
             .collect::<Vec<_>>()
             .into_iter()
             .collect()
+    }
+}
+
+/// The canvas-space states of a Lottie source's units as players draw the exported
+/// motion: each unit's motion rides on the layer it hangs from (conjugated by how that
+/// layer has `moved` since the reference frame), and a unit that hangs from another unit
+/// moves with that unit's motion too.
+fn riding(src: &LottieSource, states: &mut [ShapeState], moved: &[Affine]) {
+    let own: Vec<Affine> = states
+        .iter()
+        .zip(moved)
+        .map(|(s, &c)| {
+            if s.transform == Affine::IDENTITY || c == Affine::IDENTITY {
+                s.transform
+            } else {
+                c * s.transform * c.inverse()
+            }
+        })
+        .collect();
+    let mut total: Vec<Option<Affine>> = vec![None; states.len()];
+    for u in 0..states.len() {
+        // Up the chain of units to one already known (units are few; chains short).
+        let mut chain = vec![u];
+        while let Some(v) = src.parent_unit(*chain.last().unwrap_or(&u)) {
+            if total.get(v).is_none_or(Option::is_some) || chain.contains(&v) {
+                break;
+            }
+            chain.push(v);
+        }
+        for &w in chain.iter().rev() {
+            let above = src
+                .parent_unit(w)
+                .and_then(|v| total.get(v).copied().flatten())
+                .unwrap_or(Affine::IDENTITY);
+            total[w] = Some(above * own[w]);
+        }
+    }
+    for (s, t) in states.iter_mut().zip(total) {
+        s.transform = t.unwrap_or(s.transform);
     }
 }
 
@@ -540,7 +581,7 @@ pub fn write_still_over_source(
             };
             if Format::of(path)? == Format::Svg {
                 let frame = src.frame_at(opts.time);
-                let at = src.scene_at(frame).map_err(|e| OutputError::Source {
+                let (at, _) = src.scene_at(frame).map_err(|e| OutputError::Source {
                     path: path.to_path_buf(),
                     frame: (opts.time * src.fps()).round() as usize,
                     message: e.to_string(),

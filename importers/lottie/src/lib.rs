@@ -269,6 +269,24 @@ impl Source {
         self.document.ip + seconds * self.document.fr
     }
 
+    /// The nearest unit that unit `u` hangs from through its layer's parents, if any. The
+    /// exported motion of that unit moves `u` too (its layer is re-parented under the
+    /// unit's motion), as After Effects' parenting moves children.
+    pub fn parent_unit(&self, u: usize) -> Option<usize> {
+        let layers = &self.document.layers;
+        let first = |u: &UnitLayers| u.layers.first().copied();
+        let mut at = first(self.units.get(u)?)?;
+        // Parents cannot cycle in an imported document; the bound only keeps this finite.
+        for _ in 0..layers.len() {
+            let parent = layers.get(at)?.parent?;
+            at = layers.iter().position(|l| l.ind == Some(parent))?;
+            if let Some(v) = self.units.iter().position(|w| first(w) == Some(at)) {
+                return Some(v);
+            }
+        }
+        None
+    }
+
     /// The composition's length in seconds, from its in point to its out point.
     pub fn duration(&self) -> f64 {
         (self.document.op - self.document.ip) / self.document.fr
@@ -283,18 +301,39 @@ impl Source {
     /// same order as the imported scene (so an animation's tracks apply to it unchanged),
     /// each where its layers put it then; a unit whose layer is not on screen at `frame`
     /// is drawn at zero opacity. This is how gmotion plays a Lottie file itself.
-    pub fn scene_at(&self, frame: f64) -> Result<Scene, ImportError> {
-        let (root, shapes, _, _) =
+    ///
+    /// With it, each unit's motion: how the world of the layer the unit hangs from has
+    /// moved since the reference frame (`parent(frame) · parent(reference)⁻¹`). gmotion's
+    /// motion on a Lottie source is exported in that parent's space, so that it follows
+    /// the rig it is added to; a renderer conjugates a canvas-space state by it to draw
+    /// what players draw.
+    pub fn scene_at(&self, frame: f64) -> Result<(Scene, Vec<Affine>), ImportError> {
+        let (root, shapes, units, _) =
             scene_of(&self.document, frame).map_err(|e| ImportError::Lottie {
                 source_name: format!("frame {frame}"),
                 at: e.at,
                 message: e.message,
             })?;
-        Ok(Scene {
+        let moved = units
+            .iter()
+            .zip(&self.units)
+            .map(|(now, then)| {
+                let at =
+                    |u: &UnitLayers| u.parent_world.first().copied().unwrap_or(Affine::IDENTITY);
+                let then = at(then);
+                if then.determinant().abs() < 1e-12 {
+                    Affine::IDENTITY
+                } else {
+                    at(now) * then.inverse()
+                }
+            })
+            .collect();
+        let scene = Scene {
             width: self.document.w,
             height: self.document.h,
             root,
             shapes,
-        })
+        };
+        Ok((scene, moved))
     }
 }
