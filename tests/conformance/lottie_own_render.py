@@ -10,8 +10,8 @@ oracle only where they agree with each other: a file counts when lottie-web and 
 match at all 5 frames, and gmotion passes it when it matches lottie-web at all 5.
 
 With --grammar, every file gets motion on top first, as a user adds it (issue 15's "a
-grammar on top"): every unit turns 90° over the composition's length and the first unit's
-tag fades to half; the players play the Lottie `gmotion animate` writes (the source with
+grammar on top"): every unit turns 90° over the composition's length, the first unit's tag
+fades to half, the last unit's turns blue and its strokes three times as wide; the players play the Lottie `gmotion animate` writes (the source with
 gmotion's null layers on top) and gmotion draws `animate … -o f.png --time T` itself.
 
 Writes OUT/report.json and prints, per file, the worst frame. Exits 1 when a counted file
@@ -40,6 +40,10 @@ KNOWN_FAILURES = {
 
 # The same with a grammar on top (--grammar).
 KNOWN_GRAMMAR_FAILURES = dict(KNOWN_FAILURES)
+KNOWN_GRAMMAR_FAILURES.update({
+    "rlottie-python__like.json": "the tinted units are solid layers, whose colour (`sc`) Lottie cannot animate",
+    "rlottie-python__mask.json": "the tinted unit is a solid layer, whose colour (`sc`) Lottie cannot animate",
+})
 
 
 def grammar_on_top(gm, src, doc, out, stem):
@@ -54,7 +58,9 @@ def grammar_on_top(gm, src, doc, out, stem):
     with open(grammar, "w") as f:
         f.write(f"duration {(doc['op'] - doc['ip']) / fr!r}s\nfps {fr!r}\n"
                 "animate(affine, local, 0, rotate(90)) : [all, all] -> [turned]\n"
-                f"animate(opacity, local, 0, 0.5) : [turned, {tags[0]}] -> [faded]\n")
+                f"animate(opacity, local, 0, 0.5) : [turned, {tags[0]}] -> [faded]\n"
+                f"animate(fill, local, 0, #3366ff) : [turned, {tags[-1]}] -> [blue]\n"
+                f"animate(stroke-width, local, 0, 3) : [blue, {tags[-1]}] -> [wide]\n")
     lottie = os.path.join(out, f"{stem}-layered.json")
     r = subprocess.run([gm, "animate", src, grammar, "-o", lottie], capture_output=True, text=True, timeout=300)
     if r.returncode != 0:

@@ -39,7 +39,7 @@ use crate::animate::{UnitInfo, static_level, unit_motion};
 use crate::geometry::decompose;
 use crate::keys::{to_keyframes, within_range};
 use crate::layers::{conjugate, full_transform};
-use crate::model::{Keyframe, Layer, LayerType, N, Prop, Transform, Value};
+use crate::model::{Layer, LayerType, N, Prop, Transform, Value};
 use crate::{LottieError, LottieOptions, LottieOutput};
 
 /// The source document as it was read (JSON-equal to the file, apart from key order).
@@ -88,6 +88,7 @@ pub fn over_source(
         .fold(0.0_f64, f64::max) as i64
         + 1;
     let mut nulls: Vec<Json> = Vec::new();
+    let mut restyles: Vec<(usize, usize, String)> = Vec::new();
     for (u, (track, shape)) in anim.tracks.iter().zip(&anim.scene.shapes).enumerate() {
         let info = UnitInfo {
             bbox: shape.bbox,
@@ -99,15 +100,16 @@ pub fn over_source(
         }
         let unit = &source.units[u];
         let name = format!("{}:{}", shape.tag, shape.id);
-        if !(motion.fill.is_empty()
-            && motion.stroke.is_empty()
-            && motion.stroke_width.is_empty()
-            && motion.deform_frames.is_empty())
-        {
+        if !motion.deform_frames.is_empty() {
             warnings.push(Warning::about(
                 name.clone(),
-                "colour, stroke-width and per-vertex motion are not yet layered onto a Lottie source; left out",
+                "per-vertex motion is not yet layered onto a Lottie source; left out",
             ));
+        }
+        if !(motion.fill.is_empty() && motion.stroke.is_empty() && motion.stroke_width.is_empty())
+            && let Some(&li) = unit.layers.first()
+        {
+            restyles.push((li, u, name.clone()));
         }
         if !motion.levels.is_empty() {
             for (k, (&li, &parent_world)) in unit.layers.iter().zip(&unit.parent_world).enumerate()
@@ -157,6 +159,11 @@ pub fn over_source(
         }
     }
     layers.extend(nulls);
+    // Colour and stroke width go into the layers' own items (and copies of the assets
+    // they draw), which needs the whole document.
+    for (li, u, name) in restyles {
+        crate::restyle::restyle(&mut json, li, source, &anim.tracks[u], &name, &mut warnings);
+    }
     Ok((json.to_string(), warnings))
 }
 
@@ -228,6 +235,9 @@ fn retime(tr: &mut Transform, f: impl Fn(f64) -> f64) {
     }
 }
 
+/// How far, in percent, a resampled opacity may stray from its keyframes' line.
+const OPACITY_EPS: f64 = 0.05;
+
 /// Multiplies the opacity multiplier `keys` (frames from the animation's start at the
 /// source's frame rate) into layer `li`'s `ks.o`.
 fn multiply_opacity(
@@ -261,36 +271,15 @@ fn multiply_opacity(
     let prop = if animated {
         // Both animate: the product at every frame of the composition.
         let frames = (doc.op - doc.ip).ceil().max(1.0) as usize;
-        let samples: Vec<(f64, f64)> = (0..=frames)
+        let samples: Vec<(f64, Vec<f64>)> = (0..=frames)
             .map(|f| {
                 let comp = doc.ip + f as f64;
                 let own = eval::scalar(model.ks.o.as_ref(), comp, 100.0);
                 let m = track.state_at(f as f64 / doc.fr).opacity.clamp(0.0, 1.0);
-                (comp, own * m)
+                (comp, vec![own * m])
             })
             .collect();
-        let mut kept: Vec<Keyframe> = Vec::new();
-        for (i, &(t, v)) in samples.iter().enumerate() {
-            // Drop samples on the line through their neighbours.
-            if i > 0 && i + 1 < samples.len() {
-                let (t0, v0) = samples[i - 1];
-                let (t1, v1) = samples[i + 1];
-                let line = v0 + (v1 - v0) * (t - t0) / (t1 - t0);
-                if (line - v).abs() < 0.05 {
-                    continue;
-                }
-            }
-            kept.push(Keyframe {
-                t: N::coord(t),
-                s: Value::Scalar(N::coord(v)),
-                ease: Some(crate::model::Ease::LINEAR),
-                hold: false,
-            });
-        }
-        if let Some(last) = kept.last_mut() {
-            last.ease = None;
-        }
-        Prop::keyed(kept)
+        crate::restyle::resampled(samples, OPACITY_EPS)
     } else {
         let base = eval::scalar(model.ks.o.as_ref(), 0.0, 100.0);
         let at = |a: &f64, b: &f64, p: f64| a + (b - a) * p;

@@ -37,6 +37,7 @@ pub mod layered;
 mod layers;
 mod model;
 mod paint;
+mod restyle;
 
 use rayon::prelude::*;
 

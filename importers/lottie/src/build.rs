@@ -15,7 +15,7 @@ use gmotion::scene::{
 
 use crate::model::{
     Asset, Document, Gradient, Layer, LayerKind, LayerMask, Loc, Num, Result, ShapeItem, ShapeKind,
-    error,
+    StrokeStyle, error,
 };
 use crate::{eval, outline};
 
@@ -470,45 +470,13 @@ impl<'a> Builder<'a> {
                     };
                     scope.paint(Some(fill), None);
                 }
-                ShapeKind::Stroke {
-                    c,
-                    o,
-                    w,
-                    lc,
-                    lj,
-                    ml,
-                    dashes,
-                } => {
+                ShapeKind::Stroke { c, o, w, style } => {
                     let mut stroke = Stroke::solid(
                         self.color(c.as_ref(), t),
                         eval::scalar(w.as_ref(), t, 1.0).max(0.0),
                     );
                     stroke.opacity = percent(o.as_ref(), t);
-                    stroke.cap = match lc {
-                        1 => LineCap::Butt,
-                        3 => LineCap::Square,
-                        _ => LineCap::Round,
-                    };
-                    stroke.join = match lj {
-                        1 => LineJoin::Miter,
-                        3 => LineJoin::Bevel,
-                        _ => LineJoin::Round,
-                    };
-                    stroke.miter_limit = ml.max(1.0);
-                    let mut dash = Vec::new();
-                    for d in dashes {
-                        let v = eval::scalar(Some(&d.v), t, 0.0).max(0.0);
-                        match d.n.as_str() {
-                            "o" => stroke.dash_offset = v,
-                            _ => dash.push(v),
-                        }
-                    }
-                    if dash.len() % 2 == 1 {
-                        dash.extend(dash.clone());
-                    }
-                    if dash.iter().any(|d| *d > 0.0) {
-                        stroke.dash = Some(dash);
-                    }
+                    styled(&mut stroke, style, t);
                     scope.paint(None, Some(stroke));
                 }
                 ShapeKind::Gradient(g) => {
@@ -519,6 +487,7 @@ impl<'a> Builder<'a> {
                         let mut s = Stroke::solid(Color::BLACK, width);
                         s.paint = paint;
                         s.opacity = opacity;
+                        styled(&mut s, &g.style, t);
                         scope.paint(None, Some(s));
                     } else {
                         let f = Fill {
@@ -696,6 +665,35 @@ pub fn inner_time(l: &Layer, t: f64) -> f64 {
 
 fn percent(o: Option<&Num>, t: f64) -> f32 {
     (eval::scalar(o, t, 100.0) / 100.0).clamp(0.0, 1.0) as f32
+}
+
+/// `stroke` with the caps, joins and dashes of `style` at time `t`.
+fn styled(stroke: &mut Stroke, style: &StrokeStyle, t: f64) {
+    stroke.cap = match style.lc {
+        1 => LineCap::Butt,
+        3 => LineCap::Square,
+        _ => LineCap::Round,
+    };
+    stroke.join = match style.lj {
+        1 => LineJoin::Miter,
+        3 => LineJoin::Bevel,
+        _ => LineJoin::Round,
+    };
+    stroke.miter_limit = style.ml.max(1.0);
+    let mut dash = Vec::new();
+    for d in &style.dashes {
+        let v = eval::scalar(Some(&d.v), t, 0.0).max(0.0);
+        match d.n.as_str() {
+            "o" => stroke.dash_offset = v,
+            _ => dash.push(v),
+        }
+    }
+    if dash.len() % 2 == 1 {
+        dash.extend(dash.clone());
+    }
+    if dash.iter().any(|d| *d > 0.0) {
+        stroke.dash = Some(dash);
+    }
 }
 
 fn fill_rule(rule: i64) -> FillRule {

@@ -574,14 +574,8 @@ pub enum ShapeKind {
         o: Option<Num>,
         /// Width.
         w: Option<Num>,
-        /// Line cap: 1 butt, 2 round, 3 square.
-        lc: i64,
-        /// Line join: 1 miter, 2 round, 3 bevel.
-        lj: i64,
-        /// Miter limit.
-        ml: f64,
-        /// Dashes.
-        dashes: Vec<Dash>,
+        /// Caps, joins and dashes.
+        style: StrokeStyle,
     },
     /// `gf` / `gs`: a gradient fill or stroke.
     Gradient(Box<Gradient>),
@@ -601,6 +595,42 @@ pub enum ShapeKind {
     /// Anything else (modifiers such as trim paths, repeaters, merge paths; unknown types):
     /// its `ty`.
     Other(String),
+}
+
+/// How a stroke (`st` or `gs`) draws its line.
+#[derive(Clone, Debug)]
+pub struct StrokeStyle {
+    /// Line cap: 1 butt, 2 round, 3 square.
+    pub lc: i64,
+    /// Line join: 1 miter, 2 round, 3 bevel.
+    pub lj: i64,
+    /// Miter limit.
+    pub ml: f64,
+    /// Dashes.
+    pub dashes: Vec<Dash>,
+}
+
+impl StrokeStyle {
+    fn read(o: &serde_json::Map<String, Value>, at: &Loc) -> Result<StrokeStyle> {
+        let mut dashes = Vec::new();
+        if let Some(d) = o.get("d") {
+            let d_at = at.key("d");
+            for (i, e) in array(d, &d_at)?.iter().enumerate() {
+                let e_at = d_at.idx(i);
+                let eo = object(e, &e_at)?;
+                let n = opt_string(eo, "n", &e_at)?.unwrap_or_default();
+                if let Some(v) = opt_property(eo, "v", &e_at)? {
+                    dashes.push(Dash { n, v });
+                }
+            }
+        }
+        Ok(StrokeStyle {
+            lc: opt_int(o, "lc", at)?.unwrap_or(2),
+            lj: opt_int(o, "lj", at)?.unwrap_or(2),
+            ml: opt_number(o, "ml", at)?.unwrap_or(4.0),
+            dashes,
+        })
+    }
 }
 
 /// A gradient fill (`gf`) or stroke (`gs`).
@@ -629,6 +659,8 @@ pub struct Gradient {
     pub w: Option<Num>,
     /// Fill rule (`gf`).
     pub rule: i64,
+    /// Caps, joins and dashes (`gs`).
+    pub style: StrokeStyle,
 }
 
 /// A shape item with its name, visibility and location.
@@ -712,29 +744,12 @@ fn shape_item(v: &Value, at: &Loc) -> Result<ShapeItem> {
             o: num("o")?,
             rule: opt_int(o, "r", at)?.unwrap_or(1),
         },
-        "st" => {
-            let mut dashes = Vec::new();
-            if let Some(d) = o.get("d") {
-                let d_at = at.key("d");
-                for (i, e) in array(d, &d_at)?.iter().enumerate() {
-                    let e_at = d_at.idx(i);
-                    let eo = object(e, &e_at)?;
-                    let n = opt_string(eo, "n", &e_at)?.unwrap_or_default();
-                    if let Some(v) = opt_property(eo, "v", &e_at)? {
-                        dashes.push(Dash { n, v });
-                    }
-                }
-            }
-            ShapeKind::Stroke {
-                c: num("c")?,
-                o: num("o")?,
-                w: num("w")?,
-                lc: opt_int(o, "lc", at)?.unwrap_or(2),
-                lj: opt_int(o, "lj", at)?.unwrap_or(2),
-                ml: opt_number(o, "ml", at)?.unwrap_or(4.0),
-                dashes,
-            }
-        }
+        "st" => ShapeKind::Stroke {
+            c: num("c")?,
+            o: num("o")?,
+            w: num("w")?,
+            style: StrokeStyle::read(o, at)?,
+        },
         "gf" | "gs" => {
             let (stops, count) = match o.get("g") {
                 Some(g) => {
@@ -757,6 +772,7 @@ fn shape_item(v: &Value, at: &Loc) -> Result<ShapeItem> {
                 angle: num("a")?,
                 w: num("w")?,
                 rule: opt_int(o, "r", at)?.unwrap_or(1),
+                style: StrokeStyle::read(o, at)?,
             }))
         }
         "tm" => ShapeKind::Trim {

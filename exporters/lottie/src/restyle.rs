@@ -1,0 +1,317 @@
+//! gmotion's colour and stroke-width motion written into a Lottie source's own shape
+//! items: every fill's and stroke's colour tinted as gmotion tints it, every stroke's
+//! width multiplied, sampled frame by frame over the composition (where the source's own
+//! value animates too, the product follows both) and reduced to the keyframes that
+//! matter.
+
+use serde_json::Value as Json;
+
+use gmotion::Warning;
+use gmotion::color::Color;
+use gmotion::motion::{ShapeState, Tint, Track};
+use gmotion_import_lottie::Source;
+use gmotion_import_lottie::eval;
+use gmotion_import_lottie::model::{Layer, LayerKind, Num, ShapeItem, ShapeKind};
+
+use crate::model::{Ease, Keyframe, N, Prop, Value};
+
+/// How far (in the property's own unit: 0–1 colour, pixels of width, percent of
+/// opacity) a sample may stray from the line through its neighbours to be dropped.
+const COLOR_EPS: f64 = 1.0 / 512.0;
+const WIDTH_EPS: f64 = 0.01;
+
+/// Writes `track`'s fill and stroke tints and stroke-width factor into root layer `li` of
+/// `doc` (the document being written) and everything it draws: the fills, strokes and
+/// gradients of a shape layer; for a precomposition, a copy of its asset (so that other
+/// uses keep theirs) with the same done to every layer inside, on the precomposition's own
+/// clock. What cannot be written is warned about under `name`.
+pub(crate) fn restyle(
+    doc: &mut Json,
+    li: usize,
+    source: &Source,
+    track: &Track,
+    name: &str,
+    warnings: &mut Vec<Warning>,
+) {
+    let d = &source.document;
+    let Some(model) = d.layers.get(li) else {
+        return;
+    };
+    let frames = (d.op - d.ip).ceil().max(1.0) as usize;
+    let clock: Vec<(f64, ShapeState)> = (0..=frames)
+        .map(|f| (d.ip + f as f64, track.state_at(f as f64 / d.fr)))
+        .collect();
+    let mut walk = Walk {
+        source,
+        legacy: d.older_than((4, 1, 9)),
+        label: format!("{name} (layer \"{}\")", model.nm),
+        warnings,
+        copies: Vec::new(),
+        suffix: name.replace(':', " "),
+    };
+    let Some(layer) = doc.get_mut("layers").and_then(|l| l.get_mut(li)) else {
+        return;
+    };
+    walk.layer(layer, model, &clock, 0);
+    let copies = std::mem::take(&mut walk.copies);
+    if copies.is_empty() {
+        return;
+    }
+    if let Some(assets) = doc.get_mut("assets").and_then(Json::as_array_mut) {
+        assets.extend(copies);
+    }
+}
+
+struct Walk<'a> {
+    source: &'a Source,
+    /// Files before 4.1.9 may hold 0–255 colours.
+    legacy: bool,
+    label: String,
+    warnings: &'a mut Vec<Warning>,
+    /// Restyled copies of precomposition assets, to add to the document.
+    copies: Vec<Json>,
+    /// What names the unit in a copied asset's id.
+    suffix: String,
+}
+
+impl Walk<'_> {
+    /// Restyles layer `json` (read as `model`); `clock` pairs each frame of the layer's
+    /// composition with gmotion's state then.
+    fn layer(&mut self, json: &mut Json, model: &Layer, clock: &[(f64, ShapeState)], depth: usize) {
+        match model.kind {
+            LayerKind::Shape => {
+                if let Some(items) = json.get_mut("shapes").and_then(Json::as_array_mut) {
+                    self.items(items, &model.shapes, clock);
+                }
+            }
+            LayerKind::Precomp if model.tm.is_some() => {
+                self.warn(
+                    "colour and stroke width are not written into time-remapped precompositions",
+                );
+            }
+            LayerKind::Precomp => {
+                let assets = self.source.document.assets.iter();
+                let found = model
+                    .ref_id
+                    .as_deref()
+                    .and_then(|id| assets.clone().find(|a| a.id == id))
+                    .and_then(|a| Some((a, a.layers.as_ref()?)));
+                let original = self
+                    .source
+                    .json
+                    .get("assets")
+                    .and_then(Json::as_array)
+                    .and_then(|list| {
+                        list.iter()
+                            .find(|a| a.get("id").and_then(Json::as_str) == model.ref_id.as_deref())
+                    });
+                let (Some((asset, inner)), Some(original)) = (found, original) else {
+                    return;
+                };
+                if depth >= gmotion_import_lottie::build::MAX_PRECOMP_DEPTH {
+                    return;
+                }
+                let mut copy = original.clone();
+                let id = format!("{} gmotion {} {}", asset.id, self.suffix, self.copies.len());
+                copy["id"] = Json::from(id.clone());
+                let inner_clock: Vec<(f64, ShapeState)> = clock
+                    .iter()
+                    .map(|(f, s)| (gmotion_import_lottie::build::inner_time(model, *f), *s))
+                    .collect();
+                if let Some(layers) = copy.get_mut("layers").and_then(Json::as_array_mut) {
+                    for (lj, lm) in layers.iter_mut().zip(inner) {
+                        self.layer(lj, lm, &inner_clock, depth + 1);
+                    }
+                }
+                json["refId"] = Json::from(id);
+                self.copies.push(copy);
+            }
+            LayerKind::Null => {}
+            _ => self.warn(
+                "colour and stroke width are written into shape layers and precompositions only",
+            ),
+        }
+    }
+
+    fn items(&mut self, json: &mut [Json], model: &[ShapeItem], clock: &[(f64, ShapeState)]) {
+        for (j, m) in json.iter_mut().zip(model) {
+            match &m.kind {
+                ShapeKind::Group(sub) => {
+                    if let Some(it) = j.get_mut("it").and_then(Json::as_array_mut) {
+                        self.items(it, sub, clock);
+                    }
+                }
+                ShapeKind::Fill { c, .. } => self.color(j, c.as_ref(), clock, |s| s.fill),
+                ShapeKind::Stroke { c, w, .. } => {
+                    self.color(j, c.as_ref(), clock, |s| s.stroke);
+                    self.width(j, w.as_ref(), clock);
+                }
+                ShapeKind::Gradient(g) => {
+                    let tint = |s: &ShapeState| if g.stroke { s.stroke } else { s.fill };
+                    self.stops(j, g, clock, tint);
+                    if g.stroke {
+                        self.width(j, g.w.as_ref(), clock);
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+
+    fn warn(&mut self, what: &str) {
+        let w = Warning::about(self.label.clone(), what);
+        if !self.warnings.contains(&w) {
+            self.warnings.push(w);
+        }
+    }
+
+    /// The item's colour `c` tinted by `tint` of each state.
+    fn color(
+        &mut self,
+        item: &mut Json,
+        c: Option<&Num>,
+        clock: &[(f64, ShapeState)],
+        tint: impl Fn(&ShapeState) -> Tint,
+    ) {
+        if clock.iter().all(|(_, s)| tint(s) == Tint::NONE) {
+            return;
+        }
+        if c.is_some_and(|c| c.expression) {
+            return self
+                .warn("an expression drives a colour; gmotion's colour motion is left out there");
+        }
+        let own = |f: f64| eval::num(c, f, &[0.0, 0.0, 0.0, 1.0]);
+        let scale = self.scale(&own(clock[0].0)[..3.min(own(clock[0].0).len())]);
+        let samples = clock
+            .iter()
+            .map(|(f, s)| {
+                let mut v = own(*f);
+                v.resize(4, 1.0);
+                let [r, g, b] = tinted(tint(s), [v[0], v[1], v[2]], scale);
+                (*f, vec![r, g, b, v[3]])
+            })
+            .collect();
+        item["c"] = to_json(&resampled(samples, COLOR_EPS * scale));
+    }
+
+    /// A gradient's colour stops tinted by `tint` of each state (its opacity stops kept).
+    fn stops(
+        &mut self,
+        item: &mut Json,
+        g: &gmotion_import_lottie::model::Gradient,
+        clock: &[(f64, ShapeState)],
+        tint: impl Fn(&ShapeState) -> Tint,
+    ) {
+        if clock.iter().all(|(_, s)| tint(s) == Tint::NONE) {
+            return;
+        }
+        if g.stops.as_ref().is_some_and(|c| c.expression) {
+            return self.warn(
+                "an expression drives gradient colours; gmotion's colour motion is left out there",
+            );
+        }
+        let own = |f: f64| eval::num(g.stops.as_ref(), f, &[]);
+        let samples: Vec<(f64, Vec<f64>)> = clock
+            .iter()
+            .map(|(f, s)| {
+                let mut v = own(*f);
+                for k in 0..g.count.min(v.len() / 4) {
+                    let rgb = [v[4 * k + 1], v[4 * k + 2], v[4 * k + 3]];
+                    let [r, gg, b] = tinted(tint(s), rgb, 1.0);
+                    v[4 * k + 1..4 * k + 4].copy_from_slice(&[r, gg, b]);
+                }
+                (*f, v)
+            })
+            .collect();
+        if let Some(gj) = item.get_mut("g").and_then(Json::as_object_mut) {
+            gj.insert("k".into(), to_json(&resampled(samples, COLOR_EPS)));
+        }
+    }
+
+    /// 255 for a legacy document whose colour `rgb` is in 0–255, else 1.
+    fn scale(&self, rgb: &[f64]) -> f64 {
+        if self.legacy && rgb.iter().any(|x| *x > 1.0) {
+            255.0
+        } else {
+            1.0
+        }
+    }
+
+    /// The stroke's width `w` multiplied by each state's stroke-width factor.
+    fn width(&mut self, item: &mut Json, w: Option<&Num>, clock: &[(f64, ShapeState)]) {
+        if clock.iter().all(|(_, s)| s.stroke_width == 1.0) {
+            return;
+        }
+        if w.is_some_and(|w| w.expression) {
+            return self.warn("an expression drives a stroke width; gmotion's stroke-width motion is left out there");
+        }
+        let samples = clock
+            .iter()
+            .map(|(f, s)| (*f, vec![eval::scalar(w, *f, 1.0) * s.stroke_width.max(0.0)]))
+            .collect();
+        item["w"] = to_json(&resampled(samples, WIDTH_EPS));
+    }
+}
+
+/// `rgb` (in 0..`scale`) as `tint` shows it.
+fn tinted(tint: Tint, rgb: [f64; 3], scale: f64) -> [f64; 3] {
+    let c = |x: f64| (x / scale) as f32;
+    let shown = tint.apply(Color {
+        r: c(rgb[0]),
+        g: c(rgb[1]),
+        b: c(rgb[2]),
+        a: 1.0,
+    });
+    [shown.r, shown.g, shown.b].map(|x| f64::from(x) * scale)
+}
+
+fn to_json(p: &Prop) -> Json {
+    serde_json::to_value(p).unwrap_or(Json::Null)
+}
+
+/// A property from per-frame `samples` (composition frame, value): static when every
+/// sample is equal, else linear keyframes at as few samples as keep every sample within
+/// `eps` (in every component) of the line between the keyframes around it.
+pub(crate) fn resampled(samples: Vec<(f64, Vec<f64>)>, eps: f64) -> Prop {
+    let value = |v: &[f64]| match v {
+        [x] => Value::Scalar(N::coord(*x)),
+        v => Value::Vec(v.iter().map(|x| N::coord(*x)).collect()),
+    };
+    let first = samples.first().map(|s| s.1.clone()).unwrap_or_default();
+    if samples.iter().all(|s| s.1 == first) {
+        return Prop::fixed(value(&first));
+    }
+    // Within eps of the line from sample a to sample b, every sample between them.
+    let fits = |a: usize, b: usize| {
+        let ((ta, va), (tb, vb)) = (&samples[a], &samples[b]);
+        samples[a + 1..b].iter().all(|(t, v)| {
+            let u = (t - ta) / (tb - ta);
+            v.iter()
+                .zip(va.iter().zip(vb))
+                .all(|(x, (p, q))| (p + (q - p) * u - x).abs() < eps)
+        })
+    };
+    let mut keep = vec![0];
+    let mut a = 0;
+    while a + 1 < samples.len() {
+        let mut b = a + 1;
+        while b + 1 < samples.len() && fits(a, b + 1) {
+            b += 1;
+        }
+        keep.push(b);
+        a = b;
+    }
+    let mut kept: Vec<Keyframe> = keep
+        .into_iter()
+        .map(|i| Keyframe {
+            t: N::coord(samples[i].0),
+            s: value(&samples[i].1),
+            ease: Some(Ease::LINEAR),
+            hold: false,
+        })
+        .collect();
+    if let Some(last) = kept.last_mut() {
+        last.ease = None;
+    }
+    Prop::keyed(kept)
+}
