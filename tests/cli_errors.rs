@@ -25,6 +25,9 @@ const STROKED: &str = r#"<svg xmlns="http://www.w3.org/2000/svg" width="100" hei
 
 const TARGETS: &str = r#"{"fps": 30, "duration": 1, "targets": [{"time": 0, "tag": "s", "id": 0, "attr": "dx", "value": 0}, {"time": 0.5, "tag": "s", "id": 0, "attr": "dx", "value": 20}]}"#;
 
+/// A 2 s Lottie composition of one square.
+const LOTTIE: &str = r#"{"v": "5.7.0", "fr": 30, "ip": 0, "op": 60, "w": 100, "h": 100, "layers": [{"ddd": 0, "ty": 4, "nm": "sq", "ind": 1, "ip": 0, "op": 60, "st": 0, "ks": {}, "shapes": [{"ty": "rc", "d": 1, "p": {"a": 0, "k": [50, 50]}, "s": {"a": 0, "k": [20, 20]}, "r": {"a": 0, "k": 0}}, {"ty": "fl", "c": {"a": 0, "k": [1, 0, 0, 1]}, "o": {"a": 0, "k": 100}}]}]}"#;
+
 /// The command line most cases run: animate the case's scene and grammar to a PNG.
 const ANIMATE_PNG: &str = "animate {d}/scene.svg {d}/g.gm -o {d}/out.png";
 
@@ -324,6 +327,9 @@ fn cases() -> Vec<Case> {
         Case::new("convert missing file", "convert {d}/nope.svg -o {d}/out.png", &["nope.svg"], "out.png"),
         Case::new("convert to a frames directory", "convert {d}/scene.svg -o {d}/frames", &["still"], "frames"),
         Case::new("check missing grammar", "check {d}/nope.gm", &["nope.gm"], "nope.gm"),
+        Case::new("convert --time on a still SVG", "convert {d}/scene.svg -o {d}/out.png --time 1", &["scene.svg", "--time picks a frame of a Lottie input"], "out.png"),
+        Case::new("Lottie --time past the end", "convert {d}/anim.json -o {d}/out.png --time 9", &["--time", "0..2s"], "out.png").file("anim.json", LOTTIE),
+        Case::new("Lottie reference time past the end", "check --shapes {d}/anim.json --reference-time 5", &["anim.json", "reference time 5s lies outside the composition"], "none").file("anim.json", LOTTIE),
     ]
 }
 
@@ -375,7 +381,7 @@ fn run_bounded(args: &[String]) -> (Option<i32>, String, Duration) {
 #[test]
 fn bad_input_is_reported_cleanly() {
     let all = all_cases();
-    assert!(all.len() >= 75);
+    assert!(all.len() >= 83);
     let mut failures = Vec::new();
     for (i, c) in all.iter().enumerate() {
         let dir = case_dir(i);

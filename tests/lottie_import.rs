@@ -870,3 +870,58 @@ fn own_render_draws_each_feature_as_the_players_do() {
         dir.display()
     );
 }
+
+/// `convert anim.json` plays the composition: a GIF of every frame (60 at 30 fps), a
+/// folder of the same frames, and a PNG at `--time`; in each, a square that travels from
+/// x = 40 to x = 160 is where the keyframes put it.
+#[test]
+fn a_lottie_file_plays_to_gif_frames_and_png() {
+    let dir = out_dir("plays");
+    let mut square = shape_layer(
+        "square",
+        1,
+        ks([0.0, 0.0], 0.0, 100.0),
+        json!([{"ty": "rc", "d": 1, "s": fixed(json!([20, 20])), "r": fixed(json!(0)),
+                "p": anim(json!([40, 100]), json!([160, 100]))}, solid_fill([1.0, 0.0, 0.0]), group_tr()]),
+    );
+    square["ks"]["o"] = fixed(json!(100));
+    let src = write_json(&dir, "anim.json", &doc(json!([square]), json!([])));
+    let (gif, frames, png) = (dir.join("a.gif"), dir.join("frames"), dir.join("a.png"));
+    let (ok, _, err) = run(bin()
+        .arg("convert")
+        .arg(&src)
+        .args(["--time", "1", "-o"])
+        .arg(&gif)
+        .arg("-o")
+        .arg(&frames)
+        .arg("-o")
+        .arg(&png));
+    assert!(ok, "{err}");
+    let red_x = |pm: &Pixmap| {
+        let (mut sum, mut n) = (0.0, 0.0);
+        for (i, p) in pm.pixels().iter().enumerate() {
+            if p.alpha() > 128 && p.red() > 128 {
+                sum += (i % pm.width() as usize) as f64 + 0.5;
+                n += 1.0;
+            }
+        }
+        sum / n
+    };
+    // Frame f shows the square at 40 + 120·f/60.
+    let listed = files_with_extension(&frames, "png", "the frames folder");
+    assert_eq!(listed.len(), 60, "{listed:?}");
+    for f in [0, 15, 59] {
+        let x = red_x(&Pixmap::load_png(&listed[f]).unwrap());
+        assert!((x - (40.0 + 2.0 * f as f64)).abs() < 0.5, "frame {f}: {x}");
+    }
+    let x = red_x(&Pixmap::load_png(&png).unwrap());
+    assert!((x - 100.0).abs() < 0.5, "--time 1: {x}");
+    let mut decoder = gif::DecodeOptions::new()
+        .read_info(std::fs::File::open(&gif).unwrap())
+        .unwrap();
+    let mut count = 0;
+    while decoder.read_next_frame().unwrap().is_some() {
+        count += 1;
+    }
+    assert_eq!(count, 60);
+}
