@@ -141,6 +141,15 @@ fn entity_bomb() -> Vec<u8> {
     .into_bytes()
 }
 
+/// 200 000 CSS rules in a `<style>` on line 2 (a minute of style resolution unbounded).
+fn css_bomb() -> Vec<u8> {
+    let rules: String = (0..200_000).map(|i| format!(".c{i}{{fill:red}}")).collect();
+    format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"100\" height=\"80\">\n<style>{rules}</style>\n<rect class=\"c1\" width=\"10\" height=\"10\"/></svg>\n"
+    )
+    .into_bytes()
+}
+
 /// A gzip stream of `n` bytes of spaces after an SVG opening (a `.svgz` bomb when large).
 fn svgz(n: usize) -> Vec<u8> {
     use std::io::Write;
@@ -250,6 +259,7 @@ fn all_cases() -> Vec<Case> {
         ),
         Case::new("unknown limit", "convert {d}/scene.svg -o {d}/out.png --limit wombats=3", &["unknown limit `wombats`", "frames"], "out.png"),
         Case::new("input-bytes limit", "convert {d}/scene.svg -o {d}/out.png --limit input-bytes=100", &["scene.svg", "limit of 100 bytes", "input-bytes"], "out.png"),
+        scene_case("200 000 CSS rules", &css_bomb(), &["scene.svg", "2:1:", "10000 CSS rules", "css-rules"]),
         Case::new("xml-nodes limit", "convert {d}/scene.svg -o {d}/out.png --limit xml-nodes=3", &["scene.svg", "limit of 3 XML nodes", "xml-nodes"], "out.png"),
         scene_case("entity expansion", &entity_bomb(), &["scene.svg", "7:", "XML entities", "xml-entity-bytes"]),
         Case::new("svgz bomb", "convert {d}/scene.svgz -o {d}/out.png", &["scene.svgz", "decompresses to more than the limit", "svgz-bytes"], "out.png")
@@ -381,7 +391,7 @@ fn run_bounded(args: &[String]) -> (Option<i32>, String, Duration) {
 #[test]
 fn bad_input_is_reported_cleanly() {
     let all = all_cases();
-    assert!(all.len() >= 83);
+    assert!(all.len() >= 84);
     let mut failures = Vec::new();
     for (i, c) in all.iter().enumerate() {
         let dir = case_dir(i);

@@ -25,6 +25,11 @@ pub const LIMITS: &[(&str, u64, &str)] = &[
         "total text XML entities expand to",
     ),
     ("xml-nodes", 1_000_000, "XML nodes of an SVG"),
+    (
+        "css-rules",
+        10_000,
+        "CSS rules in an SVG's <style> elements",
+    ),
     ("frames", 10_000, "frames of an animation (duration × fps)"),
     (
         "pixels",
@@ -97,6 +102,7 @@ impl Limits {
             max_svgz_bytes: self.get("svgz-bytes"),
             max_entity_bytes: self.get("xml-entity-bytes"),
             max_xml_nodes: u32::try_from(self.get("xml-nodes")).unwrap_or(u32::MAX),
+            max_css_rules: u32::try_from(self.get("css-rules")).unwrap_or(u32::MAX),
         }
     }
 

@@ -26,7 +26,7 @@ struct Cli {
     #[command(subcommand)]
     command: Command,
     /// Raise or lower a limit, `NAME=N` (repeatable): input-bytes, svgz-bytes,
-    /// xml-entity-bytes, xml-nodes, frames, pixels, animation-pixels, steps (see the
+    /// xml-entity-bytes, xml-nodes, css-rules, frames, pixels, animation-pixels, steps (see the
     /// README's "Limits").
     #[arg(long = "limit", value_name = "NAME=N", global = true)]
     limits: Vec<String>,

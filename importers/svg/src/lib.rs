@@ -64,6 +64,9 @@ pub struct Policy {
     /// Most XML nodes (elements, text, attributes' owners) a document may have (default
     /// 1 000 000; `--limit xml-nodes=N`).
     pub max_xml_nodes: u32,
+    /// Most CSS rules the `<style>` elements of a document may hold together (default
+    /// 10 000; `--limit css-rules=N`).
+    pub max_css_rules: u32,
 }
 
 impl Default for Policy {
@@ -74,6 +77,7 @@ impl Default for Policy {
             max_svgz_bytes: 64 << 20,
             max_entity_bytes: 1 << 20,
             max_xml_nodes: 1_000_000,
+            max_css_rules: 10_000,
         }
     }
 }
@@ -216,7 +220,12 @@ fn parse_in(
     policy: &Policy,
 ) -> Result<Imported, ImportError> {
     source::check_entities(text, source_name, policy.max_entity_bytes)?;
-    let src = source::Source::parse(text, source_name, policy.max_xml_nodes)?;
+    let src = source::Source::parse(
+        text,
+        source_name,
+        policy.max_xml_nodes,
+        policy.max_css_rules,
+    )?;
     let refused = std::sync::Arc::new(std::sync::Mutex::new(Vec::<(String, String)>::new()));
     let mut uopt = usvg::Options {
         resources_dir: dir.map(Path::to_path_buf),
