@@ -513,7 +513,7 @@ mod tests {
     #[test]
     fn synthetic_ids_are_inserted_and_resolved() {
         let text = r#"<svg xmlns="http://www.w3.org/2000/svg"><g><rect/><circle id="c"/><path id="c"/></g></svg>"#;
-        let src = Source::parse(text, "t.svg", u32::MAX).unwrap();
+        let src = Source::parse(text, "t.svg", u32::MAX, u32::MAX).unwrap();
         let prepared = Document::parse(&src.prepared).unwrap();
         let ids: Vec<_> = prepared
             .descendants()
@@ -529,7 +529,7 @@ mod tests {
     #[test]
     fn prefix_avoids_existing_ids() {
         let text = r#"<svg xmlns="http://www.w3.org/2000/svg"><rect id="__gm0"/><rect/></svg>"#;
-        let src = Source::parse(text, "t.svg", u32::MAX).unwrap();
+        let src = Source::parse(text, "t.svg", u32::MAX, u32::MAX).unwrap();
         assert!(src.prepared.contains("id=\"__gm_0\""));
         assert!(!src.is_synthetic("__gm0"));
     }
