@@ -270,6 +270,8 @@ fn all_cases() -> Vec<Case> {
             ("scene.svg", SCENE.into()),
             ("t.json", TARGETS.replacen("{", &format!("{{\"system\": \"{}\", ", "cascade(".repeat(100_000)), 1).into_bytes()),
         ]),
+        Case::new("targets at 1e308 s", "transitions {d}/scene.svg {d}/t.json -o {d}/out.json", &["t.json", "targets up to 1e308s at 30 fps", "--limit frames=N"], "out.json")
+            .files(vec![("scene.svg", SCENE.into()), ("t.json", TARGETS.replace("\"time\": 0.5", "\"time\": 1e308").into_bytes())]),
         // 5. Line endings and encodings.
         case("lone CR line endings", "# a comment\rduration 1s\rwiggle(3) : [all, s] -> [m]\r", &["g.gm:3:1", "wiggle"]),
         case("CRLF line endings", "# a comment\r\nduration 1s\r\nwiggle(3) : [all, s] -> [m]\r\n", &["g.gm:3:1", "wiggle"]),
@@ -391,7 +393,7 @@ fn run_bounded(args: &[String]) -> (Option<i32>, String, Duration) {
 #[test]
 fn bad_input_is_reported_cleanly() {
     let all = all_cases();
-    assert!(all.len() >= 84);
+    assert!(all.len() >= 85);
     let mut failures = Vec::new();
     for (i, c) in all.iter().enumerate() {
         let dir = case_dir(i);

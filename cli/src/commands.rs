@@ -716,6 +716,24 @@ fn transitions(
         ctx.limits
             .check_frames(d * fps, &format!("--duration {d}s at {fps} fps"))?;
     }
+    // The last target (or the file's own duration) sets how long the animation runs.
+    let last = t
+        .targets
+        .iter()
+        .map(|x| x.time)
+        .chain(t.duration)
+        .fold(0.0, f64::max);
+    if duration.is_none() {
+        ctx.limits.check_frames(
+            last * fps,
+            &format!(
+                "{}: error: targets up to {}s at {} fps",
+                targets.display(),
+                guard::short(last),
+                guard::short(fps)
+            ),
+        )?;
+    }
     let anim =
         gmotion::transitions::run(&scene, &t, &system, fps, duration).map_err(|e| match e {
             // A target naming a missing tag is an error in the targets file: say which.
