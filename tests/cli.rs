@@ -699,3 +699,34 @@ fn a_frames_folder_holding_other_files_is_refused_before_any_output() {
     assert_eq!(left.len(), 1);
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// A write past the file-size limit (`ulimit -f`, SIGXFSZ) is an error like any failed
+/// write: exit status 1, a message naming the output, no output and no temporary file
+/// left beside it.
+#[test]
+fn a_file_size_limit_fails_cleanly() {
+    let dir = out_dir("xfsz");
+    let g = root().join("grammars/abstract.gm");
+    let svg = root().join("grammars/abstract.svg");
+    let out = dir.join("out.gif");
+    let script = format!(
+        "ulimit -f 20; exec '{}' animate '{}' '{}' -o '{}'",
+        env!("CARGO_BIN_EXE_gmotion"),
+        svg.display(),
+        g.display(),
+        out.display()
+    );
+    let o = Command::new("bash")
+        .arg("-c")
+        .arg(&script)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("out.gif") && err.contains("File too large"),
+        "{err}"
+    );
+    let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+    assert!(left.is_empty(), "{left:?}");
+}

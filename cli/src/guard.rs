@@ -173,8 +173,15 @@ pub fn check_output_kind(o: &Path, frames_ok: bool) -> Result<()> {
 }
 
 /// Removes every temporary file on SIGINT and SIGTERM, then exits with 128 + the signal.
+/// SIGXFSZ (a write past the file-size limit, `ulimit -f`) would kill the process where
+/// it stands, leaving its temporary file; caught, the write fails with EFBIG instead and
+/// the output is abandoned like any failed write, with a message.
 pub fn clean_up_on_signals() {
-    use signal_hook::consts::{SIGINT, SIGTERM};
+    use signal_hook::consts::{SIGINT, SIGTERM, SIGXFSZ};
+    let _ = signal_hook::flag::register(
+        SIGXFSZ,
+        std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false)),
+    );
     let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM]) else {
         return;
     };
