@@ -12,6 +12,7 @@ mod cli_errors;
 mod corpus;
 mod engine;
 mod frame;
+mod fuzz;
 mod grammar_parse;
 mod import;
 mod lottie;

@@ -189,7 +189,7 @@ proptest! {
         let params = PlaceParams { shape, size, distance: size * spread };
         // A coarse working resolution keeps the (debug-build) rasters small; validity does
         // not depend on it.
-        let out = place(&region, &params, Vec2::new(1.0, 0.0), &mut Rng::new(seed), &g, 2.0);
+        let out = place(&region, &params, Vec2::new(1.0, 0.0), &mut Rng::new(seed), &g, 2.0).unwrap();
         let a = region.area();
         for p in &out.placed {
             prop_assert!(difference(p, &region, &g).area() <= 1e-9 * a + 1e-6, "placed shape outside");
@@ -239,7 +239,7 @@ proptest! {
         prop_assert!((out.area() + inner.area() - region.area()).abs() <= 1e-3 * region.area() + 1e-9);
         let _ = streamline_split(&region, FieldKind::Outline, d.max(2.0), 1.0, Vec2::new(1.0, 0.0), &g);
         let params = PlaceParams { shape: PlaceShape::Circle, size: d, distance: d };
-        let out = place(&region, &params, Vec2::new(1.0, 0.0), &mut Rng::new(seed), &g, 0.5);
+        let out = place(&region, &params, Vec2::new(1.0, 0.0), &mut Rng::new(seed), &g, 0.5).unwrap();
         prop_assert!(out.placed.iter().all(|p| difference(p, &region, &g).area() <= 1e-6));
     }
 }
@@ -279,6 +279,7 @@ fn degenerate_shapes_give_clean_results() {
         let params = PlaceParams::new(PlaceShape::Circle, 5.0, 6.0);
         assert!(
             place(r, &params, Vec2::new(1.0, 0.0), &mut Rng::new(1), &g, 0.5)
+                .unwrap()
                 .placed
                 .is_empty()
         );
@@ -310,9 +311,16 @@ fn degenerate_shapes_give_clean_results() {
     // Places larger than the shape place nothing.
     let params = PlaceParams::new(PlaceShape::Square, 500.0, 600.0);
     let mut rng = Rng::new(key(&[2]));
-    let out = place(&square, &params, Vec2::new(1.0, 0.0), &mut rng, &g, 0.5);
+    let out = place(&square, &params, Vec2::new(1.0, 0.0), &mut rng, &g, 0.5).unwrap();
     assert!(out.placed.is_empty());
     assert_eq!(out.remainder, square);
+    // Shapes 40 times larger than their distance overlap thousands of neighbours each:
+    // refused (a located warning at the rule), where resolving them took 35 s.
+    let params = PlaceParams::new(PlaceShape::Circle, 20.0, 0.5);
+    let big = Region::from_rect(Rect::new(0.0, 0.0, 300.0, 300.0));
+    let g = Grid::for_bounds(big.bbox()).unwrap();
+    let err = place(&big, &params, Vec2::new(1.0, 0.0), &mut rng, &g, 0.5).unwrap_err();
+    assert!(err.contains("too many neighbours"), "{err}");
 }
 
 // ---- expansion on scenes ----

@@ -493,8 +493,15 @@ impl EdgeIndex {
     }
 }
 
+/// At most this many pairs of sites close enough to overlap are tested: shapes much
+/// larger than their distance (`place(20, 0.5)`) would otherwise test every site against
+/// thousands of neighbours for minutes.
+pub const MAX_NEAR_PAIRS: usize = 2_000_000;
+
 /// Places copies of `params.shape` inside `region`, turned to `dir`, with randomness from
 /// `rng`. The raster is twice as fine as `resolution` (or finer, for close placements).
+/// An error when the shapes are so much larger than their distance that resolving their
+/// overlaps would pass [`MAX_NEAR_PAIRS`].
 pub fn place(
     region: &Region,
     params: &PlaceParams,
@@ -502,18 +509,18 @@ pub fn place(
     rng: &mut Rng,
     grid: &Grid,
     resolution: f64,
-) -> Placement {
+) -> Result<Placement, String> {
     let whole = Placement {
         remainder: region.clone(),
         placed: Vec::new(),
     };
     let area = region.area();
     if !(params.size > 0.0 && params.distance > 0.0 && area > 0.0) {
-        return whole;
+        return Ok(whole);
     }
     let unit = template(&params.shape, params.size, resolution);
     if unit.is_empty() {
-        return whole;
+        return Ok(whole);
     }
     let bb = region.bbox();
     let h = (params.distance / 8.0)
@@ -532,7 +539,7 @@ pub fn place(
         .filter(|&i| raster.inside[i] && depth[i] >= need)
         .collect();
     if eligible.is_empty() {
-        return whole;
+        return Ok(whole);
     }
     let mut sites = dart_throw(&raster, &eligible, params.distance, rng);
     lloyd(&raster, &mut sites);
@@ -567,6 +574,7 @@ pub fn place(
     let mut near: Vec<Vec<usize>> = vec![Vec::new(); sites.len()];
     let mut by_x: Vec<usize> = (0..sites.len()).collect();
     by_x.sort_by(|&a, &b| sites[a].x.total_cmp(&sites[b].x));
+    let mut pairs = 0usize;
     for (k, &i) in by_x.iter().enumerate() {
         for &j in by_x[k + 1..]
             .iter()
@@ -574,7 +582,14 @@ pub fn place(
         {
             if (sites[i] - sites[j]).hypot() < 2.0 * radius {
                 near[i].push(j);
+                pairs += 1;
             }
+        }
+        if pairs > MAX_NEAR_PAIRS {
+            return Err(format!(
+                "shapes of size {} placed {} apart overlap too many neighbours to resolve (more than {MAX_NEAR_PAIRS} pairs); use a distance nearer the size",
+                params.size, params.distance
+            ));
         }
     }
     loop {
@@ -626,10 +641,10 @@ pub fn place(
         .filter(|r| !r.is_empty())
         .collect();
     if placed.is_empty() {
-        return whole;
+        return Ok(whole);
     }
     let remainder = difference(region, &union_all(placed.iter(), grid), grid);
-    Placement { remainder, placed }
+    Ok(Placement { remainder, placed })
 }
 
 #[cfg(test)]
@@ -660,7 +675,7 @@ mod tests {
         let grid = Grid::for_bounds(region.bbox()).unwrap();
         let params = PlaceParams::new(PlaceShape::Circle, 12.0, 16.0);
         let mut rng = Rng::new(key(&[1]));
-        let out = place(&region, &params, Vec2::new(1.0, 0.0), &mut rng, &grid, 0.5);
+        let out = place(&region, &params, Vec2::new(1.0, 0.0), &mut rng, &grid, 0.5).unwrap();
         assert!(out.placed.len() > 15, "{}", out.placed.len());
         let total: f64 = out.placed.iter().map(Region::area).sum::<f64>() + out.remainder.area();
         assert!((total - 10_000.0).abs() < 1.0, "{total}");

@@ -8,21 +8,23 @@
 //! are not units. Units are in paint order (bottom layer first), and ids count within a
 //! tag in that order. Tags come from layer names ([`tags`]).
 //!
-//! **Geometry.** The document is evaluated at a reference frame (the first frame unless
-//! [`ImportOptions::frame`] says otherwise): parenting builds every layer's world
-//! transform; shape layers' groups, paths (`sh`), rectangles, ellipses, stars and
-//! polygons, fills and strokes (with dashes) become painted paths; precompositions are
-//! expanded (time remap and stretch included); solids are filled rectangles; alpha and luma
-//! track mattes become masks. Each unit is measured on that geometry (centroid, bounds,
-//! paint), and gmotion's own renderer draws that still. Keyframes are evaluated with their
-//! per-component Bézier easing, holds, legacy end values (`e`), split positions, and
-//! spatial tangents (by Bézier parameter, not arc length).
+//! **Geometry.** The document is evaluated at a reference time (the first frame unless
+//! [`ImportOptions::time`] says otherwise), and at any frame by [`Source::scene_at`], which
+//! is how gmotion plays a Lottie file itself: parenting builds every layer's world
+//! transform (3D layers projected as players without a camera show them, auto-oriented
+//! layers turned along their path); shape layers' groups, paths (`sh`), rectangles,
+//! ellipses, stars and polygons (built as lottie-web builds them, [`outline`]), fills,
+//! strokes with dashes and gradients become painted paths, after trim paths; layer masks
+//! in every mode and every kind of track matte become masks; precompositions are expanded
+//! (start time, stretch, time remap, clipped to their size); solids are filled rectangles.
+//! Keyframes are read in the time of the layer's composition, with per-component Bézier
+//! easing, holds, legacy end values (`e`), split positions, and spatial tangents travelled
+//! by arc length. Each unit is measured on that geometry (centroid, bounds, paint).
 //!
-//! **Not drawn** (with a warning naming the first place and how many): layer masks,
-//! gradients (their first stop's colour instead), trim paths, repeaters, merge paths, round
-//! corners and other shape modifiers, images (their rectangle is measured), text (measured
-//! as a point), inverted track mattes, expressions (the property's own value is used),
-//! precomposition clipping to its rectangle.
+//! **Not drawn** (with a warning naming the first place and how many): images (their
+//! rectangle is measured), text (measured as a point), repeaters, merge paths, round
+//! corners and the other shape modifiers, mask expansion, effects, expressions (the
+//! property's own value is used).
 //!
 //! **Errors.** Nothing in the input can make the import panic: every value is checked as it
 //! is read, and every error names its JSON location (`$.layers[3].ks.p.k[1].s`). Parent

@@ -243,7 +243,7 @@ impl Op {
                     &mut rng,
                     grid,
                     ctx.resolution,
-                );
+                )?;
                 let rem = out
                     .remainder
                     .polygons
