@@ -72,6 +72,16 @@ pub fn run(cmd: Command, ctx: &Ctx) -> Result<()> {
             &import,
             ctx,
         ),
+        Command::Studio {
+            files,
+            port,
+            no_open,
+            run,
+            import,
+        } => {
+            let (scene, grammar) = scene_and_grammar(&files, Order::SceneFirst)?;
+            studio(scene, grammar, port, no_open, &run, &import, ctx)
+        }
         Command::Check {
             files,
             graph,
@@ -538,6 +548,54 @@ fn build(
         eprintln!("{}: warning: {w}", grammar_path.display());
     }
     Ok((anim, g.settings, loaded.source))
+}
+
+/// `gmotion studio`: loads the scene as `animate` does (a grammar that does not parse is
+/// opened anyway when the scene is given, to be fixed in the studio) and serves.
+fn studio(
+    scene: Option<&Path>,
+    grammar_path: &Path,
+    port: u16,
+    no_open: bool,
+    run: &RunArgs,
+    import: &ImportArgs,
+    ctx: &Ctx,
+) -> Result<()> {
+    let (settings, scene_path) = match (load_grammar(grammar_path, ctx), scene) {
+        (Ok(g), _) => {
+            let Some(path) = scene_path(scene, grammar_path, &g)? else {
+                return Err(CliError::msg(format!(
+                    "{}: error: no scene to open: give one on the command line (`gmotion studio SCENE GRAMMAR`) or name it in the grammar (`scene FILE`)",
+                    grammar_path.display()
+                )));
+            };
+            (g.settings, path)
+        }
+        (Err(_), Some(s)) => (Settings::default(), s.to_path_buf()),
+        (Err(e), None) => return Err(e),
+    };
+    let loaded = load_scene(&scene_path, &import_options(import, &settings), ctx)?;
+    let studio = gmotion_studio::Studio::bind(gmotion_studio::Config {
+        grammar_path: grammar_path.to_path_buf(),
+        scene: loaded.scene,
+        source: loaded.source,
+        run: run_options(run, &ctx.limits)?,
+        port,
+    })
+    .map_err(|e| CliError::msg(format!("studio: {e}")))?;
+    let url = studio.url();
+    {
+        use std::io::Write;
+        let mut out = std::io::stdout().lock();
+        let _ = writeln!(out, "studio: {url}");
+        let _ = out.flush();
+    }
+    if !no_open {
+        gmotion_studio::open_browser(&url);
+    }
+    studio
+        .serve()
+        .map_err(|e| CliError::msg(format!("studio: {e}")))
 }
 
 fn animate(

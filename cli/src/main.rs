@@ -141,6 +141,25 @@ enum Command {
         #[command(flatten)]
         import: ImportArgs,
     },
+    /// Open the studio: a local web editor (preview, timeline, shape list, grammar with
+    /// live diagnostics, rule creation, variations, export) served on 127.0.0.1; see
+    /// docs/studio.md. Prints `studio: URL` first and runs until interrupted.
+    #[command(override_usage = "gmotion studio [OPTIONS] [SCENE] <GRAMMAR>")]
+    Studio {
+        /// `[SCENE] GRAMMAR`, as for `animate`.
+        #[arg(required = true, num_args = 1..=2, value_name = "FILE")]
+        files: Vec<PathBuf>,
+        /// Port on 127.0.0.1 (0: any free port).
+        #[arg(long, default_value_t = 0)]
+        port: u16,
+        /// Do not open a browser.
+        #[arg(long)]
+        no_open: bool,
+        #[command(flatten)]
+        run: RunArgs,
+        #[command(flatten)]
+        import: ImportArgs,
+    },
 }
 
 /// Options of the grammar run.
