@@ -19,5 +19,6 @@ mod lottie_import;
 mod sampler;
 mod signals;
 mod smil;
+mod studio;
 mod tangle;
 mod transitions;
