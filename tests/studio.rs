@@ -225,3 +225,22 @@ fn state_edits_file_and_save() {
         std::thread::sleep(Duration::from_millis(100));
     }
 }
+
+#[test]
+fn animate_writes_a_self_contained_preview() {
+    let dir = std::env::temp_dir().join(format!("gmotion-preview-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("toy.html");
+    let status = Command::new(env!("CARGO_BIN_EXE_gmotion"))
+        .arg("animate")
+        .arg(root().join("grammars/toy.gm"))
+        .arg("-o")
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let html = std::fs::read_to_string(&out).unwrap();
+    assert!(html.contains("lottie.loadAnimation") && html.contains("<animate"));
+    assert!(!html.contains("<script src") && !html.contains("https://"));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -446,6 +446,12 @@ fn write_animation(
         max_pixels: limits.get("pixels"),
         max_animation_pixels: limits.get("animation-pixels"),
     };
+    if gmotion_studio::is_preview(out) {
+        let warnings = gmotion_studio::write_preview(anim, source, out, &opts)
+            .map_err(|e| CliError::msg(e.to_string()))?;
+        print_warnings(out, &warnings);
+        return Ok(());
+    }
     let frames = matches!(
         Format::of(out).map_err(|e| CliError::msg(e.to_string()))?,
         Format::Frames | Format::Gif | Format::Apng
@@ -483,7 +489,8 @@ fn check_outputs(outputs: &[PathBuf], inputs: &[&Path]) -> Result<()> {
     let outs: Vec<&Path> = outputs.iter().map(PathBuf::as_path).collect();
     guard::check_not_input(&outs, inputs)?;
     for o in outputs {
-        let frames = Format::of(o).map_err(|e| CliError::msg(e.to_string()))? == Format::Frames;
+        let frames = !gmotion_studio::is_preview(o)
+            && Format::of(o).map_err(|e| CliError::msg(e.to_string()))? == Format::Frames;
         guard::check_output_kind(o, frames)?;
         if frames {
             raster::check_frame_folder(o).map_err(|e| CliError::msg(e.to_string()))?;
@@ -843,6 +850,7 @@ fn demo(out: &Path, example: &str, ctx: &Ctx) -> Result<()> {
         &format!("{example}.gif"),
         &format!("{example}.json"),
         &format!("{example}.svg"),
+        "preview.html",
     ];
     for n in names {
         write_animation(
@@ -855,35 +863,12 @@ fn demo(out: &Path, example: &str, ctx: &Ctx) -> Result<()> {
             &ctx.limits,
         )?;
     }
-    let json = std::fs::read_to_string(out.join(format!("{example}.json")))
-        .map_err(|e| CliError::msg(format!("{}: {e}", out.display())))?;
-    let html = viewer_html(example, &json);
-    write_atomic(&out.join("view.html"), html.as_bytes())?;
     println!(
         "wrote {0}/frames/ ({1} PNG frames), {0}/{2}.gif, {0}/{2}.json (Lottie), {0}/{2}.svg (SMIL)\n\
-         view: open {0}/{2}.svg in a browser (SMIL plays by itself); {0}/view.html plays the Lottie with lottie-web",
+         view: open {0}/preview.html in a browser (lottie-web beside the SMIL, all inside the file, no network)",
         out.display(),
         anim.frame_count(),
         example
     );
     Ok(())
-}
-
-/// A page that plays the Lottie beside the SMIL, for a quick look in a browser. The
-/// Lottie JSON is embedded because browsers refuse `fetch` from `file://` pages.
-fn viewer_html(example: &str, lottie_json: &str) -> String {
-    let data = lottie_json.replace("</", "<\\/");
-    format!(
-        r#"<!doctype html>
-<meta charset="utf-8"><title>gmotion: {example}</title>
-<style>body{{font:14px sans-serif;display:flex;gap:24px}} figure{{margin:0}} #lottie,img{{width:400px}}</style>
-<figure><div id="lottie"></div><figcaption>Lottie ({example}.json) in lottie-web</figcaption></figure>
-<figure><img src="{example}.svg"><figcaption>SMIL ({example}.svg)</figcaption></figure>
-<script src="https://unpkg.com/lottie-web@5/build/player/lottie.min.js"></script>
-<script>
-const data = {data};
-lottie.loadAnimation({{container: document.getElementById("lottie"), renderer: "svg", loop: true, autoplay: true, animationData: data}});
-</script>
-"#
-    )
 }

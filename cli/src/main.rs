@@ -38,7 +38,7 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Run the bundled example and write its frames, preview, Lottie and SMIL.
+    /// Run the bundled example and write its frames, GIF, Lottie, SMIL and preview.html.
     Demo {
         /// Output directory.
         #[arg(short, long, default_value = "out/demo")]
@@ -76,7 +76,8 @@ enum Command {
         #[arg(required = true, num_args = 1..=2, value_name = "FILE")]
         files: Vec<PathBuf>,
         /// Output(s): .json (Lottie), .svg (SMIL), .png (one frame at --time), .gif or
-        /// .apng (preview), or a directory (one PNG per frame).
+        /// .apng (preview), .html (a self-contained page playing the Lottie in lottie-web
+        /// beside the SMIL), or a directory (one PNG per frame).
         #[arg(short, long, required = true)]
         output: Vec<PathBuf>,
         /// Time of the frame written to a .png output, in seconds.

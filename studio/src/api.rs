@@ -222,19 +222,7 @@ fn export(
     time: f64,
     download: Option<&'static str>,
 ) -> Reply {
-    let bytes = if ext == "html" {
-        live.export(built, "json", 0.0).and_then(|lottie| {
-            let smil = live.export(built, "svg", 0.0)?;
-            Ok(preview::preview_html(
-                &String::from_utf8_lossy(&lottie),
-                &String::from_utf8_lossy(&smil),
-                "gmotion preview",
-            )
-            .into_bytes())
-        })
-    } else {
-        live.export(built, ext, time)
-    };
+    let bytes = live.export(built, ext, time);
     match bytes {
         Ok(body) => Reply {
             status: 200,

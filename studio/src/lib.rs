@@ -29,7 +29,7 @@ use gmotion::engine::RunOptions;
 use gmotion_output::LottieSource;
 
 pub use live::{Diagnostic, Live};
-pub use preview::{LOTTIE_JS, preview_html};
+pub use preview::{LOTTIE_JS, is_preview, preview_document, preview_html, write_preview};
 
 /// What a studio session edits.
 #[derive(Debug)]

@@ -299,25 +299,30 @@ impl Live {
             .clone()
     }
 
-    /// Writes `built` in the format of `ext` (`json`, `svg`, `png` at `time`, `gif`) and
-    /// returns the bytes, or why not.
+    /// `built` as `ext`: `json` (Lottie), `svg` (SMIL) and `html` (the preview) in memory,
+    /// `png` (the frame at `time`) and `gif` through a temporary file. The bytes, or why not.
     pub(crate) fn export(&self, built: &Built, ext: &str, time: f64) -> Result<Vec<u8>, String> {
         static COUNTER: AtomicU64 = AtomicU64::new(0);
-        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-        let path =
-            std::env::temp_dir().join(format!("gmotion-studio-{}-{n}.{ext}", std::process::id()));
         let opts = gmotion_output::Options {
             size: built.size,
             time,
             ..Default::default()
         };
-        let written = gmotion_output::write_over_source(
-            &built.anim,
-            self.source.as_ref(),
-            &path,
-            &opts,
-            &|| {},
-        );
+        let (anim, source) = (&built.anim, self.source.as_ref());
+        let named = Path::new("studio").with_extension(ext);
+        let text = match ext {
+            "json" => Some(gmotion_output::lottie_text(anim, source, &named, &opts)),
+            "svg" => Some(gmotion_output::smil_text(anim, source, &named, &opts)),
+            "html" => Some(crate::preview_document(anim, source, &named, &opts)),
+            _ => None,
+        };
+        if let Some(text) = text {
+            return text.map(|(t, _)| t.into_bytes()).map_err(|e| e.to_string());
+        }
+        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+        let path =
+            std::env::temp_dir().join(format!("gmotion-studio-{}-{n}.{ext}", std::process::id()));
+        let written = gmotion_output::write_over_source(anim, source, &path, &opts, &|| {});
         let bytes = written
             .map_err(|e| e.to_string())
             .and_then(|_| std::fs::read(&path).map_err(|e| e.to_string()));

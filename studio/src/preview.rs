@@ -1,5 +1,10 @@
 //! The self-contained HTML preview: lottie-web, the Lottie and the SMIL in one file that
-//! plays with the network off.
+//! plays with the network off (`gmotion animate … -o preview.html`, `gmotion demo`).
+
+use std::path::Path;
+
+use gmotion::{Animation, Warning};
+use gmotion_output::{LottieSource, Options, OutputError};
 
 /// lottie-web's player (5.13.0, MIT, vendored from npm; licence in
 /// `assets/LICENSE-lottie-web.md`).
@@ -48,4 +53,46 @@ lottie.loadAnimation({{ container: document.getElementById('lottie'), renderer: 
         player = in_script(LOTTIE_JS),
         data = in_script(lottie),
     )
+}
+
+/// Whether `path` names an HTML preview (`.html` or `.htm`).
+pub fn is_preview(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("html") || e.eq_ignore_ascii_case("htm"))
+}
+
+/// The self-contained preview of `anim` ([`preview_html`]), with what the Lottie and SMIL
+/// exporters could not show exactly; `path` is named in errors and gives the title.
+pub fn preview_document(
+    anim: &Animation,
+    source: Option<&LottieSource>,
+    path: &Path,
+    opts: &Options,
+) -> Result<(String, Vec<Warning>), OutputError> {
+    let (lottie, mut warnings) = gmotion_output::lottie_text(anim, source, path, opts)?;
+    let (smil, more) = gmotion_output::smil_text(anim, source, path, opts)?;
+    warnings.extend(more);
+    let title = path
+        .file_stem()
+        .map_or("gmotion".into(), |s| s.to_string_lossy());
+    Ok((
+        preview_html(&lottie, &smil, &format!("gmotion: {title}")),
+        warnings,
+    ))
+}
+
+/// Writes [`preview_document`] to `path`, whole or not at all ([`gmotion::atomic`]).
+pub fn write_preview(
+    anim: &Animation,
+    source: Option<&LottieSource>,
+    path: &Path,
+    opts: &Options,
+) -> Result<Vec<Warning>, OutputError> {
+    let (html, warnings) = preview_document(anim, source, path, opts)?;
+    gmotion::atomic::write_bytes(path, html.as_bytes()).map_err(|source| OutputError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    Ok(warnings)
 }

@@ -4,9 +4,10 @@
 // page and checks: typing a rule changes the preview; a broken grammar shows a located
 // diagnostic while the preview stays; clicking a shape highlights its timeline row; a
 // frozen variation keeps its seed when the rest re-roll; save writes the file; an edit of
-// the file on disk shows up in the page; no request leaves 127.0.0.1. Saves a screenshot
+// the file on disk shows up in the page; no request leaves 127.0.0.1; and `animate -o
+// preview.html` plays with the network off. Saves a screenshot
 // to docs/studio.png. Exits 1 on the first failed check.
-import { spawn } from 'node:child_process';
+import { spawn, spawnSync } from 'node:child_process';
 import { copyFileSync, mkdtempSync, readFileSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join, dirname } from 'node:path';
@@ -126,11 +127,37 @@ try {
     && / 4 s at /.test(document.getElementById('status').textContent), edited, { timeout: 10000 });
   check(true, 'an edit of the file on disk shows up in the page');
 
+  // The other two players.
+  for (const mode of ['lottie', 'smil']) {
+    await page.selectOption('#mode', mode);
+    await page.waitForSelector('#media svg', { timeout: 10000 });
+    check(true, `the preview plays in ${mode === 'smil' ? 'SMIL' : 'lottie-web'}`);
+  }
+  await page.selectOption('#mode', 'render');
   await page.click('#play');
   await page.waitForTimeout(1500);
   await page.screenshot({ path: join(root, 'docs', 'studio.png') });
   check(errors.length === 0, `no script errors ${errors.join('; ')}`);
   check(outside.length === 0, `no request leaves 127.0.0.1 ${outside.join(' ')}`);
+
+  // `animate -o preview.html` plays with the network off: every request but the file's
+  // own is refused.
+  const html = join(dir, 'preview.html');
+  const run = spawnSync(gm, ['animate', grammarFile, '-o', html], { stdio: 'inherit' });
+  check(run.status === 0, 'gmotion animate -o preview.html');
+  const offline = await browser.newPage();
+  const asked = [];
+  await offline.route('**/*', (r) => {
+    if (r.request().url().startsWith('file://')) return r.continue();
+    asked.push(r.request().url());
+    return r.abort();
+  });
+  const perrors = [];
+  offline.on('pageerror', (e) => perrors.push(String(e)));
+  await offline.goto('file://' + html);
+  await offline.waitForSelector('#lottie svg g', { timeout: 10000 });
+  const smilPlays = await offline.$eval('#smil svg', (svg) => svg.getCurrentTime() >= 0 && svg.querySelectorAll('animate, animateTransform, animateMotion').length > 0);
+  check(asked.length === 0 && perrors.length === 0 && smilPlays, `preview.html plays offline ${asked.join(' ')} ${perrors.join('; ')}`);
 } catch (e) {
   console.log(`FAIL ${e.stack || e}`);
   failed = true;
