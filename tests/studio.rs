@@ -244,3 +244,41 @@ fn animate_writes_a_self_contained_preview() {
     assert!(!html.contains("<script src") && !html.contains("https://"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn variations_writes_a_sheet_or_a_folder() {
+    let dir = std::env::temp_dir().join(format!("gmotion-variations-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let run = |out: &std::path::Path| {
+        let status = Command::new(env!("CARGO_BIN_EXE_gmotion"))
+            .args([
+                "variations",
+                "--count",
+                "4",
+                "--seed-start",
+                "7",
+                "--width",
+                "60",
+            ])
+            .arg(root().join("grammars/toy.gm"))
+            .arg("-o")
+            .arg(out)
+            .status()
+            .unwrap();
+        assert!(status.success());
+    };
+    let sheet = dir.join("sheet.png");
+    run(&sheet);
+    let png = std::fs::read(&sheet).unwrap();
+    assert!(png.starts_with(b"\x89PNG"));
+    // Two columns of 60-pixel frames and their gaps.
+    let width = u32::from_be_bytes(png[16..20].try_into().unwrap());
+    assert!((120..140).contains(&width), "{width}");
+    let folder = dir.join("seeds");
+    run(&folder);
+    for s in 7..11 {
+        assert!(folder.join(format!("seed_{s}.png")).is_file());
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

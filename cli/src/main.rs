@@ -12,6 +12,7 @@ mod commands;
 mod guard;
 mod output;
 mod report;
+mod sheet;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -139,6 +140,33 @@ enum Command {
         shapes: bool,
         #[command(flatten)]
         run: RunArgs,
+        #[command(flatten)]
+        import: ImportArgs,
+    },
+    /// Render N variations of a grammar (seeds S, S+1, …) at one instant: a contact sheet
+    /// (`.png`, each frame labelled with its seed) or a folder with one `seed_S.png` each.
+    #[command(
+        override_usage = "gmotion variations [OPTIONS] --count <N> -o <OUT> [SCENE] <GRAMMAR>"
+    )]
+    Variations {
+        /// `[SCENE] GRAMMAR`, as for `animate`.
+        #[arg(required = true, num_args = 1..=2, value_name = "FILE")]
+        files: Vec<PathBuf>,
+        /// How many seeds.
+        #[arg(long)]
+        count: u32,
+        /// The first seed.
+        #[arg(long, default_value_t = 0)]
+        seed_start: u64,
+        /// A `.png` contact sheet, or a folder (one PNG per seed).
+        #[arg(short, long)]
+        output: PathBuf,
+        /// The instant shown, in seconds (default: half the duration).
+        #[arg(long)]
+        time: Option<f64>,
+        /// Width in pixels of each frame.
+        #[arg(long, default_value_t = 240)]
+        width: u32,
         #[command(flatten)]
         import: ImportArgs,
     },
