@@ -176,7 +176,10 @@ fn route(ctx: &Ctx, request: &mut Request) -> Reply {
             }
             Err(e) => Reply::error(500, &format!("cannot save: {e}")),
         },
-        (Method::Get, "/lottie") => export(live, &live.good(), "json", 0.0, None),
+        (Method::Get, "/lottie") => match live.lottie() {
+            Ok(body) => Reply::ok("application/json", body),
+            Err(e) => Reply::error(422, &e),
+        },
         (Method::Get, "/smil") => export(live, &live.good(), "svg", 0.0, None),
         (Method::Get, "/frame.png") => {
             let t = match param(query, "t").map(str::parse::<f64>) {

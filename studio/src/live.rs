@@ -330,6 +330,11 @@ impl Live {
         bytes
     }
 
+    /// The Lottie JSON of the live animation (what `GET /api/lottie` answers).
+    pub fn lottie(&self) -> Result<Vec<u8>, String> {
+        self.export(&self.good(), "json", 0.0)
+    }
+
     /// Writes the current text to the grammar file (atomically) and returns the path.
     pub fn save(&self) -> io::Result<&Path> {
         let mut st = self.lock();
