@@ -579,6 +579,34 @@ fn build(
     Ok((anim, g.settings, loaded.source))
 }
 
+/// Creates the output folder `out` (and its parents).
+fn create_dir(out: &Path) -> Result<()> {
+    std::fs::create_dir_all(out).map_err(|e| {
+        CliError::msg(format!(
+            "{}: cannot create output directory: {e}",
+            out.display()
+        ))
+    })
+}
+
+/// The grammar, and the scene as `animate` finds it (given, else the grammar's `scene`).
+fn load_grammar_and_scene(
+    scene: Option<&Path>,
+    grammar_path: &Path,
+    import: &ImportArgs,
+    ctx: &Ctx,
+) -> Result<(Loaded, LoadedScene)> {
+    let g = load_grammar(grammar_path, ctx)?;
+    let Some(path) = scene_path(scene, grammar_path, &g)? else {
+        return Err(CliError::msg(format!(
+            "{}: error: no scene: give one on the command line or name it in the grammar (`scene FILE`)",
+            grammar_path.display()
+        )));
+    };
+    let loaded = load_scene(&path, &import_options(import, &g.settings), ctx)?;
+    Ok((g, loaded))
+}
+
 /// `gmotion studio`: loads the scene as `animate` does (a grammar that does not parse is
 /// opened anyway when the scene is given, to be fixed in the studio) and serves.
 fn studio(
@@ -590,20 +618,14 @@ fn studio(
     import: &ImportArgs,
     ctx: &Ctx,
 ) -> Result<()> {
-    let (settings, scene_path) = match (load_grammar(grammar_path, ctx), scene) {
-        (Ok(g), _) => {
-            let Some(path) = scene_path(scene, grammar_path, &g)? else {
-                return Err(CliError::msg(format!(
-                    "{}: error: no scene to open: give one on the command line (`gmotion studio SCENE GRAMMAR`) or name it in the grammar (`scene FILE`)",
-                    grammar_path.display()
-                )));
-            };
-            (g.settings, path)
-        }
-        (Err(_), Some(s)) => (Settings::default(), s.to_path_buf()),
+    let loaded = match (
+        load_grammar_and_scene(scene, grammar_path, import, ctx),
+        scene,
+    ) {
+        (Ok((_, loaded)), _) => loaded,
+        (Err(_), Some(s)) => load_scene(s, &import_options(import, &Settings::default()), ctx)?,
         (Err(e), None) => return Err(e),
     };
-    let loaded = load_scene(&scene_path, &import_options(import, &settings), ctx)?;
     let studio = gmotion_studio::Studio::bind(gmotion_studio::Config {
         grammar_path: grammar_path.to_path_buf(),
         scene: loaded.scene,
@@ -647,14 +669,7 @@ fn variations(
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("png"));
     guard::check_not_input(&[out], &[grammar_path])?;
-    let g = load_grammar(grammar_path, ctx)?;
-    let Some(scene_path) = scene_path(scene, grammar_path, &g)? else {
-        return Err(CliError::msg(format!(
-            "{}: error: no scene: give one on the command line or name it in the grammar (`scene FILE`)",
-            grammar_path.display()
-        )));
-    };
-    let loaded = load_scene(&scene_path, &import_options(import, &g.settings), ctx)?;
+    let (g, loaded) = load_grammar_and_scene(scene, grammar_path, import, ctx)?;
     let t = time.unwrap_or(g.settings.duration / 2.0);
     if !(t.is_finite() && (0.0..=g.settings.duration).contains(&t)) {
         return Err(CliError::msg(format!(
@@ -691,19 +706,15 @@ fn variations(
             .map_err(|e| CliError::msg(e.to_string()))?;
         save(&pm, out)?;
     } else {
-        std::fs::create_dir_all(out).map_err(|e| {
-            CliError::msg(format!(
-                "{}: cannot create output directory: {e}",
-                out.display()
-            ))
+        create_dir(out)?;
+        let paths: Vec<PathBuf> = frames
+            .iter()
+            .map(|(seed, _)| out.join(format!("seed_{seed}.png")))
+            .collect();
+        let mut next = frames.iter();
+        write_all(&paths, |p| {
+            next.next().map_or(Ok(()), |(_, pm)| save(pm, p))
         })?;
-        let staging = gmotion::atomic::Staging::begin();
-        for (seed, pm) in &frames {
-            save(pm, &out.join(format!("seed_{seed}.png")))?;
-        }
-        staging
-            .commit()
-            .map_err(|e| CliError::msg(format!("cannot put the outputs in place: {e}")))?;
     }
     println!(
         "wrote {} ({} seeds from {} at {}s)",
@@ -932,12 +943,7 @@ fn demo(out: &Path, example: &str, ctx: &Ctx) -> Result<()> {
             grammar.display()
         )));
     }
-    std::fs::create_dir_all(out).map_err(|e| {
-        CliError::msg(format!(
-            "{}: cannot create output directory: {e}",
-            out.display()
-        ))
-    })?;
+    create_dir(out)?;
     let run = RunArgs {
         seed: None,
         fps: None,

@@ -155,15 +155,21 @@ fn route(ctx: &Ctx, request: &mut Request) -> Reply {
         }
         (Method::Get, "/grammar") => Reply::ok("text/plain; charset=utf-8", live.text()),
         (Method::Put, "/grammar") => {
-            let mut text = String::new();
+            let mut bytes = Vec::new();
             if request
                 .as_reader()
-                .take(MAX_BODY)
-                .read_to_string(&mut text)
+                .take(MAX_BODY + 1)
+                .read_to_end(&mut bytes)
                 .is_err()
             {
-                return Reply::error(400, "the grammar must be UTF-8 text");
+                return Reply::error(400, "the request body could not be read");
             }
+            if bytes.len() as u64 > MAX_BODY {
+                return Reply::error(413, "the grammar is larger than 4 MiB");
+            }
+            let Ok(text) = String::from_utf8(bytes) else {
+                return Reply::error(400, "the grammar must be UTF-8 text");
+            };
             let (version, diagnostics) = live.set_text(text);
             Reply::json(&json!({
                 "version": version,
