@@ -241,6 +241,8 @@ fn animate_writes_a_self_contained_preview() {
     assert!(status.success());
     let html = std::fs::read_to_string(&out).unwrap();
     assert!(html.contains("lottie.loadAnimation") && html.contains("<animate"));
+    // The timeline picture: the square's slice and its inverted twin.
+    assert!(html.contains("<h2>Timeline</h2>") && html.contains(">inv_tran<"));
     assert!(!html.contains("<script src") && !html.contains("https://"));
     let _ = std::fs::remove_dir_all(&dir);
 }

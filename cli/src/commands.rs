@@ -4,6 +4,7 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
 use gmotion::canvas::{MAX_OUTPUT_SIZE, OutputSize};
+use gmotion::engine::expand::Expansion;
 use gmotion::engine::{self, EngineError, RunOptions, Settings};
 use gmotion::grammar::{self, ast::Grammar};
 use gmotion::motion::Animation;
@@ -452,9 +453,11 @@ fn print_warnings(out: &Path, warnings: &[Warning]) {
     }
 }
 
+/// Writes `anim` to `out`; `shown` is the Lottie source of its scene, if any, and the
+/// slices an HTML preview draws, if known.
 fn write_animation(
     anim: &Animation,
-    source: Option<&LottieSource>,
+    shown: (Option<&LottieSource>, Option<&Expansion>),
     out: &Path,
     time: f64,
     render: &RenderArgs,
@@ -468,8 +471,9 @@ fn write_animation(
         max_pixels: limits.get("pixels"),
         max_animation_pixels: limits.get("animation-pixels"),
     };
+    let (source, timelines) = shown;
     if gmotion_studio::is_preview(out) {
-        let warnings = gmotion_studio::write_preview(anim, source, out, &opts)
+        let warnings = gmotion_studio::write_preview(anim, source, timelines, out, &opts)
             .map_err(|e| CliError::msg(e.to_string()))?;
         print_warnings(out, &warnings);
         return Ok(());
@@ -542,8 +546,9 @@ fn build(
     run: &RunArgs,
     import: &ImportArgs,
     outputs: &[PathBuf],
+    timelines: bool,
     ctx: &Ctx,
-) -> Result<(Animation, Settings, Option<LottieSource>)> {
+) -> Result<Built> {
     let g = load_grammar(grammar_path, ctx)?;
     let fps = run.fps.unwrap_or(g.settings.fps);
     ctx.limits.check_frames(
@@ -571,12 +576,31 @@ fn build(
     };
     check_outputs(outputs, &[&scene_path, grammar_path])?;
     let loaded = load_scene(&scene_path, &import_options(import, &g.settings), ctx)?;
-    let (anim, stats) = engine::run(loaded.scene, &g.grammar, &run_options(run, &ctx.limits)?)
+    let opts = run_options(run, &ctx.limits)?;
+    // The preview's timeline picture: the slices, which the run does not keep.
+    let timelines = timelines
+        .then(|| engine::timelines(&loaded.scene, &g.grammar, &opts).ok())
+        .flatten();
+    let (anim, stats) = engine::run(loaded.scene, &g.grammar, &opts)
         .map_err(|e| engine_error(grammar_path, &g.src, &e))?;
     for w in &stats.warnings {
         eprintln!("{}: warning: {w}", grammar_path.display());
     }
-    Ok((anim, g.settings, loaded.source))
+    Ok(Built {
+        anim,
+        settings: g.settings,
+        source: loaded.source,
+        timelines,
+    })
+}
+
+/// What [`build`] makes.
+struct Built {
+    anim: Animation,
+    settings: Settings,
+    source: Option<LottieSource>,
+    /// Every shape's final slices, when an HTML preview is written.
+    timelines: Option<Expansion>,
 }
 
 /// Creates the output folder `out` (and its parents).
@@ -739,10 +763,12 @@ fn animate(
     validate_render(render)?;
     let inputs: Vec<&Path> = scene.into_iter().chain([grammar]).collect();
     check_outputs(outputs, &inputs)?;
-    let (anim, settings, source) = build(scene, grammar, run, import, outputs, ctx)?;
-    let size = output_size(render, &settings);
+    let previews = outputs.iter().any(|o| gmotion_studio::is_preview(o));
+    let b = build(scene, grammar, run, import, outputs, previews, ctx)?;
+    let size = output_size(render, &b.settings);
     write_all(outputs, |o| {
-        write_animation(&anim, source.as_ref(), o, time, render, size, &ctx.limits)
+        let shown = (b.source.as_ref(), b.timelines.as_ref());
+        write_animation(&b.anim, shown, o, time, render, size, &ctx.limits)
     })
 }
 
@@ -920,7 +946,7 @@ fn transitions(
     )?;
     let size = output_size(render, &settings);
     write_all(outputs, |o| {
-        write_animation(&anim, None, o, time, render, size, &ctx.limits)
+        write_animation(&anim, (None, None), o, time, render, size, &ctx.limits)
     })
 }
 
@@ -959,7 +985,12 @@ fn demo(out: &Path, example: &str, ctx: &Ctx) -> Result<()> {
         height: None,
         tolerance: 0.25,
     };
-    let (anim, settings, source) = build(Some(&scene), &grammar, &run, &import, &[], ctx)?;
+    let Built {
+        anim,
+        settings,
+        source,
+        timelines,
+    } = build(Some(&scene), &grammar, &run, &import, &[], true, ctx)?;
     let size = output_size(&render, &settings);
     let names = [
         "frames",
@@ -971,7 +1002,7 @@ fn demo(out: &Path, example: &str, ctx: &Ctx) -> Result<()> {
     for n in names {
         write_animation(
             &anim,
-            source.as_ref(),
+            (source.as_ref(), timelines.as_ref()),
             &out.join(n),
             0.0,
             &render,

@@ -29,7 +29,9 @@ use gmotion::engine::RunOptions;
 use gmotion_output::LottieSource;
 
 pub use live::{Diagnostic, Live};
-pub use preview::{LOTTIE_JS, is_preview, preview_document, preview_html, write_preview};
+pub use preview::{
+    LOTTIE_JS, is_preview, preview_document, preview_html, timeline_svg, write_preview,
+};
 
 /// What a studio session edits.
 #[derive(Debug)]

@@ -313,7 +313,16 @@ impl Live {
         let text = match ext {
             "json" => Some(gmotion_output::lottie_text(anim, source, &named, &opts)),
             "svg" => Some(gmotion_output::smil_text(anim, source, &named, &opts)),
-            "html" => Some(crate::preview_document(anim, source, &named, &opts)),
+            "html" => {
+                let timelines = engine::timelines(&self.scene, &built.grammar, &self.run).ok();
+                Some(crate::preview_document(
+                    anim,
+                    source,
+                    timelines.as_ref(),
+                    &named,
+                    &opts,
+                ))
+            }
             _ => None,
         };
         if let Some(text) = text {
