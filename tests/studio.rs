@@ -284,3 +284,16 @@ fn variations_writes_a_sheet_or_a_folder() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn check_shapes_json_lists_what_the_studio_lists() {
+    let out = Command::new(env!("CARGO_BIN_EXE_gmotion"))
+        .args(["check", "--shapes", "--json"])
+        .arg(root().join("grammars/toy.svg"))
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let listed: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let s = Studio::start("shapes");
+    assert_eq!(listed, s.state()["shapes"]);
+}

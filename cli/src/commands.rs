@@ -109,6 +109,7 @@ pub fn run(cmd: Command, ctx: &Ctx) -> Result<()> {
             files,
             graph,
             shapes,
+            json,
             run,
             import,
         } => {
@@ -117,7 +118,13 @@ pub fn run(cmd: Command, ctx: &Ctx) -> Result<()> {
                 && kind_of(one) == Kind::Scene
             {
                 let loaded = load_scene(one, &import_options(&import, &Settings::default()), ctx)?;
-                print!("{}", shape_list(one, &loaded));
+                print!("{}", shape_list(one, &loaded, json));
+                return Ok(());
+            }
+            if json {
+                let (scene, grammar) = scene_and_grammar(&files, Order::GrammarFirst)?;
+                let (_, loaded) = load_grammar_and_scene(scene, grammar, &import, ctx)?;
+                print!("{}", shape_list(grammar, &loaded, true));
                 return Ok(());
             }
             let (scene, grammar) = scene_and_grammar(&files, Order::GrammarFirst)?;
@@ -319,9 +326,13 @@ fn load_scene(path: &Path, options: &SceneOptions, ctx: &Ctx) -> Result<LoadedSc
 
 /// The units of a scene, one line each: tag and id, bounding box, centroid, and for a
 /// Lottie scene the layers the unit moves.
-fn shape_list(path: &Path, loaded: &LoadedScene) -> String {
+/// With `json`, the units as the studio lists them instead, on one line.
+fn shape_list(path: &Path, loaded: &LoadedScene, json: bool) -> String {
     use std::fmt::Write as _;
     let scene = &loaded.scene;
+    if json {
+        return format!("{}\n", gmotion_studio::shapes_json(scene));
+    }
     let mut out = format!(
         "{}: {} units ({} × {})\n",
         path.display(),
@@ -859,7 +870,7 @@ fn check(
     .map_err(|e| engine_error(grammar_path, &loaded.src, &e))?;
     print!("{}", report.text);
     if shapes && let (Some(p), Some(s)) = (&path, &scene) {
-        print!("{}", shape_list(p, s));
+        print!("{}", shape_list(p, s, false));
     }
     if let Some(out) = graph {
         let rules: Vec<&gmotion::grammar::ast::Rule> = g.rules.iter().collect();

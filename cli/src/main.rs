@@ -124,7 +124,7 @@ enum Command {
     /// the grammar's `scene`), also expand it and print rule, tag and expansion
     /// statistics.
     #[command(
-        override_usage = "gmotion check [OPTIONS] <GRAMMAR> [SCENE]\n       gmotion check --shapes <SCENE>"
+        override_usage = "gmotion check [OPTIONS] <GRAMMAR> [SCENE]\n       gmotion check --shapes [--json] <SCENE>"
     )]
     Check {
         /// `GRAMMAR [SCENE]`: the grammar (.gm), and the scene to expand it on, which
@@ -138,6 +138,10 @@ enum Command {
         /// List the scene's units: tag and id, box, centroid (and a Lottie scene's layers).
         #[arg(long)]
         shapes: bool,
+        /// With --shapes: print only the units, as JSON (`[{tag, id, z, bbox: [x, y, w, h],
+        /// centroid: [x, y]}]`, as the studio's `/api/state` lists them).
+        #[arg(long, requires = "shapes")]
+        json: bool,
         #[command(flatten)]
         run: RunArgs,
         #[command(flatten)]

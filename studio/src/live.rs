@@ -87,6 +87,24 @@ pub struct Live {
 const MAX_SEEDS: usize = 64;
 
 /// Runs `text` on the scene, with `seed` over the grammar's.
+/// Every shape of `scene` as `/api/state` and `gmotion check --shapes --json` list them:
+/// `[{tag, id, z, bbox: [x, y, w, h], centroid: [x, y]}]`, in scene order.
+pub fn shapes_json(scene: &Scene) -> Value {
+    scene
+        .shapes
+        .iter()
+        .map(|s| {
+            json!({
+                "tag": s.tag,
+                "id": s.id,
+                "z": s.z,
+                "bbox": [s.bbox.x0, s.bbox.y0, s.bbox.width(), s.bbox.height()],
+                "centroid": [s.centroid.x, s.centroid.y],
+            })
+        })
+        .collect()
+}
+
 /// Runs `text` on `scene`, with `seed` over the grammar's.
 fn build(
     scene: &Scene,
@@ -253,21 +271,7 @@ impl Live {
         built
             .state
             .get_or_init(|| {
-                let shapes = built
-                    .anim
-                    .scene
-                    .shapes
-                    .iter()
-                    .map(|s| {
-                        json!({
-                            "tag": s.tag,
-                            "id": s.id,
-                            "z": s.z,
-                            "bbox": [s.bbox.x0, s.bbox.y0, s.bbox.width(), s.bbox.height()],
-                            "centroid": [s.centroid.x, s.centroid.y],
-                        })
-                    })
-                    .collect();
+                let shapes = shapes_json(&built.anim.scene);
                 let timelines = match engine::timelines(&self.scene, &built.grammar, &self.run) {
                     Ok(x) => x
                         .timelines
@@ -294,7 +298,7 @@ impl Live {
                         .map(|_| json!([{"tag": "all", "start": 0.0, "end": built.anim.duration, "inverted": false}]))
                         .collect(),
                 };
-                (Value::Array(shapes), Value::Array(timelines))
+                (shapes, Value::Array(timelines))
             })
             .clone()
     }
