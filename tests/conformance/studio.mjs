@@ -97,6 +97,21 @@ try {
   await textarea.fill(good);
   await page.waitForSelector('#diagnostics .ok');
 
+  // Put the caret on a number: a slider; dragging the number rewrites it.
+  const pos = good.indexOf('translate(260');
+  await textarea.evaluate((g, p) => { g.focus(); g.setSelectionRange(p + 10, p + 10); }, pos);
+  await page.keyboard.press('ArrowRight');
+  await page.waitForSelector('#slider-box', { state: 'visible' });
+  const knob = await page.locator('#slider-value').boundingBox();
+  await page.mouse.move(knob.x + 2, knob.y + 2);
+  await page.mouse.down();
+  await page.mouse.move(knob.x + 42, knob.y + 2, { steps: 4 });
+  await page.mouse.up();
+  const dragged = await textarea.inputValue();
+  check(dragged.includes('translate(300'), `dragging a number rewrites it (${/translate\(\d+/.exec(dragged)})`);
+  await textarea.fill(good);
+  await page.waitForSelector('#diagnostics .ok');
+
   // Click the square (centroid 100, 160 in a 520 × 320 scene): its row is highlighted.
   const box = await page.locator('#overlay').boundingBox();
   await page.mouse.click(box.x + box.width * 100 / 520, box.y + box.height * 160 / 320);
