@@ -105,13 +105,8 @@ pub fn shapes_json(scene: &Scene) -> Value {
         .collect()
 }
 
-/// Runs `text` on `scene`, with `seed` over the grammar's.
-fn build(
-    scene: &Scene,
-    run: &RunOptions,
-    text: &str,
-    seed: Option<u64>,
-) -> Result<Built, Vec<Diagnostic>> {
+/// Runs `text` on `scene`.
+fn build(scene: &Scene, run: &RunOptions, text: &str) -> Result<Built, Vec<Diagnostic>> {
     let grammar = grammar::parse(text).map_err(|ds| {
         ds.iter()
             .map(|d| Diagnostic {
@@ -123,12 +118,8 @@ fn build(
     })?;
     let settings =
         engine::settings::from_grammar(&grammar).map_err(|e| vec![Diagnostic::from_engine(&e)])?;
-    let run = RunOptions {
-        seed: seed.or(run.seed),
-        ..run.clone()
-    };
-    let (anim, _) = engine::run(scene.clone(), &grammar, &run)
-        .map_err(|e| vec![Diagnostic::from_engine(&e)])?;
+    let (anim, _) =
+        engine::run(scene.clone(), &grammar, run).map_err(|e| vec![Diagnostic::from_engine(&e)])?;
     Ok(Built {
         anim,
         grammar,
@@ -151,11 +142,16 @@ impl Live {
     pub fn new(config: Config) -> io::Result<Live> {
         let text = std::fs::read_to_string(&config.grammar_path)?;
         let stamp = stamp(&config.grammar_path);
-        let still = build(&config.scene, &config.run, "", None)
-            .map_err(|d| io::Error::other(format!("the scene does not run: {}", d[0].message)))?;
-        let (good, diagnostics) = match build(&config.scene, &config.run, &text, None) {
+        let (good, diagnostics) = match build(&config.scene, &config.run, &text) {
             Ok(b) => (b, Vec::new()),
-            Err(d) => (still, d),
+            // The scene still, under an empty grammar.
+            Err(d) => match build(&config.scene, &config.run, "") {
+                Ok(still) => (still, d),
+                Err(e) => {
+                    let why = e.first().map_or("", |e| e.message.as_str());
+                    return Err(io::Error::other(format!("the scene does not run: {why}")));
+                }
+            },
         };
         Ok(Live {
             grammar_path: config.grammar_path,
@@ -178,15 +174,18 @@ impl Live {
         self.state.lock().unwrap_or_else(|p| p.into_inner())
     }
 
-    fn build(&self, text: &str, seed: Option<u64>) -> Result<Built, Vec<Diagnostic>> {
-        build(&self.scene, &self.run, text, seed)
-    }
-
     /// Replaces the grammar text; the animation is replaced (and the version bumped) only
-    /// when the text builds. Returns the version and the text's diagnostics.
+    /// when the text builds and differs from the current text. Returns the version and the
+    /// text's diagnostics.
     pub fn set_text(&self, text: String) -> (u64, Vec<Diagnostic>) {
         let _b = self.building.lock().unwrap_or_else(|p| p.into_inner());
-        let built = self.build(&text, None);
+        {
+            let st = self.lock();
+            if st.text == text {
+                return (st.version, st.diagnostics.clone());
+            }
+        }
+        let built = build(&self.scene, &self.run, &text);
         let mut st = self.lock();
         st.text = text;
         match built {
@@ -227,35 +226,28 @@ impl Live {
         Arc::clone(&self.lock().good)
     }
 
-    /// The current animation with `seed` over the grammar's (built once per version).
+    /// The last good animation's grammar run with `seed` over its own (built once per
+    /// version).
     pub(crate) fn with_seed(&self, seed: u64) -> Result<Arc<Built>, String> {
-        let (text, version) = {
+        let (good, version) = {
             let st = self.lock();
             if let Some(b) = st.seeds.get(&seed) {
                 return Ok(Arc::clone(b));
             }
-            (st.text.clone(), st.version)
+            (Arc::clone(&st.good), st.version)
         };
-        let good = self.good();
-        // The seeded run is of the last good grammar, not of broken text.
-        let built = match self.build(&text, Some(seed)) {
-            Ok(b) => b,
-            Err(_) => {
-                let run = RunOptions {
-                    seed: Some(seed),
-                    ..self.run.clone()
-                };
-                let (anim, _) = engine::run(self.scene.clone(), &good.grammar, &run)
-                    .map_err(|e| e.to_string())?;
-                Built {
-                    anim,
-                    grammar: good.grammar.clone(),
-                    size: good.size,
-                    state: OnceLock::new(),
-                }
-            }
+        let run = RunOptions {
+            seed: Some(seed),
+            ..self.run.clone()
         };
-        let built = Arc::new(built);
+        let (anim, _) =
+            engine::run(self.scene.clone(), &good.grammar, &run).map_err(|e| e.to_string())?;
+        let built = Arc::new(Built {
+            anim,
+            grammar: good.grammar.clone(),
+            size: good.size,
+            state: OnceLock::new(),
+        });
         let mut st = self.lock();
         if st.version == version {
             if st.seeds.len() >= MAX_SEEDS {
@@ -371,9 +363,7 @@ impl Live {
                 continue;
             };
             self.lock().stamp = now;
-            if text != self.text() {
-                self.set_text(text);
-            }
+            self.set_text(text);
         }
     }
 }
