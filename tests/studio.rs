@@ -193,6 +193,10 @@ fn state_edits_file_and_save() {
     assert_eq!(d["line"], 2, "{r}");
     assert!(d["column"].as_u64().unwrap() > 0);
     assert_eq!(s.call("GET", "/api/lottie", "").body, lottie1);
+    let status = s.call("GET", "/api/status", "").json();
+    assert_eq!(status["version"].as_u64(), Some(v1));
+    assert_eq!(status["diagnostics"][0]["line"], 2);
+    assert!(status["grammar"].as_str().unwrap().starts_with("duration 2s"));
 
     // A good one: new version, new Lottie.
     let good = std::fs::read_to_string(s.dir.join("toy.gm"))

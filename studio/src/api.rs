@@ -153,6 +153,11 @@ fn route(ctx: &Ctx, request: &mut Request) -> Reply {
                 "grammar": live.text(),
             }))
         }
+        (Method::Get, "/status") => Reply::json(&json!({
+            "version": live.version(),
+            "diagnostics": live.diagnostics_json(),
+            "grammar": live.text(),
+        })),
         (Method::Get, "/grammar") => Reply::ok("text/plain; charset=utf-8", live.text()),
         (Method::Put, "/grammar") => {
             let mut bytes = Vec::new();
@@ -216,7 +221,7 @@ fn route(ctx: &Ctx, request: &mut Request) -> Reply {
         (Method::Get, "/export/html") => {
             export(live, &live.good(), "html", 0.0, Some("preview.html"))
         }
-        (_, "/state" | "/grammar" | "/save" | "/lottie" | "/smil" | "/frame.png") => {
+        (_, "/state" | "/status" | "/grammar" | "/save" | "/lottie" | "/smil" | "/frame.png") => {
             Reply::error(405, "method not allowed")
         }
         _ => Reply::error(404, "no such API route"),
