@@ -41,8 +41,8 @@ impl Reply {
 }
 
 impl Studio {
-    /// Starts the studio on a copy of the toy example.
-    fn start(name: &str) -> Studio {
+    /// A fresh folder holding a copy of the toy example.
+    fn folder(name: &str) -> PathBuf {
         let dir =
             std::env::temp_dir().join(format!("gmotion-studio-{}-{name}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
@@ -50,9 +50,21 @@ impl Studio {
         for f in ["toy.gm", "toy.svg"] {
             std::fs::copy(root().join("grammars").join(f), dir.join(f)).unwrap();
         }
+        dir
+    }
+
+    /// Starts the studio on a copy of the toy example.
+    fn start(name: &str) -> Studio {
+        let dir = Studio::folder(name);
+        let scene = dir.join("toy.svg");
+        Studio::start_on(dir, &scene)
+    }
+
+    /// Starts the studio on `scene` and the toy grammar in `dir` (removed at the end).
+    fn start_on(dir: PathBuf, scene: &std::path::Path) -> Studio {
         let mut child = Command::new(env!("CARGO_BIN_EXE_gmotion"))
             .args(["studio", "--no-open", "--port", "0"])
-            .arg(dir.join("toy.svg"))
+            .arg(scene)
             .arg(dir.join("toy.gm"))
             .stdout(Stdio::piped())
             .stderr(Stdio::inherit())
@@ -196,7 +208,12 @@ fn state_edits_file_and_save() {
     let status = s.call("GET", "/api/status", "").json();
     assert_eq!(status["version"].as_u64(), Some(v1));
     assert_eq!(status["diagnostics"][0]["line"], 2);
-    assert!(status["grammar"].as_str().unwrap().starts_with("duration 2s"));
+    assert!(
+        status["grammar"]
+            .as_str()
+            .unwrap()
+            .starts_with("duration 2s")
+    );
 
     // A good one: new version, new Lottie.
     let good = std::fs::read_to_string(s.dir.join("toy.gm"))
@@ -300,4 +317,32 @@ fn check_shapes_json_lists_what_the_studio_lists() {
     let listed: Value = serde_json::from_slice(&out.stdout).unwrap();
     let s = Studio::start("shapes");
     assert_eq!(listed, s.state()["shapes"]);
+}
+
+#[test]
+fn a_lottie_scene_works_too() {
+    let dir = Studio::folder("lottie");
+    let scene = dir.join("toy.json");
+    let converted = Command::new(env!("CARGO_BIN_EXE_gmotion"))
+        .arg("convert")
+        .arg(dir.join("toy.svg"))
+        .arg("-o")
+        .arg(&scene)
+        .status()
+        .unwrap();
+    assert!(converted.success());
+    std::fs::write(
+        dir.join("toy.gm"),
+        "duration 2s\ntimesplit(0.5, 0.5) : [all, all] -> [a, inv_a]\n\
+         animate(affine, world, 0, translate(50, 0)) : [a, all] -> [m]\n",
+    )
+    .unwrap();
+    let s = Studio::start_on(dir, &scene);
+    let st = s.state();
+    assert_eq!(st["diagnostics"].as_array().map(Vec::len), Some(0), "{st}");
+    assert_eq!(st["timelines"][0][1]["inverted"], true);
+    let png = s.call("GET", "/api/frame.png?t=0.5", "");
+    assert!(png.status == 200 && png.body.starts_with(b"\x89PNG"));
+    let lottie = s.call("GET", "/api/lottie", "").json();
+    assert!(lottie["layers"].as_array().is_some_and(|l| !l.is_empty()));
 }
