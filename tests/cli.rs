@@ -134,7 +134,12 @@ fn looping_examples_end_where_they_begin() {
 fn demo_writes_frames_preview_lottie_and_smil() {
     let d = out_dir("demo");
     let stdout = run_ok(bin().current_dir(root()).arg("demo").arg("-o").arg(&d));
-    for f in ["abstract.gif", "abstract.json", "abstract.svg", "view.html"] {
+    for f in [
+        "abstract.gif",
+        "abstract.json",
+        "abstract.svg",
+        "preview.html",
+    ] {
         assert!(
             d.join(f).is_file(),
             "demo did not write {f}; said:\n{stdout}"

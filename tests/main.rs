@@ -20,5 +20,6 @@ mod lottie_import;
 mod sampler;
 mod signals;
 mod smil;
+mod studio;
 mod tangle;
 mod transitions;

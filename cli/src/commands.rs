@@ -4,6 +4,7 @@ use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
 use gmotion::canvas::{MAX_OUTPUT_SIZE, OutputSize};
+use gmotion::engine::expand::Expansion;
 use gmotion::engine::{self, EngineError, RunOptions, Settings};
 use gmotion::grammar::{self, ast::Grammar};
 use gmotion::motion::Animation;
@@ -72,10 +73,43 @@ pub fn run(cmd: Command, ctx: &Ctx) -> Result<()> {
             &import,
             ctx,
         ),
+        Command::Studio {
+            files,
+            port,
+            no_open,
+            run,
+            import,
+        } => {
+            let (scene, grammar) = scene_and_grammar(&files, Order::SceneFirst)?;
+            studio(scene, grammar, port, no_open, &run, &import, ctx)
+        }
+        Command::Variations {
+            files,
+            count,
+            seed_start,
+            output,
+            time,
+            width,
+            import,
+        } => {
+            let (scene, grammar) = scene_and_grammar(&files, Order::SceneFirst)?;
+            let seeds = (0..u64::from(count)).map(|i| seed_start.saturating_add(i));
+            variations(
+                scene,
+                grammar,
+                seeds.collect(),
+                &output,
+                time,
+                width,
+                &import,
+                ctx,
+            )
+        }
         Command::Check {
             files,
             graph,
             shapes,
+            json,
             run,
             import,
         } => {
@@ -84,7 +118,13 @@ pub fn run(cmd: Command, ctx: &Ctx) -> Result<()> {
                 && kind_of(one) == Kind::Scene
             {
                 let loaded = load_scene(one, &import_options(&import, &Settings::default()), ctx)?;
-                print!("{}", shape_list(one, &loaded));
+                print!("{}", shape_list(one, &loaded, json));
+                return Ok(());
+            }
+            if json {
+                let (scene, grammar) = scene_and_grammar(&files, Order::GrammarFirst)?;
+                let (_, loaded) = load_grammar_and_scene(scene, grammar, &import, ctx)?;
+                print!("{}", shape_list(grammar, &loaded, true));
                 return Ok(());
             }
             let (scene, grammar) = scene_and_grammar(&files, Order::GrammarFirst)?;
@@ -286,9 +326,13 @@ fn load_scene(path: &Path, options: &SceneOptions, ctx: &Ctx) -> Result<LoadedSc
 
 /// The units of a scene, one line each: tag and id, bounding box, centroid, and for a
 /// Lottie scene the layers the unit moves.
-fn shape_list(path: &Path, loaded: &LoadedScene) -> String {
+/// With `json`, the units as the studio lists them instead, on one line.
+fn shape_list(path: &Path, loaded: &LoadedScene, json: bool) -> String {
     use std::fmt::Write as _;
     let scene = &loaded.scene;
+    if json {
+        return format!("{}\n", gmotion_studio::shapes_json(scene));
+    }
     let mut out = format!(
         "{}: {} units ({} × {})\n",
         path.display(),
@@ -420,9 +464,11 @@ fn print_warnings(out: &Path, warnings: &[Warning]) {
     }
 }
 
+/// Writes `anim` to `out`; `shown` is the Lottie source of its scene, if any, and the
+/// slices an HTML preview draws, if known.
 fn write_animation(
     anim: &Animation,
-    source: Option<&LottieSource>,
+    shown: (Option<&LottieSource>, Option<&Expansion>),
     out: &Path,
     time: f64,
     render: &RenderArgs,
@@ -436,6 +482,13 @@ fn write_animation(
         max_pixels: limits.get("pixels"),
         max_animation_pixels: limits.get("animation-pixels"),
     };
+    let (source, timelines) = shown;
+    if gmotion_studio::is_preview(out) {
+        let warnings = gmotion_studio::write_preview(anim, source, timelines, out, &opts)
+            .map_err(|e| CliError::msg(e.to_string()))?;
+        print_warnings(out, &warnings);
+        return Ok(());
+    }
     let frames = matches!(
         Format::of(out).map_err(|e| CliError::msg(e.to_string()))?,
         Format::Frames | Format::Gif | Format::Apng
@@ -473,7 +526,8 @@ fn check_outputs(outputs: &[PathBuf], inputs: &[&Path]) -> Result<()> {
     let outs: Vec<&Path> = outputs.iter().map(PathBuf::as_path).collect();
     guard::check_not_input(&outs, inputs)?;
     for o in outputs {
-        let frames = Format::of(o).map_err(|e| CliError::msg(e.to_string()))? == Format::Frames;
+        let frames = !gmotion_studio::is_preview(o)
+            && Format::of(o).map_err(|e| CliError::msg(e.to_string()))? == Format::Frames;
         guard::check_output_kind(o, frames)?;
         if frames {
             raster::check_frame_folder(o).map_err(|e| CliError::msg(e.to_string()))?;
@@ -503,8 +557,9 @@ fn build(
     run: &RunArgs,
     import: &ImportArgs,
     outputs: &[PathBuf],
+    timelines: bool,
     ctx: &Ctx,
-) -> Result<(Animation, Settings, Option<LottieSource>)> {
+) -> Result<Built> {
     let g = load_grammar(grammar_path, ctx)?;
     let fps = run.fps.unwrap_or(g.settings.fps);
     ctx.limits.check_frames(
@@ -532,12 +587,178 @@ fn build(
     };
     check_outputs(outputs, &[&scene_path, grammar_path])?;
     let loaded = load_scene(&scene_path, &import_options(import, &g.settings), ctx)?;
-    let (anim, stats) = engine::run(loaded.scene, &g.grammar, &run_options(run, &ctx.limits)?)
+    let opts = run_options(run, &ctx.limits)?;
+    // The preview's timeline picture: the slices, which the run does not keep.
+    let timelines = timelines
+        .then(|| engine::timelines(&loaded.scene, &g.grammar, &opts).ok())
+        .flatten();
+    let (anim, stats) = engine::run(loaded.scene, &g.grammar, &opts)
         .map_err(|e| engine_error(grammar_path, &g.src, &e))?;
     for w in &stats.warnings {
         eprintln!("{}: warning: {w}", grammar_path.display());
     }
-    Ok((anim, g.settings, loaded.source))
+    Ok(Built {
+        anim,
+        settings: g.settings,
+        source: loaded.source,
+        timelines,
+    })
+}
+
+/// What [`build`] makes.
+struct Built {
+    anim: Animation,
+    settings: Settings,
+    source: Option<LottieSource>,
+    /// Every shape's final slices, when an HTML preview is written.
+    timelines: Option<Expansion>,
+}
+
+/// Creates the output folder `out` (and its parents).
+fn create_dir(out: &Path) -> Result<()> {
+    std::fs::create_dir_all(out).map_err(|e| {
+        CliError::msg(format!(
+            "{}: cannot create output directory: {e}",
+            out.display()
+        ))
+    })
+}
+
+/// The grammar, and the scene as `animate` finds it (given, else the grammar's `scene`).
+fn load_grammar_and_scene(
+    scene: Option<&Path>,
+    grammar_path: &Path,
+    import: &ImportArgs,
+    ctx: &Ctx,
+) -> Result<(Loaded, LoadedScene)> {
+    let g = load_grammar(grammar_path, ctx)?;
+    let Some(path) = scene_path(scene, grammar_path, &g)? else {
+        return Err(CliError::msg(format!(
+            "{}: error: no scene: give one on the command line or name it in the grammar (`scene FILE`)",
+            grammar_path.display()
+        )));
+    };
+    let loaded = load_scene(&path, &import_options(import, &g.settings), ctx)?;
+    Ok((g, loaded))
+}
+
+/// `gmotion studio`: loads the scene as `animate` does (a grammar that does not parse is
+/// opened anyway when the scene is given, to be fixed in the studio) and serves.
+fn studio(
+    scene: Option<&Path>,
+    grammar_path: &Path,
+    port: u16,
+    no_open: bool,
+    run: &RunArgs,
+    import: &ImportArgs,
+    ctx: &Ctx,
+) -> Result<()> {
+    let loaded = match (
+        load_grammar_and_scene(scene, grammar_path, import, ctx),
+        scene,
+    ) {
+        (Ok((_, loaded)), _) => loaded,
+        (Err(_), Some(s)) => load_scene(s, &import_options(import, &Settings::default()), ctx)?,
+        (Err(e), None) => return Err(e),
+    };
+    let studio = gmotion_studio::Studio::bind(gmotion_studio::Config {
+        grammar_path: grammar_path.to_path_buf(),
+        scene: loaded.scene,
+        source: loaded.source,
+        run: run_options(run, &ctx.limits)?,
+        port,
+    })
+    .map_err(|e| CliError::msg(format!("studio: {e}")))?;
+    let url = studio.url();
+    {
+        use std::io::Write;
+        let mut out = std::io::stdout().lock();
+        let _ = writeln!(out, "studio: {url}");
+        let _ = out.flush();
+    }
+    if !no_open {
+        gmotion_studio::open_browser(&url);
+    }
+    studio
+        .serve()
+        .map_err(|e| CliError::msg(format!("studio: {e}")))
+}
+
+/// `gmotion variations`: the grammar run once per seed, each run's frame at `time`, as a
+/// labelled contact sheet or a folder of `seed_S.png`.
+fn variations(
+    scene: Option<&Path>,
+    grammar_path: &Path,
+    seeds: Vec<u64>,
+    out: &Path,
+    time: Option<f64>,
+    width: u32,
+    import: &ImportArgs,
+    ctx: &Ctx,
+) -> Result<()> {
+    use rayon::prelude::*;
+    if seeds.is_empty() || width == 0 {
+        return Err(CliError::msg("--count and --width must be at least 1"));
+    }
+    let sheet = out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+    guard::check_not_input(&[out], &[grammar_path])?;
+    let (g, loaded) = load_grammar_and_scene(scene, grammar_path, import, ctx)?;
+    let t = time.unwrap_or(g.settings.duration / 2.0);
+    if !(t.is_finite() && (0.0..=g.settings.duration).contains(&t)) {
+        return Err(CliError::msg(format!(
+            "--time must lie within the animation, 0..{}s, found {t}",
+            g.settings.duration
+        )));
+    }
+    let size = OutputSize {
+        width: Some(width),
+        height: None,
+    };
+    let frames = seeds
+        .par_iter()
+        .map(|&seed| {
+            let opts = RunOptions {
+                seed: Some(seed),
+                ..RunOptions::default()
+            };
+            let (anim, _) = engine::run(loaded.scene.clone(), &g.grammar, &opts)
+                .map_err(|e| engine_error(grammar_path, &g.src, &e))?;
+            let svg = gmotion_export_svg::frame::frame_svg(&anim, t);
+            raster::render_limited(&svg, size, ctx.limits.get("pixels"))
+                .map(|p| (seed, p))
+                .map_err(|e| CliError::msg(format!("seed {seed}: {e}")))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let save = |pm: &raster::Pixmap, path: &Path| {
+        raster::save_png(pm, path).map_err(|e| CliError::msg(e.to_string()))
+    };
+    if sheet {
+        let pm = super::sheet::contact_sheet(&frames)
+            .ok_or_else(|| CliError::msg(format!("{}: the sheet is too large", out.display())))?;
+        raster::check_pixels(pm.width(), pm.height(), ctx.limits.get("pixels"))
+            .map_err(|e| CliError::msg(e.to_string()))?;
+        save(&pm, out)?;
+    } else {
+        create_dir(out)?;
+        let paths: Vec<PathBuf> = frames
+            .iter()
+            .map(|(seed, _)| out.join(format!("seed_{seed}.png")))
+            .collect();
+        let mut next = frames.iter();
+        write_all(&paths, |p| {
+            next.next().map_or(Ok(()), |(_, pm)| save(pm, p))
+        })?;
+    }
+    println!(
+        "wrote {} ({} seeds from {} at {}s)",
+        out.display(),
+        frames.len(),
+        frames[0].0,
+        guard::short(t)
+    );
+    Ok(())
 }
 
 fn animate(
@@ -553,10 +774,12 @@ fn animate(
     validate_render(render)?;
     let inputs: Vec<&Path> = scene.into_iter().chain([grammar]).collect();
     check_outputs(outputs, &inputs)?;
-    let (anim, settings, source) = build(scene, grammar, run, import, outputs, ctx)?;
-    let size = output_size(render, &settings);
+    let previews = outputs.iter().any(|o| gmotion_studio::is_preview(o));
+    let b = build(scene, grammar, run, import, outputs, previews, ctx)?;
+    let size = output_size(render, &b.settings);
     write_all(outputs, |o| {
-        write_animation(&anim, source.as_ref(), o, time, render, size, &ctx.limits)
+        let shown = (b.source.as_ref(), b.timelines.as_ref());
+        write_animation(&b.anim, shown, o, time, render, size, &ctx.limits)
     })
 }
 
@@ -647,7 +870,7 @@ fn check(
     .map_err(|e| engine_error(grammar_path, &loaded.src, &e))?;
     print!("{}", report.text);
     if shapes && let (Some(p), Some(s)) = (&path, &scene) {
-        print!("{}", shape_list(p, s));
+        print!("{}", shape_list(p, s, false));
     }
     if let Some(out) = graph {
         let rules: Vec<&gmotion::grammar::ast::Rule> = g.rules.iter().collect();
@@ -752,7 +975,7 @@ fn transitions(
     )?;
     let size = output_size(render, &settings);
     write_all(outputs, |o| {
-        write_animation(&anim, None, o, time, render, size, &ctx.limits)
+        write_animation(&anim, (None, None), o, time, render, size, &ctx.limits)
     })
 }
 
@@ -775,12 +998,7 @@ fn demo(out: &Path, example: &str, ctx: &Ctx) -> Result<()> {
             grammar.display()
         )));
     }
-    std::fs::create_dir_all(out).map_err(|e| {
-        CliError::msg(format!(
-            "{}: cannot create output directory: {e}",
-            out.display()
-        ))
-    })?;
+    create_dir(out)?;
     let run = RunArgs {
         seed: None,
         fps: None,
@@ -796,18 +1014,24 @@ fn demo(out: &Path, example: &str, ctx: &Ctx) -> Result<()> {
         height: None,
         tolerance: 0.25,
     };
-    let (anim, settings, source) = build(Some(&scene), &grammar, &run, &import, &[], ctx)?;
+    let Built {
+        anim,
+        settings,
+        source,
+        timelines,
+    } = build(Some(&scene), &grammar, &run, &import, &[], true, ctx)?;
     let size = output_size(&render, &settings);
     let names = [
         "frames",
         &format!("{example}.gif"),
         &format!("{example}.json"),
         &format!("{example}.svg"),
+        "preview.html",
     ];
     for n in names {
         write_animation(
             &anim,
-            source.as_ref(),
+            (source.as_ref(), timelines.as_ref()),
             &out.join(n),
             0.0,
             &render,
@@ -815,35 +1039,12 @@ fn demo(out: &Path, example: &str, ctx: &Ctx) -> Result<()> {
             &ctx.limits,
         )?;
     }
-    let json = std::fs::read_to_string(out.join(format!("{example}.json")))
-        .map_err(|e| CliError::msg(format!("{}: {e}", out.display())))?;
-    let html = viewer_html(example, &json);
-    write_atomic(&out.join("view.html"), html.as_bytes())?;
     println!(
         "wrote {0}/frames/ ({1} PNG frames), {0}/{2}.gif, {0}/{2}.json (Lottie), {0}/{2}.svg (SMIL)\n\
-         view: open {0}/{2}.svg in a browser (SMIL plays by itself); {0}/view.html plays the Lottie with lottie-web",
+         view: open {0}/preview.html in a browser (lottie-web beside the SMIL, all inside the file, no network)",
         out.display(),
         anim.frame_count(),
         example
     );
     Ok(())
-}
-
-/// A page that plays the Lottie beside the SMIL, for a quick look in a browser. The
-/// Lottie JSON is embedded because browsers refuse `fetch` from `file://` pages.
-fn viewer_html(example: &str, lottie_json: &str) -> String {
-    let data = lottie_json.replace("</", "<\\/");
-    format!(
-        r#"<!doctype html>
-<meta charset="utf-8"><title>gmotion: {example}</title>
-<style>body{{font:14px sans-serif;display:flex;gap:24px}} figure{{margin:0}} #lottie,img{{width:400px}}</style>
-<figure><div id="lottie"></div><figcaption>Lottie ({example}.json) in lottie-web</figcaption></figure>
-<figure><img src="{example}.svg"><figcaption>SMIL ({example}.svg)</figcaption></figure>
-<script src="https://unpkg.com/lottie-web@5/build/player/lottie.min.js"></script>
-<script>
-const data = {data};
-lottie.loadAnimation({{container: document.getElementById("lottie"), renderer: "svg", loop: true, autoplay: true, animationData: data}});
-</script>
-"#
-    )
 }

@@ -12,6 +12,7 @@ mod commands;
 mod guard;
 mod output;
 mod report;
+mod sheet;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -38,7 +39,7 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Run the bundled example and write its frames, preview, Lottie and SMIL.
+    /// Run the bundled example and write its frames, GIF, Lottie, SMIL and preview.html.
     Demo {
         /// Output directory.
         #[arg(short, long, default_value = "out/demo")]
@@ -76,7 +77,8 @@ enum Command {
         #[arg(required = true, num_args = 1..=2, value_name = "FILE")]
         files: Vec<PathBuf>,
         /// Output(s): .json (Lottie), .svg (SMIL), .png (one frame at --time), .gif or
-        /// .apng (preview), or a directory (one PNG per frame).
+        /// .apng (preview), .html (a self-contained page playing the Lottie in lottie-web
+        /// beside the SMIL), or a directory (one PNG per frame).
         #[arg(short, long, required = true)]
         output: Vec<PathBuf>,
         /// Time of the frame written to a .png output, in seconds.
@@ -122,7 +124,7 @@ enum Command {
     /// the grammar's `scene`), also expand it and print rule, tag and expansion
     /// statistics.
     #[command(
-        override_usage = "gmotion check [OPTIONS] <GRAMMAR> [SCENE]\n       gmotion check --shapes <SCENE>"
+        override_usage = "gmotion check [OPTIONS] <GRAMMAR> [SCENE]\n       gmotion check --shapes [--json] <SCENE>"
     )]
     Check {
         /// `GRAMMAR [SCENE]`: the grammar (.gm), and the scene to expand it on, which
@@ -136,6 +138,56 @@ enum Command {
         /// List the scene's units: tag and id, box, centroid (and a Lottie scene's layers).
         #[arg(long)]
         shapes: bool,
+        /// With --shapes: print only the units, as JSON (`[{tag, id, z, bbox: [x, y, w, h],
+        /// centroid: [x, y]}]`, as the studio's `/api/state` lists them).
+        #[arg(long, requires = "shapes")]
+        json: bool,
+        #[command(flatten)]
+        run: RunArgs,
+        #[command(flatten)]
+        import: ImportArgs,
+    },
+    /// Render N variations of a grammar (seeds S, S+1, …) at one instant: a contact sheet
+    /// (`.png`, each frame labelled with its seed) or a folder with one `seed_S.png` each.
+    #[command(
+        override_usage = "gmotion variations [OPTIONS] --count <N> -o <OUT> [SCENE] <GRAMMAR>"
+    )]
+    Variations {
+        /// `[SCENE] GRAMMAR`, as for `animate`.
+        #[arg(required = true, num_args = 1..=2, value_name = "FILE")]
+        files: Vec<PathBuf>,
+        /// How many seeds.
+        #[arg(long)]
+        count: u32,
+        /// The first seed.
+        #[arg(long, default_value_t = 0)]
+        seed_start: u64,
+        /// A `.png` contact sheet, or a folder (one PNG per seed).
+        #[arg(short, long)]
+        output: PathBuf,
+        /// The instant shown, in seconds (default: half the duration).
+        #[arg(long)]
+        time: Option<f64>,
+        /// Width in pixels of each frame.
+        #[arg(long, default_value_t = 240)]
+        width: u32,
+        #[command(flatten)]
+        import: ImportArgs,
+    },
+    /// Open the studio: a local web editor (preview, timeline, shape list, grammar with
+    /// live diagnostics, rule creation, variations, export) served on 127.0.0.1; see
+    /// docs/studio.md. Prints `studio: URL` first and runs until interrupted.
+    #[command(override_usage = "gmotion studio [OPTIONS] [SCENE] <GRAMMAR>")]
+    Studio {
+        /// `[SCENE] GRAMMAR`, as for `animate`.
+        #[arg(required = true, num_args = 1..=2, value_name = "FILE")]
+        files: Vec<PathBuf>,
+        /// Port on 127.0.0.1 (0: any free port).
+        #[arg(long, default_value_t = 0)]
+        port: u16,
+        /// Do not open a browser.
+        #[arg(long)]
+        no_open: bool,
         #[command(flatten)]
         run: RunArgs,
         #[command(flatten)]

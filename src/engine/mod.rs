@@ -168,11 +168,24 @@ pub(crate) fn spatial_stage(
     Ok(Some((expanded, tstats)))
 }
 
-fn run_here(
-    scene: Scene,
+/// Every shape's final timeslices: what [`run`] compiles into tracks, for tools that show
+/// a timeline (the studio). The timelines are in the order of the scene after the group
+/// grammar's spatial rules, i.e. the order of `run`'s `Animation::scene.shapes`; `scene` is
+/// the scene as given to `run`. Expands once more; `run` itself does not keep them.
+pub fn timelines(
+    scene: &Scene,
     grammar: &Grammar,
     opts: &RunOptions,
-) -> Result<(Animation, RunStats), EngineError> {
+) -> Result<expand::Expansion, EngineError> {
+    let settings = effective_settings(grammar, opts)?;
+    let program = rules::Program::new(grammar)?;
+    let spatial = spatial_stage(scene, grammar, &program, &settings, opts)?;
+    let scene = spatial.as_ref().map_or(scene, |(s, _)| s);
+    expand::expand(scene, &program, &settings)
+}
+
+/// The grammar's header with `opts` applied.
+fn effective_settings(grammar: &Grammar, opts: &RunOptions) -> Result<Settings, EngineError> {
     let mut settings = settings::from_grammar(grammar)?;
     if let Some(s) = opts.seed {
         settings.seed = s;
@@ -188,6 +201,15 @@ fn run_here(
     if let Some(m) = opts.max_steps {
         settings.max_steps = m;
     }
+    Ok(settings)
+}
+
+fn run_here(
+    scene: Scene,
+    grammar: &Grammar,
+    opts: &RunOptions,
+) -> Result<(Animation, RunStats), EngineError> {
+    let settings = effective_settings(grammar, opts)?;
     let program = rules::Program::new(grammar)?;
     if scene.shapes.is_empty() {
         return Err(EngineError::general(

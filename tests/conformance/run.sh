@@ -107,5 +107,7 @@ node "$here/smil.mjs" --jobs "$m/smil_jobs.json" >/dev/null || echo "matrix: a p
 python3 "$here/matrix.py" report "$m" || status=1
 cp "$m/matrix.md" "$out/matrix.md"
 echo "matrix: $((SECONDS - mstart)) s"
+echo "== studio: the page in Chromium (tests/conformance/studio.mjs)"
+node "$here/studio.mjs" "$gm" || status=1
 echo "conformance: $((SECONDS - start)) s"
 exit $status

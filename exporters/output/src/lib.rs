@@ -502,21 +502,7 @@ fn write_staged(
             return write_lottie(path, lottie::to_lottie(anim, &lottie_options(opts)));
         }
         Format::Svg => {
-            let sopts = smil::SmilOptions {
-                tolerance: opts.tolerance,
-                size: opts.size,
-                ..Default::default()
-            };
-            let (svg, mut warnings) =
-                smil::to_smil(anim, &sopts).map_err(|source| OutputError::Smil {
-                    path: path.to_path_buf(),
-                    source,
-                })?;
-            if stage.source.is_some() {
-                warnings.push(Warning::new(
-                    "the SMIL shows the Lottie source as it is at the reference frame, with gmotion's motion; the source's own animation is not converted to SMIL",
-                ));
-            }
+            let (svg, warnings) = smil_text(anim, stage.source, path, opts)?;
             write_file(path, svg.as_bytes())?;
             return Ok(warnings);
         }
@@ -541,6 +527,49 @@ pub fn write_over_source(
         ),
         _ => write_staged(Stage { anim, source }, path, opts, tick),
     }
+}
+
+/// The Lottie JSON [`write_over_source`] writes to a `.json` `path` (named in errors), in
+/// memory.
+pub fn lottie_text(
+    anim: &Animation,
+    source: Option<&LottieSource>,
+    path: &Path,
+    opts: &Options,
+) -> Result<(String, Vec<Warning>), OutputError> {
+    match source {
+        Some(src) => lottie::layered::over_source(anim, src, &lottie_options(opts)),
+        None => lottie::to_lottie(anim, &lottie_options(opts)),
+    }
+    .map_err(|source| OutputError::Lottie {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+/// The animated SVG (SMIL) [`write_over_source`] writes to an `.svg` `path` (named in
+/// errors), in memory.
+pub fn smil_text(
+    anim: &Animation,
+    source: Option<&LottieSource>,
+    path: &Path,
+    opts: &Options,
+) -> Result<(String, Vec<Warning>), OutputError> {
+    let sopts = smil::SmilOptions {
+        tolerance: opts.tolerance,
+        size: opts.size,
+        ..Default::default()
+    };
+    let (svg, mut warnings) = smil::to_smil(anim, &sopts).map_err(|source| OutputError::Smil {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    if source.is_some() {
+        warnings.push(Warning::new(
+            "the SMIL shows the Lottie source as it is at the reference frame, with gmotion's motion; the source's own animation is not converted to SMIL",
+        ));
+    }
+    Ok((svg, warnings))
 }
 
 /// [`write_still`] for a scene imported from `source`: a `.json` output is the source

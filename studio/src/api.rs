@@ -1,0 +1,255 @@
+//! The HTTP routes: the page, lottie-web, and the JSON API (see `docs/studio.md`). Bad
+//! input is answered 4xx, never a panic.
+
+use std::io::Read;
+use std::sync::Arc;
+
+use serde_json::json;
+use tiny_http::{Header, Method, Request, Response};
+
+use crate::live::{Built, Live};
+use crate::preview;
+
+/// What every request thread shares.
+#[derive(Debug)]
+pub(crate) struct Ctx {
+    pub live: Arc<Live>,
+    pub port: u16,
+    pub token: String,
+}
+
+/// The most bytes of a request body read (a grammar).
+const MAX_BODY: u64 = 4 << 20;
+
+/// The page: one HTML file with its JS and CSS inline.
+const PAGE: &str = include_str!("../assets/studio.html");
+
+/// An answer: status, content type, bytes, and a download name.
+struct Reply {
+    status: u16,
+    kind: &'static str,
+    body: Vec<u8>,
+    download: Option<&'static str>,
+}
+
+impl Reply {
+    fn ok(kind: &'static str, body: impl Into<Vec<u8>>) -> Reply {
+        Reply {
+            status: 200,
+            kind,
+            body: body.into(),
+            download: None,
+        }
+    }
+
+    fn json(v: &serde_json::Value) -> Reply {
+        Reply::ok("application/json", v.to_string())
+    }
+
+    fn error(status: u16, message: &str) -> Reply {
+        Reply {
+            status,
+            kind: "application/json",
+            body: json!({ "error": message }).to_string().into_bytes(),
+            download: None,
+        }
+    }
+}
+
+/// The value of query parameter `name` in `query` (no percent-decoding: the API's values
+/// are numbers and hex).
+fn param<'a>(query: &'a str, name: &str) -> Option<&'a str> {
+    query
+        .split('&')
+        .filter_map(|kv| kv.split_once('='))
+        .find(|(k, _)| *k == name)
+        .map(|(_, v)| v)
+}
+
+fn header<'a>(request: &'a Request, name: &str) -> Option<&'a str> {
+    request
+        .headers()
+        .iter()
+        .find(|h| h.field.as_str().as_str().eq_ignore_ascii_case(name))
+        .map(|h| h.value.as_str())
+}
+
+/// Compares without stopping at the first difference.
+fn same(a: &str, b: &str) -> bool {
+    a.len() == b.len() && a.bytes().zip(b.bytes()).fold(0u8, |d, (x, y)| d | (x ^ y)) == 0
+}
+
+/// Answers one request.
+pub(crate) fn handle(ctx: &Ctx, mut request: Request) {
+    let reply = route(ctx, &mut request);
+    let mut response = Response::from_data(reply.body).with_status_code(reply.status);
+    let mut headers = vec![
+        ("Content-Type", reply.kind.to_string()),
+        ("Cache-Control", "no-store".to_string()),
+        ("X-Content-Type-Options", "nosniff".to_string()),
+        // The page may talk to its own server only.
+        (
+            "Content-Security-Policy",
+            "default-src 'self'; script-src 'self' 'unsafe-inline' 'unsafe-eval'; style-src 'self' 'unsafe-inline'; img-src 'self' data: blob:; connect-src 'self'"
+                .to_string(),
+        ),
+    ];
+    if let Some(name) = reply.download {
+        headers.push((
+            "Content-Disposition",
+            format!("attachment; filename=\"{name}\""),
+        ));
+    }
+    for (k, v) in headers {
+        if let Ok(h) = Header::from_bytes(k.as_bytes(), v.as_bytes()) {
+            response.add_header(h);
+        }
+    }
+    let _ = request.respond(response);
+}
+
+fn route(ctx: &Ctx, request: &mut Request) -> Reply {
+    let host_ok = header(request, "Host").is_some_and(|h| {
+        h == format!("127.0.0.1:{}", ctx.port) || h == format!("localhost:{}", ctx.port)
+    });
+    if !host_ok {
+        return Reply::error(
+            403,
+            "forbidden: the Host must be 127.0.0.1:PORT or localhost:PORT",
+        );
+    }
+    let url = request.url().to_string();
+    let (path, query) = url.split_once('?').unwrap_or((&url, ""));
+    let method = request.method().clone();
+    match (&method, path) {
+        (Method::Get, "/") => return Reply::ok("text/html; charset=utf-8", PAGE),
+        (Method::Get, "/lottie.min.js") => {
+            return Reply::ok("text/javascript; charset=utf-8", preview::LOTTIE_JS);
+        }
+        _ => {}
+    }
+    if !path.starts_with("/api/") {
+        return Reply::error(404, "not found");
+    }
+    let token = param(query, "token").or_else(|| header(request, "X-Gmotion-Token"));
+    if !token.is_some_and(|t| same(t, &ctx.token)) {
+        return Reply::error(403, "forbidden: a valid token is needed");
+    }
+    let live = &ctx.live;
+    match (&method, &path["/api".len()..]) {
+        (Method::Get, "/state") => {
+            let good = live.good();
+            let (shapes, timelines) = live.shapes_and_timelines(&good);
+            let scene = &good.anim.scene;
+            Reply::json(&json!({
+                "version": live.version(),
+                "duration": good.anim.duration,
+                "fps": good.anim.fps,
+                "width": scene.width,
+                "height": scene.height,
+                "shapes": shapes,
+                "timelines": timelines,
+                "diagnostics": live.diagnostics_json(),
+                "grammar": live.text(),
+            }))
+        }
+        (Method::Get, "/status") => Reply::json(&json!({
+            "version": live.version(),
+            "diagnostics": live.diagnostics_json(),
+            "grammar": live.text(),
+        })),
+        (Method::Get, "/grammar") => Reply::ok("text/plain; charset=utf-8", live.text()),
+        (Method::Put, "/grammar") => {
+            let mut bytes = Vec::new();
+            if request
+                .as_reader()
+                .take(MAX_BODY + 1)
+                .read_to_end(&mut bytes)
+                .is_err()
+            {
+                return Reply::error(400, "the request body could not be read");
+            }
+            if bytes.len() as u64 > MAX_BODY {
+                return Reply::error(413, "the grammar is larger than 4 MiB");
+            }
+            let Ok(text) = String::from_utf8(bytes) else {
+                return Reply::error(400, "the grammar must be UTF-8 text");
+            };
+            let (version, diagnostics) = live.set_text(text);
+            Reply::json(&json!({
+                "version": version,
+                "diagnostics": diagnostics.iter().map(|d| json!({"line": d.line, "column": d.column, "message": d.message})).collect::<Vec<_>>(),
+            }))
+        }
+        (Method::Post, "/save") => match live.save() {
+            Ok(p) => {
+                Reply::json(&json!({"saved": p.display().to_string(), "version": live.version()}))
+            }
+            Err(e) => Reply::error(500, &format!("cannot save: {e}")),
+        },
+        (Method::Get, "/lottie") => match live.lottie() {
+            Ok(body) => Reply::ok("application/json", body),
+            Err(e) => Reply::error(422, &e),
+        },
+        (Method::Get, "/smil") => export(live, &live.good(), "svg", 0.0, None),
+        (Method::Get, "/frame.png") => {
+            let t = match param(query, "t").map(str::parse::<f64>) {
+                None => 0.0,
+                Some(Ok(t)) if t.is_finite() => t,
+                Some(_) => return Reply::error(400, "t must be a number of seconds"),
+            };
+            let built = match param(query, "seed").map(str::parse::<u64>) {
+                None => live.good(),
+                Some(Ok(s)) => match live.with_seed(s) {
+                    Ok(b) => b,
+                    Err(e) => return Reply::error(422, &e),
+                },
+                Some(Err(_)) => return Reply::error(400, "seed must be a whole number"),
+            };
+            let t = t.clamp(0.0, built.anim.duration);
+            export(live, &built, "png", t, None)
+        }
+        (Method::Get, "/export/lottie") => {
+            export(live, &live.good(), "json", 0.0, Some("animation.json"))
+        }
+        (Method::Get, "/export/smil") => {
+            export(live, &live.good(), "svg", 0.0, Some("animation.svg"))
+        }
+        (Method::Get, "/export/gif") => {
+            export(live, &live.good(), "gif", 0.0, Some("animation.gif"))
+        }
+        (Method::Get, "/export/html") => {
+            export(live, &live.good(), "html", 0.0, Some("preview.html"))
+        }
+        (_, "/state" | "/status" | "/grammar" | "/save" | "/lottie" | "/smil" | "/frame.png") => {
+            Reply::error(405, "method not allowed")
+        }
+        _ => Reply::error(404, "no such API route"),
+    }
+}
+
+/// `built` written as `ext`, answered inline or as a download.
+fn export(
+    live: &Live,
+    built: &Built,
+    ext: &str,
+    time: f64,
+    download: Option<&'static str>,
+) -> Reply {
+    let bytes = live.export(built, ext, time);
+    match bytes {
+        Ok(body) => Reply {
+            status: 200,
+            kind: match ext {
+                "json" => "application/json",
+                "svg" => "image/svg+xml",
+                "png" => "image/png",
+                "gif" => "image/gif",
+                _ => "text/html; charset=utf-8",
+            },
+            body,
+            download,
+        },
+        Err(e) => Reply::error(422, &e),
+    }
+}

@@ -1,0 +1,151 @@
+//! gmotion studio: a local web editor for a grammar on a scene (issue 16, after gMotion
+//! §4.3–4.4). The binary serves one HTML page (inline JS and CSS) and a JSON API the page
+//! itself uses, so scripts and tests can drive the studio too; the API is documented in
+//! `docs/studio.md`.
+//!
+//! The server is [`tiny_http`]: small and synchronous (no async runtime, a handful of
+//! dependencies), which keeps the build cheap on a two-core machine; the studio serves one
+//! local user, a few worker threads are plenty. Everything the page needs is embedded in
+//! the binary (lottie-web is vendored from npm with its MIT licence in `assets/`): the page
+//! makes no request outside its own server.
+//!
+//! Security: the server binds 127.0.0.1 only; every `/api/*` request needs the random
+//! token of the session (query `token=` or header `X-Gmotion-Token`) and a `Host` header of
+//! `127.0.0.1:PORT` or `localhost:PORT` (a page on another site that rebinds its DNS name to
+//! 127.0.0.1 sends its own name as `Host`); anything else is answered 403.
+#![forbid(unsafe_code)]
+
+mod api;
+mod live;
+mod preview;
+
+use std::io;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::thread;
+
+use gmotion::Scene;
+use gmotion::engine::RunOptions;
+use gmotion_output::LottieSource;
+
+pub use live::{Diagnostic, Live, shapes_json};
+pub use preview::{
+    LOTTIE_JS, is_preview, preview_document, preview_html, timeline_svg, write_preview,
+};
+
+/// What a studio session edits.
+#[derive(Debug)]
+pub struct Config {
+    /// The grammar file: read at start, watched, written by save.
+    pub grammar_path: PathBuf,
+    /// The scene the grammar runs on, loaded once at start (its import settings are those
+    /// of the grammar at start).
+    pub scene: Scene,
+    /// The Lottie document the scene came from, if it came from one.
+    pub source: Option<LottieSource>,
+    /// Overrides of the grammar's header (`--seed`, `--fps`, `--max-steps`).
+    pub run: RunOptions,
+    /// The port to bind on 127.0.0.1; 0 picks any free port.
+    pub port: u16,
+}
+
+/// A bound studio server, not yet serving.
+pub struct Studio {
+    server: Arc<tiny_http::Server>,
+    live: Arc<Live>,
+    port: u16,
+    token: String,
+}
+
+impl std::fmt::Debug for Studio {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Studio").field("port", &self.port).finish()
+    }
+}
+
+impl Studio {
+    /// Loads the grammar (a broken one is kept with its diagnostics, and the studio starts
+    /// with the scene still) and binds 127.0.0.1:`config.port`.
+    pub fn bind(config: Config) -> io::Result<Studio> {
+        let token = random_token()?;
+        let server =
+            tiny_http::Server::http(("127.0.0.1", config.port)).map_err(io::Error::other)?;
+        let port = server
+            .server_addr()
+            .to_ip()
+            .map(|a| a.port())
+            .ok_or_else(|| io::Error::other("the server has no IP address"))?;
+        let live = Arc::new(Live::new(config)?);
+        Ok(Studio {
+            server: Arc::new(server),
+            live,
+            port,
+            token,
+        })
+    }
+
+    /// The port bound.
+    pub fn port(&self) -> u16 {
+        self.port
+    }
+
+    /// The page's address, token included.
+    pub fn url(&self) -> String {
+        format!("http://127.0.0.1:{}/?token={}", self.port, self.token)
+    }
+
+    /// Serves until the process ends: a few request threads and a thread that polls the
+    /// grammar file.
+    pub fn serve(self) -> io::Result<()> {
+        let live = Arc::clone(&self.live);
+        thread::Builder::new()
+            .name("studio-watch".into())
+            .spawn(move || live.watch())?;
+        let ctx = Arc::new(api::Ctx {
+            live: self.live,
+            port: self.port,
+            token: self.token,
+        });
+        let mut workers = Vec::new();
+        for i in 0..4 {
+            let server = Arc::clone(&self.server);
+            let ctx = Arc::clone(&ctx);
+            workers.push(
+                thread::Builder::new()
+                    .name(format!("studio-http-{i}"))
+                    .spawn(move || {
+                        for request in server.incoming_requests() {
+                            api::handle(&ctx, request);
+                        }
+                    })?,
+            );
+        }
+        for w in workers {
+            let _ = w.join();
+        }
+        Ok(())
+    }
+}
+
+/// Opens `url` in the desktop's browser (`xdg-open`, `open` on macOS); errors are ignored,
+/// the address is printed anyway.
+pub fn open_browser(url: &str) {
+    let opener = if cfg!(target_os = "macos") {
+        "open"
+    } else {
+        "xdg-open"
+    };
+    let _ = std::process::Command::new(opener)
+        .arg(url)
+        .stdin(std::process::Stdio::null())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn();
+}
+
+/// 16 random bytes from the system, in hex.
+fn random_token() -> io::Result<String> {
+    let mut bytes = [0u8; 16];
+    io::Read::read_exact(&mut std::fs::File::open("/dev/urandom")?, &mut bytes)?;
+    Ok(bytes.iter().map(|b| format!("{b:02x}")).collect())
+}

@@ -1,0 +1,369 @@
+//! The live animation: the grammar text, its diagnostics, the last animation that built,
+//! and the version the page polls.
+
+use std::collections::HashMap;
+use std::io;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard, OnceLock};
+use std::time::{Duration, SystemTime};
+
+use gmotion::Animation;
+use gmotion::Scene;
+use gmotion::canvas::OutputSize;
+use gmotion::engine::{self, EngineError, RunOptions};
+use gmotion::grammar::{self, ast::Grammar};
+use gmotion_output::LottieSource;
+use serde_json::{Value, json};
+
+use crate::Config;
+
+/// A located problem in the grammar text (line and column 1-based; 0 when the problem has
+/// no place).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Diagnostic {
+    /// 1-based line, 0 if none.
+    pub line: u32,
+    /// 1-based column in characters, 0 if none.
+    pub column: u32,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl Diagnostic {
+    fn from_engine(e: &EngineError) -> Diagnostic {
+        let mut message = e.message.clone();
+        for n in &e.notes {
+            message.push_str("; ");
+            message.push_str(n);
+        }
+        Diagnostic {
+            line: e.span.map_or(0, |s| s.line),
+            column: e.span.map_or(0, |s| s.col),
+            message,
+        }
+    }
+
+    fn to_json(&self) -> Value {
+        json!({"line": self.line, "column": self.column, "message": self.message})
+    }
+}
+
+/// An animation that built, with what the page asks about it.
+#[derive(Debug)]
+pub(crate) struct Built {
+    pub anim: Animation,
+    pub grammar: Grammar,
+    pub size: OutputSize,
+    /// `/api/state`'s shapes and timelines, made on first request.
+    state: OnceLock<(Value, Value)>,
+}
+
+#[derive(Debug)]
+struct State {
+    text: String,
+    diagnostics: Vec<Diagnostic>,
+    good: Arc<Built>,
+    version: u64,
+    /// The grammar file's modification time and length when last read or written.
+    stamp: Option<(SystemTime, u64)>,
+    /// Variations of the current version, by seed.
+    seeds: HashMap<u64, Arc<Built>>,
+}
+
+/// The studio's live state, shared by the request threads and the file watcher.
+#[derive(Debug)]
+pub struct Live {
+    grammar_path: PathBuf,
+    scene: Scene,
+    source: Option<LottieSource>,
+    run: RunOptions,
+    state: Mutex<State>,
+    /// Serialises builds, so edits apply in the order they arrive.
+    building: Mutex<()>,
+}
+
+/// The most variations kept built at once.
+const MAX_SEEDS: usize = 64;
+
+/// Runs `text` on the scene, with `seed` over the grammar's.
+/// Every shape of `scene` as `/api/state` and `gmotion check --shapes --json` list them:
+/// `[{tag, id, z, bbox: [x, y, w, h], centroid: [x, y]}]`, in scene order.
+pub fn shapes_json(scene: &Scene) -> Value {
+    scene
+        .shapes
+        .iter()
+        .map(|s| {
+            json!({
+                "tag": s.tag,
+                "id": s.id,
+                "z": s.z,
+                "bbox": [s.bbox.x0, s.bbox.y0, s.bbox.width(), s.bbox.height()],
+                "centroid": [s.centroid.x, s.centroid.y],
+            })
+        })
+        .collect()
+}
+
+/// Runs `text` on `scene`.
+fn build(scene: &Scene, run: &RunOptions, text: &str) -> Result<Built, Vec<Diagnostic>> {
+    let grammar = grammar::parse(text).map_err(|ds| {
+        ds.iter()
+            .map(|d| Diagnostic {
+                line: d.span.line,
+                column: d.span.col,
+                message: d.message.clone(),
+            })
+            .collect::<Vec<_>>()
+    })?;
+    let settings =
+        engine::settings::from_grammar(&grammar).map_err(|e| vec![Diagnostic::from_engine(&e)])?;
+    let (anim, _) =
+        engine::run(scene.clone(), &grammar, run).map_err(|e| vec![Diagnostic::from_engine(&e)])?;
+    Ok(Built {
+        anim,
+        grammar,
+        size: OutputSize {
+            width: settings.width,
+            height: settings.height,
+        },
+        state: OnceLock::new(),
+    })
+}
+
+fn stamp(path: &Path) -> Option<(SystemTime, u64)> {
+    let m = std::fs::metadata(path).ok()?;
+    Some((m.modified().ok()?, m.len()))
+}
+
+impl Live {
+    /// Reads the grammar file and builds it; a grammar that does not build leaves the
+    /// scene still, with the grammar's diagnostics.
+    pub fn new(config: Config) -> io::Result<Live> {
+        let text = std::fs::read_to_string(&config.grammar_path)?;
+        let stamp = stamp(&config.grammar_path);
+        let (good, diagnostics) = match build(&config.scene, &config.run, &text) {
+            Ok(b) => (b, Vec::new()),
+            // The scene still, under an empty grammar.
+            Err(d) => match build(&config.scene, &config.run, "") {
+                Ok(still) => (still, d),
+                Err(e) => {
+                    let why = e.first().map_or("", |e| e.message.as_str());
+                    return Err(io::Error::other(format!("the scene does not run: {why}")));
+                }
+            },
+        };
+        Ok(Live {
+            grammar_path: config.grammar_path,
+            scene: config.scene,
+            source: config.source,
+            run: config.run,
+            state: Mutex::new(State {
+                text,
+                diagnostics,
+                good: Arc::new(good),
+                version: 1,
+                stamp,
+                seeds: HashMap::new(),
+            }),
+            building: Mutex::new(()),
+        })
+    }
+
+    fn lock(&self) -> MutexGuard<'_, State> {
+        self.state.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// Replaces the grammar text; the animation is replaced (and the version bumped) only
+    /// when the text builds and differs from the current text. Returns the version and the
+    /// text's diagnostics.
+    pub fn set_text(&self, text: String) -> (u64, Vec<Diagnostic>) {
+        let _b = self.building.lock().unwrap_or_else(|p| p.into_inner());
+        {
+            let st = self.lock();
+            if st.text == text {
+                return (st.version, st.diagnostics.clone());
+            }
+        }
+        let built = build(&self.scene, &self.run, &text);
+        let mut st = self.lock();
+        st.text = text;
+        match built {
+            Ok(b) => {
+                st.good = Arc::new(b);
+                st.diagnostics.clear();
+                st.seeds.clear();
+                st.version += 1;
+            }
+            Err(d) => st.diagnostics = d,
+        }
+        (st.version, st.diagnostics.clone())
+    }
+
+    /// The current version.
+    pub fn version(&self) -> u64 {
+        self.lock().version
+    }
+
+    /// The current text.
+    pub fn text(&self) -> String {
+        self.lock().text.clone()
+    }
+
+    /// The current diagnostics as JSON.
+    pub(crate) fn diagnostics_json(&self) -> Value {
+        Value::Array(
+            self.lock()
+                .diagnostics
+                .iter()
+                .map(Diagnostic::to_json)
+                .collect(),
+        )
+    }
+
+    /// The last animation that built.
+    pub(crate) fn good(&self) -> Arc<Built> {
+        Arc::clone(&self.lock().good)
+    }
+
+    /// The last good animation's grammar run with `seed` over its own (built once per
+    /// version).
+    pub(crate) fn with_seed(&self, seed: u64) -> Result<Arc<Built>, String> {
+        let (good, version) = {
+            let st = self.lock();
+            if let Some(b) = st.seeds.get(&seed) {
+                return Ok(Arc::clone(b));
+            }
+            (Arc::clone(&st.good), st.version)
+        };
+        let run = RunOptions {
+            seed: Some(seed),
+            ..self.run.clone()
+        };
+        let (anim, _) =
+            engine::run(self.scene.clone(), &good.grammar, &run).map_err(|e| e.to_string())?;
+        let built = Arc::new(Built {
+            anim,
+            grammar: good.grammar.clone(),
+            size: good.size,
+            state: OnceLock::new(),
+        });
+        let mut st = self.lock();
+        if st.version == version {
+            if st.seeds.len() >= MAX_SEEDS {
+                st.seeds.clear();
+            }
+            st.seeds.insert(seed, Arc::clone(&built));
+        }
+        Ok(built)
+    }
+
+    /// `/api/state`'s shapes and timelines of `built`.
+    pub(crate) fn shapes_and_timelines(&self, built: &Built) -> (Value, Value) {
+        built
+            .state
+            .get_or_init(|| {
+                let shapes = shapes_json(&built.anim.scene);
+                let timelines = match engine::timelines(&self.scene, &built.grammar, &self.run) {
+                    Ok(x) => x
+                        .timelines
+                        .iter()
+                        .map(|tl| {
+                            tl.iter()
+                                .map(|s| {
+                                    json!({
+                                        "tag": x.slice_tags.get(s.tag as usize).map_or("?", |t| t.as_str()),
+                                        "start": s.t0,
+                                        "end": s.t0 + s.dur,
+                                        "inverted": s.inverted,
+                                    })
+                                })
+                                .collect()
+                        })
+                        .collect(),
+                    // The still scene: one `all` slice per shape.
+                    Err(_) => built
+                        .anim
+                        .scene
+                        .shapes
+                        .iter()
+                        .map(|_| json!([{"tag": "all", "start": 0.0, "end": built.anim.duration, "inverted": false}]))
+                        .collect(),
+                };
+                (shapes, Value::Array(timelines))
+            })
+            .clone()
+    }
+
+    /// `built` as `ext`: `json` (Lottie), `svg` (SMIL) and `html` (the preview) in memory,
+    /// `png` (the frame at `time`) and `gif` through a temporary file. The bytes, or why not.
+    pub(crate) fn export(&self, built: &Built, ext: &str, time: f64) -> Result<Vec<u8>, String> {
+        static COUNTER: AtomicU64 = AtomicU64::new(0);
+        let opts = gmotion_output::Options {
+            size: built.size,
+            time,
+            ..Default::default()
+        };
+        let (anim, source) = (&built.anim, self.source.as_ref());
+        let named = Path::new("studio").with_extension(ext);
+        let text = match ext {
+            "json" => Some(gmotion_output::lottie_text(anim, source, &named, &opts)),
+            "svg" => Some(gmotion_output::smil_text(anim, source, &named, &opts)),
+            "html" => {
+                let timelines = engine::timelines(&self.scene, &built.grammar, &self.run).ok();
+                Some(crate::preview_document(
+                    anim,
+                    source,
+                    timelines.as_ref(),
+                    &named,
+                    &opts,
+                ))
+            }
+            _ => None,
+        };
+        if let Some(text) = text {
+            return text.map(|(t, _)| t.into_bytes()).map_err(|e| e.to_string());
+        }
+        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+        let path =
+            std::env::temp_dir().join(format!("gmotion-studio-{}-{n}.{ext}", std::process::id()));
+        let written = gmotion_output::write_over_source(anim, source, &path, &opts, &|| {});
+        let bytes = written
+            .map_err(|e| e.to_string())
+            .and_then(|_| std::fs::read(&path).map_err(|e| e.to_string()));
+        let _ = std::fs::remove_file(&path);
+        bytes
+    }
+
+    /// The Lottie JSON of the live animation (what `GET /api/lottie` answers).
+    pub fn lottie(&self) -> Result<Vec<u8>, String> {
+        self.export(&self.good(), "json", 0.0)
+    }
+
+    /// Writes the current text to the grammar file (atomically) and returns the path.
+    pub fn save(&self) -> io::Result<&Path> {
+        let mut st = self.lock();
+        gmotion::atomic::write_bytes(&self.grammar_path, st.text.as_bytes())?;
+        st.stamp = stamp(&self.grammar_path);
+        Ok(&self.grammar_path)
+    }
+
+    /// Polls the grammar file every 300 ms and takes in its text when its modification
+    /// time or length changes. Polling rather than a file-watcher crate: one `stat` a
+    /// third of a second costs nothing, needs no dependency, and sees the atomic
+    /// rename-over that editors (and `save`) do, which inotify watches on the file lose.
+    pub fn watch(&self) -> ! {
+        loop {
+            std::thread::sleep(Duration::from_millis(300));
+            let now = stamp(&self.grammar_path);
+            if now.is_none() || now == self.lock().stamp {
+                continue;
+            }
+            let Ok(text) = std::fs::read_to_string(&self.grammar_path) else {
+                continue;
+            };
+            self.lock().stamp = now;
+            self.set_text(text);
+        }
+    }
+}

@@ -1,0 +1,348 @@
+//! `gmotion studio`'s JSON API (issue 16, docs/studio.md), over a plain HTTP/1.1 client: the
+//! token and the `Host` check, the state, live edits that keep the last good animation,
+//! the grammar file followed on disk, and save.
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::TcpStream;
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use serde_json::Value;
+
+use crate::support::root;
+
+/// The studio process, killed when the test ends, passed or not.
+struct Studio {
+    child: Child,
+    port: u16,
+    token: String,
+    dir: PathBuf,
+}
+
+impl Drop for Studio {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+        let _ = std::fs::remove_dir_all(&self.dir);
+    }
+}
+
+/// A response: status and body.
+struct Reply {
+    status: u16,
+    body: Vec<u8>,
+}
+
+impl Reply {
+    fn json(&self) -> Value {
+        serde_json::from_slice(&self.body).expect("a JSON body")
+    }
+}
+
+impl Studio {
+    /// A fresh folder holding a copy of the toy example.
+    fn folder(name: &str) -> PathBuf {
+        let dir =
+            std::env::temp_dir().join(format!("gmotion-studio-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        for f in ["toy.gm", "toy.svg"] {
+            std::fs::copy(root().join("grammars").join(f), dir.join(f)).unwrap();
+        }
+        dir
+    }
+
+    /// Starts the studio on a copy of the toy example.
+    fn start(name: &str) -> Studio {
+        let dir = Studio::folder(name);
+        let scene = dir.join("toy.svg");
+        Studio::start_on(dir, &scene)
+    }
+
+    /// Starts the studio on `scene` and the toy grammar in `dir` (removed at the end).
+    fn start_on(dir: PathBuf, scene: &std::path::Path) -> Studio {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_gmotion"))
+            .args(["studio", "--no-open", "--port", "0"])
+            .arg(scene)
+            .arg(dir.join("toy.gm"))
+            .stdout(Stdio::piped())
+            .stderr(Stdio::inherit())
+            .spawn()
+            .unwrap();
+        let mut line = String::new();
+        BufReader::new(child.stdout.take().unwrap())
+            .read_line(&mut line)
+            .unwrap();
+        let mut studio = Studio {
+            child,
+            port: 0,
+            token: String::new(),
+            dir,
+        };
+        let rest = line
+            .trim_end()
+            .strip_prefix("studio: http://127.0.0.1:")
+            .unwrap_or_else(|| panic!("unexpected first line {line:?}"));
+        let (port, token) = rest.split_once("/?token=").unwrap();
+        studio.port = port.parse().unwrap();
+        studio.token = token.to_string();
+        assert_eq!(token.len(), 32, "a 16-byte token in hex");
+        studio
+    }
+
+    /// One request; `token` goes in the header when given.
+    fn raw(&self, method: &str, path: &str, host: &str, token: Option<&str>, body: &str) -> Reply {
+        let mut s = TcpStream::connect(("127.0.0.1", self.port)).unwrap();
+        s.set_read_timeout(Some(Duration::from_secs(60))).unwrap();
+        let mut req = format!(
+            "{method} {path} HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\nContent-Length: {}\r\n",
+            body.len()
+        );
+        if let Some(t) = token {
+            req.push_str(&format!("X-Gmotion-Token: {t}\r\n"));
+        }
+        req.push_str("\r\n");
+        req.push_str(body);
+        s.write_all(req.as_bytes()).unwrap();
+        let mut bytes = Vec::new();
+        s.read_to_end(&mut bytes).unwrap();
+        let split = bytes
+            .windows(4)
+            .position(|w| w == b"\r\n\r\n")
+            .expect("a header");
+        let head = String::from_utf8_lossy(&bytes[..split]).into_owned();
+        let status = head.split(' ').nth(1).unwrap().parse().unwrap();
+        let mut body = bytes[split + 4..].to_vec();
+        if head
+            .to_ascii_lowercase()
+            .contains("transfer-encoding: chunked")
+        {
+            body = unchunk(&body);
+        }
+        Reply { status, body }
+    }
+
+    fn call(&self, method: &str, path: &str, body: &str) -> Reply {
+        let host = format!("127.0.0.1:{}", self.port);
+        self.raw(method, path, &host, Some(&self.token.clone()), body)
+    }
+
+    fn state(&self) -> Value {
+        let r = self.call("GET", "/api/state", "");
+        assert_eq!(r.status, 200);
+        r.json()
+    }
+}
+
+/// A chunked body's bytes.
+fn unchunk(mut b: &[u8]) -> Vec<u8> {
+    let mut out = Vec::new();
+    loop {
+        let eol = b.windows(2).position(|w| w == b"\r\n").unwrap();
+        let len = usize::from_str_radix(String::from_utf8_lossy(&b[..eol]).trim(), 16).unwrap();
+        if len == 0 {
+            return out;
+        }
+        out.extend_from_slice(&b[eol + 2..eol + 2 + len]);
+        b = &b[eol + 4 + len..];
+    }
+}
+
+#[test]
+fn refuses_without_token_or_with_a_foreign_host() {
+    let s = Studio::start("refuse");
+    let host = format!("127.0.0.1:{}", s.port);
+    assert_eq!(s.raw("GET", "/api/state", &host, None, "").status, 403);
+    assert_eq!(
+        s.raw("GET", "/api/state", &host, Some("0123"), "").status,
+        403
+    );
+    let evil = format!("evil.example:{}", s.port);
+    assert_eq!(
+        s.raw("GET", "/api/state", &evil, Some(&s.token), "").status,
+        403
+    );
+    let query = format!("/api/state?token={}", s.token);
+    assert_eq!(s.raw("GET", &query, &host, None, "").status, 200);
+    let local = format!("localhost:{}", s.port);
+    assert_eq!(s.raw("GET", &query, &local, None, "").status, 200);
+    // Bad input is a 4xx, not a crash.
+    assert_eq!(s.call("GET", "/api/frame.png?t=abc", "").status, 400);
+    assert_eq!(s.call("GET", "/api/nothing", "").status, 404);
+    assert_eq!(s.call("DELETE", "/api/state", "").status, 405);
+    assert_eq!(s.call("GET", "/", "").status, 200);
+}
+
+#[test]
+fn state_edits_file_and_save() {
+    let s = Studio::start("edit");
+    let st = s.state();
+    let shapes = st["shapes"].as_array().unwrap();
+    let timelines = st["timelines"].as_array().unwrap();
+    assert!(!shapes.is_empty());
+    assert_eq!(shapes.len(), timelines.len());
+    assert!(shapes[0]["bbox"].as_array().unwrap().len() == 4);
+    let square = shapes.iter().position(|x| x["tag"] == "s").unwrap();
+    let slices = timelines[square].as_array().unwrap();
+    assert!(slices.iter().any(|x| x["inverted"] == true), "{slices:?}");
+    let v1 = st["version"].as_u64().unwrap();
+    let lottie1 = s.call("GET", "/api/lottie", "").body;
+    let png = s.call("GET", "/api/frame.png?t=1&seed=3", "");
+    assert_eq!(png.status, 200);
+    assert!(png.body.starts_with(b"\x89PNG"));
+
+    // A broken grammar: located diagnostic, same version and animation.
+    let r = s
+        .call(
+            "PUT",
+            "/api/grammar",
+            "duration 2s\ntimesplit(0.5 : [all, s]\n",
+        )
+        .json();
+    assert_eq!(r["version"].as_u64(), Some(v1));
+    let d = &r["diagnostics"][0];
+    assert_eq!(d["line"], 2, "{r}");
+    assert!(d["column"].as_u64().unwrap() > 0);
+    assert_eq!(s.call("GET", "/api/lottie", "").body, lottie1);
+    let status = s.call("GET", "/api/status", "").json();
+    assert_eq!(status["version"].as_u64(), Some(v1));
+    assert_eq!(status["diagnostics"][0]["line"], 2);
+    assert!(
+        status["grammar"]
+            .as_str()
+            .unwrap()
+            .starts_with("duration 2s")
+    );
+
+    // A good one: new version, new Lottie.
+    let good = std::fs::read_to_string(s.dir.join("toy.gm"))
+        .unwrap()
+        .replace("translate(260, 0)", "translate(100, 50)");
+    let r = s.call("PUT", "/api/grammar", &good).json();
+    let v2 = r["version"].as_u64().unwrap();
+    assert!(v2 > v1 && r["diagnostics"].as_array().unwrap().is_empty());
+    assert_ne!(s.call("GET", "/api/lottie", "").body, lottie1);
+
+    // Save writes the live text.
+    let saved = s.call("POST", "/api/save", "");
+    assert_eq!(saved.status, 200);
+    assert_eq!(std::fs::read_to_string(s.dir.join("toy.gm")).unwrap(), good);
+
+    // An edit on disk bumps the version.
+    std::fs::write(
+        s.dir.join("toy.gm"),
+        good.replace("duration 6s", "duration 3.5s"),
+    )
+    .unwrap();
+    let start = Instant::now();
+    loop {
+        let st = s.state();
+        if st["version"].as_u64().unwrap() > v2 {
+            assert_eq!(st["duration"], 3.5);
+            break;
+        }
+        assert!(start.elapsed() < Duration::from_secs(10), "no reload");
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
+#[test]
+fn animate_writes_a_self_contained_preview() {
+    let dir = std::env::temp_dir().join(format!("gmotion-preview-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("toy.html");
+    let status = Command::new(env!("CARGO_BIN_EXE_gmotion"))
+        .arg("animate")
+        .arg(root().join("grammars/toy.gm"))
+        .arg("-o")
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let html = std::fs::read_to_string(&out).unwrap();
+    assert!(html.contains("lottie.loadAnimation") && html.contains("<animate"));
+    // The timeline picture: the square's slice and its inverted twin.
+    assert!(html.contains("<h2>Timeline</h2>") && html.contains(">inv_tran<"));
+    assert!(!html.contains("<script src") && !html.contains("https://"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn variations_writes_a_sheet_or_a_folder() {
+    let dir = std::env::temp_dir().join(format!("gmotion-variations-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let run = |out: &std::path::Path| {
+        let status = Command::new(env!("CARGO_BIN_EXE_gmotion"))
+            .args([
+                "variations",
+                "--count",
+                "4",
+                "--seed-start",
+                "7",
+                "--width",
+                "60",
+            ])
+            .arg(root().join("grammars/toy.gm"))
+            .arg("-o")
+            .arg(out)
+            .status()
+            .unwrap();
+        assert!(status.success());
+    };
+    let sheet = dir.join("sheet.png");
+    run(&sheet);
+    let png = std::fs::read(&sheet).unwrap();
+    assert!(png.starts_with(b"\x89PNG"));
+    // Two columns of 60-pixel frames and their gaps.
+    let width = u32::from_be_bytes(png[16..20].try_into().unwrap());
+    assert!((120..140).contains(&width), "{width}");
+    let folder = dir.join("seeds");
+    run(&folder);
+    for s in 7..11 {
+        assert!(folder.join(format!("seed_{s}.png")).is_file());
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn check_shapes_json_lists_what_the_studio_lists() {
+    let out = Command::new(env!("CARGO_BIN_EXE_gmotion"))
+        .args(["check", "--shapes", "--json"])
+        .arg(root().join("grammars/toy.svg"))
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let listed: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let s = Studio::start("shapes");
+    assert_eq!(listed, s.state()["shapes"]);
+}
+
+#[test]
+fn a_lottie_scene_works_too() {
+    let dir = Studio::folder("lottie");
+    let scene = dir.join("toy.json");
+    let converted = Command::new(env!("CARGO_BIN_EXE_gmotion"))
+        .arg("convert")
+        .arg(dir.join("toy.svg"))
+        .arg("-o")
+        .arg(&scene)
+        .status()
+        .unwrap();
+    assert!(converted.success());
+    std::fs::write(
+        dir.join("toy.gm"),
+        "duration 2s\ntimesplit(0.5, 0.5) : [all, all] -> [a, inv_a]\n\
+         animate(affine, world, 0, translate(50, 0)) : [a, all] -> [m]\n",
+    )
+    .unwrap();
+    let s = Studio::start_on(dir, &scene);
+    let st = s.state();
+    assert_eq!(st["diagnostics"].as_array().map(Vec::len), Some(0), "{st}");
+    assert_eq!(st["timelines"][0][1]["inverted"], true);
+    let png = s.call("GET", "/api/frame.png?t=0.5", "");
+    assert!(png.status == 200 && png.body.starts_with(b"\x89PNG"));
+    let lottie = s.call("GET", "/api/lottie", "").json();
+    assert!(lottie["layers"].as_array().is_some_and(|l| !l.is_empty()));
+}
