@@ -6,8 +6,10 @@
 //! afterwards, byte for byte (no input or pre-existing output is ever overwritten).
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::process::Command;
+use std::time::Duration;
+
+use crate::support::run_bounded;
 
 const SCENE: &str = r#"<svg xmlns="http://www.w3.org/2000/svg" width="100" height="80">
   <rect data-tag="s" x="10" y="10" width="20" height="20" fill="red"/>
@@ -356,40 +358,6 @@ fn case_dir(i: usize) -> PathBuf {
 /// milliseconds; the bound is generous for a loaded machine, not a target).
 const TIME_BOUND: Duration = Duration::from_secs(20);
 
-/// Runs the binary with `args`, killing it past [`TIME_BOUND`]; its exit code (`None` when
-/// killed or crashed by a signal), stderr and time taken.
-fn run_bounded(args: &[String]) -> (Option<i32>, String, Duration) {
-    let bin = env!("CARGO_BIN_EXE_gmotion");
-    let start = Instant::now();
-    let mut child = Command::new(bin)
-        .args(args)
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut stderr = child.stderr.take().unwrap();
-    let reader = std::thread::spawn(move || {
-        let mut s = String::new();
-        std::io::Read::read_to_string(&mut stderr, &mut s).ok();
-        s
-    });
-    let status = loop {
-        if let Some(st) = child.try_wait().unwrap() {
-            break Some(st);
-        }
-        if start.elapsed() > TIME_BOUND {
-            let _ = child.kill();
-            let _ = child.wait();
-            break None;
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    };
-    let elapsed = start.elapsed();
-    let text = reader.join().unwrap_or_default();
-    (status.and_then(|s| s.code()), text, elapsed)
-}
-
 #[test]
 fn bad_input_is_reported_cleanly() {
     let all = all_cases();
@@ -403,7 +371,9 @@ fn bad_input_is_reported_cleanly() {
         let made = (c.setup)(&dir);
         let d = dir.display().to_string();
         let args: Vec<String> = c.args.split(' ').map(|a| a.replace("{d}", &d)).collect();
-        let (code, stderr, elapsed) = run_bounded(&args);
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_gmotion"));
+        cmd.args(&args);
+        let (code, stderr, elapsed) = run_bounded(&mut cmd, TIME_BOUND);
         let mut problems = Vec::new();
         if elapsed > TIME_BOUND {
             problems.push(format!("took {elapsed:?}, more than {TIME_BOUND:?}"));

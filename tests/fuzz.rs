@@ -10,34 +10,18 @@
 //! `GMOTION_FUZZ_SEED=S` starts elsewhere.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::process::Command;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-use crate::support::root;
+use gmotion::tangle::noise::Rng;
+
+use crate::support::{root, run_bounded};
 
 /// How long one run may take (rejected input is rejected fast; accepted mutants are small
 /// scenes with a bounded number of frames).
 const BOUND: Duration = Duration::from_secs(30);
 
-/// A small, seeded generator (splitmix64): the cases are the same on every run.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-}
-
-/// Numbers that keep a file valid but push its values (sizes, counts, durations, angles).
 const BOLD: &[&str] = &["0.001", "1000", "37", "2", "0.5", "360", "1e6", "3.7"];
 
 const HOSTILE: &[&str] = &[
@@ -66,25 +50,25 @@ const HOSTILE: &[&str] = &[
 /// One mutation of `text`: a few edits of the kinds above.
 fn mutate(text: &[u8], rng: &mut Rng) -> Vec<u8> {
     let mut out = text.to_vec();
-    for _ in 0..1 + usize::from(rng.below(4) == 0) {
+    for _ in 0..1 + usize::from(rng.index(4) == 0) {
         let len = out.len().max(1);
-        let at = rng.below(len);
+        let at = rng.index(len);
         // Mostly numbers swapped (the file stays readable and the values reach the engine
         // and the exporters), sometimes the bytes themselves.
-        match [0, 1, 2, 3, 3, 3, 3, 5, 5, 4][rng.below(10)] {
+        match [0, 1, 2, 3, 3, 3, 3, 5, 5, 4][rng.index(10)] {
             0 => {
                 if let Some(b) = out.get_mut(at) {
-                    *b ^= 1 << rng.below(8);
+                    *b ^= 1 << rng.index(8);
                 }
             }
             1 => {
-                let end = (at + 1 + rng.below(40)).min(out.len());
+                let end = (at + 1 + rng.index(40)).min(out.len());
                 out.drain(at.min(end)..end);
             }
             2 => {
-                let end = (at + 1 + rng.below(200)).min(out.len());
+                let end = (at + 1 + rng.index(200)).min(out.len());
                 let piece = out[at.min(end)..end].to_vec();
-                for _ in 0..1 + rng.below(3) {
+                for _ in 0..1 + rng.index(3) {
                     out.splice(at..at, piece.iter().copied());
                 }
             }
@@ -93,18 +77,18 @@ fn mutate(text: &[u8], rng: &mut Rng) -> Vec<u8> {
                 let digits: Vec<usize> = (0..out.len())
                     .filter(|&i| out[i].is_ascii_digit())
                     .collect();
-                if let Some(&i) = digits.get(rng.below(digits.len())) {
+                if let Some(&i) = digits.get(rng.index(digits.len())) {
                     let mut j = i;
                     while j < out.len() && (out[j].is_ascii_digit() || out[j] == b'.') {
                         j += 1;
                     }
-                    let pool = if rng.below(2) == 0 { BOLD } else { HOSTILE };
-                    let h = pool[rng.below(pool.len())];
+                    let pool = if rng.index(2) == 0 { BOLD } else { HOSTILE };
+                    let h = pool[rng.index(pool.len())];
                     out.splice(i..j, h.bytes());
                 }
             }
             _ => {
-                let h = HOSTILE[rng.below(HOSTILE.len())];
+                let h = HOSTILE[rng.index(HOSTILE.len())];
                 let at = at.min(out.len());
                 out.splice(at..at, h.bytes());
             }
@@ -127,41 +111,15 @@ enum Target {
 /// Runs `args` in `dir`, killing it past [`BOUND`]: `Some(problem)` when it crashed, hung
 /// or panicked. Successful runs are counted in `accepted`.
 fn run(dir: &Path, args: &[&str], accepted: &AtomicUsize) -> Option<String> {
-    let start = Instant::now();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_gmotion"))
-        .args(args)
-        .current_dir(dir)
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("gmotion starts");
-    let mut stderr = child.stderr.take().expect("piped");
-    let reader = std::thread::spawn(move || {
-        let mut s = String::new();
-        std::io::Read::read_to_string(&mut stderr, &mut s).ok();
-        s
-    });
-    let status = loop {
-        if let Some(st) = child.try_wait().expect("wait") {
-            break Some(st);
-        }
-        if start.elapsed() > BOUND {
-            let _ = child.kill();
-            let _ = child.wait();
-            break None;
-        }
-        std::thread::sleep(Duration::from_millis(5));
-    };
-    let err = reader.join().unwrap_or_default();
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_gmotion"));
+    cmd.args(args).current_dir(dir);
+    let (code, err, elapsed) = run_bounded(&mut cmd, BOUND);
     let tail: String = err.lines().rev().take(3).collect::<Vec<_>>().join(" | ");
-    match status.map(|s| s.code()) {
-        None => Some(format!("did not finish within {BOUND:?}")),
-        Some(None) => Some(format!("killed by a signal: {tail}")),
-        Some(Some(c)) if c > 2 || err.contains("panicked") => {
-            Some(format!("exit status {c}: {tail}"))
-        }
-        Some(Some(0)) => {
+    match code {
+        _ if elapsed > BOUND => Some(format!("did not finish within {BOUND:?}")),
+        None => Some(format!("killed by a signal: {tail}")),
+        Some(c) if c > 2 || err.contains("panicked") => Some(format!("exit status {c}: {tail}")),
+        Some(0) => {
             accepted.fetch_add(1, Ordering::Relaxed);
             None
         }
@@ -216,7 +174,7 @@ fn mutated_inputs_never_crash_or_hang() {
                     if i >= cases {
                         break;
                     }
-                    let mut rng = Rng(seed.wrapping_mul(0x1000_0000_01B3) ^ i as u64);
+                    let mut rng = Rng::new(seed.wrapping_mul(0x1000_0000_01B3) ^ i as u64);
                     let dir = base.join(format!("case-{i}"));
                     std::fs::create_dir_all(&dir).expect("case folder");
                     let target = [
@@ -225,7 +183,7 @@ fn mutated_inputs_never_crash_or_hang() {
                         Target::Svg,
                         Target::Lottie,
                     ][i % 4];
-                    let (gm, svg) = &examples[rng.below(examples.len())];
+                    let (gm, svg) = &examples[rng.index(examples.len())];
                     let problems: Vec<String> = match target {
                         Target::Grammar => {
                             let text = std::fs::read(gm).expect("example grammar");
@@ -256,7 +214,7 @@ fn mutated_inputs_never_crash_or_hang() {
                             .collect()
                         }
                         Target::Lottie => {
-                            let text = std::fs::read(&lotties[rng.below(lotties.len())])
+                            let text = std::fs::read(&lotties[rng.index(lotties.len())])
                                 .expect("corpus file");
                             std::fs::write(dir.join("a.json"), mutate(&text, &mut rng)).unwrap();
                             let a = run(

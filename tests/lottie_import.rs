@@ -559,8 +559,14 @@ fn own_render_cases() -> Vec<(&'static str, Value)> {
     let mask = |mode: &str, pt: Value, inv: bool| json!({"mode": mode, "inv": inv, "pt": fixed(pt), "o": fixed(json!(100)), "x": fixed(json!(0))});
     let mut cases = Vec::new();
 
-    let trim = json!({"ty": "tm", "s": anim(json!([0]), json!([40])), "e": anim(json!([30]), json!([100])),
-        "o": fixed(json!(45)), "m": 1});
+    // Trim paths from `s` to `e` (animated over the composition), offset `o` degrees.
+    let trim_item = |s: Value, e: Value, o: f64, m: i64| json!({"ty": "tm", "s": s, "e": e, "o": fixed(json!(o)), "m": m});
+    let trim = trim_item(
+        anim(json!([0]), json!([40])),
+        anim(json!([30]), json!([100])),
+        45.0,
+        1,
+    );
     cases.push((
         "trim",
         json!([shape_layer(
@@ -577,8 +583,7 @@ fn own_render_cases() -> Vec<(&'static str, Value)> {
         )]),
     ));
 
-    let together = json!({"ty": "tm", "s": fixed(json!(0)), "e": anim(json!([20]), json!([90])),
-        "o": fixed(json!(0)), "m": 2});
+    let together = trim_item(fixed(json!(0)), anim(json!([20]), json!([90])), 0.0, 2);
     cases.push((
         "trim-individually",
         json!([shape_layer(
@@ -610,39 +615,21 @@ fn own_render_cases() -> Vec<(&'static str, Value)> {
         )]),
     ));
 
-    for (name, masks) in [
+    let outline =
+        |x0: f64, y0: f64, x1: f64, y1: f64| polygon(&[[x0, y0], [x1, y0], [x1, y1], [x0, y1]]);
+    let (tall, inner, corner) = (
+        outline(-30.0, -90.0, 30.0, 90.0),
+        outline(-40.0, -40.0, 40.0, 40.0),
+        outline(-50.0, -50.0, 0.0, 0.0),
+    );
+    #[rustfmt::skip]
+    let mask_cases = [
         ("mask-add", json!([mask("a", square.clone(), false)])),
-        (
-            "mask-subtract",
-            json!([
-                mask("a", square.clone(), false),
-                mask(
-                    "s",
-                    polygon(&[[-30.0, -90.0], [30.0, -90.0], [30.0, 90.0], [-30.0, 90.0]]),
-                    false
-                )
-            ]),
-        ),
-        (
-            "mask-intersect-inverted",
-            json!([
-                mask("a", square.clone(), false),
-                mask(
-                    "i",
-                    polygon(&[[-40.0, -40.0], [40.0, -40.0], [40.0, 40.0], [-40.0, 40.0]]),
-                    true
-                )
-            ]),
-        ),
-        (
-            "mask-subtract-first",
-            json!([mask(
-                "s",
-                polygon(&[[-50.0, -50.0], [0.0, -50.0], [0.0, 0.0], [-50.0, 0.0]]),
-                false
-            )]),
-        ),
-    ] {
+        ("mask-subtract", json!([mask("a", square.clone(), false), mask("s", tall, false)])),
+        ("mask-intersect-inverted", json!([mask("a", square.clone(), false), mask("i", inner, true)])),
+        ("mask-subtract-first", json!([mask("s", corner, false)])),
+    ];
+    for (name, masks) in mask_cases {
         let mut l = shape_layer(
             name,
             1,
@@ -747,8 +734,7 @@ fn own_render_cases() -> Vec<(&'static str, Value)> {
 
     let rounded = json!({"ty": "rc", "d": 3, "p": fixed(json!([0, 0])), "s": fixed(json!([160, 100])),
         "r": fixed(json!(25))});
-    let trim_back = json!({"ty": "tm", "s": fixed(json!(0)), "e": anim(json!([10]), json!([70])),
-        "o": fixed(json!(0)), "m": 1});
+    let trim_back = trim_item(fixed(json!(0)), anim(json!([10]), json!([70])), 0.0, 1);
     cases.push((
         "rounded-reversed",
         json!([shape_layer(

@@ -10,6 +10,42 @@ use kurbo::{BezPath, Point};
 
 pub mod players;
 
+/// Runs `cmd` (stdin empty, stdout dropped), killing it past `bound`: its exit code
+/// (`None` when killed or ended by a signal), its stderr and the time it took.
+pub fn run_bounded(
+    cmd: &mut std::process::Command,
+    bound: std::time::Duration,
+) -> (Option<i32>, String, std::time::Duration) {
+    use std::process::Stdio;
+    let start = std::time::Instant::now();
+    let mut child = cmd
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the command starts");
+    let mut stderr = child.stderr.take().expect("piped stderr");
+    let reader = std::thread::spawn(move || {
+        let mut s = String::new();
+        std::io::Read::read_to_string(&mut stderr, &mut s).ok();
+        s
+    });
+    let status = loop {
+        if let Some(st) = child.try_wait().expect("wait for the child") {
+            break Some(st);
+        }
+        if start.elapsed() > bound {
+            let _ = child.kill();
+            let _ = child.wait();
+            break None;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    };
+    let elapsed = start.elapsed();
+    let text = reader.join().unwrap_or_default();
+    (status.and_then(|s| s.code()), text, elapsed)
+}
+
 /// The repository's root (the tests belong to the `cli` crate, one folder down).
 pub fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -345,23 +345,9 @@ impl<'a> Builder<'a> {
             }
         };
         let source = self.layer_node(&layers[m], worlds[m], t, stack)?;
-        let (w, h) = (self.doc.w, self.doc.h);
-        let margin = 10.0 * w.max(h);
-        let area = Rect::new(-margin, -margin, w + margin, h + margin);
-        let mask = |kind: MaskKind, children: Vec<Node>| {
-            Arc::new(Mask {
-                id: String::new(),
-                rect: area,
-                kind,
-                mask: None,
-                root: Group {
-                    children,
-                    ..Group::new()
-                },
-            })
-        };
-        let everywhere =
-            |color: Color| path_node(area.to_path(0.1), Some(Fill::solid(color)), None);
+        let canvas = Canvas::of(self.doc);
+        let mask = |kind, children| canvas.mask(kind, children);
+        let everywhere = |color| canvas.everywhere(color);
         let mut matte = mask(kind, vec![Node::Group(source)]);
         if inverted {
             // 1 − coverage: black painted through the matte over white, read as luminance.
@@ -543,11 +529,8 @@ impl<'a> Builder<'a> {
     /// opacity; coverage starts empty, or full when the first mask subtracts or
     /// intersects.
     fn layer_masks(&mut self, l: &Layer, world: Affine, t: f64) -> Option<Arc<Mask>> {
-        let (w, h) = (self.doc.w, self.doc.h);
-        let margin = 10.0 * w.max(h);
-        let area = Rect::new(-margin, -margin, w + margin, h + margin);
-        let everywhere =
-            |color: Color| path_node(area.to_path(0.1), Some(Fill::solid(color)), None);
+        let canvas = Canvas::of(self.doc);
+        let everywhere = |color| canvas.everywhere(color);
         let active: Vec<&LayerMask> = l.masks.iter().filter(|m| m.mode != "n").collect();
         let first = active.first()?;
         let mut children = Vec::new();
@@ -569,23 +552,13 @@ impl<'a> Builder<'a> {
                 let node = if m.inverted {
                     Node::Group(Group {
                         children: vec![everywhere(color)],
-                        mask: Some(Arc::new(Mask {
-                            id: String::new(),
-                            rect: area,
-                            kind: MaskKind::Luminance,
-                            mask: None,
-                            root: Group {
-                                children: vec![
-                                    everywhere(Color::WHITE),
-                                    path_node(
-                                        outline.clone(),
-                                        Some(Fill::solid(Color::BLACK)),
-                                        None,
-                                    ),
-                                ],
-                                ..Group::new()
-                            },
-                        })),
+                        mask: Some(canvas.mask(
+                            MaskKind::Luminance,
+                            vec![
+                                everywhere(Color::WHITE),
+                                path_node(outline.clone(), Some(Fill::solid(Color::BLACK)), None),
+                            ],
+                        )),
                         ..Group::new()
                     })
                 } else {
@@ -604,16 +577,7 @@ impl<'a> Builder<'a> {
                     let so_far = std::mem::take(&mut children);
                     children.push(Node::Group(Group {
                         children: so_far,
-                        mask: Some(Arc::new(Mask {
-                            id: String::new(),
-                            rect: area,
-                            kind: MaskKind::Luminance,
-                            mask: None,
-                            root: Group {
-                                children: vec![coverage(Color::WHITE)],
-                                ..Group::new()
-                            },
-                        })),
+                        mask: Some(canvas.mask(MaskKind::Luminance, vec![coverage(Color::WHITE)])),
                         ..Group::new()
                     }));
                 }
@@ -632,16 +596,7 @@ impl<'a> Builder<'a> {
                 );
             }
         }
-        Some(Arc::new(Mask {
-            id: String::new(),
-            rect: area,
-            kind: MaskKind::Luminance,
-            mask: None,
-            root: Group {
-                children,
-                ..Group::new()
-            },
-        }))
+        Some(canvas.mask(MaskKind::Luminance, children))
     }
 
     /// A colour property (0–255 components in files before 4.1.9, as players upgrade them).
@@ -693,6 +648,40 @@ fn styled(stroke: &mut Stroke, style: &StrokeStyle, t: f64) {
     }
     if dash.iter().any(|d| *d > 0.0) {
         stroke.dash = Some(dash);
+    }
+}
+
+/// The composition's canvas with a wide margin: the region of the masks built for layer
+/// masks and track mattes, which must not clip what moves beyond the canvas.
+struct Canvas {
+    area: Rect,
+}
+
+impl Canvas {
+    fn of(doc: &Document) -> Canvas {
+        let margin = 10.0 * doc.w.max(doc.h);
+        Canvas {
+            area: Rect::new(-margin, -margin, doc.w + margin, doc.h + margin),
+        }
+    }
+
+    /// A mask of `kind` drawing `children`.
+    fn mask(&self, kind: MaskKind, children: Vec<Node>) -> Arc<Mask> {
+        Arc::new(Mask {
+            id: String::new(),
+            rect: self.area,
+            kind,
+            mask: None,
+            root: Group {
+                children,
+                ..Group::new()
+            },
+        })
+    }
+
+    /// The whole area painted `color`.
+    fn everywhere(&self, color: Color) -> Node {
+        path_node(self.area.to_path(0.1), Some(Fill::solid(color)), None)
     }
 }
 
