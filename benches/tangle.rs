@@ -68,7 +68,7 @@ fn tiles(n: usize) -> Scene {
 /// Per tile: a 4 × 4 grid of cells, each cell decorated on its own.
 const TILE_GRAMMAR: &str = "regularSplit(line, 14, 1) : tile -> [cell]
 ungroup() : cell -> [one]
-outline(2) : one -> [rim, core]
+outline(2) : one -> [core, rim]
 invert() : one -> [ink]
 stipple(dots, 6, 0.8) : core -> [face, dots]
 ";

@@ -1144,14 +1144,14 @@ fn editing_the_spatial_rules_of_one_tag_leaves_the_others_pieces_identical() {
         ungroup() : dc -> [du]\n\
         fill(#102030) : du -> [d_dark] weight=2\n\
         perturb(rand(1, 3), 8) : du -> [d_wobbly]\n\
-        outline(rand(0.5, 2)) : du -> [d_ring, d_in]\n";
+        outline(rand(0.5, 2)) : du -> [d_in, d_ring]\n";
     let tile = "regularSplit(line, 12, 1) : tile -> [tc]\n\
         ungroup() : tc -> [tu]\n\
         fill(#ff0000) : tu -> [t_red]\n\
         perturb(rand(1, 2), 6) : tu -> [t_wobbly]\n";
     let edits = [
         format!("{tile}fill(#00ff00) : tu -> [t_green] weight=3\n"),
-        format!("outline(rand(1, 4)) : tile -> [t_ring, tc] priority=1\n{tile}"),
+        format!("outline(rand(1, 4)) : tile -> [tc, t_ring] priority=1\n{tile}"),
         tile.replace("perturb(rand(1, 2), 6) : tu -> [t_wobbly]\n", ""),
         tile.replace("rand(1, 2), 6", "rand(2, 5), 9")
             .replace("regularSplit(line, 12, 1)", "regularSplit(line, 7, 1)"),

@@ -608,9 +608,10 @@ fn deep_nesting_is_an_error_not_a_crash() {
 
 #[test]
 fn lexer_errors_are_reported_in_place() {
-    let d =
-        errors("op(a @ b) : a -> []\nop({1}) : a -> []\nop('x') : a -> []\nop(\"\\q\") : a -> []");
-    assert_eq!(positions(&d), [(1, 6), (2, 4), (3, 4), (4, 5)]);
+    let d = errors(
+        "op(a @ b) : a -> []\nop(a $ 1) : a -> []\nop('x') : a -> []\nop(\"\\q\") : a -> []",
+    );
+    assert_eq!(positions(&d), [(1, 6), (2, 6), (3, 4), (4, 5)]);
     assert_eq!(d.items[0].message, "unexpected character `@`");
     assert!(d.items[3].message.contains("escape"));
 }
@@ -698,5 +699,78 @@ fn every_directive_is_documented() {
             d.name,
             d.default
         );
+    }
+}
+
+#[test]
+fn the_papers_notation_reads_as_gmotions() {
+    // gMotion Fig. 4 / Fig. 5 and gTangle Fig. 9 as printed, against gmotion's own spelling.
+    let same = |paper: &str, ours: &str| {
+        let (p, o) = (ok(paper), ok(ours));
+        assert_eq!(
+            format!("{:?}", strip(&p)),
+            format!("{:?}", strip(&o)),
+            "{paper}"
+        );
+    };
+    same(
+        "1. TimeSplit({0.3, 0.7}) : [(all), (s)] → [t₁, inv_t₁]",
+        "timesplit((0.3, 0.7)) : [all, s] -> [t1, inv_t1]",
+    );
+    same(
+        "12. outline(25) : big poly → [⟨in 2⟩, ⟨tiny out⟩]",
+        "outline(25) : big_poly -> [in_2, tiny_out]",
+    );
+    same(
+        "3) place(20, 25) : out → [⟨blob⟩, ⟨rem⟩]",
+        "place(20, 25) : out -> [blob, rem]",
+    );
+    same(
+        "timesplit([0.5, 0.5]) : [all, s] -> [a, b]",
+        "timesplit((0.5, 0.5)) : [all, s] -> [a, b]",
+    );
+    // A single output tag followed by a rule option is not a two-word tag.
+    let g = ok("animate(affine, world, 0, scale(2)) : [a, s] -> t priority=2");
+    assert_eq!(g.rules[0].outputs[0].name, "t");
+    assert_eq!(g.rules[0].priority, 2);
+    // A number with a dot elsewhere than at the start of a line is still a number.
+    let g = ok("timesplit(0.5, 0.5) : [all, s] -> [a, b]");
+    assert_eq!(g.rules.len(), 1);
+    // An unclosed angle tag and an unclosed brace are located errors.
+    assert_eq!(positions(&errors("outline(2) : a → [⟨in]")), [(1, 19)]);
+    let d = errors("timesplit({0.5, 0.5) : [all, s] -> [a, b]");
+    assert_eq!(positions(&d), [(1, 20)]);
+    assert!(
+        d.items[0].expected.iter().any(|e| e == "`}`"),
+        "{:?}",
+        d.items[0]
+    );
+}
+
+/// A grammar's rules with the places they were written at dropped, to compare spellings.
+type Spelling = (String, Vec<String>, [Vec<String>; 3]);
+
+fn strip(g: &Grammar) -> Vec<Spelling> {
+    g.rules
+        .iter()
+        .map(|r| {
+            let args = r.args.iter().map(|a| expr_text(&a.value)).collect();
+            let lists = [tags(&r.slice_tags), tags(&r.shape_tags), tags(&r.outputs)];
+            (r.op.clone(), args, lists)
+        })
+        .collect()
+}
+
+/// An expression written out without its places.
+fn expr_text(e: &gmotion::grammar::ast::Expr) -> String {
+    use gmotion::grammar::ast::ExprKind;
+    match &e.kind {
+        ExprKind::Num(v) => v.to_string(),
+        ExprKind::Ident(s) => s.clone(),
+        ExprKind::Tuple(items) => {
+            let items: Vec<String> = items.iter().map(expr_text).collect();
+            format!("({})", items.join(", "))
+        }
+        other => format!("{other:?}"),
     }
 }

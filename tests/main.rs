@@ -17,6 +17,7 @@ mod grammar_parse;
 mod import;
 mod lottie;
 mod lottie_import;
+mod papers;
 mod sampler;
 mod signals;
 mod smil;

@@ -516,7 +516,7 @@ fn bad_arguments_point_at_the_rule() {
         ("frobnicate(2) : tile -> [a]\n", "unknown spatial operator"),
         ("regularSplit(line) : tile -> [a]\n", "offsets"),
         (
-            "place(blob, 3, 4) : tile -> [a, b]\n",
+            "place(blob, 3, 4) : tile -> [b, a]\n",
             "circle, square or path",
         ),
         ("fill(1, 2) : tile -> [a]\n", "at most 1"),
@@ -542,7 +542,7 @@ fn operator_warnings_leave_shapes_whole() {
 
 #[test]
 fn zero_area_input_is_warned_about_and_kept() {
-    let (s, stats) = run("outline(2) : line -> [a, b]\n", 1).unwrap();
+    let (s, stats) = run("outline(2) : line -> [b, a]\n", 1).unwrap();
     assert!(stats.warnings.iter().any(|w| w.message.contains("no area")));
     assert_eq!(s.shapes.iter().filter(|x| x.tag == "line").count(), 1);
 }

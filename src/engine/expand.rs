@@ -676,5 +676,6 @@ fn easing(e: &Expr, env: &mut ShapeEnv) -> Result<Easing, EngineError> {
             ));
         }
     };
-    Easing::from_call(&name, &args).map_err(|m| EngineError::at(e.span, m.to_string()))
+    Easing::from_call(&name, &args)
+        .map_err(|m| EngineError::at(e.span, m.to_string()).suggesting(Some(&name), Easing::NAMES))
 }

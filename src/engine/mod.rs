@@ -44,6 +44,24 @@ impl EngineError {
         }
     }
 
+    /// The same error with one more note.
+    pub fn with_note(mut self, note: impl Into<String>) -> EngineError {
+        self.notes.push(note.into());
+        self
+    }
+
+    /// The same error with a "did you mean" note when one of `names` is close to `written`.
+    pub fn suggesting<'a>(
+        self,
+        written: Option<&str>,
+        names: impl IntoIterator<Item = &'a str>,
+    ) -> EngineError {
+        match written.and_then(|w| crate::grammar::diagnostics::did_you_mean(w, names)) {
+            Some(close) => self.with_note(format!("did you mean `{close}`?")),
+            None => self,
+        }
+    }
+
     /// An error with no place.
     pub fn general(message: impl Into<String>) -> EngineError {
         EngineError {

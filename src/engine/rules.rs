@@ -27,6 +27,26 @@ pub enum AnimType {
 }
 
 impl AnimType {
+    /// The papers' long names (gMotion §3.3), accepted as well as [`AnimType::ALL`]'s.
+    pub const PAPER_NAMES: [(&'static str, AnimType); 7] = [
+        ("affine transform", AnimType::Affine),
+        ("move towards", AnimType::Towards),
+        ("follow path", AnimType::Path),
+        ("fill color", AnimType::Fill),
+        ("fill colour", AnimType::Fill),
+        ("border color", AnimType::Border),
+        ("border colour", AnimType::Border),
+    ];
+
+    /// The type a grammar names, in either spelling.
+    pub fn named(name: &str) -> Option<AnimType> {
+        AnimType::ALL
+            .iter()
+            .chain(&AnimType::PAPER_NAMES)
+            .find(|(n, _)| *n == name)
+            .map(|(_, t)| *t)
+    }
+
     /// Every type with its grammar spelling.
     pub const ALL: [(&'static str, AnimType); 7] = [
         ("affine", AnimType::Affine),
@@ -187,25 +207,31 @@ fn check_rule(index: usize, r: &Rule) -> Result<CRule, EngineError> {
                     "`timesplit` takes no named arguments",
                 ));
             }
-            if pos.len() < 2 {
+            // The papers pass the fractions as one list: `timesplit({0.3, 0.4, 0.3})`.
+            let fractions: Vec<Expr> = match pos.as_slice() {
+                [list] => match &list.value.kind {
+                    ExprKind::Tuple(items) => items.clone(),
+                    _ => vec![list.value.clone()],
+                },
+                _ => pos.iter().map(|a| a.value.clone()).collect(),
+            };
+            if fractions.len() < 2 {
                 return Err(EngineError::at(
                     r.op_span,
                     "`timesplit` needs at least two fractions",
                 ));
             }
-            if pos.len() != r.outputs.len() {
+            if fractions.len() != r.outputs.len() {
                 return Err(EngineError::at(
                     r.span,
                     format!(
                         "`timesplit` has {} fractions but {} output tags; they must match",
-                        pos.len(),
+                        fractions.len(),
                         r.outputs.len()
                     ),
                 ));
             }
-            Op::Timesplit {
-                fractions: pos.iter().map(|a| a.value.clone()).collect(),
-            }
+            Op::Timesplit { fractions }
         }
         "animate" => {
             if pos.len() != 4 {
@@ -217,29 +243,32 @@ fn check_rule(index: usize, r: &Rule) -> Result<CRule, EngineError> {
                     ),
                 ));
             }
-            let kind = keyword(&pos[0].value)
-                .and_then(|k| AnimType::ALL.iter().find(|(n, _)| *n == k).map(|(_, t)| *t))
-                .ok_or_else(|| {
-                    let names: Vec<_> = AnimType::ALL
-                        .iter()
-                        .map(|(n, _)| format!("`{n}`"))
-                        .collect();
-                    EngineError::at(
-                        pos[0].span,
-                        format!(
-                            "unknown animation type; expected one of {}",
-                            names.join(", ")
-                        ),
-                    )
-                })?;
+            let written = keyword(&pos[0].value);
+            let kind = written.and_then(AnimType::named).ok_or_else(|| {
+                let names: Vec<_> = AnimType::ALL
+                    .iter()
+                    .map(|(n, _)| format!("`{n}`"))
+                    .collect();
+                let all = AnimType::ALL.iter().chain(&AnimType::PAPER_NAMES);
+                EngineError::at(
+                    pos[0].span,
+                    format!(
+                        "unknown animation type; expected one of {}",
+                        names.join(", ")
+                    ),
+                )
+                .suggesting(written, all.map(|(n, _)| *n))
+            })?;
+            // `single` and `global` are gMotion §3.1's names for the two references.
             let world = match keyword(&pos[1].value) {
-                Some("world") => true,
-                Some("local") => false,
-                _ => {
+                Some("world" | "global") => true,
+                Some("local" | "single") => false,
+                other => {
                     return Err(EngineError::at(
                         pos[1].span,
                         "the reference is `local` or `world`",
-                    ));
+                    )
+                    .suggesting(other, ["local", "world", "single", "global"]));
                 }
             };
             if r.outputs.len() != 1 {
@@ -306,7 +335,8 @@ fn check_rule(index: usize, r: &Rule) -> Result<CRule, EngineError> {
                 format!(
                     "unknown timeslice operator `{other}`; expected `timesplit` or `animate` (spatial operators take a single tag list)"
                 ),
-            ));
+            )
+            .suggesting(Some(other), TIME_OPERATORS));
         }
     };
     if r.slice_tags.is_empty() || r.shape_tags.is_empty() {

@@ -25,6 +25,10 @@ pub enum Tok {
     LParen,
     /// `)`
     RParen,
+    /// `{`, the papers' list brackets: `timesplit({0.3, 0.4, 0.3})`.
+    LBrace,
+    /// `}`
+    RBrace,
     /// `[`
     LBracket,
     /// `]`
@@ -73,6 +77,8 @@ impl Tok {
             Tok::Color(_) => "a colour".into(),
             Tok::LParen => "`(`".into(),
             Tok::RParen => "`)`".into(),
+            Tok::LBrace => "`{`".into(),
+            Tok::RBrace => "`}`".into(),
             Tok::LBracket => "`[`".into(),
             Tok::RBracket => "`]`".into(),
             Tok::Comma => "`,`".into(),
@@ -122,6 +128,16 @@ fn is_ident_char(c: char) -> bool {
 /// True for characters that may start an identifier.
 fn is_ident_start(c: char) -> bool {
     c.is_alphabetic() || c == '_'
+}
+
+/// `t₁` reads as `t1`: the papers subscript their tag numbers.
+fn plain_subscripts(name: &str) -> String {
+    name.chars()
+        .map(|c| match c {
+            '₀'..='₉' => char::from(b'0' + (c as u32 - '₀' as u32) as u8),
+            c => c,
+        })
+        .collect()
 }
 
 struct Lexer<'a> {
@@ -212,7 +228,9 @@ impl Lexer<'_> {
                 }
                 '/' if self.peek_at(1) == Some('/') => self.skip_comment(),
                 '"' => self.string(start),
+                '0'..='9' if self.rule_label() => {}
                 '0'..='9' => self.number(start),
+                '⟨' | '〈' => self.angle_tag(start),
                 '.' if self.peek_at(1).is_some_and(|d| d.is_ascii_digit()) => self.number(start),
                 c if is_ident_start(c) => self.ident(start),
                 '-' if self.peek_at(1) == Some('>') => {
@@ -225,6 +243,8 @@ impl Lexer<'_> {
                     let tok = match c {
                         '(' => Tok::LParen,
                         ')' => Tok::RParen,
+                        '{' => Tok::LBrace,
+                        '}' => Tok::RBrace,
                         '[' => Tok::LBracket,
                         ']' => Tok::RBracket,
                         ',' => Tok::Comma,
@@ -239,9 +259,6 @@ impl Lexer<'_> {
                         '^' => Tok::Caret,
                         _ => {
                             let help = match c {
-                                '{' | '}' => Some(
-                                    "lists of numbers are written in parentheses: `timesplit(0.5, 0.5)`",
-                                ),
                                 '\'' => Some("strings use double quotes: \"...\""),
                                 ';' => Some("rules end at the end of the line; no `;` is needed"),
                                 _ => None,
@@ -440,8 +457,53 @@ impl Lexer<'_> {
                 break;
             }
         }
-        let name = self.src[start.0..self.pos].to_string();
+        let name = plain_subscripts(&self.src[start.0..self.pos]);
         self.push(Tok::Ident(name), start);
+    }
+
+    /// Skips a rule number such as `1.` or `12)` at the start of a line, as the papers
+    /// number their rules (gMotion Fig. 4, gTangle Fig. 9). Only a whole number directly
+    /// followed by `.` or `)` and a blank, as the first thing on its line, is a label.
+    fn rule_label(&mut self) -> bool {
+        let first_on_line = self.tokens.last().is_none_or(|t| t.tok == Tok::Newline);
+        if !first_on_line {
+            return false;
+        }
+        let rest = &self.src[self.pos..];
+        let digits = rest.bytes().take_while(u8::is_ascii_digit).count();
+        let mut after = rest[digits..].chars();
+        let is_label = matches!(after.next(), Some('.' | ')'))
+            && after.next().is_some_and(|c| c == ' ' || c == '\t');
+        if is_label {
+            for _ in 0..=digits {
+                self.bump();
+            }
+        }
+        is_label
+    }
+
+    /// A tag between angle brackets, as gTangle prints its output tags: `⟨in 2⟩` is the
+    /// tag `in_2` (words joined as the parser joins them outside brackets).
+    fn angle_tag(&mut self, start: (usize, u32, u32)) {
+        self.bump();
+        let body_start = self.pos;
+        self.bump_while(|c| !matches!(c, '⟩' | '〉' | '\n' | '\r'));
+        let body = &self.src[body_start..self.pos];
+        if !matches!(self.peek(), Some('⟩' | '〉')) {
+            self.error(
+                start,
+                "unclosed `⟨`".into(),
+                Some("an angle-bracketed tag ends with `⟩` on its line"),
+            );
+            return;
+        }
+        self.bump();
+        let name = plain_subscripts(&body.split_whitespace().collect::<Vec<_>>().join("_"));
+        if name.is_empty() {
+            self.error(start, "empty tag `⟨⟩`".into(), None);
+        } else {
+            self.push(Tok::Str(name), start);
+        }
     }
 }
 

@@ -110,8 +110,8 @@ impl Parser<'_> {
         let token = self.peek().clone();
         match token.tok {
             Tok::Eof => return token,
-            Tok::LParen | Tok::LBracket => self.open.push(token.span),
-            Tok::RParen | Tok::RBracket => {
+            Tok::LParen | Tok::LBracket | Tok::LBrace => self.open.push(token.span),
+            Tok::RParen | Tok::RBracket | Tok::RBrace => {
                 self.open.pop();
             }
             _ => {}
@@ -166,10 +166,10 @@ impl Parser<'_> {
             }
             Tok::Newline | Tok::Eof if !self.open.is_empty() => {
                 let opener = *self.open.last().unwrap_or(&token.span);
-                let which = if self.src.get(opener.start..opener.end) == Some("[") {
-                    "["
-                } else {
-                    "("
+                let which = match self.src.get(opener.start..opener.end) {
+                    Some("[") => "[",
+                    Some("{") => "{",
+                    _ => "(",
                 };
                 let d = Diagnostic::new(opener, format!("unclosed `{which}`"))
                     .with_expected(expected.iter().copied());
@@ -241,8 +241,8 @@ impl Parser<'_> {
                         return;
                     }
                 }
-                Tok::LParen | Tok::LBracket => depth += 1,
-                Tok::RParen | Tok::RBracket => depth -= 1,
+                Tok::LParen | Tok::LBracket | Tok::LBrace => depth += 1,
+                Tok::RParen | Tok::RBracket | Tok::RBrace => depth -= 1,
                 _ => {}
             }
             self.pos += 1;
@@ -254,7 +254,7 @@ impl Parser<'_> {
         match &token.tok {
             Tok::Ident(name) => {
                 if matches!(self.peek_next(), Tok::LParen | Tok::Colon) {
-                    let rule = self.rule(name.clone())?;
+                    let rule = self.rule(canonical_operator(name))?;
                     self.end_of_statement(&["`priority=`", "`weight=`"])?;
                     grammar.rules.push(rule);
                 } else {
@@ -424,14 +424,36 @@ impl Parser<'_> {
         Ok(tags)
     }
 
-    /// A tag: a name or a string, `inv_` prefix for inverted.
+    /// A tag: a name or a string, `inv_` prefix for inverted. Several words in a row are
+    /// one tag joined by `_`, so gTangle's printed `big poly` is the tag `big_poly`.
     fn tag(&mut self) -> PResult<TagRef> {
-        let token = self.peek().clone();
-        let written = match &token.tok {
+        let mut token = self.peek().clone();
+        let mut written = match &token.tok {
             Tok::Ident(name) | Tok::Str(name) => name.clone(),
             _ => return Err(self.unexpected(&["a tag"])),
         };
         self.bump();
+        // A following word or whole number continues the tag (`in 2` is `in_2`), unless it
+        // is a rule option (`priority=`).
+        loop {
+            let next = &self.toks[self.pos];
+            let word = &self.src[next.span.start..next.span.end];
+            let continues = match next.tok {
+                Tok::Ident(_) => self.toks.get(self.pos + 1).is_none_or(|t| t.tok != Tok::Eq),
+                Tok::Num(_) => word.bytes().all(|b| b.is_ascii_digit()),
+                _ => false,
+            };
+            if !continues {
+                break;
+            }
+            let word = match &next.tok {
+                Tok::Ident(name) => name.clone(),
+                _ => word.to_string(),
+            };
+            written = format!("{written}_{word}");
+            token.span = join(token.span, self.toks[self.pos].span);
+            self.pos += 1;
+        }
         let (name, inverted) = match written.strip_prefix(INV_PREFIX) {
             Some(rest) => (rest.to_string(), true),
             None => (written.clone(), false),
@@ -738,12 +760,37 @@ impl Parser<'_> {
                 });
             }
             Tok::LParen => return self.parenthesised(),
+            Tok::LBrace | Tok::LBracket => return self.list(),
             _ => return Err(self.unexpected(&["an expression"])),
         };
         self.bump();
         Ok(Expr {
             kind,
             span: token.span,
+        })
+    }
+
+    /// A list as the papers write one, `{a, b, …}` or `[a, b, …]`: a tuple even with one
+    /// item, so `timesplit({0.3, 0.7})` reads as `timesplit(0.3, 0.7)`.
+    fn list(&mut self) -> PResult<Expr> {
+        let open = self.bump();
+        let close = if open.tok == Tok::LBrace {
+            Tok::RBrace
+        } else {
+            Tok::RBracket
+        };
+        let mut items = Vec::new();
+        while !self.at(&close) {
+            items.push(self.expr()?);
+            if self.eat(&Tok::Comma).is_none() {
+                break;
+            }
+        }
+        let closer = if close == Tok::RBrace { "`}`" } else { "`]`" };
+        self.expect(&close, &["`,`", closer])?;
+        Ok(Expr {
+            kind: ExprKind::Tuple(items),
+            span: join(open.span, self.prev_span()),
         })
     }
 
@@ -767,6 +814,15 @@ impl Parser<'_> {
         };
         Ok(Expr { kind, span })
     }
+}
+
+/// The operator a rule names, with the papers' spellings folded in: gMotion's Fig. 5
+/// writes `TimeSplit`.
+fn canonical_operator(name: &str) -> String {
+    ["timesplit", "animate"]
+        .into_iter()
+        .find(|op| op.eq_ignore_ascii_case(name))
+        .map_or_else(|| name.to_string(), str::to_string)
 }
 
 fn binary(op: BinOp, lhs: Expr, rhs: Expr) -> Expr {

@@ -513,7 +513,8 @@ fn call(name: &str, args: &[Arg], span: Span, env: &mut dyn Env) -> Result<Value
             let v = a.nums(&[2], "point(x, y)")?;
             Value::Point(Point::new(v[0], v[1]))
         }
-        "translate" => {
+        // `tran` is gMotion Fig. 4's shorthand.
+        "translate" | "tran" => {
             let d = match a.values.as_slice() {
                 [(Value::Point(p), _)] => p.to_vec2(),
                 _ => match a.nums(&[1, 2], "translate(x) or translate(x, y)")?[..] {
@@ -543,6 +544,15 @@ fn call(name: &str, args: &[Arg], span: Span, env: &mut dyn Env) -> Result<Value
                 _ => Vec2::new(1.0, 1.0),
             };
             Value::Transform(vec![Component::Scale(k)])
+        }
+        // gMotion Fig. 4's `rot_scale(degrees, s)`: a turn and a uniform scale, which
+        // commute, so their order does not matter.
+        "rot_scale" => {
+            let v = a.nums(&[2], "rot_scale(degrees, s)")?;
+            Value::Transform(vec![
+                Component::Rotate(v[0]),
+                Component::Scale(Vec2::new(v[1], v[1])),
+            ])
         }
         "skew" => {
             let v = a.nums(&[2], "skew(ax, ay)")?;

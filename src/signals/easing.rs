@@ -104,6 +104,18 @@ impl Easing {
         Ok(Easing::Poles { n, tau })
     }
 
+    /// Every name [`Easing::from_call`] knows, in its preferred spelling.
+    pub const NAMES: [&'static str; 8] = [
+        "linear",
+        "ease",
+        "ease-in",
+        "ease-out",
+        "ease-in-out",
+        "cubic-bezier",
+        "bspline",
+        "poles",
+    ];
+
     /// Builds an easing from its grammar spelling: a name and numeric arguments.
     ///
     /// | spelling | curve |

@@ -306,10 +306,16 @@ fn path_polyline(data: &str, span: Span) -> Result<Vec<Point>, TangleError> {
 /// An unknown operator, a wrong argument (count, name, type or range), with its location.
 pub fn bind(rule: &Rule, env: &mut dyn Env) -> Result<Op, TangleError> {
     let kind = Kind::of(&rule.op).ok_or_else(|| {
+        let names = OPERATORS
+            .split(", ")
+            .chain(crate::engine::rules::TIME_OPERATORS);
+        let hint = crate::grammar::diagnostics::did_you_mean(&rule.op, names)
+            .map(|close| format!(" (did you mean `{close}`?)"))
+            .unwrap_or_default();
         TangleError::arg(
             rule.op_span,
             format!(
-                "unknown spatial operator `{}`; expected one of {OPERATORS}",
+                "unknown spatial operator `{}`; expected one of {OPERATORS}{hint}",
                 rule.op
             ),
         )

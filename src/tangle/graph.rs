@@ -344,17 +344,17 @@ mod tests {
     }
 
     /// gTangle's Fig. 9 leaf grammar.
-    const LEAF: &str = "outline(25) : big_poly -> [out, in]
-place(20, 25) : out -> [rem, blob]
+    const LEAF: &str = "outline(25) : big_poly -> [in, out]
+place(20, 25) : out -> [blob, rem]
 regularSplit(line, 90, 1) : in -> [quads]
 regroup(2) : quads -> [ung_quads]
-outline(7) : ung_quads -> [out_2, in_2]
-outline(5) : in_2 -> [out_3, in_3]
+outline(7) : ung_quads -> [in_2, out_2]
+outline(5) : in_2 -> [in_3, out_3]
 stipling() : in_3 -> [term, term]
 regularSplit(line, 50, 0) : ung_quads -> [slices]
 regroup(2) : slices -> [reg_slices]
 regularSplit(line, 10, 0) : reg_slices -> [final]
-outline(3) : final -> [tiny_out, tiny]
+outline(3) : final -> [tiny, tiny_out]
 invert() : rem -> [term]
 ";
 
@@ -383,7 +383,7 @@ invert() : rem -> [term]
     #[test]
     fn cycles_count_once_and_timeslice_rules_are_ignored() {
         let rs = rules(
-            "outline(2) : a -> [b, c]\nregroup(2) : b -> [a]\nfill(red) : c -> [d]\nanimate(affine, local, 0, scale(2)) : [all, d] -> [t]\n",
+            "outline(2) : a -> [c, b]\nregroup(2) : b -> [a]\nfill(red) : c -> [d]\nanimate(affine, local, 0, scale(2)) : [all, d] -> [t]\n",
         );
         let refs: Vec<&Rule> = rs.iter().collect();
         // a ⇄ b is one level, then fill: depth 2.

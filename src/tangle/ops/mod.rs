@@ -188,14 +188,17 @@ impl Op {
                     .collect()
             }
             Op::Outline { distance } => {
-                let (out, inner) = outline::outline(input.region, *distance, grid)?;
+                // Slot 0 the inner pieces, slot 1 the ring: gTangle's Fig. 9 names them
+                // `[in, out]` (its §4.2 text lists them the other way round). The ring
+                // still comes first in drawing order.
+                let (ring, inner) = outline::outline(input.region, *distance, grid)?;
                 let each = |r: Region, slot: usize| {
                     r.polygons
                         .into_iter()
                         .map(move |p| (Region::from_polygon(p), slot))
                 };
-                each(out, 0)
-                    .chain(each(inner, 1))
+                each(ring, 1)
+                    .chain(each(inner, 0))
                     .enumerate()
                     .map(|(n, (r, slot))| Piece {
                         cell: (n as i64, 0),
@@ -244,12 +247,15 @@ impl Op {
                     grid,
                     ctx.resolution,
                 )?;
+                // Slot 0 the placed pieces, slot 1 the remainder: gTangle's Fig. 9 names
+                // them `[blob, rem]` (its §4.2 text lists them the other way round). The
+                // remainder still comes first in drawing order.
                 let rem = out
                     .remainder
                     .polygons
                     .into_iter()
-                    .map(|p| (Region::from_polygon(p), 0));
-                rem.chain(out.placed.into_iter().map(|r| (r, 1)))
+                    .map(|p| (Region::from_polygon(p), 1));
+                rem.chain(out.placed.into_iter().map(|r| (r, 0)))
                     .enumerate()
                     .map(|(n, (r, slot))| Piece {
                         cell: (n as i64, 0),
