@@ -735,3 +735,133 @@ fn a_file_size_limit_fails_cleanly() {
     let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
     assert!(left.is_empty(), "{left:?}");
 }
+
+/// Runs `cmd` with `input` on its standard input; returns (status, stdout, stderr).
+fn piped(cmd: &mut Command, input: &[u8]) -> (Option<i32>, Vec<u8>, String) {
+    use std::io::Write;
+    use std::process::Stdio;
+    let mut child = cmd
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    stdin.write_all(input).unwrap();
+    drop(stdin);
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    (out.status.code(), out.stdout, err)
+}
+
+#[test]
+fn dash_is_standard_input_and_output() {
+    let d = out_dir("stdio");
+    let g = root().join("grammars");
+    let svg = std::fs::read(g.join("toy.svg")).unwrap();
+    // The same animation through files and through pipes: the same bytes.
+    let file = d.join("toy.json");
+    animate("toy", &[&file], &[], None);
+    let (code, out, err) = piped(
+        bin()
+            .args(["animate", "-", "--format", "json", "-o", "-"])
+            .arg(g.join("toy.gm")),
+        &svg,
+    );
+    assert_eq!(code, Some(0), "{err}");
+    assert_eq!(out, std::fs::read(&file).unwrap());
+    assert!(err.contains("wrote standard output"), "{err}");
+    // A GIF to standard output is a GIF; the grammar may come on standard input too.
+    let gm = std::fs::read(g.join("toy.gm")).unwrap();
+    let (code, out, err) = piped(
+        bin()
+            .args(["-q", "animate"])
+            .arg(g.join("toy.svg"))
+            .args(["-", "-o", "-", "--format", "gif"]),
+        &gm,
+    );
+    assert_eq!(code, Some(0), "{err}");
+    assert!(out.starts_with(b"GIF89a"));
+    assert!(err.is_empty(), "--quiet printed: {err}");
+    // Without --format, `-o -` is refused before any work and prints nothing on stdout.
+    let (code, out, err) = piped(
+        bin()
+            .arg("animate")
+            .arg(g.join("toy.svg"))
+            .arg(g.join("toy.gm"))
+            .args(["-o", "-"]),
+        b"",
+    );
+    assert_eq!(code, Some(1));
+    assert!(out.is_empty() && err.contains("--format"), "{err}");
+    // A failed run prints nothing on standard output either.
+    let (code, out, _) = piped(
+        bin()
+            .args(["animate", "-", "-o", "-", "--format", "json"])
+            .arg(g.join("toy.gm")),
+        b"<svg xmlns='http://www.w3.org/2000/svg'><rect",
+    );
+    assert_eq!(code, Some(1));
+    assert!(out.is_empty());
+}
+
+#[test]
+fn a_summary_line_says_what_was_written_unless_quiet() {
+    let d = out_dir("summary");
+    let g = root().join("grammars");
+    let (json, frames) = (d.join("a.json"), d.join("frames"));
+    let out = bin()
+        .arg("animate")
+        .arg(g.join("toy.svg"))
+        .arg(g.join("toy.gm"))
+        .arg("-o")
+        .arg(&json)
+        .arg("-o")
+        .arg(&frames)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    let lines: Vec<&str> = err.lines().collect();
+    assert_eq!(lines.len(), 1, "{err}");
+    assert!(
+        lines[0].starts_with("wrote ")
+            && lines[0].contains("a.json (")
+            && lines[0].contains("(180 frames)"),
+        "{err}"
+    );
+    assert!(out.stdout.is_empty());
+}
+
+#[test]
+fn completions_and_the_manual_come_from_the_argument_definitions() {
+    for shell in ["bash", "zsh", "fish", "elvish", "powershell"] {
+        let script = run_ok(bin().args(["completions", shell]));
+        assert!(
+            script.contains("animate") && script.contains("tolerance"),
+            "{shell}"
+        );
+    }
+    let man = run_ok(bin().arg("man"));
+    assert!(
+        man.contains(".TH gmotion") && man.contains("animate"),
+        "{man}"
+    );
+    let bad = bin().args(["completions", "tcsh"]).output().unwrap();
+    assert_eq!(bad.status.code(), Some(2), "usage errors exit with 2");
+    // Every command's help shows examples.
+    for cmd in [
+        "animate",
+        "convert",
+        "check",
+        "transitions",
+        "variations",
+        "studio",
+        "demo",
+    ] {
+        let help = run_ok(bin().args([cmd, "--help"]));
+        assert!(
+            help.contains("Examples:\n  gmotion "),
+            "{cmd} --help has no examples"
+        );
+    }
+}

@@ -32,6 +32,8 @@ pub struct Ctx {
 /// Runs one command.
 pub fn run(cmd: Command, ctx: &Ctx) -> Result<()> {
     match cmd {
+        // Printed by `main` from the argument definitions themselves.
+        Command::Completions { .. } | Command::Man => Ok(()),
         Command::Demo { output, example } => demo(&output, &example, ctx),
         Command::Convert {
             input,
@@ -305,7 +307,7 @@ fn load_scene(path: &Path, options: &SceneOptions, ctx: &Ctx) -> Result<LoadedSc
         let imported =
             lottie_import::load(path, &options.lottie).map_err(|e| CliError::msg(e.to_string()))?;
         for w in &imported.warnings {
-            eprintln!("{}: warning: {w}", path.display());
+            super::report::warn(path, w);
         }
         return Ok(LoadedScene {
             scene: imported.scene,
@@ -316,7 +318,7 @@ fn load_scene(path: &Path, options: &SceneOptions, ctx: &Ctx) -> Result<LoadedSc
     let imported = svg_import::load_with(path, &options.svg, &policy)
         .map_err(|e| CliError::msg(e.to_string()))?;
     for w in &imported.warnings {
-        eprintln!("{}: warning: {w}", path.display());
+        super::report::warn(path, w);
     }
     Ok(LoadedScene {
         scene: imported.scene,
@@ -460,7 +462,7 @@ fn progress(len: usize, what: &str) -> ProgressBar {
 
 fn print_warnings(out: &Path, warnings: &[Warning]) {
     for w in warnings {
-        eprintln!("{}: warning: {w}", out.display());
+        super::report::warn(out, w);
     }
 }
 
@@ -595,7 +597,7 @@ fn build(
     let (anim, stats) = engine::run(loaded.scene, &g.grammar, &opts)
         .map_err(|e| engine_error(grammar_path, &g.src, &e))?;
     for w in &stats.warnings {
-        eprintln!("{}: warning: {w}", grammar_path.display());
+        super::report::warn(grammar_path, w);
     }
     Ok(Built {
         anim,

@@ -13,19 +13,41 @@ mod guard;
 mod output;
 mod report;
 mod sheet;
+mod stdio;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::{Args, Parser, Subcommand, ValueEnum};
+use clap::{Args, CommandFactory, Parser, Subcommand, ValueEnum};
 
 /// Procedural motion graphics from still vector art: timeslice and group grammars, signal
 /// filters, and export to Lottie, animated SVG (SMIL), PNG, GIF and APNG.
 #[derive(Parser, Debug)]
-#[command(name = "gmotion", version, about, long_about = None)]
+#[command(
+    name = "gmotion",
+    version,
+    about,
+    long_about = None,
+    after_help = "Examples:
+  gmotion animate art.svg motion.gm -o art.json -o art.gif
+  gmotion check motion.gm art.svg
+  gmotion convert logo.svg -o logo.json
+  gmotion studio art.svg motion.gm
+  cat art.svg | gmotion animate - motion.gm -o - --format json > art.json
+
+Exit status: 0 done, 1 bad input or a failed write (nothing is left half-written), 2 bad
+command line. docs/cli.md has every command with examples."
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Print no warnings and no summary of what was written (errors are still printed).
+    #[arg(short, long, global = true)]
+    quiet: bool,
+    /// The format of an output written to standard output (`-o -`), which has no
+    /// extension to tell it.
+    #[arg(long, value_enum, global = true)]
+    format: Option<FormatArg>,
     /// Raise or lower a limit, `NAME=N` (repeatable): input-bytes, svgz-bytes,
     /// xml-entity-bytes, xml-nodes, css-rules, frames, pixels, animation-pixels, steps (see the
     /// README's "Limits").
@@ -40,6 +62,7 @@ struct Cli {
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Run the bundled example and write its frames, GIF, Lottie, SMIL and preview.html.
+    #[command(after_help = "Examples:\n  gmotion demo\n  gmotion demo --example toy -o out/toy")]
     Demo {
         /// Output directory.
         #[arg(short, long, default_value = "out/demo")]
@@ -52,6 +75,9 @@ enum Command {
     /// (`.json`) is written back as it was read to `.json`, played by gmotion's own
     /// renderer to `.gif`, `.apng` or a folder of frames, and drawn at --time to `.png`
     /// and `.svg`.
+    #[command(
+        after_help = "Examples:\n  gmotion convert logo.svg -o logo.json          # Lottie for the web\n  gmotion convert logo.svg -o logo.png --width 512\n  gmotion convert anim.json -o anim.gif          # play a Lottie file\n  gmotion convert anim.json -o still.png --time 1.5"
+    )]
     Convert {
         /// Input SVG or Lottie JSON.
         input: PathBuf,
@@ -69,6 +95,9 @@ enum Command {
         import: ImportArgs,
     },
     /// Run a grammar on a scene and write the animation.
+    #[command(
+        after_help = "Examples:\n  gmotion animate art.svg motion.gm -o art.json -o art.svg -o art.gif\n  gmotion animate motion.gm -o frames/          # the grammar names its scene\n  gmotion animate art.svg motion.gm -o still.png --time 2\n  gmotion animate anim.json motion.gm -o out.json   # After Effects round trip\n  gmotion animate - motion.gm -o - --format json < art.svg > art.json"
+    )]
     #[command(override_usage = "gmotion animate [OPTIONS] --output <OUTPUT> [SCENE] <GRAMMAR>")]
     Animate {
         /// `[SCENE] GRAMMAR`: the scene (SVG or Lottie JSON) may be left out when the grammar names it
@@ -93,6 +122,9 @@ enum Command {
     },
     /// Data-driven transitions: new target values over time for tagged shapes, turned
     /// into an animation by a signal system (FIR, spring, …), written like `animate`.
+    #[command(
+        after_help = "Examples:\n  gmotion transitions chart.svg data.json -o chart.json\n  gmotion transitions chart.svg data.csv --system \"spring(0.5, 0.2)\" -o chart.gif"
+    )]
     Transitions {
         /// The scene (SVG).
         scene: PathBuf,
@@ -124,7 +156,8 @@ enum Command {
     /// the grammar's `scene`), also expand it and print rule, tag and expansion
     /// statistics.
     #[command(
-        override_usage = "gmotion check [OPTIONS] <GRAMMAR> [SCENE]\n       gmotion check --shapes [--json] <SCENE>"
+        override_usage = "gmotion check [OPTIONS] <GRAMMAR> [SCENE]\n       gmotion check --shapes [--json] <SCENE>",
+        after_help = "Examples:\n  gmotion check motion.gm art.svg\n  gmotion check --shapes art.svg                # tags, ids, boxes, centroids\n  gmotion check motion.gm --graph rules.svg      # the grammar graph"
     )]
     Check {
         /// `GRAMMAR [SCENE]`: the grammar (.gm), and the scene to expand it on, which
@@ -150,7 +183,8 @@ enum Command {
     /// Render N variations of a grammar (seeds S, S+1, …) at one instant: a contact sheet
     /// (`.png`, each frame labelled with its seed) or a folder with one `seed_S.png` each.
     #[command(
-        override_usage = "gmotion variations [OPTIONS] --count <N> -o <OUT> [SCENE] <GRAMMAR>"
+        override_usage = "gmotion variations [OPTIONS] --count <N> -o <OUT> [SCENE] <GRAMMAR>",
+        after_help = "Examples:\n  gmotion variations art.svg motion.gm --count 12 -o sheet.png\n  gmotion variations art.svg motion.gm --count 4 --seed-start 40 -o seeds/"
     )]
     Variations {
         /// `[SCENE] GRAMMAR`, as for `animate`.
@@ -177,7 +211,10 @@ enum Command {
     /// Open the studio: a local web editor (preview, timeline, shape list, grammar with
     /// live diagnostics, rule creation, variations, export) served on 127.0.0.1; see
     /// docs/studio.md. Prints `studio: URL` first and runs until interrupted.
-    #[command(override_usage = "gmotion studio [OPTIONS] [SCENE] <GRAMMAR>")]
+    #[command(
+        override_usage = "gmotion studio [OPTIONS] [SCENE] <GRAMMAR>",
+        after_help = "Examples:\n  gmotion studio art.svg motion.gm\n  gmotion studio motion.gm --port 8080 --no-open"
+    )]
     Studio {
         /// `[SCENE] GRAMMAR`, as for `animate`.
         #[arg(required = true, num_args = 1..=2, value_name = "FILE")]
@@ -193,6 +230,76 @@ enum Command {
         #[command(flatten)]
         import: ImportArgs,
     },
+    /// Print a shell completion script for bash, zsh, fish, elvish or PowerShell.
+    #[command(
+        after_help = "Examples:\n  gmotion completions bash > ~/.local/share/bash-completion/completions/gmotion\n  gmotion completions zsh > ~/.zfunc/_gmotion\n  gmotion completions fish > ~/.config/fish/completions/gmotion.fish"
+    )]
+    Completions {
+        /// The shell.
+        shell: clap_complete::Shell,
+    },
+    /// Print the manual page (roff).
+    #[command(
+        after_help = "Examples:\n  gmotion man | man -l -\n  gmotion man > /usr/local/share/man/man1/gmotion.1"
+    )]
+    Man,
+}
+
+impl Command {
+    /// The files the command reads and the outputs it writes, where `-` may stand for
+    /// standard input or output.
+    fn io_paths(&mut self) -> (Vec<&mut PathBuf>, Vec<&mut PathBuf>) {
+        match self {
+            Command::Convert { input, output, .. } => (vec![input], output.iter_mut().collect()),
+            Command::Animate { files, output, .. } => {
+                (files.iter_mut().collect(), output.iter_mut().collect())
+            }
+            Command::Transitions {
+                scene,
+                targets,
+                output,
+                ..
+            } => (vec![scene, targets], output.iter_mut().collect()),
+            Command::Check { files, graph, .. } => {
+                (files.iter_mut().collect(), graph.iter_mut().collect())
+            }
+            Command::Variations { files, output, .. } => (files.iter_mut().collect(), vec![output]),
+            Command::Demo { .. }
+            | Command::Studio { .. }
+            | Command::Completions { .. }
+            | Command::Man => (Vec::new(), Vec::new()),
+        }
+    }
+}
+
+/// `--format`: the extension an output to standard output would have.
+#[derive(ValueEnum, Clone, Copy, Debug)]
+enum FormatArg {
+    /// Lottie JSON.
+    Json,
+    /// Animated SVG (SMIL), or a still SVG for `convert`.
+    Svg,
+    /// One PNG frame.
+    Png,
+    /// Animated GIF.
+    Gif,
+    /// Animated PNG.
+    Apng,
+    /// A self-contained HTML preview.
+    Html,
+}
+
+impl FormatArg {
+    fn extension(self) -> &'static str {
+        match self {
+            FormatArg::Json => "json",
+            FormatArg::Svg => "svg",
+            FormatArg::Png => "png",
+            FormatArg::Gif => "gif",
+            FormatArg::Apng => "apng",
+            FormatArg::Html => "html",
+        }
+    }
 }
 
 /// Options of the grammar run.
@@ -264,9 +371,34 @@ enum UnitsArg {
     Groups,
 }
 
-/// Parses arguments, runs the command, prints errors; the exit code says how it went.
+/// Parses arguments, runs the command, prints errors; the exit code says how it went
+/// (clap's own exit code, 2, for a bad command line).
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let mut cli = Cli::parse();
+    report::set_quiet(cli.quiet);
+    match cli.command {
+        Command::Completions { shell } => {
+            clap_complete::generate(
+                shell,
+                &mut Cli::command(),
+                "gmotion",
+                &mut std::io::stdout(),
+            );
+            return ExitCode::SUCCESS;
+        }
+        Command::Man => {
+            return match clap_mangen::Man::new(Cli::command()).render(&mut std::io::stdout()) {
+                Ok(()) => ExitCode::SUCCESS,
+                // `gmotion man | head` is not an error.
+                Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => ExitCode::SUCCESS,
+                Err(e) => {
+                    eprintln!("standard output: cannot write: {e}");
+                    ExitCode::FAILURE
+                }
+            };
+        }
+        _ => {}
+    }
     guard::clean_up_on_signals();
     let limits = match guard::Limits::parse(&cli.limits) {
         Ok(l) => l,
@@ -275,12 +407,33 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
     };
+    let given: Vec<PathBuf> = cli
+        .command
+        .io_paths()
+        .1
+        .iter()
+        .map(|p| p.to_path_buf())
+        .collect();
+    let format = cli.format.map(FormatArg::extension);
+    let (mut inputs, mut outputs) = cli.command.io_paths();
+    let stdio = stdio::Stdio::prepare(&mut inputs, &mut outputs, format, limits.get("input-bytes"));
+    let written: Vec<PathBuf> = outputs.iter().map(|p| p.to_path_buf()).collect();
+    let summary = !matches!(cli.command, Command::Check { .. } | Command::Demo { .. });
     let ctx = commands::Ctx {
         limits,
         allow: cli.allow_paths,
     };
-    match commands::run(cli.command, &ctx) {
-        Ok(()) => ExitCode::SUCCESS,
+    let result = stdio.and_then(|stdio| {
+        commands::run(cli.command, &ctx)?;
+        stdio.finish()
+    });
+    match result {
+        Ok(()) => {
+            if summary {
+                report::wrote(&given, &written);
+            }
+            ExitCode::SUCCESS
+        }
         Err(e) => {
             eprintln!("{e}");
             ExitCode::FAILURE

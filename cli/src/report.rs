@@ -1,7 +1,8 @@
 //! Error messages for the terminal: grammar errors with the source line and a caret.
 
 use std::fmt;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use gmotion::engine::EngineError;
 use gmotion::grammar::diagnostics::Diagnostic;
@@ -44,5 +45,57 @@ pub fn engine_error(grammar_path: &Path, src: &str, e: &EngineError) -> CliError
             }
             CliError(s)
         }
+    }
+}
+
+/// `--quiet`: warnings and the summary of what was written are not printed (errors are).
+static QUIET: AtomicBool = AtomicBool::new(false);
+
+/// Sets `--quiet` for the rest of the run.
+pub fn set_quiet(quiet: bool) {
+    QUIET.store(quiet, Ordering::Relaxed);
+}
+
+/// Prints a warning about `origin` (the file it concerns) on standard error, unless quiet.
+pub fn warn(origin: &Path, warning: impl fmt::Display) {
+    if !QUIET.load(Ordering::Relaxed) {
+        eprintln!("{}: warning: {warning}", origin.display());
+    }
+}
+
+/// Prints one line on standard error saying what was written, unless quiet: each output
+/// as given on the command line (`-` is standard output), with its size or frame count.
+pub fn wrote(given: &[PathBuf], written: &[PathBuf]) {
+    if QUIET.load(Ordering::Relaxed) || given.is_empty() {
+        return;
+    }
+    let items: Vec<String> = given
+        .iter()
+        .zip(written)
+        .map(|(name, file)| {
+            let shown = if name.as_os_str() == "-" {
+                "standard output".to_string()
+            } else {
+                name.display().to_string().trim_end_matches('/').to_string()
+            };
+            match std::fs::metadata(file) {
+                Ok(m) if m.is_dir() => {
+                    let frames = std::fs::read_dir(file).map_or(0, |d| d.count());
+                    format!("{shown}/ ({frames} frames)")
+                }
+                Ok(m) => format!("{shown} ({})", size(m.len())),
+                Err(_) => shown,
+            }
+        })
+        .collect();
+    eprintln!("wrote {}", items.join(", "));
+}
+
+/// A byte count for people: `812 B`, `12.4 kB`, `3.1 MB`.
+fn size(bytes: u64) -> String {
+    match bytes {
+        b if b < 1000 => format!("{b} B"),
+        b if b < 1_000_000 => format!("{:.1} kB", b as f64 / 1e3),
+        b => format!("{:.1} MB", b as f64 / 1e6),
     }
 }
