@@ -51,7 +51,8 @@ fn sexp(e: &Expr) -> String {
         ExprKind::Binary { op, lhs, rhs } => {
             format!("({} {} {})", op.symbol(), sexp(lhs), sexp(rhs))
         }
-        ExprKind::Size(c, r) => format!("{c}x{r}"),
+        ExprKind::Size(c, r, 2) => format!("{c}x{r}"),
+        ExprKind::Size(c, r, p) => format!("{c}x{r}x{p}"),
     }
 }
 

@@ -173,3 +173,94 @@ fn fig_9_as_printed_draws_what_its_names_say() {
     let (_, stats) = run(scene, &parsed(FIG_9), &RunOptions::default()).unwrap();
     assert!(stats.spatial_steps >= 12, "{} steps", stats.spatial_steps);
 }
+
+/// gMotion §3.1: a motion is an n×m×p tensor, a spatial grid keyframed at p times and
+/// interpolated linearly in time between them. With `grid=1x1x5` the value is evaluated at
+/// `u = 0, 1/4, …, 1`; the shape passes through each keyframe at its instant, moves
+/// linearly between them, and the inverted twin retraces the same points backwards.
+#[test]
+fn an_nxmxp_grid_passes_through_its_keyframes_linearly_in_time() {
+    let scene = || squares(&[("s", (100.0, 300.0), 20.0)]);
+    let hop = "duration 4s
+timesplit(0.5, 0.5) : [all, s] -> [a, inv_a]
+animate(affine, world, 0, translate(300 * u, -120 * sin(pi * u)), grid=1x1x5) : [a, s] -> [m]
+";
+    let a = animated(scene(), hop);
+    let key = |u: f64| {
+        Point::new(
+            100.0 + 300.0 * u,
+            300.0 - 120.0 * (std::f64::consts::PI * u).sin(),
+        )
+    };
+    for k in 0..=4 {
+        let u = f64::from(k) / 4.0;
+        // Forward over the first 2 s, backwards over the last 2 s.
+        assert!(near(centre(&a, 0, 2.0 * u), key(u)), "k = {k}");
+        assert!(
+            near(centre(&a, 0, 4.0 - 2.0 * u), key(u)),
+            "k = {k}, inverted"
+        );
+    }
+    for k in 0..4 {
+        let (u0, u1) = (f64::from(k) / 4.0, f64::from(k + 1) / 4.0);
+        let mid = key(u0).midpoint(key(u1));
+        assert!(
+            near(centre(&a, 0, u0 + u1), mid),
+            "between keyframes {k} and {}",
+            k + 1
+        );
+    }
+    // A value without `u` is the same at every keyframe: the ordinary two-keyframe motion,
+    // whatever p is (here with an easing, which applies to the whole change).
+    let plain = |grid: &str| {
+        animated(
+            scene(),
+            &format!(
+                "duration 2s\nanimate(affine, local, 0.2, rotate(90) translate(40, 0), ease=ease-in-out, grid={grid}) : [all, s] -> [m]\n"
+            ),
+        )
+    };
+    let (two, nine) = (plain("1x1"), plain("1x1x9"));
+    for i in 0..=40 {
+        let t = f64::from(i) * 0.05;
+        let (m, n) = (
+            two.tracks[0].transform_at(t),
+            nine.tracks[0].transform_at(t),
+        );
+        let (m, n) = (m.as_coeffs(), n.as_coeffs());
+        let diff = m.iter().zip(n).map(|(x, y)| (x - y).abs());
+        assert!(diff.fold(0.0, f64::max) < 1e-9, "t = {t}");
+    }
+}
+
+#[test]
+fn keyframes_in_time_are_refused_where_they_mean_nothing() {
+    let refuse = |rule: &str, says: &str| {
+        let src = format!("duration 1s\n{rule} : [all, s] -> [m]\n");
+        let g = parsed(&src);
+        let e = run(
+            squares(&[("s", (10.0, 10.0), 4.0)]),
+            &g,
+            &RunOptions::default(),
+        )
+        .err()
+        .unwrap_or_else(|| panic!("{rule} was accepted"));
+        assert!(e.to_string().contains(says), "{rule}: {e}");
+    };
+    refuse(
+        "animate(affine, world, 0, translate(10 * u, 0))",
+        "grid=1x1x5",
+    );
+    refuse(
+        "animate(fill, local, 0, hsl(360 * u, 50%, 50%), grid=1x1x4)",
+        "for motions",
+    );
+    refuse(
+        "animate(affine, world, 0, translate(1, 0), grid=2x2x1)",
+        "NxMxP",
+    );
+    refuse(
+        "animate(affine, world, 0, translate(1, 0), grid=2x2x65)",
+        "NxMxP",
+    );
+}

@@ -49,11 +49,15 @@ pub fn check(
     );
     let _ = writeln!(
         out,
-        "header: duration {}s, fps {}, grid {}x{}, seed {}, lookup {:?}, interp {:?}, loop {}, max_steps {}",
+        "header: duration {}s, fps {}, grid {}x{}{}, seed {}, lookup {:?}, interp {:?}, loop {}, max_steps {}",
         settings.duration,
         settings.fps,
         settings.grid.0,
         settings.grid.1,
+        match settings.grid.2 {
+            2 => String::new(),
+            p => format!("x{p}"),
+        },
         opts.seed.unwrap_or(settings.seed),
         settings.lookup,
         settings.interp,

@@ -204,16 +204,6 @@ impl Layer {
     }
 }
 
-fn timing(a: &AnimInst) -> Timing {
-    Timing {
-        start: a.start,
-        end: a.end,
-        delay: a.delay,
-        ease: a.ease.clone(),
-        reversed: a.reversed,
-    }
-}
-
 /// The working buffers of [`track`], kept per thread and reused from shape to shape:
 /// compiling a shape needs nine small vectors, and allocating and freeing them for every
 /// shape was a large share of its cost. Empty between shapes (nothing is kept alive).
@@ -360,7 +350,7 @@ fn compile(shape: &Shape, slices: &[Slice], scratch: &mut Scratch) -> Track {
         window.clear();
         for &k in ordered.iter() {
             let a = &slice.anims[k];
-            let tm = timing(a);
+            let tm = a.timing();
             let role = roles.of(a);
             match &a.spec {
                 AnimSpec::Motion { .. } => {
@@ -731,7 +721,7 @@ fn resolve(a: &AnimInst, centroid: Point) -> MotionKind {
 /// The transform a pre-applied inverted motion starts at: the progress its reversed timing
 /// has at the slice start (the twin's end, `ease(1)`).
 fn full(a: &AnimInst, kind: &MotionKind) -> Affine {
-    kind.at(timing(a).progress(a.start))
+    kind.at(a.timing().progress(a.start))
 }
 
 /// `kind` carried by `g`: `g·F(p)·g⁻¹` at every progress. The pivot moves by `g`; the

@@ -24,7 +24,7 @@ use super::EngineError;
 use super::plan::Plan;
 use super::random::{draw, noise2};
 use super::rules::{AnimType, CRule, Op, Program};
-use super::settings::Settings;
+use super::settings::{MAX_KEYS, Settings};
 
 /// What an `animate` rule set on a slice, resolved for one shape.
 #[derive(Clone, Debug)]
@@ -53,10 +53,12 @@ pub enum AnimSpec {
     StrokeWidth(f64),
 }
 
-/// One application of `animate` to one slice of one shape.
+/// One application of `animate` to one slice of one shape (or one keyframe interval of
+/// it, for a grid with more than two keyframes in time).
 #[derive(Clone, Debug)]
 pub struct AnimInst {
-    /// Expansion step that set it (shared by a slice and its `inv_` twin).
+    /// Expansion step that set it times [`MAX_KEYS`], plus the keyframe interval it
+    /// plays: shared by a slice and its `inv_` twin, and ordered as the rules were applied.
     pub step: usize,
     /// What changes.
     pub spec: AnimSpec,
@@ -70,6 +72,38 @@ pub struct AnimInst {
     pub ease: Easing,
     /// True on inverted slices.
     pub reversed: bool,
+    /// The part of the change window it plays, as fractions `(from, to)` of it: `(0, 1)`
+    /// but for the keyframe intervals of an n×m×p grid.
+    pub part: (f64, f64),
+}
+
+impl AnimInst {
+    /// When the change plays: its slice, delay, easing and direction, narrowed to its
+    /// [`part`](AnimInst::part) of the window (mirrored on an inverted slice).
+    pub fn timing(&self) -> crate::motion::Timing {
+        use crate::motion::Timing;
+        let (from, to) = self.part;
+        if (from, to) == (0.0, 1.0) {
+            return Timing::new(
+                self.start,
+                self.end,
+                self.delay,
+                self.ease.clone(),
+                self.reversed,
+            );
+        }
+        let len = self.end - self.start - self.delay;
+        let (a, b) = if self.reversed {
+            (
+                self.start + (1.0 - to) * len,
+                self.start + (1.0 - from) * len,
+            )
+        } else {
+            let begin = self.start + self.delay;
+            (begin + from * len, begin + to * len)
+        };
+        Timing::new(a, b, 0.0, self.ease.clone(), self.reversed)
+    }
 }
 
 /// A timeslice.
@@ -135,6 +169,8 @@ struct ShapeEnv<'a> {
     /// Key of this step's draws on the shape's place ([`super::plan::Applied::rand_key`]).
     rand_key: u64,
     draws: u64,
+    /// The keyframe an n×m×p motion's value is evaluated at (`u`, 0 to 1), if any.
+    u: Option<f64>,
 }
 
 impl Env for ShapeEnv<'_> {
@@ -148,6 +184,7 @@ impl Env for ShapeEnv<'_> {
             "t0" => self.t0,
             "d" => self.d,
             "step" => self.step as f64,
+            "u" => return self.u,
             _ => return geometry_var(name, s.centroid, s.bbox, self.canvas),
         })
     }
@@ -373,6 +410,7 @@ impl Runner<'_> {
                     seed: settings.seed,
                     rand_key: a.rand_key,
                     draws: 0,
+                    u: None,
                 };
                 apply(&mut ctx, &slice, &mut env, &mut next).map_err(|e| (a.step, e))?;
             }
@@ -386,7 +424,8 @@ impl Runner<'_> {
 /// value and easing do not depend on the shape.
 #[derive(Clone)]
 struct SharedSpec {
-    spec: AnimSpec,
+    /// One spec per keyframe interval (one for an ordinary change).
+    specs: Arc<[AnimSpec]>,
     ease: Easing,
 }
 
@@ -518,15 +557,15 @@ fn apply(
                 ));
                 return Err(e);
             }
-            let SharedSpec { spec, ease } = match &ctx.cache.spec {
+            let SharedSpec { specs, ease } = match &ctx.cache.spec {
                 Some(shared) => shared.clone(),
                 None => {
                     let ease = match ease {
                         None => Easing::Linear,
                         Some(e) => easing(e, env)?,
                     };
-                    let spec = spec(ctx, kind, *world, value, grid, lookup, interp, env)?;
-                    let shared = SharedSpec { spec, ease };
+                    let specs = keyed_specs(ctx, kind, *world, value, grid, lookup, interp, env)?;
+                    let shared = SharedSpec { specs, ease };
                     if ctx.shareable {
                         ctx.cache.spec = Some(shared.clone());
                     }
@@ -535,40 +574,191 @@ fn apply(
             };
             let out_tag = &rule.outputs[0];
             let inverted = out_tag.inverted ^ slice.inverted;
-            let inst = Arc::new(AnimInst {
-                step: ctx.step,
-                spec,
-                start: slice.t0,
-                end: slice.t0 + slice.dur,
-                delay,
-                ease,
-                reversed: inverted,
+            let parts = specs.len();
+            let insts = specs.iter().enumerate().map(|(k, spec)| {
+                Arc::new(AnimInst {
+                    step: ctx.step * MAX_KEYS + k,
+                    spec: spec.clone(),
+                    start: slice.t0,
+                    end: slice.t0 + slice.dur,
+                    delay,
+                    ease: ease.clone(),
+                    reversed: inverted,
+                    part: (k as f64 / parts as f64, (k + 1) as f64 / parts as f64),
+                })
             });
             out.push(Slice {
                 tag: ctx.outputs[0],
                 inverted,
                 t0: slice.t0,
                 dur: slice.dur,
-                anims: slice.anims.iter().cloned().chain([inst]).collect(),
+                anims: slice.anims.iter().cloned().chain(insts).collect(),
             });
         }
     }
     Ok(())
 }
 
-/// Evaluates an `animate` rule's value into what it animates.
+/// True when `e` names the keyframe variable `u`.
+fn uses_u(e: &Expr) -> bool {
+    match &e.kind {
+        ExprKind::Ident(name) => name == "u",
+        ExprKind::Call { args, .. } => args.iter().any(|a| uses_u(&a.value)),
+        ExprKind::Tuple(items) => items.iter().any(uses_u),
+        ExprKind::Neg(x) => uses_u(x),
+        ExprKind::Binary { lhs, rhs, .. } => uses_u(lhs) || uses_u(rhs),
+        ExprKind::Num(_) | ExprKind::Str(_) | ExprKind::Color(_) | ExprKind::Size(..) => false,
+    }
+}
+
+/// The specs of an `animate` rule: one, or with an n×m×p grid (p > 2) whose value uses
+/// `u`, one per keyframe interval. Keyframe k (of p) is the value at `u = k / (p − 1)`,
+/// keyframe 0 the slice's start state; interval k carries the shape from keyframe k to
+/// keyframe k + 1 (gMotion §3.1: a grid of transforms keyframed at p times, linear in
+/// time between them). A value without `u` is the same at every keyframe, so it gives
+/// the ordinary change whatever p is.
 #[allow(clippy::too_many_arguments)]
-fn spec(
+fn keyed_specs(
     ctx: &mut Ctx,
     kind: &AnimType,
     world: bool,
     value: &Expr,
-    grid: &Option<(usize, usize)>,
+    grid: &Option<(usize, usize, usize)>,
     lookup: &Option<Lookup>,
     interp: &Option<Interp>,
     env: &mut ShapeEnv,
-) -> Result<AnimSpec, EngineError> {
-    let settings = ctx.settings;
+) -> Result<Arc<[AnimSpec]>, EngineError> {
+    let (cols, rows, keys) = grid.unwrap_or(ctx.settings.grid);
+    let motion = matches!(kind, AnimType::Affine | AnimType::Towards | AnimType::Path);
+    if keys <= 2 && uses_u(value) {
+        return Err(EngineError::at(
+            value.span,
+            "`u` is the keyframe of a grid with keyframes in time: give the rule `grid=1x1x5` (or the header `grid NxMxP`), P from 3 to 64",
+        ));
+    }
+    if keys <= 2 || !uses_u(value) {
+        env.u = None;
+        let field = spec(kind, value, env)?;
+        return Ok(Arc::from([finish(
+            ctx,
+            field,
+            world,
+            (cols, rows),
+            lookup,
+            interp,
+        )]));
+    }
+    if !motion {
+        return Err(EngineError::at(
+            value.span,
+            "`u` (keyframes in time) is for motions: `affine`, `towards` and `path`",
+        ));
+    }
+    let mut fields = Vec::with_capacity(keys - 1);
+    for k in 1..keys {
+        env.u = Some(k as f64 / (keys - 1) as f64);
+        fields.push(spec(kind, value, env)?);
+    }
+    env.u = None;
+    let mut specs = Vec::with_capacity(keys - 1);
+    let mut before: Option<&Keyed> = None;
+    for field in &fields {
+        let step = match (before, field) {
+            (None, f) => f.clone(),
+            (Some(Keyed::Field(Field::Constant(a), pa)), Keyed::Field(Field::Constant(b), pb)) => {
+                interval(a, *pa, b, *pb)
+            }
+            (Some(Keyed::Field(Field::Towards(p), _)), Keyed::Field(Field::Towards(q), _)) => {
+                Keyed::Field(
+                    Field::Constant(Arc::from([Component::Translate(*q - *p)])),
+                    Vec2::ZERO,
+                )
+            }
+            _ => {
+                return Err(EngineError::at(
+                    value.span,
+                    "a `path` value cannot change with `u`; use `towards` with a point that does",
+                ));
+            }
+        };
+        specs.push(finish(ctx, step, world, (cols, rows), lookup, interp));
+        before = Some(field);
+    }
+    Ok(specs.into())
+}
+
+/// A motion field with the pivot it turns about, or an attribute change.
+#[derive(Clone)]
+enum Keyed {
+    Field(Field, Vec2),
+    Attribute(AnimSpec),
+}
+
+/// The change from keyframe `a` (about pivot `pa`) to keyframe `b` (about `pb`): `b · a⁻¹`,
+/// component by component where the two are one component of the same kind about the same
+/// pivot (so a turn stays a turn and exporters keep clean channels).
+fn interval(a: &[Component], pa: Vec2, b: &[Component], pb: Vec2) -> Keyed {
+    use Component::{Rotate, Scale, Skew, Translate};
+    if pa == pb {
+        let same = match (a, b) {
+            ([Translate(x)], [Translate(y)]) => Some(Translate(*y - *x)),
+            ([Rotate(x)], [Rotate(y)]) => Some(Rotate(y - x)),
+            ([Scale(x)], [Scale(y)]) if x.x != 0.0 && x.y != 0.0 => {
+                Some(Scale(Vec2::new(y.x / x.x, y.y / x.y)))
+            }
+            ([Skew(x0, 0.0)], [Skew(y0, 0.0)]) => Some(Skew(y0 - x0, 0.0)),
+            _ => None,
+        };
+        if let Some(c) = same {
+            return Keyed::Field(Field::Constant(Arc::from([c])), pa);
+        }
+    }
+    // `a⁻¹` as inverted components in reverse order, so each plays by its own parameters
+    // (a turn undoes as a turn, not as a matrix blend that shrinks on the way).
+    let inverse = a.iter().rev().map(|c| match *c {
+        Translate(d) => Translate(-d),
+        Rotate(r) => Rotate(-r),
+        Scale(k) if k.x != 0.0 && k.y != 0.0 => Scale(Vec2::new(1.0 / k.x, 1.0 / k.y)),
+        Skew(x, 0.0) => Skew(-x, 0.0),
+        Skew(0.0, y) => Skew(0.0, -y),
+        other => Component::Matrix(crate::motion::component::product_at(&[other], 1.0).inverse()),
+    });
+    if pa == pb {
+        let cs: Vec<Component> = b.iter().copied().chain(inverse).collect();
+        return Keyed::Field(Field::Constant(cs.into()), pa);
+    }
+    let mut cs: Vec<Component> = vec![Translate(pb)];
+    cs.extend_from_slice(b);
+    cs.extend([Translate(-pb), Translate(pa)]);
+    cs.extend(inverse);
+    cs.push(Translate(-pa));
+    Keyed::Field(Field::Constant(cs.into()), Vec2::ZERO)
+}
+
+/// A spec from a keyed field: the grid built (shared between shapes of the step).
+fn finish(
+    ctx: &mut Ctx,
+    keyed: Keyed,
+    world: bool,
+    (cols, rows): (usize, usize),
+    lookup: &Option<Lookup>,
+    interp: &Option<Interp>,
+) -> AnimSpec {
+    match keyed {
+        Keyed::Attribute(spec) => spec,
+        Keyed::Field(field, pivot_offset) => AnimSpec::Motion {
+            grid: ctx.cache.grids.get(cols, rows, ctx.scene.canvas(), field),
+            world,
+            pivot_offset,
+            lookup: lookup.unwrap_or(ctx.settings.lookup),
+            interp: interp.unwrap_or(ctx.settings.interp),
+        },
+    }
+}
+
+/// Evaluates an `animate` rule's value (at the keyframe `env.u`, if any) into what it
+/// animates: a motion field with its pivot, or an attribute change.
+fn spec(kind: &AnimType, value: &Expr, env: &mut ShapeEnv) -> Result<Keyed, EngineError> {
     let v = eval(value, env)?;
     let bad = |m: crate::grammar::value::TypeError| EngineError::from(m.at(value.span));
     let spec = match kind {
@@ -602,14 +792,7 @@ fn spec(
                     Field::Path(Arc::new(path))
                 }
             };
-            let (cols, rows) = grid.unwrap_or(settings.grid);
-            AnimSpec::Motion {
-                grid: ctx.cache.grids.get(cols, rows, ctx.scene.canvas(), field),
-                world,
-                pivot_offset,
-                lookup: lookup.unwrap_or(settings.lookup),
-                interp: interp.unwrap_or(settings.interp),
-            }
+            return Ok(Keyed::Field(field, pivot_offset));
         }
         AnimType::Fill => AnimSpec::Fill(v.as_color().map_err(bad)?),
         AnimType::Border => AnimSpec::Border(v.as_color().map_err(bad)?),
@@ -634,7 +817,7 @@ fn spec(
             AnimSpec::StrokeWidth(x)
         }
     };
-    Ok(spec)
+    Ok(Keyed::Attribute(spec))
 }
 
 /// Splits `translate(c) … translate(-c)` into the middle and the pivot `c`, so a transform

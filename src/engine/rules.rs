@@ -84,8 +84,8 @@ pub struct Animate {
     pub value: Expr,
     /// `ease = …`.
     pub ease: Option<Expr>,
-    /// `grid = NxM`.
-    pub grid: Option<(usize, usize)>,
+    /// `grid = NxM` or `NxMxP`.
+    pub grid: Option<(usize, usize, usize)>,
     /// `lookup = …`.
     pub lookup: Option<crate::motion::Lookup>,
     /// `interp = …`.
@@ -290,9 +290,10 @@ fn check_rule(index: usize, r: &Rule) -> Result<CRule, EngineError> {
                 }
             }
             let grid = match named(&r.args, "grid") {
-                Some(a) => Some(super::settings::size_of(&a.value).ok_or_else(|| {
-                    EngineError::at(a.span, "grid is written `NxM`, e.g. `grid = 4x4`")
-                })?),
+                Some(a) => Some(
+                    super::settings::size_of(&a.value)
+                        .ok_or_else(|| EngineError::at(a.span, super::settings::GRID_SIZE))?,
+                ),
                 None => None,
             };
             let lookup = match named(&r.args, "lookup") {

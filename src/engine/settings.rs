@@ -25,8 +25,8 @@ pub struct Settings {
     pub duration: f64,
     /// Frames per second.
     pub fps: f64,
-    /// Default grid columns × rows.
-    pub grid: (usize, usize),
+    /// Default grid columns × rows × keyframes in time (gMotion's n×m×p).
+    pub grid: (usize, usize, usize),
     /// Random seed.
     pub seed: u64,
     /// Scene file named by the grammar, as written (callers resolve it relative to the
@@ -61,7 +61,7 @@ impl Default for Settings {
         Settings {
             duration: 5.0,
             fps: 30.0,
-            grid: (1, 1),
+            grid: (1, 1, 2),
             seed: 0,
             scene: None,
             width: None,
@@ -257,25 +257,27 @@ pub fn from_grammar(grammar: &Grammar) -> Result<Settings, EngineError> {
     Ok(s)
 }
 
-/// A grid size from `4x4`, `(4, 4)` or a single number.
-pub fn grid_size(d: &Directive) -> Result<(usize, usize), EngineError> {
+/// A grid size from `4x4`, `4x4x3` or a single number.
+pub fn grid_size(d: &Directive) -> Result<(usize, usize, usize), EngineError> {
     let e = one(d)?;
-    size_of(e).ok_or_else(|| {
-        EngineError::at(
-            e.span,
-            "a grid size is written `NxM` with N, M ≥ 1, e.g. `4x4`",
-        )
-    })
+    size_of(e).ok_or_else(|| EngineError::at(e.span, GRID_SIZE))
 }
 
-/// A grid size expression (`4x4`), if it is one.
-pub fn size_of(e: &crate::grammar::ast::Expr) -> Option<(usize, usize)> {
+/// How a grid size is written, for errors.
+pub const GRID_SIZE: &str = "a grid size is written `NxM` (N, M from 1 to 4096) or `NxMxP` with P keyframes in time (2 to 64), e.g. `4x4` or `1x1x5`";
+
+/// The most keyframes in time a grid may have.
+pub const MAX_KEYS: usize = 64;
+
+/// A grid size expression (`4x4`, `4x4x3`), if it is one: columns, rows, keyframes.
+pub fn size_of(e: &crate::grammar::ast::Expr) -> Option<(usize, usize, usize)> {
+    let side = |a: u32| (1..=4096).contains(&a);
     match &e.kind {
-        ExprKind::Size(a, b) if *a >= 1 && *b >= 1 && *a <= 4096 && *b <= 4096 => {
-            Some((*a as usize, *b as usize))
+        ExprKind::Size(a, b, p) if side(*a) && side(*b) && (2..=MAX_KEYS as u32).contains(p) => {
+            Some((*a as usize, *b as usize, *p as usize))
         }
         ExprKind::Num(n) if *n >= 1.0 && n.fract() == 0.0 && *n <= 4096.0 => {
-            Some((*n as usize, *n as usize))
+            Some((*n as usize, *n as usize, 2))
         }
         _ => None,
     }

@@ -157,6 +157,6 @@ pub enum ExprKind {
         /// Right operand.
         rhs: Box<Expr>,
     },
-    /// A grid size `4x4`.
-    Size(u32, u32),
+    /// A grid size `4x4`, or `4x4x3` with keyframes in time (2 when not written).
+    Size(u32, u32, u32),
 }

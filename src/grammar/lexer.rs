@@ -15,8 +15,8 @@ pub enum Tok {
     Ident(String),
     /// A number with its unit folded in (`500ms` → 0.5).
     Num(f64),
-    /// A grid size `4x4`.
-    Size(u32, u32),
+    /// A grid size `4x4`, or `4x4x3` with keyframes in time (2 when not written).
+    Size(u32, u32, u32),
     /// A string literal, escapes resolved.
     Str(String),
     /// A colour literal `#rgb`, `#rrggbb`, `#rrggbbaa`.
@@ -377,17 +377,29 @@ impl Lexer<'_> {
             let rows_start = self.pos;
             digits(self);
             let (cols, rows) = (&self.src[start.0..int_end], &self.src[rows_start..self.pos]);
+            // The paper's n×m×p: a third number is the keyframes in time.
+            let mut keys = "2";
+            if self.peek() == Some('x') && self.peek_at(1).is_some_and(|c| c.is_ascii_digit()) {
+                self.bump();
+                let keys_start = self.pos;
+                digits(self);
+                keys = &self.src[keys_start..self.pos];
+            }
             if self.peek().is_some_and(|c| is_ident_char(c) || c == '.') {
                 self.bump_while(|c| is_ident_char(c) || c == '.');
                 self.error(
                     start,
-                    "a size is written `NxM` with whole numbers, e.g. `4x4`".into(),
+                    "a size is written `NxM` or `NxMxP` with whole numbers, e.g. `4x4`".into(),
                     None,
                 );
                 return;
             }
-            match (cols.parse::<u32>(), rows.parse::<u32>()) {
-                (Ok(c), Ok(r)) => self.push(Tok::Size(c, r), start),
+            match (
+                cols.parse::<u32>(),
+                rows.parse::<u32>(),
+                keys.parse::<u32>(),
+            ) {
+                (Ok(c), Ok(r), Ok(p)) => self.push(Tok::Size(c, r, p), start),
                 _ => self.error(
                     start,
                     "size too large".into(),
@@ -591,7 +603,7 @@ mod tests {
     fn sizes_and_arrows() {
         assert_eq!(
             kinds("4x3 → ->"),
-            vec![Tok::Size(4, 3), Tok::Arrow, Tok::Arrow, Tok::Eof]
+            vec![Tok::Size(4, 3, 2), Tok::Arrow, Tok::Arrow, Tok::Eof]
         );
     }
 

@@ -741,7 +741,7 @@ impl Parser<'_> {
         let token = self.peek().clone();
         let kind = match token.tok {
             Tok::Num(v) => ExprKind::Num(v),
-            Tok::Size(c, r) => ExprKind::Size(c, r),
+            Tok::Size(c, r, p) => ExprKind::Size(c, r, p),
             Tok::Str(s) => ExprKind::Str(s),
             Tok::Color(c) => ExprKind::Color(c),
             Tok::Ident(name) => {
@@ -867,7 +867,7 @@ fn check_directive(spec: &DirectiveSpec, values: &[Expr], span: Span) -> PResult
         (DirectiveKind::Seed, ExprKind::Num(v)) => {
             *v >= 0.0 && v.fract() == 0.0 && *v <= 2f64.powi(53)
         }
-        (DirectiveKind::Size, ExprKind::Size(c, r)) => *c >= 1 && *r >= 1,
+        (DirectiveKind::Size, ExprKind::Size(c, r, p)) => *c >= 1 && *r >= 1 && *p >= 2,
         (DirectiveKind::Size, ExprKind::Num(v)) => *v >= 1.0 && v.fract() == 0.0,
         (DirectiveKind::Path, ExprKind::Str(s)) => !s.is_empty(),
         (DirectiveKind::OneOf(words), ExprKind::Ident(w) | ExprKind::Str(w)) => {

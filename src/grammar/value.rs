@@ -38,8 +38,8 @@ pub enum Value {
         /// Evaluated arguments.
         args: Vec<Value>,
     },
-    /// A grid size `NxM` (columns, rows).
-    Size(u32, u32),
+    /// A grid size `NxM` or `NxMxP` (columns, rows, keyframes in time).
+    Size(u32, u32, u32),
 }
 
 /// What the evaluator needs from the engine: the shape's variables, randomness and noise.
@@ -228,10 +228,10 @@ impl Value {
         }
     }
 
-    /// The size (columns, rows).
-    pub fn as_size(&self) -> Result<(u32, u32), TypeError> {
+    /// The size (columns, rows, keyframes in time).
+    pub fn as_size(&self) -> Result<(u32, u32, u32), TypeError> {
         match self {
-            Value::Size(c, r) => Ok((*c, *r)),
+            Value::Size(c, r, p) => Ok((*c, *r, *p)),
             _ => Err(self.mismatch("a size such as `4x4`")),
         }
     }
@@ -255,7 +255,7 @@ pub fn eval(expr: &Expr, env: &mut dyn Env) -> Result<Value, EvalError> {
         ExprKind::Num(v) => Value::Num(*v),
         ExprKind::Str(s) => Value::Str(s.clone()),
         ExprKind::Color(c) => Value::Color(*c),
-        ExprKind::Size(c, r) => Value::Size(*c, *r),
+        ExprKind::Size(c, r, p) => Value::Size(*c, *r, *p),
         ExprKind::Ident(name) => ident(name, span, env)?,
         ExprKind::Call { name, args } => call(name, args, span, env)?,
         ExprKind::Tuple(items) => {
@@ -915,7 +915,8 @@ mod tests {
             eval_str("linear").unwrap().as_call().unwrap(),
             ("linear", &[][..])
         );
-        assert_eq!(eval_str("4x2").unwrap().as_size().unwrap(), (4, 2));
+        assert_eq!(eval_str("4x2").unwrap().as_size().unwrap(), (4, 2, 2));
+        assert_eq!(eval_str("4x2x5").unwrap().as_size().unwrap(), (4, 2, 5));
         assert_eq!(
             eval_str("\"M0 0\" + \"L1 1\"").unwrap().as_str().unwrap(),
             "M0 0L1 1"

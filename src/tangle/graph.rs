@@ -177,7 +177,8 @@ fn expr_text(e: &Expr) -> String {
         ExprKind::Binary { op, lhs, rhs } => {
             format!("{} {} {}", expr_text(lhs), op.symbol(), expr_text(rhs))
         }
-        ExprKind::Size(c, r) => format!("{c}x{r}"),
+        ExprKind::Size(c, r, 2) => format!("{c}x{r}"),
+        ExprKind::Size(c, r, p) => format!("{c}x{r}x{p}"),
     }
 }
 

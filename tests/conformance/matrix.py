@@ -86,7 +86,8 @@ class Dim:
 
 GM_DIMS = [
     Dim("type", ["translate", "rotate", "scale", "skew", "matrix", "product", "about",
-                 "towards", "path", "fill", "border", "opacity", "stroke-width"]),
+                 "towards", "path", "fill", "border", "opacity", "stroke-width",
+                 "keyed", "keyed-towards"]),
     Dim("ref", ["local", "world"]),
     Dim("ease", ["linear", "ease", "ease-in", "ease-out", "ease-in-out", "cubic",
                  "bspline", "poles", "poles-tau"]),
@@ -254,11 +255,15 @@ VALUES = {
     "border": ("steelblue",) * 2,
     "opacity": ("0.3",) * 2,
     "stroke-width": ("5",) * 2,
+    # n×m×p grids: the value at 5 keyframes in time (`u` = 0, 1/4, …, 1).
+    "keyed": ("rotate(120 * u) scale(1 - 0.4 * sin(pi * u))",
+              "translate(60 * u, -30 * sin(pi * u))"),
+    "keyed-towards": ("(lerp(cx, W / 2, u), lerp(cy, H / 2, u) - 40 * sin(pi * u))",) * 2,
 }
 ANIM = {"translate": "affine", "rotate": "affine", "scale": "affine", "skew": "affine",
         "matrix": "affine", "product": "affine", "about": "affine", "towards": "towards",
         "path": "path", "fill": "fill", "border": "border", "opacity": "opacity",
-        "stroke-width": "stroke-width"}
+        "stroke-width": "stroke-width", "keyed": "affine", "keyed-towards": "towards"}
 OFFSETS = {"zero": "0", "inside": "0.25 * d", "stagger": "0.3 * d * id / n", "near-limit": "0.9 * d"}
 SECOND = {"fill": "fill, local, 0, #00798c", "opacity": "opacity, local, 0, 0.5",
           "stroke-width": "stroke-width, local, 0, 1", "border": "border, local, 0, #edae49",
@@ -296,8 +301,9 @@ def grammar(c):
     spatial, pieces = SPATIAL[c["spatial"]]
     shapes = f"({pieces}, c)"
     motion = [f"# case dimensions: {json.dumps(c, sort_keys=True)}", f"duration {dur}s", f"fps {fps}", "seed 3"]
+    grid = c["grid"] + ("x5" if c["type"].startswith("keyed") else "")
     if c["where"] == "header":
-        motion += [f"grid {c['grid']}", f"lookup {c['lookup']}", f"interp {c['interp']}"]
+        motion += [f"grid {grid}", f"lookup {c['lookup']}", f"interp {c['interp']}"]
     if SMOOTHING[c["smoothing"]]:
         motion.append(f"smoothing {SMOOTHING[c['smoothing']]}")
     if c["loop"] == "false":
@@ -326,7 +332,7 @@ def grammar(c):
     if EASES[c["ease"]]:
         extra += f", ease={EASES[c['ease']]}"
     if c["where"] == "rule":
-        extra += f", grid={c['grid']}, lookup={c['lookup']}, interp={c['interp']}"
+        extra += f", grid={grid}, lookup={c['lookup']}, interp={c['interp']}"
     motion.append(f"animate({ANIM[c['type']]}, {c['ref']}, {OFFSETS[c['offset']]}, {value}{extra}) : [{m}, {shapes}] -> [m1]")
     if c["second"] != "none":
         motion.append(f"animate({SECOND[c['second']]}) : [m1, {shapes}] -> [m2]")
