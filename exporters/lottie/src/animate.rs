@@ -150,7 +150,7 @@ fn whole_track_levels(
         .map(|&t| RigidSample {
             frame: t * fps,
             m: track.transform_at(t),
-            points: corners.to_vec(),
+            points: corners,
             gain: 1.0,
         })
         .collect();
@@ -494,7 +494,7 @@ fn baked_levels(
         RigidSample {
             frame: t * fps,
             m: seg.relative_at(t),
-            points: corners.iter().map(|c| inner * *c).collect(),
+            points: corners.map(|c| inner * c),
             gain: max_stretch(outer),
         }
     };
