@@ -306,7 +306,7 @@ pub fn bake_paths(frames: &[f64], shapes: &[Vec<Contour>], gain: f64, tolerance:
                 .enumerate()
                 .map(|(n, &i)| Keyframe {
                     t: N::coord(frames[i]),
-                    s: Value::Bezier(shapes[i][c].to_bezier()),
+                    s: Value::Bezier(Box::new(shapes[i][c].to_bezier())),
                     ease: (n + 1 < kept.len()).then_some(Ease::LINEAR),
                     hold: false,
                 })
