@@ -41,7 +41,9 @@ fn num_by_integer(x: f64, decimals: usize) -> Option<String> {
     const POW10: [f64; 7] = [1.0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6];
     let y = x * POW10.get(decimals)?;
     let r = y.round();
-    if !(y.abs() < 1e9) || ((y - y.trunc()).abs() - 0.5).abs() < 1e-6 {
+    // Not finite, or too large for the product's error bound, or too close to a half.
+    let sure = y.is_finite() && y.abs() < 1e9 && ((y - y.trunc()).abs() - 0.5).abs() >= 1e-6;
+    if !sure {
         return None;
     }
     let digits = (r.abs() as u64).to_string();
