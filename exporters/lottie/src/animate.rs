@@ -21,6 +21,7 @@ use super::keys::{Key, Near, Piece, progress_keys, to_keyframes};
 use super::model::{Keyframe, N, Prop, Transform, Value};
 use gmotion::motion::grid::blend_at;
 use gmotion::motion::{AttrSeg, Component, Interp, MotionKind, MotionSeg, Tint, Track};
+use gmotion::scene::{Node, Paint};
 
 /// What a shape's track becomes.
 #[derive(Clone, Debug, Default)]
@@ -38,7 +39,7 @@ pub struct UnitMotion {
     /// Frames at which deformed outlines are sampled (per-vertex motion), else empty.
     pub deform_frames: Vec<f64>,
     /// Whether the transform ever scales unevenly (strokes then need outlining, since
-    /// rlottie widens strokes evenly).
+    /// rlottie widens strokes evenly). Only looked for when [`UnitInfo::strokes`].
     pub anisotropic: bool,
 }
 
@@ -61,6 +62,10 @@ pub struct UnitInfo {
     pub bbox: Rect,
     /// Centroid in canvas space (anchor of baked motion).
     pub centroid: Point,
+    /// Whether the shape may draw a stroke, the only paint [`UnitMotion::anisotropic`]
+    /// matters to. Finding it evaluates the transform frame by frame, which was the largest
+    /// part of exporting thousands of filled shapes.
+    pub strokes: bool,
 }
 
 /// How far apart two stroke width factors may be and still make one key value.
@@ -89,7 +94,8 @@ pub fn unit_motion(
         out.deform_frames = (0..=frames).map(|f| f as f64).collect();
         return out;
     }
-    out.anisotropic = (0..=frames).any(|f| !is_even(track.transform_at(f as f64 / fps)));
+    out.anisotropic =
+        info.strokes && (0..=frames).any(|f| !is_even(track.transform_at(f as f64 / fps)));
     let windows = windows(&track.motions);
     // Many windows (smoothed or data-driven motion has one per frame) would nest one group
     // level each; bake the whole track instead, into at most two levels.
@@ -150,11 +156,27 @@ fn whole_track_levels(
         .map(|&t| RigidSample {
             frame: t * fps,
             m: track.transform_at(t),
-            points: corners.to_vec(),
+            points: corners,
             gain: 1.0,
         })
         .collect();
     bake_rigid(&samples, info.centroid, tolerance)
+}
+
+/// Whether anything in `node` may draw a stroke: a stroked path, or content the export
+/// draws through other paths (a pattern paint's tile, a clip path, a mask).
+pub fn may_stroke(node: &Node) -> bool {
+    match node {
+        Node::Path(p) => {
+            p.stroke.is_some()
+                || p.fill
+                    .as_ref()
+                    .is_some_and(|f| matches!(f.paint, Paint::Pattern(_)))
+        }
+        Node::Group(g) => {
+            g.clip_path.is_some() || g.mask.is_some() || g.children.iter().any(may_stroke)
+        }
+    }
 }
 
 /// Whether `m` scales every direction by the same factor (a similarity).
@@ -484,9 +506,15 @@ fn baked_levels(
         Point::new(info.bbox.x1, info.bbox.y1),
     ];
     let sample = |t: f64| {
-        let outer = w.segs[..s]
-            .iter()
-            .fold(Affine::IDENTITY, |acc, o| acc * o.relative_at(t));
+        // Usually no segment is outside: no product, and a gain of exactly 1.
+        let gain = match &w.segs[..s] {
+            [] => 1.0,
+            outer => max_stretch(
+                outer
+                    .iter()
+                    .fold(Affine::IDENTITY, |acc, o| acc * o.relative_at(t)),
+            ),
+        };
         let inner = w.segs[s + 1..]
             .iter()
             .fold(Affine::IDENTITY, |acc, o| acc * o.relative_at(t))
@@ -494,8 +522,8 @@ fn baked_levels(
         RigidSample {
             frame: t * fps,
             m: seg.relative_at(t),
-            points: corners.iter().map(|c| inner * *c).collect(),
-            gain: max_stretch(outer),
+            points: corners.map(|c| inner * c),
+            gain,
         }
     };
     let mut times = vec![seg.t0];

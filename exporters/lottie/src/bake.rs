@@ -90,7 +90,7 @@ pub struct RigidSample {
     /// The transform to reproduce.
     pub m: Affine,
     /// Points it is applied to (the shape's bounding-box corners where it is).
-    pub points: Vec<Point>,
+    pub points: [Point; 4],
     /// How much whatever is applied after `m` magnifies an error.
     pub gain: f64,
 }
@@ -117,66 +117,87 @@ fn from_channels(c: [f64; 6]) -> Params {
 /// bound holds; smooth motion may just need a few more keys.
 const GROUPS: [&[usize]; 4] = [&[0, 1], &[2], &[3, 4], &[5]];
 
-/// The easing `y(u) = 3(1−u)²u·y1 + 3(1−u)u²·y2 + u³` (a CSS curve with x handles at
-/// 1/3 and 2/3) that fits normalised samples `(u, y)` best in the least-squares sense.
-fn fit_ease(samples: &[(f64, f64)]) -> (f64, f64) {
-    let (mut a11, mut a12, mut a22, mut r1, mut r2) = (0.0, 0.0, 0.0, 0.0, 0.0);
-    for &(u, y) in samples {
+/// The least-squares fit of the easing `y(u) = 3(1−u)²u·y1 + 3(1−u)u²·y2 + u³` (a CSS
+/// curve with x handles at 1/3 and 2/3) to normalised samples `(u, y)`, accumulated one
+/// sample at a time so that testing a span allocates nothing.
+#[derive(Clone, Copy, Default)]
+struct EaseFit {
+    a11: f64,
+    a12: f64,
+    a22: f64,
+    r1: f64,
+    r2: f64,
+    any: bool,
+}
+
+impl EaseFit {
+    fn add(&mut self, u: f64, y: f64) {
         let b1 = 3.0 * (1.0 - u) * (1.0 - u) * u;
         let b2 = 3.0 * (1.0 - u) * u * u;
         let t = y - u * u * u;
-        a11 += b1 * b1;
-        a12 += b1 * b2;
-        a22 += b2 * b2;
-        r1 += b1 * t;
-        r2 += b2 * t;
+        self.a11 += b1 * b1;
+        self.a12 += b1 * b2;
+        self.a22 += b2 * b2;
+        self.r1 += b1 * t;
+        self.r2 += b2 * t;
+        self.any = true;
     }
-    let det = a11 * a22 - a12 * a12;
-    if det.abs() < 1e-18 {
-        return (1.0 / 3.0, 2.0 / 3.0);
+
+    /// `(y1, y2)`; linear when there was nothing to fit or the system is singular.
+    fn solve(&self) -> (f64, f64) {
+        let linear = (1.0 / 3.0, 2.0 / 3.0);
+        if !self.any {
+            return linear;
+        }
+        let det = self.a11 * self.a22 - self.a12 * self.a12;
+        if det.abs() < 1e-18 {
+            return linear;
+        }
+        (
+            (self.r1 * self.a22 - self.r2 * self.a12) / det,
+            (self.a11 * self.r2 - self.a12 * self.r1) / det,
+        )
     }
-    ((r1 * a22 - r2 * a12) / det, (a11 * r2 - a12 * r1) / det)
 }
 
 fn ease_at((y1, y2): (f64, f64), u: f64) -> f64 {
     3.0 * (1.0 - u) * (1.0 - u) * u * y1 + 3.0 * (1.0 - u) * u * u * y2 + u * u * u
 }
 
-/// Per-group easings from sample `i` to sample `j`, and the parameters they give between.
-fn fit_segment(
-    frames: &[f64],
-    ps: &[[f64; 6]],
-    i: usize,
-    j: usize,
-) -> ([(f64, f64); 4], Vec<[f64; 6]>) {
-    let mut eases = [(1.0 / 3.0, 2.0 / 3.0); 4];
+/// Per-group easings from sample `i` to sample `j`, fitted to the samples between.
+fn fit_eases(frames: &[f64], ps: &[[f64; 6]], i: usize, j: usize) -> [(f64, f64); 4] {
     let span = frames[j] - frames[i];
-    let u = |m: usize| (frames[m] - frames[i]) / span;
-    for (g, chans) in GROUPS.iter().enumerate() {
-        let mut pts = Vec::new();
-        for &c in *chans {
+    GROUPS.map(|chans| {
+        let mut fit = EaseFit::default();
+        for &c in chans {
             let d = ps[j][c] - ps[i][c];
             if d.abs() > 1e-9 {
-                pts.extend((i + 1..j).map(|m| (u(m), (ps[m][c] - ps[i][c]) / d)));
-            }
-        }
-        if !pts.is_empty() {
-            eases[g] = fit_ease(&pts);
-        }
-    }
-    let rebuilt = (i + 1..j)
-        .map(|m| {
-            let mut v = ps[i];
-            for (g, chans) in GROUPS.iter().enumerate() {
-                let y = ease_at(eases[g], u(m));
-                for &c in *chans {
-                    v[c] = ps[i][c] + (ps[j][c] - ps[i][c]) * y;
+                for m in i + 1..j {
+                    fit.add((frames[m] - frames[i]) / span, (ps[m][c] - ps[i][c]) / d);
                 }
             }
-            v
-        })
-        .collect();
-    (eases, rebuilt)
+        }
+        fit.solve()
+    })
+}
+
+/// The parameters a player draws at sample `m` between keys `i` and `j` eased by `eases`.
+fn rebuilt(
+    frames: &[f64],
+    ps: &[[f64; 6]],
+    eases: &[(f64, f64); 4],
+    (i, j): (usize, usize),
+    m: usize,
+) -> [f64; 6] {
+    let u = (frames[m] - frames[i]) / (frames[j] - frames[i]);
+    let mut v = ps[i];
+    for (g, chans) in GROUPS.iter().enumerate() {
+        let y = ease_at(eases[g], u);
+        for &c in *chans {
+            v[c] = ps[i][c] + (ps[j][c] - ps[i][c]) * y;
+        }
+    }
+    v
 }
 
 /// Bakes sampled transforms into at most two keyframed skew-free levels (outermost first)
@@ -201,15 +222,12 @@ pub fn bake_rigid(samples: &[RigidSample], anchor: Point, tolerance: f64) -> Vec
             * s.gain
     };
     let kept = greedy(samples.len(), |i, j| {
-        let (_, rebuilt) = fit_segment(&frames, &ps, i, j);
-        rebuilt
-            .iter()
-            .enumerate()
-            .all(|(k, rec)| err(i + 1 + k, rec) <= tolerance)
+        let eases = fit_eases(&frames, &ps, i, j);
+        (i + 1..j).all(|m| err(m, &rebuilt(&frames, &ps, &eases, (i, j), m)) <= tolerance)
     });
     let eases: Vec<[(f64, f64); 4]> = kept
         .windows(2)
-        .map(|w| fit_segment(&frames, &ps, w[0], w[1]).0)
+        .map(|w| fit_eases(&frames, &ps, w[0], w[1]))
         .collect();
     let keys = |group: usize, f: &dyn Fn(&[f64; 6]) -> Value| -> Prop {
         Prop::keyed(
@@ -288,7 +306,7 @@ pub fn bake_paths(frames: &[f64], shapes: &[Vec<Contour>], gain: f64, tolerance:
                 .enumerate()
                 .map(|(n, &i)| Keyframe {
                     t: N::coord(frames[i]),
-                    s: Value::Bezier(shapes[i][c].to_bezier()),
+                    s: Value::Bezier(Box::new(shapes[i][c].to_bezier())),
                     ease: (n + 1 < kept.len()).then_some(Ease::LINEAR),
                     hold: false,
                 })

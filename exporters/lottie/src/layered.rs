@@ -93,6 +93,8 @@ pub fn over_source(
         let info = UnitInfo {
             bbox: shape.bbox,
             centroid: shape.centroid,
+            // The source's own paint is kept as it is: no stroke is outlined here.
+            strokes: false,
         };
         let motion = unit_motion(track, info, fr, frames, opts.tolerance);
         if !motion.is_animated() {

@@ -147,7 +147,7 @@ pub struct Source<'a> {
     /// The shapes' tracks.
     pub tracks: &'a [Track],
     /// The shapes' motions, as the layers key them.
-    pub motions: Vec<UnitMotion>,
+    pub motions: &'a [UnitMotion],
     /// Frames per second.
     pub fps: f64,
     /// The out point: the frame the document ends at.
@@ -212,7 +212,7 @@ impl<'a> Builder<'a> {
         layers
     }
 
-    fn motion(&self, unit: usize) -> Option<&UnitMotion> {
+    fn motion(&self, unit: usize) -> Option<&'a UnitMotion> {
         self.src.motions.get(unit).filter(|m| m.is_animated())
     }
 

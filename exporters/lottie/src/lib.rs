@@ -41,7 +41,7 @@ mod restyle;
 
 use rayon::prelude::*;
 
-use animate::{UnitInfo, UnitMotion, unit_motion};
+use animate::{UnitInfo, UnitMotion, may_stroke, unit_motion};
 use gmotion::Warning;
 use gmotion::canvas::{Fit, OutputSize};
 use gmotion::motion::{Animation, Track};
@@ -124,10 +124,11 @@ pub fn to_lottie(anim: &Animation, opts: &LottieOptions) -> Result<LottieOutput,
         });
     }
     let frames = anim.frame_count();
-    let motion = |(track, shape): (&Track, &Shape)| {
+    let motion = |(u, (track, shape)): (usize, (&Track, &Shape))| {
         let info = UnitInfo {
             bbox: shape.bbox,
             centroid: shape.centroid,
+            strokes: anim.scene.unit_node(u).is_none_or(may_stroke),
         };
         unit_motion(track, info, anim.fps, frames, opts.tolerance)
     };
@@ -136,19 +137,21 @@ pub fn to_lottie(anim: &Animation, opts: &LottieOptions) -> Result<LottieOutput,
     // handful of shapes is not worth waking the thread pool for.
     let motions: Vec<UnitMotion> = if anim.tracks.len() >= PARALLEL_UNITS {
         (anim.tracks.par_iter().zip(&anim.scene.shapes))
+            .enumerate()
             .map(motion)
             .collect()
     } else {
         anim.tracks
             .iter()
             .zip(&anim.scene.shapes)
+            .enumerate()
             .map(motion)
             .collect()
     };
     let src = Source {
         scene: &anim.scene,
         tracks: &anim.tracks,
-        motions,
+        motions: &motions,
         fps: anim.fps,
         op: frames as f64,
     };
@@ -160,7 +163,7 @@ pub fn still_to_lottie(scene: &Scene, opts: &LottieOptions) -> Result<LottieOutp
     let src = Source {
         scene,
         tracks: &[],
-        motions: Vec::new(),
+        motions: &[],
         fps: 30.0,
         op: 1.0,
     };
@@ -207,7 +210,7 @@ fn write(src: Source, opts: &LottieOptions) -> Result<LottieOutput, LottieError>
         assets: std::mem::take(&mut builder.assets),
         layers,
     };
-    let json = serde_json::to_string(&doc).expect("the Lottie model serialises to JSON");
+    let json = doc.into_json();
     Ok((
         json,
         builder.warnings.into_iter().map(Warning::from).collect(),

@@ -69,6 +69,37 @@ pub struct Animation {
     pub layers: Vec<Layer>,
 }
 
+impl Animation {
+    /// The document as JSON text. Its layers are written in parallel, each to its own
+    /// buffer and dropped there, then joined into a string of the exact length: at the
+    /// intersections scale (8214 layers, 25 MB) one thread writing into one doubling
+    /// string, then freeing the model, was a fifth of the export.
+    pub fn into_json(mut self) -> String {
+        use rayon::prelude::*;
+        let layers: Vec<Vec<u8>> = std::mem::take(&mut self.layers)
+            .into_par_iter()
+            .map(|l| serde_json::to_vec(&l).expect("a layer serialises to JSON"))
+            .collect();
+        let mut head = serde_json::to_string(&self).expect("the Lottie model serialises to JSON");
+        // `layers` is the last field, now written `[]`: open it again.
+        let open = head.len() - "[]}".len();
+        debug_assert_eq!(&head[open..], "[]}");
+        head.truncate(open);
+        let len = open + layers.iter().map(|l| l.len() + 1).sum::<usize>() + "[]}".len();
+        let mut out = Vec::with_capacity(len);
+        out.extend_from_slice(head.as_bytes());
+        out.push(b'[');
+        for (k, l) in layers.iter().enumerate() {
+            if k > 0 {
+                out.push(b',');
+            }
+            out.extend_from_slice(l);
+        }
+        out.extend_from_slice(b"]}");
+        String::from_utf8(out).expect("serde_json writes UTF-8")
+    }
+}
+
 /// A precomposition asset.
 #[derive(Clone, Debug, Serialize)]
 pub struct Asset {
@@ -259,12 +290,14 @@ pub enum Shape {
     /// A solid stroke.
     #[serde(rename = "st")]
     Stroke(Stroke),
-    /// A gradient fill.
+    /// A gradient fill (boxed, as is the gradient stroke: a shape is only as large as its
+    /// largest kind, and these were several times the others; an export holds a few
+    /// hundred thousand shapes).
     #[serde(rename = "gf")]
-    GradientFill(GradientFill),
+    GradientFill(Box<GradientFill>),
     /// A gradient stroke.
     #[serde(rename = "gs")]
-    GradientStroke(GradientStroke),
+    GradientStroke(Box<GradientStroke>),
     /// The group's transform (last item of a group).
     #[serde(rename = "tr")]
     Transform(Transform),
@@ -411,8 +444,9 @@ pub enum Value {
     Scalar(N),
     /// A vector: point, scale, colour or flat gradient list.
     Vec(Vec<N>),
-    /// A Bézier outline (written as `[bezier]` in keyframes).
-    Bezier(Bezier),
+    /// A Bézier outline (written as `[bezier]` in keyframes); boxed, since every
+    /// property holds a value and most are a number or a pair.
+    Bezier(Box<Bezier>),
 }
 
 impl Value {
@@ -420,7 +454,7 @@ impl Value {
         match self {
             Value::Scalar(x) => m.serialize_entry("s", &[x]),
             Value::Vec(v) => m.serialize_entry("s", v),
-            Value::Bezier(b) => m.serialize_entry("s", std::slice::from_ref(b)),
+            Value::Bezier(b) => m.serialize_entry("s", std::slice::from_ref(&**b)),
         }
     }
 }

@@ -116,10 +116,14 @@ pub fn fill(
             })),
             Resolved::Pattern(p) => Styled::Pattern(p, f.opacity),
             Resolved::Grad(grad, None) => {
-                Styled::Item(Shape::GradientFill(GradientFill { o, r, grad: *grad }))
+                Styled::Item(Shape::GradientFill(Box::new(GradientFill {
+                    o,
+                    r,
+                    grad: *grad,
+                })))
             }
             Resolved::Grad(grad, Some(space)) => Styled::InSpace(
-                Shape::GradientFill(GradientFill { o, r, grad: *grad }),
+                Shape::GradientFill(Box::new(GradientFill { o, r, grad: *grad })),
                 space,
             ),
         },
@@ -146,11 +150,13 @@ pub fn stroke(
                 style,
             })),
             Resolved::Pattern(p) => Styled::Pattern(p, s.opacity),
-            Resolved::Grad(grad, _) => Styled::Item(Shape::GradientStroke(GradientStroke {
-                o,
-                grad: *grad,
-                style,
-            })),
+            Resolved::Grad(grad, _) => {
+                Styled::Item(Shape::GradientStroke(Box::new(GradientStroke {
+                    o,
+                    grad: *grad,
+                    style,
+                })))
+            }
         },
     )
 }

@@ -69,7 +69,7 @@ pub(super) fn mask(c: &Contour) -> LMask {
     b.c = true;
     LMask {
         mode: "a",
-        pt: Prop::fixed(Value::Bezier(b)),
+        pt: Prop::fixed(Value::Bezier(Box::new(b))),
         o: Prop::scalar(N(100.0)),
         x: Prop::scalar(N(0.0)),
         inv: false,

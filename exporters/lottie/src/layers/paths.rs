@@ -20,8 +20,8 @@ impl Builder<'_> {
             return;
         }
         let bbox = p.path.bounding_box();
-        let motion = env.unit.and_then(|u| self.motion(u)).cloned();
-        let anim = match &motion {
+        let motion = env.unit.and_then(|u| self.motion(u));
+        let anim = match motion {
             Some(m) => PaintAnim {
                 fill: &m.fill,
                 stroke: &m.stroke,
@@ -35,15 +35,14 @@ impl Builder<'_> {
             .as_ref()
             .and_then(|f| paint::fill(f, bbox, anim, id, &mut self.warnings));
         let deform = motion
-            .as_ref()
             .filter(|m| !m.deform_frames.is_empty())
-            .map(|m| (env.unit.expect("unit"), m.deform_frames.clone()));
+            .map(|m| (env.unit.expect("unit"), m.deform_frames.as_slice()));
         // A stroke under uneven scaling is drawn as its filled outline: players other than
         // lottie-web widen strokes by one averaged factor (rlottie) or scale the pen along
         // the canvas axes by the matrix's column lengths (ThorVG; wrong once the scaling
         // is rotated, as a skew's is), while an outline transforms exactly. Not when its
         // width animates or its outline moves per vertex.
-        let uneven = !is_even(acc) || motion.as_ref().is_some_and(|m| m.anisotropic);
+        let uneven = !is_even(acc) || motion.is_some_and(|m| m.anisotropic);
         let outline = p
             .stroke
             .as_ref()
@@ -98,7 +97,9 @@ impl Builder<'_> {
                 None => {
                     let inv = space.inverse();
                     cs.iter()
-                        .map(|c| Prop::fixed(Value::Bezier(c.transformed(inv).to_bezier())))
+                        .map(|c| {
+                            Prop::fixed(Value::Bezier(Box::new(c.transformed(inv).to_bezier())))
+                        })
                         .collect()
                 }
             }
@@ -192,7 +193,7 @@ impl Builder<'_> {
                         .iter()
                         .map(|c| {
                             Shape::Path(PathShape {
-                                ks: Prop::fixed(Value::Bezier(c.to_bezier())),
+                                ks: Prop::fixed(Value::Bezier(Box::new(c.to_bezier()))),
                             })
                         })
                         .collect();
@@ -245,7 +246,7 @@ impl Builder<'_> {
         if !to.determinant().is_normal() {
             return cs
                 .iter()
-                .map(|c| Prop::fixed(Value::Bezier(c.to_bezier())))
+                .map(|c| Prop::fixed(Value::Bezier(Box::new(c.to_bezier()))))
                 .collect();
         }
         let back = to.inverse();

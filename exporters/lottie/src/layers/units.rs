@@ -11,7 +11,7 @@ impl Builder<'_> {
             unit: Some(u),
             ..env
         };
-        let Some(motion) = self.motion(u).cloned() else {
+        let Some(motion) = self.motion(u) else {
             // Still: a named group (or its layers, when it needs some).
             let mut sub = Comp::new(comp.next_ind);
             self.node(node, acc, unit_env, &mut sub);
@@ -70,8 +70,8 @@ impl Builder<'_> {
             if levels.is_empty() {
                 it.push(Shape::Transform(Transform::empty()));
             }
-            for (k, level) in levels.iter().enumerate().rev() {
-                it.push(Shape::Transform(level.clone()));
+            for (k, level) in levels.into_iter().enumerate().rev() {
+                it.push(Shape::Transform(level));
                 if k > 0 {
                     it = vec![Shape::Group(LGroup {
                         nm: String::new(),
@@ -101,14 +101,14 @@ impl Builder<'_> {
         }
         // Layers inside: the transform levels become a chain of null layers they parent to.
         let mut nulls = Vec::with_capacity(levels.len());
-        for (k, level) in levels.iter().enumerate() {
+        for (k, level) in levels.into_iter().enumerate() {
             let nm = if k == 0 {
                 name.clone()
             } else {
                 format!("{name}/{k}")
             };
             let mut n = sub.layer(LayerType::Null, nm, self.src.op);
-            n.ks = full_transform(level.clone());
+            n.ks = full_transform(level);
             n.parent = nulls.last().map(|p: &Layer| p.ind);
             nulls.push(n);
         }

@@ -1,0 +1,165 @@
+//! End to end export (issue 17): what `gmotion animate SCENE.svg GRAMMAR.gm -o OUT` does
+//! between reading its two files and writing the output's bytes, in process: the SVG
+//! imported, the grammar parsed and expanded, the animation written as Lottie JSON
+//! (`.json`) or animated SVG (`.svg`, SMIL) text. Targets at the intersections scale
+//! (8214 shapes, 8 s at 60 fps): ≤ 0.2 s to Lottie, ≤ 0.15 s to SMIL, whole process.
+//!
+//! The input is `grammars/intersections.svg` with `grammars/intersections.gm` when both
+//! exist, else the generated intersections workload of the engine benchmark (its grid of
+//! squares, each filled, written as SVG). Either way the pair is also written to
+//! `target/bench-workload/`, so the binary can be timed on the very same files:
+//! `gmotion animate target/bench-workload/intersections.svg
+//! target/bench-workload/intersections.gm -o x.json`.
+//!
+//! The `phases` group splits a run: import, expansion, and each export from a built
+//! animation.
+
+use std::hint::black_box;
+use std::path::{Path, PathBuf};
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use gmotion::engine::{RunOptions, run};
+use gmotion::motion::Animation;
+use gmotion_import_svg::ImportOptions;
+use gmotion_output::Options;
+
+mod workload;
+
+/// The allocator the `gmotion` binary uses, so the numbers are what the command gets.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
+/// The intersections scene as SVG text, and its grammar.
+fn input() -> (String, String) {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let real = (
+        root.join("grammars/intersections.svg"),
+        root.join("grammars/intersections.gm"),
+    );
+    let (svg, gm) = match (
+        std::fs::read_to_string(&real.0),
+        std::fs::read_to_string(&real.1),
+    ) {
+        (Ok(svg), Ok(gm)) => {
+            eprintln!("input: {} and {}", real.0.display(), real.1.display());
+            (svg, gm)
+        }
+        _ => {
+            eprintln!(
+                "input: the generated intersections workload ({} not found)",
+                real.0.display()
+            );
+            (generated_svg(), workload::grammar(16, 8.0, 60.0))
+        }
+    };
+    let out = root.join("target/bench-workload");
+    let written = std::fs::create_dir_all(&out).and_then(|()| {
+        std::fs::write(out.join("intersections.svg"), &svg)?;
+        std::fs::write(out.join("intersections.gm"), &gm)
+    });
+    match written {
+        Ok(()) => eprintln!("written to {}", out.display()),
+        Err(e) => eprintln!("{}: {e}", out.display()),
+    }
+    (svg, gm)
+}
+
+/// The engine benchmark's grid of 8214 squares over 16 tags, each square filled (the
+/// generated scene has no paint, and an SVG importer drops what draws nothing).
+fn generated_svg() -> String {
+    use std::fmt::Write as _;
+    let scene = workload::scene(8214, 16);
+    let mut svg = format!(
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}">"#,
+        w = scene.width,
+        h = scene.height
+    );
+    for s in &scene.shapes {
+        let b = s.bbox;
+        let _ = write!(
+            svg,
+            "\n<rect data-tag=\"{}\" x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"#333\"/>",
+            s.tag,
+            b.x0,
+            b.y0,
+            b.width(),
+            b.height()
+        );
+    }
+    svg.push_str("\n</svg>\n");
+    svg
+}
+
+fn import(svg: &str) -> gmotion::scene::Scene {
+    gmotion_import_svg::parse(svg, "intersections.svg", &ImportOptions::default())
+        .expect("the scene imports")
+        .scene
+}
+
+fn expand(scene: gmotion::scene::Scene, gm: &str) -> Animation {
+    let g = gmotion::grammar::parse(gm).expect("the grammar parses");
+    run(scene, &g, &RunOptions::default())
+        .expect("the grammar runs")
+        .0
+}
+
+/// The output's text, as the command makes it for `path` (its extension picks the format).
+fn export(anim: &Animation, path: &str) -> String {
+    let path = PathBuf::from(path);
+    let opts = Options::default();
+    let text = if path.extension().is_some_and(|e| e == "json") {
+        gmotion_output::lottie_text(anim, None, &path, &opts)
+    } else {
+        gmotion_output::smil_text(anim, None, &path, &opts)
+    };
+    text.expect("the animation exports").0
+}
+
+fn end_to_end(c: &mut Criterion) {
+    let (svg, gm) = input();
+    let anim = expand(import(&svg), &gm);
+    eprintln!(
+        "intersections: {} shapes, {} frames; Lottie {} bytes, SMIL {} bytes",
+        anim.scene.shapes.len(),
+        anim.frame_count(),
+        export(&anim, "x.json").len(),
+        export(&anim, "x.svg").len()
+    );
+    let mut group = c.benchmark_group("export");
+    group.sample_size(10);
+    for out in ["x.json", "x.svg"] {
+        let name = if out.ends_with(".json") {
+            "intersections/lottie"
+        } else {
+            "intersections/smil"
+        };
+        group.bench_function(name, |b| {
+            b.iter(|| black_box(export(&expand(import(&svg), &gm), out).len()))
+        });
+    }
+    group.finish();
+
+    let mut group = c.benchmark_group("phases");
+    group.sample_size(10);
+    group.bench_function("intersections/import", |b| {
+        b.iter(|| black_box(import(&svg)))
+    });
+    let scene = import(&svg);
+    group.bench_function("intersections/expand", |b| {
+        b.iter_batched(
+            || scene.clone(),
+            |s| black_box(expand(s, &gm)),
+            criterion::BatchSize::LargeInput,
+        )
+    });
+    group.bench_function("intersections/lottie", |b| {
+        b.iter(|| black_box(export(&anim, "x.json").len()))
+    });
+    group.bench_function("intersections/smil", |b| {
+        b.iter(|| black_box(export(&anim, "x.svg").len()))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, end_to_end);
+criterion_main!(benches);
