@@ -865,3 +865,149 @@ fn completions_and_the_manual_come_from_the_argument_definitions() {
         );
     }
 }
+
+#[test]
+fn check_without_a_scene_reports_every_error_of_meaning_at_once() {
+    let d = out_dir("static-errors");
+    let g = d.join("bad.gm");
+    std::fs::write(
+        &g,
+        "duration 2s
+timesplit(0.5, 0.6) : [all, s] -> [a, b]
+animate(opacity, local, 0, 2) : [a, s] -> [m]
+animate(afine, world, 0, translate(1, 0)) : [b, s] -> [n]
+animate(affine, world, -1, translate(1, 0), ease=easeInOut) : [m, s] -> [o]
+animate(affine, world, 0.1 * id, translate(cx, 0)) : [n, s] -> [p]
+",
+    )
+    .unwrap();
+    let err = run_err(bin().arg("check").arg(&g));
+    for (at, says) in [
+        ("bad.gm:2:1:", "sum to 1, they sum to 1.1"),
+        ("bad.gm:3:28:", "opacity lies in [0, 1], found 2"),
+        ("bad.gm:4:9:", "did you mean `affine`?"),
+        ("bad.gm:5:24:", "cannot be negative"),
+        ("bad.gm:5:50:", "did you mean `ease-in-out`?"),
+    ] {
+        let line = err
+            .lines()
+            .position(|l| l.contains(at))
+            .unwrap_or_else(|| panic!("no {at} in\n{err}"));
+        assert!(
+            err.lines().skip(line).take(6).any(|l| l.contains(says)),
+            "{at} {says}:\n{err}"
+        );
+    }
+    assert!(err.contains("5 errors in"), "{err}");
+    // Values that depend on the shape are left to the run on a scene: no error on line 6.
+    assert!(!err.contains("bad.gm:6:"), "{err}");
+}
+
+#[test]
+fn a_loop_that_jumps_is_warned_about_and_a_closed_one_is_not() {
+    let d = out_dir("seam");
+    let g = root().join("grammars");
+    let open = d.join("open.gm");
+    std::fs::write(
+        &open,
+        "duration 2s\ntimesplit(0.5, 0.5) : [all, s] -> [a, b]\nanimate(affine, world, 0, translate(100, 0)) : [a, s] -> [m]\n",
+    )
+    .unwrap();
+    for cmd in ["check", "animate"] {
+        let mut c = bin();
+        c.arg(cmd);
+        if cmd == "check" {
+            c.arg(&open).arg(g.join("toy.svg"));
+        } else {
+            c.arg(g.join("toy.svg"))
+                .arg(&open)
+                .arg("-o")
+                .arg(d.join("o.json"));
+        }
+        let out = c.output().unwrap();
+        // `check` prints its warnings with its report, `animate` on standard error.
+        let err = String::from_utf8_lossy(&out.stderr) + String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success(), "{err}");
+        assert!(
+            err.contains("`s` #0 ends where it did not start (100.0 px away)"),
+            "{cmd}: {err}"
+        );
+    }
+    // `loop false` says the jump is meant; the bundled toy closes its loop.
+    let closed = std::fs::read_to_string(&open)
+        .unwrap()
+        .replace("duration 2s", "duration 2s\nloop false");
+    std::fs::write(&open, closed).unwrap();
+    let toy = g.join("toy.gm");
+    for grammar in [open.as_path(), toy.as_path()] {
+        let out = bin()
+            .arg("check")
+            .arg(grammar)
+            .arg(g.join("toy.svg"))
+            .output()
+            .unwrap();
+        let said = String::from_utf8_lossy(&out.stderr) + String::from_utf8_lossy(&out.stdout);
+        assert!(!said.contains("jump"), "{}", grammar.display());
+    }
+}
+
+#[test]
+fn a_reader_that_stops_early_is_not_an_error() {
+    use std::io::Read;
+    use std::process::Stdio;
+    let g = root().join("grammars");
+    let mut child = bin()
+        .args(["check", "--shapes"])
+        .arg(g.join("cube.svg"))
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Close the pipe after one byte, as `| head -c 1` would.
+    let mut one = [0u8; 1];
+    child.stdout.take().unwrap().read_exact(&mut one).unwrap();
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+#[test]
+fn a_frame_name_pattern_names_the_frames() {
+    let d = out_dir("pattern");
+    let g = root().join("grammars");
+    std::fs::write(d.join("notes.txt"), "mine").unwrap();
+    let frames = |fps: &str, pattern: &str| {
+        run_ok(
+            bin()
+                .arg("-q")
+                .arg("animate")
+                .arg(g.join("toy.svg"))
+                .arg(g.join("toy.gm"))
+                .arg("-o")
+                .arg(d.join(pattern))
+                .args(["--fps", fps]),
+        );
+        let mut names: Vec<String> = std::fs::read_dir(&d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    };
+    // 6 s at 2 fps: 12 frames beside the user's own file, which stays.
+    let names = frames("2", "walk_%04d.png");
+    assert_eq!(names.len(), 13, "{names:?}");
+    assert_eq!(names[0], "notes.txt");
+    assert_eq!(names[1], "walk_0000.png");
+    assert_eq!(names[12], "walk_0011.png");
+    // A shorter run replaces the frames and removes those it no longer has.
+    let names = frames("1", "walk_%04d.png");
+    assert_eq!(names.len(), 7, "{names:?}");
+    assert_eq!(names[6], "walk_0005.png");
+    // `%d` pads nothing.
+    let names = frames("1", "f%d.png");
+    assert!(
+        names.contains(&"f0.png".to_string()) && names.contains(&"f5.png".to_string()),
+        "{names:?}"
+    );
+}

@@ -120,13 +120,13 @@ pub fn run(cmd: Command, ctx: &Ctx) -> Result<()> {
                 && kind_of(one) == Kind::Scene
             {
                 let loaded = load_scene(one, &import_options(&import, &Settings::default()), ctx)?;
-                print!("{}", shape_list(one, &loaded, json));
+                super::report::out(&shape_list(one, &loaded, json))?;
                 return Ok(());
             }
             if json {
                 let (scene, grammar) = scene_and_grammar(&files, Order::GrammarFirst)?;
                 let (_, loaded) = load_grammar_and_scene(scene, grammar, &import, ctx)?;
-                print!("{}", shape_list(grammar, &loaded, true));
+                super::report::out(&shape_list(grammar, &loaded, true))?;
                 return Ok(());
             }
             let (scene, grammar) = scene_and_grammar(&files, Order::GrammarFirst)?;
@@ -393,6 +393,18 @@ fn load_grammar(path: &Path, ctx: &Ctx) -> Result<Loaded> {
     })?;
     let settings =
         engine::settings::from_grammar(&grammar).map_err(|e| engine_error(path, &src, &e))?;
+    // Every error of meaning at once, as the parser gives every syntax error.
+    let errors = engine::check::static_errors(&grammar);
+    if !errors.is_empty() {
+        let mut text: Vec<String> = errors
+            .iter()
+            .map(|e| engine_error(path, &src, e).0)
+            .collect();
+        if errors.len() > 1 {
+            text.push(format!("{} errors in {}", errors.len(), path.display()));
+        }
+        return Err(CliError(text.join("\n\n")));
+    }
     Ok(Loaded {
         src,
         grammar,
@@ -753,13 +765,13 @@ fn variations(
             next.next().map_or(Ok(()), |(_, pm)| save(pm, p))
         })?;
     }
-    println!(
+    super::report::note(&format!(
         "wrote {} ({} seeds from {} at {}s)",
         out.display(),
         frames.len(),
         frames[0].0,
         guard::short(t)
-    );
+    ));
     Ok(())
 }
 
@@ -870,9 +882,9 @@ fn check(
         &run_options(run, &ctx.limits)?,
     )
     .map_err(|e| engine_error(grammar_path, &loaded.src, &e))?;
-    print!("{}", report.text);
+    super::report::out(&report.text)?;
     if shapes && let (Some(p), Some(s)) = (&path, &scene) {
-        print!("{}", shape_list(p, s, false));
+        super::report::out(&shape_list(p, s, false))?;
     }
     if let Some(out) = graph {
         let rules: Vec<&gmotion::grammar::ast::Rule> = g.rules.iter().collect();
@@ -1041,12 +1053,12 @@ fn demo(out: &Path, example: &str, ctx: &Ctx) -> Result<()> {
             &ctx.limits,
         )?;
     }
-    println!(
+    super::report::out(&format!(
         "wrote {0}/frames/ ({1} PNG frames), {0}/{2}.gif, {0}/{2}.json (Lottie), {0}/{2}.svg (SMIL)\n\
-         view: open {0}/preview.html in a browser (lottie-web beside the SMIL, all inside the file, no network)",
+         view: open {0}/preview.html in a browser (lottie-web beside the SMIL, all inside the file, no network)\n",
         out.display(),
         anim.frame_count(),
         example
-    );
+    ))?;
     Ok(())
 }

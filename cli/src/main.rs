@@ -418,7 +418,10 @@ fn main() -> ExitCode {
     let (mut inputs, mut outputs) = cli.command.io_paths();
     let stdio = stdio::Stdio::prepare(&mut inputs, &mut outputs, format, limits.get("input-bytes"));
     let written: Vec<PathBuf> = outputs.iter().map(|p| p.to_path_buf()).collect();
-    let summary = !matches!(cli.command, Command::Check { .. } | Command::Demo { .. });
+    let summary = !matches!(
+        cli.command,
+        Command::Check { .. } | Command::Demo { .. } | Command::Variations { .. }
+    );
     let ctx = commands::Ctx {
         limits,
         allow: cli.allow_paths,

@@ -63,6 +63,13 @@ pub fn warn(origin: &Path, warning: impl fmt::Display) {
     }
 }
 
+/// Prints a line on standard error, unless quiet.
+pub fn note(line: &str) {
+    if !QUIET.load(Ordering::Relaxed) {
+        eprintln!("{line}");
+    }
+}
+
 /// Prints one line on standard error saying what was written, unless quiet: each output
 /// as given on the command line (`-` is standard output), with its size or frame count.
 pub fn wrote(given: &[PathBuf], written: &[PathBuf]) {
@@ -78,6 +85,10 @@ pub fn wrote(given: &[PathBuf], written: &[PathBuf]) {
             } else {
                 name.display().to_string().trim_end_matches('/').to_string()
             };
+            if gmotion_export_raster::FrameNames::is_pattern(file) {
+                let frames = gmotion_export_raster::check_frame_folder(file).map_or(0, |f| f.len());
+                return format!("{shown} ({frames} frames)");
+            }
             match std::fs::metadata(file) {
                 Ok(m) if m.is_dir() => {
                     let frames = std::fs::read_dir(file).map_or(0, |d| d.count());
@@ -97,5 +108,21 @@ fn size(bytes: u64) -> String {
         b if b < 1000 => format!("{b} B"),
         b if b < 1_000_000 => format!("{:.1} kB", b as f64 / 1e3),
         b => format!("{:.1} MB", b as f64 / 1e6),
+    }
+}
+
+/// Writes `text` to standard output. A reader that closed the pipe early (`gmotion check
+/// … | head`) is not an error: the rest is simply not wanted.
+pub fn out(text: &str) -> Result<()> {
+    use std::io::Write;
+    let mut stdout = std::io::stdout().lock();
+    match stdout
+        .write_all(text.as_bytes())
+        .and_then(|()| stdout.flush())
+    {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(CliError::msg(format!("standard output: cannot write: {e}")))
+        }
+        _ => Ok(()),
     }
 }

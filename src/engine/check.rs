@@ -10,6 +10,26 @@ use crate::scene::Scene;
 use super::rules::Program;
 use super::{EngineError, RunOptions, settings};
 
+/// Every error a grammar shows without a scene, in source order: each timeslice rule's
+/// operator, arguments and outputs, its values that do not depend on the shape (split
+/// fractions that do not sum to 1, an opacity of 2, a misspelt easing), and slice tags no
+/// rule produces. The parser reports every syntax error at once; this does the same for
+/// meaning, where [`run`](super::run) stops at the first.
+pub fn static_errors(grammar: &Grammar) -> Vec<EngineError> {
+    let mut errors = Vec::new();
+    for (index, r) in grammar.rules.iter().enumerate().filter(|(_, r)| !r.spatial) {
+        match super::rules::check_rule(index, r) {
+            Ok(rule) => errors.extend(super::expand::constant_errors(&rule)),
+            Err(e) => errors.push(e),
+        }
+    }
+    if let Err(e) = super::rules::check_slice_tags(grammar) {
+        errors.push(e);
+    }
+    errors.sort_by_key(|e| e.span.map(|s| (s.line, s.col)));
+    errors
+}
+
 /// A readable report of a grammar (and its expansion on a scene, when given).
 #[derive(Clone, Debug, Default)]
 pub struct Report {
@@ -256,5 +276,15 @@ fn time_report(
     }
     let used = exp.rule_uses.iter().filter(|&&u| u > 0).count();
     let _ = writeln!(out, "rules applied: {used} of {}", program.rules.len());
+    if settings.looping {
+        let tracks: Vec<_> = (exp.timelines.iter().zip(&scene.shapes))
+            .map(|(timeline, shape)| super::compile::track(shape, timeline))
+            .collect();
+        r.warnings.extend(super::seam::loop_warning(
+            &scene.shapes,
+            &tracks,
+            settings.duration,
+        ));
+    }
     Ok(())
 }

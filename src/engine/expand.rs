@@ -328,7 +328,7 @@ where
     ))
 }
 
-fn num(e: &Expr, env: &mut ShapeEnv) -> Result<f64, EngineError> {
+fn num(e: &Expr, env: &mut dyn Env) -> Result<f64, EngineError> {
     if let Some(x) = arithmetic(e, env) {
         return Ok(x);
     }
@@ -455,30 +455,96 @@ fn spec_is_shareable(rule: &CRule) -> bool {
 }
 
 /// A split's fractions, checked: each positive, summing to 1.
-fn fractions(rule: &CRule, fs: &[Expr], env: &mut ShapeEnv) -> Result<Arc<[f64]>, EngineError> {
+/// A split's fractions for `shape` (named in errors; `None` when they do not depend on it).
+fn fractions(
+    rule: &CRule,
+    fs: &[Expr],
+    env: &mut dyn Env,
+    shape: Option<&Shape>,
+) -> Result<Arc<[f64]>, EngineError> {
+    let noted = |e: EngineError| match shape {
+        Some(s) => e.with_note(shape_note(s)),
+        None => e,
+    };
     let mut cs = Vec::with_capacity(fs.len());
     for f in fs {
         let c = num(f, env)?;
         if c <= 0.0 {
-            let mut e = EngineError::at(
+            return Err(noted(EngineError::at(
                 f.span,
                 format!("split fractions must be greater than zero, found {c}"),
-            );
-            e.notes.push(shape_note(env.shape));
-            return Err(e);
+            )));
         }
         cs.push(c);
     }
     let sum: f64 = cs.iter().sum();
     if (sum - 1.0).abs() > 1e-6 {
-        let mut e = EngineError::at(
+        return Err(noted(EngineError::at(
             rule.span,
             format!("split fractions must sum to 1, they sum to {sum}"),
-        );
-        e.notes.push(shape_note(env.shape));
-        return Err(e);
+        )));
     }
     Ok(cs.into())
+}
+
+/// The errors a rule shows without any shape: its values that do not depend on the shape
+/// (split fractions, an `animate` rule's offset, easing and value) evaluated once, as
+/// expansion would for every shape. `gmotion check` reports them without a scene, all at
+/// once.
+pub(crate) fn constant_errors(rule: &CRule) -> Vec<EngineError> {
+    /// No shape: every variable is unknown (only shape-independent values are evaluated).
+    struct NoShape;
+    impl Env for NoShape {
+        fn var(&self, _: &str) -> Option<f64> {
+            None
+        }
+        fn rand(&mut self) -> f64 {
+            0.5
+        }
+        fn noise(&self, _: f64, _: f64) -> f64 {
+            0.0
+        }
+    }
+    let env = &mut NoShape;
+    let mut errors = Vec::new();
+    match &rule.op {
+        Op::Timesplit { fractions: fs } => {
+            if fs.iter().all(shape_independent)
+                && let Err(e) = fractions(rule, fs, env, None)
+            {
+                errors.push(e);
+            }
+        }
+        Op::Animate(a) => {
+            if shape_independent(&a.offset) {
+                match num(&a.offset, env) {
+                    Ok(d) if d < 0.0 => errors.push(negative_offset(&a.offset, d)),
+                    Ok(_) => {}
+                    Err(e) => errors.push(e),
+                }
+            }
+            if let Some(e) = &a.ease
+                && shape_independent(e)
+                && let Err(e) = easing(e, env)
+            {
+                errors.push(e);
+            }
+            if shape_independent(&a.value)
+                && !uses_u(&a.value)
+                && let Err(e) = spec(&a.kind, &a.value, env)
+            {
+                errors.push(e);
+            }
+        }
+    }
+    errors
+}
+
+fn negative_offset(offset: &Expr, delay: f64) -> EngineError {
+    EngineError::at(
+        offset.span,
+        format!("the offset is a delay and cannot be negative, found {delay}"),
+    )
 }
 
 fn apply(
@@ -493,7 +559,8 @@ fn apply(
             let cs = match &ctx.cache.split {
                 Some(cs) => cs.clone(),
                 None => {
-                    let cs = fractions(rule, fs, env)?;
+                    let shape = env.shape;
+                    let cs = fractions(rule, fs, env, Some(shape))?;
                     if ctx.shareable {
                         ctx.cache.split = Some(cs.clone());
                     }
@@ -534,10 +601,7 @@ fn apply(
             } = &**a;
             let delay = num(offset, env)?;
             if delay < 0.0 {
-                return Err(EngineError::at(
-                    offset.span,
-                    format!("the offset is a delay and cannot be negative, found {delay}"),
-                ));
+                return Err(negative_offset(offset, delay));
             }
             // An offset that reaches the slice end leaves the change no time to play: it
             // would jump at the boundary (and exporters would have nothing to key), so it is
@@ -758,7 +822,7 @@ fn finish(
 
 /// Evaluates an `animate` rule's value (at the keyframe `env.u`, if any) into what it
 /// animates: a motion field with its pivot, or an attribute change.
-fn spec(kind: &AnimType, value: &Expr, env: &mut ShapeEnv) -> Result<Keyed, EngineError> {
+fn spec(kind: &AnimType, value: &Expr, env: &mut dyn Env) -> Result<Keyed, EngineError> {
     let v = eval(value, env)?;
     let bad = |m: crate::grammar::value::TypeError| EngineError::from(m.at(value.span));
     let spec = match kind {
@@ -838,7 +902,7 @@ fn split_conjugation(cs: Vec<Component>) -> (Vec<Component>, Vec2) {
 }
 
 /// An easing from `ease = name` or `ease = name(args…)`.
-fn easing(e: &Expr, env: &mut ShapeEnv) -> Result<Easing, EngineError> {
+fn easing(e: &Expr, env: &mut dyn Env) -> Result<Easing, EngineError> {
     let v = eval(e, env)?;
     let (name, args) = match v {
         Value::Keyword(k) => (k, Vec::new()),

@@ -10,6 +10,7 @@ pub mod expand;
 mod plan;
 pub mod random;
 pub mod rules;
+pub(crate) mod seam;
 pub mod settings;
 pub mod smooth;
 
@@ -268,20 +269,27 @@ fn run_here(
         )
         .map_err(|m| EngineError::at(*span, m))?;
     }
-    let stats = RunStats {
-        steps,
-        spatial_steps: tangle_steps,
-        warnings,
-        rule_uses,
-        slices,
-        shapes: scene.shapes.len(),
-    };
     let anim = Animation {
         scene,
         duration: settings.duration,
         fps: settings.fps,
         looping: settings.looping,
         tracks,
+    };
+    if anim.looping {
+        warnings.extend(seam::loop_warning(
+            &anim.scene.shapes,
+            &anim.tracks,
+            anim.duration,
+        ));
+    }
+    let stats = RunStats {
+        steps,
+        spatial_steps: tangle_steps,
+        warnings,
+        rule_uses,
+        slices,
+        shapes: anim.scene.shapes.len(),
     };
     Ok((anim, stats))
 }

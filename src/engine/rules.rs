@@ -197,7 +197,7 @@ fn positional(r: &Rule) -> Vec<&Arg> {
     r.args.iter().filter(|a| a.name.is_none()).collect()
 }
 
-fn check_rule(index: usize, r: &Rule) -> Result<CRule, EngineError> {
+pub(crate) fn check_rule(index: usize, r: &Rule) -> Result<CRule, EngineError> {
     let pos = positional(r);
     let op = match r.op.as_str() {
         "timesplit" => {
@@ -363,7 +363,7 @@ fn check_rule(index: usize, r: &Rule) -> Result<CRule, EngineError> {
 
 /// Every slice tag a timeslice rule matches must be `all` or produced by some rule;
 /// otherwise the rule can never apply, which is almost always a typo.
-fn check_slice_tags(grammar: &Grammar) -> Result<(), EngineError> {
+pub(crate) fn check_slice_tags(grammar: &Grammar) -> Result<(), EngineError> {
     let produced: Vec<&str> = std::iter::once("all")
         .chain(
             grammar

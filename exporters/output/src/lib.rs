@@ -50,15 +50,16 @@ pub enum Format {
     Gif,
     /// Animated PNG preview.
     Apng,
-    /// A folder of PNG frames, `frame_00000.png` on.
+    /// PNG frames: a folder of `frame_00000.png` on, or files named by a pattern such as
+    /// `walk_%04d.png`.
     Frames,
 }
 
 impl Format {
-    /// The format of `path`: by extension, or a folder of frames when it has none (or is an
-    /// existing folder).
+    /// The format of `path`: by extension, or frames when it has none (or is an existing
+    /// folder, or a frame-name pattern such as `walk_%04d.png`).
     pub fn of(path: &Path) -> Result<Format, OutputError> {
-        if path.is_dir() {
+        if path.is_dir() || raster::FrameNames::is_pattern(path) {
             return Ok(Format::Frames);
         }
         match path

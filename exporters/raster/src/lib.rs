@@ -432,40 +432,123 @@ pub fn write_apng(anim: Frames, path: &Path) -> Result<(), RenderError> {
 /// The name of frame `i` in a frames folder: `frame_00000.png`, `frame_00001.png`, …
 /// (more digits past 99999).
 pub fn frame_file_name(i: usize) -> String {
-    format!("frame_{i:05}.png")
+    FrameNames::folder().name(i)
 }
 
 /// Whether `name` is one of the names [`frame_file_name`] gives: `frame_`, five or more
 /// digits, `.png`.
 pub fn is_frame_file_name(name: &str) -> bool {
-    name.strip_prefix("frame_")
-        .and_then(|r| r.strip_suffix(".png"))
-        .is_some_and(|d| d.len() >= 5 && d.bytes().all(|b| b.is_ascii_digit()))
+    FrameNames::folder().is_ours(name)
 }
 
-/// The gmotion frames in `dir`, if it can be written fresh by [`write_frames`]: it does not
-/// exist, or it is a folder holding nothing but files named like frames (which an earlier
-/// run wrote, and which a new run replaces). Anything else is
-/// [`RenderError::FolderInUse`]; call this before rendering so a refused folder costs
-/// nothing.
-pub fn check_frame_folder(dir: &Path) -> Result<Vec<PathBuf>, RenderError> {
-    let entries = match std::fs::read_dir(dir) {
+/// How the frames of an output are named: a folder of `frame_00000.png`, … of its own, or a
+/// printf-style pattern such as `shots/walk_%04d.png` (`%d` or `%0Nd`, as ffmpeg and
+/// Blender take them) naming files in a folder that may hold other things.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FrameNames {
+    prefix: String,
+    width: usize,
+    suffix: String,
+    /// Whether the folder belongs to the frames (it then holds nothing else).
+    own_folder: bool,
+}
+
+impl FrameNames {
+    /// A folder of its own, `frame_00000.png` on.
+    fn folder() -> FrameNames {
+        FrameNames {
+            prefix: "frame_".into(),
+            width: 5,
+            suffix: ".png".into(),
+            own_folder: true,
+        }
+    }
+
+    /// The naming `path` asks for, with the folder the frames go in: the pattern in its
+    /// file name, or the path itself as a folder of `frame_NNNNN.png`.
+    pub fn of(path: &Path) -> (PathBuf, FrameNames) {
+        if let Some(names) = path
+            .file_name()
+            .and_then(|n| n.to_str())
+            .and_then(Self::pattern)
+        {
+            let dir = match path.parent() {
+                Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+                _ => PathBuf::from("."),
+            };
+            return (dir, names);
+        }
+        (path.to_path_buf(), FrameNames::folder())
+    }
+
+    /// Whether `path`'s file name is a frame-name pattern (`…%04d….png`).
+    pub fn is_pattern(path: &Path) -> bool {
+        path.file_name()
+            .and_then(|n| n.to_str())
+            .is_some_and(|n| Self::pattern(n).is_some())
+    }
+
+    /// `prefix%0Nd suffix.png` or `prefix%dsuffix.png`, with one `%`.
+    fn pattern(name: &str) -> Option<FrameNames> {
+        let (prefix, rest) = name.split_once('%')?;
+        let digits = rest.bytes().take_while(u8::is_ascii_digit).count();
+        let suffix = rest[digits..].strip_prefix('d')?;
+        let lower = suffix.to_ascii_lowercase();
+        if !lower.ends_with(".png") || suffix.contains('%') || digits > 2 {
+            return None;
+        }
+        let width = if digits == 0 {
+            1
+        } else {
+            rest[..digits].parse().ok()?
+        };
+        Some(FrameNames {
+            prefix: prefix.to_string(),
+            width,
+            suffix: suffix.to_string(),
+            own_folder: false,
+        })
+    }
+
+    /// The name of frame `i`.
+    pub fn name(&self, i: usize) -> String {
+        let (prefix, suffix, width) = (&self.prefix, &self.suffix, self.width);
+        format!("{prefix}{i:0width$}{suffix}")
+    }
+
+    /// Whether `name` is a name this naming gives (at least `width` digits).
+    fn is_ours(&self, name: &str) -> bool {
+        name.strip_prefix(self.prefix.as_str())
+            .and_then(|r| r.strip_suffix(self.suffix.as_str()))
+            .is_some_and(|d| d.len() >= self.width && d.bytes().all(|b| b.is_ascii_digit()))
+    }
+}
+
+/// The gmotion frames at `path` (a frames folder or a frame-name pattern), if they can be
+/// written fresh by [`write_frames`]. A folder of its own must not exist or hold nothing
+/// but files named like frames (which an earlier run wrote, and which a new run replaces);
+/// anything else is [`RenderError::FolderInUse`]. A pattern's folder may hold other files;
+/// only those its pattern names are the run's. Call this before rendering so a refused
+/// folder costs nothing.
+pub fn check_frame_folder(path: &Path) -> Result<Vec<PathBuf>, RenderError> {
+    let (dir, names) = FrameNames::of(path);
+    let entries = match std::fs::read_dir(&dir) {
         Ok(e) => e,
         Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(Vec::new()),
-        Err(e) => return Err(write_error(dir, e)),
+        Err(e) => return Err(write_error(&dir, e)),
     };
     let (mut frames, mut others) = (Vec::new(), Vec::new());
     for entry in entries {
-        let entry = entry.map_err(|e| write_error(dir, e))?;
+        let entry = entry.map_err(|e| write_error(&dir, e))?;
         let name = entry.file_name().to_string_lossy().into_owned();
         let is_file = entry.file_type().is_ok_and(|t| t.is_file());
-        if is_file && is_frame_file_name(&name) {
+        if is_file && names.is_ours(&name) {
             frames.push(entry.path());
         } else {
             others.push(name);
         }
     }
-    if others.is_empty() {
+    if others.is_empty() || !names.own_folder {
         return Ok(frames);
     }
     others.sort();
@@ -473,33 +556,38 @@ pub fn check_frame_folder(dir: &Path) -> Result<Vec<PathBuf>, RenderError> {
         others.truncate(3);
         others.push("…".into());
     }
-    Err(RenderError::FolderInUse {
-        path: dir.to_path_buf(),
-        others,
-    })
+    Err(RenderError::FolderInUse { path: dir, others })
 }
 
-/// Writes `frames` as PNG files [`frame_file_name`]`(i)` in `dir` (created if missing), so
-/// that the folder holds exactly this run's frames: frames of an earlier, longer run are
-/// removed. A folder that holds anything else is refused (see [`check_frame_folder`]) and
-/// left as it is. The frames are encoded into a hidden sibling folder first and moved in
-/// only when all are written, so a failed encoding leaves `dir` as it was.
-pub fn write_frames(frames: &[Pixmap], dir: &Path) -> Result<(), RenderError> {
+/// Writes one PNG per frame at `path` (a folder of `frame_00000.png`, …, or a frame-name
+/// pattern such as `walk_%04d.png`), all or nothing: the frames are written into a hidden
+/// temporary folder and moved in at once (or when the open [`atomic::Staging`] commits),
+/// and the frames an earlier, longer run left are removed.
+pub fn write_frames(frames: &[Pixmap], path: &Path) -> Result<(), RenderError> {
     use rayon::prelude::*;
-    let old = check_frame_folder(dir)?;
+    let (dir, names) = FrameNames::of(path);
+    let old = check_frame_folder(path)?;
     let encoded: Vec<Vec<u8>> = frames
         .par_iter()
         .map(|f| {
             f.encode_png()
-                .map_err(|e| write_error(dir, io::Error::other(e)))
+                .map_err(|e| write_error(path, io::Error::other(e)))
         })
         .collect::<Result<_, _>>()?;
-    let tmp = atomic::temp_path(dir);
+    // Beside a folder of its own; inside a pattern's folder, which may be `.`.
+    let tmp = if names.own_folder {
+        atomic::temp_path(&dir)
+    } else {
+        atomic::temp_path(&dir.join("frames"))
+    };
     atomic::register(&tmp);
     let written = (|| -> io::Result<()> {
+        if !names.own_folder {
+            std::fs::create_dir_all(&dir)?;
+        }
         std::fs::create_dir(&tmp)?;
         for (i, bytes) in encoded.iter().enumerate() {
-            std::fs::write(tmp.join(frame_file_name(i)), bytes)?;
+            std::fs::write(tmp.join(names.name(i)), bytes)?;
         }
         Ok(())
     })();
@@ -507,17 +595,17 @@ pub fn write_frames(frames: &[Pixmap], dir: &Path) -> Result<(), RenderError> {
         // The hidden folder is ours and holds nothing the user needs.
         let _ = std::fs::remove_dir_all(&tmp);
         atomic::forget(&tmp);
-        return Err(write_error(dir, e));
+        return Err(write_error(path, e));
     }
     let n = encoded.len();
-    let (from, to) = (tmp.clone(), dir.to_path_buf());
+    let (from, to) = (tmp.clone(), dir);
     // Moving the frames in (now, or when the open staging commits), then removing the
     // frames of an earlier, longer run.
     let commit = move || -> io::Result<()> {
         let moved = (|| -> io::Result<()> {
             std::fs::create_dir_all(&to)?;
             for i in 0..n {
-                let name = frame_file_name(i);
+                let name = names.name(i);
                 std::fs::rename(from.join(&name), to.join(&name))?;
             }
             Ok(())
@@ -525,7 +613,7 @@ pub fn write_frames(frames: &[Pixmap], dir: &Path) -> Result<(), RenderError> {
         let _ = std::fs::remove_dir_all(&from);
         atomic::forget(&from);
         moved?;
-        let fresh: std::collections::HashSet<String> = (0..n).map(frame_file_name).collect();
+        let fresh: std::collections::HashSet<String> = (0..n).map(|i| names.name(i)).collect();
         for path in old {
             let stale = path
                 .file_name()
@@ -536,7 +624,7 @@ pub fn write_frames(frames: &[Pixmap], dir: &Path) -> Result<(), RenderError> {
         }
         Ok(())
     };
-    atomic::finish(&tmp, Box::new(commit)).map_err(|e| write_error(dir, e))
+    atomic::finish(&tmp, Box::new(commit)).map_err(|e| write_error(path, e))
 }
 
 /// The fraction of pixels (of the area both images cover) where some channel differs by
