@@ -1203,3 +1203,43 @@ fn editing_the_spatial_rules_of_one_tag_leaves_the_others_pieces_identical() {
     // Each edit does change the tile.
     assert!(tile_changed.iter().all(|&n| n >= 5), "{tile_changed:?}");
 }
+
+#[test]
+fn tag_patterns_and_exclusions_choose_the_shapes() {
+    let items = [
+        ("icon-home", (50.0, 50.0), 10.0),
+        ("icon-user", (100.0, 50.0), 10.0),
+        ("logo", (150.0, 50.0), 10.0),
+        ("bg", (200.0, 50.0), 10.0),
+    ];
+    let a = animated(
+        &items,
+        "duration 1s\n\
+         let dx = 10 * (id + 1)\n\
+         animate(affine, world, 0, translate(dx, 0)) : [all, icon-* - icon-home] -> [m]\n\
+         animate(affine, world, 0, translate(0, 20)) : [all, all - (icon-*, bg)] -> [n]\n",
+    );
+    let moved: Vec<Point> = (0..4)
+        .map(|i| pos(&a, i, 1.0) - pos(&a, i, 0.0).to_vec2())
+        .collect();
+    assert!(close(moved[0], Point::ZERO), "icon-home is left out");
+    assert!(
+        close(moved[1], Point::new(10.0, 0.0)),
+        "icon-user matches icon-*"
+    );
+    assert!(
+        close(moved[2], Point::new(0.0, 20.0)),
+        "logo is all but icons and bg"
+    );
+    assert!(close(moved[3], Point::ZERO), "bg is left out");
+    // A pattern that names no shape is an error at the pattern, as an unknown tag is.
+    let e = animate(
+        scene(&items),
+        "duration 1s\nanimate(affine, world, 0, scale(2)) : [all, button-*] -> [m]\n",
+    )
+    .unwrap_err();
+    assert!(
+        e.to_string().contains("matches the pattern `button-*`"),
+        "{e}"
+    );
+}

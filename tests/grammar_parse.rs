@@ -772,6 +772,74 @@ fn expr_text(e: &gmotion::grammar::ast::Expr) -> String {
             let items: Vec<String> = items.iter().map(expr_text).collect();
             format!("({})", items.join(", "))
         }
+        ExprKind::Binary { op, lhs, rhs } => {
+            format!("({} {op:?} {})", expr_text(lhs), expr_text(rhs))
+        }
+        ExprKind::Neg(x) => format!("-{}", expr_text(x)),
+        ExprKind::Call { name, args } => {
+            let args: Vec<String> = args.iter().map(|a| expr_text(&a.value)).collect();
+            format!("{name}({})", args.join(", "))
+        }
         other => format!("{other:?}"),
+    }
+}
+
+#[test]
+fn shape_tag_patterns_exclusions_and_lets() {
+    let g = ok("let col = id % 6
+let delay = 0.1 * col
+animate(affine, world, delay, translate(10 * col, 0)) : [a, icon-* - icon-home] -> [m]
+outline(2) : (Layer_*, *_1) - bg -> [x, y]
+");
+    let r = &g.rules[0];
+    assert_eq!(tags(&r.shape_tags), ["icon-*"]);
+    assert_eq!(tags(&r.shape_excluded), ["icon-home"]);
+    // A `let` name reads as its expression.
+    assert_eq!(
+        expr_text(&r.args[2].value),
+        expr_text(&ok("op(0.1 * (id % 6)) : a -> []").rules[0].args[0].value)
+    );
+    let s = &g.rules[1];
+    assert!(s.spatial);
+    assert_eq!(tags(&s.shape_tags), ["Layer_*", "*_1"]);
+    assert_eq!(tags(&s.shape_excluded), ["bg"]);
+    assert!(r.takes_shape("icon-user", true) && !r.takes_shape("icon-home", true));
+    assert!(!r.takes_shape("logo", true));
+    assert!(
+        s.takes_shape("Layer_2", true)
+            && s.takes_shape("tile_1", true)
+            && !s.takes_shape("bg", true)
+    );
+    // Patterns pick shape tags only; a bound name is bound once and renames no variable.
+    let d = errors(
+        "timesplit(0.5, 0.5) : [a*, s] -> [b, c]\nanimate(affine, world, 0, scale(2)) : [a, s] -> [t*]\nlet cx = 2\nlet k = 1\nlet k = 2\n",
+    );
+    assert_eq!(positions(&d), [(1, 24), (2, 50), (3, 5), (5, 5)]);
+    // A binding of bindings that would grow without bound is refused where it is bound.
+    let mut src = String::from("let a0 = id\n");
+    for i in 1..20 {
+        src.push_str(&format!("let a{i} = a{} + a{}\n", i - 1, i - 1));
+    }
+    let d = errors(&src);
+    assert!(d.items[0].message.contains("too large"), "{:?}", d.items[0]);
+}
+
+#[test]
+fn tag_patterns_match_as_globs() {
+    use gmotion::grammar::ast::tag_matches;
+    for (pattern, tag, yes) in [
+        ("icon-*", "icon-home", true),
+        ("icon-*", "icon-", true),
+        ("icon-*", "logo", false),
+        ("*_1", "Layer_1", true),
+        ("*_1", "Layer_12", false),
+        ("a*b*c", "a-x-b-y-c", true),
+        ("a*b*c", "acb", false),
+        ("*", "anything", true),
+        ("a**", "a", true),
+        ("ab*ba", "aba", false),
+        ("plain", "plain", true),
+    ] {
+        assert_eq!(tag_matches(pattern, tag), yes, "{pattern} ~ {tag}");
     }
 }

@@ -242,14 +242,14 @@ fn time_report(
 ) -> Result<(), EngineError> {
     let tags: BTreeSet<&str> = scene.shapes.iter().map(|s| s.tag.as_str()).collect();
     for t in shape_tags {
-        if t != "all" && !tags.contains(t.as_str()) {
+        if t != "all" && !tags.iter().any(|s| crate::grammar::ast::tag_matches(t, s)) {
             r.warnings.push(Warning::new(format!(
                 "shape tag `{t}` is used by rules but no shape in the scene has it"
             )));
         }
     }
     for t in &tags {
-        if !shape_tags.contains(*t) && !shape_tags.contains("all") {
+        if !program.rules.iter().any(|rule| rule.takes(t)) {
             r.warnings.push(Warning::new(format!(
                 "shapes tagged `{t}` match no rule and stay still"
             )));

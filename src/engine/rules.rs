@@ -3,7 +3,9 @@
 
 use std::collections::HashMap;
 
-use crate::grammar::ast::{Arg, Expr, ExprKind, Grammar, Rule, Span, TagRef};
+use crate::grammar::ast::{
+    Arg, Expr, ExprKind, Grammar, Rule, Span, TagRef, tag_matches, takes_shape,
+};
 
 use super::EngineError;
 
@@ -101,8 +103,10 @@ pub struct CRule {
     pub op: Op,
     /// Slice tags matched (base names; `inv_` versions match too).
     pub slice_tags: Vec<String>,
-    /// Shape tags matched; contains `all` to match every shape.
+    /// Shape tags matched (names or `*` patterns); contains `all` to match every shape.
     pub shape_tags: Vec<String>,
+    /// Shape tags left out (`all - background`).
+    pub shape_excluded: Vec<String>,
     /// Output tags.
     pub outputs: Vec<TagRef>,
     /// Priority.
@@ -111,6 +115,13 @@ pub struct CRule {
     pub weight: f64,
     /// Where the rule is.
     pub span: Span,
+}
+
+impl CRule {
+    /// Whether the rule takes shapes tagged `shape_tag`.
+    pub fn takes(&self, shape_tag: &str) -> bool {
+        takes_shape(&self.shape_tags, &self.shape_excluded, shape_tag, true)
+    }
 }
 
 /// All rules of a grammar, checked: timeslice rules for [`super::expand`], spatial ones
@@ -176,12 +187,7 @@ impl Program {
         let matching: Vec<usize> = list
             .iter()
             .copied()
-            .filter(|&i| {
-                self.rules[i]
-                    .shape_tags
-                    .iter()
-                    .any(|t| t == "all" || t == shape_tag)
-            })
+            .filter(|&i| self.rules[i].takes(shape_tag))
             .collect();
         let Some(top) = matching.iter().map(|&i| self.rules[i].priority).max() else {
             return Vec::new();
@@ -354,6 +360,7 @@ pub(crate) fn check_rule(index: usize, r: &Rule) -> Result<CRule, EngineError> {
         op,
         slice_tags: r.slice_tags.iter().map(|t| t.name.clone()).collect(),
         shape_tags: r.shape_tags.iter().map(|t| t.name.clone()).collect(),
+        shape_excluded: r.shape_excluded.iter().map(|t| t.name.clone()).collect(),
         outputs: r.outputs.clone(),
         priority: r.priority,
         weight: r.weight,
@@ -402,8 +409,9 @@ pub fn check_shape_tags(
     spatial: bool,
 ) -> Result<(), EngineError> {
     for r in grammar.rules.iter().filter(|r| r.spatial == spatial) {
-        for t in &r.shape_tags {
-            if t.name != "all" && !scene_tags.contains(&t.name.as_str()) {
+        for t in r.shape_tags.iter().chain(&r.shape_excluded) {
+            let known_tag = t.name == "all" || scene_tags.iter().any(|s| tag_matches(&t.name, s));
+            if !known_tag {
                 let hint =
                     crate::grammar::diagnostics::did_you_mean(&t.name, scene_tags.iter().copied())
                         .map(|m| format!(" (did you mean `{m}`?)"))
@@ -411,13 +419,15 @@ pub fn check_shape_tags(
                 let mut known: Vec<&str> = scene_tags.to_vec();
                 known.sort_unstable();
                 known.dedup();
-                let mut e = EngineError::at(
-                    t.span,
+                let what = if t.name.contains('*') {
+                    format!("no shape tag in the scene matches the pattern `{}`", t.name)
+                } else {
                     format!(
                         "unknown shape tag `{}`: no shape in the scene has it{hint}",
                         t.name
-                    ),
-                );
+                    )
+                };
+                let mut e = EngineError::at(t.span, what);
                 e.notes
                     .push(format!("the scene's tags: {}", known.join(", ")));
                 return Err(e);

@@ -35,7 +35,8 @@ pub struct Directive {
     pub span: Span,
 }
 
-/// A tag as written in a rule: a name, possibly with the `inv_` prefix.
+/// A tag as written in a rule: a name, possibly with the `inv_` prefix (or, for shape
+/// tags, a pattern: [`tag_matches`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct TagRef {
     /// The tag without the `inv_` prefix.
@@ -44,6 +45,36 @@ pub struct TagRef {
     pub inverted: bool,
     /// Where it is.
     pub span: Span,
+}
+
+/// Whether a shape tag as written in a rule (`icon`, or a pattern with `*` standing for
+/// any run of characters: `icon-*`, `*_1`, `Layer_*`) names `tag`. `all` is not special
+/// here: what it takes depends on the kind of rule.
+pub fn tag_matches(written: &str, tag: &str) -> bool {
+    let Some((first, rest)) = written.split_once('*') else {
+        return written == tag;
+    };
+    let Some(mut left) = tag.strip_prefix(first) else {
+        return false;
+    };
+    let mut parts: Vec<&str> = rest.split('*').collect();
+    let last = parts.pop().unwrap_or("");
+    for part in parts {
+        match left.find(part) {
+            Some(i) => left = &left[i + part.len()..],
+            None => return false,
+        }
+    }
+    left.len() >= last.len() && left.ends_with(last)
+}
+
+/// Whether a rule's shape tags (with `all` taking every shape when `all_counts`), less its
+/// exclusions, take shapes tagged `tag`.
+pub fn takes_shape(included: &[String], excluded: &[String], tag: &str, all_counts: bool) -> bool {
+    included
+        .iter()
+        .any(|t| (all_counts && t == "all") || tag_matches(t, tag))
+        && !excluded.iter().any(|t| tag_matches(t, tag))
 }
 
 /// One production: `op(args) : [slice tags, shape tags] -> [outputs] priority=P weight=W`,
@@ -58,8 +89,10 @@ pub struct Rule {
     pub args: Vec<Arg>,
     /// Timeslice tags matched; empty for spatial rules.
     pub slice_tags: Vec<TagRef>,
-    /// Shape tags matched (`all` matches every shape).
+    /// Shape tags matched (`all` matches every shape; `icon-*` is a pattern).
     pub shape_tags: Vec<TagRef>,
+    /// Shape tags left out of those: `[a, all - background]`.
+    pub shape_excluded: Vec<TagRef>,
     /// Output tags.
     pub outputs: Vec<TagRef>,
     /// Priority: among matching rules only the highest priority ones are candidates.
@@ -70,6 +103,21 @@ pub struct Rule {
     pub spatial: bool,
     /// The whole rule.
     pub span: Span,
+}
+
+impl Rule {
+    /// Whether the rule takes shapes tagged `tag` (`all` taking every shape when
+    /// `all_counts`): [`takes_shape`] on its tags as written.
+    pub fn takes_shape(&self, tag: &str, all_counts: bool) -> bool {
+        let names =
+            |tags: &[TagRef]| -> Vec<String> { tags.iter().map(|t| t.name.clone()).collect() };
+        takes_shape(
+            &names(&self.shape_tags),
+            &names(&self.shape_excluded),
+            tag,
+            all_counts,
+        )
+    }
 }
 
 /// An operator argument, positional (`name == None`) or named (`ease = ease-in`).

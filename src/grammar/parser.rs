@@ -26,6 +26,27 @@ const MAX_NESTING: usize = 256;
 /// What one level of recursion in the parser costs of [`MAX_NESTING`].
 const NEST_COST: usize = 4;
 
+/// The most terms the expression a `let` name stands for may have.
+const MAX_LET_NODES: usize = 4096;
+
+/// The most terms all uses of `let` names in one file may stand for together.
+const MAX_LET_TERMS_READ: usize = 1_000_000;
+
+/// An expression's terms and depth.
+fn size(e: &Expr) -> (usize, usize) {
+    let children: Vec<&Expr> = match &e.kind {
+        ExprKind::Call { args, .. } => args.iter().map(|a| &a.value).collect(),
+        ExprKind::Tuple(items) => items.iter().collect(),
+        ExprKind::Neg(x) => vec![x],
+        ExprKind::Binary { lhs, rhs, .. } => vec![lhs, rhs],
+        _ => Vec::new(),
+    };
+    children
+        .into_iter()
+        .map(size)
+        .fold((1, 1), |(n, d), (cn, cd)| (n + cn, d.max(cd + 1)))
+}
+
 /// The prefix that marks an inverted tag.
 const INV_PREFIX: &str = "inv_";
 
@@ -37,6 +58,8 @@ pub fn parse(src: &str) -> Result<Grammar, Diagnostics> {
         pos: 0,
         open: Vec::new(),
         nesting: 0,
+        lets: HashMap::new(),
+        let_terms_read: 0,
         diags: Diagnostics::default(),
     };
     let grammar = parser.file();
@@ -48,6 +71,10 @@ pub fn parse(src: &str) -> Result<Grammar, Diagnostics> {
 }
 
 type PResult<T> = Result<T, Diagnostic>;
+
+/// What a rule matches: slice tags, shape tags, shape tags left out, and whether the rule
+/// is spatial (one tag list).
+type Matched = (Vec<TagRef>, Vec<TagRef>, Vec<TagRef>, bool);
 
 /// A span from the start of `a` to the end of `b`.
 fn join(a: Span, b: Span) -> Span {
@@ -69,6 +96,11 @@ struct Parser<'a> {
     open: Vec<Span>,
     /// Current expression nesting depth.
     nesting: usize,
+    /// `let` bindings so far: a later expression naming one reads its expression, with
+    /// its number of terms.
+    lets: HashMap<String, (Expr, usize)>,
+    /// Terms read through `let` names in the whole file (capped: [`MAX_LET_TERMS_READ`]).
+    let_terms_read: usize,
     diags: Diagnostics,
 }
 
@@ -252,6 +284,10 @@ impl Parser<'_> {
     fn statement(&mut self, grammar: &mut Grammar, seen: &mut HashMap<String, u32>) -> PResult<()> {
         let token = self.peek().clone();
         match &token.tok {
+            Tok::Ident(name) if name == "let" && matches!(self.peek_next(), Tok::Ident(_)) => {
+                self.binding()?;
+                self.end_of_statement(&[])
+            }
             Tok::Ident(name) => {
                 if matches!(self.peek_next(), Tok::LParen | Tok::Colon) {
                     let rule = self.rule(canonical_operator(name))?;
@@ -272,6 +308,48 @@ impl Parser<'_> {
                 .with_help("`#` followed by 3, 6 or 8 hex digits is a colour; write comments as `# text`, with a space")),
             _ => Err(self.unexpected(&["a directive", "a rule"])),
         }
+    }
+
+    /// `let name = expression`: later expressions that name `name` read the expression in
+    /// its place (as if written there), so a formula used by several rules is written once.
+    fn binding(&mut self) -> PResult<()> {
+        self.bump();
+        let name_tok = self.bump();
+        let Tok::Ident(name) = name_tok.tok else {
+            return Err(self.unexpected(&["a name"]));
+        };
+        if crate::grammar::value::VARIABLES.contains(&name.as_str()) {
+            return Err(Diagnostic::new(
+                name_tok.span,
+                format!("`{name}` is a variable every shape has"),
+            )
+            .with_help("a `let` names a new value; choose another name"));
+        }
+        if let Some((first, _)) = self.lets.get(&name) {
+            return Err(
+                Diagnostic::new(name_tok.span, format!("`{name}` is bound twice"))
+                    .with_help(format!("it is first bound on line {}", first.span.line)),
+            );
+        }
+        self.expect(&Tok::Eq, &["`=`"])?;
+        let value = self.expr()?;
+        // Bindings of bindings could grow without bound (`let b = a + a`, `let c = b + b`,
+        // …): the expression a name stands for is capped, as one written out would be.
+        let (nodes, depth) = size(&value);
+        if nodes > MAX_LET_NODES || depth * NEST_COST > MAX_NESTING {
+            return Err(Diagnostic::new(
+                value.span,
+                format!(
+                    "`{name}` stands for an expression too large ({nodes} terms, {depth} deep)"
+                ),
+            )
+            .with_help(format!(
+                "a `let` may stand for at most {MAX_LET_NODES} terms, {} deep",
+                MAX_NESTING / NEST_COST
+            )));
+        }
+        self.lets.insert(name, (value, nodes));
+        Ok(())
     }
 
     fn end_of_statement(&mut self, more: &[&str]) -> PResult<()> {
@@ -354,7 +432,7 @@ impl Parser<'_> {
                 "a rule is written `op(args) : [slice_tags, shape_tags] -> [outputs]`",
             ));
         }
-        let (slice_tags, shape_tags, spatial) = self.matched_tags()?;
+        let (slice_tags, shape_tags, shape_excluded, spatial) = self.matched_tags()?;
         self.continue_line_if(|t, i| t[i].tok == Tok::Arrow);
         if self.eat(&Tok::Arrow).is_none() {
             let d = self.unexpected(&["`->`", "`→`"]);
@@ -371,6 +449,7 @@ impl Parser<'_> {
             args,
             slice_tags,
             shape_tags,
+            shape_excluded,
             outputs,
             priority: 0,
             weight: 1.0,
@@ -380,19 +459,21 @@ impl Parser<'_> {
         self.rule_options(&mut rule)?;
         rule.span = join(op_tok.span, self.prev_span());
         check_inversions(&rule)?;
+        check_patterns(&rule)?;
         Ok(rule)
     }
 
     /// Parses what follows `:`: `[slice, shape]` (timeslice rule), `[shape]` or a bare tag
-    /// group (spatial rule). Returns (slice tags, shape tags, spatial).
-    fn matched_tags(&mut self) -> PResult<(Vec<TagRef>, Vec<TagRef>, bool)> {
+    /// group (spatial rule). Returns (slice tags, shape tags, excluded shape tags, spatial).
+    fn matched_tags(&mut self) -> PResult<Matched> {
         if self.eat(&Tok::LBracket).is_none() {
-            return Ok((Vec::new(), self.tag_group()?, true));
+            let (shape, excluded) = self.shape_group()?;
+            return Ok((Vec::new(), shape, excluded, true));
         }
-        let mut groups = vec![self.tag_group()?];
+        let mut groups = vec![self.shape_group()?];
         while self.eat(&Tok::Comma).is_some() {
             let start = self.peek().span;
-            let group = self.tag_group()?;
+            let group = self.shape_group()?;
             if groups.len() == 2 {
                 let span = join(start, self.prev_span());
                 return Err(Diagnostic::new(
@@ -404,10 +485,16 @@ impl Parser<'_> {
             groups.push(group);
         }
         self.expect(&Tok::RBracket, &["`,`", "`]`"])?;
-        let shape = groups.pop().unwrap_or_default();
+        let (shape, excluded) = groups.pop().unwrap_or_default();
         match groups.pop() {
-            Some(slice) => Ok((slice, shape, false)),
-            None => Ok((Vec::new(), shape, true)),
+            Some((slice, left_out)) => {
+                if let Some(t) = left_out.first() {
+                    return Err(Diagnostic::new(t.span, "slice tags cannot leave tags out")
+                        .with_help("`- tag` leaves shapes out: write it in the second list, `[a, all - background]`"));
+                }
+                Ok((slice, shape, excluded, false))
+            }
+            None => Ok((Vec::new(), shape, excluded, true)),
         }
     }
 
@@ -430,9 +517,18 @@ impl Parser<'_> {
         let mut token = self.peek().clone();
         let mut written = match &token.tok {
             Tok::Ident(name) | Tok::Str(name) => name.clone(),
+            Tok::Star => "*".to_string(),
             _ => return Err(self.unexpected(&["a tag"])),
         };
         self.bump();
+        // Tokens written against it are part of it: the pattern `icon-*`, `*_1`, `a-1`.
+        if !matches!(token.tok, Tok::Str(_)) {
+            while let Some(next) = self.glued(self.pos) {
+                written.push_str(&self.src[next.span.start..next.span.end]);
+                token.span = join(token.span, next.span);
+                self.pos += 1;
+            }
+        }
         // A following word or whole number continues the tag (`in 2` is `in_2`), unless it
         // is a rule option (`priority=`).
         loop {
@@ -479,6 +575,35 @@ impl Parser<'_> {
             inverted,
             span: token.span,
         })
+    }
+
+    /// Token `i` when it touches the one before it (no blank between) and may continue a
+    /// tag: a name, a whole number, `*`, or a `-` itself touching such a token.
+    fn glued(&self, i: usize) -> Option<Token> {
+        let (before, token) = (self.toks.get(i.checked_sub(1)?)?, self.toks.get(i)?);
+        if token.span.start != before.span.end {
+            return None;
+        }
+        let part = |t: &Token| match t.tok {
+            Tok::Ident(_) | Tok::Star => true,
+            Tok::Num(_) => self.src[t.span.start..t.span.end]
+                .bytes()
+                .all(|b| b.is_ascii_digit()),
+            _ => false,
+        };
+        let continues = part(token)
+            || (token.tok == Tok::Minus && self.glued(i + 1).is_some_and(|n| n.tok != Tok::Minus));
+        continues.then(|| token.clone())
+    }
+
+    /// A shape-tag group and what it leaves out: `all - background`, `(a, b) - c`.
+    fn shape_group(&mut self) -> PResult<(Vec<TagRef>, Vec<TagRef>)> {
+        let tags = self.tag_group()?;
+        let mut excluded = Vec::new();
+        while self.eat(&Tok::Minus).is_some() {
+            excluded.extend(self.tag_group()?);
+        }
+        Ok((tags, excluded))
     }
 
     /// The output list `[a, b, …]` (possibly empty) or a single tag.
@@ -747,6 +872,14 @@ impl Parser<'_> {
             Tok::Ident(name) => {
                 self.bump();
                 if self.toks[self.pos].tok != Tok::LParen {
+                    if let Some((bound, nodes)) = self.lets.get(&name) {
+                        self.let_terms_read += nodes;
+                        if self.let_terms_read > MAX_LET_TERMS_READ {
+                            return Err(Diagnostic::new(token.span, "`let` names read too many terms in this file")
+                                .with_help(format!("all uses of `let` names together may stand for at most {MAX_LET_TERMS_READ} terms")));
+                        }
+                        return Ok(bound.clone());
+                    }
                     return Ok(Expr {
                         kind: ExprKind::Ident(name),
                         span: token.span,
@@ -895,6 +1028,25 @@ fn check_directive(spec: &DirectiveSpec, values: &[Expr], span: Span) -> PResult
         d = d.with_help("header values are literals; nothing is computed before the shapes exist");
     }
     Err(d)
+}
+
+/// A `*` pattern picks among the tags shapes already have, so it belongs in the shape
+/// tags only: a slice tag or an output tag is one name.
+fn check_patterns(rule: &Rule) -> PResult<()> {
+    let slice = rule
+        .slice_tags
+        .iter()
+        .map(|t| (t, "slice tags are names; patterns pick shape tags"));
+    let out = rule
+        .outputs
+        .iter()
+        .map(|t| (t, "an output tag is the one name the rule gives"));
+    match slice.chain(out).find(|(t, _)| t.name.contains('*')) {
+        Some((t, why)) => {
+            Err(Diagnostic::new(t.span, format!("`{}` is a pattern here", t.name)).with_help(why))
+        }
+        None => Ok(()),
+    }
 }
 
 /// `inv_` marks a timeslice played backwards, so it is meaningful only on the tags a

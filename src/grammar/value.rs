@@ -52,6 +52,13 @@ pub trait Env {
     fn noise(&self, x: f64, y: f64) -> f64;
 }
 
+/// Every variable a rule's expressions may name, in the timeslice or the group grammar
+/// (`u` only in a motion keyed in time), and the constant `pi`: a `let` cannot rename them.
+pub const VARIABLES: &[&str] = &[
+    "id", "n", "cx", "cy", "w", "h", "x0", "y0", "z", "group", "t0", "d", "step", "W", "H", "u",
+    "pi",
+];
+
 /// The variables every shape has from its geometry: `cx`, `cy` (centroid), `w`, `h`,
 /// `x0`, `y0` (bounding box), `W`, `H` (the canvas). Shared by the timeslice and the group
 /// grammars' environments so the two cannot drift apart.

@@ -14,7 +14,7 @@
 //! its output slot for new ones. A batch (a group's shapes of one tag) keys its rule choice
 //! on its group's key and its tag, and each shape's draws add the shape's id in the group.
 
-use std::collections::{BTreeMap, HashMap, HashSet};
+use std::collections::{BTreeMap, HashMap};
 
 use kurbo::{Affine, BezPath, Vec2};
 use rayon::prelude::*;
@@ -134,12 +134,7 @@ fn candidates<'r>(rules: &[&'r Rule], tag: &str, imported: bool) -> Vec<(usize, 
     let matching: Vec<(usize, &Rule)> = rules
         .iter()
         .enumerate()
-        .filter(|(_, r)| {
-            r.spatial
-                && r.shape_tags
-                    .iter()
-                    .any(|t| t.name == tag || (imported && t.name == "all"))
-        })
+        .filter(|(_, r)| r.spatial && r.takes_shape(tag, imported))
         .map(|(i, r)| (i, *r))
         .collect();
     let Some(best) = matching.iter().map(|(_, r)| r.priority).max() else {
@@ -192,10 +187,8 @@ pub fn expand(
     opts: &TangleOptions,
 ) -> Result<(Scene, TangleStats), TangleError> {
     let spatial: Vec<&Rule> = rules.iter().copied().filter(|r| r.spatial).collect();
-    let consumed: HashSet<&str> = spatial
-        .iter()
-        .flat_map(|r| r.shape_tags.iter().map(|t| t.name.as_str()))
-        .collect();
+    // Whether some spatial rule takes a tag (`all` only imported shapes).
+    let consumed = |tag: &str, imported: bool| spatial.iter().any(|r| r.takes_shape(tag, imported));
     let mut stats = TangleStats {
         rule_uses: vec![0; spatial.len()],
         ..TangleStats::default()
@@ -218,9 +211,8 @@ pub fn expand(
     };
     let mut roots: Vec<(usize, usize)> = Vec::new(); // (scene shape, arena node)
     let mut pending: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
-    let wants_all = consumed.contains("all");
     for (u, shape) in scene.shapes.iter().enumerate() {
-        if !(wants_all || consumed.contains(shape.tag.as_str())) {
+        if !consumed(&shape.tag, true) {
             continue;
         }
         let Some((region, paint)) = unit_geometry(scene, shape, &grid, tolerance) else {
@@ -408,7 +400,7 @@ pub fn expand(
                     };
                     let sid = next_sid.entry(g).or_insert(0);
                     let tag = rule.outputs[piece.slot % rule.outputs.len()].name.clone();
-                    let terminal = !consumed.contains(tag.as_str());
+                    let terminal = !consumed(&tag, false);
                     let shape = TShape {
                         tag,
                         group: g,
