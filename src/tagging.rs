@@ -78,6 +78,30 @@ pub fn strip_counter(name: &str) -> &str {
     }
 }
 
+/// A layer id without the counter a design tool added to make it unique, keeping distinct
+/// layers distinct: Illustrator's duplicate suffix `_12_` always goes (`eye_1_`, `eye_2_`
+/// are copies of `eye`); a plain `_12` or `-3` goes only when the stem is itself a layer
+/// (`exists`), as Figma numbers copies after the first (`Vector`, `Vector_2`). So
+/// Illustrator's `Layer_1` and `Layer_2` stay two layers; a grammar takes both with the
+/// pattern `Layer_*`.
+///
+/// ```
+/// use gmotion::tagging::strip_counter_among;
+/// let ids = ["Vector", "Vector_2", "Layer_1", "Layer_2", "eye_1_"];
+/// let exists = |s: &str| ids.contains(&s);
+/// assert_eq!(strip_counter_among("Vector_2", exists), "Vector");
+/// assert_eq!(strip_counter_among("Layer_2", exists), "Layer_2");
+/// assert_eq!(strip_counter_among("eye_1_", exists), "eye");
+/// ```
+pub fn strip_counter_among<'n>(name: &'n str, exists: impl Fn(&str) -> bool) -> &'n str {
+    let stem = strip_counter(name);
+    if stem.len() == name.len() || name.ends_with('_') || exists(stem) {
+        stem
+    } else {
+        name
+    }
+}
+
 /// A free-form layer name as a name a grammar can write without quotes: every run of
 /// characters that cannot continue an identifier (spaces, punctuation) becomes one `_`,
 /// leading and trailing ones are dropped, a name starting with a digit gets a leading `_`,

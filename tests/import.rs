@@ -25,11 +25,11 @@ fn close(a: Point, b: Point) -> bool {
 }
 
 const SOURCES: &str = r#"
-    <g id="Wheels_3" class="car">
+    <g id="Wheels_3_" class="car">
         <rect data-tag="bolt" class="x" width="10" height="10"/>
         <rect width="10" height="10"/>
     </g>
-    <g id="Trees_2">
+    <g id="Trees_2_">
         <circle inkscape:label="oak" r="5"/>
         <circle class="pine  tall" r="5"/>
         <circle r="5"/>
@@ -149,7 +149,7 @@ fn groups_mode_takes_outermost_layers() {
     let scene = import(body, with(TagFrom::Auto, Units::Groups)).scene;
     assert_eq!(
         tags(&scene),
-        [("Layer", 0), ("loose", 0)].map(|(t, i)| (t.to_string(), i))
+        [("Layer_1", 0), ("loose", 0)].map(|(t, i)| (t.to_string(), i))
     );
     // Auto units do not treat a bare layer id as a tag that groups.
     let auto = import(body, ImportOptions::default()).scene;
@@ -321,7 +321,7 @@ fn a_group_unit_is_tagged_by_what_makes_it_one() {
     let groups = parse(text, "t.svg", &with(TagFrom::Auto, Units::Groups))
         .unwrap()
         .scene;
-    let want = [("Layer", 0), ("bird", 0), ("bird", 1)].map(|(t, i)| (t.to_string(), i));
+    let want = [("Layer_1", 0), ("bird", 0), ("bird", 1)].map(|(t, i)| (t.to_string(), i));
     assert_eq!(tags(&groups), want);
     let auto = parse(text, "t.svg", &ImportOptions::default())
         .unwrap()
@@ -329,4 +329,28 @@ fn a_group_unit_is_tagged_by_what_makes_it_one() {
     let want = [("drawing", 0), ("bird", 0), ("bird", 1)].map(|(t, i)| (t.to_string(), i));
     assert_eq!(tags(&auto), want);
     assert!(matches!(auto.unit_node(1), Some(Node::Group(_))));
+}
+
+#[test]
+fn layer_counters_go_only_where_they_tell_copies_apart() {
+    // Illustrator: two layers, and copies of `eye` (`eye_1_`, `eye_2_`); Figma: `Vector`
+    // and its copy `Vector_2`.
+    let body = r#"
+        <g id="Layer_1"><rect width="1" height="1"/></g>
+        <g id="Layer_2"><rect x="2" width="1" height="1"/></g>
+        <g id="eye_1_"><rect x="4" width="1" height="1"/></g>
+        <g id="eye_2_"><rect x="6" width="1" height="1"/></g>
+        <g id="Vector"><rect x="8" width="1" height="1"/></g>
+        <g id="Vector_2"><rect x="10" width="1" height="1"/></g>
+    "#;
+    let scene = import(body, with(TagFrom::Layer, Units::Groups)).scene;
+    let want = [
+        ("Layer_1", 0),
+        ("Layer_2", 0),
+        ("eye", 0),
+        ("eye", 1),
+        ("Vector", 0),
+        ("Vector", 1),
+    ];
+    assert_eq!(tags(&scene), want.map(|(t, i)| (t.to_string(), i)));
 }

@@ -10,7 +10,7 @@ use std::collections::{HashMap, HashSet};
 use usvg::roxmltree::{self, Document, Node, NodeId};
 
 use super::ImportError;
-use crate::tags::{TagFrom, first_class, strip_counter};
+use crate::tags::{TagFrom, first_class, strip_counter_among};
 
 const SVG_NS: &str = "http://www.w3.org/2000/svg";
 const XLINK_NS: &str = "http://www.w3.org/1999/xlink";
@@ -393,7 +393,8 @@ impl<'a> Source<'a> {
             return None;
         }
         let id = node.attribute("id")?;
-        (self.by_id.get(id) == Some(&node.id())).then(|| strip_counter(id))
+        (self.by_id.get(id) == Some(&node.id()))
+            .then(|| strip_counter_among(id, |stem| self.by_id.contains_key(stem)))
     }
 
     /// The tag a container element carries itself (for units): its explicit tag, with

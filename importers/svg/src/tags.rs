@@ -1,8 +1,10 @@
 //! Where shape tags come from, and how layer names become tags.
 //!
 //! Design tools name layers with ids (`<g id="Wheel_2">`) and make them unique with a
-//! counter; the counter is noise to a grammar author, so [`strip_counter`] removes it and
-//! every wheel gets the tag `Wheel`. Which attributes are read is [`TagFrom`].
+//! counter. A counter that only tells copies apart is noise to a grammar author, so
+//! [`strip_counter_among`] removes Illustrator's copy suffix (`eye_1_`) and Figma's copy
+//! numbers (`Vector_2` beside `Vector`), but keeps names whose number is all that tells
+//! distinct layers apart (`Layer_1`, `Layer_2`). Which attributes are read is [`TagFrom`].
 
 pub use gmotion::tagging::TagFrom;
 
@@ -13,7 +15,7 @@ pub use gmotion::tagging::TagFrom;
 /// use gmotion_import_svg::tags::strip_counter;
 /// assert_eq!(strip_counter("Wheel_2"), "Wheel");
 /// ```
-pub use gmotion::tagging::strip_counter;
+pub use gmotion::tagging::{strip_counter, strip_counter_among};
 
 /// The first class name of a `class` attribute value, if any.
 pub fn first_class(value: &str) -> Option<&str> {
