@@ -451,6 +451,58 @@ fn layers_are_named_tag_id_and_carry_no_skew() {
     plays("skew-sampled", &anim, &json, &Player::ALL);
 }
 
+/// Shapes moved alike, wherever they are, share one bake of a skewing window (it is baked
+/// about each shape's anchor, in a frame where the anchor is the origin): every shape must
+/// still land within the bound where it is, and shapes moved differently (another
+/// rotation before the skew, another size) must not take each other's keys.
+#[test]
+fn shapes_skewed_alike_share_bakes_each_where_it_is() {
+    let mut paths = Vec::new();
+    for i in 0..12 {
+        let (x, y) = (20.0 + 31.3 * (i % 4) as f64, 30.0 + 70.1 * (i / 4) as f64);
+        let side = if i % 3 == 0 { 12.0 } else { 20.0 };
+        paths.push((
+            rect_path(Rect::new(x, y, x + side, y + side * 0.5)),
+            solid(Color::BLACK),
+            None,
+        ));
+    }
+    let s = scene(paths);
+    let first = Timing::new(0.0, 1.0, 0.0, Easing::Linear, false);
+    let second = Timing::new(1.0, 2.0, 0.0, EASE_IN_OUT, false);
+    let tracks = (s.shapes.iter().enumerate())
+        .map(|(i, shape)| {
+            let mut track = Track::default();
+            let turn = if i % 2 == 0 { 35.0 } else { 80.0 };
+            let c = shape.centroid;
+            push(
+                &mut track,
+                0.0,
+                1.0,
+                &first,
+                &rigid(c, &[Component::Rotate(turn)], Interp::Linear),
+            );
+            let skew = [
+                Component::Skew(25.0, 0.0),
+                Component::Scale(Vec2::new(0.8, 0.8)),
+            ];
+            push(
+                &mut track,
+                1.0,
+                2.0,
+                &second,
+                &rigid(c, &skew, Interp::Linear),
+            );
+            track
+        })
+        .collect();
+    let anim = animation(s, tracks, 2.0);
+    let (_, doc) = export(&anim);
+    let err = max_error(&anim, &doc, 2);
+    // The baking bound, plus the written precision.
+    assert!(err <= 0.25 + 0.02, "error {err} px");
+}
+
 #[test]
 fn one_window_has_keyframes_at_the_active_ends_only() {
     let s = black_rect(Rect::new(10.0, 10.0, 50.0, 50.0));

@@ -15,13 +15,17 @@
 
 use kurbo::{Affine, Point, Rect, Vec2};
 
-use super::bake::{RigidSample, bake_rigid};
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
+
+use super::bake::{BakedRigid, RigidSample, bake_rigid};
 use super::geometry::{Trs, decompose, max_stretch, svd};
 use super::keys::{Key, Near, Piece, progress_keys, to_keyframes};
 use super::model::{Keyframe, N, Prop, Transform, Value};
 use gmotion::motion::grid::blend_at;
 use gmotion::motion::{AttrSeg, Component, Interp, MotionKind, MotionSeg, Tint, Track};
 use gmotion::scene::{Node, Paint};
+use gmotion::signals::easing::Easing;
 
 /// What a shape's track becomes.
 #[derive(Clone, Debug, Default)]
@@ -71,14 +75,36 @@ pub struct UnitInfo {
 /// How far apart two stroke width factors may be and still make one key value.
 pub const WIDTH_FACTOR_TOLERANCE: f64 = 1e-3;
 
+/// Baked windows of one export, by everything their keys depend on. A window is baked
+/// about its anchor, in a frame where the anchor is the origin, so the shapes of a tag that
+/// one rule moves alike, wherever they are, share one bake (the generated intersections
+/// workload: 16 428 skewing windows, 959 bakes; the rest differ in the last bits of a
+/// pivot or a start transform).
+#[derive(Debug, Default)]
+pub struct Bakes(Mutex<HashMap<Vec<u64>, Arc<BakedRigid>>>);
+
+impl Bakes {
+    /// The bake under `key`, made by `bake` the first time. Two threads may both make it;
+    /// both get the same keys, as `bake` depends on nothing but `key`.
+    fn get(&self, key: Vec<u64>, bake: impl FnOnce() -> BakedRigid) -> Arc<BakedRigid> {
+        let lock = || self.0.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(b) = lock().get(&key) {
+            return b.clone();
+        }
+        let made = Arc::new(bake());
+        lock().entry(key).or_insert(made).clone()
+    }
+}
+
 /// Converts a track. `frames` is the animation's frame count, `tolerance` the baking
-/// error bound in canvas units.
+/// error bound in canvas units; `bakes` is shared by the tracks of one export.
 pub fn unit_motion(
     track: &Track,
     info: UnitInfo,
     fps: f64,
     frames: usize,
     tolerance: f64,
+    bakes: &Bakes,
 ) -> UnitMotion {
     let mut out = UnitMotion {
         opacity: attr_keys(&track.opacity, fps, 1.0, |v| v, 1e-3),
@@ -112,7 +138,7 @@ pub fn unit_motion(
             let end = seg.t1.min(t1);
             match exact_levels(seg, end, fps) {
                 Some(mut l) => levels.append(&mut l),
-                None => levels.extend(baked_levels(w, s, end, info, fps, tolerance)),
+                None => levels.extend(baked_levels(w, s, end, info, fps, tolerance, bakes)),
             }
         }
         // The correction is applied inside this window's own segments.
@@ -160,7 +186,7 @@ fn whole_track_levels(
             gain: 1.0,
         })
         .collect();
-    bake_rigid(&samples, info.centroid, tolerance)
+    bake_rigid(&samples, info.centroid, tolerance).levels(Vec2::ZERO)
 }
 
 /// Whether anything in `node` may draw a stroke: a stroked path, or content the export
@@ -490,6 +516,12 @@ fn hold_levels(m: Affine, frame: f64) -> Vec<Transform> {
 }
 
 /// Sampled levels for segment `s` of window `w` over `[seg.t0, end]`.
+///
+/// The levels are anchored at the shape's centroid where the window starts, and baked in
+/// a frame where that anchor is the origin: every pivot taken relative to it, the window's
+/// start transform reduced to its linear part (it maps the centroid to the anchor), the
+/// check points relative to the centroid. The keys then depend only on what [`bake_key`]
+/// lists, and shapes that move alike share them through `bakes`.
 fn baked_levels(
     w: &Window,
     s: usize,
@@ -497,52 +529,133 @@ fn baked_levels(
     info: UnitInfo,
     fps: f64,
     tolerance: f64,
+    bakes: &Bakes,
 ) -> Vec<Transform> {
-    let seg = &w.segs[s];
-    let corners = [
-        info.bbox.origin(),
-        Point::new(info.bbox.x1, info.bbox.y0),
-        Point::new(info.bbox.x0, info.bbox.y1),
-        Point::new(info.bbox.x1, info.bbox.y1),
-    ];
-    let sample = |t: f64| {
-        // Usually no segment is outside: no product, and a gain of exactly 1.
-        let gain = match &w.segs[..s] {
-            [] => 1.0,
-            outer => max_stretch(
-                outer
-                    .iter()
-                    .fold(Affine::IDENTITY, |acc, o| acc * o.relative_at(t)),
-            ),
+    let anchor = w.start * info.centroid;
+    let shift = anchor.to_vec2();
+    let bake = || {
+        let segs: Vec<MotionSeg> = w.segs.iter().map(|seg| shifted(seg, -shift)).collect();
+        let seg = &segs[s];
+        let start = {
+            let [a, b, c, d, _, _] = w.start.as_coeffs();
+            Affine::new([a, b, c, d, 0.0, 0.0])
         };
-        let inner = w.segs[s + 1..]
-            .iter()
-            .fold(Affine::IDENTITY, |acc, o| acc * o.relative_at(t))
-            * w.start;
-        RigidSample {
-            frame: t * fps,
-            m: seg.relative_at(t),
-            points: corners.map(|c| inner * c),
-            gain,
+        let bbox = info.bbox - info.centroid.to_vec2();
+        let corners = [
+            bbox.origin(),
+            Point::new(bbox.x1, bbox.y0),
+            Point::new(bbox.x0, bbox.y1),
+            Point::new(bbox.x1, bbox.y1),
+        ];
+        let sample = |t: f64| {
+            // Usually no segment is outside: no product, and a gain of exactly 1.
+            let gain = match &segs[..s] {
+                [] => 1.0,
+                outer => max_stretch(
+                    outer
+                        .iter()
+                        .fold(Affine::IDENTITY, |acc, o| acc * o.relative_at(t)),
+                ),
+            };
+            let inner = segs[s + 1..]
+                .iter()
+                .fold(Affine::IDENTITY, |acc, o| acc * o.relative_at(t))
+                * start;
+            RigidSample {
+                frame: t * fps,
+                m: seg.relative_at(t),
+                points: corners.map(|c| inner * c),
+                gain,
+            }
+        };
+        let mut times = vec![seg.t0];
+        let first = (seg.t0 * fps).floor() as i64 + 1;
+        let last = (end * fps).ceil() as i64 - 1;
+        times.extend(
+            (first..=last)
+                .map(|f| f as f64 / fps)
+                .filter(|t| *t > seg.t0 && *t < end),
+        );
+        if end > seg.t0 {
+            times.push(end);
         }
+        let samples: Vec<RigidSample> = times.iter().map(|t| sample(*t)).collect();
+        bake_rigid(&samples, Point::ORIGIN, tolerance)
     };
-    let mut times = vec![seg.t0];
-    let first = (seg.t0 * fps).floor() as i64 + 1;
-    let last = (end * fps).ceil() as i64 - 1;
-    times.extend(
-        (first..=last)
-            .map(|f| f as f64 / fps)
-            .filter(|t| *t > seg.t0 && *t < end),
-    );
-    if end > seg.t0 {
-        times.push(end);
+    match bake_key(w, s, end, info, shift, fps, tolerance) {
+        Some(key) => bakes.get(key, bake).levels(shift),
+        None => bake().levels(shift),
     }
-    let samples: Vec<RigidSample> = times.iter().map(|t| sample(*t)).collect();
-    let inner0 = w.segs[s + 1..]
-        .iter()
-        .fold(Affine::IDENTITY, |acc, o| acc * o.relative_at(seg.t0))
-        * w.start;
-    bake_rigid(&samples, inner0 * info.centroid, tolerance)
+}
+
+/// `seg` with its pivot moved by `by` (the same motion in a frame moved by `by`).
+fn shifted(seg: &MotionSeg, by: Vec2) -> MotionSeg {
+    let mut seg = seg.clone();
+    if let MotionKind::Rigid { pivot, .. } = &mut seg.kind {
+        *pivot += by;
+    }
+    seg
+}
+
+/// Everything [`baked_levels`] computes its keys from, as bits: the frame rate, the bound,
+/// which segment is baked and to when, every segment of the window (times, timing, pivot
+/// relative to the anchor at `shift`, blended components), the linear part of the
+/// window's start and the box around the centroid. `None` for a window with per-vertex
+/// motion, which is not baked here.
+fn bake_key(
+    w: &Window,
+    s: usize,
+    end: f64,
+    info: UnitInfo,
+    shift: Vec2,
+    fps: f64,
+    tolerance: f64,
+) -> Option<Vec<u64>> {
+    let mut key: Vec<u64> = Vec::with_capacity(32 + 24 * w.segs.len());
+    let mut put = |xs: &[f64]| key.extend(xs.iter().map(|x| x.to_bits()));
+    put(&[fps, tolerance, s as f64, end]);
+    let [a, b, c, d, _, _] = w.start.as_coeffs();
+    put(&[a, b, c, d]);
+    let bbox = info.bbox - info.centroid.to_vec2();
+    put(&[bbox.x0, bbox.y0, bbox.x1, bbox.y1]);
+    for seg in &w.segs {
+        let MotionKind::Rigid {
+            pivot,
+            blend,
+            interp,
+        } = &seg.kind
+        else {
+            return None;
+        };
+        let t = &seg.timing;
+        put(&[seg.t0, seg.t1, t.start, t.end, t.delay]);
+        put(&[f64::from(u8::from(t.reversed))]);
+        match &t.ease {
+            Easing::Linear => put(&[0.0]),
+            Easing::CubicBezier(p) => put(&[1.0, p[0], p[1], p[2], p[3]]),
+            Easing::BSpline(k) => put(&[2.0, f64::from(*k)]),
+            Easing::Poles { n, tau } => put(&[3.0, f64::from(*n), *tau]),
+        }
+        let p = *pivot - shift;
+        put(&[p.x, p.y, f64::from(u8::from(*interp == Interp::Alexa))]);
+        put(&[blend.len() as f64]);
+        for (weight, comps) in blend.iter() {
+            put(&[*weight, comps.len() as f64]);
+            for c in comps.iter() {
+                match *c {
+                    Component::Translate(v) => put(&[0.0, v.x, v.y]),
+                    Component::Rotate(a) => put(&[1.0, a]),
+                    Component::Scale(v) => put(&[2.0, v.x, v.y]),
+                    Component::Skew(x, y) => put(&[3.0, x, y]),
+                    Component::Matrix(m) => {
+                        put(&[4.0]);
+                        put(&m.as_coeffs());
+                    }
+                }
+            }
+        }
+    }
+    Some(key)
 }
 
 /// Keys of an attribute channel.

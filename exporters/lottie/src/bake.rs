@@ -200,11 +200,23 @@ fn rebuilt(
     v
 }
 
-/// Bakes sampled transforms into at most two keyframed skew-free levels (outermost first)
-/// that reproduce every sample within `tolerance`; the first sample's transform should be
-/// the identity when the levels must be neutral before the samples begin. Between kept
-/// samples every channel follows a fitted Bézier easing, so smooth motion needs few keys.
-pub fn bake_rigid(samples: &[RigidSample], anchor: Point, tolerance: f64) -> Vec<Transform> {
+/// Sampled transforms thinned to the keys that reproduce them: see [`bake_rigid`].
+#[derive(Clone, Debug)]
+pub struct BakedRigid {
+    anchor: Point,
+    /// Frame of each kept key.
+    frames: Vec<f64>,
+    /// Channels at each kept key.
+    ps: Vec<[f64; 6]>,
+    /// Per-group easing from each kept key to the next.
+    eases: Vec<[(f64, f64); 4]>,
+}
+
+/// Bakes sampled transforms into keys of at most two skew-free levels that reproduce
+/// every sample within `tolerance`; the first sample's transform should be the identity
+/// when the levels must be neutral before the samples begin. Between kept samples every
+/// channel follows a fitted Bézier easing, so smooth motion needs few keys.
+pub fn bake_rigid(samples: &[RigidSample], anchor: Point, tolerance: f64) -> BakedRigid {
     let mut params_list: Vec<Params> = Vec::with_capacity(samples.len());
     for s in samples {
         let p = params(s.m, anchor, params_list.last());
@@ -225,59 +237,81 @@ pub fn bake_rigid(samples: &[RigidSample], anchor: Point, tolerance: f64) -> Vec
         let eases = fit_eases(&frames, &ps, i, j);
         (i + 1..j).all(|m| err(m, &rebuilt(&frames, &ps, &eases, (i, j), m)) <= tolerance)
     });
-    let eases: Vec<[(f64, f64); 4]> = kept
-        .windows(2)
-        .map(|w| fit_eases(&frames, &ps, w[0], w[1]))
-        .collect();
-    let keys = |group: usize, f: &dyn Fn(&[f64; 6]) -> Value| -> Prop {
-        Prop::keyed(
-            kept.iter()
-                .enumerate()
-                .map(|(n, &i)| Keyframe {
-                    t: N::coord(frames[i]),
-                    s: f(&ps[i]),
-                    ease: eases.get(n).map(|e| {
-                        let (y1, y2) = e[group];
-                        Ease::from_css([1.0 / 3.0, y1, 2.0 / 3.0, y2])
-                    }),
-                    hold: false,
-                })
-                .collect(),
-        )
-    };
-    let position = keys(0, &|c| Value::Vec(vec![N::coord(c[0]), N::coord(c[1])]));
-    let scale = keys(2, &|c| {
-        Value::Vec(vec![N::coord(c[3] * 100.0), N::coord(c[4] * 100.0)])
-    });
-    let phi = keys(1, &|c| Value::Scalar(N::coord(c[2].to_degrees())));
-    let a = Prop::fixed(Value::Vec(vec![N::coord(anchor.x), N::coord(anchor.y)]));
-    let needs_inner = kept.iter().any(|&i| ps[i][5].abs() > 1e-9);
-    if !needs_inner {
-        return vec![Transform {
-            a: Some(a),
-            p: Some(position),
-            s: Some(scale),
-            r: Some(phi),
-            o: None,
-        }];
+    BakedRigid {
+        anchor,
+        eases: kept
+            .windows(2)
+            .map(|w| fit_eases(&frames, &ps, w[0], w[1]))
+            .collect(),
+        frames: kept.iter().map(|&i| frames[i]).collect(),
+        ps: kept.iter().map(|&i| ps[i]).collect(),
     }
-    let theta = keys(3, &|c| Value::Scalar(N::coord(c[5].to_degrees())));
-    vec![
-        Transform {
-            a: None,
-            p: Some(position),
-            s: Some(scale),
-            r: Some(phi),
-            o: None,
-        },
-        Transform {
-            a: Some(a),
-            p: None,
-            s: None,
-            r: Some(theta),
-            o: None,
-        },
-    ]
+}
+
+impl BakedRigid {
+    /// The keys as transform levels, outermost first, for the samples moved by `shift`:
+    /// the same motion about an anchor `shift` away (position and anchor move with it, the
+    /// rest is the same).
+    pub fn levels(&self, shift: Vec2) -> Vec<Transform> {
+        let BakedRigid {
+            anchor,
+            frames,
+            ps,
+            eases,
+        } = self;
+        let anchor = *anchor + shift;
+        let keys = |group: usize, f: &dyn Fn(&[f64; 6]) -> Value| -> Prop {
+            Prop::keyed(
+                (frames.iter().zip(ps))
+                    .enumerate()
+                    .map(|(n, (&t, p))| Keyframe {
+                        t: N::coord(t),
+                        s: f(p),
+                        ease: eases.get(n).map(|e| {
+                            let (y1, y2) = e[group];
+                            Ease::from_css([1.0 / 3.0, y1, 2.0 / 3.0, y2])
+                        }),
+                        hold: false,
+                    })
+                    .collect(),
+            )
+        };
+        let position = keys(0, &|c| {
+            Value::Vec(vec![N::coord(c[0] + shift.x), N::coord(c[1] + shift.y)])
+        });
+        let scale = keys(2, &|c| {
+            Value::Vec(vec![N::coord(c[3] * 100.0), N::coord(c[4] * 100.0)])
+        });
+        let phi = keys(1, &|c| Value::Scalar(N::coord(c[2].to_degrees())));
+        let a = Prop::fixed(Value::Vec(vec![N::coord(anchor.x), N::coord(anchor.y)]));
+        let needs_inner = ps.iter().any(|p| p[5].abs() > 1e-9);
+        if !needs_inner {
+            return vec![Transform {
+                a: Some(a),
+                p: Some(position),
+                s: Some(scale),
+                r: Some(phi),
+                o: None,
+            }];
+        }
+        let theta = keys(3, &|c| Value::Scalar(N::coord(c[5].to_degrees())));
+        vec![
+            Transform {
+                a: None,
+                p: Some(position),
+                s: Some(scale),
+                r: Some(phi),
+                o: None,
+            },
+            Transform {
+                a: Some(a),
+                p: None,
+                s: None,
+                r: Some(theta),
+                o: None,
+            },
+        ]
+    }
 }
 
 /// Bakes sampled outlines of one path (same topology at every sample; `frames[k]` with

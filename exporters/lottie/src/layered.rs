@@ -35,7 +35,7 @@ use gmotion::motion::Animation;
 use gmotion_import_lottie::Source;
 use gmotion_import_lottie::eval;
 
-use crate::animate::{UnitInfo, static_level, unit_motion};
+use crate::animate::{Bakes, UnitInfo, static_level, unit_motion};
 use crate::geometry::decompose;
 use crate::keys::{to_keyframes, within_range};
 use crate::layers::{conjugate, full_transform};
@@ -89,6 +89,7 @@ pub fn over_source(
         + 1;
     let mut nulls: Vec<Json> = Vec::new();
     let mut restyles: Vec<(usize, usize, String)> = Vec::new();
+    let bakes = Bakes::default();
     for (u, (track, shape)) in anim.tracks.iter().zip(&anim.scene.shapes).enumerate() {
         let info = UnitInfo {
             bbox: shape.bbox,
@@ -96,7 +97,7 @@ pub fn over_source(
             // The source's own paint is kept as it is: no stroke is outlined here.
             strokes: false,
         };
-        let motion = unit_motion(track, info, fr, frames, opts.tolerance);
+        let motion = unit_motion(track, info, fr, frames, opts.tolerance, &bakes);
         if !motion.is_animated() {
             continue;
         }

@@ -41,7 +41,7 @@ mod restyle;
 
 use rayon::prelude::*;
 
-use animate::{UnitInfo, UnitMotion, may_stroke, unit_motion};
+use animate::{Bakes, UnitInfo, UnitMotion, may_stroke, unit_motion};
 use gmotion::Warning;
 use gmotion::canvas::{Fit, OutputSize};
 use gmotion::motion::{Animation, Track};
@@ -124,13 +124,14 @@ pub fn to_lottie(anim: &Animation, opts: &LottieOptions) -> Result<LottieOutput,
         });
     }
     let frames = anim.frame_count();
+    let bakes = Bakes::default();
     let motion = |(u, (track, shape)): (usize, (&Track, &Shape))| {
         let info = UnitInfo {
             bbox: shape.bbox,
             centroid: shape.centroid,
             strokes: anim.scene.unit_node(u).is_none_or(may_stroke),
         };
-        unit_motion(track, info, anim.fps, frames, opts.tolerance)
+        unit_motion(track, info, anim.fps, frames, opts.tolerance, &bakes)
     };
     // Shapes are independent, and baking what Lottie cannot say (skews, blends) samples and
     // fits every frame of a moving window: most of an export's time on large scenes. A

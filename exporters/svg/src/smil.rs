@@ -36,6 +36,7 @@ mod xml;
 use std::collections::{HashMap, HashSet};
 
 use kurbo::Point;
+use rayon::prelude::*;
 
 use crate::frame::with_output_size;
 use attr::Bake;
@@ -47,7 +48,7 @@ use gmotion::scene::{Group, Node, Paint, PathNode, Pattern, Stop};
 use paint::{COLOR_TOL, Chain, OPACITY_TOL, WIDTH_TOL, tint_dist};
 use splice::{Edits, Element, MarkedPath, attr as tag_attr};
 use transform::{Kind, Plan, TransformAnim};
-use xml::{COORD, Clock, FACTOR, num};
+use xml::{COORD, Clock, FACTOR, num, push_num};
 
 /// Settings for [`to_smil`].
 #[derive(Clone, Debug, PartialEq)]
@@ -127,51 +128,88 @@ pub fn to_smil(anim: &Animation, opts: &SmilOptions) -> Result<(String, Vec<Warn
 /// Like [`to_smil`], also counting what was written exactly and what was baked.
 pub fn smil_document(anim: &Animation, opts: &SmilOptions) -> Result<SmilDocument, SmilError> {
     validate(anim, opts)?;
-    let mut w = Writer {
+    let w = Writer {
         anim,
         clock: Clock {
             dur: anim.duration,
             looping: anim.looping,
         },
         opts,
-        doc: SmilDocument {
-            svg: String::new(),
-            warnings: Vec::new(),
-            exact_segments: 0,
-            baked_segments: 0,
-        },
-        edits: Edits::default(),
-        defs: String::new(),
-        taken: HashSet::new(),
+    };
+    let mut doc = SmilDocument {
+        svg: String::new(),
+        warnings: Vec::new(),
+        exact_segments: 0,
+        baked_segments: 0,
+    };
+    let mut edits = Edits::default();
+    // Units and paths are written apart, in parallel, each into its own part; the parts
+    // are then taken in document order, so the text is the same on any thread count.
+    let mut take = |part: Part| {
+        for (unit, message) in part.warnings {
+            let s = &anim.scene.shapes[unit];
+            doc.warnings
+                .push(Warning::about(format!("{}:{}", s.tag, s.id), message));
+        }
+        doc.exact_segments += part.exact;
+        doc.baked_segments += part.baked;
+        for (range, text) in part.edits {
+            edits.replace(range, text);
+        }
     };
     let dur = anim.duration;
     let mut units: Vec<usize> = (0..anim.tracks.len())
         .filter(|&u| changes(&anim.tracks[u], dur))
         .collect();
+    let mut lost = Part::default();
     units.retain(|&u| {
         let found = anim.scene.unit_node(u).is_some();
         if !found {
-            w.warn(u, "its node is not in the scene tree; not animated".into());
+            lost.warn(u, "its node is not in the scene tree; not animated".into());
         }
         found
     });
+    take(lost);
     let marked = splice::mark(&anim.scene, &units.iter().copied().collect());
     let els = splice::elements_by_id(&marked.svg);
-    w.taken = marked
-        .taken
-        .iter()
-        .cloned()
-        .chain(els.keys().cloned())
-        .collect();
-    for &u in &units {
+    let mut defs = Defs {
+        text: String::new(),
+        taken: marked
+            .taken
+            .iter()
+            .cloned()
+            .chain(els.keys().cloned())
+            .collect(),
+    };
+    let unit_parts: Vec<Part> = par_map(&units, |&u| {
+        let mut part = Part::default();
         match marked.unit_ids.get(&u).and_then(|id| els.get(id)) {
-            Some(el) => w.unit(u, el),
-            None => w.warn(u, "its node was not written; not animated".into()),
+            Some(el) => w.unit(u, el, &mut part),
+            None => part.warn(u, "its node was not written; not animated".into()),
         }
-    }
-    for mp in &marked.paths {
-        if let Some(el) = els.get(&mp.id) {
-            w.path(mp, el, &marked.svg, &els);
+        part
+    });
+    unit_parts.into_iter().for_each(&mut take);
+    // A tinted gradient or pattern is copied under a fresh id, and ids are handed out in
+    // document order: paths painted with one are written afterwards, in order.
+    let path_parts: Vec<Option<Part>> = par_map(&marked.paths, |mp| {
+        let el = els.get(&mp.id)?;
+        if uses_paint_server(mp.path) {
+            return None;
+        }
+        let mut part = Part::default();
+        w.path(mp, el, &marked.svg, &els, &mut part, None);
+        Some(part)
+    });
+    for (mp, part) in marked.paths.iter().zip(path_parts) {
+        match (part, els.get(&mp.id)) {
+            (Some(part), _) => take(part),
+            (None, Some(el)) => {
+                let mut part = Part::default();
+                w.path(mp, el, &marked.svg, &els, &mut part, Some(&mut defs));
+                take(part);
+            }
+            (None, None) => {}
         }
     }
     for id in &marked.markers {
@@ -179,22 +217,21 @@ pub fn smil_document(anim: &Animation, opts: &SmilOptions) -> Result<SmilDocumen
             && let Some((r, _)) = tag_attr(&marked.svg[el.tag.start..el.tag.end], "id")
         {
             // The range of ` id="…"`, quotes included.
-            w.edits.replace(
+            edits.replace(
                 el.tag.start + r.start - 5..el.tag.start + r.end + 1,
                 String::new(),
             );
         }
     }
-    if !w.defs.is_empty() {
+    if !defs.text.is_empty() {
         match marked.svg.find("</defs>") {
-            Some(at) => w.edits.insert(at, std::mem::take(&mut w.defs)),
+            Some(at) => edits.insert(at, defs.text),
             None => {
                 let at = marked.svg.find(">\n").map_or(0, |i| i + 2);
-                w.edits.insert(at, format!("<defs>\n{}</defs>\n", w.defs));
+                edits.insert(at, format!("<defs>\n{}</defs>\n", defs.text));
             }
         }
     }
-    let Writer { mut doc, edits, .. } = w;
     doc.svg = edits.apply(&marked.svg);
     if let Some(fit) = opts.size.fit(anim.scene.width, anim.scene.height) {
         doc.svg = with_output_size(&doc.svg, &fit);
@@ -282,26 +319,64 @@ fn changes(track: &Track, dur: f64) -> bool {
         || starts(track.stroke_width.first().map(|s| s.t0))
 }
 
+/// Below this many items a document is written on the calling thread.
+const PARALLEL_ITEMS: usize = 64;
+
+/// `f` over `items`, in parallel when there are enough of them, results in order.
+fn par_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync + Send) -> Vec<R> {
+    if items.len() >= PARALLEL_ITEMS {
+        items.par_iter().map(f).collect()
+    } else {
+        items.iter().map(f).collect()
+    }
+}
+
+/// Whether the path's fill or stroke is a gradient or a pattern (which a tint copies).
+fn uses_paint_server(path: &PathNode) -> bool {
+    let server = |p: Option<&Paint>| p.is_some_and(|p| !matches!(p, Paint::Solid(_)));
+    server(path.fill.as_ref().map(|f| &f.paint)) || server(path.stroke.as_ref().map(|s| &s.paint))
+}
+
+/// What the animation of everything shares.
 struct Writer<'a> {
     anim: &'a Animation,
     clock: Clock,
     opts: &'a SmilOptions,
-    doc: SmilDocument,
-    edits: Edits,
-    /// Definitions to add (tinted gradient copies).
-    defs: String,
+}
+
+/// What writing one unit or one path adds to the document: edits of the static text,
+/// warnings (with their unit) and segment counts.
+#[derive(Default)]
+struct Part {
+    edits: Vec<(std::ops::Range<usize>, String)>,
+    warnings: Vec<(usize, String)>,
+    exact: usize,
+    baked: usize,
+}
+
+impl Part {
+    fn warn(&mut self, unit: usize, message: String) {
+        self.warnings.push((unit, message));
+    }
+
+    fn insert(&mut self, at: usize, text: String) {
+        self.edits.push((at..at, text));
+    }
+
+    fn replace(&mut self, range: std::ops::Range<usize>, text: String) {
+        self.edits.push((range, text));
+    }
+}
+
+/// Definitions added to the document (tinted copies of gradients and patterns).
+struct Defs {
+    /// Their text.
+    text: String,
     /// Every id in use.
     taken: HashSet<String>,
 }
 
 impl Writer<'_> {
-    fn warn(&mut self, unit: usize, message: String) {
-        let s = &self.anim.scene.shapes[unit];
-        self.doc
-            .warnings
-            .push(Warning::about(format!("{}:{}", s.tag, s.id), message));
-    }
-
     fn bake<T>(&self, tolerance: f64, dist: &'static dyn Fn(T, T) -> f64) -> Bake<'static, T> {
         Bake {
             rate: self.opts.bake_rate,
@@ -312,7 +387,7 @@ impl Writer<'_> {
     }
 
     /// Wraps unit `u`'s node in its transform groups and opacity.
-    fn unit(&mut self, u: usize, el: &Element) {
+    fn unit(&self, u: usize, el: &Element, part: &mut Part) {
         let (track, shape) = (&self.anim.tracks[u], &self.anim.scene.shapes[u]);
         let dur = self.clock.dur;
         let mut plan: Option<Plan> = None;
@@ -332,7 +407,7 @@ impl Writer<'_> {
             };
             match transform::plan(track, shape.parent_transform, &corners, &ctx) {
                 Ok(p) => plan = p,
-                Err(why) => self.warn(u, format!("motion not exported: {why}")),
+                Err(why) => part.warn(u, format!("motion not exported: {why}")),
             }
         }
         let bake = self.bake(OPACITY_TOL, &|a: f64, b: f64| (a - b).abs());
@@ -340,7 +415,7 @@ impl Writer<'_> {
         if let Some((keys, baked)) = Chain::new(std::iter::once(track), |t| &t.opacity, 1.0, dur)
             .keys(dur, &bake, |a, b| a * b)
         {
-            self.doc.baked_segments += baked;
+            part.baked += baked;
             let keys = strings(&keys, |v| num(*v, 4));
             if xml::animation(
                 &mut opacity,
@@ -376,16 +451,16 @@ impl Writer<'_> {
             depth += 1;
         }
         if let Some(p) = &plan {
-            self.doc.exact_segments += p.exact;
-            self.doc.baked_segments += p.baked;
+            part.exact += p.exact;
+            part.baked += p.baked;
             if let Some(v) = xml::transform_value(p.inner) {
                 open.push_str(&format!("<g transform=\"{v}\">\n"));
                 depth += 1;
             }
         }
         if depth > 0 {
-            self.edits.insert(el.tag.start, open);
-            self.edits.insert(el.end, "\n</g>".repeat(depth));
+            part.insert(el.tag.start, open);
+            part.insert(el.end, "\n</g>".repeat(depth));
         }
     }
 
@@ -394,9 +469,15 @@ impl Writer<'_> {
             "attributeName=\"transform\" type=\"{}\" additive=\"sum\"",
             a.kind.name()
         );
+        let pair = |v: &[f64], decimals: usize| {
+            let mut s = num(v[0], decimals);
+            s.push(' ');
+            push_num(&mut s, v[1], decimals);
+            s
+        };
         let keys = strings(&a.keys, |v| match a.kind {
-            Kind::Translate => format!("{} {}", num(v[0], COORD), num(v[1], COORD)),
-            Kind::Scale => format!("{} {}", num(v[0], FACTOR), num(v[1], FACTOR)),
+            Kind::Translate => pair(v, COORD),
+            Kind::Scale => pair(v, FACTOR),
             Kind::Rotate | Kind::SkewX | Kind::SkewY => num(v[0], COORD),
         });
         if xml::animation(
@@ -412,12 +493,16 @@ impl Writer<'_> {
     }
 
     /// Adds the paint, width and geometry animations of a path inside animated units.
+    /// `defs` takes the tinted copies of its gradients and patterns: needed only when it
+    /// is painted with one ([`uses_paint_server`]).
     fn path(
-        &mut self,
+        &self,
         mp: &MarkedPath<'_>,
         el: &Element,
         svg: &str,
         els: &HashMap<String, Element>,
+        part: &mut Part,
+        mut defs: Option<&mut Defs>,
     ) {
         let anim = self.anim;
         let dur = self.clock.dur;
@@ -450,7 +535,8 @@ impl Writer<'_> {
             let Some((keys, baked)) = chain.keys(dur, &tint_bake, paint::compose) else {
                 continue;
             };
-            self.doc.baked_segments += baked;
+            part.baked += baked;
+            const GIVEN: &str = "paths painted with a paint server are given the definitions";
             match paint {
                 Paint::Solid(c) => {
                     let values = strings(&keys, |t| t.apply(*c).to_hex());
@@ -465,16 +551,41 @@ impl Writer<'_> {
                         children.push('\n');
                     }
                 }
-                Paint::Linear(g) => self.tinted_gradient(&at(name), &g.stops, &keys),
-                Paint::Radial(g) => self.tinted_gradient(&at(name), &g.stops, &keys),
-                Paint::Pattern(p) => self.tinted_pattern(unit, &at(name), p, &keys),
+                Paint::Linear(g) => {
+                    self.tinted_gradient(
+                        &at(name),
+                        &g.stops,
+                        &keys,
+                        part,
+                        defs.as_deref_mut().expect(GIVEN),
+                    );
+                }
+                Paint::Radial(g) => {
+                    self.tinted_gradient(
+                        &at(name),
+                        &g.stops,
+                        &keys,
+                        part,
+                        defs.as_deref_mut().expect(GIVEN),
+                    );
+                }
+                Paint::Pattern(p) => {
+                    self.tinted_pattern(
+                        unit,
+                        &at(name),
+                        p,
+                        &keys,
+                        part,
+                        defs.as_deref_mut().expect(GIVEN),
+                    );
+                }
             }
         }
         if let Some(stroke) = &mp.path.stroke {
             let bake = self.bake(WIDTH_TOL, &|a: f64, b: f64| (a - b).abs());
             let chain = Chain::new(tracks.iter().copied(), |t| &t.stroke_width, 1.0, dur);
             if let Some((keys, baked)) = chain.keys(dur, &bake, |a, b| a * b) {
-                self.doc.baked_segments += baked;
+                part.baked += baked;
                 let values = strings(&keys, |m| num(stroke.width * m, COORD));
                 if xml::animation(
                     &mut children,
@@ -500,7 +611,7 @@ impl Writer<'_> {
                 self.opts.tolerance,
             ) {
                 Some(keys) => {
-                    self.doc.baked_segments += 1;
+                    part.baked += 1;
                     if xml::animation(
                         &mut children,
                         "animate",
@@ -512,22 +623,28 @@ impl Writer<'_> {
                         children.push('\n');
                     }
                 }
-                None => self.warn(
+                None => part.warn(
                     unit,
                     "a path under a singular transform is not deformed".into(),
                 ),
             }
         }
         if !children.is_empty() {
-            self.edits
-                .replace(el.tag.end - 2..el.tag.end, format!(">\n{children}</path>"));
+            part.replace(el.tag.end - 2..el.tag.end, format!(">\n{children}</path>"));
         }
     }
 
     /// Points the path's `attr` paint at a copy of its gradient whose stops animate `keys`.
-    fn tinted_gradient(&mut self, at: &PaintRef<'_>, stops: &[Stop], keys: &[Key<Tint>]) {
+    fn tinted_gradient(
+        &self,
+        at: &PaintRef<'_>,
+        stops: &[Stop],
+        keys: &[Key<Tint>],
+        part: &mut Part,
+        defs: &mut Defs,
+    ) {
         let clock = self.clock;
-        self.tinted_def(at, |text, edits| {
+        tinted_def(at, part, defs, |text, edits| {
             let stop_tags = splice::tags(text)
                 .into_iter()
                 .filter(|t| text[t.start..].starts_with("<stop"));
@@ -550,17 +667,19 @@ impl Writer<'_> {
     /// Points the path's `attr` paint at a copy of its pattern whose content animates its
     /// solid colours by `keys` (content painted with paint servers keeps its colours).
     fn tinted_pattern(
-        &mut self,
+        &self,
         unit: usize,
         at: &PaintRef<'_>,
         pattern: &Pattern,
         keys: &[Key<Tint>],
+        part: &mut Part,
+        defs: &mut Defs,
     ) {
         let clock = self.clock;
         let mut content = Vec::new();
         content_paths(&pattern.root, &mut content);
         let mut servers = false;
-        self.tinted_def(at, |text, edits| {
+        tinted_def(at, part, defs, |text, edits| {
             let path_tags = splice::tags(text)
                 .into_iter()
                 .filter(|t| text[t.start..].starts_with("<path"));
@@ -593,45 +712,50 @@ impl Writer<'_> {
             }
         });
         if servers {
-            self.warn(
+            part.warn(
                 unit,
                 "gradients and patterns inside a tinted pattern keep their colours".into(),
             );
         }
     }
+}
 
-    /// Copies the definition `at` refers to under a fresh id, lets `body` edit the copy's
-    /// text, and points the reference at the copy.
-    fn tinted_def(&mut self, at: &PaintRef<'_>, body: impl FnOnce(&str, &mut Edits)) {
-        let Some((range, value)) = tag_attr(at.tag, at.attr) else {
-            return;
-        };
-        let Some((name, def)) = value
-            .strip_prefix("url(#")
-            .and_then(|v| v.strip_suffix(')'))
-            .and_then(|n| at.els.get(n).map(|d| (n, d)))
-        else {
-            return;
-        };
-        let mut copy_name = format!("{name}-{}", at.attr);
-        while self.taken.contains(&copy_name) {
-            copy_name.push('_');
-        }
-        let text = &at.svg[def.tag.start..def.end];
-        let mut edits = Edits::default();
-        if let Some((r, _)) = tag_attr(text, "id") {
-            edits.replace(r, copy_name.clone());
-        }
-        body(text, &mut edits);
-        self.taken.insert(copy_name.clone());
-        self.defs.push_str(&edits.apply(text));
-        self.defs.push('\n');
-        let start = at.el.tag.start;
-        self.edits.replace(
-            start + range.start..start + range.end,
-            format!("url(#{copy_name})"),
-        );
+/// Copies the definition `at` refers to under a fresh id, lets `body` edit the copy's
+/// text, and points the reference at the copy.
+fn tinted_def(
+    at: &PaintRef<'_>,
+    part: &mut Part,
+    defs: &mut Defs,
+    body: impl FnOnce(&str, &mut Edits),
+) {
+    let Some((range, value)) = tag_attr(at.tag, at.attr) else {
+        return;
+    };
+    let Some((name, def)) = value
+        .strip_prefix("url(#")
+        .and_then(|v| v.strip_suffix(')'))
+        .and_then(|n| at.els.get(n).map(|d| (n, d)))
+    else {
+        return;
+    };
+    let mut copy_name = format!("{name}-{}", at.attr);
+    while defs.taken.contains(&copy_name) {
+        copy_name.push('_');
     }
+    let text = &at.svg[def.tag.start..def.end];
+    let mut edits = Edits::default();
+    if let Some((r, _)) = tag_attr(text, "id") {
+        edits.replace(r, copy_name.clone());
+    }
+    body(text, &mut edits);
+    defs.taken.insert(copy_name.clone());
+    defs.text.push_str(&edits.apply(text));
+    defs.text.push('\n');
+    let start = at.el.tag.start;
+    part.replace(
+        start + range.start..start + range.end,
+        format!("url(#{copy_name})"),
+    );
 }
 
 /// A paint attribute of a path element in the static document.

@@ -1,8 +1,6 @@
 //! Writing SMIL animation elements: number formatting, key compaction and the
 //! `keyTimes`/`values`/`keySplines` attributes.
 
-use std::fmt::Write;
-
 use kurbo::Affine;
 
 use super::curve::{Ease, Key};
@@ -28,45 +26,69 @@ pub struct Clock {
 
 /// `x` rounded to `decimals`, without trailing zeros and without `-0`.
 pub fn num(x: f64, decimals: usize) -> String {
+    let mut s = String::new();
+    push_num(&mut s, x, decimals);
+    s
+}
+
+/// Appends [`num`]`(x, decimals)` to `out`.
+pub fn push_num(out: &mut String, x: f64, decimals: usize) {
     // Formatting a float to a fixed precision is exact decimal arithmetic, and it was half
     // of a large SMIL export: round in floating point instead and print an integer,
     // wherever that is sure to give the same digits (see `num_by_integer`).
-    num_by_integer(x, decimals).unwrap_or_else(|| num_by_format(x, decimals))
+    if !num_by_integer(out, x, decimals) {
+        out.push_str(&num_by_format(x, decimals));
+    }
 }
 
-/// [`num`] through an integer: `x·10^decimals` rounded. Its product is off the exact one by
-/// at most half a unit in the last place (under 1e-7 below 1e9), so its rounding is the
-/// exact one unless it lies that close to a half; then `None`, as for large magnitudes.
-fn num_by_integer(x: f64, decimals: usize) -> Option<String> {
+/// [`num`] through an integer: `x·10^decimals` rounded, appended to `out`. Its product is
+/// off the exact one by at most half a unit in the last place (under 1e-7 below 1e9), so
+/// its rounding is the exact one unless it lies that close to a half; then false, writing
+/// nothing, as for large magnitudes.
+fn num_by_integer(out: &mut String, x: f64, decimals: usize) -> bool {
     const POW10: [f64; 7] = [1.0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6];
-    let y = x * POW10.get(decimals)?;
+    let Some(scale) = POW10.get(decimals) else {
+        return false;
+    };
+    let y = x * scale;
     let r = y.round();
     // Not finite, or too large for the product's error bound, or too close to a half.
     let sure = y.is_finite() && y.abs() < 1e9 && ((y - y.trunc()).abs() - 0.5).abs() >= 1e-6;
     if !sure {
-        return None;
+        return false;
     }
-    let digits = (r.abs() as u64).to_string();
-    if digits == "0" {
-        return Some(digits);
+    let mut n = r.abs() as u64;
+    if n == 0 {
+        out.push('0');
+        return true;
     }
-    let mut s = String::with_capacity(digits.len() + decimals + 2);
+    // The digits, least significant first, at least `decimals + 1` of them (leading zeros
+    // where the integer part is 0); trailing zeros of the fraction dropped. At most nine
+    // significant digits below 1e9 plus six decimals of padding.
+    let mut digits = [0u8; 16];
+    let mut len = 0;
+    while n > 0 || len <= decimals {
+        digits[len] = b'0' + (n % 10) as u8;
+        n /= 10;
+        len += 1;
+    }
+    let mut skip = 0;
+    while skip < decimals && digits[skip] == b'0' {
+        skip += 1;
+    }
     if r < 0.0 {
-        s.push('-');
+        out.push('-');
     }
-    let whole = digits.len().saturating_sub(decimals);
-    if whole == 0 {
-        s.push('0');
-    } else {
-        s.push_str(&digits[..whole]);
+    for k in (decimals..len).rev() {
+        out.push(digits[k] as char);
     }
-    let frac = format!("{:0>decimals$}", &digits[whole..]);
-    let frac = frac.trim_end_matches('0');
-    if !frac.is_empty() {
-        s.push('.');
-        s.push_str(frac);
+    if skip < decimals {
+        out.push('.');
+        for k in (skip..decimals).rev() {
+            out.push(digits[k] as char);
+        }
     }
-    Some(s)
+    true
 }
 
 fn num_by_format(x: f64, decimals: usize) -> String {
@@ -98,8 +120,8 @@ pub fn transform_value(m: Affine) -> Option<String> {
 
 /// Drops keys that change nothing: the middle of three equal values, and a key repeating
 /// its predecessor's time and value. The first and last key always stay.
-fn compact(keys: &[Key<String>]) -> Vec<Key<String>> {
-    let mut out: Vec<Key<String>> = Vec::with_capacity(keys.len());
+fn compact<'k>(keys: &[Key<&'k str>]) -> Vec<Key<&'k str>> {
+    let mut out: Vec<Key<&str>> = Vec::with_capacity(keys.len());
     for k in keys {
         if let Some(last) = out.last()
             && last.t == k.t
@@ -111,11 +133,11 @@ fn compact(keys: &[Key<String>]) -> Vec<Key<String>> {
             let n = out.len();
             if out[n - 2].v == out[n - 1].v && out[n - 1].v == k.v {
                 out.pop();
-                out.push(Key::linear(k.t, k.v.clone()));
+                out.push(Key::linear(k.t, k.v));
                 continue;
             }
         }
-        out.push(k.clone());
+        out.push(*k);
     }
     out
 }
@@ -168,12 +190,16 @@ pub fn animation(
     let Some(first) = keys.first() else {
         return false;
     };
-    let mut full: Vec<Key<String>> = Vec::with_capacity(keys.len() + 2);
+    let mut full: Vec<Key<&str>> = Vec::with_capacity(keys.len() + 2);
     if first.t > 0.0 {
-        full.push(Key::linear(0.0, first.v.clone()));
+        full.push(Key::linear(0.0, first.v.as_str()));
     }
-    full.extend(keys.iter().cloned());
-    let last = full[full.len() - 1].clone();
+    full.extend(keys.iter().map(|k| Key {
+        t: k.t,
+        v: k.v.as_str(),
+        ease: k.ease,
+    }));
+    let last = full[full.len() - 1];
     if last.t < clock.dur && !discrete {
         full.push(Key::linear(clock.dur, last.v));
     }
@@ -187,37 +213,50 @@ pub fn animation(
         keys.remove(0);
     }
     let units = key_units(&keys, clock.dur, discrete);
-    let key_times: Vec<String> = units
-        .iter()
-        .map(|&u| num(u as f64 / TIME_UNITS, TIME))
-        .collect();
-    let values: Vec<&str> = keys.iter().map(|k| k.v.as_str()).collect();
-    let _ = write!(
-        out,
-        "<{element} {head} begin=\"0s\" dur=\"{}s\"",
-        num(clock.dur, TIME)
-    );
-    let _ = write!(
-        out,
-        " keyTimes=\"{}\" values=\"{}\"",
-        key_times.join(";"),
-        values.join(";")
-    );
+    // Written piece by piece into `out`: a large document has millions of numbers, and a
+    // string for each was most of the time spent here.
+    out.push('<');
+    out.push_str(element);
+    out.push(' ');
+    out.push_str(head);
+    out.push_str(" begin=\"0s\" dur=\"");
+    push_num(out, clock.dur, TIME);
+    out.push_str("s\" keyTimes=\"");
+    for (i, &u) in units.iter().enumerate() {
+        if i > 0 {
+            out.push(';');
+        }
+        push_num(out, u as f64 / TIME_UNITS, TIME);
+    }
+    out.push_str("\" values=\"");
+    for (i, k) in keys.iter().enumerate() {
+        if i > 0 {
+            out.push(';');
+        }
+        out.push_str(k.v);
+    }
+    out.push('"');
     if discrete {
         out.push_str(" calcMode=\"discrete\"");
     } else if keys[1..].iter().any(|k| matches!(k.ease, Ease::Spline(_))) {
-        let splines: Vec<String> = keys[1..]
-            .iter()
-            .map(|k| match k.ease {
-                Ease::Linear => "0 0 1 1".to_string(),
-                Ease::Spline(s) => s.map(|v| num(v.clamp(0.0, 1.0), SPLINE)).join(" "),
-            })
-            .collect();
-        let _ = write!(
-            out,
-            " calcMode=\"spline\" keySplines=\"{}\"",
-            splines.join(";")
-        );
+        out.push_str(" calcMode=\"spline\" keySplines=\"");
+        for (i, k) in keys[1..].iter().enumerate() {
+            if i > 0 {
+                out.push(';');
+            }
+            match k.ease {
+                Ease::Linear => out.push_str("0 0 1 1"),
+                Ease::Spline(s) => {
+                    for (j, v) in s.iter().enumerate() {
+                        if j > 0 {
+                            out.push(' ');
+                        }
+                        push_num(out, v.clamp(0.0, 1.0), SPLINE);
+                    }
+                }
+            }
+        }
+        out.push('"');
     }
     out.push_str(if clock.looping {
         " repeatCount=\"indefinite\"/>"
@@ -261,7 +300,8 @@ mod tests {
                 let unit = 10f64.powi(-(decimals as i32));
                 x = ((x / unit).trunc() + 0.5) * unit + [0.0, 1e-12, -1e-12][k % 3];
             }
-            if let Some(fast) = num_by_integer(x, decimals) {
+            let mut fast = String::new();
+            if num_by_integer(&mut fast, x, decimals) {
                 assert_eq!(fast, num_by_format(x, decimals), "{x:e} to {decimals}");
                 checked += 1;
             }
@@ -271,7 +311,7 @@ mod tests {
 
     #[test]
     fn holds_collapse() {
-        let k = |t: f64, v: &str| Key::linear(t, v.to_string());
+        let k = |t: f64, v: &'static str| Key::linear(t, v);
         let keys = compact(&[
             k(0.0, "a"),
             k(1.0, "a"),
@@ -279,7 +319,7 @@ mod tests {
             k(3.0, "b"),
             k(3.0, "b"),
         ]);
-        let got: Vec<(f64, &str)> = keys.iter().map(|k| (k.t, k.v.as_str())).collect();
+        let got: Vec<(f64, &str)> = keys.iter().map(|k| (k.t, k.v)).collect();
         assert_eq!(got, vec![(0.0, "a"), (2.0, "a"), (3.0, "b")]);
     }
 
