@@ -1,11 +1,13 @@
-//! Expansion + evaluation of every frame, at the scales of gMotion's Table 1 and beyond.
+//! Expansion + evaluation of every frame of gMotion's Table 1 animations, and beyond.
 //!
-//! The paper reports 0.04 s for "teaser" (208 shapes, 44 rules, 60 steps, 6 s) and 22 s for
-//! "intersections" (8214 shapes, 105 rules, 161 steps, 8 s); the scaling group shows cost
-//! per shape stays flat from 1k to 1M shapes. The grammars are generated so their sizes
-//! meet or exceed the paper's; `cargo bench --bench engine` prints their statistics.
+//! The `table1` group runs the eight example files that re-create the paper's Table 1
+//! (`grammars/teaser.gm` … `grammars/intersections.gm`, listed in `workload/table1.rs`)
+//! and prints each one's counts next to the paper's before timing it; `phases` splits the
+//! teaser and intersections runs into parse, expansion and evaluation; the scaling group,
+//! on a generated grammar and grid, shows the cost per shape from 1k to 1M shapes.
 
 use std::hint::black_box;
+use std::path::Path;
 
 use criterion::{BatchSize, BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use gmotion::engine::{RunOptions, run};
@@ -15,6 +17,9 @@ use rayon::prelude::*;
 
 mod workload;
 use workload::{grammar, scene};
+#[path = "workload/table1.rs"]
+mod table1;
+use table1::TABLE1;
 
 /// The allocator the `gmotion` binary uses, so the numbers are what the command gets.
 #[global_allocator]
@@ -45,22 +50,45 @@ fn full_run(scene: Scene, src: &str) -> usize {
     stats.steps
 }
 
+/// An example of `grammars/`: its scene (imported, as the command does) and its grammar's
+/// text.
+fn example(file: &str) -> (Scene, String) {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("grammars");
+    let scene = gmotion_import_svg::load(
+        &dir.join(format!("{file}.svg")),
+        &gmotion_import_svg::ImportOptions::default(),
+    )
+    .unwrap_or_else(|e| panic!("{file}.svg: {e}"))
+    .scene;
+    let src = std::fs::read_to_string(dir.join(format!("{file}.gm")))
+        .unwrap_or_else(|e| panic!("{file}.gm: {e}"));
+    (scene, src)
+}
+
 fn table1(c: &mut Criterion) {
-    let cases = [
-        ("teaser", 208usize, 6usize, 6.0, 30.0),
-        ("intersections", 8214, 16, 8.0, 60.0),
-    ];
     let mut group = c.benchmark_group("table1");
     group.sample_size(10);
-    for (name, n, tags, dur, fps) in cases {
-        let s = scene(n, tags);
-        let src = grammar(tags, dur, fps);
-        let rules = gmotion::grammar::parse(&src).expect("parses").rules.len();
+    for row in &TABLE1 {
+        let (s, src) = example(row.file);
+        let g = gmotion::grammar::parse(&src).expect("parses");
+        let settings = gmotion::engine::settings::from_grammar(&g).expect("settings");
         let steps = full_run(s.clone(), &src);
         eprintln!(
-            "{name}: {n} shapes, {rules} rules, {steps} expansion steps, {dur} s at {fps} fps"
+            "{}: {} rules, {} shapes besides the background, {} s at {} fps, {steps} steps \
+             (paper's {}: {} rules, {} shapes, {} s, {} steps, {} s to expand and evaluate)",
+            row.file,
+            g.rules.len(),
+            s.shapes.len() - 1,
+            settings.duration,
+            settings.fps,
+            row.paper_name,
+            row.rules,
+            row.shapes,
+            row.duration,
+            row.steps,
+            row.seconds,
         );
-        group.bench_function(name, |b| {
+        group.bench_function(row.file, |b| {
             b.iter_batched(|| s.clone(), |s| full_run(s, &src), BatchSize::LargeInput)
         });
     }
@@ -84,18 +112,14 @@ fn scaling(c: &mut Criterion) {
     group.finish();
 }
 
-/// The two halves of a table-1 run measured apart: parsing + expansion + compilation into
+/// The two halves of a table-1 run (teaser and intersections) measured apart: parsing + expansion + compilation into
 /// tracks, then evaluating every frame of the finished animation (which includes building
 /// its sampler, also measured alone).
 fn phases(c: &mut Criterion) {
     let mut group = c.benchmark_group("phases");
     group.sample_size(10);
-    for (name, n, tags, dur, fps) in [
-        ("teaser", 208usize, 6usize, 6.0, 30.0),
-        ("intersections", 8214, 16, 8.0, 60.0),
-    ] {
-        let s = scene(n, tags);
-        let src = grammar(tags, dur, fps);
+    for name in ["teaser", "intersections"] {
+        let (s, src) = example(name);
         let g = gmotion::grammar::parse(&src).expect("parses");
         group.bench_function(format!("{name}/parse"), |b| {
             b.iter(|| gmotion::grammar::parse(black_box(&src)).expect("parses"))

@@ -13,6 +13,7 @@ mod corpus;
 mod engine;
 mod frame;
 mod fuzz;
+mod gallery;
 mod grammar_parse;
 mod import;
 mod lottie;

@@ -107,6 +107,11 @@ fn sampler_matches_reference_on_every_example() {
         .filter(|p| p.extension().is_some_and(|x| x == "gm"))
         .filter(|p| p.with_extension("svg").exists())
         .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
+        // Every shape's boundaries are instants for every shape, so the check grows with
+        // the square of the shapes: intersections (8216 shapes, a delay per patch) took two
+        // CPU-minutes. Its rules are intersections_mini's (tests/gallery.rs), checked here,
+        // and the 2600-shape case below covers sampling in several parts.
+        .filter(|n| n != "intersections")
         .collect();
     names.sort();
     assert!(names.len() >= 7, "examples missing: {names:?}");

@@ -1,6 +1,6 @@
-//! The generated workloads of gMotion's Table 1 scales, shared by the engine benchmark and
-//! the studio's (`studio/benches/put.rs`): a grid of squares over some shape tags, and a
-//! grammar with a chain of rules per tag.
+//! Generated workloads, shared by the engine benchmark's scaling group and the studio's
+//! benchmark (`studio/benches/put.rs`, at the sizes of gMotion's teaser and intersections):
+//! a grid of squares over some shape tags, and a grammar with a chain of rules per tag.
 
 use std::fmt::Write as _;
 

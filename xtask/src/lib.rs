@@ -1,8 +1,10 @@
 //! Repository chores, kept out of the libraries: the generators of the three transitions
-//! examples in `grammars/` (the signals-and-systems paper's sec. 8 applications) and the
-//! signal plots in `docs/img/`. Run them with `cargo xtask` (see `main.rs`).
+//! examples in `grammars/` (the signals-and-systems paper's sec. 8 applications), of the
+//! gMotion gallery's scenes (and the intersections rules) and the signal plots in
+//! `docs/img/`. Run them with `cargo xtask` (see `main.rs`).
 #![forbid(unsafe_code)]
 
+pub mod gallery;
 pub mod histogram;
 pub mod permutation;
 pub mod plot;

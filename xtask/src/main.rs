@@ -2,6 +2,8 @@
 //!
 //! - `transitions [DIR]`: the transitions examples (`histogram`, `permutation`,
 //!   `revisions`: an SVG scene and a `.targets.json` each) into DIR (default `grammars/`);
+//! - `gallery [DIR]`: the gMotion gallery's scenes and the intersections grammars into DIR
+//!   (default `grammars/`);
 //! - `plots [DIR]`: the signal plots of the README into DIR (default `docs/img/`).
 #![forbid(unsafe_code)]
 
@@ -29,8 +31,20 @@ fn main() -> ExitCode {
                 }
                 Ok(files)
             }),
+        Some("gallery") => {
+            let out = dir("grammars");
+            xtask::gallery::files()
+                .into_iter()
+                .map(|f| {
+                    let path = out.join(&f.name);
+                    gmotion::atomic::write_bytes(&path, f.text.as_bytes())
+                        .map(|()| path)
+                        .map_err(|e| format!("{}: {e}", out.join(&f.name).display()))
+                })
+                .collect()
+        }
         Some("plots") => xtask::plot::transition_plots(&dir("docs/img")).map_err(|e| e.to_string()),
-        _ => Err("usage: cargo xtask transitions|plots [DIR]".to_string()),
+        _ => Err("usage: cargo xtask transitions|gallery|plots [DIR]".to_string()),
     };
     match written {
         Ok(files) => {
