@@ -1011,3 +1011,19 @@ fn a_frame_name_pattern_names_the_frames() {
         "{names:?}"
     );
 }
+
+#[test]
+fn font_options_name_what_they_cannot_find() {
+    let g = root().join("grammars");
+    let err = run_err(
+        bin()
+            .args(["convert", "--font-file", "/no/such/font.ttf"])
+            .arg(g.join("toy.svg"))
+            .args(["-o", "/tmp/never-written.png"]),
+    );
+    assert!(
+        err.contains("/no/such/font.ttf: no such font file or folder"),
+        "{err}"
+    );
+    assert!(!Path::new("/tmp/never-written.png").exists());
+}

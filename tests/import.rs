@@ -354,3 +354,35 @@ fn layer_counters_go_only_where_they_tell_copies_apart() {
     ];
     assert_eq!(tags(&scene), want.map(|(t, i)| (t.to_string(), i)));
 }
+
+#[test]
+fn text_in_a_missing_font_is_drawn_in_the_default_family_and_said_so() {
+    let text = r#"<svg xmlns="http://www.w3.org/2000/svg" width="200" height="100">
+        <style>.st0{font-family:'Montserrat-SemiBold';font-size:20px}</style>
+        <text id="title" class="st0" x="10" y="40">Hello</text>
+        <text id="plain" x="10" y="80" font-family="sans-serif" font-size="20">World</text>
+        <text id="fallback" x="100" y="80" font-family="NoSuchFont, sans-serif" font-size="20">!</text>
+    </svg>"#;
+    let imported = parse(text, "t.svg", &ImportOptions::default()).unwrap();
+    // Nothing vanishes: a generic family maps to an installed font, and a missing one
+    // falls back to the default family.
+    let units: Vec<&str> = imported
+        .scene
+        .shapes
+        .iter()
+        .map(|s| s.tag.as_str())
+        .collect();
+    assert_eq!(units.len(), 3, "{units:?}");
+    let said: Vec<String> = imported.warnings.iter().map(ToString::to_string).collect();
+    let missing: Vec<&String> = said
+        .iter()
+        .filter(|w| w.contains("is not installed"))
+        .collect();
+    // One warning, naming the element and the font; a list that ends in a generic family
+    // falls back as its author asked.
+    assert_eq!(missing.len(), 1, "{said:?}");
+    assert!(
+        missing[0].contains("<text id=\"title\">") && missing[0].contains("`Montserrat-SemiBold`"),
+        "{said:?}"
+    );
+}

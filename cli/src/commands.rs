@@ -27,6 +27,8 @@ pub struct Ctx {
     pub limits: Limits,
     /// `--allow-path` folders.
     pub allow: Vec<PathBuf>,
+    /// `--font-dir`, `--font-file`, `--font-family`.
+    pub fonts: gmotion_import_svg::fonts::FontOptions,
 }
 
 /// Runs one command.
@@ -314,7 +316,7 @@ fn load_scene(path: &Path, options: &SceneOptions, ctx: &Ctx) -> Result<LoadedSc
             source: Some(imported.source),
         });
     }
-    let policy = ctx.limits.svg_policy(&ctx.allow);
+    let policy = ctx.limits.svg_policy(&ctx.allow, &ctx.fonts);
     let imported = svg_import::load_with(path, &options.svg, &policy)
         .map_err(|e| CliError::msg(e.to_string()))?;
     for w in &imported.warnings {

@@ -94,9 +94,14 @@ impl Limits {
             .map_or(u64::MAX, |i| self.values[i])
     }
 
-    /// The SVG importer's policy under these limits and `--allow-path`.
-    pub fn svg_policy(&self, allow: &[PathBuf]) -> gmotion_import_svg::Policy {
+    /// The SVG importer's policy under these limits, `--allow-path` and the font options.
+    pub fn svg_policy(
+        &self,
+        allow: &[PathBuf],
+        fonts: &gmotion_import_svg::fonts::FontOptions,
+    ) -> gmotion_import_svg::Policy {
         gmotion_import_svg::Policy {
+            fonts: fonts.clone(),
             allowed_dirs: allow.to_vec(),
             max_file_bytes: self.get("input-bytes"),
             max_svgz_bytes: self.get("svgz-bytes"),

@@ -57,6 +57,16 @@ struct Cli {
     /// folder (repeatable).
     #[arg(long = "allow-path", value_name = "DIR", global = true)]
     allow_paths: Vec<PathBuf>,
+    /// A folder of fonts for SVG text, besides the system's (repeatable).
+    #[arg(long = "font-dir", value_name = "DIR", global = true)]
+    font_dirs: Vec<PathBuf>,
+    /// A font file for SVG text (repeatable).
+    #[arg(long = "font-file", value_name = "FILE", global = true)]
+    font_files: Vec<PathBuf>,
+    /// The family SVG text is drawn in when its own font is not installed (default: the
+    /// first installed of Arial, Helvetica, Liberation Sans, DejaVu Sans, Noto Sans, …).
+    #[arg(long = "font-family", value_name = "NAME", global = true)]
+    font_family: Option<String>,
 }
 
 #[derive(Subcommand, Debug)]
@@ -422,9 +432,19 @@ fn main() -> ExitCode {
         cli.command,
         Command::Check { .. } | Command::Demo { .. } | Command::Variations { .. }
     );
+    let fonts = gmotion_import_svg::fonts::FontOptions {
+        dirs: cli.font_dirs,
+        files: cli.font_files,
+        default_family: cli.font_family,
+    };
+    if let Some(missing) = gmotion_import_svg::fonts::missing_files(&fonts).first() {
+        eprintln!("{}: no such font file or folder", missing.display());
+        return ExitCode::FAILURE;
+    }
     let ctx = commands::Ctx {
         limits,
         allow: cli.allow_paths,
+        fonts,
     };
     let result = stdio.and_then(|stdio| {
         commands::run(cli.command, &ctx)?;

@@ -58,9 +58,14 @@ pub fn set_quiet(quiet: bool) {
 
 /// Prints a warning about `origin` (the file it concerns) on standard error, unless quiet.
 pub fn warn(origin: &Path, warning: impl fmt::Display) {
-    if !QUIET.load(Ordering::Relaxed) {
-        eprintln!("{}: warning: {warning}", origin.display());
+    if QUIET.load(Ordering::Relaxed) {
+        return;
     }
+    // An importer's warning names its file itself: the file is said once.
+    let origin = origin.display().to_string();
+    let text = warning.to_string();
+    let text = text.strip_prefix(&format!("{origin}: ")).unwrap_or(&text);
+    eprintln!("{origin}: warning: {text}");
 }
 
 /// Prints a line on standard error, unless quiet.

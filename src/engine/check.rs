@@ -284,6 +284,7 @@ fn time_report(
             &scene.shapes,
             &tracks,
             settings.duration,
+            scene.canvas(),
         ));
     }
     Ok(())

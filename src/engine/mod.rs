@@ -281,6 +281,7 @@ fn run_here(
             &anim.scene.shapes,
             &anim.tracks,
             anim.duration,
+            anim.scene.canvas(),
         ));
     }
     let stats = RunStats {

@@ -1,28 +1,69 @@
-//! Whether a looping animation ends where it starts: a shape whose last frame differs from
+//! Whether a looping animation ends where it starts: a picture whose last frame differs from
 //! its first jumps ("pops") each time the animation starts over, which is almost always a
 //! forgotten inverted twin.
+//!
+//! The picture is compared, not each shape: shapes of one tag that trade places (a road's
+//! dashes scrolling by exactly one period, a carousel turning by one step) end in a picture
+//! equal to the first, and shapes entirely off the canvas at both ends are not seen.
 
-use kurbo::Point;
+use std::collections::HashMap;
 
-use crate::motion::{ShapeState, Tint, Track};
+use kurbo::{Point, Rect};
+
+use crate::motion::{ShapeState, Track};
 use crate::scene::Shape;
 use crate::warning::Warning;
 
-/// How far (canvas pixels) a corner of a shape's box may be from where it started.
-const MOVED: f64 = 0.5;
+/// The grid (canvas pixels) corners are compared on: much finer than a visible jump,
+/// much coarser than rounding noise.
+const GRID: f64 = 0.05;
 
-/// How much a colour channel, opacity or stroke width factor may differ (about 1/255).
-const CHANGED: f64 = 0.004;
+/// The grid colour channels, opacity and stroke-width factors are compared on (1/255).
+const LEVEL: f64 = 1.0 / 255.0;
 
-/// A warning naming the shapes whose `tracks` (one per shape, over `duration` seconds) do
-/// not end as they start, or `None` when every shape closes its loop.
-pub fn loop_warning(shapes: &[Shape], tracks: &[Track], duration: f64) -> Option<Warning> {
-    let mut jumping = tracks.iter().zip(shapes).filter_map(|(track, shape)| {
-        let (a, b) = (track.state_at(0.0), track.state_at(duration));
-        jump(&a, &b, shape.bbox).map(|what| (shape, what))
-    });
-    let (first, what) = jumping.next()?;
-    let name = format!("`{}` #{}", first.tag, first.id);
+/// A warning naming a shape of the looping animation `tracks` (one per shape of `shapes`,
+/// over `duration` seconds, on a canvas `canvas`) whose first frame is not in the last
+/// frame's picture, or `None` when the loop closes.
+pub fn loop_warning(
+    shapes: &[Shape],
+    tracks: &[Track],
+    duration: f64,
+    canvas: Rect,
+) -> Option<Warning> {
+    // What each shape looks like at both ends, when it changed at all.
+    let changed: Vec<(usize, Look, Look)> = (tracks.iter().zip(shapes).enumerate())
+        .filter_map(|(i, (track, shape))| {
+            let (a, b) = (track.state_at(0.0), track.state_at(duration));
+            let (first, last) = (Look::of(shape, &a, canvas), Look::of(shape, &b, canvas));
+            (first != last).then_some((i, first, last))
+        })
+        .collect();
+    // The changed shapes' first looks, less the last looks that cover them.
+    let mut unmatched: HashMap<(&str, &Look), usize> = HashMap::new();
+    for (i, first, _) in &changed {
+        if first.visible {
+            *unmatched
+                .entry((shapes[*i].tag.as_str(), first))
+                .or_default() += 1;
+        }
+    }
+    for (i, _, last) in &changed {
+        if let Some(n) = unmatched.get_mut(&(shapes[*i].tag.as_str(), last)) {
+            *n = n.saturating_sub(1);
+        }
+    }
+    let popped = |first: &Look, i: usize| {
+        unmatched
+            .get(&(shapes[i].tag.as_str(), first))
+            .is_some_and(|&n| n > 0)
+    };
+    let mut jumping = changed
+        .iter()
+        .filter(|(i, first, _)| first.visible && popped(first, *i));
+    let &(i, ref first, ref last) = jumping.next()?;
+    let shape = &shapes[i];
+    let name = format!("`{}` #{}", shape.tag, shape.id);
+    let what = first.difference(last);
     let shapes = match jumping.count() {
         0 => format!("{name} ends where it did not start ({what}), so it jumps"),
         n => format!(
@@ -35,36 +76,64 @@ pub fn loop_warning(shapes: &[Shape], tracks: &[Track], duration: f64) -> Option
     )))
 }
 
-/// What differs between the first state `a` and the last `b` of a shape with box `bbox`.
-fn jump(a: &ShapeState, b: &ShapeState, bbox: kurbo::Rect) -> Option<String> {
-    let corners = [
-        Point::new(bbox.x0, bbox.y0),
-        Point::new(bbox.x1, bbox.y0),
-        Point::new(bbox.x0, bbox.y1),
-        Point::new(bbox.x1, bbox.y1),
-    ];
-    let moved = corners
-        .iter()
-        .map(|&p| (a.transform * p).distance(b.transform * p))
-        .fold(0.0, f64::max);
-    if moved > MOVED {
-        return Some(format!("{moved:.1} px away"));
+/// A shape's look at one instant, on grids: its box's corners, colours, opacity, width.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+struct Look {
+    corners: [(i64, i64); 4],
+    paint: [i64; 10],
+    /// Whether any of it lies on the canvas.
+    visible: bool,
+}
+
+impl Look {
+    fn of(shape: &Shape, state: &ShapeState, canvas: Rect) -> Look {
+        let b = shape.bbox;
+        let points = [(b.x0, b.y0), (b.x1, b.y0), (b.x0, b.y1), (b.x1, b.y1)]
+            .map(|(x, y)| state.transform * Point::new(x, y));
+        let on = |v: f64| (v / GRID).round() as i64;
+        let level = |v: f64| (v / LEVEL).round() as i64;
+        let (f, s) = (&state.fill, &state.stroke);
+        let seen = points
+            .iter()
+            .fold(Rect::from_points(points[0], points[0]), |r, p| {
+                r.union_pt(*p)
+            });
+        Look {
+            corners: points.map(|p| (on(p.x), on(p.y))),
+            paint: [
+                level(f64::from(f.weight)),
+                level(f64::from(f.sum[0])),
+                level(f64::from(f.sum[1])),
+                level(f64::from(f.sum[2])),
+                level(f64::from(s.weight)),
+                level(f64::from(s.sum[0])),
+                level(f64::from(s.sum[1])),
+                level(f64::from(s.sum[2])),
+                level(state.opacity),
+                level(state.stroke_width),
+            ],
+            visible: state.opacity > 0.0 && seen.overlaps(canvas),
+        }
     }
-    let tint = |x: &Tint, y: &Tint| {
-        (f64::from(x.weight) - f64::from(y.weight)).abs() > CHANGED
-            || x.sum
-                .iter()
-                .zip(y.sum)
-                .any(|(p, q)| f64::from(p - q).abs() > CHANGED)
-    };
-    if tint(&a.fill, &b.fill) || tint(&a.stroke, &b.stroke) {
-        return Some("another colour".into());
+
+    /// How `last` differs from `self`, in words.
+    fn difference(&self, last: &Look) -> String {
+        if self.corners != last.corners {
+            let moved = (self.corners.iter().zip(&last.corners))
+                .map(|(a, b)| ((a.0 - b.0) as f64 * GRID).hypot((a.1 - b.1) as f64 * GRID))
+                .fold(0.0, f64::max);
+            return format!("{moved:.1} px away");
+        }
+        if self.paint[..8] != last.paint[..8] {
+            return "another colour".into();
+        }
+        if self.paint[8] != last.paint[8] {
+            return format!(
+                "opacity {:.2}, not {:.2}",
+                last.paint[8] as f64 * LEVEL,
+                self.paint[8] as f64 * LEVEL
+            );
+        }
+        "another stroke width".into()
     }
-    if (a.opacity - b.opacity).abs() > CHANGED {
-        return Some(format!("opacity {:.2}, not {:.2}", b.opacity, a.opacity));
-    }
-    if (a.stroke_width - b.stroke_width).abs() > CHANGED {
-        return Some("another stroke width".into());
-    }
-    None
 }

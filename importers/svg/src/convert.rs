@@ -34,9 +34,15 @@ pub(super) struct Converted {
 }
 
 /// Converts a usvg tree parsed from `src.prepared`.
-pub(super) fn convert(tree: &usvg::Tree, src: &Source, opts: &ImportOptions) -> Converted {
+pub(super) fn convert(
+    tree: &usvg::Tree,
+    src: &Source,
+    opts: &ImportOptions,
+    fonts: &usvg::fontdb::Database,
+) -> Converted {
     let mut c = Converter {
         src,
+        fonts,
         opts: *opts,
         warnings: Vec::new(),
         warned: HashSet::new(),
@@ -119,6 +125,8 @@ struct Zip {
 
 struct Converter<'s, 'a> {
     src: &'s Source<'a>,
+    /// The fonts text is drawn with (to name missing ones).
+    fonts: &'s usvg::fontdb::Database,
     opts: ImportOptions,
     warnings: Vec<(String, String)>,
     warned: HashSet<String>,
@@ -205,6 +213,33 @@ enum GroupKind {
 }
 
 impl<'s, 'a> Converter<'s, 'a> {
+    /// The named families of `t`'s runs none of whose families is installed (a run
+    /// written `font-family="Montserrat-SemiBold, sans-serif"` falls back as asked).
+    fn missing_fonts(&self, t: &usvg::Text) -> Vec<String> {
+        let mut missing: Vec<String> = Vec::new();
+        for span in t.chunks().iter().flat_map(|c| c.spans()) {
+            let families = span.font().families();
+            let mut named = families.iter().filter_map(|f| match f {
+                usvg::FontFamily::Named(n) => Some(n.as_str()),
+                _ => None,
+            });
+            let generic = families
+                .iter()
+                .any(|f| !matches!(f, usvg::FontFamily::Named(_)));
+            let found = named
+                .clone()
+                .any(|n| crate::fonts::installed(self.fonts, n));
+            if let Some(first) = named.next()
+                && !found
+                && !generic
+                && !missing.iter().any(|m| m == first)
+            {
+                missing.push(first.to_string());
+            }
+        }
+        missing
+    }
+
     fn warn(&mut self, near: Option<NodeId>, what: &str) {
         let place = near
             .and_then(|id| self.src.node(id))
@@ -240,8 +275,15 @@ impl<'s, 'a> Converter<'s, 'a> {
                 usvg::Node::Path(p) => self.path(p, dst, ctx),
                 usvg::Node::Text(t) => {
                     let near = self.src.element(t.id()).map(|e| e.id()).or(ctx.near);
+                    for missing in self.missing_fonts(t) {
+                        let instead = crate::fonts::fallback_family(self.fonts);
+                        self.warn(
+                            near,
+                            &format!("font `{missing}` is not installed: the text is drawn in `{instead}` (give the font with --font-file or --font-dir, or choose the family with --font-family)"),
+                        );
+                    }
                     if t.flattened().children().is_empty() {
-                        self.warn(near, "text dropped: no font to draw it with");
+                        self.warn(near, "text dropped: no font to draw it with (no font is installed; give one with --font-file or --font-dir)");
                     } else {
                         self.warn(near, "text converted to outlines with the system fonts");
                         self.group(t.flattened(), GroupKind::Text, dst, ctx);

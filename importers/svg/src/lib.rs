@@ -5,7 +5,9 @@
 //! (paint, opacity, rule) and stroke (paint, opacity, width, caps, joins, miter limit,
 //! dashes) and paint order; linear and radial gradients, patterns, clip paths and masks,
 //! each converted once and shared. Markers arrive as ordinary paths (usvg instantiates
-//! them). Text is converted to outlines with the system fonts.
+//! them). Text is converted to outlines with the system fonts and those of
+//! [`Policy::fonts`] ([`fonts`]): a text in a missing font is drawn in the default family,
+//! with a warning naming the font and the element.
 //!
 //! What is not: filters, blend modes, raster and nested SVG images and `shape-rendering`
 //! hints are dropped with a warning that names the element (see [`Imported::warnings`]).
@@ -19,6 +21,7 @@
 
 mod access;
 mod convert;
+pub mod fonts;
 mod source;
 pub mod tags;
 
@@ -67,6 +70,9 @@ pub struct Policy {
     /// Most CSS rules the `<style>` elements of a document may hold together (default
     /// 10 000; `--limit css-rules=N`).
     pub max_css_rules: u32,
+    /// Fonts besides the system's, and the family a text in a missing font is drawn in
+    /// (`--font-dir`, `--font-file`, `--font-family`).
+    pub fonts: fonts::FontOptions,
 }
 
 impl Default for Policy {
@@ -78,6 +84,7 @@ impl Default for Policy {
             max_entity_bytes: 1 << 20,
             max_xml_nodes: 1_000_000,
             max_css_rules: 10_000,
+            fonts: fonts::FontOptions::default(),
         }
     }
 }
@@ -233,7 +240,7 @@ fn parse_in(
         ..Default::default()
     };
     if src.has_text {
-        uopt.fontdb = system_fonts();
+        uopt.fontdb = fonts::database(&policy.fonts);
     }
     let tree = usvg::Tree::from_str(&src.prepared, &uopt).map_err(|e| match e {
         usvg::Error::InvalidSize => ImportError::Size {
@@ -245,7 +252,7 @@ fn parse_in(
         },
     })?;
 
-    let mut converted = convert::convert(&tree, &src, opts);
+    let mut converted = convert::convert(&tree, &src, opts, &uopt.fontdb);
     let refused = std::mem::take(&mut *refused.lock().unwrap_or_else(|e| e.into_inner()));
     for (href, why) in refused {
         converted.warnings.push((
@@ -307,17 +314,4 @@ fn parse_in(
         .map(|(place, what)| Warning::about(format!("{source_name}: {place}"), what))
         .collect();
     Ok(Imported { scene, warnings })
-}
-
-/// The system fonts, scanned once per process (a scan reads every font file's tables).
-fn system_fonts() -> std::sync::Arc<usvg::fontdb::Database> {
-    static FONTS: std::sync::OnceLock<std::sync::Arc<usvg::fontdb::Database>> =
-        std::sync::OnceLock::new();
-    FONTS
-        .get_or_init(|| {
-            let mut db = usvg::fontdb::Database::new();
-            db.load_system_fonts();
-            std::sync::Arc::new(db)
-        })
-        .clone()
 }
