@@ -153,6 +153,48 @@ fn demo_writes_frames_preview_lottie_and_smil() {
 }
 
 #[test]
+fn demo_carries_every_example_inside_the_binary() {
+    // Every example of grammars/, and every transitions example, is listed.
+    let listed = run_ok(bin().args(["demo", "--list"]));
+    let names: Vec<&str> = listed
+        .lines()
+        .filter_map(|l| l.split_whitespace().next())
+        .collect();
+    let mut want = examples();
+    for entry in std::fs::read_dir(root().join("grammars")).unwrap() {
+        let name = entry.unwrap().file_name().to_string_lossy().into_owned();
+        if let Some(stem) = name.strip_suffix(".targets.json") {
+            want.push(stem.to_string());
+        }
+    }
+    for w in &want {
+        assert!(
+            names.contains(&w.as_str()),
+            "`{w}` is not bundled:\n{listed}"
+        );
+    }
+    assert_eq!(names.len(), want.len(), "{listed}");
+    // A copy of the binary far from the source tree runs a transitions example.
+    let d = out_dir("demo-copy");
+    let copy = d.join("gmotion");
+    std::fs::copy(env!("CARGO_BIN_EXE_gmotion"), &copy).unwrap();
+    run_ok(
+        Command::new(&copy)
+            .current_dir(&d)
+            .args(["-q", "demo", "--example", "permutation", "-o", "out"])
+            .env_remove("CARGO_MANIFEST_DIR"),
+    );
+    for f in [
+        "permutation.json",
+        "permutation.svg",
+        "preview.html",
+        "source/permutation.targets.json",
+    ] {
+        assert!(d.join("out").join(f).is_file(), "{f}");
+    }
+}
+
+#[test]
 fn convert_writes_png_lottie_and_svg() {
     let d = out_dir("convert");
     let input = root().join("grammars/toy.svg");

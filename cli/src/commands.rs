@@ -36,7 +36,11 @@ pub fn run(cmd: Command, ctx: &Ctx) -> Result<()> {
     match cmd {
         // Printed by `main` from the argument definitions themselves.
         Command::Completions { .. } | Command::Man => Ok(()),
-        Command::Demo { output, example } => demo(&output, &example, ctx),
+        Command::Demo {
+            output,
+            example,
+            list,
+        } => demo(&output, &example, list, ctx),
         Command::Convert {
             input,
             output,
@@ -995,26 +999,36 @@ fn transitions(
     })
 }
 
-/// The folder that holds the bundled examples.
-fn grammars_dir() -> PathBuf {
-    let here = PathBuf::from("grammars");
-    if here.is_dir() {
-        return here;
+/// Runs a bundled example (`--list`: names them): its files are written to `out/source/`
+/// and its outputs beside.
+fn demo(out: &Path, example: &str, list: bool, ctx: &Ctx) -> Result<()> {
+    use super::examples::{EXAMPLES, Example, Kind};
+    if list {
+        let width = EXAMPLES.iter().map(|e| e.name.len()).max().unwrap_or(0);
+        let lines: Vec<String> = EXAMPLES
+            .iter()
+            .map(|e| format!("{:width$}  {}\n", e.name, e.summary()))
+            .collect();
+        return super::report::out(&lines.concat());
     }
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../grammars")
-}
-
-fn demo(out: &Path, example: &str, ctx: &Ctx) -> Result<()> {
-    let dir = grammars_dir();
-    let grammar = dir.join(format!("{example}.gm"));
-    let scene = dir.join(format!("{example}.svg"));
-    if !grammar.is_file() {
+    let Some(e) = Example::named(example) else {
+        let names: Vec<&str> = EXAMPLES.iter().map(|e| e.name).collect();
+        let hint = gmotion::grammar::diagnostics::did_you_mean(example, names.iter().copied())
+            .map(|n| format!(" (did you mean `{n}`?)"))
+            .unwrap_or_default();
         return Err(CliError::msg(format!(
-            "no bundled example `{example}` ({} not found)",
-            grammar.display()
+            "no bundled example `{example}`{hint}; there are: {}",
+            names.join(", ")
         )));
-    }
+    };
     create_dir(out)?;
+    let sources = out.join("source");
+    create_dir(&sources)?;
+    for (name, bytes) in e.files {
+        write_atomic(&sources.join(name), bytes)?;
+    }
+    let scene = sources.join(e.files[0].0);
+    let given = sources.join(e.files[1].0);
     let run = RunArgs {
         seed: None,
         fps: None,
@@ -1030,37 +1044,49 @@ fn demo(out: &Path, example: &str, ctx: &Ctx) -> Result<()> {
         height: None,
         tolerance: 0.25,
     };
+    let names = [
+        "frames".to_string(),
+        format!("{example}.gif"),
+        format!("{example}.json"),
+        format!("{example}.svg"),
+        "preview.html".to_string(),
+    ];
+    let outputs: Vec<PathBuf> = names.iter().map(|n| out.join(n)).collect();
+    if e.kind == Kind::Transitions {
+        transitions(
+            &scene, &given, &outputs, None, None, None, 0.0, &render, &import, ctx,
+        )?;
+        let frames = raster::check_frame_folder(&outputs[0]).map_or(0, |f| f.len());
+        return demo_written(out, example, frames);
+    }
     let Built {
         anim,
         settings,
         source,
         timelines,
-    } = build(Some(&scene), &grammar, &run, &import, &[], true, ctx)?;
+    } = build(Some(&scene), &given, &run, &import, &[], true, ctx)?;
     let size = output_size(&render, &settings);
-    let names = [
-        "frames",
-        &format!("{example}.gif"),
-        &format!("{example}.json"),
-        &format!("{example}.svg"),
-        "preview.html",
-    ];
-    for n in names {
+    for o in &outputs {
         write_animation(
             &anim,
             (source.as_ref(), timelines.as_ref()),
-            &out.join(n),
+            o,
             0.0,
             &render,
             size,
             &ctx.limits,
         )?;
     }
+    demo_written(out, example, anim.frame_count())
+}
+
+/// What `demo` wrote, and how to look at it.
+fn demo_written(out: &Path, example: &str, frames: usize) -> Result<()> {
     super::report::out(&format!(
-        "wrote {0}/frames/ ({1} PNG frames), {0}/{2}.gif, {0}/{2}.json (Lottie), {0}/{2}.svg (SMIL)\n\
+        "wrote {0}/frames/ ({1} PNG frames), {0}/{2}.gif, {0}/{2}.json (Lottie), {0}/{2}.svg (SMIL), the example's files in {0}/source/\n\
          view: open {0}/preview.html in a browser (lottie-web beside the SMIL, all inside the file, no network)\n",
         out.display(),
-        anim.frame_count(),
+        frames,
         example
-    ))?;
-    Ok(())
+    ))
 }

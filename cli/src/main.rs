@@ -9,6 +9,7 @@
 static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 mod commands;
+mod examples;
 mod guard;
 mod output;
 mod report;
@@ -72,14 +73,19 @@ struct Cli {
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Run the bundled example and write its frames, GIF, Lottie, SMIL and preview.html.
-    #[command(after_help = "Examples:\n  gmotion demo\n  gmotion demo --example toy -o out/toy")]
+    #[command(
+        after_help = "Examples:\n  gmotion demo\n  gmotion demo --list\n  gmotion demo --example toy -o out/toy\n  gmotion demo --example histogram -o out/histogram   # data-driven transitions"
+    )]
     Demo {
         /// Output directory.
         #[arg(short, long, default_value = "out/demo")]
         output: PathBuf,
-        /// Which bundled example (a name in grammars/).
+        /// Which bundled example (`--list` names them all).
         #[arg(long, default_value = "abstract")]
         example: String,
+        /// List the bundled examples, with what each shows, and write nothing.
+        #[arg(long)]
+        list: bool,
     },
     /// Convert a still SVG: to PNG (render), Lottie JSON, or a clean SVG. A Lottie input
     /// (`.json`) is written back as it was read to `.json`, played by gmotion's own
