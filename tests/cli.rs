@@ -1069,3 +1069,41 @@ fn font_options_name_what_they_cannot_find() {
     );
     assert!(!Path::new("/tmp/never-written.png").exists());
 }
+
+#[test]
+fn convert_takes_a_folder_or_several_files_into_one_folder() {
+    let d = out_dir("batch");
+    let (inputs, out) = (d.join("in"), d.join("out"));
+    std::fs::create_dir_all(&inputs).unwrap();
+    for name in ["toy", "cube", "leaf"] {
+        let svg = root().join("grammars").join(format!("{name}.svg"));
+        std::fs::copy(svg, inputs.join(format!("{name}.svg"))).unwrap();
+    }
+    std::fs::write(inputs.join("notes.txt"), "not a picture").unwrap();
+    std::fs::write(inputs.join("broken.svg"), "<svg").unwrap();
+    // Every file is tried; the broken one is named, and the run fails.
+    let err = run_err(bin().arg("convert").arg(&inputs).arg("-o").arg(&out));
+    assert!(err.contains("broken.svg:1:1"), "{err}");
+    assert!(err.contains("converted 3 of 4 files"), "{err}");
+    for name in ["toy", "cube", "leaf"] {
+        let json = lottie(&out.join(format!("{name}.json")));
+        assert!(
+            json["layers"].as_array().is_some_and(|l| !l.is_empty()),
+            "{name}"
+        );
+    }
+    assert!(!out.join("broken.json").exists() && !out.join("notes.json").exists());
+    // Several files, to PNG.
+    let pngs = d.join("pngs");
+    let said = bin()
+        .arg("convert")
+        .args([inputs.join("toy.svg"), inputs.join("cube.svg")])
+        .arg("-o")
+        .arg(&pngs)
+        .args(["--format", "png", "--width", "64"])
+        .output()
+        .unwrap();
+    assert!(said.status.success());
+    assert!(String::from_utf8_lossy(&said.stderr).contains("converted 2 of 2 files"));
+    assert!(pngs.join("toy.png").is_file() && pngs.join("cube.png").is_file());
+}

@@ -29,6 +29,9 @@ pub struct Ctx {
     pub allow: Vec<PathBuf>,
     /// `--font-dir`, `--font-file`, `--font-family`.
     pub fonts: gmotion_import_svg::fonts::FontOptions,
+    /// `--format`: the extension of outputs that have none of their own (standard output,
+    /// a batch's files).
+    pub format: Option<&'static str>,
 }
 
 /// Runs one command.
@@ -42,12 +45,15 @@ pub fn run(cmd: Command, ctx: &Ctx) -> Result<()> {
             list,
         } => demo(&output, &example, list, ctx),
         Command::Convert {
-            input,
+            inputs,
             output,
             time,
             render,
             import,
-        } => convert(&input, &output, time, &render, &import, ctx),
+        } => match inputs.as_slice() {
+            [one] if !is_batch(&inputs) => convert(one, &output, time, &render, &import, ctx),
+            _ => convert_batch(&inputs, &output, time, &render, &import, ctx),
+        },
         Command::Animate {
             files,
             output,
@@ -811,6 +817,20 @@ fn convert(
     import: &ImportArgs,
     ctx: &Ctx,
 ) -> Result<()> {
+    convert_staged(input, outputs, time, render, import, ctx, true)
+}
+
+/// [`convert`]; `staged`: the outputs land together (the one staging of the process), else
+/// each on its own (a batch converts files in parallel, each with one output).
+fn convert_staged(
+    input: &Path,
+    outputs: &[PathBuf],
+    time: f64,
+    render: &RenderArgs,
+    import: &ImportArgs,
+    ctx: &Ctx,
+    staged: bool,
+) -> Result<()> {
     validate_render(render)?;
     let outs: Vec<&Path> = outputs.iter().map(PathBuf::as_path).collect();
     guard::check_not_input(&outs, &[input])?;
@@ -851,13 +871,121 @@ fn convert(
         max_pixels: ctx.limits.get("pixels"),
         max_animation_pixels: ctx.limits.get("animation-pixels"),
     };
-    write_all(outputs, |out| {
+    let write = |out: &Path| {
         let warnings =
             output::write_still_over_source(&loaded.scene, loaded.source.as_ref(), out, &opts)
                 .map_err(|e| CliError::msg(e.to_string()))?;
         print_warnings(out, &warnings);
         Ok(())
-    })
+    };
+    if staged {
+        write_all(outputs, write)
+    } else {
+        outputs.iter().try_for_each(|o| write(o))
+    }
+}
+
+/// Whether `convert`'s inputs ask for a batch: several, or a folder.
+pub fn is_batch(inputs: &[PathBuf]) -> bool {
+    inputs.len() > 1 || inputs.iter().any(|p| p.is_dir())
+}
+
+/// Converts several files (or the SVG and Lottie files of folders) into one output folder,
+/// in parallel: `DIR/NAME.EXT` each, `EXT` from `--format` (`json` by default). Every file
+/// is tried; each failure is printed with its file, then one line says what was done.
+fn convert_batch(
+    inputs: &[PathBuf],
+    outputs: &[PathBuf],
+    time: f64,
+    render: &RenderArgs,
+    import: &ImportArgs,
+    ctx: &Ctx,
+) -> Result<()> {
+    use rayon::prelude::*;
+    let [dir] = outputs else {
+        return Err(CliError::msg(
+            "several inputs convert into one folder: give one -o DIR/",
+        ));
+    };
+    let ext = ctx.format.unwrap_or("json");
+    if !matches!(ext, "json" | "svg" | "png") {
+        return Err(CliError::msg(format!(
+            "--format {ext}: a batch converts to json (Lottie), svg or png"
+        )));
+    }
+    let mut files = Vec::new();
+    for input in inputs {
+        if input.is_dir() {
+            let entries = std::fs::read_dir(input)
+                .map_err(|e| CliError::msg(format!("{}: cannot list: {e}", input.display())))?;
+            let mut found: Vec<PathBuf> = entries
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.is_file())
+                .filter(|p| {
+                    p.extension().and_then(|x| x.to_str()).is_some_and(|x| {
+                        ["svg", "svgz", "json"].contains(&x.to_ascii_lowercase().as_str())
+                    })
+                })
+                .collect();
+            found.sort();
+            files.extend(found);
+        } else {
+            files.push(input.clone());
+        }
+    }
+    if files.is_empty() {
+        return Err(CliError::msg(
+            "no SVG or Lottie file to convert (.svg, .svgz, .json)",
+        ));
+    }
+    let mut names = std::collections::HashSet::new();
+    for f in &files {
+        let stem = f
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        if !names.insert(stem.clone()) {
+            return Err(CliError::msg(format!(
+                "two inputs would both be written to {}",
+                dir.join(format!("{stem}.{ext}")).display()
+            )));
+        }
+    }
+    guard::check_output_kind(dir, true)?;
+    create_dir(dir)?;
+    let failed: Vec<String> = files
+        .par_iter()
+        .filter_map(|f| {
+            let stem = f
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            let out = dir.join(format!("{stem}.{ext}"));
+            convert_staged(f, &[out], time, render, import, ctx, false)
+                .err()
+                .map(|e| e.0)
+        })
+        .collect();
+    for e in &failed {
+        eprintln!("{e}");
+    }
+    let done = files.len() - failed.len();
+    let line = format!(
+        "converted {done} of {} files to {}/{}",
+        files.len(),
+        dir.display().to_string().trim_end_matches('/'),
+        if failed.is_empty() {
+            String::new()
+        } else {
+            format!(" ({} failed)", failed.len())
+        }
+    );
+    if failed.is_empty() {
+        super::report::note(&line);
+        Ok(())
+    } else {
+        Err(CliError(line))
+    }
 }
 
 fn check(

@@ -92,13 +92,15 @@ enum Command {
     /// renderer to `.gif`, `.apng` or a folder of frames, and drawn at --time to `.png`
     /// and `.svg`.
     #[command(
-        after_help = "Examples:\n  gmotion convert logo.svg -o logo.json          # Lottie for the web\n  gmotion convert logo.svg -o logo.png --width 512\n  gmotion convert anim.json -o anim.gif          # play a Lottie file\n  gmotion convert anim.json -o still.png --time 1.5"
+        after_help = "Examples:\n  gmotion convert logo.svg -o logo.json          # Lottie for the web\n  gmotion convert logo.svg -o logo.png --width 512\n  gmotion convert anim.json -o anim.gif          # play a Lottie file\n  gmotion convert icons/ -o lottie/              # a folder, each file to Lottie\n  gmotion convert a.svg b.svg -o pngs/ --format png --width 256\n  gmotion convert anim.json -o still.png --time 1.5"
     )]
     Convert {
-        /// Input SVG or Lottie JSON.
-        input: PathBuf,
+        /// Input SVG or Lottie JSON; several, or a folder, convert each into the folder
+        /// `-o DIR/` (in parallel; `--format` picks the format, Lottie JSON by default).
+        #[arg(required = true, value_name = "INPUT")]
+        inputs: Vec<PathBuf>,
         /// Output file(s): .png, .json (Lottie) or .svg; for a Lottie input also .gif,
-        /// .apng or a directory (one PNG per frame).
+        /// .apng or a directory (one PNG per frame). For several inputs, one folder.
         #[arg(short, long, required = true)]
         output: Vec<PathBuf>,
         /// Lottie inputs: the time, in seconds from the composition's start, of the frame
@@ -266,7 +268,9 @@ impl Command {
     /// standard input or output.
     fn io_paths(&mut self) -> (Vec<&mut PathBuf>, Vec<&mut PathBuf>) {
         match self {
-            Command::Convert { input, output, .. } => (vec![input], output.iter_mut().collect()),
+            Command::Convert { inputs, output, .. } => {
+                (inputs.iter_mut().collect(), output.iter_mut().collect())
+            }
             Command::Animate { files, output, .. } => {
                 (files.iter_mut().collect(), output.iter_mut().collect())
             }
@@ -434,10 +438,13 @@ fn main() -> ExitCode {
     let (mut inputs, mut outputs) = cli.command.io_paths();
     let stdio = stdio::Stdio::prepare(&mut inputs, &mut outputs, format, limits.get("input-bytes"));
     let written: Vec<PathBuf> = outputs.iter().map(|p| p.to_path_buf()).collect();
-    let summary = !matches!(
-        cli.command,
-        Command::Check { .. } | Command::Demo { .. } | Command::Variations { .. }
-    );
+    let batch =
+        matches!(&cli.command, Command::Convert { inputs, .. } if commands::is_batch(inputs));
+    let summary = !batch
+        && !matches!(
+            cli.command,
+            Command::Check { .. } | Command::Demo { .. } | Command::Variations { .. }
+        );
     let fonts = gmotion_import_svg::fonts::FontOptions {
         dirs: cli.font_dirs,
         files: cli.font_files,
@@ -451,6 +458,7 @@ fn main() -> ExitCode {
         limits,
         allow: cli.allow_paths,
         fonts,
+        format,
     };
     let result = stdio.and_then(|stdio| {
         commands::run(cli.command, &ctx)?;
