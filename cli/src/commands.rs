@@ -469,6 +469,7 @@ fn run_options(r: &RunArgs, limits: &Limits) -> Result<RunOptions> {
         seed: r.seed,
         fps: r.fps,
         max_steps: r.max_steps,
+        max_pieces: Some(usize::try_from(limits.get("pieces")).unwrap_or(usize::MAX)),
     })
 }
 

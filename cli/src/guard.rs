@@ -46,6 +46,11 @@ pub const LIMITS: &[(&str, u64, &str)] = &[
         100_000,
         "largest --max-steps or max_steps (expansion time grows with its square)",
     ),
+    (
+        "pieces",
+        gmotion::tangle::DEFAULT_MAX_PIECES as u64,
+        "shapes a group grammar may make (about 4 KB each), and pieces one `place` may scatter",
+    ),
 ];
 
 /// The limits in force.

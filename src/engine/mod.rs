@@ -103,6 +103,9 @@ pub struct RunOptions {
     pub fps: Option<f64>,
     /// Overrides `max_steps`.
     pub max_steps: Option<usize>,
+    /// The most shapes a group grammar may make (default
+    /// [`crate::tangle::DEFAULT_MAX_PIECES`]).
+    pub max_pieces: Option<usize>,
 }
 
 /// Statistics of one run, for `gmotion check` and benchmarks.
@@ -170,6 +173,9 @@ pub(crate) fn spatial_stage(
     };
     if let Some(m) = opts.max_steps {
         topts.max_steps = m;
+    }
+    if let Some(m) = opts.max_pieces {
+        topts.max_shapes = m;
     }
     let (expanded, tstats) =
         crate::tangle::expand(scene, &spatial, &topts).map_err(|e| match &e {

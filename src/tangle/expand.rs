@@ -202,6 +202,7 @@ pub fn expand(
     let ctx = Context {
         grid,
         resolution: opts.resolution.max(grid.quantum() * 16.0),
+        max_pieces: opts.max_shapes,
     };
     let tolerance = opts.tolerance.max(grid.quantum() * 4.0);
 

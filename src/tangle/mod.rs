@@ -38,7 +38,8 @@ pub struct TangleOptions {
     pub seed: u64,
     /// Expansion stops with an error after this many steps.
     pub max_steps: usize,
-    /// Expansion stops with an error when there are more shapes than this.
+    /// Expansion stops with an error when there are more shapes than this, and a `place`
+    /// that would scatter more is refused before it starts.
     pub max_shapes: usize,
     /// Flattening tolerance in user units: curves become polylines within this distance.
     pub tolerance: f64,
@@ -57,12 +58,16 @@ impl TangleOptions {
     }
 }
 
+/// The most shapes a group grammar makes by default: each costs about 4 KB, so this
+/// bounds a run near a gigabyte (`--limit pieces=N` raises it).
+pub const DEFAULT_MAX_PIECES: usize = 250_000;
+
 impl Default for TangleOptions {
     fn default() -> Self {
         TangleOptions {
             seed: 0,
             max_steps: 100_000,
-            max_shapes: 2_000_000,
+            max_shapes: DEFAULT_MAX_PIECES,
             tolerance: 0.1,
             resolution: 1.0,
         }

@@ -501,14 +501,15 @@ pub const MAX_NEAR_PAIRS: usize = 2_000_000;
 /// Places copies of `params.shape` inside `region`, turned to `dir`, with randomness from
 /// `rng`. The raster is twice as fine as `resolution` (or finer, for close placements).
 /// An error when the shapes are so much larger than their distance that resolving their
-/// overlaps would pass [`MAX_NEAR_PAIRS`].
+/// overlaps would pass [`MAX_NEAR_PAIRS`], or when the region holds room for more than
+/// `max_pieces` of them at their distance (checked before any is placed).
 pub fn place(
     region: &Region,
     params: &PlaceParams,
     dir: Vec2,
     rng: &mut Rng,
     grid: &Grid,
-    resolution: f64,
+    (resolution, max_pieces): (f64, usize),
 ) -> Result<Placement, String> {
     let whole = Placement {
         remainder: region.clone(),
@@ -517,6 +518,17 @@ pub fn place(
     let area = region.area();
     if !(params.size > 0.0 && params.distance > 0.0 && area > 0.0) {
         return Ok(whole);
+    }
+    // Sites at least `distance` apart pack at most as densely as a hexagonal lattice,
+    // one per √3/2·distance² of area.
+    let room = area / (0.75f64.sqrt() * params.distance * params.distance);
+    if room > max_pieces as f64 {
+        return Err(format!(
+            "place would scatter up to {} shapes {} apart in an area of {}, more than the limit of {max_pieces} (a larger distance, or --limit pieces=N)",
+            room.round(),
+            params.distance,
+            area.round()
+        ));
     }
     let unit = template(&params.shape, params.size, resolution);
     if unit.is_empty() {
@@ -675,7 +687,15 @@ mod tests {
         let grid = Grid::for_bounds(region.bbox()).unwrap();
         let params = PlaceParams::new(PlaceShape::Circle, 12.0, 16.0);
         let mut rng = Rng::new(key(&[1]));
-        let out = place(&region, &params, Vec2::new(1.0, 0.0), &mut rng, &grid, 0.5).unwrap();
+        let out = place(
+            &region,
+            &params,
+            Vec2::new(1.0, 0.0),
+            &mut rng,
+            &grid,
+            (0.5, usize::MAX),
+        )
+        .unwrap();
         assert!(out.placed.len() > 15, "{}", out.placed.len());
         let total: f64 = out.placed.iter().map(Region::area).sum::<f64>() + out.remainder.area();
         assert!((total - 10_000.0).abs() < 1.0, "{total}");

@@ -117,6 +117,8 @@ pub struct Context {
     /// Working resolution: fields are traced in steps of it, placement rasters are twice
     /// as fine, placed circles and dots have edges about half as long.
     pub resolution: f64,
+    /// The most pieces one `place` may scatter ([`super::TangleOptions::max_shapes`]).
+    pub max_pieces: usize,
 }
 
 /// A shape produced by an operator. `slot` indexes the rule's outputs (the tag, and the
@@ -245,7 +247,7 @@ impl Op {
                     input.dir,
                     &mut rng,
                     grid,
-                    ctx.resolution,
+                    (ctx.resolution, ctx.max_pieces),
                 )?;
                 // Slot 0 the placed pieces, slot 1 the remainder: gTangle's Fig. 9 names
                 // them `[blob, rem]` (its §4.2 text lists them the other way round). The
