@@ -22,7 +22,7 @@ pub struct FontOptions {
     /// Font files loaded.
     pub files: Vec<PathBuf>,
     /// The family drawn when a text's families are not installed (default: the first
-    /// installed sans-serif of [`SANS_SERIF`]).
+    /// installed of Arial, Helvetica, Liberation Sans, DejaVu Sans, Noto Sans, …).
     pub default_family: Option<String>,
 }
 
