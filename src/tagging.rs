@@ -93,7 +93,7 @@ pub fn strip_counter(name: &str) -> &str {
 /// assert_eq!(strip_counter_among("Layer_2", exists), "Layer_2");
 /// assert_eq!(strip_counter_among("eye_1_", exists), "eye");
 /// ```
-pub fn strip_counter_among<'n>(name: &'n str, exists: impl Fn(&str) -> bool) -> &'n str {
+pub fn strip_counter_among(name: &str, exists: impl Fn(&str) -> bool) -> &str {
     let stem = strip_counter(name);
     if stem.len() == name.len() || name.ends_with('_') || exists(stem) {
         stem
