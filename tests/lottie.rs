@@ -942,6 +942,205 @@ fn output_is_deterministic() {
     assert_eq!(a, b);
 }
 
+/// Builds `f`'s result on a thread pool of `threads` threads.
+fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(f)
+}
+
+/// Checks that every layer's `parent` and `tp` name a layer of its own composition and
+/// every `refId` an asset, and that indices are unique within a composition and asset
+/// ids in the document.
+fn assert_references_resolve(doc: &Value) {
+    let assets: Vec<&str> = doc["assets"]
+        .as_array()
+        .map(|a| a.iter().map(|a| a["id"].as_str().unwrap()).collect())
+        .unwrap_or_default();
+    let mut unique_assets = assets.clone();
+    unique_assets.sort();
+    unique_assets.dedup();
+    assert_eq!(unique_assets.len(), assets.len(), "duplicate asset ids");
+    let comps = std::iter::once(&doc["layers"]).chain(
+        doc["assets"]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .map(|a| &a["layers"]),
+    );
+    for layers in comps {
+        let layers = layers.as_array().unwrap();
+        let inds: Vec<u64> = layers.iter().map(|l| l["ind"].as_u64().unwrap()).collect();
+        let mut unique = inds.clone();
+        unique.sort();
+        unique.dedup();
+        assert_eq!(unique.len(), inds.len(), "duplicate layer indices");
+        for (k, l) in layers.iter().enumerate() {
+            if let Some(tp) = l["tp"].as_u64() {
+                // A track matte is the layer right above the one it mattes.
+                assert_eq!(
+                    layers[k - 1]["ind"].as_u64(),
+                    Some(tp),
+                    "tp names another layer"
+                );
+                assert_eq!(layers[k - 1]["td"], 1);
+            }
+            for key in ["parent", "tp"] {
+                if let Some(p) = l[key].as_u64() {
+                    assert!(inds.contains(&p), "{key} {p} names no layer");
+                }
+            }
+            if let Some(r) = l["refId"].as_str() {
+                assert!(assets.contains(&r), "refId {r} names no asset");
+            }
+        }
+    }
+}
+
+#[test]
+fn many_children_are_built_in_parallel_into_the_same_document() {
+    // A root of 150 children (the builder goes parallel from 64): animated rectangles,
+    // groups that need a precomposition (translucent over a masked group: a matte inside,
+    // so an asset), clipped groups (layer masks), masked groups (a matte in the root
+    // composition) and paths with an approximated gradient
+    // (a warning each), so that layer indices, parents, matte references, asset names and
+    // warnings all have to be renumbered in document order.
+    let focal = |id: &str| {
+        let grad = Arc::new(RadialGradient {
+            id: format!("g{id}"),
+            center: Point::new(100.0, 100.0),
+            radius: 80.0,
+            focal: Point::new(110.0, 100.0),
+            focal_radius: 20.0,
+            transform: Affine::IDENTITY,
+            spread: Spread::Pad,
+            stops: vec![
+                Stop {
+                    offset: 0.0,
+                    color: Color::WHITE,
+                },
+                Stop {
+                    offset: 1.0,
+                    color: Color::BLACK,
+                },
+            ],
+        });
+        Some(Fill {
+            paint: Paint::Radial(grad),
+            opacity: 1.0,
+            rule: FillRule::NonZero,
+        })
+    };
+    let mask = Arc::new(Mask {
+        id: "m".into(),
+        rect: Rect::new(0.0, 0.0, 200.0, 200.0),
+        kind: MaskKind::Luminance,
+        mask: None,
+        root: group_with(vec![path_node(
+            "mc",
+            rect_path(Rect::new(50.0, 0.0, 150.0, 200.0)),
+            solid(Color::WHITE),
+        )]),
+    });
+    let clip = Arc::new(ClipPath {
+        id: "clip".into(),
+        transform: Affine::IDENTITY,
+        clip_path: None,
+        root: group_with(vec![path_node(
+            "c",
+            kurbo::Circle::new((100.0, 100.0), 50.0).to_path(0.1),
+            solid(Color::BLACK),
+        )]),
+    });
+    let mut b = SceneBuilder::new(400.0, 300.0);
+    for i in 0..150 {
+        let r = Rect::from_origin_size(
+            (i as f64 % 20.0 * 20.0, i as f64 / 20.0 * 30.0),
+            (15.0, 15.0),
+        );
+        let node = match i % 5 {
+            0 => Node::Path(PathNode::new(
+                format!("p{i}"),
+                rect_path(r),
+                solid(Color::BLACK),
+                None,
+            )),
+            1 => Node::Group(Group {
+                id: format!("translucent{i}"),
+                opacity: 0.5,
+                children: vec![
+                    Node::Group(Group {
+                        id: format!("masked{i}"),
+                        mask: Some(mask.clone()),
+                        ..black_canvas()
+                    }),
+                    path_node(&format!("q{i}"), rect_path(r), solid(Color::BLACK)),
+                ],
+                ..Group::new()
+            }),
+            2 => Node::Group(Group {
+                id: format!("clipped{i}"),
+                clip_path: Some(clip.clone()),
+                ..black_canvas()
+            }),
+            3 => path_node(&format!("f{i}"), rect_path(r), focal(&i.to_string())),
+            _ => Node::Group(Group {
+                id: format!("masked{i}"),
+                mask: Some(mask.clone()),
+                ..black_canvas()
+            }),
+        };
+        b = b.unit("t", node);
+    }
+    let scene = b.build();
+    let tm = Timing::new(0.0, 1.0, 0.0, EASE_IN_OUT, false);
+    let turn = rigid(
+        Point::new(30.0, 30.0),
+        &[Component::Rotate(33.0)],
+        Interp::Alexa,
+    );
+    let tracks = (0..scene.shapes.len())
+        .map(|i| {
+            let mut track = Track::default();
+            if i % 2 == 0 {
+                push(&mut track, tm.start, tm.end, &tm, &turn);
+            }
+            track
+        })
+        .collect();
+    let anim = animation(scene, tracks, 1.0);
+    let export = |threads| {
+        on_threads(threads, || {
+            let (json, warnings) = to_lottie(&anim, &LottieOptions::default()).unwrap();
+            (
+                json,
+                warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>(),
+            )
+        })
+    };
+    let (one, warned_one) = export(1);
+    let (two, warned_two) = export(2);
+    assert!(one == two, "the document depends on the number of threads");
+    assert_eq!(warned_one, warned_two);
+    assert!(warned_one.len() >= 30, "{warned_one:?}");
+    let doc = parse(&one);
+    assert!(doc["assets"].as_array().is_some_and(|a| a.len() >= 30));
+    assert_references_resolve(&doc);
+    // The still scene goes through the same builder.
+    let still = |threads| {
+        on_threads(threads, || {
+            still_to_lottie(&anim.scene, &LottieOptions::default())
+                .unwrap()
+                .0
+        })
+    };
+    let (one, two) = (still(1), still(2));
+    assert!(one == two, "the still depends on the number of threads");
+    assert_references_resolve(&parse(&one));
+}
+
 // ---- stills --------------------------------------------------------------------------------
 
 fn group_with(children: Vec<Node>) -> Group {

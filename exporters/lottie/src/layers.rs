@@ -31,6 +31,7 @@ mod units;
 use std::sync::Arc;
 
 use kurbo::{Affine, BezPath, Point, Rect, Shape as _, Vec2};
+use rayon::prelude::*;
 
 use super::animate::{UnitMotion, WIDTH_FACTOR_TOLERANCE, is_even, static_level};
 use super::bake::bake_paths;
@@ -141,6 +142,7 @@ impl Comp {
 /// What a document's layers are built from: a scene and, for an animation, its shapes'
 /// tracks and the motions baked from them (`tracks[i]` and `motions[i]` belong to
 /// `scene.shapes[i]`; both are empty for a still).
+#[derive(Clone, Copy)]
 pub struct Source<'a> {
     /// The scene.
     pub scene: &'a Scene,
@@ -230,8 +232,77 @@ impl<'a> Builder<'a> {
     }
 
     fn children(&mut self, g: &Group, acc: Affine, env: Env, comp: &mut Comp) {
+        if g.children.len() >= PARALLEL_CHILDREN {
+            return self.children_in_parallel(g, acc, env, comp);
+        }
         for child in &g.children {
             self.node(child, acc, env, comp);
+        }
+    }
+
+    /// [`Self::children`] for many children: each is built on its own, numbered from 0
+    /// and naming its precompositions from `comp_0`, then the parts are taken in document
+    /// order and renumbered to where the sequential walk would have put them. A part's
+    /// layers refer (by `parent`, `tp`) only to layers of the same composition, all
+    /// shifted alike, and to assets (by `refId`) of its own, all renamed alike; warnings
+    /// keep their order. So the document is the same on any number of threads (tested).
+    fn children_in_parallel(&mut self, g: &Group, acc: Affine, env: Env, comp: &mut Comp) {
+        let (src, tolerance, margin) = (self.src, self.tolerance, self.margin);
+        let parts: Vec<Part> = g
+            .children
+            .par_iter()
+            .map(|child| {
+                let mut b = Builder {
+                    src,
+                    tolerance,
+                    margin,
+                    warnings: Vec::new(),
+                    assets: Vec::new(),
+                };
+                let mut sub = Comp::new(0);
+                b.node(child, acc, env, &mut sub);
+                if env.unit.is_none() {
+                    // Outside an animated shape, a composition's finished layers change
+                    // later only in their numbering and parent (an animated shape's own
+                    // layers get its opacity), so they can be written now.
+                    for item in &mut sub.items {
+                        if let Item::Layers(ls) = item {
+                            ls.iter_mut().for_each(Layer::seal);
+                        }
+                    }
+                }
+                Part {
+                    items: sub.items,
+                    inds: sub.next_ind,
+                    warnings: b.warnings,
+                    assets: b.assets,
+                }
+            })
+            .collect();
+        for mut part in parts {
+            let (ind, asset) = (comp.next_ind, self.assets.len());
+            for item in &mut part.items {
+                if let Item::Layers(ls) = item {
+                    for l in ls {
+                        l.ind += ind;
+                        l.parent = l.parent.map(|p| p + ind);
+                        l.tp = l.tp.map(|p| p + ind);
+                        rename_asset(&mut l.ref_id, asset);
+                    }
+                }
+            }
+            if asset > 0 {
+                for a in &mut part.assets {
+                    a.id = asset_id(asset_number(&a.id) + asset);
+                    for l in &mut a.layers {
+                        rename_asset(&mut l.ref_id, asset);
+                    }
+                }
+            }
+            comp.next_ind += part.inds;
+            comp.items.append(&mut part.items);
+            self.warnings.append(&mut part.warnings);
+            self.assets.append(&mut part.assets);
         }
     }
 
@@ -367,7 +438,7 @@ impl<'a> Builder<'a> {
         };
         let mut sub = Comp::new(0);
         draw(self, inner_env, offset, &mut sub);
-        let id = format!("comp_{}", self.assets.len());
+        let id = asset_id(self.assets.len());
         let layers = sub.into_layers(self.src.op);
         self.assets.push(Asset {
             id: id.clone(),
@@ -438,6 +509,43 @@ impl<'a> Builder<'a> {
     // ----- animated shapes -------------------------------------------------------------
 
     // ----- paths -------------------------------------------------------------------
+}
+
+/// Children of one group from which the builder makes them in parallel: the root of a
+/// large animation holds thousands of animated shapes, each its own layer and motion
+/// keys, and a handful is not worth waking the thread pool for.
+const PARALLEL_CHILDREN: usize = 64;
+
+/// One child of [`Builder::children_in_parallel`], built on its own.
+struct Part {
+    /// What it emitted, numbered from 0.
+    items: Vec<Item>,
+    /// The layer indices it used (its composition's `next_ind`).
+    inds: u32,
+    warnings: Vec<String>,
+    /// Its precompositions, named from `comp_0`.
+    assets: Vec<Asset>,
+}
+
+/// The `k`-th precomposition's id.
+fn asset_id(k: usize) -> String {
+    format!("comp_{k}")
+}
+
+/// `k` from an id made by [`asset_id`].
+fn asset_number(id: &str) -> usize {
+    id.strip_prefix("comp_")
+        .and_then(|k| k.parse().ok())
+        .expect("precomposition ids are made by asset_id")
+}
+
+/// Shifts a reference to a part's precomposition by the `by` assets made before it.
+fn rename_asset(ref_id: &mut Option<String>, by: usize) {
+    if by > 0
+        && let Some(id) = ref_id
+    {
+        *id = asset_id(asset_number(id) + by);
+    }
 }
 
 /// How many paints `g` draws, counting to two.
