@@ -30,8 +30,13 @@ pub struct Scene {
 /// An animated unit: a leaf path, or a whole group that carries a tag.
 #[derive(Clone, Debug)]
 pub struct Shape {
-    /// The tag rules select on (never empty; `all` matches every shape anyway).
+    /// The tag rules select on (never empty; `all` matches every shape anyway). Its `id`
+    /// counts within it, and `n` in expressions is the number of shapes that have it.
     pub tag: String,
+    /// Other tags the shape answers to, rules selecting on any of them taking it: for an
+    /// imported shape, the ids of its element and of the groups around it (as grammar
+    /// names), and the tags a tag map (`--tags`) gives it. Never holds `tag` itself.
+    pub aliases: Vec<String>,
     /// Unique within the tag, in document order, from 0.
     pub id: usize,
     /// The group grammar's group id (0 for imported shapes).
@@ -52,6 +57,13 @@ pub struct Shape {
     pub stroke: Color,
     /// The unit's representative stroke width (first stroke's; 1 if none).
     pub stroke_width: f64,
+}
+
+impl Shape {
+    /// Every tag the shape answers to: its [`Shape::tag`], then its [`Shape::aliases`].
+    pub fn tags(&self) -> impl Iterator<Item = &str> {
+        std::iter::once(self.tag.as_str()).chain(self.aliases.iter().map(String::as_str))
+    }
 }
 
 /// A node of the tree.
@@ -469,6 +481,7 @@ impl SceneBuilder {
         let id = self.ids.entry(tag.to_string()).or_default();
         self.scene.shapes.push(Shape {
             tag: tag.to_string(),
+            aliases: Vec::new(),
             id: *id,
             group: 0,
             z: index,

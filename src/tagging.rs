@@ -22,11 +22,6 @@ pub enum TagFrom {
 }
 
 impl TagFrom {
-    /// Whether this source reads the explicit tag attributes (`data-tag`, `class`, `label`).
-    pub fn reads_attributes(self) -> bool {
-        !matches!(self, TagFrom::Layer)
-    }
-
     /// Whether this source reads layer (`<g>`) ids.
     pub fn reads_layers(self) -> bool {
         matches!(self, TagFrom::Auto | TagFrom::Layer)

@@ -803,13 +803,16 @@ outline(2) : (Layer_*, *_1) - bg -> [x, y]
     assert!(s.spatial);
     assert_eq!(tags(&s.shape_tags), ["Layer_*", "*_1"]);
     assert_eq!(tags(&s.shape_excluded), ["bg"]);
-    assert!(r.takes_shape("icon-user", true) && !r.takes_shape("icon-home", true));
-    assert!(!r.takes_shape("logo", true));
+    assert!(r.takes_shape(["icon-user"], true) && !r.takes_shape(["icon-home"], true));
+    assert!(!r.takes_shape(["logo"], true));
     assert!(
-        s.takes_shape("Layer_2", true)
-            && s.takes_shape("tile_1", true)
-            && !s.takes_shape("bg", true)
+        s.takes_shape(["Layer_2"], true)
+            && s.takes_shape(["tile_1"], true)
+            && !s.takes_shape(["bg"], true)
     );
+    // A shape answers to all of its tags: one named is enough, one left out is too many.
+    assert!(r.takes_shape(["logo", "icon-user"], true));
+    assert!(!s.takes_shape(["Layer_2", "bg"], true));
     // Patterns pick shape tags only; a bound name is bound once and renames no variable.
     let d = errors(
         "timesplit(0.5, 0.5) : [a*, s] -> [b, c]\nanimate(affine, world, 0, scale(2)) : [a, s] -> [t*]\nlet cx = 2\nlet k = 1\nlet k = 2\n",

@@ -17,7 +17,11 @@ fn tags(scene: &Scene) -> Vec<(String, usize)> {
 }
 
 fn with(tag_from: TagFrom, units: Units) -> ImportOptions {
-    ImportOptions { tag_from, units }
+    ImportOptions {
+        tag_from,
+        units,
+        ..ImportOptions::default()
+    }
 }
 
 fn close(a: Point, b: Point) -> bool {

@@ -10,6 +10,7 @@ mod support;
 mod cli;
 mod cli_errors;
 mod corpus;
+mod designer;
 mod engine;
 mod frame;
 mod fuzz;

@@ -470,6 +470,7 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
     let mut root = Group::new();
     root.children = vec![Node::Group(outer)];
     let shape = Shape {
+        aliases: Vec::new(),
         tag: "pair".into(),
         id: 0,
         group: 0,
@@ -527,6 +528,7 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
     let mut root = Group::new();
     root.children = vec![Node::Group(outer)];
     let shape = |id: usize, node_path: Vec<usize>, bbox: Rect| Shape {
+        aliases: Vec::new(),
         tag: "n".into(),
         id,
         group: 0,

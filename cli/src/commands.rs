@@ -48,11 +48,13 @@ pub fn run(cmd: Command, ctx: &Ctx) -> Result<()> {
             inputs,
             output,
             time,
-            render,
+            size,
             import,
-        } => match inputs.as_slice() {
-            [one] if !is_batch(&inputs) => convert(one, &output, time, &render, &import, ctx),
-            _ => convert_batch(&inputs, &output, time, &render, &import, ctx),
+        } => match (inputs.as_slice(), size.render()) {
+            ([one], render) if !is_batch(&inputs) => {
+                convert(one, &output, time, &render, &import, ctx)
+            }
+            (_, render) => convert_batch(&inputs, &output, time, &render, &import, ctx),
         },
         Command::Animate {
             files,
@@ -131,7 +133,7 @@ pub fn run(cmd: Command, ctx: &Ctx) -> Result<()> {
                 && shapes
                 && kind_of(one) == Kind::Scene
             {
-                let loaded = load_scene(one, &import_options(&import, &Settings::default()), ctx)?;
+                let loaded = load_scene(one, &import_options(&import, None, ctx)?, ctx)?;
                 super::report::out(&shape_list(one, &loaded, json))?;
                 return Ok(());
             }
@@ -244,7 +246,13 @@ struct SceneOptions {
     lottie: lottie_import::ImportOptions,
 }
 
-fn import_options(a: &ImportArgs, settings: &Settings) -> SceneOptions {
+fn import_options(
+    a: &ImportArgs,
+    grammar: Option<(&Path, &Loaded)>,
+    ctx: &Ctx,
+) -> Result<SceneOptions> {
+    let default = Settings::default();
+    let settings = grammar.map_or(&default, |(_, g)| &g.settings);
     let tag_from = a.tag_from.map(|t| match t {
         TagFromArg::Auto => TagFrom::Auto,
         TagFromArg::DataTag => TagFrom::DataTag,
@@ -257,15 +265,55 @@ fn import_options(a: &ImportArgs, settings: &Settings) -> SceneOptions {
         UnitsArg::Paths => Units::Paths,
         UnitsArg::Groups => Units::Groups,
     });
-    SceneOptions {
+    // The tag map: the command line's (relative to the working folder), else the
+    // grammar's (relative to the grammar file, a missing one an error at the directive).
+    let map_path = match (&a.tags, grammar, &settings.tags) {
+        (Some(p), _, _) => Some(p.clone()),
+        (None, Some((grammar_path, g)), Some((name, span))) => {
+            let path = grammar_path.parent().unwrap_or(Path::new("")).join(name);
+            if !path.exists() {
+                let e = EngineError::at(
+                    *span,
+                    format!("tag map `{name}` not found (looked for {})", path.display()),
+                );
+                return Err(engine_error(grammar_path, &g.src, &e));
+            }
+            Some(path)
+        }
+        _ => None,
+    };
+    let tag_map = map_path
+        .map(|p| read_tag_map(&p, ctx).map(std::sync::Arc::new))
+        .transpose()?;
+    Ok(SceneOptions {
         svg: ImportOptions {
             tag_from: tag_from.or(settings.tag_from).unwrap_or_default(),
             units: units.or(settings.units).unwrap_or_default(),
+            unit_depth: a
+                .unit_depth
+                .map(|d| d as usize)
+                .or(settings.unit_depth)
+                .unwrap_or(1),
+            tag_map,
         },
         lottie: lottie_import::ImportOptions {
             time: a.reference_time.unwrap_or(0.0),
         },
-    }
+    })
+}
+
+/// Reads and parses a tag map file.
+fn read_tag_map(path: &Path, ctx: &Ctx) -> Result<svg_import::tagmap::TagMap> {
+    let bytes = gmotion::input::read_regular(path, ctx.limits.get("input-bytes"))
+        .map_err(|e| CliError::msg(format!("{}: cannot read tag map: {e}", path.display())))?;
+    let text = gmotion::input::utf8_text(bytes).map_err(|e| {
+        CliError::msg(format!(
+            "{}:{e} (the tag map must be UTF-8)",
+            path.display()
+        ))
+    })?;
+    svg_import::tagmap::TagMap::parse(&text, &path.display().to_string())
+        .map_err(|e| CliError::msg(format!("{e}")))
 }
 
 /// The size of every output: `--width`/`--height` if either is given, else the grammar's
@@ -316,6 +364,20 @@ fn is_lottie(path: &Path) -> bool {
 
 fn load_scene(path: &Path, options: &SceneOptions, ctx: &Ctx) -> Result<LoadedScene> {
     if is_lottie(path) {
+        // Selectors and group depth speak of SVG elements; a Lottie's units are its layers.
+        if let Some(map) = &options.svg.tag_map {
+            return Err(CliError::msg(format!(
+                "{}: error: the tag map {} gives tags to SVG elements; a Lottie scene's units are its layers, tagged by their names",
+                path.display(),
+                map.source_name
+            )));
+        }
+        if options.svg.unit_depth != 1 {
+            return Err(CliError::msg(format!(
+                "{}: error: --unit-depth chooses SVG groups; a Lottie scene's units are its layers",
+                path.display()
+            )));
+        }
         let imported =
             lottie_import::load(path, &options.lottie).map_err(|e| CliError::msg(e.to_string()))?;
         for w in &imported.warnings {
@@ -338,8 +400,8 @@ fn load_scene(path: &Path, options: &SceneOptions, ctx: &Ctx) -> Result<LoadedSc
     })
 }
 
-/// The units of a scene, one line each: tag and id, bounding box, centroid, and for a
-/// Lottie scene the layers the unit moves.
+/// The units of a scene, one line each: tag and id, bounding box, centroid, the other tags
+/// the unit answers to (ids, a tag map's), and for a Lottie scene the layers it moves.
 /// With `json`, the units as the studio lists them instead, on one line.
 fn shape_list(path: &Path, loaded: &LoadedScene, json: bool) -> String {
     use std::fmt::Write as _;
@@ -361,6 +423,9 @@ fn shape_list(path: &Path, loaded: &LoadedScene, json: bool) -> String {
             "  {}:{}  box [{:.1}, {:.1}, {:.1}, {:.1}]  centroid ({:.1}, {:.1})",
             s.tag, s.id, b.x0, b.y0, b.x1, b.y1, s.centroid.x, s.centroid.y
         );
+        if !s.aliases.is_empty() {
+            let _ = write!(out, "  also {}", s.aliases.join(", "));
+        }
         if let Some(src) = &loaded.source
             && let Some(unit) = src.units.get(i)
         {
@@ -613,7 +678,11 @@ fn build(
         )));
     };
     check_outputs(outputs, &[&scene_path, grammar_path])?;
-    let loaded = load_scene(&scene_path, &import_options(import, &g.settings), ctx)?;
+    let loaded = load_scene(
+        &scene_path,
+        &import_options(import, Some((grammar_path, &g)), ctx)?,
+        ctx,
+    )?;
     let opts = run_options(run, &ctx.limits)?;
     // The preview's timeline picture: the slices, which the run does not keep.
     let timelines = timelines
@@ -665,7 +734,11 @@ fn load_grammar_and_scene(
             grammar_path.display()
         )));
     };
-    let loaded = load_scene(&path, &import_options(import, &g.settings), ctx)?;
+    let loaded = load_scene(
+        &path,
+        &import_options(import, Some((grammar_path, &g)), ctx)?,
+        ctx,
+    )?;
     Ok((g, loaded))
 }
 
@@ -685,7 +758,7 @@ fn studio(
         scene,
     ) {
         (Ok((_, loaded)), _) => loaded,
-        (Err(_), Some(s)) => load_scene(s, &import_options(import, &Settings::default()), ctx)?,
+        (Err(_), Some(s)) => load_scene(s, &import_options(import, None, ctx)?, ctx)?,
         (Err(e), None) => return Err(e),
     };
     let studio = gmotion_studio::Studio::bind(gmotion_studio::Config {
@@ -848,7 +921,7 @@ fn convert_staged(
         )));
     }
     let settings = Settings::default();
-    let loaded = load_scene(input, &import_options(import, &settings), ctx)?;
+    let loaded = load_scene(input, &import_options(import, None, ctx)?, ctx)?;
     if let Some(src) = &loaded.source
         && outputs
             .iter()
@@ -1008,7 +1081,13 @@ fn check(
     }
     let scene = path
         .as_ref()
-        .map(|p| load_scene(p, &import_options(import, &loaded.settings), ctx))
+        .map(|p| {
+            load_scene(
+                p,
+                &import_options(import, Some((grammar_path, &loaded)), ctx)?,
+                ctx,
+            )
+        })
         .transpose()?;
     let g = &loaded.grammar;
     let report = engine::check::check(
@@ -1081,7 +1160,7 @@ fn transitions(
     let t = gmotion::transitions::targets::Targets::load(targets)
         .map_err(|e| CliError::msg(e.to_string()))?;
     let settings = Settings::default();
-    let scene = load_scene(scene, &import_options(import, &settings), ctx)?.scene;
+    let scene = load_scene(scene, &import_options(import, None, ctx)?, ctx)?.scene;
     let system = t.default_system(spec);
     let fps = t.frame_rate(fps);
     if let Some(d) = duration {
@@ -1166,12 +1245,14 @@ fn demo(out: &Path, example: &str, list: bool, ctx: &Ctx) -> Result<()> {
     let import = ImportArgs {
         tag_from: None,
         units: None,
+        unit_depth: None,
+        tags: None,
         reference_time: None,
     };
     let render = RenderArgs {
         width: None,
         height: None,
-        tolerance: 0.25,
+        tolerance: super::DEFAULT_TOLERANCE,
     };
     let names = [
         "frames".to_string(),

@@ -108,7 +108,7 @@ enum Command {
         #[arg(long, default_value_t = 0.0)]
         time: f64,
         #[command(flatten)]
-        render: RenderArgs,
+        size: SizeArgs,
         #[command(flatten)]
         import: ImportArgs,
     },
@@ -348,19 +348,54 @@ struct RenderArgs {
     #[arg(long)]
     height: Option<u32>,
     /// Error bound in canvas pixels when an exporter must bake motion into keyframes.
-    #[arg(long, default_value_t = 0.25)]
+    #[arg(long, default_value_t = DEFAULT_TOLERANCE)]
     tolerance: f64,
 }
+
+/// The output size of `convert`, which has no grammar and bakes no motion (so neither
+/// the grammar's size nor `--tolerance` applies).
+#[derive(Args, Debug, Clone)]
+struct SizeArgs {
+    /// Width in pixels of every output; without --height the height follows the
+    /// picture's aspect ratio. With --height the art is scaled to fit and centred.
+    #[arg(long)]
+    width: Option<u32>,
+    /// Height in pixels of every output (see --width).
+    #[arg(long)]
+    height: Option<u32>,
+}
+
+impl SizeArgs {
+    /// As [`RenderArgs`] with the default tolerance, which a still never uses.
+    fn render(&self) -> RenderArgs {
+        RenderArgs {
+            width: self.width,
+            height: self.height,
+            tolerance: DEFAULT_TOLERANCE,
+        }
+    }
+}
+
+/// `--tolerance`'s default, in canvas pixels.
+const DEFAULT_TOLERANCE: f64 = 0.25;
 
 /// How SVG elements become tagged shapes.
 #[derive(Args, Debug, Clone)]
 struct ImportArgs {
-    /// Where tags come from (overrides the grammar's `tag_from`; default `auto`).
+    /// Where tags come from (overrides a grammar's `tag_from`; default `auto`).
     #[arg(long, value_enum)]
     tag_from: Option<TagFromArg>,
-    /// What the animated units are (overrides the grammar's `units`; default `auto`).
+    /// What the animated units are (overrides a grammar's `units`; default `auto`).
     #[arg(long, value_enum)]
     units: Option<UnitsArg>,
+    /// SVG scenes: how deep a group must sit to become a unit; 2 makes the groups inside
+    /// the top-level layers the units (overrides a grammar's `unit_depth`; default 1).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    unit_depth: Option<u32>,
+    /// SVG scenes: a tag map giving elements tags and units by CSS-like selector, one
+    /// `SELECTOR -> TAG [unit]` per line (overrides a grammar's `tags`; see docs/cli.md).
+    #[arg(long, value_name = "FILE")]
+    tags: Option<PathBuf>,
     /// Lottie scenes: the time, in seconds from the composition's start, at which units
     /// are measured (default 0, the first frame).
     #[arg(long, value_name = "SECONDS")]

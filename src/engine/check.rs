@@ -240,7 +240,7 @@ fn time_report(
     r: &mut Report,
     out: &mut String,
 ) -> Result<(), EngineError> {
-    let tags: BTreeSet<&str> = scene.shapes.iter().map(|s| s.tag.as_str()).collect();
+    let tags: BTreeSet<&str> = scene.shapes.iter().flat_map(|s| s.tags()).collect();
     for t in shape_tags {
         if t != "all" && !tags.iter().any(|s| crate::grammar::ast::tag_matches(t, s)) {
             r.warnings.push(Warning::new(format!(
@@ -248,12 +248,17 @@ fn time_report(
             )));
         }
     }
-    for t in &tags {
-        if !program.rules.iter().any(|rule| rule.takes(t)) {
-            r.warnings.push(Warning::new(format!(
-                "shapes tagged `{t}` match no rule and stay still"
-            )));
-        }
+    // A shape tag is still when none of its shapes is taken under any of its names.
+    let mut still: BTreeMap<&str, bool> = BTreeMap::new();
+    for s in &scene.shapes {
+        let names: Vec<String> = s.tags().map(str::to_string).collect();
+        let taken = program.rules.iter().any(|rule| rule.takes(&names));
+        *still.entry(s.tag.as_str()).or_insert(true) &= !taken;
+    }
+    for (t, _) in still.into_iter().filter(|(_, still)| *still) {
+        r.warnings.push(Warning::new(format!(
+            "shapes tagged `{t}` match no rule and stay still"
+        )));
     }
     let exp = super::expand::expand(scene, program, settings)?;
     let slices: usize = exp.timelines.iter().map(Vec::len).sum();

@@ -318,8 +318,9 @@ pub(crate) fn finite_number(
     }
 }
 
+/// Every tag some shape of `scene` answers to (aliases included), sorted.
 fn scene_tags(scene: &Scene) -> Vec<&str> {
-    let mut tags: Vec<&str> = scene.shapes.iter().map(|s| s.tag.as_str()).collect();
+    let mut tags: Vec<&str> = scene.shapes.iter().flat_map(|s| s.tags()).collect();
     tags.sort_unstable();
     tags.dedup();
     tags

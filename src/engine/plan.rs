@@ -142,29 +142,61 @@ impl Tags {
     }
 }
 
-/// Caches which rules match a (slice tag, shape tag) pair, in a table indexed by both ids.
+/// Caches which rules match a (slice tag, match key) pair, in a table indexed by both ids.
 struct Matcher<'a> {
     program: &'a Program,
-    shape_tags: &'a [String],
+    /// Per match key, the tags its shapes answer to.
+    key_tags: &'a [Vec<String>],
     cache: Vec<Option<Arc<[usize]>>>,
 }
 
 impl Matcher<'_> {
-    fn get(&mut self, slice_tag: u32, shape_tag: u32, tags: &Tags) -> &Arc<[usize]> {
-        let i = slice_tag as usize * self.shape_tags.len() + shape_tag as usize;
+    fn get(&mut self, slice_tag: u32, key: u32, tags: &Tags) -> &Arc<[usize]> {
+        let i = slice_tag as usize * self.key_tags.len() + key as usize;
         if self.cache.len() <= i {
             self.cache.resize(i + 1, None);
         }
-        let (program, shape_tags) = (self.program, self.shape_tags);
+        let (program, key_tags) = (self.program, self.key_tags);
         self.cache[i].get_or_insert_with(|| {
             program
-                .candidates(
-                    &tags.names[slice_tag as usize],
-                    &shape_tags[shape_tag as usize],
-                )
+                .candidates(&tags.names[slice_tag as usize], &key_tags[key as usize])
                 .into()
         })
     }
+}
+
+/// The *match keys* of a scene's shapes: shapes that answer to the same tags as far as the
+/// program can tell (the same shape tag, and the same aliases among those some rule names)
+/// share one, and rules see nothing else of a shape. Without aliases that rules name, the
+/// keys are the shape tags. Returns each key's tags and each shape's key.
+fn match_keys(scene: &Scene, program: &Program) -> (Vec<Vec<String>>, Vec<u32>) {
+    let mut named: HashMap<&str, bool> = HashMap::new();
+    let shape_keys: Vec<Vec<String>> = scene
+        .shapes
+        .iter()
+        .map(|s| {
+            let mut tags = vec![s.tag.clone()];
+            for a in &s.aliases {
+                if *named
+                    .entry(a.as_str())
+                    .or_insert_with(|| program.names_shape_tag(a))
+                {
+                    tags.push(a.clone());
+                }
+            }
+            tags
+        })
+        .collect();
+    // Sorted, so that without aliases the keys are the shape tags in the order steps have
+    // always taken them.
+    let mut key_tags = shape_keys.clone();
+    key_tags.sort();
+    key_tags.dedup();
+    let key_of = shape_keys
+        .iter()
+        .map(|k| key_tags.binary_search(k).expect("key listed") as u32)
+        .collect();
+    (key_tags, key_of)
 }
 
 /// A rule among `cands` drawn by weight with `r` in [0, 1).
@@ -248,9 +280,15 @@ impl Plan {
             .iter()
             .map(|s| shape_tag_names.binary_search(&s.tag).expect("tag listed") as u32)
             .collect();
-        let mut shapes_by_tag: Vec<Vec<usize>> = vec![Vec::new(); shape_tag_names.len()];
-        for (i, &t) in shape_tag_of.iter().enumerate() {
-            shapes_by_tag[t as usize].push(i);
+        let mut tag_sizes = vec![0; shape_tag_names.len()];
+        for &t in &shape_tag_of {
+            tag_sizes[t as usize] += 1;
+        }
+        // Steps go by match key: a key is a shape tag unless a rule names an alias.
+        let (key_tags, key_of) = match_keys(scene, program);
+        let mut shapes_by_key: Vec<Vec<usize>> = vec![Vec::new(); key_tags.len()];
+        for (i, &k) in key_of.iter().enumerate() {
+            shapes_by_key[k as usize].push(i);
         }
 
         let mut tags = Tags {
@@ -264,32 +302,33 @@ impl Plan {
                 .collect(),
         };
         let all = tags.id("all");
-        let tag_hashes: Vec<u64> = shape_tag_names.iter().map(|t| hash_str(t)).collect();
+        // A key's random draws are keyed by its shape tag, and by the aliases that make it
+        // a key of its own, so adding an alias no rule names changes no draw.
+        let tag_hashes: Vec<u64> = key_tags.iter().map(|t| hash_str(&t.join("\0"))).collect();
         let mut matcher = Matcher {
             program,
-            shape_tags: &shape_tag_names,
+            key_tags: &key_tags,
             cache: Vec::new(),
         };
-        // Every shape starts as one slice `all`; class `t` holds the shapes of shape tag `t`.
+        // Every shape starts as one slice `all`; class `k` holds the shapes of match key `k`.
         let mut classes: Vec<Class> = vec![
             Class {
                 slices: vec![(all, false)],
                 ..Class::default()
             };
-            shape_tag_names.len()
+            key_tags.len()
         ];
-        let mut class_of = shape_tag_of.clone();
+        let mut class_of = key_of.clone();
 
-        // Per shape tag, its slice tags in order of first creation on its own shapes (`all`
+        // Per match key, its slice tags in order of first creation on its own shapes (`all`
         // first). Steps follow this order rather than the global ids, which a rule for
         // another shape tag can shift by creating a shared tag name first.
-        let mut order: Vec<Vec<u32>> = vec![vec![all]; shape_tag_names.len()];
-        let mut rank: Vec<HashMap<u32, u32>> =
-            vec![HashMap::from([(all, 0)]); shape_tag_names.len()];
-        // The (shape tag, slice tag rank) pairs with slices left to rewrite; the first is
+        let mut order: Vec<Vec<u32>> = vec![vec![all]; key_tags.len()];
+        let mut rank: Vec<HashMap<u32, u32>> = vec![HashMap::from([(all, 0)]); key_tags.len()];
+        // The (match key, slice tag rank) pairs with slices left to rewrite; the first is
         // next.
         let mut pending: BTreeSet<(u32, u32)> = BTreeSet::new();
-        for st in 0..shapes_by_tag.len() as u32 {
+        for st in 0..shapes_by_key.len() as u32 {
             if !matcher.get(all, st, &tags).is_empty() {
                 pending.insert((st, 0));
             }
@@ -338,7 +377,7 @@ impl Plan {
                     rewrite(class, program, rule, at(&p), keys, &mut tags, &mut created);
                     keys += 1;
                     let added = class.slices.len() - before;
-                    total_slices += added * shapes_by_tag[st].len();
+                    total_slices += added * shapes_by_key[st].len();
                     longest = longest.max(class.slices.len());
                 }
                 Choice::Shape => {
@@ -348,7 +387,7 @@ impl Plan {
                     // (old class, rule) → new class.
                     let mut split: HashMap<(u32, usize), u32> = HashMap::new();
                     let mut rule_keys: Vec<(usize, usize)> = Vec::new();
-                    for &si in &shapes_by_tag[st] {
+                    for &si in &shapes_by_key[st] {
                         let old = class_of[si];
                         if !classes[old as usize].has(slice_tag) {
                             continue;
@@ -422,7 +461,7 @@ impl Plan {
             histories: classes.into_iter().map(|c| c.history).collect(),
             lens,
             shape_tag_of,
-            tag_sizes: shapes_by_tag.iter().map(Vec::len).collect(),
+            tag_sizes,
             outputs: tags
                 .outputs
                 .into_iter()

@@ -118,9 +118,23 @@ pub struct CRule {
 }
 
 impl CRule {
-    /// Whether the rule takes shapes tagged `shape_tag`.
-    pub fn takes(&self, shape_tag: &str) -> bool {
-        takes_shape(&self.shape_tags, &self.shape_excluded, shape_tag, true)
+    /// Whether the rule takes a shape whose tags (its tag and aliases) are `shape_tags`.
+    pub fn takes(&self, shape_tags: &[String]) -> bool {
+        takes_shape(
+            &self.shape_tags,
+            &self.shape_excluded,
+            shape_tags.iter().map(String::as_str),
+            true,
+        )
+    }
+
+    /// Whether the rule names `tag` (or a pattern that matches it) among the shape tags it
+    /// takes or leaves out; `all` names no tag.
+    pub fn names_shape_tag(&self, tag: &str) -> bool {
+        self.shape_tags
+            .iter()
+            .chain(&self.shape_excluded)
+            .any(|t| t != "all" && tag_matches(t, tag))
     }
 }
 
@@ -178,16 +192,22 @@ impl Program {
         })
     }
 
-    /// Rules whose tags match a slice tag (base name) on a shape tag, highest priority
-    /// only.
-    pub fn candidates(&self, slice_tag: &str, shape_tag: &str) -> Vec<usize> {
+    /// Whether some rule names `tag` among its shape tags (see [`CRule::names_shape_tag`]):
+    /// an alias no rule names cannot change what a shape does.
+    pub fn names_shape_tag(&self, tag: &str) -> bool {
+        self.rules.iter().any(|r| r.names_shape_tag(tag))
+    }
+
+    /// Rules whose tags match a slice tag (base name) on a shape with tags `shape_tags`,
+    /// highest priority only.
+    pub fn candidates(&self, slice_tag: &str, shape_tags: &[String]) -> Vec<usize> {
         let Some(list) = self.by_slice_tag.get(slice_tag) else {
             return Vec::new();
         };
         let matching: Vec<usize> = list
             .iter()
             .copied()
-            .filter(|&i| self.rules[i].takes(shape_tag))
+            .filter(|&i| self.rules[i].takes(shape_tags))
             .collect();
         let Some(top) = matching.iter().map(|&i| self.rules[i].priority).max() else {
             return Vec::new();

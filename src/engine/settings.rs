@@ -52,6 +52,11 @@ pub struct Settings {
     pub tag_from: Option<TagFrom>,
     /// Which nodes the importer makes animated units, if the grammar says.
     pub units: Option<Units>,
+    /// How deep a group must sit to become a unit, if the grammar says (`unit_depth`).
+    pub unit_depth: Option<usize>,
+    /// Tag map file named by the grammar (`tags`), as written (callers resolve it relative
+    /// to the grammar file), and where it is written.
+    pub tags: Option<(String, Span)>,
     /// The `smoothing` directive's value, if any.
     pub smoothing: Option<(Value, Span)>,
 }
@@ -73,6 +78,8 @@ impl Default for Settings {
             choice: Choice::Group,
             tag_from: None,
             units: None,
+            unit_depth: None,
+            tags: None,
             smoothing: None,
         }
     }
@@ -189,6 +196,8 @@ pub fn from_grammar(grammar: &Grammar) -> Result<Settings, EngineError> {
             }
             "grid" => s.grid = grid_size(d)?,
             "scene" => s.scene = Some((word(d)?, one(d)?.span)),
+            "tags" => s.tags = Some((word(d)?, one(d)?.span)),
+            "unit_depth" => s.unit_depth = Some(positive(d)?.round() as usize),
             "width" => s.width = Some(pixels(d)?),
             "height" => s.height = Some(pixels(d)?),
             "lookup" => {

@@ -69,12 +69,20 @@ pub fn tag_matches(written: &str, tag: &str) -> bool {
 }
 
 /// Whether a rule's shape tags (with `all` taking every shape when `all_counts`), less its
-/// exclusions, take shapes tagged `tag`.
-pub fn takes_shape(included: &[String], excluded: &[String], tag: &str, all_counts: bool) -> bool {
+/// exclusions, take a shape whose tags are `tags` (its tag and its aliases): one of them
+/// must be named and none left out, so `all - background` leaves out a shape that answers
+/// to `background` under any of its names.
+pub fn takes_shape<'t>(
+    included: &[String],
+    excluded: &[String],
+    tags: impl IntoIterator<Item = &'t str> + Clone,
+    all_counts: bool,
+) -> bool {
+    let names = |t: &str| tags.clone().into_iter().any(|tag| tag_matches(t, tag));
     included
         .iter()
-        .any(|t| (all_counts && t == "all") || tag_matches(t, tag))
-        && !excluded.iter().any(|t| tag_matches(t, tag))
+        .any(|t| (all_counts && t == "all") || names(t))
+        && !excluded.iter().any(|t| names(t))
 }
 
 /// One production: `op(args) : [slice tags, shape tags] -> [outputs] priority=P weight=W`,
@@ -106,17 +114,29 @@ pub struct Rule {
 }
 
 impl Rule {
-    /// Whether the rule takes shapes tagged `tag` (`all` taking every shape when
+    /// Whether the rule takes a shape with tags `tags` (`all` taking every shape when
     /// `all_counts`): [`takes_shape`] on its tags as written.
-    pub fn takes_shape(&self, tag: &str, all_counts: bool) -> bool {
+    pub fn takes_shape<'t>(
+        &self,
+        tags: impl IntoIterator<Item = &'t str> + Clone,
+        all_counts: bool,
+    ) -> bool {
         let names =
             |tags: &[TagRef]| -> Vec<String> { tags.iter().map(|t| t.name.clone()).collect() };
         takes_shape(
             &names(&self.shape_tags),
             &names(&self.shape_excluded),
-            tag,
+            tags,
             all_counts,
         )
+    }
+
+    /// Whether the rule names `tag` (or a pattern matching it) among the shape tags it
+    /// takes or leaves out; `all` names no tag.
+    pub fn names_shape_tag(&self, tag: &str) -> bool {
+        (self.shape_tags.iter())
+            .chain(&self.shape_excluded)
+            .any(|t| t.name != "all" && tag_matches(&t.name, tag))
     }
 }
 

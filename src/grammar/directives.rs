@@ -127,6 +127,18 @@ pub const DIRECTIVES: &[DirectiveSpec] = &[
         summary: "what the animated units are (as the CLI's --units)",
     },
     DirectiveSpec {
+        name: "unit_depth",
+        kind: DirectiveKind::Count,
+        default: "1",
+        summary: "how deep a group must sit in the SVG to become a unit (as the CLI's --unit-depth)",
+    },
+    DirectiveSpec {
+        name: "tags",
+        kind: DirectiveKind::Path,
+        default: "none",
+        summary: "tag map giving SVG elements tags and units by selector, relative to the grammar file (as the CLI's --tags)",
+    },
+    DirectiveSpec {
         name: "smoothing",
         kind: DirectiveKind::Expr,
         default: "none",

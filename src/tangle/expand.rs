@@ -35,6 +35,9 @@ use crate::warning::Warning;
 #[derive(Clone, Debug)]
 struct TShape {
     tag: String,
+    /// The aliases of an imported shape that some spatial rule names (others cannot change
+    /// what happens to it, and would only split its batch).
+    aliases: Vec<String>,
     group: usize,
     sid: usize,
     region: Region,
@@ -129,12 +132,12 @@ fn unit_geometry(
     Some((normalize(&rings, rule, grid), paint))
 }
 
-/// The rules applicable to a tag, best priority only.
-fn candidates<'r>(rules: &[&'r Rule], tag: &str, imported: bool) -> Vec<(usize, &'r Rule)> {
+/// The rules applicable to a shape with tags `tags`, best priority only.
+fn candidates<'r>(rules: &[&'r Rule], tags: &[String], imported: bool) -> Vec<(usize, &'r Rule)> {
     let matching: Vec<(usize, &Rule)> = rules
         .iter()
         .enumerate()
-        .filter(|(_, r)| r.spatial && r.takes_shape(tag, imported))
+        .filter(|(_, r)| r.spatial && r.takes_shape(tags.iter().map(String::as_str), imported))
         .map(|(i, r)| (i, *r))
         .collect();
     let Some(best) = matching.iter().map(|(_, r)| r.priority).max() else {
@@ -188,7 +191,11 @@ pub fn expand(
 ) -> Result<(Scene, TangleStats), TangleError> {
     let spatial: Vec<&Rule> = rules.iter().copied().filter(|r| r.spatial).collect();
     // Whether some spatial rule takes a tag (`all` only imported shapes).
-    let consumed = |tag: &str, imported: bool| spatial.iter().any(|r| r.takes_shape(tag, imported));
+    let consumed = |tags: &[String], imported: bool| {
+        spatial
+            .iter()
+            .any(|r| r.takes_shape(tags.iter().map(String::as_str), imported))
+    };
     let mut stats = TangleStats {
         rule_uses: vec![0; spatial.len()],
         ..TangleStats::default()
@@ -213,7 +220,14 @@ pub fn expand(
     let mut roots: Vec<(usize, usize)> = Vec::new(); // (scene shape, arena node)
     let mut pending: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
     for (u, shape) in scene.shapes.iter().enumerate() {
-        if !consumed(&shape.tag, true) {
+        let aliases: Vec<String> = (shape.aliases.iter())
+            .filter(|a| spatial.iter().any(|r| r.names_shape_tag(a)))
+            .cloned()
+            .collect();
+        let tags: Vec<String> = std::iter::once(shape.tag.clone())
+            .chain(aliases.iter().cloned())
+            .collect();
+        if !consumed(&tags, true) {
             continue;
         }
         let Some((region, paint)) = unit_geometry(scene, shape, &grid, tolerance) else {
@@ -238,6 +252,7 @@ pub fn expand(
         }
         let node = arena.push(TShape {
             tag: shape.tag.clone(),
+            aliases,
             group: shape.group,
             sid: shape.id,
             region,
@@ -257,7 +272,8 @@ pub fn expand(
 
     while let Some((_, nodes)) = pending.pop_first() {
         // One batch per tag, in order of first appearance (a group normally has one tag).
-        let mut batches: Vec<(String, bool, Vec<usize>)> = Vec::new();
+        // A batch's tags: the shapes' tag and the aliases rules name.
+        let mut batches: Vec<(Vec<String>, bool, Vec<usize>)> = Vec::new();
         // All shapes of a group share its key and depth.
         let (group_key, depth) = {
             let s = arena.shapes[nodes[0]]
@@ -271,16 +287,22 @@ pub fn expand(
                 .expect("pending shapes are unexpanded");
             match batches
                 .iter_mut()
-                .find(|(t, imp, _)| *t == s.tag && *imp == s.imported)
+                .find(|(t, imp, _)| t[0] == s.tag && t[1..] == s.aliases[..] && *imp == s.imported)
             {
                 Some(b) => b.2.push(n),
-                None => batches.push((s.tag.clone(), s.imported, vec![n])),
+                None => {
+                    let tags = std::iter::once(s.tag.clone())
+                        .chain(s.aliases.iter().cloned())
+                        .collect();
+                    batches.push((tags, s.imported, vec![n]));
+                }
             }
         }
-        for (tag, imported, batch) in batches {
-            let cands = candidates(&spatial, &tag, imported);
+        for (tags, imported, batch) in batches {
+            let cands = candidates(&spatial, &tags, imported);
             let step = stats.steps;
-            let batch_key = key(&[group_key, hash_str(&tag), imported as u64]);
+            // Keyed by the tag alone unless rules name aliases, so unnamed ids change nothing.
+            let batch_key = key(&[group_key, hash_str(&tags.join("\0")), imported as u64]);
             let Some((rule_index, rule)) = choose(&cands, unit(key(&[CHOICE, batch_key]))) else {
                 continue;
             };
@@ -401,9 +423,10 @@ pub fn expand(
                     };
                     let sid = next_sid.entry(g).or_insert(0);
                     let tag = rule.outputs[piece.slot % rule.outputs.len()].name.clone();
-                    let terminal = !consumed(&tag, false);
+                    let terminal = !consumed(std::slice::from_ref(&tag), false);
                     let shape = TShape {
                         tag,
+                        aliases: Vec::new(),
                         group: g,
                         sid: *sid,
                         region: piece.region,
@@ -563,6 +586,7 @@ fn renumber(
                 });
                 Shape {
                     tag: p.tag.clone(),
+                    aliases: Vec::new(),
                     id: 0,
                     group: p.group,
                     z: 0,

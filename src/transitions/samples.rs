@@ -188,6 +188,19 @@ pub fn sample(
     for list in by_tag.values_mut() {
         list.sort_by_key(|&i| scene.shapes[i].id);
     }
+    // An alias (an element id, a tag map's tag) names its shapes in document order, where
+    // no shape has it as its tag.
+    let mut by_alias: HashMap<&str, Vec<usize>> = HashMap::new();
+    for (i, s) in scene.shapes.iter().enumerate() {
+        for a in s
+            .aliases
+            .iter()
+            .filter(|a| !by_tag.contains_key(a.as_str()))
+        {
+            by_alias.entry(a.as_str()).or_default().push(i);
+        }
+    }
+    by_tag.extend(by_alias);
     let all: Vec<usize> = (0..scene.shapes.len()).collect();
     let anchor = |i: usize| {
         let s = &scene.shapes[i];

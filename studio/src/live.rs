@@ -88,7 +88,8 @@ const MAX_SEEDS: usize = 64;
 
 /// Runs `text` on the scene, with `seed` over the grammar's.
 /// Every shape of `scene` as `/api/state` and `gmotion check --shapes --json` list them:
-/// `[{tag, id, z, bbox: [x, y, w, h], centroid: [x, y]}]`, in scene order.
+/// `[{tag, aliases, id, z, bbox: [x, y, w, h], centroid: [x, y]}]`, in scene order
+/// (`aliases`: the other tags the shape answers to, such as its element's id).
 pub fn shapes_json(scene: &Scene) -> Value {
     scene
         .shapes
@@ -96,6 +97,7 @@ pub fn shapes_json(scene: &Scene) -> Value {
         .map(|s| {
             json!({
                 "tag": s.tag,
+                "aliases": s.aliases,
                 "id": s.id,
                 "z": s.z,
                 "bbox": [s.bbox.x0, s.bbox.y0, s.bbox.width(), s.bbox.height()],

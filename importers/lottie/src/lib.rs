@@ -239,9 +239,29 @@ fn scene_of(doc: &Document, frame: f64) -> model::Result<Built> {
         let m = measure(&node, Affine::IDENTITY);
         let at = worlds[i] * Point::ORIGIN;
         let tag = tags::layer_tag(&l.nm, l.kind);
+        // The layer's own name as written (counter kept), then its parents', nearest first,
+        // so a rule can name one layer of several or a rig that moves several.
+        let mut aliases: Vec<String> = Vec::new();
+        let mut at_layer = Some(i);
+        let mut hops = 0;
+        while let Some(j) = at_layer.filter(|_| hops <= layers.len()) {
+            let parent = &layers[j];
+            let names = [
+                gmotion::tagging::grammar_name(parent.nm.trim()),
+                Some(tags::layer_tag(&parent.nm, parent.kind)),
+            ];
+            for name in names.into_iter().flatten() {
+                if name != tag && !aliases.contains(&name) {
+                    aliases.push(name);
+                }
+            }
+            at_layer = parent.parent.and_then(|p| by_ind.get(&p).copied());
+            hops += 1;
+        }
         let id = counts.entry(tag.clone()).or_default();
         shapes.push(Shape {
             tag,
+            aliases,
             id: *id,
             group: 0,
             z: index,

@@ -22,6 +22,8 @@ use gmotion::scene::{
 /// An animated unit found during conversion.
 pub(super) struct Unit {
     pub tag: String,
+    /// Ids it answers to besides its tag ([`Source::aliases`]).
+    pub aliases: Vec<String>,
     pub node_path: Vec<usize>,
     pub parent_transform: Affine,
 }
@@ -43,7 +45,7 @@ pub(super) fn convert(
     let mut c = Converter {
         src,
         fonts,
-        opts: *opts,
+        opts: opts.clone(),
         warnings: Vec::new(),
         warned: HashSet::new(),
         ids: HashSet::new(),
@@ -257,11 +259,22 @@ impl<'s, 'a> Converter<'s, 'a> {
         id.to_string()
     }
 
-    fn register(&mut self, tag: &str, parent_transform: Affine, index: usize) -> usize {
+    /// Registers a unit tagged `tag` on source element `elem` (drawn under `scope`'s
+    /// element), at child `index` of the current group.
+    fn register(
+        &mut self,
+        tag: &str,
+        elem: Option<usvg::roxmltree::Node<'s, 'a>>,
+        scope: Scope<'s>,
+        parent_transform: Affine,
+        index: usize,
+    ) -> usize {
         let mut node_path = self.path.clone();
         node_path.push(index);
+        let aliases = elem.map_or_else(Vec::new, |e| self.src.aliases(e, scope.elem(), tag));
         self.units.push(Unit {
             tag: tag.to_string(),
+            aliases,
             node_path,
             parent_transform,
         });
@@ -306,9 +319,13 @@ impl<'s, 'a> Converter<'s, 'a> {
         scope: Scope<'s>,
     ) -> Option<&'s str> {
         let from = self.opts.tag_from;
+        if kind == GroupKind::Element && self.src.forced_unit(elem) {
+            return Some(scope.tag(elem.tag_name().name()));
+        }
         match (self.opts.units, kind) {
             (Units::Paths, _) => None,
             (_, GroupKind::Text) => Some(scope.tag("text")),
+            (_, GroupKind::Element) if Source::depth(elem) < self.opts.unit_depth => None,
             (Units::Auto, GroupKind::Element) => self.src.own_tag(elem, from, false),
             (Units::Groups, GroupKind::Element) => self.src.own_tag(elem, from, true),
         }
@@ -389,7 +406,7 @@ impl<'s, 'a> Converter<'s, 'a> {
             self.children(g, &mut out, inner);
             self.path.pop();
             if let Some(tag) = unit_tag.filter(|_| has_path(&out)) {
-                out.unit = Some(self.register(tag, ctx.abs, index));
+                out.unit = Some(self.register(tag, elem, ctx.scope, ctx.abs, index));
             }
             if !out.children.is_empty() {
                 dst.children.push(Node::Group(out));
@@ -439,7 +456,8 @@ impl<'s, 'a> Converter<'s, 'a> {
         if ctx.units {
             let scope = elem.map_or(ctx.scope, |e| self.src.scope(e, ctx.scope, from, limit));
             let name = elem.map_or("path", |e| e.tag_name().name());
-            node.unit = Some(self.register(scope.tag(name), ctx.abs, dst.children.len()));
+            let index = dst.children.len();
+            node.unit = Some(self.register(scope.tag(name), elem, ctx.scope, ctx.abs, index));
         }
         dst.children.push(Node::Path(node));
     }

@@ -23,6 +23,7 @@ mod access;
 mod convert;
 pub mod fonts;
 mod source;
+pub mod tagmap;
 pub mod tags;
 
 use std::path::{Path, PathBuf};
@@ -36,12 +37,29 @@ use gmotion::scene::{Scene, Shape};
 pub use gmotion::tagging::{TagFrom, Units};
 
 /// How to import.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ImportOptions {
     /// Where tags come from.
     pub tag_from: TagFrom,
     /// Which nodes are animated units.
     pub units: Units,
+    /// How deep a group must sit to become a unit: 1 (the default) lets top-level groups
+    /// be units, 2 only the groups inside them, and so on (`--unit-depth N`). Shallower
+    /// groups are looked into; paths outside any unit are units of their own.
+    pub unit_depth: usize,
+    /// Tags and units given from outside the file (`--tags FILE`, see [`tagmap`]).
+    pub tag_map: Option<std::sync::Arc<tagmap::TagMap>>,
+}
+
+impl Default for ImportOptions {
+    fn default() -> ImportOptions {
+        ImportOptions {
+            tag_from: TagFrom::default(),
+            units: Units::default(),
+            unit_depth: 1,
+            tag_map: None,
+        }
+    }
 }
 
 /// What an SVG may make gmotion read, and how much: the file-access policy and the limits
@@ -227,12 +245,16 @@ fn parse_in(
     policy: &Policy,
 ) -> Result<Imported, ImportError> {
     source::check_entities(text, source_name, policy.max_entity_bytes)?;
-    let src = source::Source::parse(
+    let mut src = source::Source::parse(
         text,
         source_name,
         policy.max_xml_nodes,
         policy.max_css_rules,
     )?;
+    let unmatched = opts
+        .tag_map
+        .as_deref()
+        .map_or_else(Vec::new, |map| src.apply(map));
     let refused = std::sync::Arc::new(std::sync::Mutex::new(Vec::<(String, String)>::new()));
     let mut uopt = usvg::Options {
         resources_dir: dir.map(Path::to_path_buf),
@@ -253,6 +275,7 @@ fn parse_in(
     })?;
 
     let mut converted = convert::convert(&tree, &src, opts, &uopt.fontdb);
+    converted.warnings.extend(unmatched);
     let refused = std::mem::take(&mut *refused.lock().unwrap_or_else(|e| e.into_inner()));
     for (href, why) in refused {
         converted.warnings.push((
@@ -295,6 +318,7 @@ fn parse_in(
         shapes.push(Shape {
             id: *count,
             tag: unit.tag,
+            aliases: unit.aliases,
             group: 0,
             z,
             node_path: unit.node_path,

@@ -10,6 +10,7 @@ use std::collections::{HashMap, HashSet};
 use usvg::roxmltree::{self, Document, Node, NodeId};
 
 use super::ImportError;
+use crate::tagmap::{Given, TagMap};
 use crate::tags::{TagFrom, first_class, strip_counter_among};
 
 const SVG_NS: &str = "http://www.w3.org/2000/svg";
@@ -40,6 +41,8 @@ pub(super) struct Source<'a> {
     prefix: String,
     synthetic: Vec<NodeId>,
     by_id: HashMap<String, NodeId>,
+    /// What a tag map gives elements ([`Source::apply`]).
+    given: HashMap<NodeId, Given>,
 }
 
 /// The tag sources seen on the way from the root to a node (nearest wins).
@@ -54,6 +57,12 @@ pub(super) struct Scope<'a> {
 }
 
 impl<'a> Scope<'a> {
+    /// The source element this scope was last extended with (for a `use` instance's
+    /// shapes, the `use`).
+    pub fn elem(&self) -> Option<NodeId> {
+        self.elem
+    }
+
     /// The tag: the explicit one, else the layer name, else `name`.
     pub fn tag<'b>(&self, name: &'b str) -> &'b str
     where
@@ -309,7 +318,30 @@ impl<'a> Source<'a> {
             prefix,
             synthetic,
             by_id,
+            given: HashMap::new(),
         })
+    }
+
+    /// Gives elements the tags and units `map` assigns; returns a warning for each of its
+    /// lines that matched nothing, as `(place, message)`.
+    pub fn apply(&mut self, map: &TagMap) -> Vec<(String, String)> {
+        let mut matched = vec![false; map.selectors()];
+        for node in self.doc.descendants().filter(|n| is_svg(*n)) {
+            if let Some(given) = map.given(node, &mut matched) {
+                self.given.insert(node.id(), given);
+            }
+        }
+        map.unmatched(&matched)
+    }
+
+    /// Whether a tag map made `node` a unit.
+    pub fn forced_unit(&self, node: Node) -> bool {
+        self.given.get(&node.id()).is_some_and(|g| g.unit)
+    }
+
+    /// How deep `node` sits: 1 for a child of the root `<svg>`, 2 inside that, and so on.
+    pub fn depth(node: Node) -> usize {
+        node.ancestors().skip(1).filter(|n| n.is_element()).count()
     }
 
     /// Whether a usvg id is one this module invented.
@@ -374,6 +406,9 @@ impl<'a> Source<'a> {
 
     /// The explicit tag on `node`, reading `inkscape:label` only with `labels`.
     fn explicit<'s>(&'s self, node: Node<'s, 'a>, from: TagFrom, labels: bool) -> Option<&'s str> {
+        if let Some(tag) = self.given.get(&node.id()).and_then(|g| g.tag.as_deref()) {
+            return Some(tag);
+        }
         let nonempty = |v: Option<&'s str>| v.map(str::trim).filter(|v| !v.is_empty());
         let data = || nonempty(node.attribute("data-tag"));
         let class = || node.attribute("class").and_then(first_class);
@@ -445,7 +480,8 @@ impl<'a> Source<'a> {
             if outer.is_some_and(|o| o.ancestors().any(|a| a == node)) {
                 break;
             }
-            if explicit.is_none() && from.reads_attributes() {
+            // A tag map's tags count whatever `from` says (`explicit` knows).
+            if explicit.is_none() {
                 explicit = self.explicit_tag(node, from);
             }
             if layer.is_none() && from.reads_layers() {
@@ -458,6 +494,35 @@ impl<'a> Source<'a> {
         scope.explicit = explicit.or(parent.explicit);
         scope.layer = layer.or(parent.layer);
         scope
+    }
+
+    /// The ids a unit on `elem` answers to besides its tag ([`gmotion::scene::Shape::aliases`]):
+    /// the element's own id and those of the elements around it, nearest first, each also
+    /// without its counter where that merges no distinct layers (`eye_1_` is also `eye`,
+    /// `Layer_1` stays `Layer_1`). A `use` instance's shapes sit in the referenced content,
+    /// so `outer` (the `use`, or any element the unit is drawn under) adds its ids and its
+    /// ancestors'. Invented ids are never aliases; `tag` itself is left out.
+    pub fn aliases(&self, elem: Node<'_, 'a>, outer: Option<NodeId>, tag: &str) -> Vec<String> {
+        let mut out: Vec<String> = Vec::new();
+        let outer = outer.and_then(|id| self.doc.get_node(id));
+        let chain = elem
+            .ancestors()
+            .chain(outer.into_iter().flat_map(|o| o.ancestors()));
+        for node in chain.filter(|n| n.is_element()) {
+            let Some(id) = node.attribute("id") else {
+                continue;
+            };
+            if self.by_id.get(id) != Some(&node.id()) {
+                continue;
+            }
+            let stem = strip_counter_among(id, |stem| self.by_id.contains_key(stem));
+            for name in [id, stem] {
+                if name != tag && !out.iter().any(|a| a == name) {
+                    out.push(name.to_string());
+                }
+            }
+        }
+        out
     }
 
     /// The element a `use` references.

@@ -1,0 +1,355 @@
+//! Files shaped like real Illustrator, Figma and Inkscape exports, through the real binary:
+//! element ids as tags (a rule on one id moves that shape and nothing else), counters that
+//! tell copies apart without merging layers, set differences on ids, tag maps with CSS-like
+//! selectors (`--tags` and the grammar's `tags`), and the unit depth.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_gmotion"))
+}
+
+fn dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("gmotion-designer-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Runs and returns (success, stdout, stderr).
+fn run(cmd: &mut Command) -> (bool, String, String) {
+    let out = cmd.output().unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// An Illustrator 27 export: generator comment, style classes, two layers, ids on some
+/// shapes, copies of `eye` made unique with Illustrator's `_1_` suffix.
+const ILLUSTRATOR: &str = r##"<?xml version="1.0" encoding="utf-8"?>
+<!-- Generator: Adobe Illustrator 27.0.0, SVG Export Plug-In . SVG Version: 6.00 Build 0)  -->
+<svg version="1.1" id="Layer_1" xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink" x="0px" y="0px"
+	 viewBox="0 0 200 120" style="enable-background:new 0 0 200 120;" xml:space="preserve">
+<style type="text/css">
+	.st0{fill:#E30613;}
+	.st1{fill:#1D71B8;}
+</style>
+<g id="Layer_1_1_">
+	<rect x="10" y="10" class="st0" width="30" height="30"/>
+	<rect id="tile_1" x="50" y="10" class="st1" width="30" height="30"/>
+</g>
+<g id="Layer_2">
+	<circle id="eye_1_" class="st0" cx="120" cy="25" r="10"/>
+	<circle id="eye" class="st0" cx="160" cy="25" r="10"/>
+</g>
+</svg>
+"##;
+
+/// A Figma export: a frame whose children are icon groups of several paths, Figma's
+/// `Vector` ids, and a frame id with a space.
+const FIGMA: &str = r##"<svg width="200" height="120" viewBox="0 0 200 120" fill="none" xmlns="http://www.w3.org/2000/svg">
+<g id="Frame 1">
+<rect width="200" height="120" fill="white"/>
+<g id="icon-home">
+<path id="Vector" d="M20 60L40 40L60 60V90H20V60Z" fill="#333333"/>
+<path id="Vector_2" d="M35 75H45V90H35V75Z" fill="#FFCC00"/>
+</g>
+<g id="icon-user">
+<circle id="Ellipse 1" cx="140" cy="55" r="12" fill="#333333"/>
+<path id="Vector_3" d="M120 90C120 78 160 78 160 90H120Z" fill="#333333"/>
+</g>
+</g>
+</svg>
+"##;
+
+/// Writes `files` into a fresh folder and returns it.
+fn files(name: &str, files: &[(&str, &str)]) -> PathBuf {
+    let d = dir(name);
+    for (file, text) in files {
+        std::fs::write(d.join(file), text).unwrap();
+    }
+    d
+}
+
+/// The units `check --shapes --json` lists: (tag, aliases) in scene order.
+fn units(d: &Path, scene: &str, extra: &[&str]) -> Vec<(String, Vec<String>)> {
+    let (ok, out, err) = run(bin()
+        .current_dir(d)
+        .args(["check", "--shapes", "--json", scene])
+        .args(extra));
+    assert!(ok, "{err}");
+    let json: serde_json::Value = serde_json::from_str(&out).unwrap();
+    json.as_array()
+        .unwrap()
+        .iter()
+        .map(|u| {
+            let aliases = u["aliases"].as_array().unwrap();
+            (
+                u["tag"].as_str().unwrap().to_string(),
+                aliases
+                    .iter()
+                    .map(|a| a.as_str().unwrap().to_string())
+                    .collect(),
+            )
+        })
+        .collect()
+}
+
+/// The animation rendered by the binary at `time` (RGBA, width 200).
+fn frame(d: &Path, scene: &str, grammar: &str, time: f64, extra: &[&str]) -> Vec<u8> {
+    let out = d.join(format!("frame-{time}.png"));
+    let (ok, _, err) = run(bin()
+        .current_dir(d)
+        .args(["animate", scene, grammar, "-q", "--width", "200", "--time"])
+        .arg(time.to_string())
+        .arg("-o")
+        .arg(&out)
+        .args(extra));
+    assert!(ok, "{err}");
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&out).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!(info.width, 200);
+    buf.truncate(info.buffer_size());
+    buf
+}
+
+/// The bounding box `[x0, y0, x1, y1)` of the pixels that differ between two frames.
+fn changed(a: &[u8], b: &[u8]) -> Option<[usize; 4]> {
+    let mut bbox: Option<[usize; 4]> = None;
+    for (i, (pa, pb)) in a.chunks(4).zip(b.chunks(4)).enumerate() {
+        if pa.iter().zip(pb).any(|(x, y)| x.abs_diff(*y) > 8) {
+            let (x, y) = (i % 200, i / 200);
+            let r = bbox.get_or_insert([x, y, x + 1, y + 1]);
+            *r = [r[0].min(x), r[1].min(y), r[2].max(x + 1), r[3].max(y + 1)];
+        }
+    }
+    bbox
+}
+
+/// Whether box `a` lies within `b` grown by a pixel (anti-aliasing).
+fn within(a: [usize; 4], b: [f64; 4]) -> bool {
+    a[0] as f64 >= b[0] - 1.0
+        && a[1] as f64 >= b[1] - 1.0
+        && a[2] as f64 <= b[2] + 1.0
+        && a[3] as f64 <= b[3] + 1.0
+}
+
+#[test]
+fn an_element_id_is_a_tag_and_a_rule_on_it_moves_that_shape_alone() {
+    let d = files(
+        "id",
+        &[
+            ("art.svg", ILLUSTRATOR),
+            (
+                "move.gm",
+                "duration 1s\nloop false\nanimate(affine, world, 0, translate(0, 60)) : [all, tile_1] -> [down]\n",
+            ),
+        ],
+    );
+    let (a, b) = (
+        frame(&d, "art.svg", "move.gm", 0.0, &[]),
+        frame(&d, "art.svg", "move.gm", 1.0, &[]),
+    );
+    // The tile (50..80, 10..40) moved 60 px down; nothing else changed.
+    let moved = changed(&a, &b).expect("the tile moved");
+    assert!(within(moved, [50.0, 10.0, 80.0, 100.0]), "{moved:?}");
+    assert!(moved[3] >= 99 && moved[1] <= 11, "{moved:?}");
+
+    // The same through a Figma id, and a multi-word one as a string.
+    let d = files(
+        "figma-id",
+        &[
+            ("art.svg", FIGMA),
+            (
+                "move.gm",
+                "duration 1s\nloop false\nanimate(affine, world, 0, translate(0, 20)) : [all, \"Ellipse 1\"] -> [down]\n",
+            ),
+        ],
+    );
+    let moved = changed(
+        &frame(&d, "art.svg", "move.gm", 0.0, &[]),
+        &frame(&d, "art.svg", "move.gm", 1.0, &[]),
+    )
+    .expect("the ellipse moved");
+    assert!(within(moved, [128.0, 43.0, 152.0, 87.0]), "{moved:?}");
+}
+
+#[test]
+fn a_layer_left_out_by_id_stays_still_while_the_rest_moves() {
+    let d = files(
+        "difference",
+        &[
+            ("art.svg", ILLUSTRATOR),
+            (
+                "move.gm",
+                "duration 1s\nloop false\nanimate(affine, world, 0, translate(0, 60)) : [all, all - Layer_2] -> [down]\n",
+            ),
+        ],
+    );
+    let moved = changed(
+        &frame(&d, "art.svg", "move.gm", 0.0, &[]),
+        &frame(&d, "art.svg", "move.gm", 1.0, &[]),
+    )
+    .expect("Layer_1 moved");
+    // Layer_1's two tiles span x 10..80; Layer_2's eyes (x 110..170) did not change.
+    assert!(within(moved, [10.0, 10.0, 80.0, 100.0]), "{moved:?}");
+}
+
+#[test]
+fn ids_and_their_counters_are_aliases_that_keep_layers_apart() {
+    let d = files("aliases", &[("art.svg", ILLUSTRATOR), ("figma.svg", FIGMA)]);
+    let ai = units(&d, "art.svg", &[]);
+    // Tags from the style classes; ids (and Illustrator's `_1_` copies without their
+    // suffix) and enclosing layers as aliases.
+    assert_eq!(ai.len(), 4);
+    assert_eq!(ai[1].0, "st1");
+    assert!(ai[1].1.contains(&"tile_1".to_string()), "{ai:?}");
+    assert!(ai[2].1.contains(&"eye_1_".to_string()) && ai[2].1.contains(&"eye".to_string()));
+    assert!(ai[3].1.contains(&"eye".to_string()), "{ai:?}");
+    assert!(ai[2].1.contains(&"Layer_2".to_string()));
+    assert!(!ai[0].1.contains(&"Layer_2".to_string()), "{ai:?}");
+    // Layers stay distinct: no shape of Layer_2 answers to a Layer_1 name and vice versa.
+    assert!(ai[0].1.iter().all(|a| a.starts_with("Layer_1")), "{ai:?}");
+
+    let figma = units(&d, "figma.svg", &[]);
+    let vectors: Vec<_> = figma
+        .iter()
+        .filter(|u| u.1.contains(&"Vector".to_string()))
+        .collect();
+    // `Vector_2` and `Vector_3` are Figma's copies of `Vector`: all three answer to it.
+    assert_eq!(vectors.len(), 3, "{figma:?}");
+    // A rule naming an alias that no shape has is still an error with a suggestion.
+    std::fs::write(
+        d.join("typo.gm"),
+        "animate(affine, world, 0, translate(0, 20)) : [all, tile_2] -> [m]\n",
+    )
+    .unwrap();
+    let (ok, _, err) = run(bin().current_dir(&d).args(["check", "typo.gm", "art.svg"]));
+    assert!(!ok);
+    assert!(err.contains("tile_1"), "{err}");
+}
+
+#[test]
+fn a_tag_map_gives_tags_and_makes_units_from_the_command_line_or_the_grammar() {
+    // A letter drawn as a stem and a dot must move as one: a map makes each letter group
+    // one unit without editing the SVG.
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 120">
+<!-- Generator: Adobe Illustrator 27.0.0 -->
+<g id="Layer_1">
+<g id="letter_i_1_"><rect x="20" y="40" width="10" height="50"/><circle cx="25" cy="25" r="6"/></g>
+<g id="letter_j"><rect x="60" y="40" width="10" height="60"/><circle cx="65" cy="25" r="6"/></g>
+<rect id="bar" class="st1" x="100" y="90" width="80" height="10" fill="#1D71B8"/>
+</g>
+</svg>"##;
+    let map = "# which groups are letters\n#letter_*      -> letter\n.st1, #nothing -> underline   # Illustrator's style class\n";
+    let d = files("map", &[("art.svg", svg), ("map.tags", map)]);
+    let without = units(&d, "art.svg", &[]);
+    assert_eq!(
+        without.len(),
+        5,
+        "four letter parts and the bar: {without:?}"
+    );
+    let with = units(&d, "art.svg", &["--tags", "map.tags"]);
+    let tags: Vec<&str> = with.iter().map(|u| u.0.as_str()).collect();
+    assert_eq!(tags, ["letter", "letter", "underline"]);
+
+    // A rule on the map's tag turns each letter as one piece: the dot turns around the
+    // letter's centre, so it moves, which it would not as a unit of its own.
+    std::fs::write(
+        d.join("turn.gm"),
+        "duration 1s\nloop false\ntags map.tags\nanimate(affine, local, 0, rotate(180)) : [all, letter] -> [t]\n",
+    )
+    .unwrap();
+    let moved = changed(
+        &frame(&d, "art.svg", "turn.gm", 0.0, &[]),
+        &frame(&d, "art.svg", "turn.gm", 1.0, &[]),
+    )
+    .expect("the letters turned");
+    // The i's dot (y 19..31) swings below the stem: changed pixels reach y > 90.
+    assert!(moved[1] <= 20 && moved[3] >= 95, "{moved:?}");
+    assert!(moved[2] <= 82, "the underline stayed: {moved:?}");
+
+    // `unit` makes a group one unit keeping its tag.
+    std::fs::write(d.join("unit.tags"), "g#Layer_1 > g -> unit\n").unwrap();
+    let unit = units(&d, "art.svg", &["--tags", "unit.tags"]);
+    assert_eq!(unit.len(), 3, "{unit:?}");
+
+    // A line that matches nothing is a warning naming it; a bad selector an error that
+    // says where.
+    let (ok, _, err) = run(bin()
+        .current_dir(&d)
+        .args(["check", "--shapes", "art.svg", "--tags", "map.tags"]));
+    assert!(ok);
+    assert!(
+        err.contains("map.tags:3") && err.contains("#nothing"),
+        "{err}"
+    );
+    std::fs::write(
+        d.join("bad.tags"),
+        "#letter_*  -> letter\ng > > rect -> x\n",
+    )
+    .unwrap();
+    let (ok, _, err) = run(bin()
+        .current_dir(&d)
+        .args(["check", "--shapes", "art.svg", "--tags", "bad.tags"]));
+    assert!(!ok);
+    assert!(err.contains("bad.tags:2:5:"), "{err}");
+    // The grammar's map is looked for beside the grammar; a missing one is an error at
+    // the directive.
+    std::fs::write(
+        d.join("lost.gm"),
+        "tags lost.tags\nanimate(affine, local, 0, rotate(90)) : [all, all] -> [t]\n",
+    )
+    .unwrap();
+    let (ok, _, err) = run(bin()
+        .current_dir(&d)
+        .args(["animate", "art.svg", "lost.gm", "-o", "out.json"]));
+    assert!(!ok);
+    assert!(
+        err.contains("lost.gm:1:") && err.contains("lost.tags"),
+        "{err}"
+    );
+    assert!(!d.join("out.json").exists());
+}
+
+#[test]
+fn the_unit_depth_takes_the_groups_inside_a_frame() {
+    let d = files(
+        "depth",
+        &[
+            ("art.svg", FIGMA),
+            (
+                "g.gm",
+                "units groups\nunit_depth 2\nanimate(affine, local, 0, rotate(90)) : [all, all] -> [t]\n",
+            ),
+        ],
+    );
+    let outer = units(&d, "art.svg", &["--units", "groups"]);
+    assert_eq!(
+        outer.len(),
+        1,
+        "the frame is the one outermost group: {outer:?}"
+    );
+    let inner = units(&d, "art.svg", &["--units", "groups", "--unit-depth", "2"]);
+    let tags: Vec<&str> = inner.iter().map(|u| u.0.as_str()).collect();
+    // The frame's background is a path outside any group at that depth: its own unit.
+    assert_eq!(tags, ["Frame 1", "icon-home", "icon-user"], "{inner:?}");
+    // The grammar's directives say the same.
+    let (ok, out, err) = run(bin().current_dir(&d).args(["check", "g.gm", "art.svg"]));
+    assert!(ok, "{err}");
+    assert!(out.contains("scene: 3 shapes"), "{out}");
+    // A Lottie scene has layers, not SVG groups: the SVG-only options say so.
+    let lottie =
+        crate::support::root().join("tests/conformance/lottie-corpus/lottie-web__adrock.json");
+    let (ok, _, err) = run(bin()
+        .current_dir(&d)
+        .args(["check", "--shapes", "--unit-depth", "2"])
+        .arg(lottie));
+    assert!(!ok);
+    assert!(err.contains("--unit-depth"), "{err}");
+}
