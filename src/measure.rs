@@ -88,6 +88,14 @@ impl Accumulator {
                     self.stroke_width.get_or_insert(stroke.width);
                 }
             }
+            // An image counts as its rectangle, filled: it paints every pixel of it.
+            Node::Image(i) => {
+                let path = ts * i.rect().to_path(0.1);
+                if let Some(bounds) = path_bounds(&path) {
+                    self.bbox = Some(self.bbox.map_or(bounds, |b| b.union(bounds)));
+                    self.add_filled(&path, bounds, FillRule::NonZero);
+                }
+            }
         }
     }
 

@@ -9,6 +9,7 @@
 use std::collections::HashMap;
 use std::sync::Arc;
 
+use base64::Engine as _;
 use kurbo::{Affine, BezPath, Point, Rect};
 
 use crate::color::Color;
@@ -73,6 +74,8 @@ pub enum Node {
     Group(Group),
     /// A painted path.
     Path(PathNode),
+    /// A raster image.
+    Image(ImageNode),
 }
 
 impl Node {
@@ -81,6 +84,7 @@ impl Node {
         match self {
             Node::Group(g) => &g.id,
             Node::Path(p) => &p.id,
+            Node::Image(i) => &i.id,
         }
     }
 
@@ -89,6 +93,16 @@ impl Node {
         match self {
             Node::Group(g) => g.unit,
             Node::Path(p) => p.unit,
+            Node::Image(i) => i.unit,
+        }
+    }
+
+    /// Makes the node animated unit `unit` (or no unit).
+    pub fn set_unit(&mut self, unit: Option<usize>) {
+        match self {
+            Node::Group(g) => g.unit = unit,
+            Node::Path(p) => p.unit = unit,
+            Node::Image(i) => i.unit = unit,
         }
     }
 }
@@ -129,7 +143,7 @@ impl Group {
             .iter()
             .try_fold(self, |g, &i| match g.children.get(i)? {
                 Node::Group(c) => Some(c),
-                Node::Path(_) => None,
+                Node::Path(_) | Node::Image(_) => None,
             })?;
         parent.children.get(*last)
     }
@@ -159,6 +173,68 @@ pub struct PathNode {
     pub stroke_first: bool,
     /// Set when this path is an animated unit.
     pub unit: Option<usize>,
+}
+
+/// A raster image, drawn with its top-left corner at the origin of its parent group's
+/// coordinates and `width` × `height` units large (placement, `viewBox` fitting and
+/// `preserveAspectRatio` are folded into the groups around it, as usvg does).
+#[derive(Clone, Debug)]
+pub struct ImageNode {
+    /// Element id (may be empty).
+    pub id: String,
+    /// The encoded file, kept as it came so exporters can embed it unchanged.
+    pub data: Arc<[u8]>,
+    /// How `data` is encoded.
+    pub format: ImageFormat,
+    /// Width in the parent group's units (the image's pixel width).
+    pub width: f64,
+    /// Height in the parent group's units.
+    pub height: f64,
+    /// Whether the image is scaled smoothly (`false` for `image-rendering: pixelated`).
+    pub smooth: bool,
+    /// Set when this image is an animated unit.
+    pub unit: Option<usize>,
+}
+
+impl ImageNode {
+    /// The rectangle the image covers, in the parent group's coordinates.
+    pub fn rect(&self) -> Rect {
+        Rect::new(0.0, 0.0, self.width, self.height)
+    }
+
+    /// The image as a `data:` URL, as SVG `href`s and Lottie image assets embed it.
+    pub fn data_url(&self) -> String {
+        format!(
+            "data:{};base64,{}",
+            self.format.mime(),
+            base64::engine::general_purpose::STANDARD.encode(&self.data)
+        )
+    }
+}
+
+/// The encodings of raster images.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ImageFormat {
+    /// PNG.
+    Png,
+    /// JPEG.
+    Jpeg,
+    /// GIF (its first frame is drawn).
+    Gif,
+    /// WebP.
+    Webp,
+}
+
+impl ImageFormat {
+    /// The MIME type.
+    pub fn mime(self) -> &'static str {
+        match self {
+            ImageFormat::Png => "image/png",
+            ImageFormat::Jpeg => "image/jpeg",
+            ImageFormat::Gif => "image/gif",
+            ImageFormat::Webp => "image/webp",
+        }
+    }
 }
 
 /// Fill rule.
@@ -361,7 +437,7 @@ impl Scene {
         for &i in parents {
             match group.children.get(i)? {
                 Node::Group(g) => group = g,
-                Node::Path(_) => return None,
+                Node::Path(_) | Node::Image(_) => return None,
             }
         }
         group.children.get(*last)
@@ -468,10 +544,7 @@ impl SceneBuilder {
     /// whose transform places it.
     pub fn unit_under(mut self, tag: &str, parent: Option<Group>, mut node: Node) -> SceneBuilder {
         let index = self.scene.shapes.len();
-        match &mut node {
-            Node::Path(p) => p.unit = Some(index),
-            Node::Group(g) => g.unit = Some(index),
-        }
+        node.set_unit(Some(index));
         let top = self.scene.root.children.len();
         let (parent_transform, node_path) = match &parent {
             Some(g) => (g.transform, vec![top, 0]),

@@ -28,28 +28,10 @@ const TOLERANCE: u8 = 32;
 const MAX_DIFFERING: f64 = 0.01;
 /// Files known to fail, each with why. Any other failure fails the test by name, and so
 /// does a listed file that passes (the list must stay true, so a fix is noticed).
-const KNOWN_FAILURES: &[(&str, &str)] = &[
-    (
-        "masking__clip__simple-case.svg",
-        "raster image (dropped on import)",
-    ),
-    (
-        "masking__mask__with-image.svg",
-        "raster image inside a mask (dropped on import)",
-    ),
-    (
-        "structure__svg__not-UTF-8-encoding.svg",
-        "Windows-1252 text (only UTF-8 is read)",
-    ),
-    (
-        "structure__symbol__with-size-on-use-and-relative-units.svg",
-        "raster image in a symbol (dropped on import)",
-    ),
-    (
-        "structure__transform-origin__on-image.svg",
-        "raster image (dropped on import)",
-    ),
-];
+const KNOWN_FAILURES: &[(&str, &str)] = &[(
+    "structure__svg__not-UTF-8-encoding.svg",
+    "Windows-1252 text (only UTF-8 is read)",
+)];
 
 fn corpus_dir() -> PathBuf {
     match std::env::var_os("GMOTION_CORPUS") {

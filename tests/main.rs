@@ -16,6 +16,7 @@ mod frame;
 mod fuzz;
 mod gallery;
 mod grammar_parse;
+mod images;
 mod import;
 mod lottie;
 mod lottie_import;

@@ -913,7 +913,7 @@ fn transform_error<'a>(doc: &'a Doc, a: &'a Animation, u: usize) -> impl Fn(f64)
     let e = doc.by_id(node.id());
     let own = match node {
         Node::Group(g) => g.transform,
-        Node::Path(_) => Affine::IDENTITY,
+        Node::Path(_) | Node::Image(_) => Affine::IDENTITY,
     };
     let b = shape.bbox;
     let back = (shape.parent_transform * own).inverse();
@@ -965,6 +965,7 @@ fn paths_in_units(g: &Group, inside: &mut Vec<usize>, out: &mut Vec<(PathNode, V
         match child {
             Node::Group(h) => paths_in_units(h, inside, out),
             Node::Path(p) => out.push((p.clone(), inside.clone())),
+            Node::Image(_) => {}
         }
         if child.unit().is_some() {
             inside.pop();
@@ -1069,7 +1070,7 @@ fn own_opacity(g: &Group, id: &str) -> Option<f64> {
                     return Some(o * g.opacity as f64);
                 }
             }
-            Node::Path(_) => {}
+            Node::Path(_) | Node::Image(_) => {}
         }
     }
     None

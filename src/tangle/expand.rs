@@ -100,9 +100,11 @@ fn hash_str(s: &str) -> u64 {
 }
 
 /// Every path under a node with its transform to the node's parent space, in paint order.
+/// Images have no outline to split, so a unit's images are not among its pieces' region.
 fn collect_paths<'a>(node: &'a Node, m: Affine, out: &mut Vec<(&'a PathNode, Affine)>) {
     match node {
         Node::Path(p) => out.push((p, m)),
+        Node::Image(_) => {}
         Node::Group(g) => {
             for c in &g.children {
                 collect_paths(c, m * g.transform, out);
@@ -170,7 +172,7 @@ fn choose<'r>(cands: &[(usize, &'r Rule)], u: f64) -> Option<(usize, &'r Rule)> 
 fn inner_transform(node: &Node, shape: &Shape) -> Affine {
     match node {
         Node::Group(g) => shape.parent_transform * g.transform,
-        Node::Path(_) => shape.parent_transform,
+        Node::Path(_) | Node::Image(_) => shape.parent_transform,
     }
 }
 
@@ -527,8 +529,8 @@ fn rebuild(
                 unit: None,
                 ..g.clone()
             },
-            Node::Path(p) => Group {
-                id: p.id.clone(),
+            Node::Path(_) | Node::Image(_) => Group {
+                id: node.id().to_string(),
                 children,
                 ..Group::new()
             },
@@ -566,11 +568,7 @@ fn renumber(
 ) {
     for (i, child) in g.children.iter_mut().enumerate() {
         path.push(i);
-        let unit = match child {
-            Node::Group(c) => c.unit,
-            Node::Path(p) => p.unit,
-        };
-        if let Some(u) = unit {
+        if let Some(u) = child.unit() {
             let mut shape = if u < base {
                 scene.shapes[u].clone()
             } else {
@@ -605,10 +603,7 @@ fn renumber(
             shape.z = shapes.len();
             shape.node_path = path.clone();
             let index = shapes.len();
-            match child {
-                Node::Group(c) => c.unit = Some(index),
-                Node::Path(p) => p.unit = Some(index),
-            }
+            child.set_unit(Some(index));
             shapes.push(shape);
         }
         if let Node::Group(c) = child {

@@ -202,6 +202,7 @@ pub fn may_stroke(node: &Node) -> bool {
         Node::Group(g) => {
             g.clip_path.is_some() || g.mask.is_some() || g.children.iter().any(may_stroke)
         }
+        Node::Image(_) => false,
     }
 }
 

@@ -13,7 +13,8 @@
 //! - a group with opacity below 1 that paints more than once: a layer with that opacity
 //!   (group opacity composites the whole group, unlike per-paint opacity);
 //! - a pattern paint: its tiles as content under an alpha matte of the painted outline;
-//! - an animated shape: its own layer named `tag:id` (see [`super::animate`]).
+//! - an animated shape: its own layer named `tag:id` (see [`super::animate`]);
+//! - an image: an image layer drawing an embedded image asset (see [`images`]).
 //!
 //! A layer holding only shapes is a shape layer; one holding layers is a precomposition,
 //! whose content is drawn offset by a margin because players clip a precomposition to
@@ -21,8 +22,9 @@
 //!
 //! This module walks the tree and decides what becomes a layer; the submodules hold the
 //! rest, by concern: [`mattes`] (clip paths and masks), [`units`] (animated shapes),
-//! [`paths`] (fills, strokes, outlines, deformation) and [`patterns`].
+//! [`paths`] (fills, strokes, outlines, deformation), [`patterns`] and [`images`].
 
+mod images;
 mod mattes;
 mod paths;
 mod patterns;
@@ -214,6 +216,16 @@ impl<'a> Builder<'a> {
         layers
     }
 
+    /// The number of the next precomposition: one past the highest made so far (image
+    /// assets, shared by content, take no number).
+    fn next_comp(&self) -> usize {
+        self.assets
+            .iter()
+            .filter_map(|a| asset_number(&a.id))
+            .max()
+            .map_or(0, |k| k + 1)
+    }
+
     fn motion(&self, unit: usize) -> Option<&'a UnitMotion> {
         self.src.motions.get(unit).filter(|m| m.is_animated())
     }
@@ -228,6 +240,7 @@ impl<'a> Builder<'a> {
         match node {
             Node::Path(p) => self.path(p, acc, env, comp),
             Node::Group(g) => self.group(g, acc, env, comp),
+            Node::Image(i) => self.image(i, acc, env, comp),
         }
     }
 
@@ -280,7 +293,7 @@ impl<'a> Builder<'a> {
             })
             .collect();
         for mut part in parts {
-            let (ind, asset) = (comp.next_ind, self.assets.len());
+            let (ind, asset) = (comp.next_ind, self.next_comp());
             for item in &mut part.items {
                 if let Item::Layers(ls) = item {
                     for l in ls {
@@ -293,7 +306,7 @@ impl<'a> Builder<'a> {
             }
             if asset > 0 {
                 for a in &mut part.assets {
-                    a.id = asset_id(asset_number(&a.id) + asset);
+                    rename_asset_id(&mut a.id, asset);
                     for l in &mut a.layers {
                         rename_asset(&mut l.ref_id, asset);
                     }
@@ -302,7 +315,12 @@ impl<'a> Builder<'a> {
             comp.next_ind += part.inds;
             comp.items.append(&mut part.items);
             self.warnings.append(&mut part.warnings);
-            self.assets.append(&mut part.assets);
+            for a in part.assets {
+                // Image assets are named by their content: one copy of each.
+                if a.image.is_none() || !self.assets.iter().any(|b| b.id == a.id) {
+                    self.assets.push(a);
+                }
+            }
         }
     }
 
@@ -438,11 +456,12 @@ impl<'a> Builder<'a> {
         };
         let mut sub = Comp::new(0);
         draw(self, inner_env, offset, &mut sub);
-        let id = asset_id(self.assets.len());
+        let id = asset_id(self.next_comp());
         let layers = sub.into_layers(self.src.op);
         self.assets.push(Asset {
             id: id.clone(),
             layers,
+            image: None,
         });
         let mut l = comp.layer(LayerType::Precomp, name.to_string(), self.src.op);
         l.ref_id = Some(id);
@@ -461,6 +480,7 @@ impl<'a> Builder<'a> {
             return true;
         }
         match node {
+            Node::Image(_) => true,
             Node::Path(p) => {
                 let pattern = |paint: &Paint| matches!(paint, Paint::Pattern(_));
                 p.fill.as_ref().is_some_and(|f| pattern(&f.paint))
@@ -532,19 +552,25 @@ fn asset_id(k: usize) -> String {
     format!("comp_{k}")
 }
 
-/// `k` from an id made by [`asset_id`].
-fn asset_number(id: &str) -> usize {
-    id.strip_prefix("comp_")
-        .and_then(|k| k.parse().ok())
-        .expect("precomposition ids are made by asset_id")
+/// `k` from an id made by [`asset_id`]; `None` for an image asset's id.
+fn asset_number(id: &str) -> Option<usize> {
+    id.strip_prefix("comp_").and_then(|k| k.parse().ok())
 }
 
-/// Shifts a reference to a part's precomposition by the `by` assets made before it.
+/// Shifts a part's precomposition id by the `by` assets made before it (image ids name
+/// content, not a position, and stay).
+fn rename_asset_id(id: &mut String, by: usize) {
+    if let Some(k) = asset_number(id) {
+        *id = asset_id(k + by);
+    }
+}
+
+/// [`rename_asset_id`] for a layer's reference.
 fn rename_asset(ref_id: &mut Option<String>, by: usize) {
     if by > 0
         && let Some(id) = ref_id
     {
-        *id = asset_id(asset_number(id) + by);
+        rename_asset_id(id, by);
     }
 }
 
@@ -554,6 +580,7 @@ fn paints(g: &Group) -> usize {
     for c in &g.children {
         n += match c {
             Node::Path(p) => p.fill.is_some() as usize + p.stroke.is_some() as usize,
+            Node::Image(_) => 1,
             Node::Group(h) => paints(h),
         };
         if n > 1 {

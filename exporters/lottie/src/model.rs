@@ -130,19 +130,41 @@ fn field<T: Serialize + ?Sized>(out: &mut Vec<u8>, key: &str, v: &T) {
     json(out, v);
 }
 
-/// A precomposition asset.
+/// An asset: a precomposition, or an embedded image.
 #[derive(Clone, Debug)]
 pub struct Asset {
     /// Asset id (referenced by `refId`).
     pub id: String,
-    /// Layers, topmost first.
+    /// Layers, topmost first (a precomposition's; empty for an image).
     pub layers: Vec<Layer>,
+    /// The picture, for an image asset.
+    pub image: Option<ImageAsset>,
+}
+
+/// An image asset's picture, embedded (`e: 1`) so the document stands alone.
+#[derive(Clone, Debug)]
+pub struct ImageAsset {
+    /// Width in pixels: an image layer draws the picture this wide.
+    pub w: u32,
+    /// Height in pixels.
+    pub h: u32,
+    /// The picture as a `data:` URL.
+    pub p: String,
 }
 
 impl Asset {
     fn write_json(&self, out: &mut Vec<u8>) {
         out.extend_from_slice(b"{\"id\":");
         json(out, &self.id);
+        if let Some(img) = &self.image {
+            field(out, "w", &img.w);
+            field(out, "h", &img.h);
+            field(out, "u", "");
+            field(out, "p", &img.p);
+            field(out, "e", &1);
+            out.push(b'}');
+            return;
+        }
         out.extend_from_slice(b",\"layers\":[");
         for (k, l) in self.layers.iter().enumerate() {
             if k > 0 {
@@ -159,6 +181,8 @@ impl Asset {
 pub enum LayerType {
     /// A precomposition layer (`ty: 0`).
     Precomp,
+    /// An image layer (`ty: 2`), drawing an image asset.
+    Image,
     /// A null layer (`ty: 3`), a transform others parent to.
     Null,
     /// A shape layer (`ty: 4`).
@@ -169,6 +193,7 @@ impl Serialize for LayerType {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         s.serialize_u8(match self {
             LayerType::Precomp => 0,
+            LayerType::Image => 2,
             LayerType::Null => 3,
             LayerType::Shape => 4,
         })
@@ -186,7 +211,7 @@ pub struct Layer {
     pub ind: u32,
     /// Index of the parent layer whose transform this one inherits.
     pub parent: Option<u32>,
-    /// Precomposition asset id (precomp layers).
+    /// Asset id (precomposition and image layers).
     pub ref_id: Option<String>,
     /// Precomposition clip width.
     pub w: Option<u32>,
@@ -265,7 +290,14 @@ impl Layer {
     /// Writes the layer as a JSON object, keys in the format's usual order, absent
     /// options left out.
     pub fn write_json(&self, out: &mut Vec<u8>) {
-        out.extend_from_slice(b"{\"ty\":");
+        // rlottie ignores a layer's rotation unless `ddd` precedes the transform (measured:
+        // a skewed image placed by a rotated null and a rotated image drew unrotated).
+        // Image and null layers are the ones placed by a rotating `ks`.
+        if matches!(self.ty, LayerType::Image | LayerType::Null) {
+            out.extend_from_slice(b"{\"ddd\":0,\"ty\":");
+        } else {
+            out.extend_from_slice(b"{\"ty\":");
+        }
         json(out, &self.ty);
         field(out, "nm", &self.nm);
         field(out, "ind", &self.ind);

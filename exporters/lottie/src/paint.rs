@@ -522,6 +522,7 @@ pub fn pattern_color(p: &Pattern) -> Color {
     fn first(g: &gmotion::scene::Group) -> Option<Color> {
         g.children.iter().find_map(|n| match n {
             gmotion::scene::Node::Group(g) => first(g),
+            gmotion::scene::Node::Image(_) => None,
             gmotion::scene::Node::Path(p) => {
                 let solid = |paint: &Paint| {
                     if let Paint::Solid(c) = paint {

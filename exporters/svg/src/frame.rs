@@ -30,7 +30,7 @@ use gmotion::canvas::Fit;
 
 use defs::{Def, Defs, Names};
 use gmotion::motion::{Animation, Sampler, ShapeState, Tint, Track};
-use gmotion::scene::{FillRule, Group, LineCap, LineJoin, Node, Paint, PathNode, Scene};
+use gmotion::scene::{FillRule, Group, ImageNode, LineCap, LineJoin, Node, Paint, PathNode, Scene};
 use number::{attr_num, attr_transform, escaped, hex, num, point};
 
 /// The opening of every document this module writes, up to the canvas size.
@@ -112,10 +112,10 @@ fn collect_ids(g: &Group, ids: &mut HashSet<String>) {
     for child in &g.children {
         match child {
             Node::Group(h) => collect_ids(h, ids),
-            Node::Path(p) if !p.id.is_empty() => {
-                ids.insert(p.id.clone());
+            Node::Path(_) | Node::Image(_) if !child.id().is_empty() => {
+                ids.insert(child.id().to_string());
             }
-            Node::Path(_) => {}
+            Node::Path(_) | Node::Image(_) => {}
         }
     }
 }
@@ -235,6 +235,7 @@ impl<'a> Writer<'a> {
         match node {
             Node::Group(g) => self.group(g, ctx),
             Node::Path(p) => self.path(p, ctx),
+            Node::Image(i) => self.image(i),
         }
     }
 
@@ -392,6 +393,23 @@ impl<'a> Writer<'a> {
             }
         }
         self.out.push_str("/>\n");
+    }
+
+    /// An image, embedded as a `data:` URL. It keeps its pixels under colour motion (a tint
+    /// recolours paints, and an image has none) and its rectangle under per-vertex motion.
+    fn image(&mut self, i: &'a ImageNode) {
+        self.out.push_str("<image");
+        self.id_attr(&i.id);
+        attr_num(&mut self.out, "width", i.width);
+        attr_num(&mut self.out, "height", i.height);
+        // The groups around the image already fit it to its viewport.
+        self.out.push_str(" preserveAspectRatio=\"none\"");
+        if !i.smooth {
+            self.out.push_str(" image-rendering=\"pixelated\"");
+        }
+        self.out.push_str(" href=\"");
+        self.out.push_str(&i.data_url());
+        self.out.push_str("\"/>\n");
     }
 
     fn paint(&mut self, attr: &str, paint: &'a Paint, tint: Tint) {

@@ -778,6 +778,7 @@ fn content_paths<'g>(g: &'g Group, out: &mut Vec<&'g PathNode>) {
         match child {
             Node::Group(h) => content_paths(h, out),
             Node::Path(p) => out.push(p),
+            Node::Image(_) => {}
         }
     }
 }

@@ -7,7 +7,7 @@
 use std::collections::{HashMap, HashSet};
 use std::sync::Arc;
 
-use kurbo::{Affine, BezPath, Point, Rect};
+use kurbo::{Affine, BezPath, Point, Rect, Shape as _};
 use usvg::roxmltree::NodeId;
 use usvg::tiny_skia_path::PathSegment;
 
@@ -15,8 +15,8 @@ use super::source::{Scope, Source};
 use super::{ImportOptions, Units};
 use gmotion::color::Color;
 use gmotion::scene::{
-    ClipPath, Fill, FillRule, Group, LineCap, LineJoin, LinearGradient, Mask, MaskKind, Node,
-    Paint, PathNode, Pattern, RadialGradient, Spread, Stop, Stroke,
+    ClipPath, Fill, FillRule, Group, ImageFormat, ImageNode, LineCap, LineJoin, LinearGradient,
+    Mask, MaskKind, Node, Paint, PathNode, Pattern, RadialGradient, Spread, Stop, Stroke,
 };
 
 /// An animated unit found during conversion.
@@ -198,10 +198,11 @@ fn count_paths(g: &usvg::Group) -> usize {
         .sum()
 }
 
-fn has_path(g: &Group) -> bool {
+/// Whether `g` draws anything (a path or an image somewhere inside).
+fn draws(g: &Group) -> bool {
     g.children.iter().any(|n| match n {
-        Node::Path(_) => true,
-        Node::Group(g) => has_path(g),
+        Node::Path(_) | Node::Image(_) => true,
+        Node::Group(g) => draws(g),
     })
 }
 
@@ -302,10 +303,7 @@ impl<'s, 'a> Converter<'s, 'a> {
                         self.group(t.flattened(), GroupKind::Text, dst, ctx);
                     }
                 }
-                usvg::Node::Image(i) => {
-                    let near = self.src.element(i.id()).map(|e| e.id()).or(ctx.near);
-                    self.warn(near, "image dropped (images are not supported)");
-                }
+                usvg::Node::Image(i) => self.image(i, dst, ctx),
             }
         }
     }
@@ -405,7 +403,7 @@ impl<'s, 'a> Converter<'s, 'a> {
             self.path.push(index);
             self.children(g, &mut out, inner);
             self.path.pop();
-            if let Some(tag) = unit_tag.filter(|_| has_path(&out)) {
+            if let Some(tag) = unit_tag.filter(|_| draws(&out)) {
                 out.unit = Some(self.register(tag, elem, ctx.scope, ctx.abs, index));
             }
             if !out.children.is_empty() {
@@ -460,6 +458,84 @@ impl<'s, 'a> Converter<'s, 'a> {
             node.unit = Some(self.register(scope.tag(name), elem, ctx.scope, ctx.abs, index));
         }
         dst.children.push(Node::Path(node));
+    }
+
+    /// A raster image as an image node (a unit, like a path, when units are being made);
+    /// a nested SVG image as the vector content it holds, clipped to its viewport.
+    fn image(&mut self, i: &usvg::Image, dst: &mut Group, ctx: Ctx<'s>) {
+        if !i.is_visible() {
+            return;
+        }
+        // usvg gives the `<image>` element's id to the groups it wraps the image in (which
+        // place and clip it), so the element is the nearest one when the image has none.
+        let elem = self.src.element(i.id()).or_else(|| {
+            ctx.near
+                .and_then(|id| self.src.node(id))
+                .filter(|e| e.tag_name().name() == "image")
+        });
+        let near = elem.map(|e| e.id()).or(ctx.near);
+        let (data, format) = match i.kind() {
+            usvg::ImageKind::PNG(d) => (d, ImageFormat::Png),
+            usvg::ImageKind::JPEG(d) => (d, ImageFormat::Jpeg),
+            usvg::ImageKind::GIF(d) => (d, ImageFormat::Gif),
+            usvg::ImageKind::WEBP(d) => (d, ImageFormat::Webp),
+            usvg::ImageKind::SVG(tree) => {
+                let size = i.size();
+                let viewport = Rect::new(0.0, 0.0, size.width() as f64, size.height() as f64);
+                let mut out = Group {
+                    id: self.keep_id(i.id()),
+                    clip_path: Some(Arc::new(ClipPath {
+                        id: String::new(),
+                        transform: Affine::IDENTITY,
+                        clip_path: None,
+                        root: Group {
+                            children: vec![Node::Path(PathNode::new(
+                                String::new(),
+                                viewport.to_path(0.1),
+                                Some(Fill::solid(Color::BLACK)),
+                                None,
+                            ))],
+                            ..Group::new()
+                        },
+                    })),
+                    ..Group::new()
+                };
+                // The nested document's elements are not the source file's: no units or
+                // tags come from them.
+                let inner = Ctx {
+                    units: false,
+                    near,
+                    ..ctx
+                };
+                self.children(tree.root(), &mut out, inner);
+                if !out.children.is_empty() {
+                    dst.children.push(Node::Group(out));
+                }
+                return;
+            }
+        };
+        let size = i.size();
+        let mut node = ImageNode {
+            id: self.keep_id(i.id()),
+            data: Arc::from(data.as_slice()),
+            format,
+            width: size.width() as f64,
+            height: size.height() as f64,
+            smooth: !matches!(
+                i.rendering_mode(),
+                usvg::ImageRendering::OptimizeSpeed
+                    | usvg::ImageRendering::CrispEdges
+                    | usvg::ImageRendering::Pixelated
+            ),
+            unit: None,
+        };
+        if ctx.units {
+            let from = self.opts.tag_from;
+            let scope = elem.map_or(ctx.scope, |e| self.src.scope(e, ctx.scope, from, None));
+            let index = dst.children.len();
+            node.unit = Some(self.register(scope.tag("image"), elem, ctx.scope, ctx.abs, index));
+        }
+        dst.children.push(Node::Image(node));
     }
 
     fn stroke(&mut self, s: &usvg::Stroke, near: Option<NodeId>) -> Stroke {

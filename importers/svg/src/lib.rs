@@ -9,8 +9,12 @@
 //! [`Policy::fonts`] ([`fonts`]): a text in a missing font is drawn in the default family,
 //! with a warning naming the font and the element.
 //!
-//! What is not: filters, blend modes, raster and nested SVG images and `shape-rendering`
-//! hints are dropped with a warning that names the element (see [`Imported::warnings`]).
+//! Raster images (PNG, JPEG, GIF, WebP, embedded or linked under the file-access policy)
+//! become [`gmotion::scene::ImageNode`]s, units like paths; an SVG image becomes the vector
+//! content it holds, clipped to its viewport.
+//!
+//! What is not: filters, blend modes and `shape-rendering` hints are dropped with a warning
+//! that names the element (see [`Imported::warnings`]).
 //!
 //! Tags are read from the source text (see [`TagFrom`]): usvg keeps only ids, so elements
 //! without one get a synthetic id before usvg parses the text, and every usvg node is traced

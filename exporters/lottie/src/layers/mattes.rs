@@ -58,6 +58,8 @@ pub(super) fn collect_clip(g: &Group, ts: Affine, out: &mut Vec<Contour>) -> boo
                     _ => return false,
                 }
             }
+            // SVG clips with shapes only; the importer puts no images in clip paths.
+            Node::Image(_) => {}
         }
     }
     true
@@ -118,6 +120,7 @@ pub(super) fn whiten(nodes: &[Node]) -> Vec<Node> {
                     None,
                 )))
             }
+            Node::Image(_) => None,
         })
         .collect()
 }
@@ -131,10 +134,11 @@ pub(super) fn strip_units(nodes: &[Node]) -> Vec<Node> {
                 unit: None,
                 ..g.clone()
             }),
-            Node::Path(p) => Node::Path(PathNode {
-                unit: None,
-                ..p.clone()
-            }),
+            Node::Path(_) | Node::Image(_) => {
+                let mut n = n.clone();
+                n.set_unit(None);
+                n
+            }
         })
         .collect()
 }

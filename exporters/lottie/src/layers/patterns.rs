@@ -114,6 +114,7 @@ pub(super) fn bounds(g: &Group) -> Option<Rect> {
                 let w = p.stroke.as_ref().map_or(0.0, |s| s.width / 2.0 * 1.5);
                 Some(p.path.bounding_box().inflate(w, w))
             }
+            Node::Image(i) => Some(i.rect()),
         };
         if let Some(b) = b {
             out = Some(out.map_or(b, |o| o.union(b)));

@@ -292,6 +292,8 @@ impl<'a> Writer<'a> {
                     }
                     self.out.push_str("/>\n");
                 }
+                // SVG clips with shapes only; the importer puts no images in clip paths.
+                Node::Image(_) => {}
             }
         }
     }

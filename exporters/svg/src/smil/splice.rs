@@ -80,8 +80,10 @@ fn count_ids<'s>(g: &'s Group, count: &mut HashMap<&'s str, usize>) {
     for child in &g.children {
         match child {
             Node::Group(h) => count_ids(h, count),
-            Node::Path(p) if !p.id.is_empty() => *count.entry(&p.id).or_default() += 1,
-            Node::Path(_) => {}
+            Node::Path(_) | Node::Image(_) if !child.id().is_empty() => {
+                *count.entry(child.id()).or_default() += 1
+            }
+            Node::Path(_) | Node::Image(_) => {}
         }
     }
 }
@@ -151,6 +153,7 @@ fn set_id(n: &mut Node, id: &str) {
     match n {
         Node::Group(g) => id.clone_into(&mut g.id),
         Node::Path(p) => id.clone_into(&mut p.id),
+        Node::Image(i) => id.clone_into(&mut i.id),
     }
 }
 
