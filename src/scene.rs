@@ -10,7 +10,7 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 use base64::Engine as _;
-use kurbo::{Affine, BezPath, Point, Rect};
+use kurbo::{Affine, BezPath, Point, Rect, Shape as _};
 
 use crate::color::Color;
 use crate::measure::measure;
@@ -401,6 +401,26 @@ pub struct ClipPath {
     pub clip_path: Option<Arc<ClipPath>>,
     /// The clip geometry.
     pub root: Group,
+}
+
+impl ClipPath {
+    /// A clip to the rectangle `r` (in the clipped group's coordinates).
+    pub fn rect(r: Rect) -> ClipPath {
+        ClipPath {
+            id: String::new(),
+            transform: Affine::IDENTITY,
+            clip_path: None,
+            root: Group {
+                children: vec![Node::Path(PathNode::new(
+                    String::new(),
+                    r.to_path(0.1),
+                    Some(Fill::solid(Color::WHITE)),
+                    None,
+                ))],
+                ..Group::new()
+            },
+        }
+    }
 }
 
 /// Whether a mask uses luminance or alpha.

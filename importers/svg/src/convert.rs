@@ -7,7 +7,7 @@
 use std::collections::{HashMap, HashSet};
 use std::sync::Arc;
 
-use kurbo::{Affine, BezPath, Point, Rect, Shape as _};
+use kurbo::{Affine, BezPath, Point, Rect};
 use usvg::roxmltree::NodeId;
 use usvg::tiny_skia_path::PathSegment;
 
@@ -484,20 +484,7 @@ impl<'s, 'a> Converter<'s, 'a> {
                 let viewport = Rect::new(0.0, 0.0, size.width() as f64, size.height() as f64);
                 let mut out = Group {
                     id: self.keep_id(i.id()),
-                    clip_path: Some(Arc::new(ClipPath {
-                        id: String::new(),
-                        transform: Affine::IDENTITY,
-                        clip_path: None,
-                        root: Group {
-                            children: vec![Node::Path(PathNode::new(
-                                String::new(),
-                                viewport.to_path(0.1),
-                                Some(Fill::solid(Color::BLACK)),
-                                None,
-                            ))],
-                            ..Group::new()
-                        },
-                    })),
+                    clip_path: Some(Arc::new(ClipPath::rect(viewport))),
                     ..Group::new()
                 };
                 // The nested document's elements are not the source file's: no units or

@@ -163,19 +163,5 @@ pub(super) fn mask_group(m: &Mask, clip: Option<Arc<ClipPath>>) -> Group {
 }
 
 pub(super) fn rect_clip(r: Rect) -> Arc<ClipPath> {
-    let path = r.to_path(0.1);
-    Arc::new(ClipPath {
-        id: String::new(),
-        transform: Affine::IDENTITY,
-        clip_path: None,
-        root: Group {
-            children: vec![Node::Path(PathNode::new(
-                String::new(),
-                path,
-                Some(Fill::solid(Color::WHITE)),
-                None,
-            ))],
-            ..Group::new()
-        },
-    })
+    Arc::new(ClipPath::rect(r))
 }
