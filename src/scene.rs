@@ -226,6 +226,31 @@ pub enum ImageFormat {
 }
 
 impl ImageFormat {
+    /// The encoding of `data`, from its signature (`None` for anything else).
+    pub fn sniff(data: &[u8]) -> Option<ImageFormat> {
+        match data {
+            [0x89, b'P', b'N', b'G', ..] => Some(ImageFormat::Png),
+            [0xff, 0xd8, 0xff, ..] => Some(ImageFormat::Jpeg),
+            [b'G', b'I', b'F', b'8', ..] => Some(ImageFormat::Gif),
+            [
+                b'R',
+                b'I',
+                b'F',
+                b'F',
+                _,
+                _,
+                _,
+                _,
+                b'W',
+                b'E',
+                b'B',
+                b'P',
+                ..,
+            ] => Some(ImageFormat::Webp),
+            _ => None,
+        }
+    }
+
     /// The MIME type.
     pub fn mime(self) -> &'static str {
         match self {

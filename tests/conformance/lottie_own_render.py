@@ -34,7 +34,6 @@ MATCH = 0.01
 
 # Files where lottie-web and rlottie agree but gmotion's own render does not match them.
 KNOWN_FAILURES = {
-    "rlottie-python__image_embedded.json": "image layers are not drawn (the scene model has no raster images)",
     "rlottie-python__file_transfer.json": "1.1-1.7% of pixels: 1 px strokes anti-aliased differently at mid-motion frames",
 }
 

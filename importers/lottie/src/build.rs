@@ -9,8 +9,8 @@ use kurbo::{Affine, BezPath, Point, Rect, Shape as _, Vec2};
 
 use gmotion::color::Color;
 use gmotion::scene::{
-    ClipPath, Fill, FillRule, Group, LineCap, LineJoin, LinearGradient, Mask, MaskKind, Node,
-    Paint, PathNode, RadialGradient, Spread, Stop, Stroke,
+    ClipPath, Fill, FillRule, Group, ImageFormat, ImageNode, LineCap, LineJoin, LinearGradient,
+    Mask, MaskKind, Node, Paint, PathNode, RadialGradient, Spread, Stop, Stroke,
 };
 
 use crate::model::{
@@ -201,12 +201,28 @@ impl<'a> Builder<'a> {
             LayerKind::Image => {
                 let asset = l.ref_id.as_deref().and_then(|id| self.assets.get(id));
                 let (w, h) = asset.map_or((0.0, 0.0), |a| (a.w.unwrap_or(0.0), a.h.unwrap_or(0.0)));
-                self.warn(&l.at, "images are not drawn (their rectangle is measured)");
-                children.push(path_node(
-                    Rect::new(0.0, 0.0, w, h).to_path(0.1),
-                    None,
-                    None,
-                ));
+                match asset.and_then(|a| a.p.as_deref()).and_then(embedded_image) {
+                    Some((data, format)) => children.push(Node::Image(ImageNode {
+                        id: String::new(),
+                        data,
+                        format,
+                        width: w,
+                        height: h,
+                        smooth: true,
+                        unit: None,
+                    })),
+                    None => {
+                        self.warn(
+                            &l.at,
+                            "image not drawn: only PNG, JPEG, GIF and WebP images embedded in the file (`e: 1`, a data URL) are read; its rectangle is measured",
+                        );
+                        children.push(path_node(
+                            Rect::new(0.0, 0.0, w, h).to_path(0.1),
+                            None,
+                            None,
+                        ));
+                    }
+                }
             }
             LayerKind::Text => {
                 self.warn(
@@ -915,4 +931,21 @@ fn star(sy: i64, c: Point, outer: f64, inner: f64, rotation: f64, points: f64) -
     }
     path.close_path();
     path
+}
+
+/// An image asset's picture when it is embedded: a `data:` URL holding base64 of a PNG,
+/// JPEG, GIF or WebP file (told apart by its first bytes, as players do, not by the URL's
+/// type, which exporters spell variously: `image/jpg`, `image/png`, none).
+fn embedded_image(p: &str) -> Option<(Arc<[u8]>, ImageFormat)> {
+    use base64::Engine as _;
+    let rest = p.strip_prefix("data:")?;
+    let (head, body) = rest.split_once(',')?;
+    if !head.ends_with(";base64") {
+        return None;
+    }
+    let data = base64::engine::general_purpose::STANDARD
+        .decode(body.trim())
+        .ok()?;
+    let format = ImageFormat::sniff(&data)?;
+    Some((Arc::from(data), format))
 }

@@ -21,8 +21,11 @@
 //! easing, holds, legacy end values (`e`), split positions, and spatial tangents travelled
 //! by arc length. Each unit is measured on that geometry (centroid, bounds, paint).
 //!
-//! **Not drawn** (with a warning naming the first place and how many): images (their
-//! rectangle is measured), text (measured as a point), repeaters, merge paths, round
+//! Image layers draw their asset when it is embedded (`e: 1`: a PNG, JPEG, GIF or WebP
+//! data URL).
+//!
+//! **Not drawn** (with a warning naming the first place and how many): linked images
+//! (their rectangle is measured), text (measured as a point), repeaters, merge paths, round
 //! corners and the other shape modifiers, mask expansion, effects, expressions (the
 //! property's own value is used).
 //!

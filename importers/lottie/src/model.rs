@@ -1016,6 +1016,8 @@ pub struct Asset {
     pub w: Option<f64>,
     /// Height (images).
     pub h: Option<f64>,
+    /// The picture (images): a file name, or the image itself as a `data:` URL.
+    pub p: Option<String>,
 }
 
 /// The document's animation.
@@ -1082,6 +1084,7 @@ impl Document {
                     },
                     w: opt_number(ao, "w", &at)?,
                     h: opt_number(ao, "h", &at)?,
+                    p: opt_string(ao, "p", &at)?,
                     at,
                 });
             }
