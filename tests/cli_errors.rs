@@ -194,6 +194,10 @@ fn all_cases() -> Vec<Case> {
         Case::new("output is the scene", "animate {d}/scene.svg {d}/g.gm -o {d}/scene.svg", &["scene.svg", "refusing to write over an input"], "scene.svg"),
         Case::new("output is the grammar, second of two", "animate {d}/scene.svg {d}/g.gm -o {d}/out.json -o {d}/g.gm", &["g.gm", "refusing to write over an input"], "out.json"),
         Case::new("convert onto itself", "convert {d}/scene.svg -o {d}/scene.svg", &["scene.svg", "refusing to write over an input"], "scene.svg"),
+        Case::new("output is the tag map", "animate {d}/scene.svg {d}/g.gm --tags {d}/m.tags -o {d}/m.tags", &["m.tags", "refusing to write over an input"], "m.tags")
+            .file("m.tags", "rect -> box\n"),
+        Case::new("convert onto its tag map", "convert {d}/scene.svg --tags {d}/m.tags -o {d}/m.tags", &["m.tags", "refusing to write over an input"], "m.tags")
+            .file("m.tags", "rect -> box\n"),
         Case::new("check --graph onto the grammar", "check {d}/g.gm --graph {d}/g.gm", &["g.gm", "refusing to write over an input"], "g.gm"),
         Case::new("transitions onto its targets", "transitions {d}/scene.svg {d}/t.json -o {d}/t.json", &["t.json", "refusing to write over an input"], "t.json")
             .files(vec![("scene.svg", SCENE.into()), ("t.json", TARGETS.into())]),

@@ -872,7 +872,12 @@ fn animate(
     ctx: &Ctx,
 ) -> Result<()> {
     validate_render(render)?;
-    let inputs: Vec<&Path> = scene.into_iter().chain([grammar]).collect();
+    // The tag map is read too: an output must not overwrite it.
+    let inputs: Vec<&Path> = scene
+        .into_iter()
+        .chain([grammar])
+        .chain(import.tags.as_deref())
+        .collect();
     check_outputs(outputs, &inputs)?;
     let previews = outputs.iter().any(|o| gmotion_studio::is_preview(o));
     let b = build(scene, grammar, run, import, outputs, previews, ctx)?;
@@ -907,7 +912,8 @@ fn convert_staged(
 ) -> Result<()> {
     validate_render(render)?;
     let outs: Vec<&Path> = outputs.iter().map(PathBuf::as_path).collect();
-    guard::check_not_input(&outs, &[input])?;
+    let inputs: Vec<&Path> = [input].into_iter().chain(import.tags.as_deref()).collect();
+    guard::check_not_input(&outs, &inputs)?;
     // A Lottie input moves, so it can be played to a folder of frames.
     let moves = is_lottie(input);
     for o in outputs {
