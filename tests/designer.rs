@@ -353,3 +353,51 @@ fn the_unit_depth_takes_the_groups_inside_a_frame() {
     assert!(!ok);
     assert!(err.contains("--unit-depth"), "{err}");
 }
+
+/// An emoji-shaped clip (Noto and Twemoji export such files): a clip path whose `use`
+/// points at another `use`, or at a group, is ignored by browsers, so what it clips is not
+/// drawn; a `use` of a shape clips as usual. Judged against Chromium's drawing.
+#[test]
+fn a_clip_paths_use_of_a_use_clips_everything_away_as_in_browsers() {
+    use crate::support::players::chromium;
+    use gmotion_export_raster::{Pixmap, compare};
+    let d = files(
+        "clip-use",
+        &[(
+            "emoji.svg",
+            r##"<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink" width="120" height="120">
+<defs>
+<circle id="face" cx="60" cy="60" r="40"/>
+<use id="face_ref" xlink:href="#face"/>
+<g id="group"><circle cx="60" cy="60" r="30"/></g>
+<clipPath id="via_use"><use xlink:href="#face_ref"/></clipPath>
+<clipPath id="via_group"><use xlink:href="#group"/></clipPath>
+<clipPath id="direct"><use xlink:href="#face"/></clipPath>
+</defs>
+<rect width="40" height="120" fill="#3a3" clip-path="url(#via_use)"/>
+<rect x="40" width="40" height="120" fill="#a33" clip-path="url(#via_group)"/>
+<rect x="80" width="40" height="120" fill="#33a" clip-path="url(#direct)"/>
+</svg>"##,
+        )],
+    );
+    let (ok, _, err) = run(bin()
+        .current_dir(&d)
+        .args(["convert", "emoji.svg", "-o", "emoji.png"]));
+    assert!(ok, "{err}");
+    assert_eq!(
+        err.matches("a clip path's <use> must point at a shape or text")
+            .count(),
+        2,
+        "one warning per ignored child:\n{err}"
+    );
+    let ours = Pixmap::load_png(d.join("emoji.png")).unwrap();
+    let chrome = chromium(&d.join("emoji.svg"), 120, &[0.0]).remove(0);
+    let off = compare(&chrome, &ours, 32);
+    assert!(off < 0.005, "{:.2}% of pixels off Chromium", off * 100.0);
+    // The direct clip still draws: the blue band's disc part is there.
+    let blue = ours.pixel(90, 60).unwrap();
+    assert!(
+        blue.blue() > 100 && blue.alpha() == 255,
+        "the direct clip draws"
+    );
+}

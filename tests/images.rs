@@ -10,7 +10,7 @@ use std::process::Command;
 
 use gmotion_export_raster::{Pixmap, compare};
 
-use crate::support::players::{Player, frame_path, play};
+use crate::support::players::{Player, chromium, frame_path, play};
 
 /// A pixel is off when a premultiplied channel differs by more than this (of 255), as in
 /// the players' other tests.
@@ -104,28 +104,6 @@ fn art(name: &str) -> PathBuf {
 
 fn load(path: &Path) -> Pixmap {
     Pixmap::load_png(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-}
-
-/// Chromium's drawing of `svg` at each time (seconds), `width` px wide.
-fn chromium(svg: &Path, width: u32, times: &[f64]) -> Vec<Pixmap> {
-    let prefix = svg.with_extension("chromium");
-    let mut cmd = Command::new("node");
-    cmd.arg(crate::support::root().join("tests/conformance/smil.mjs"))
-        .arg(svg)
-        .arg(width.to_string())
-        .arg(&prefix);
-    cmd.args(times.iter().map(|t| t.to_string()));
-    let out = cmd
-        .output()
-        .expect("node runs (tests/conformance/install.sh)");
-    assert!(
-        out.status.success(),
-        "smil.mjs failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    (0..times.len())
-        .map(|i| load(&PathBuf::from(format!("{}-{i}.png", prefix.display()))))
-        .collect()
 }
 
 /// Asserts `got` is within [`MAX_OFF`] of `want`, naming what was compared.

@@ -277,3 +277,29 @@ pub fn assert_plays_like_model(
         failures.join("\n")
     );
 }
+
+/// Chromium's drawing of the SVG document `svg` at each time (seconds), `width` px wide,
+/// as `tests/conformance/smil.mjs` shoots it (the file loaded from disk, so its linked
+/// files resolve). The PNGs are written beside `svg`.
+pub fn chromium(svg: &Path, width: u32, times: &[f64]) -> Vec<Pixmap> {
+    let prefix = svg.with_extension("chromium");
+    let out = Command::new("node")
+        .arg(super::root().join("tests/conformance/smil.mjs"))
+        .arg(svg)
+        .arg(width.to_string())
+        .arg(&prefix)
+        .args(times.iter().map(|t| t.to_string()))
+        .output()
+        .expect("node runs (tests/conformance/install.sh)");
+    assert!(
+        out.status.success(),
+        "smil.mjs failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    (0..times.len())
+        .map(|i| {
+            let png = PathBuf::from(format!("{}-{i}.png", prefix.display()));
+            Pixmap::load_png(&png).unwrap_or_else(|e| panic!("{}: {e}", png.display()))
+        })
+        .collect()
+}

@@ -284,6 +284,12 @@ impl<'s, 'a> Converter<'s, 'a> {
 
     fn children(&mut self, g: &usvg::Group, dst: &mut Group, ctx: Ctx<'s>) {
         for child in g.children() {
+            self.child(child, dst, ctx);
+        }
+    }
+
+    fn child(&mut self, child: &usvg::Node, dst: &mut Group, ctx: Ctx<'s>) {
+        {
             match child {
                 usvg::Node::Group(g) => self.group(g, GroupKind::Element, dst, ctx),
                 usvg::Node::Path(p) => self.path(p, dst, ctx),
@@ -608,11 +614,22 @@ impl<'s, 'a> Converter<'s, 'a> {
     }
 
     /// Converts clip, mask or pattern content: never units, and a `use` instance being
-    /// matched must not lose shapes to it.
+    /// matched must not lose shapes to it. A clip path's `use` of a `use` is left out, as
+    /// browsers leave it out (usvg draws it).
     fn content(&mut self, g: &usvg::Group, near: Option<NodeId>) -> Group {
         let zip = self.zip.take();
         let mut root = Group::new();
-        self.children(g, &mut root, Ctx::plain(near));
+        for child in g.children() {
+            let elem = self.src.element(child.id());
+            if let Some(e) = elem.filter(|e| self.src.is_indirect_clip_use(*e)) {
+                self.warn(
+                    Some(e.id()),
+                    "ignored, as browsers do: a clip path's <use> must point at a shape or text, not at a <use> or group",
+                );
+                continue;
+            }
+            self.child(child, &mut root, Ctx::plain(near));
+        }
         self.zip = zip;
         root
     }

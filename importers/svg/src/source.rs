@@ -537,6 +537,18 @@ impl<'a> Source<'a> {
         self.doc.get_node(*self.by_id.get(id)?)
     }
 
+    /// Whether `node` is a clip path's `use` that points at something other than a shape
+    /// or text (another `use`, a group). SVG lets a clip path's `use` reference only those
+    /// directly; browsers ignore any other such child (so a clip made only of them clips
+    /// everything away), where usvg follows a `use` of a `use`.
+    pub fn is_indirect_clip_use(&self, node: Node<'_, 'a>) -> bool {
+        node.parent_element()
+            .is_some_and(|p| is_svg(p) && p.tag_name().name() == "clipPath")
+            && self
+                .use_target(node)
+                .is_some_and(|t| !named(t, SHAPES) && !named(t, &["text"]))
+    }
+
     /// The shapes a `use` instance draws, in paint order, when that can be told from the
     /// source alone: `None` when the referenced content holds anything usvg may expand
     /// differently (nested `use`, text, images, switches).
