@@ -19,7 +19,8 @@
 # 4. plays the Lottie files in lottie-web (headless Chromium), rlottie and ThorVG, the SMIL
 #    files in Chromium (smil.mjs), and compares every frame (conformance.py report);
 #    then plays the Lottie corpus (install.sh fetches it) with gmotion's own renderer
-#    against lottie-web and rlottie (lottie_own_render.py);
+#    against lottie-web and rlottie (lottie_own_render.py), and draws 600 real colour
+#    SVGs from npm (icons.py) with gmotion and Chromium;
 # 5. the conformance matrix (matrix.py): generated scenes with grammars and transitions
 #    targets spanning the language, plus every example, played in lottie-web (svg and canvas
 #    renderers), rlottie, ThorVG and Chromium SMIL against gmotion's own render; by default
@@ -89,6 +90,9 @@ python3 "$here/conformance.py" report "$out" || status=1
     echo "== Lottie with a grammar on top: the layered export in lottie-web and rlottie against gmotion's render"
     python3 "$here/lottie_own_render.py" "$gm" "$out/own_render_grammar" "$here/lottie-corpus" --grammar > "$out/own_render_grammar.txt" || status=1
     tail -n 3 "$out/own_render_grammar.txt"
+    echo "== 600 real colour SVGs (Fluent, Noto, Twemoji, Tabler) against Chromium (icons.py)"
+    python3 "$here/icons.py" "$gm" "$out/icons" > "$out/icons.txt" || status=1
+    grep -E "^(set|all) |fails|below" "$out/icons.txt" || true
 fi
 
 m="$out/matrix"
