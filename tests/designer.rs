@@ -401,3 +401,33 @@ fn a_clip_paths_use_of_a_use_clips_everything_away_as_in_browsers() {
         "the direct clip draws"
     );
 }
+
+/// A filter or blend mode that is dropped is warned about with the element that asked for
+/// it (usvg moves it onto an anonymous group, which used to be named `<svg>`).
+#[test]
+fn dropped_effects_are_warned_about_by_the_element_that_has_them() {
+    let d = files(
+        "effects",
+        &[(
+            "fx.svg",
+            r##"<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100">
+<defs><filter id="b"><feGaussianBlur stdDeviation="3"/></filter></defs>
+<circle id="glow" cx="50" cy="50" r="20" filter="url(#b)"/>
+<rect x="10" y="10" width="20" height="20" style="mix-blend-mode:multiply"/>
+</svg>"##,
+        )],
+    );
+    let (ok, _, err) = run(bin()
+        .current_dir(&d)
+        .args(["convert", "fx.svg", "-o", "fx.json"]));
+    assert!(ok, "{err}");
+    assert!(
+        err.contains("<circle id=\"glow\"> (line 3): filter ignored"),
+        "{err}"
+    );
+    assert!(
+        err.contains("<rect> (line 4): mix-blend-mode multiply ignored"),
+        "{err}"
+    );
+    assert!(!err.contains("<svg>"), "{err}");
+}

@@ -314,6 +314,19 @@ impl<'s, 'a> Converter<'s, 'a> {
         }
     }
 
+    /// The first source element `g`'s content comes from, in document order.
+    fn first_element(&self, g: &usvg::Group) -> Option<NodeId> {
+        g.children().iter().find_map(|c| {
+            self.src
+                .element(c.id())
+                .map(|e| e.id())
+                .or_else(|| match c {
+                    usvg::Node::Group(h) => self.first_element(h),
+                    _ => None,
+                })
+        })
+    }
+
     /// The tag that makes a group a unit under the chosen unit rule, if it has one (text is
     /// a unit whatever its tag: it answers with its scope's).
     fn unit_tag(
@@ -338,12 +351,18 @@ impl<'s, 'a> Converter<'s, 'a> {
     fn group(&mut self, g: &usvg::Group, kind: GroupKind, dst: &mut Group, ctx: Ctx<'s>) {
         let elem = self.src.element(g.id());
         let near = elem.map(|e| e.id()).or(ctx.near);
+        // usvg puts a filter or blend mode on a group of its own, without an id; the
+        // element that asked for it is the one the group's content comes from.
+        let effect_of = elem
+            .map(|e| e.id())
+            .or_else(|| self.first_element(g))
+            .or(ctx.near);
         if !g.filters().is_empty() {
-            self.warn(near, "filter ignored (filters are not supported)");
+            self.warn(effect_of, "filter ignored (filters are not supported)");
         }
         if g.blend_mode() != usvg::BlendMode::Normal {
             self.warn(
-                near,
+                effect_of,
                 &format!(
                     "mix-blend-mode {} ignored (blend modes are not supported)",
                     g.blend_mode()
