@@ -10,13 +10,17 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 # A clean checkout gains nothing from incremental caches; writing them costs build time.
 export CARGO_INCREMENTAL=0
-bash tests/conformance/install.sh
-cargo fmt --all -- --check
-cargo clippy --profile quick --workspace --all-targets -- -D warnings
-RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --quiet
-cargo test --profile quick --workspace
+# Every step reports its duration, so a slow CI run shows where its time went.
+step() { local s=$SECONDS; "$@"; echo "[test.sh] $((SECONDS - s)) s: $*"; }
+step bash tests/conformance/install.sh
+step cargo fmt --all -- --check
+step cargo clippy --profile quick --workspace --all-targets -- -D warnings
+RUSTDOCFLAGS="-D warnings" step cargo doc --workspace --no-deps --quiet
+step cargo test --profile quick --workspace
 # Every example of the library's front door builds and runs (they write into target/).
+ex_start=$SECONDS
 for ex in examples/*.rs; do
     cargo run --profile quick --quiet --example "$(basename "$ex" .rs)"
 done
-PROFILE=quick bash tests/conformance/run.sh
+echo "[test.sh] $((SECONDS - ex_start)) s: examples"
+PROFILE=quick step bash tests/conformance/run.sh

@@ -46,6 +46,8 @@ while [ $# -gt 0 ]; do
 done
 case "$matrix" in sample|full) ;; *) echo "conformance: --matrix is sample or full, not $matrix" >&2; exit 2 ;; esac
 start=$SECONDS
+# Each phase header says when it began, so a slow CI run shows where its time went.
+phase() { echo "== $* (at $((SECONDS - start)) s)"; }
 
 bash "$here/install.sh"
 if [ -n "${GMOTION:-}" ]; then
@@ -60,58 +62,58 @@ rm -rf "$out"
 mkdir -p "$out"
 status=0
 if [ "$main_run" = 1 ]; then
-    echo "== exporting (corpus with gmotion and python-lottie, example grammars)"
+    phase "exporting (corpus with gmotion and python-lottie, example grammars)"
     python3 "$here/conformance.py" prepare "$out" "$gm" "$corpus" "$root/grammars"
 
-    echo "== schema (lottie-specs)"
+    phase "schema (lottie-specs)"
     python3 "$here/schema_check.py" --list "$out/gmotion_lottie_files.txt" || status=1
 
-    echo "== in-process conversion time (tests/lottie.rs)"
+    phase "in-process conversion time (tests/lottie.rs)"
     (cd "$root" && cargo test --profile "$profile" --quiet -p gmotion-cli --test gmotion lottie::corpus_converts_in_process -- --nocapture 2>&1) \
         | grep "lottie corpus conversion" > "$out/in_process.txt" || status=1
 
-    echo "== playing: lottie-web"
+    phase "playing: lottie-web"
     node "$here/lottie_web.mjs" "$out/lottie_web_jobs.json"
-    echo "== playing: rlottie"
+    phase "playing: rlottie"
     python3 "$here/rlottie_render.py" "$out/rlottie_jobs.json"
-    echo "== playing: ThorVG"
+    phase "playing: ThorVG"
     python3 "$here/thorvg_render.py" "$out/thorvg_jobs.json"
     if [ -f "$here/smil.mjs" ]; then
-        echo "== playing: SMIL in Chromium"
+        phase "playing: SMIL in Chromium"
         node "$here/smil.mjs" --jobs "$out/smil_jobs.json" >/dev/null
         touch "$out/smil.ran"
 fi
 
 python3 "$here/conformance.py" report "$out" || status=1
 
-    echo "== Lottie own render: gmotion convert X.json -o f.png --time T against lottie-web and rlottie"
+    phase "Lottie own render: gmotion convert X.json -o f.png --time T against lottie-web and rlottie"
     python3 "$here/lottie_own_render.py" "$gm" "$out/own_render" "$here/lottie-corpus" > "$out/own_render.txt" || status=1
     tail -n 3 "$out/own_render.txt"
-    echo "== Lottie with a grammar on top: the layered export in lottie-web and rlottie against gmotion's render"
+    phase "Lottie with a grammar on top: the layered export in lottie-web and rlottie against gmotion's render"
     python3 "$here/lottie_own_render.py" "$gm" "$out/own_render_grammar" "$here/lottie-corpus" --grammar > "$out/own_render_grammar.txt" || status=1
     tail -n 3 "$out/own_render_grammar.txt"
-    echo "== 600 real colour SVGs (Fluent, Noto, Twemoji, Tabler) against Chromium (icons.py)"
+    phase "600 real colour SVGs (Fluent, Noto, Twemoji, Tabler) against Chromium (icons.py)"
     python3 "$here/icons.py" "$gm" "$out/icons" > "$out/icons.txt" || status=1
     grep -E "^(set|all) |fails|below" "$out/icons.txt" || true
 fi
 
 m="$out/matrix"
 mstart=$SECONDS
-echo "== matrix ($matrix): checking the generator, exporting, rendering gmotion's reference frames"
+phase "matrix ($matrix): checking the generator, exporting, rendering gmotion's reference frames"
 python3 "$here/matrix.py" selftest || status=1
 python3 "$here/matrix.py" prepare "$m" "$gm" --matrix "$matrix" "${only[@]}"
-echo "== matrix: lottie-web (svg and canvas renderers)"
+phase "matrix: lottie-web (svg and canvas renderers)"
 node "$here/lottie_web.mjs" "$m/lottie_web_jobs.json" || echo "matrix: a player exited with an error; its missing frames fail below"
-echo "== matrix: rlottie"
+phase "matrix: rlottie"
 python3 "$here/rlottie_render.py" "$m/rlottie_jobs.json" || echo "matrix: a player exited with an error; its missing frames fail below"
-echo "== matrix: ThorVG"
+phase "matrix: ThorVG"
 python3 "$here/thorvg_render.py" "$m/thorvg_jobs.json" || echo "matrix: a player exited with an error; its missing frames fail below"
-echo "== matrix: SMIL in Chromium"
+phase "matrix: SMIL in Chromium"
 node "$here/smil.mjs" --jobs "$m/smil_jobs.json" >/dev/null || echo "matrix: a player exited with an error; its missing frames fail below"
 python3 "$here/matrix.py" report "$m" || status=1
 cp "$m/matrix.md" "$out/matrix.md"
 echo "matrix: $((SECONDS - mstart)) s"
-echo "== studio: the page in Chromium (tests/conformance/studio.mjs)"
+phase "studio: the page in Chromium (tests/conformance/studio.mjs)"
 node "$here/studio.mjs" "$gm" || status=1
 echo "conformance: $((SECONDS - start)) s"
 exit $status
