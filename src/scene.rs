@@ -120,6 +120,9 @@ pub struct Group {
     pub clip_path: Option<Arc<ClipPath>>,
     /// Mask applied to the group.
     pub mask: Option<Arc<Mask>>,
+    /// Filter effects applied to the group's content (before clip, mask and opacity, as
+    /// SVG applies them).
+    pub filter: Option<Arc<Filter>>,
     /// Children in paint order.
     pub children: Vec<Node>,
     /// Set when this group is an animated unit.
@@ -413,6 +416,51 @@ pub struct Pattern {
     pub transform: Affine,
     /// The tile's content.
     pub root: Group,
+}
+
+/// The filter effects on a group: the ones every output can carry (SVG as filter
+/// primitives, Lottie as After Effects effects). Importers rasterise any other filter.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Filter {
+    /// Element id (may be empty).
+    pub id: String,
+    /// The region the effects draw in, in the group's coordinates (content outside it is
+    /// cut off, as SVG's filter region does).
+    pub region: Rect,
+    /// The effects, each applied to the result of the one before.
+    pub effects: Vec<Effect>,
+    /// Whether blurs mix colours in linear RGB (SVG's default) rather than sRGB.
+    pub linear_rgb: bool,
+}
+
+/// One filter effect, in the filtered group's coordinates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Effect {
+    /// A Gaussian blur with standard deviations `x` and `y`.
+    Blur(kurbo::Vec2),
+    /// The content's silhouette, moved by `offset`, blurred by `std_dev`, in `color`,
+    /// drawn under the content.
+    DropShadow {
+        /// How far the shadow falls.
+        offset: kurbo::Vec2,
+        /// Standard deviations of its blur.
+        std_dev: kurbo::Vec2,
+        /// Its colour, alpha included.
+        color: Color,
+    },
+}
+
+impl Effect {
+    /// How far the effect draws beyond its input's edges (three standard deviations,
+    /// where a Gaussian has all but 0.3 % of its weight, plus the shadow's offset).
+    pub fn reach(&self) -> f64 {
+        match *self {
+            Effect::Blur(s) => 3.0 * s.x.max(s.y),
+            Effect::DropShadow {
+                offset, std_dev, ..
+            } => 3.0 * std_dev.x.max(std_dev.y) + offset.hypot(),
+        }
+    }
 }
 
 /// A clip path.

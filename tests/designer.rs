@@ -402,8 +402,9 @@ fn a_clip_paths_use_of_a_use_clips_everything_away_as_in_browsers() {
     );
 }
 
-/// A filter or blend mode that is dropped is warned about with the element that asked for
-/// it (usvg moves it onto an anonymous group, which used to be named `<svg>`).
+/// A filter drawn as an image or a blend mode that is dropped is warned about with the
+/// element that asked for it (usvg moves it onto an anonymous group, which used to be
+/// named `<svg>`).
 #[test]
 fn dropped_effects_are_warned_about_by_the_element_that_has_them() {
     let d = files(
@@ -411,7 +412,7 @@ fn dropped_effects_are_warned_about_by_the_element_that_has_them() {
         &[(
             "fx.svg",
             r##"<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100">
-<defs><filter id="b"><feGaussianBlur stdDeviation="3"/></filter></defs>
+<defs><filter id="b"><feMorphology operator="dilate" radius="3"/></filter></defs>
 <circle id="glow" cx="50" cy="50" r="20" filter="url(#b)"/>
 <rect x="10" y="10" width="20" height="20" style="mix-blend-mode:multiply"/>
 </svg>"##,
@@ -422,7 +423,7 @@ fn dropped_effects_are_warned_about_by_the_element_that_has_them() {
         .args(["convert", "fx.svg", "-o", "fx.json"]));
     assert!(ok, "{err}");
     assert!(
-        err.contains("<circle id=\"glow\"> (line 3): filter ignored"),
+        err.contains("<circle id=\"glow\"> (line 3): filter drawn as an image"),
         "{err}"
     );
     assert!(

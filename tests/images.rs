@@ -5,16 +5,13 @@
 //! import; lottie-web (svg and canvas), rlottie and ThorVG play the Lottie, Chromium plays
 //! the SMIL, and animation frames are compared with gmotion's own frames.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Command;
 
-use gmotion_export_raster::{Pixmap, compare};
+use gmotion_export_raster::compare;
 
+use crate::support::pictures::{Judge, OFF, animate_and_play, gmotion, load};
 use crate::support::players::{Player, chromium, frame_path, play};
-
-/// A pixel is off when a premultiplied channel differs by more than this (of 255), as in
-/// the players' other tests.
-const OFF: u8 = 32;
 
 /// Most pixels that may be off in a frame. Players resample an image each with their own
 /// filter (rlottie nearest-neighbour, the others bilinear) and ThorVG does not smooth an
@@ -22,18 +19,6 @@ const OFF: u8 = 32;
 /// 0.0–2.1 % here (rlottie ≤ 1.9 %, ThorVG ≤ 2.1 %, the rest < 0.01 %). rlottie ignoring
 /// the placing rotation (`ddd` written after the transform) put 5–23 % off.
 const MAX_OFF: f64 = 0.025;
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_gmotion"))
-}
-
-/// Runs the binary in `dir`, asserting success, and returns its standard error.
-fn run(dir: &Path, args: &[&str]) -> String {
-    let out = bin().current_dir(dir).args(args).output().unwrap();
-    let err = String::from_utf8_lossy(&out.stderr).into_owned();
-    assert!(out.status.success(), "gmotion {args:?} failed:\n{err}");
-    err
-}
 
 /// A `w`×`h` PNG: four quadrant colours and a dark disc, blocks large enough that
 /// resampling filters differ only along edges.
@@ -102,26 +87,10 @@ fn art(name: &str) -> PathBuf {
     d
 }
 
-fn load(path: &Path) -> Pixmap {
-    Pixmap::load_png(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-}
-
-/// Asserts `got` is within [`MAX_OFF`] of `want`, naming what was compared.
-fn close(what: &str, want: &Pixmap, got: &Pixmap, failures: &mut Vec<String>) {
-    if (want.width(), want.height()) != (got.width(), got.height()) {
-        failures.push(format!("{what}: {}x{} px", got.width(), got.height()));
-        return;
-    }
-    let off = compare(want, got, OFF);
-    if off > MAX_OFF {
-        failures.push(format!("{what}: {:.2}% off", off * 100.0));
-    }
-}
-
 #[test]
 fn images_import_as_chromium_draws_them_and_play_in_every_player() {
     let d = art("still");
-    let err = run(
+    let err = gmotion(
         &d,
         &[
             "convert", "art.svg", "-o", "art.png", "-o", "art.json", "--width", "480",
@@ -132,13 +101,8 @@ fn images_import_as_chromium_draws_them_and_play_in_every_player() {
         "no image is dropped or refused:\n{err}"
     );
     let reference = chromium(&d.join("art.svg"), 480, &[0.0]).remove(0);
-    let mut failures = Vec::new();
-    close(
-        "gmotion's PNG",
-        &reference,
-        &load(&d.join("art.png")),
-        &mut failures,
-    );
+    let mut judge = Judge::new(MAX_OFF);
+    judge.close("gmotion's PNG", &reference, &load(&d.join("art.png")));
     let json = std::fs::read_to_string(d.join("art.json")).unwrap();
     let doc: serde_json::Value = serde_json::from_str(&json).unwrap();
     let images = doc["assets"]
@@ -155,19 +119,13 @@ fn images_import_as_chromium_draws_them_and_play_in_every_player() {
     assert_eq!(images, 2, "one embedded asset per distinct picture");
     let played = play("images-still", &json, &[0.0], 480, &Player::ALL);
     for p in Player::ALL {
-        close(
+        judge.close(
             &format!("{p:?}"),
             &reference,
             &load(&frame_path(&played, p, 0.0)),
-            &mut failures,
         );
     }
-    assert!(
-        failures.is_empty(),
-        "files in {}:\n{}",
-        d.display(),
-        failures.join("\n")
-    );
+    judge.assert_all_close(&d);
 }
 
 #[test]
@@ -182,7 +140,7 @@ fn images_are_units_that_move_by_their_ids_in_every_format() {
          animate(opacity, local, 0, 0.3) : [go, badge] -> [faded]\n",
     )
     .unwrap();
-    let out = bin()
+    let out = Command::new(env!("CARGO_BIN_EXE_gmotion"))
         .current_dir(&d)
         .args(["check", "--shapes", "--json", "art.svg"])
         .output()
@@ -202,52 +160,20 @@ fn images_are_units_that_move_by_their_ids_in_every_format() {
         "images are units, their ids tags"
     );
 
-    run(
-        &d,
-        &[
-            "animate",
-            "art.svg",
-            "art.gm",
-            "-o",
-            "anim.json",
-            "-o",
-            "anim.svg",
-            "-o",
-            "frames/",
-            "--width",
-            "480",
-        ],
-    );
+    let mut judge = Judge::new(MAX_OFF);
     let frames = [0.0, 5.0, 9.0, 10.0, 15.0];
-    let ours: Vec<Pixmap> = frames
-        .iter()
-        .map(|f| load(&d.join(format!("frames/frame_{:05}.png", *f as usize))))
-        .collect();
-    let mut failures = Vec::new();
+    let ours = animate_and_play(
+        "images-animated",
+        &d,
+        480,
+        10.0,
+        &frames,
+        &Player::ALL,
+        &mut judge,
+    );
     // The frames moved: the rotated logo is not where it rested.
     assert!(compare(&ours[0], &ours[3], OFF) > 0.05, "the images move");
-    let json = std::fs::read_to_string(d.join("anim.json")).unwrap();
-    let played = play("images-animated", &json, &frames, 480, &Player::ALL);
-    let times: Vec<f64> = frames.iter().map(|f| f / 10.0).collect();
-    let smil = chromium(&d.join("anim.svg"), 480, &times);
-    for (k, f) in frames.iter().enumerate() {
-        for p in Player::ALL {
-            let got = load(&frame_path(&played, p, *f));
-            close(&format!("{p:?} frame {f}"), &ours[k], &got, &mut failures);
-        }
-        close(
-            &format!("SMIL frame {f}"),
-            &ours[k],
-            &smil[k],
-            &mut failures,
-        );
-    }
-    assert!(
-        failures.is_empty(),
-        "files in {}:\n{}",
-        d.display(),
-        failures.join("\n")
-    );
+    judge.assert_all_close(&d);
 }
 
 #[test]
@@ -260,7 +186,7 @@ fn an_image_outside_the_folder_is_refused_with_a_warning_naming_it() {
         r#"<svg xmlns="http://www.w3.org/2000/svg" width="50" height="50"><image id="far" width="50" height="50" href="../photo.png"/><circle cx="25" cy="25" r="10"/></svg>"#,
     )
     .unwrap();
-    let err = run(&inner, &["convert", "a.svg", "-o", "a.json"]);
+    let err = gmotion(&inner, &["convert", "a.svg", "-o", "a.json"]);
     assert!(
         err.contains("photo.png"),
         "the warning names the file:\n{err}"

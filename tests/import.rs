@@ -221,7 +221,7 @@ fn synthetic_ids_never_reach_the_scene() {
 
 #[test]
 fn unsupported_features_are_named_in_warnings() {
-    let body = r#"<filter id="f"><feGaussianBlur stdDeviation="2"/></filter>
+    let body = r#"<filter id="f"><feMorphology radius="2"/></filter>
         <g id="shadow" filter="url(#f)"><rect width="5" height="5"/></g>
         <rect width="5" height="5" style="mix-blend-mode:multiply"/>"#;
     let imported = import(body, ImportOptions::default());
@@ -232,7 +232,7 @@ fn unsupported_features_are_named_in_warnings() {
         .collect::<Vec<_>>()
         .join("\n");
     assert!(
-        w.contains("test.svg: <g id=\"shadow\"> (line 2): filter ignored"),
+        w.contains("test.svg: <g id=\"shadow\"> (line 2): filter drawn as an image"),
         "{w}"
     );
     assert!(w.contains("mix-blend-mode multiply ignored"), "{w}");

@@ -12,6 +12,7 @@ mod cli_errors;
 mod corpus;
 mod designer;
 mod engine;
+mod filters;
 mod frame;
 mod fuzz;
 mod gallery;

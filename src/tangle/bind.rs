@@ -306,6 +306,22 @@ fn path_polyline(data: &str, span: Span) -> Result<Vec<Point>, TangleError> {
 /// An unknown operator, a wrong argument (count, name, type or range), with its location.
 pub fn bind(rule: &Rule, env: &mut dyn Env) -> Result<Op, TangleError> {
     let kind = Kind::of(&rule.op).ok_or_else(|| {
+        if crate::engine::rules::TIME_OPERATORS.contains(&rule.op.as_str()) {
+            // A timeslice operator written with one tag list: say what its lists are
+            // rather than suggest the very name the user wrote.
+            return TangleError::arg(
+                rule.op_span,
+                format!(
+                    "`{}` is a timeslice operator: it matches a timeslice and shapes, \
+                     `[SLICE, SHAPES]` (`[all, {}]` for a shape's whole timeline); \
+                     a single tag list is a spatial rule's",
+                    rule.op,
+                    rule.shape_tags
+                        .first()
+                        .map_or("SHAPES", |t| t.name.as_str())
+                ),
+            );
+        }
         let names = OPERATORS
             .split(", ")
             .chain(crate::engine::rules::TIME_OPERATORS);

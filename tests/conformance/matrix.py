@@ -808,27 +808,10 @@ def translucent_paint_overlap(doc, layers):
 
 
 def schema_validator():
-    """A function from a Lottie document to None (valid) or its first schema error, against
-    the schema schema_check.py uses. jsonschema-rs decides (the Python jsonschema takes
-    ~1 s per example file, a minute for the sample); the Python validator words the error
-    of an invalid file, and decides alone when jsonschema-rs is not installed."""
-    import jsonschema
+    """A function from a Lottie document to None (valid) or its first schema error
+    (schema_check.checker: the schema and validators of the corpus check)."""
     import schema_check
-    slow = schema_check.validator()
-    try:
-        import jsonschema_rs
-        fast = jsonschema_rs.validator_for(slow.schema)
-    except ImportError:
-        fast = None
-
-    def check(doc):
-        if fast is not None and fast.is_valid(doc):
-            return None
-        err = jsonschema.exceptions.best_match(slow.iter_errors(doc))
-        if err is None:
-            return None if fast is None else "jsonschema-rs rejects it, Python jsonschema accepts it"
-        return f"at /{'/'.join(str(p) for p in err.absolute_path)}: {err.message[:300]}"
-    return check
+    return schema_check.checker()
 
 
 def prepare(argv):

@@ -68,8 +68,9 @@ if [ "$main_run" = 1 ]; then
     phase "schema (lottie-specs)"
     python3 "$here/schema_check.py" --list "$out/gmotion_lottie_files.txt" || status=1
 
+    # `--workspace`, as scripts/test.sh builds the tests: the same features, nothing rebuilt.
     phase "in-process conversion time (tests/lottie.rs)"
-    (cd "$root" && cargo test --profile "$profile" --quiet -p gmotion-cli --test gmotion lottie::corpus_converts_in_process -- --nocapture 2>&1) \
+    (cd "$root" && cargo test --profile "$profile" --quiet --workspace --test gmotion lottie::corpus_converts_in_process -- --nocapture 2>&1) \
         | grep "lottie corpus conversion" > "$out/in_process.txt" || status=1
 
     phase "playing: lottie-web"

@@ -8,6 +8,7 @@ use gmotion::scene::Scene;
 use gmotion_import_svg::ImportOptions;
 use kurbo::{BezPath, Point};
 
+pub mod pictures;
 pub mod players;
 
 /// Runs `cmd` (stdin empty, stdout dropped), killing it past `bound`: its exit code

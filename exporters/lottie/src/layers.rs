@@ -24,6 +24,7 @@
 //! rest, by concern: [`mattes`] (clip paths and masks), [`units`] (animated shapes),
 //! [`paths`] (fills, strokes, outlines, deformation), [`patterns`] and [`images`].
 
+mod effects;
 mod images;
 mod mattes;
 mod paths;
@@ -47,8 +48,8 @@ use super::paint::{self, PaintAnim, Styled};
 use gmotion::color::Color;
 use gmotion::motion::Track;
 use gmotion::scene::{
-    ClipPath, Fill, FillRule, Group, LineCap, LineJoin, Mask, MaskKind, Node, Paint, PathNode,
-    Pattern, Scene, Stroke,
+    ClipPath, Fill, FillRule, Filter, Group, LineCap, LineJoin, Mask, MaskKind, Node, Paint,
+    PathNode, Pattern, Scene, Stroke,
 };
 use mattes::{ClipKind, clip_group, mask, mask_group};
 pub(crate) use units::{conjugate, full_transform};
@@ -334,7 +335,10 @@ impl<'a> Builder<'a> {
         if matches!(clip, Some(ClipKind::Empty)) {
             return;
         }
-        let isolate = clip.is_some() || g.mask.is_some() || (g.opacity < 1.0 && paints(g) > 1);
+        let isolate = clip.is_some()
+            || g.mask.is_some()
+            || g.filter.is_some()
+            || (g.opacity < 1.0 && paints(g) > 1);
         if !isolate {
             env.alpha *= g.opacity as f64;
             return self.children(g, acc * g.transform, env, comp);
@@ -364,6 +368,9 @@ impl<'a> Builder<'a> {
             self.content_layer(&name, layered, sub_env, comp, |b, env, acc0, sub| {
                 b.children(g, acc0 * inner, env, sub);
             });
+        if let Some(f) = &g.filter {
+            self.add_effects(&mut content, f, local * inner);
+        }
         let opacity = g.opacity as f64 * env.alpha;
         if opacity < 1.0 {
             let o = Prop::scalar(N::coord(opacity * 100.0));
@@ -471,6 +478,35 @@ impl<'a> Builder<'a> {
         (l, offset)
     }
 
+    /// Puts `f`'s effects on `layer`, which draws the filtered group's content through
+    /// `to_layer`, with the filter's region as an invisible shape at its bottom (see
+    /// [`effects`]).
+    fn add_effects(&mut self, layer: &mut Layer, f: &Filter, to_layer: Affine) {
+        layer.ef = effects::effects(f, to_layer);
+        self.warnings.push(effects::PLAYERS.to_string());
+        let extent = effects::extent(to_layer.transform_rect_bbox(f.region));
+        if let Some(shapes) = layer.shapes.as_mut() {
+            shapes.push(extent);
+            return;
+        }
+        let asset = layer
+            .ref_id
+            .as_ref()
+            .and_then(|id| self.assets.iter_mut().find(|a| &a.id == id));
+        if let Some(asset) = asset {
+            let ind = asset.layers.iter().map(|l| l.ind).max().unwrap_or(0) + 1;
+            let mut l = Layer::new(
+                LayerType::Shape,
+                "filter region".to_string(),
+                ind,
+                0.0,
+                self.src.op,
+            );
+            l.shapes = Some(vec![extent]);
+            asset.layers.push(l);
+        }
+    }
+
     /// Whether drawing `node` makes layers (so its container must be a precomposition).
     fn needs_layers(&self, node: &Node, unit: Option<usize>) -> bool {
         if let Some(u) = node.unit()
@@ -489,6 +525,7 @@ impl<'a> Builder<'a> {
             Node::Group(g) => {
                 g.clip_path.is_some()
                     || g.mask.is_some()
+                    || g.filter.is_some()
                     || (g.opacity < 1.0 && paints(g) > 1)
                     || g.children.iter().any(|c| self.needs_layers(c, unit))
             }

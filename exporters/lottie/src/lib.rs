@@ -212,6 +212,10 @@ fn write(src: Source, opts: &LottieOptions) -> Result<LottieOutput, LottieError>
         layers,
     };
     let json = doc.into_json();
+    // Some warnings are about the document rather than one element (effects, for one):
+    // each is said once.
+    let mut seen = std::collections::HashSet::new();
+    builder.warnings.retain(|w| seen.insert(w.clone()));
     Ok((
         json,
         builder.warnings.into_iter().map(Warning::from).collect(),

@@ -229,6 +229,8 @@ pub struct Layer {
     pub masks: Vec<Mask>,
     /// Layer transform.
     pub ks: Transform,
+    /// Effects, applied in order to what the layer draws.
+    pub ef: Vec<LayerEffect>,
     /// Shapes (shape layers), topmost first.
     pub shapes: Option<Vec<Shape>>,
     /// In point.
@@ -261,6 +263,7 @@ impl Layer {
             has_mask: None,
             masks: Vec::new(),
             ks: Transform::layer_identity(),
+            ef: Vec::new(),
             shapes: None,
             ip: N::coord(ip),
             op: N::coord(op),
@@ -283,6 +286,7 @@ impl Layer {
         self.write_tail(&mut out);
         self.masks = Vec::new();
         self.ks = Transform::empty();
+        self.ef = Vec::new();
         self.shapes = None;
         self.sealed = Some(out.into_boxed_slice());
     }
@@ -330,6 +334,9 @@ impl Layer {
             field(out, "masksProperties", &self.masks);
         }
         field(out, "ks", &self.ks);
+        if !self.ef.is_empty() {
+            field(out, "ef", &self.ef);
+        }
         if let Some(shapes) = &self.shapes {
             field(out, "shapes", shapes);
         }
@@ -339,6 +346,41 @@ impl Layer {
         field(out, "bm", &self.bm);
         out.push(b'}');
     }
+}
+
+/// An After Effects effect on a layer (`ty` 25 drop shadow, 29 Gaussian blur): its
+/// parameters in the order players read them.
+#[derive(Clone, Debug, Serialize)]
+pub struct LayerEffect {
+    /// Effect type.
+    pub ty: u8,
+    /// Display name.
+    pub nm: &'static str,
+    /// After Effects match name.
+    pub mn: &'static str,
+    /// Index among the layer's effects, from 1.
+    pub ix: usize,
+    /// Enabled.
+    pub en: u8,
+    /// Number of properties.
+    pub np: usize,
+    /// The parameters.
+    pub ef: Vec<EffectValue>,
+}
+
+/// One parameter of an effect.
+#[derive(Clone, Debug, Serialize)]
+pub struct EffectValue {
+    /// Kind: 0 slider, 1 angle, 2 colour, 4 checkbox, 7 dropdown.
+    pub ty: u8,
+    /// Display name.
+    pub nm: &'static str,
+    /// After Effects match name.
+    pub mn: String,
+    /// Index within the effect, from 1.
+    pub ix: usize,
+    /// The value.
+    pub v: Prop,
 }
 
 /// A layer mask.

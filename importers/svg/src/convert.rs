@@ -11,6 +11,7 @@ use kurbo::{Affine, BezPath, Point, Rect};
 use usvg::roxmltree::NodeId;
 use usvg::tiny_skia_path::PathSegment;
 
+use super::filters;
 use super::source::{Scope, Source};
 use super::{ImportOptions, Units};
 use gmotion::color::Color;
@@ -77,6 +78,12 @@ pub(super) fn convert(
             c.children(g, &mut root, ctx);
         }
         _ => c.children(top, &mut root, ctx),
+    }
+    for e in filters::unread_css_filters(&src.doc) {
+        c.warn(
+            Some(e.id()),
+            "CSS filter ignored (usvg cannot read a function inside one, such as rgba(…); write the colour as #RRGGBBAA)",
+        );
     }
     Converted {
         root,
@@ -152,7 +159,7 @@ fn key<T>(arc: &T) -> usize {
     arc as *const T as usize
 }
 
-fn affine(t: usvg::Transform) -> Affine {
+pub(crate) fn affine(t: usvg::Transform) -> Affine {
     Affine::new([
         t.sx as f64,
         t.ky as f64,
@@ -357,9 +364,14 @@ impl<'s, 'a> Converter<'s, 'a> {
             .map(|e| e.id())
             .or_else(|| self.first_element(g))
             .or(ctx.near);
-        if !g.filters().is_empty() {
-            self.warn(effect_of, "filter ignored (filters are not supported)");
-        }
+        let filter = if g.filters().is_empty() {
+            None
+        } else {
+            match filters::recognise(g.filters()) {
+                Some(f) => Some(f).filter(|f| !f.effects.is_empty()).map(Arc::new),
+                None => return self.baked(g, kind, dst, ctx, effect_of),
+            }
+        };
         if g.blend_mode() != usvg::BlendMode::Normal {
             self.warn(
                 effect_of,
@@ -411,6 +423,7 @@ impl<'s, 'a> Converter<'s, 'a> {
             && opacity == 1.0
             && clip_path.is_none()
             && mask.is_none()
+            && filter.is_none()
             && !is_unit;
         if transparent {
             self.children(g, dst, inner);
@@ -421,6 +434,7 @@ impl<'s, 'a> Converter<'s, 'a> {
                 opacity,
                 clip_path,
                 mask,
+                filter,
                 children: Vec::new(),
                 unit: None,
             };
@@ -430,6 +444,8 @@ impl<'s, 'a> Converter<'s, 'a> {
             self.path.pop();
             if let Some(tag) = unit_tag.filter(|_| draws(&out)) {
                 out.unit = Some(self.register(tag, elem, ctx.scope, ctx.abs, index));
+            } else if out.filter.is_some() {
+                self.hoist_unit(&mut out, ctx.abs);
             }
             if !out.children.is_empty() {
                 dst.children.push(Node::Group(out));
@@ -438,6 +454,75 @@ impl<'s, 'a> Converter<'s, 'a> {
         if let Some(z) = outer_zip {
             self.zip = z;
         }
+    }
+
+    /// Makes a filtered group whose one child is a unit the unit instead, so that the
+    /// filter moves with it: a filtered shape is a group of its own in usvg, and a filter
+    /// region left behind would cut off the shape once it moved out of it.
+    fn hoist_unit(&mut self, g: &mut Group, parent_transform: Affine) {
+        let [child] = g.children.as_mut_slice() else {
+            return;
+        };
+        let unit = match child {
+            Node::Group(c) => c.unit.take(),
+            Node::Path(p) => p.unit.take(),
+            Node::Image(i) => i.unit.take(),
+        };
+        if let Some(u) = unit {
+            let shape = &mut self.units[u];
+            shape.node_path.pop();
+            shape.parent_transform = parent_transform;
+            g.unit = Some(u);
+        }
+    }
+
+    /// Draws group `g`, whose filter no scene effect expresses, as an image (with a
+    /// warning naming the element that asked for the filter); the image is a unit where
+    /// the group's content would have held units.
+    fn baked(
+        &mut self,
+        g: &usvg::Group,
+        kind: GroupKind,
+        dst: &mut Group,
+        ctx: Ctx<'s>,
+        effect_of: Option<NodeId>,
+    ) {
+        let parent_abs = g
+            .transform()
+            .invert()
+            .map(|t| g.abs_transform().pre_concat(t));
+        let Some((image, place)) = parent_abs.and_then(|t| filters::bake(g, t)) else {
+            self.warn(effect_of, "filter ignored (it draws nothing drawable)");
+            return;
+        };
+        self.warn(
+            effect_of,
+            "filter drawn as an image (only blurs and drop shadows stay vector)",
+        );
+        let elem = self.src.element(g.id());
+        let from = self.opts.tag_from;
+        let index = dst.children.len();
+        let unit = if let Some(e) = elem.filter(|_| ctx.units)
+            && let Some(tag) = self.unit_tag(e, kind, self.src.scope(e, ctx.scope, from, None))
+        {
+            Some(self.register(tag, Some(e), ctx.scope, ctx.abs, index))
+        } else if let Some(e) = effect_of
+            .and_then(|id| self.src.node(id))
+            .filter(|_| ctx.units)
+        {
+            let scope = self.src.scope(e, ctx.scope, from, None);
+            let tag = scope.tag(e.tag_name().name());
+            Some(self.register(tag, Some(e), ctx.scope, ctx.abs, index))
+        } else {
+            None
+        };
+        dst.children.push(Node::Group(Group {
+            id: self.keep_id(g.id()),
+            transform: place,
+            children: vec![Node::Image(image)],
+            unit,
+            ..Group::new()
+        }));
     }
 
     fn path(&mut self, p: &usvg::Path, dst: &mut Group, ctx: Ctx<'s>) {

@@ -25,6 +25,7 @@
 
 mod access;
 mod convert;
+mod filters;
 pub mod fonts;
 mod source;
 pub mod tagmap;

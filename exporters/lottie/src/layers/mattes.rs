@@ -104,6 +104,7 @@ pub(super) fn whiten(nodes: &[Node]) -> Vec<Node> {
                 opacity: 1.0,
                 clip_path: g.clip_path.clone(),
                 mask: None,
+                filter: None,
                 children: whiten(&g.children),
                 unit: None,
             })),

@@ -4,14 +4,14 @@
 use std::collections::{HashMap, HashSet, VecDeque};
 use std::fmt::Write;
 
-use kurbo::Affine;
+use kurbo::{Affine, Rect, Vec2};
 
-use super::number::{attr_num, attr_transform, escaped, hex};
+use super::number::{attr_num, attr_transform, escaped, hex, num};
 use super::{Ctx, Writer};
 use gmotion::motion::Tint;
 use gmotion::scene::{
-    ClipPath, FillRule, Group, LinearGradient, Mask, MaskKind, Node, Pattern, RadialGradient,
-    Spread, Stop,
+    ClipPath, Effect, FillRule, Filter, Group, LinearGradient, Mask, MaskKind, Node, Pattern,
+    RadialGradient, Spread, Stop,
 };
 
 /// One `<defs>` entry: a scene object and the variant of it a reference needs.
@@ -28,6 +28,8 @@ pub(super) enum Def<'a> {
     Clip(&'a ClipPath, Affine),
     /// A mask.
     Mask(&'a Mask),
+    /// A filter drawing in a region (see [`Writer::filter_region`]).
+    Filter(&'a Filter, Rect),
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, Hash)]
@@ -50,6 +52,10 @@ impl Def<'_> {
             Def::Pattern(p, t) => (p as *const _ as usize, 2, tint_bits(t)),
             Def::Clip(c, ts) => (c as *const _ as usize, 3, ts.as_coeffs().map(f64::to_bits)),
             Def::Mask(m) => (m as *const _ as usize, 4, [0; 6]),
+            Def::Filter(f, r) => {
+                let [a, b, c, d] = [r.x0, r.y0, r.x1, r.y1].map(f64::to_bits);
+                (f as *const _ as usize, 5, [a, b, c, d, 0, 0])
+            }
         };
         Key { ptr, kind, variant }
     }
@@ -62,6 +68,7 @@ impl Def<'_> {
             Def::Pattern(p, _) => (&p.id, "pat"),
             Def::Clip(c, _) => (&c.id, "clip"),
             Def::Mask(m) => (&m.id, "mask"),
+            Def::Filter(f, _) => (&f.id, "filter"),
         }
     }
 
@@ -71,6 +78,7 @@ impl Def<'_> {
             Def::Linear(_, t) | Def::Radial(_, t) | Def::Pattern(_, t) => t == Tint::NONE,
             Def::Clip(_, ts) => ts == Affine::IDENTITY,
             Def::Mask(_) => true,
+            Def::Filter(f, r) => f.region == r,
         }
     }
 }
@@ -222,8 +230,53 @@ impl<'a> Writer<'a> {
                     self.group_content(&m.root, Ctx::REST);
                     self.out.push_str("</mask>\n");
                 }
+                Def::Filter(f, region) => self.filter(i, f, region),
             }
         }
+    }
+
+    /// A filter of blurs and drop shadows, each primitive reading the one before.
+    fn filter(&mut self, i: usize, f: &Filter, region: Rect) {
+        self.def_open("filter", i);
+        self.out.push_str(" filterUnits=\"userSpaceOnUse\"");
+        self.rect_attrs(region);
+        if !f.linear_rgb {
+            self.out.push_str(" color-interpolation-filters=\"sRGB\"");
+        }
+        self.out.push_str(">\n");
+        let std_dev = |out: &mut String, s: Vec2| {
+            out.push_str(" stdDeviation=\"");
+            num(out, s.x);
+            out.push(' ');
+            num(out, s.y);
+            out.push('"');
+        };
+        for e in &f.effects {
+            match *e {
+                Effect::Blur(s) => {
+                    self.out.push_str("<feGaussianBlur");
+                    std_dev(&mut self.out, s);
+                }
+                Effect::DropShadow {
+                    offset,
+                    std_dev: s,
+                    color,
+                } => {
+                    self.out.push_str("<feDropShadow");
+                    attr_num(&mut self.out, "dx", offset.x);
+                    attr_num(&mut self.out, "dy", offset.y);
+                    std_dev(&mut self.out, s);
+                    self.out.push_str(" flood-color=\"");
+                    hex(&mut self.out, color);
+                    self.out.push('"');
+                    if color.a != 1.0 {
+                        attr_num(&mut self.out, "flood-opacity", color.a.into());
+                    }
+                }
+            }
+            self.out.push_str("/>\n");
+        }
+        self.out.push_str("</filter>\n");
     }
 
     fn def_open(&mut self, element: &str, i: usize) {
