@@ -171,6 +171,22 @@ fn svgz(n: usize) -> Vec<u8> {
 
 /// `cascade(` 10 000 times (an argument may hold 128 kB): a stack overflow before the
 /// parser bounded its depth.
+/// 2000 large squares, each with a filter that is drawn as an image.
+fn many_baked_filters() -> Vec<u8> {
+    let mut s = String::from(
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="1000" height="1000"><filter id="m"><feMorphology radius="2"/></filter>"#,
+    );
+    for i in 0..2000 {
+        s.push_str(&format!(
+            "\n<rect x=\"{}\" y=\"{}\" width=\"900\" height=\"900\" filter=\"url(#m)\"/>",
+            i % 10,
+            i / 10
+        ));
+    }
+    s.push_str("</svg>");
+    s.into_bytes()
+}
+
 fn deep_system() -> String {
     "cascade(".repeat(10_000)
 }
@@ -233,6 +249,14 @@ fn all_cases() -> Vec<Case> {
         Case::new("image on a FIFO beside the scene", "convert {d}/scene.svg -o {d}/out.json", &["<image id=\"pic\">", "pipe.png", "a FIFO"], "none")
             .file("scene.svg", image_svg("pipe.png"))
             .setup(|d| fifo(d, "pipe.png"))
+            .succeeds(),
+        // Filters: every pixel drawn for filters drawn as images counts, and no number
+        // in a blur or a shadow reaches the rasteriser unbounded.
+        Case::new("thousands of filters drawn as images", "convert {d}/scene.svg -o {d}/out.json", &["filter ignored", "limit of 32000000 pixels", "--limit filter-pixels=N"], "none")
+            .file("scene.svg", many_baked_filters())
+            .succeeds(),
+        Case::new("blur and shadow of 1e9 and 1e30", "convert {d}/scene.svg -o {d}/out.json -o {d}/out.png", &["rlottie"], "out.png")
+            .file("scene.svg", r#"<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100"><filter id="f"><feGaussianBlur stdDeviation="1e9"/></filter><filter id="g" x="-1e9" y="-1e9" width="3e9" height="3e9" filterUnits="userSpaceOnUse"><feDropShadow dx="1e30" dy="1e30" stdDeviation="1e20"/></filter><circle cx="50" cy="50" r="20" filter="url(#f)"/><circle cx="50" cy="50" r="10" filter="url(#g)"/></svg>"#)
             .succeeds(),
         // Inputs are regular files: a FIFO is an error at once, not a hang.
         Case::new("scene is a FIFO", "animate {d}/pipe.svg {d}/g.gm -o {d}/out.png", &["pipe.svg", "a FIFO", "regular files"], "out.png").setup(|d| fifo(d, "pipe.svg")),

@@ -30,6 +30,11 @@ pub const LIMITS: &[(&str, u64, &str)] = &[
         10_000,
         "CSS rules in an SVG's <style> elements",
     ),
+    (
+        "filter-pixels",
+        gmotion_import_svg::MAX_BAKED_PIXELS,
+        "pixels of all SVG filters drawn as images (those no Lottie effect expresses)",
+    ),
     ("frames", 10_000, "frames of an animation (duration × fps)"),
     (
         "pixels",
@@ -113,6 +118,7 @@ impl Limits {
             max_entity_bytes: self.get("xml-entity-bytes"),
             max_xml_nodes: u32::try_from(self.get("xml-nodes")).unwrap_or(u32::MAX),
             max_css_rules: u32::try_from(self.get("css-rules")).unwrap_or(u32::MAX),
+            max_baked_pixels: self.get("filter-pixels"),
         }
     }
 

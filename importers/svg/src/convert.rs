@@ -42,6 +42,7 @@ pub(super) fn convert(
     src: &Source,
     opts: &ImportOptions,
     fonts: &usvg::fontdb::Database,
+    max_baked_pixels: u64,
 ) -> Converted {
     let mut c = Converter {
         src,
@@ -59,6 +60,8 @@ pub(super) fn convert(
         units: Vec::new(),
         path: Vec::new(),
         zip: None,
+        baked_pixels: 0.0,
+        max_baked_pixels: max_baked_pixels as f64,
     };
     let root_elem = src.doc.root_element();
     let mut ctx = Ctx {
@@ -152,6 +155,9 @@ struct Converter<'s, 'a> {
     /// Child indices from the root to the group being filled.
     path: Vec<usize>,
     zip: Option<Zip>,
+    /// Pixels drawn so far for filters drawn as images, and the most there may be.
+    baked_pixels: f64,
+    max_baked_pixels: f64,
 }
 
 /// Identity of a usvg paint server, clip or mask: they are shared through `Arc`s.
@@ -369,7 +375,10 @@ impl<'s, 'a> Converter<'s, 'a> {
         } else {
             match filters::recognise(g.filters()) {
                 Some(f) => Some(f).filter(|f| !f.effects.is_empty()).map(Arc::new),
-                None => return self.baked(g, kind, dst, ctx, effect_of),
+                // A filter that cannot be drawn as an image is left out (and said so):
+                // the content is drawn without it.
+                None if self.baked(g, kind, dst, ctx, effect_of) => return,
+                None => None,
             }
         };
         if g.blend_mode() != usvg::BlendMode::Normal {
@@ -478,7 +487,7 @@ impl<'s, 'a> Converter<'s, 'a> {
 
     /// Draws group `g`, whose filter no scene effect expresses, as an image (with a
     /// warning naming the element that asked for the filter); the image is a unit where
-    /// the group's content would have held units.
+    /// the group's content would have held units. False (with a warning) when it cannot.
     fn baked(
         &mut self,
         g: &usvg::Group,
@@ -486,15 +495,31 @@ impl<'s, 'a> Converter<'s, 'a> {
         dst: &mut Group,
         ctx: Ctx<'s>,
         effect_of: Option<NodeId>,
-    ) {
+    ) -> bool {
         let parent_abs = g
             .transform()
             .invert()
             .map(|t| g.abs_transform().pre_concat(t));
-        let Some((image, place)) = parent_abs.and_then(|t| filters::bake(g, t)) else {
-            self.warn(effect_of, "filter ignored (it draws nothing drawable)");
-            return;
+        let budget = self.max_baked_pixels - self.baked_pixels;
+        let baked = parent_abs.map_or(Err(filters::Unbaked::Nothing), |t| {
+            filters::bake(g, t, budget)
+        });
+        let (image, place) = match baked {
+            Ok(b) => b,
+            Err(filters::Unbaked::Nothing) => {
+                self.warn(effect_of, "filter ignored (it cannot be drawn as an image)");
+                return false;
+            }
+            Err(filters::Unbaked::OverBudget) => {
+                let why = format!(
+                    "filter ignored (the filters drawn as images reached the limit of {} pixels; raise it with --limit filter-pixels=N)",
+                    self.max_baked_pixels
+                );
+                self.warn(effect_of, &why);
+                return false;
+            }
         };
+        self.baked_pixels += image.width * image.height;
         self.warn(
             effect_of,
             "filter drawn as an image (only blurs and drop shadows stay vector)",
@@ -523,6 +548,7 @@ impl<'s, 'a> Converter<'s, 'a> {
             unit,
             ..Group::new()
         }));
+        true
     }
 
     fn path(&mut self, p: &usvg::Path, dst: &mut Group, ctx: Ctx<'s>) {

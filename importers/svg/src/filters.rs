@@ -295,23 +295,45 @@ fn merge(layers: Vec<Value>) -> Option<Value> {
 /// The largest side, in pixels, of a rasterised filter.
 const MAX_BAKED_SIDE: f64 = 4096.0;
 
+/// The most pixels drawn, by default, for filters drawn as images in one import (32
+/// million, 128 MB; [`crate::Policy::max_baked_pixels`]): a file of thousands of filtered
+/// elements is drawn in bounded time; past this, filters are left out with a warning.
+pub const MAX_BAKED_PIXELS: u64 = 32_000_000;
+
+/// Why a filter was not drawn as an image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Unbaked {
+    /// The group draws nothing, or reaches coordinates the rasteriser cannot take.
+    Nothing,
+    /// It would take more pixels than were left of [`crate::Policy::max_baked_pixels`].
+    OverBudget,
+}
+
 /// Draws `g` (its filters included) with resvg into an image at twice the output's
-/// resolution, capped at [`MAX_BAKED_SIDE`] pixels a side. Answers the image and where it
-/// goes in the coordinates `g`'s parent draws in (`parent_abs` maps them to the canvas),
-/// or `None` when the group draws nothing or reaches coordinates the rasteriser cannot
-/// take.
-pub fn bake(g: &usvg::Group, parent_abs: usvg::Transform) -> Option<(ImageNode, Affine)> {
+/// resolution, capped at [`MAX_BAKED_SIDE`] pixels a side and at `budget` pixels. Answers
+/// the image and where it goes in the coordinates `g`'s parent draws in (`parent_abs`
+/// maps them to the canvas), or `None` when the group draws nothing, reaches coordinates
+/// the rasteriser cannot take ([`Unbaked::Nothing`]), or would need more pixels than
+/// `budget` ([`Unbaked::OverBudget`]).
+pub fn bake(
+    g: &usvg::Group,
+    parent_abs: usvg::Transform,
+    budget: f64,
+) -> Result<(ImageNode, Affine), Unbaked> {
     let node = usvg::Node::Group(Box::new(g.clone()));
-    let bbox = node.abs_layer_bounding_box()?;
+    let bbox = node.abs_layer_bounding_box().ok_or(Unbaked::Nothing)?;
     let (w, h) = (f64::from(bbox.width()), f64::from(bbox.height()));
     let abs = affine(parent_abs);
     let own_scale = (abs.determinant().abs().sqrt() * 2.0).max(1e-9);
     let scale = own_scale.min(MAX_BAKED_SIDE / w.max(h));
     let (pw, ph) = ((w * scale).ceil(), (h * scale).ceil());
-    if !(scale.is_finite() && pw >= 1.0 && ph >= 1.0 && drawable(g, scale, bbox)) {
-        return None;
+    if pw * ph > budget {
+        return Err(Unbaked::OverBudget);
     }
-    let mut pixmap = resvg::tiny_skia::Pixmap::new(pw as u32, ph as u32)?;
+    if !(scale.is_finite() && pw >= 1.0 && ph >= 1.0 && drawable(g, scale, bbox)) {
+        return Err(Unbaked::Nothing);
+    }
+    let mut pixmap = resvg::tiny_skia::Pixmap::new(pw as u32, ph as u32).ok_or(Unbaked::Nothing)?;
     // resvg draws the node from its own transform down and shifts by the bounding box's
     // corner: put the parent's transform back in between.
     let (bx, by) = (bbox.x(), bbox.y());
@@ -319,8 +341,8 @@ pub fn bake(g: &usvg::Group, parent_abs: usvg::Transform) -> Option<(ImageNode, 
         .pre_translate(-bx, -by)
         .pre_concat(parent_abs)
         .pre_translate(bx, by);
-    resvg::render_node(&node, ts, &mut pixmap.as_mut())?;
-    let data = pixmap.encode_png().ok()?;
+    resvg::render_node(&node, ts, &mut pixmap.as_mut()).ok_or(Unbaked::Nothing)?;
+    let data = pixmap.encode_png().map_err(|_| Unbaked::Nothing)?;
     let image = ImageNode {
         id: String::new(),
         data: Arc::from(data),
@@ -333,7 +355,7 @@ pub fn bake(g: &usvg::Group, parent_abs: usvg::Transform) -> Option<(ImageNode, 
     let place = abs.inverse()
         * Affine::translate((f64::from(bx), f64::from(by)))
         * Affine::scale(1.0 / scale);
-    Some((image, place))
+    Ok((image, place))
 }
 
 /// Whether every path under `g` (clip paths and masks included), drawn at `scale` from

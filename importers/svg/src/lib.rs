@@ -26,6 +26,7 @@
 mod access;
 mod convert;
 mod filters;
+pub use filters::MAX_BAKED_PIXELS;
 pub mod fonts;
 mod source;
 pub mod tagmap;
@@ -93,6 +94,10 @@ pub struct Policy {
     /// Most CSS rules the `<style>` elements of a document may hold together (default
     /// 10 000; `--limit css-rules=N`).
     pub max_css_rules: u32,
+    /// Most pixels drawn for filters that are drawn as images, over the whole document
+    /// (default [`MAX_BAKED_PIXELS`]; `--limit filter-pixels=N`); past it, such filters
+    /// are left out with a warning.
+    pub max_baked_pixels: u64,
     /// Fonts besides the system's, and the family a text in a missing font is drawn in
     /// (`--font-dir`, `--font-file`, `--font-family`).
     pub fonts: fonts::FontOptions,
@@ -107,6 +112,7 @@ impl Default for Policy {
             max_entity_bytes: 1 << 20,
             max_xml_nodes: 1_000_000,
             max_css_rules: 10_000,
+            max_baked_pixels: MAX_BAKED_PIXELS,
             fonts: fonts::FontOptions::default(),
         }
     }
@@ -279,7 +285,7 @@ fn parse_in(
         },
     })?;
 
-    let mut converted = convert::convert(&tree, &src, opts, &uopt.fontdb);
+    let mut converted = convert::convert(&tree, &src, opts, &uopt.fontdb, policy.max_baked_pixels);
     converted.warnings.extend(unmatched);
     let refused = std::mem::take(&mut *refused.lock().unwrap_or_else(|e| e.into_inner()));
     for (href, why) in refused {
