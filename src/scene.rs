@@ -138,6 +138,26 @@ impl Group {
         }
     }
 
+    /// The region this group's filter draws in, in the group's coordinates (`abs` maps
+    /// them to the canvas): the source's, unless animated units inside may move out of it,
+    /// when it grows to cover the canvas plus the effects' reach (anything beyond is not
+    /// seen). `None` without a filter.
+    pub fn filter_region(&self, abs: Affine, canvas: Rect) -> Option<Rect> {
+        fn has_unit(g: &Group) -> bool {
+            g.children
+                .iter()
+                .any(|n| n.unit().is_some() || matches!(n, Node::Group(h) if has_unit(h)))
+        }
+        let f = self.filter.as_ref()?;
+        if !has_unit(self) || abs.determinant() == 0.0 {
+            return Some(f.region);
+        }
+        let reach: f64 = f.effects.iter().map(Effect::reach).sum();
+        let seen = abs.inverse().transform_rect_bbox(canvas);
+        let scale = abs.determinant().abs().sqrt();
+        Some(f.region.union(seen.inflate(reach / scale, reach / scale)))
+    }
+
     /// The node at `path` (child indices from this group down, as [`Shape::node_path`]
     /// holds them), or `None` when the path leaves the tree.
     pub fn node_at(&self, path: &[usize]) -> Option<&Node> {

@@ -369,7 +369,11 @@ impl<'a> Builder<'a> {
                 b.children(g, acc0 * inner, env, sub);
             });
         if let Some(f) = &g.filter {
-            self.add_effects(&mut content, f, local * inner);
+            let canvas = Rect::new(0.0, 0.0, self.src.scene.width, self.src.scene.height);
+            let region = g
+                .filter_region(env.to_canvas * inner, canvas)
+                .unwrap_or(f.region);
+            self.add_effects(&mut content, f, region, local * inner);
         }
         let opacity = g.opacity as f64 * env.alpha;
         if opacity < 1.0 {
@@ -479,12 +483,12 @@ impl<'a> Builder<'a> {
     }
 
     /// Puts `f`'s effects on `layer`, which draws the filtered group's content through
-    /// `to_layer`, with the filter's region as an invisible shape at its bottom (see
-    /// [`effects`]).
-    fn add_effects(&mut self, layer: &mut Layer, f: &Filter, to_layer: Affine) {
+    /// `to_layer`, with `region` (in the group's coordinates, see [`Group::filter_region`])
+    /// as an invisible shape at its bottom (see [`effects`]).
+    fn add_effects(&mut self, layer: &mut Layer, f: &Filter, region: Rect, to_layer: Affine) {
         layer.ef = effects::effects(f, to_layer);
         self.warnings.push(effects::PLAYERS.to_string());
-        let extent = effects::extent(to_layer.transform_rect_bbox(f.region));
+        let extent = effects::extent(to_layer.transform_rect_bbox(region));
         if let Some(shapes) = layer.shapes.as_mut() {
             shapes.push(extent);
             return;

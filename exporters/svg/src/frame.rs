@@ -30,9 +30,7 @@ use gmotion::canvas::Fit;
 
 use defs::{Def, Defs, Names};
 use gmotion::motion::{Animation, Sampler, ShapeState, Tint, Track};
-use gmotion::scene::{
-    Effect, FillRule, Filter, Group, ImageNode, LineCap, LineJoin, Node, Paint, PathNode, Scene,
-};
+use gmotion::scene::{FillRule, Group, ImageNode, LineCap, LineJoin, Node, Paint, PathNode, Scene};
 use number::{attr_num, attr_transform, escaped, hex, num, point};
 
 /// The opening of every document this module writes, up to the canvas size.
@@ -311,7 +309,10 @@ impl<'a> Writer<'a> {
             attr_num(&mut self.out, "opacity", g.opacity as f64);
         }
         if let Some(f) = &g.filter {
-            let region = self.filter_region(f, g, ctx.abs * g.transform);
+            let canvas = Rect::new(0.0, 0.0, self.scene.width, self.scene.height);
+            let region = g
+                .filter_region(ctx.abs * g.transform, canvas)
+                .unwrap_or(f.region);
             self.url("filter", Def::Filter(f, region));
         }
         if let Some(c) = &g.clip_path {
@@ -327,25 +328,6 @@ impl<'a> Writer<'a> {
         self.out.push_str(">\n");
         self.group_content(g, ctx);
         self.out.push_str("</g>\n");
-    }
-
-    /// The region `f` draws in on group `g` (whose content `abs` maps to the canvas): the
-    /// source's, unless animated units inside may move out of it, when it grows to the
-    /// canvas plus the effects' reach (anything beyond is not seen).
-    fn filter_region(&self, f: &Filter, g: &Group, abs: Affine) -> Rect {
-        fn has_unit(g: &Group) -> bool {
-            g.children
-                .iter()
-                .any(|n| n.unit().is_some() || matches!(n, Node::Group(h) if has_unit(h)))
-        }
-        if !has_unit(g) || abs.determinant() == 0.0 {
-            return f.region;
-        }
-        let reach: f64 = f.effects.iter().map(Effect::reach).sum();
-        let canvas = Rect::new(0.0, 0.0, self.scene.width, self.scene.height);
-        let seen = abs.inverse().transform_rect_bbox(canvas);
-        let scale = abs.determinant().abs().sqrt();
-        f.region.union(seen.inflate(reach / scale, reach / scale))
     }
 
     /// Writes a group's children (its own attributes are the caller's business).

@@ -28,7 +28,7 @@ pub(super) enum Def<'a> {
     Clip(&'a ClipPath, Affine),
     /// A mask.
     Mask(&'a Mask),
-    /// A filter drawing in a region (see [`Writer::filter_region`]).
+    /// A filter drawing in a region (see [`Group::filter_region`]).
     Filter(&'a Filter, Rect),
 }
 
