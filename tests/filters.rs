@@ -7,7 +7,8 @@
 //!
 //! Chromium's drawing of the source is the reference for gmotion's PNG, for its SVG
 //! (played in Chromium) and for its Lottie in the players that draw Lottie effects
-//! (lottie-web's svg renderer, ThorVG). rlottie and lottie-web's canvas renderer draw no
+//! (lottie-web's svg renderer, ThorVG); lottie-web's drawing of the Lottie is the reference
+//! for gmotion's own render of that Lottie (the effects read back). rlottie and lottie-web's canvas renderer draw no
 //! effects: they must draw the same picture without the blurs and shadows, and the export
 //! says so in a warning.
 
@@ -167,6 +168,13 @@ fn blurs_and_drop_shadows_export_as_effects_and_the_rest_as_images() {
     judge.close("gmotion's PNG", &reference, &load(&d.join("art.png")));
     judge.close("gmotion's SVG in Chromium", &reference, &ours);
     let played = play("filters-still", &json, &[0.0], 640, &Player::ALL);
+    // gmotion reads its own Lottie back and draws the effects as lottie-web does.
+    gmotion(&d, &["convert", "art.json", "-o", "own.png", "--width", "640"]);
+    judge.close(
+        "gmotion's render of its Lottie",
+        &load(&frame_path(&played, Player::LottieWebSvg, 0.0)),
+        &load(&d.join("own.png")),
+    );
     for p in Player::ALL {
         let want = match p {
             Player::LottieWebSvg | Player::Thorvg => &reference,
@@ -229,4 +237,26 @@ fn a_css_filter_usvg_cannot_read_is_warned_about() {
         json.contains("\"ty\":25"),
         "the readable one is a drop shadow"
     );
+}
+
+#[test]
+fn lottie_effects_that_are_not_drawn_are_named() {
+    let d = folder("lottie-in");
+    let doc = r#"{"v": "5.7.0", "fr": 30, "ip": 0, "op": 30, "w": 100, "h": 100, "layers": [{"ddd": 0, "ty": 4, "nm": "sq", "ind": 1, "ip": 0, "op": 30, "st": 0, "ks": {},
+        "ef": [{"ty": 5, "nm": "Slider Control", "en": 1, "ef": [{"ty": 0, "nm": "Slider", "v": {"a": 0, "k": 3}}]},
+               {"ty": 20, "nm": "Tint", "en": 1, "ef": []},
+               {"ty": 29, "nm": "Gaussian Blur", "en": 0, "ef": [{"ty": 0, "v": {"a": 0, "k": 40}}]}],
+        "shapes": [{"ty": "rc", "d": 1, "p": {"a": 0, "k": [50, 50]}, "s": {"a": 0, "k": [40, 40]}, "r": {"a": 0, "k": 0}}, {"ty": "fl", "c": {"a": 0, "k": [1, 0, 0, 1]}, "o": {"a": 0, "k": 100}}]}]}"#;
+    std::fs::write(d.join("a.json"), doc).unwrap();
+    let err = gmotion(&d, &["convert", "a.json", "-o", "a.png"]);
+    let effects: Vec<&str> = err.lines().filter(|l| l.contains("effect")).collect();
+    assert_eq!(effects.len(), 1, "only the tint is not drawn:\n{err}");
+    assert!(
+        effects[0].contains("$.layers[0].ef[1]") && effects[0].contains("\"Tint\""),
+        "{err}"
+    );
+    // The disabled blur draws nothing: the square keeps its hard edge.
+    let png = load(&d.join("a.png"));
+    let edge = png.pixel(30, 50).unwrap();
+    assert_eq!(edge.alpha(), 255, "the square's edge is not blurred");
 }

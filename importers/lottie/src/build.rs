@@ -17,7 +17,7 @@ use crate::model::{
     Asset, Document, Gradient, Layer, LayerKind, LayerMask, Loc, Num, Result, ShapeItem, ShapeKind,
     StrokeStyle, error,
 };
-use crate::{eval, outline};
+use crate::{effects, eval, outline};
 
 /// Precompositions may nest this deep.
 pub const MAX_PRECOMP_DEPTH: usize = 32;
@@ -290,9 +290,27 @@ impl<'a> Builder<'a> {
             }
             LayerKind::Null | LayerKind::Other(_) => {}
         }
+        // Effects draw in the layer's coordinates, over the whole (wide) canvas.
+        let filter = match world.determinant() {
+            d if d != 0.0 && !l.effects.is_empty() => {
+                let region = world
+                    .inverse()
+                    .transform_rect_bbox(Canvas::of(self.doc).area);
+                let mut warnings = Vec::new();
+                let f = effects::filter(&l.effects, lt, region, &mut |at, m| {
+                    warnings.push((at.clone(), m));
+                });
+                for (at, m) in warnings {
+                    self.warn(&at, m);
+                }
+                f.map(Arc::new)
+            }
+            _ => None,
+        };
         let group = Group {
             transform: world,
             opacity: eval::opacity(&l.ks, lt) as f32,
+            filter,
             children,
             ..Group::new()
         };

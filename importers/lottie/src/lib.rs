@@ -22,11 +22,12 @@
 //! by arc length. Each unit is measured on that geometry (centroid, bounds, paint).
 //!
 //! Image layers draw their asset when it is embedded (`e: 1`: a PNG, JPEG, GIF or WebP
-//! data URL).
+//! data URL). Gaussian Blur and Drop Shadow effects are drawn as lottie-web draws them
+//! ([`effects`]).
 //!
 //! **Not drawn** (with a warning naming the first place and how many): linked images
 //! (their rectangle is measured), text (measured as a point), repeaters, merge paths, round
-//! corners and the other shape modifiers, mask expansion, effects, expressions (the
+//! corners and the other shape modifiers, mask expansion, other effects, expressions (the
 //! property's own value is used).
 //!
 //! **Errors.** Nothing in the input can make the import panic: every value is checked as it
@@ -38,6 +39,7 @@
 #![forbid(unsafe_code)]
 
 pub mod build;
+pub mod effects;
 pub mod eval;
 pub mod model;
 pub mod outline;

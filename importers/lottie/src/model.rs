@@ -892,8 +892,55 @@ pub struct Layer {
     pub hidden: bool,
     /// Layer masks (`masksProperties`), in order.
     pub masks: Vec<LayerMask>,
-    /// Whether it has effects (`ef`).
-    pub has_effects: bool,
+    /// Effects (`ef`), in order.
+    pub effects: Vec<LayerEffect>,
+}
+
+/// An After Effects effect on a layer: its type and its parameters' values by position
+/// (those that are not numbers, such as layer references, are `None`).
+#[derive(Clone, Debug)]
+pub struct LayerEffect {
+    /// Where it is.
+    pub at: Loc,
+    /// `ty`: 25 drop shadow, 29 Gaussian blur, 5 expression controls, ….
+    pub ty: i64,
+    /// Display name (`nm`).
+    pub nm: String,
+    /// `en`: enabled (a disabled effect draws nothing).
+    pub enabled: bool,
+    /// The parameters' `v`.
+    pub values: Vec<Option<Num>>,
+}
+
+impl LayerEffect {
+    fn read(v: &Value, at: &Loc) -> Result<LayerEffect> {
+        let o = object(v, at)?;
+        let values = match o.get("ef").and_then(Value::as_array) {
+            Some(params) => params
+                .iter()
+                .enumerate()
+                .map(|(i, p)| {
+                    let p_at = at.key("ef").idx(i);
+                    // A parameter this model cannot read is not an error: only blurs and
+                    // drop shadows are drawn, and they are checked where they are.
+                    p.get("v").and_then(|v| property(v, &p_at.key("v")).ok())
+                })
+                .collect(),
+            None => Vec::new(),
+        };
+        Ok(LayerEffect {
+            at: at.clone(),
+            ty: opt_int(o, "ty", at)?.unwrap_or(-1),
+            nm: opt_string(o, "nm", at)?.unwrap_or_default(),
+            enabled: opt_int(o, "en", at)?.unwrap_or(1) != 0,
+            values,
+        })
+    }
+
+    /// Parameter `i` at `t` (`default` when absent).
+    pub fn value(&self, i: usize, t: f64, default: &[f64]) -> Vec<f64> {
+        crate::eval::num(self.values.get(i).and_then(Option::as_ref), t, default)
+    }
 }
 
 /// A layer mask: an outline in the layer's space that adds to, subtracts from or
@@ -952,11 +999,6 @@ fn layer(v: &Value, at: &Loc) -> Result<Layer> {
         (LayerKind::Shape, Some(s)) => shape_items(s, &at.key("shapes"))?,
         _ => Vec::new(),
     };
-    let non_empty = |key: &str| {
-        o.get(key)
-            .and_then(Value::as_array)
-            .is_some_and(|a| !a.is_empty())
-    };
     Ok(Layer {
         at: at.clone(),
         kind,
@@ -991,7 +1033,17 @@ fn layer(v: &Value, at: &Loc) -> Result<Layer> {
             }
             None => Vec::new(),
         },
-        has_effects: non_empty("ef"),
+        effects: match o.get("ef") {
+            Some(ef) if !ef.is_null() => {
+                let ef_at = at.key("ef");
+                array(ef, &ef_at)?
+                    .iter()
+                    .enumerate()
+                    .map(|(i, v)| LayerEffect::read(v, &ef_at.idx(i)))
+                    .collect::<Result<_>>()?
+            }
+            _ => Vec::new(),
+        },
     })
 }
 
