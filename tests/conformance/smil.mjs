@@ -67,7 +67,8 @@ let failed = false;
 try {
   const page = context.pages()[0] ?? (await context.newPage());
   for (const job of jobs) {
-    await page.goto(pathToFileURL(path.resolve(job.svg)).href);
+    // A large animation takes Chromium long to load (see SMIL_MAX_BYTES in conformance.py).
+    await page.goto(pathToFileURL(path.resolve(job.svg)).href, { timeout: 120000 });
     const size = await page.evaluate((width) => {
       const svg = document.documentElement;
       if (!(svg instanceof SVGSVGElement)) return null;
