@@ -169,7 +169,10 @@ fn blurs_and_drop_shadows_export_as_effects_and_the_rest_as_images() {
     judge.close("gmotion's SVG in Chromium", &reference, &ours);
     let played = play("filters-still", &json, &[0.0], 640, &Player::ALL);
     // gmotion reads its own Lottie back and draws the effects as lottie-web does.
-    gmotion(&d, &["convert", "art.json", "-o", "own.png", "--width", "640"]);
+    gmotion(
+        &d,
+        &["convert", "art.json", "-o", "own.png", "--width", "640"],
+    );
     judge.close(
         "gmotion's render of its Lottie",
         &load(&frame_path(&played, Player::LottieWebSvg, 0.0)),
