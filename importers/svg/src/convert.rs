@@ -365,11 +365,14 @@ impl<'s, 'a> Converter<'s, 'a> {
         let elem = self.src.element(g.id());
         let near = elem.map(|e| e.id()).or(ctx.near);
         // usvg puts a filter or blend mode on a group of its own, without an id; the
-        // element that asked for it is the one the group's content comes from.
-        let effect_of = elem
-            .map(|e| e.id())
-            .or_else(|| self.first_element(g))
-            .or(ctx.near);
+        // element that asked for it is the one the group's content comes from. Looked for
+        // only when there is one: most groups have neither.
+        let has_effect = !g.filters().is_empty() || g.blend_mode() != usvg::BlendMode::Normal;
+        let effect_of = match elem {
+            Some(e) => Some(e.id()),
+            None if has_effect => self.first_element(g).or(ctx.near),
+            None => ctx.near,
+        };
         let filter = if g.filters().is_empty() {
             None
         } else {
