@@ -25,4 +25,15 @@ done
 echo "[test.sh] $((SECONDS - ex_start)) s: examples"
 # The conformance run plays the binary the tests built: building it again with
 # `-p gmotion-cli` would unify features differently and recompile half the tree.
+# The fuzz targets build (one job, niced) while the conformance run plays: its players
+# leave a core idle much of the time. Each target then runs for 15 s.
+fuzz_start=$SECONDS
+CARGO_BUILD_JOBS=1 nice -n 10 bash scripts/fuzz.sh build >target/fuzz-build.log 2>&1 &
+fuzz_build=$!
 GMOTION=target/quick/gmotion PROFILE=quick step bash tests/conformance/run.sh
+if ! wait $fuzz_build; then
+    tail -n 30 target/fuzz-build.log
+    exit 1
+fi
+echo "[test.sh] $((SECONDS - fuzz_start)) s: fuzz targets built"
+step bash scripts/fuzz.sh 15

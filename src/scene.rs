@@ -225,6 +225,14 @@ impl ImageNode {
         Rect::new(0.0, 0.0, self.width, self.height)
     }
 
+    /// The pixel size the encoded image declares in its header (`None` when the header
+    /// cannot be read). Players and renderers allocate this many pixels to decode it, so a
+    /// few bytes can ask for gigabytes: importers check it against
+    /// [`DEFAULT_MAX_IMAGE_PIXELS`] or the user's limit before keeping an image.
+    pub fn pixel_size(&self) -> Option<(u64, u64)> {
+        image_pixel_size(&self.data)
+    }
+
     /// The image as a `data:` URL, as SVG `href`s and Lottie image assets embed it.
     pub fn data_url(&self) -> String {
         format!(
@@ -233,6 +241,16 @@ impl ImageNode {
             base64::engine::general_purpose::STANDARD.encode(&self.data)
         )
     }
+}
+
+/// The default largest raster image an importer keeps, in pixels once decoded: 2²⁶
+/// (8192 × 8192, 256 MiB of RGBA), the same as the largest rendered image.
+pub const DEFAULT_MAX_IMAGE_PIXELS: u64 = 1 << 26;
+
+/// The pixel size an encoded PNG, JPEG, GIF or WebP image declares in its header.
+pub fn image_pixel_size(data: &[u8]) -> Option<(u64, u64)> {
+    let size = imagesize::blob_size(data).ok()?;
+    Some((size.width as u64, size.height as u64))
 }
 
 /// The encodings of raster images.

@@ -125,6 +125,63 @@ fn image_svg(href: &str) -> Vec<u8> {
     .into_bytes()
 }
 
+/// A PNG of a few dozen bytes whose header declares `width` × `height` pixels (valid
+/// checksums, so a decoder believes it and allocates them all).
+fn png_bomb(width: u32, height: u32) -> Vec<u8> {
+    fn crc(bytes: &[u8]) -> u32 {
+        let mut c = 0xffff_ffffu32;
+        for &b in bytes {
+            c ^= u32::from(b);
+            for _ in 0..8 {
+                c = if c & 1 == 1 {
+                    0xedb8_8320 ^ (c >> 1)
+                } else {
+                    c >> 1
+                };
+            }
+        }
+        !c
+    }
+    fn chunk(out: &mut Vec<u8>, kind: &[u8], data: &[u8]) {
+        out.extend((data.len() as u32).to_be_bytes());
+        let body: Vec<u8> = kind.iter().chain(data).copied().collect();
+        out.extend(&body);
+        out.extend(crc(&body).to_be_bytes());
+    }
+    let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+    let mut ihdr = Vec::new();
+    ihdr.extend(width.to_be_bytes());
+    ihdr.extend(height.to_be_bytes());
+    ihdr.extend([8, 6, 0, 0, 0]);
+    chunk(&mut png, b"IHDR", &ihdr);
+    // An empty zlib stream: the pixels never come.
+    chunk(
+        &mut png,
+        b"IDAT",
+        &[0x78, 0x9c, 0x03, 0x00, 0x00, 0x00, 0x00, 0x01],
+    );
+    chunk(&mut png, b"IEND", &[]);
+    png
+}
+
+/// `png` as a `data:` URL.
+fn png_url(png: &[u8]) -> String {
+    use base64::Engine as _;
+    format!(
+        "data:image/png;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(png)
+    )
+}
+
+/// A Lottie composition showing one image layer of `png`, embedded.
+fn lottie_with_image(png: &[u8]) -> Vec<u8> {
+    format!(
+        r#"{{"v": "5.7.0", "fr": 30, "ip": 0, "op": 60, "w": 100, "h": 100, "assets": [{{"id": "image_0", "w": 50, "h": 50, "u": "", "p": "{}", "e": 1}}], "layers": [{{"ddd": 0, "ty": 2, "nm": "pic", "refId": "image_0", "ind": 1, "ip": 0, "op": 60, "st": 0, "ks": {{}}}}, {{"ddd": 0, "ty": 4, "nm": "sq", "ind": 2, "ip": 0, "op": 60, "st": 0, "ks": {{}}, "shapes": [{{"ty": "rc", "d": 1, "p": {{"a": 0, "k": [50, 50]}}, "s": {{"a": 0, "k": [20, 20]}}, "r": {{"a": 0, "k": 0}}}}, {{"ty": "fl", "c": {{"a": 0, "k": [1, 0, 0, 1]}}, "o": {{"a": 0, "k": 100}}}}]}}]}}"#,
+        png_url(png)
+    )
+    .into_bytes()
+}
+
 /// A quadratic entity expansion: a 2 kB entity referenced 1000 times (2 MB of text).
 fn entity_bomb() -> Vec<u8> {
     let value = "x".repeat(2000);
@@ -258,6 +315,16 @@ fn all_cases() -> Vec<Case> {
         Case::new("blur and shadow of 1e9 and 1e30", "convert {d}/scene.svg -o {d}/out.json -o {d}/out.png", &["rlottie"], "out.png")
             .file("scene.svg", r#"<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100"><filter id="f"><feGaussianBlur stdDeviation="1e9"/></filter><filter id="g" x="-1e9" y="-1e9" width="3e9" height="3e9" filterUnits="userSpaceOnUse"><feDropShadow dx="1e30" dy="1e30" stdDeviation="1e20"/></filter><circle cx="50" cy="50" r="20" filter="url(#f)"/><circle cx="50" cy="50" r="10" filter="url(#g)"/></svg>"#)
             .succeeds(),
+        // Raster images: a header may declare more pixels than any decoder can allocate
+        // (found by the `lottie` fuzz target: 48 × 603 979 904 aborted on allocation).
+        Case::new("PNG declaring 100000 x 100000 px in an SVG", "convert {d}/scene.svg -o {d}/out.png -o {d}/out.json", &["<image id=\"pic\">", "100000 × 100000 pixels", "--limit image-pixels=N"], "out.png")
+            .file("scene.svg", image_svg(&png_url(&png_bomb(100_000, 100_000))))
+            .succeeds(),
+        Case::new("PNG declaring 48 x 603979904 px in a Lottie", "convert {d}/anim.json -o {d}/out.png --time 1", &["anim.json", "$.layers[0]", "48 × 603979904 pixels", "--limit image-pixels=N"], "out.png")
+            .files(vec![("anim.json", lottie_with_image(&png_bomb(48, 603_979_904)))])
+            .succeeds(),
+        Case::new("image-pixels raised past the rendered image's", "convert {d}/scene.svg -o {d}/out.png --limit image-pixels=1e12", &["out.png", "declares 100000x100000 px", "--limit pixels=N"], "out.png")
+            .file("scene.svg", image_svg(&png_url(&png_bomb(100_000, 100_000)))),
         // Inputs are regular files: a FIFO is an error at once, not a hang.
         Case::new("scene is a FIFO", "animate {d}/pipe.svg {d}/g.gm -o {d}/out.png", &["pipe.svg", "a FIFO", "regular files"], "out.png").setup(|d| fifo(d, "pipe.svg")),
         Case::new("grammar is a FIFO", "animate {d}/scene.svg {d}/pipe.gm -o {d}/out.png", &["pipe.gm", "a FIFO"], "out.png").setup(|d| fifo(d, "pipe.gm")),

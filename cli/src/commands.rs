@@ -298,6 +298,7 @@ fn import_options(
         },
         lottie: lottie_import::ImportOptions {
             time: a.reference_time.unwrap_or(0.0),
+            max_image_pixels: ctx.limits.get("image-pixels"),
         },
     })
 }

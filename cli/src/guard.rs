@@ -35,6 +35,11 @@ pub const LIMITS: &[(&str, u64, &str)] = &[
         gmotion_import_svg::MAX_BAKED_PIXELS,
         "pixels of all SVG filters drawn as images (those no Lottie effect expresses)",
     ),
+    (
+        "image-pixels",
+        gmotion::scene::DEFAULT_MAX_IMAGE_PIXELS,
+        "pixels a raster image in an SVG or Lottie scene may declare (decoding allocates them)",
+    ),
     ("frames", 10_000, "frames of an animation (duration × fps)"),
     (
         "pixels",
@@ -119,6 +124,7 @@ impl Limits {
             max_xml_nodes: u32::try_from(self.get("xml-nodes")).unwrap_or(u32::MAX),
             max_css_rules: u32::try_from(self.get("css-rules")).unwrap_or(u32::MAX),
             max_baked_pixels: self.get("filter-pixels"),
+            max_image_pixels: self.get("image-pixels"),
         }
     }
 

@@ -79,11 +79,13 @@ def frames_of(doc):
 
 
 def run_players(jobs, out):
+    """Starts lottie-web and rlottie on `jobs` and answers them running (see `wait_players`)."""
     path = os.path.join(out, "jobs.json")
     with open(path, "w") as f:
         json.dump(jobs, f)
     lw = [dict(j, out=[p.replace("{player}", "lottie-web") for p in j["out"]]) for j in jobs]
     rl = [dict(j, out=[p.replace("{player}", "rlottie") for p in j["out"]]) for j in jobs]
+    started = []
     for name, js, cmd in [
         ("lottie-web", lw, ["node", os.path.join(HERE, "lottie_web.mjs")]),
         ("rlottie", rl, [sys.executable, os.path.join(HERE, "rlottie_render.py")]),
@@ -91,9 +93,20 @@ def run_players(jobs, out):
         p = os.path.join(out, f"jobs-{name}.json")
         with open(p, "w") as f:
             json.dump(js, f)
-        r = subprocess.run(cmd + [p], capture_output=True, text=True, timeout=3600)
-        for line in r.stderr.splitlines():
+        # stderr to a file: a pipe nobody reads until the end could fill and stall a player.
+        log = open(os.path.join(out, f"{name}.log"), "w+")
+        started.append((subprocess.Popen(cmd + [p], stdout=subprocess.DEVNULL, stderr=log), log))
+    return started
+
+
+def wait_players(started):
+    """Waits for the players `run_players` started, passing on what they said."""
+    for proc, log in started:
+        proc.wait(timeout=3600)
+        log.seek(0)
+        for line in log.read().splitlines():
             print(f"  {line}", file=sys.stderr)
+        log.close()
 
 
 def gmotion_frame(gm, src, grammar, fr, frame, width, png):
@@ -142,7 +155,9 @@ def main(argv):
         docs[name] = (path, grammar, fr, frames, width, stem)
         jobs.append({"json": played, "width": width, "frames": frames,
                      "out": [os.path.join(args.out, f"{stem}-{f}-{{player}}.png") for f in frames]})
-    run_players(jobs, args.out)
+    # The players run while gmotion renders the same frames: lottie-web in Chromium leaves
+    # a core idle much of the time.
+    players = run_players(jobs, args.out)
 
     def gm_file(name):
         path, grammar, fr, frames, width, stem = docs[name]
@@ -155,6 +170,7 @@ def main(argv):
 
     with ThreadPoolExecutor(max_workers=os.cpu_count() or 2) as pool:
         list(pool.map(gm_file, docs))
+    wait_players(players)
     report, counted, passed = {}, 0, 0
     for name, (path, grammar, fr, frames, width, stem) in docs.items():
         png = lambda f, who: os.path.join(args.out, f"{stem}-{f}-{who}.png")  # noqa: E731

@@ -73,12 +73,16 @@ if [ "$main_run" = 1 ]; then
     (cd "$root" && cargo test --profile "$profile" --quiet --workspace --test gmotion lottie::corpus_converts_in_process -- --nocapture 2>&1) \
         | grep "lottie corpus conversion" > "$out/in_process.txt" || status=1
 
-    phase "playing: lottie-web"
+    # rlottie and ThorVG play beside lottie-web: Chromium leaves a core idle much of the
+    # time, and the three write separate frames.
+    phase "playing: lottie-web, with rlottie and ThorVG beside it"
+    python3 "$here/rlottie_render.py" "$out/rlottie_jobs.json" &
+    rl=$!
+    python3 "$here/thorvg_render.py" "$out/thorvg_jobs.json" &
+    tv=$!
     node "$here/lottie_web.mjs" "$out/lottie_web_jobs.json"
-    phase "playing: rlottie"
-    python3 "$here/rlottie_render.py" "$out/rlottie_jobs.json"
-    phase "playing: ThorVG"
-    python3 "$here/thorvg_render.py" "$out/thorvg_jobs.json"
+    wait $rl || true
+    wait $tv || true
     if [ -f "$here/smil.mjs" ]; then
         phase "playing: SMIL in Chromium"
         node "$here/smil.mjs" --jobs "$out/smil_jobs.json" >/dev/null
@@ -103,14 +107,17 @@ mstart=$SECONDS
 phase "matrix ($matrix): checking the generator, exporting, rendering gmotion's reference frames"
 python3 "$here/matrix.py" selftest || status=1
 python3 "$here/matrix.py" prepare "$m" "$gm" --matrix "$matrix" "${only[@]}"
-phase "matrix: lottie-web (svg and canvas renderers)"
-node "$here/lottie_web.mjs" "$m/lottie_web_jobs.json" || echo "matrix: a player exited with an error; its missing frames fail below"
-phase "matrix: rlottie"
-python3 "$here/rlottie_render.py" "$m/rlottie_jobs.json" || echo "matrix: a player exited with an error; its missing frames fail below"
-phase "matrix: ThorVG"
-python3 "$here/thorvg_render.py" "$m/thorvg_jobs.json" || echo "matrix: a player exited with an error; its missing frames fail below"
+phase "matrix: lottie-web (svg and canvas renderers), with rlottie and ThorVG beside it"
+crashed() { echo "matrix: $1 exited with an error; its missing frames fail below"; }
+(python3 "$here/rlottie_render.py" "$m/rlottie_jobs.json" || crashed rlottie) &
+rl=$!
+(python3 "$here/thorvg_render.py" "$m/thorvg_jobs.json" || crashed ThorVG) &
+tv=$!
+node "$here/lottie_web.mjs" "$m/lottie_web_jobs.json" || crashed lottie-web
+wait $rl
+wait $tv
 phase "matrix: SMIL in Chromium"
-node "$here/smil.mjs" --jobs "$m/smil_jobs.json" >/dev/null || echo "matrix: a player exited with an error; its missing frames fail below"
+node "$here/smil.mjs" --jobs "$m/smil_jobs.json" >/dev/null || crashed "Chromium (SMIL)"
 python3 "$here/matrix.py" report "$m" || status=1
 cp "$m/matrix.md" "$out/matrix.md"
 echo "matrix: $((SECONDS - mstart)) s"

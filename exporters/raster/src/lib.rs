@@ -52,6 +52,20 @@ pub enum RenderError {
         /// The limit.
         limit: u64,
     },
+    /// A raster image in the picture declares more pixels than one rendered image may
+    /// hold; resvg would allocate them all to decode it. The importers drop such images
+    /// (`--limit image-pixels`); this guards SVG text from elsewhere.
+    #[error(
+        "an embedded raster image declares {width}x{height} px, more than the limit of {limit} pixels (raise it with --limit pixels=N)"
+    )]
+    ImageTooLarge {
+        /// Declared width in pixels.
+        width: u64,
+        /// Declared height in pixels.
+        height: u64,
+        /// The limit.
+        limit: u64,
+    },
     /// An animation needs at least one frame.
     #[error("no frames to write")]
     NoFrames,
@@ -136,6 +150,7 @@ pub fn render_limited(svg: &str, size: OutputSize, max_pixels: u64) -> Result<Pi
     let (width, height) = (fit.width, fit.height);
     check_pixels(width, height, max_pixels)?;
     check_drawable(&tree, fit.scale, fit.offset.x, fit.offset.y)?;
+    check_images(tree.root(), max_pixels)?;
     let mut pixmap = Pixmap::new(width, height).ok_or(RenderError::Size { width, height })?;
     let scale = fit.scale as f32;
     resvg::render(
@@ -209,6 +224,42 @@ pub fn check_drawable(tree: &usvg::Tree, scale: f64, dx: f64, dy: f64) -> Result
         Ok(())
     }
     group(tree.root(), scale, dx, dy, false)
+}
+
+/// Checks that every raster image in `g` (clip paths, masks, patterns, filters and nested
+/// SVG images included) declares at most `limit` pixels ([`RenderError::ImageTooLarge`]).
+fn check_images(g: &usvg::Group, limit: u64) -> Result<(), RenderError> {
+    for node in g.children() {
+        match node {
+            usvg::Node::Group(h) => check_images(h, limit)?,
+            usvg::Node::Image(i) => match i.kind() {
+                usvg::ImageKind::PNG(d)
+                | usvg::ImageKind::JPEG(d)
+                | usvg::ImageKind::GIF(d)
+                | usvg::ImageKind::WEBP(d) => {
+                    if let Some((width, height)) = gmotion::scene::image_pixel_size(d)
+                        && width.saturating_mul(height) > limit
+                    {
+                        return Err(RenderError::ImageTooLarge {
+                            width,
+                            height,
+                            limit,
+                        });
+                    }
+                }
+                usvg::ImageKind::SVG(tree) => check_images(tree.root(), limit)?,
+            },
+            usvg::Node::Path(_) | usvg::Node::Text(_) => {}
+        }
+        let mut found = Ok(());
+        node.subroots(|s| {
+            if found.is_ok() {
+                found = check_images(s, limit);
+            }
+        });
+        found?;
+    }
+    Ok(())
 }
 
 /// The default largest number of pixels of one image: 2²⁶ (8192 × 8192, 256 MiB of RGBA).

@@ -199,9 +199,24 @@ impl<'a> Builder<'a> {
                 ));
             }
             LayerKind::Image => {
-                let asset = l.ref_id.as_deref().and_then(|id| self.assets.get(id));
+                let asset = l
+                    .ref_id
+                    .as_deref()
+                    .and_then(|id| self.assets.get(id))
+                    .copied();
                 let (w, h) = asset.map_or((0.0, 0.0), |a| (a.w.unwrap_or(0.0), a.h.unwrap_or(0.0)));
-                match asset.and_then(|a| a.p.as_deref()).and_then(embedded_image) {
+                let oversized = asset.and_then(|a| a.oversized);
+                if let Some((pw, ph)) = oversized {
+                    self.warn(
+                        &l.at,
+                        format!("image not drawn: it declares {pw} × {ph} pixels, more than the limit (raise it with --limit image-pixels=N); its rectangle is measured"),
+                    );
+                }
+                let data = asset
+                    .filter(|_| oversized.is_none())
+                    .and_then(|a| a.p.as_deref())
+                    .and_then(embedded_image);
+                match data {
                     Some((data, format)) => children.push(Node::Image(ImageNode {
                         id: String::new(),
                         data,
@@ -211,6 +226,11 @@ impl<'a> Builder<'a> {
                         smooth: true,
                         unit: None,
                     })),
+                    None if oversized.is_some() => children.push(path_node(
+                        Rect::new(0.0, 0.0, w, h).to_path(0.1),
+                        None,
+                        None,
+                    )),
                     None => {
                         self.warn(
                             &l.at,
@@ -954,7 +974,7 @@ fn star(sy: i64, c: Point, outer: f64, inner: f64, rotation: f64, points: f64) -
 /// An image asset's picture when it is embedded: a `data:` URL holding base64 of a PNG,
 /// JPEG, GIF or WebP file (told apart by its first bytes, as players do, not by the URL's
 /// type, which exporters spell variously: `image/jpg`, `image/png`, none).
-fn embedded_image(p: &str) -> Option<(Arc<[u8]>, ImageFormat)> {
+pub(crate) fn embedded_image(p: &str) -> Option<(Arc<[u8]>, ImageFormat)> {
     use base64::Engine as _;
     let rest = p.strip_prefix("data:")?;
     let (head, body) = rest.split_once(',')?;

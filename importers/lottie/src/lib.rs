@@ -59,11 +59,25 @@ use gmotion::scene::{Group, Node, Scene, Shape};
 use model::{Document, Loc};
 
 /// How to import.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ImportOptions {
     /// The reference time, in seconds from the composition's in point, at which units are
     /// measured and the still scene drawn (0: the first frame).
     pub time: f64,
+    /// Most pixels an embedded image may declare in its header (default
+    /// [`gmotion::scene::DEFAULT_MAX_IMAGE_PIXELS`]; `--limit image-pixels=N`): decoding
+    /// allocates them all. A larger image is not drawn (its rectangle is measured), with a
+    /// warning; the document written back keeps it.
+    pub max_image_pixels: u64,
+}
+
+impl Default for ImportOptions {
+    fn default() -> ImportOptions {
+        ImportOptions {
+            time: 0.0,
+            max_image_pixels: gmotion::scene::DEFAULT_MAX_IMAGE_PIXELS,
+        }
+    }
 }
 
 /// The root layers one unit moves.
@@ -169,7 +183,18 @@ pub fn from_json(
         at: e.at,
         message: e.message,
     };
-    let document = Document::read(&json).map_err(located)?;
+    let mut document = Document::read(&json).map_err(located)?;
+    for a in &mut document.assets {
+        let declared =
+            a.p.as_deref()
+                .and_then(build::embedded_image)
+                .and_then(|(data, _)| gmotion::scene::image_pixel_size(&data));
+        if let Some((w, h)) = declared
+            && w.saturating_mul(h) > opts.max_image_pixels
+        {
+            a.oversized = Some((w, h));
+        }
+    }
     let frame = document.ip + opts.time * document.fr;
     if !(frame.is_finite() && document.ip <= frame && frame <= document.op) {
         return Err(ImportError::Lottie {

@@ -1070,6 +1070,9 @@ pub struct Asset {
     pub h: Option<f64>,
     /// The picture (images): a file name, or the image itself as a `data:` URL.
     pub p: Option<String>,
+    /// The pixel size an embedded image declares when it is over the importer's limit
+    /// ([`crate::ImportOptions::max_image_pixels`]); such an image is not drawn.
+    pub oversized: Option<(u64, u64)>,
 }
 
 /// The document's animation.
@@ -1137,6 +1140,7 @@ impl Document {
                     w: opt_number(ao, "w", &at)?,
                     h: opt_number(ao, "h", &at)?,
                     p: opt_string(ao, "p", &at)?,
+                    oversized: None,
                     at,
                 });
             }

@@ -42,7 +42,7 @@ pub(super) fn convert(
     src: &Source,
     opts: &ImportOptions,
     fonts: &usvg::fontdb::Database,
-    max_baked_pixels: u64,
+    policy: &crate::Policy,
 ) -> Converted {
     let mut c = Converter {
         src,
@@ -61,7 +61,8 @@ pub(super) fn convert(
         path: Vec::new(),
         zip: None,
         baked_pixels: 0.0,
-        max_baked_pixels: max_baked_pixels as f64,
+        max_baked_pixels: policy.max_baked_pixels as f64,
+        max_image_pixels: policy.max_image_pixels,
     };
     let root_elem = src.doc.root_element();
     let mut ctx = Ctx {
@@ -158,6 +159,8 @@ struct Converter<'s, 'a> {
     /// Pixels drawn so far for filters drawn as images, and the most there may be.
     baked_pixels: f64,
     max_baked_pixels: f64,
+    /// The largest raster image kept, in decoded pixels.
+    max_image_pixels: u64,
 }
 
 /// Identity of a usvg paint server, clip or mask: they are shared through `Arc`s.
@@ -505,7 +508,7 @@ impl<'s, 'a> Converter<'s, 'a> {
             .map(|t| g.abs_transform().pre_concat(t));
         let budget = self.max_baked_pixels - self.baked_pixels;
         let baked = parent_abs.map_or(Err(filters::Unbaked::Nothing), |t| {
-            filters::bake(g, t, budget)
+            filters::bake(g, t, budget, self.max_image_pixels)
         });
         let (image, place) = match baked {
             Ok(b) => b,
@@ -655,6 +658,16 @@ impl<'s, 'a> Converter<'s, 'a> {
             ),
             unit: None,
         };
+        if let Some((w, h)) = node.pixel_size()
+            && w.saturating_mul(h) > self.max_image_pixels
+        {
+            let why = format!(
+                "image not drawn: it declares {w} × {h} pixels, more than the limit of {} (raise it with --limit image-pixels=N)",
+                self.max_image_pixels
+            );
+            self.warn(near, &why);
+            return;
+        }
         if ctx.units {
             let from = self.opts.tag_from;
             let scope = elem.map_or(ctx.scope, |e| self.src.scope(e, ctx.scope, from, None));

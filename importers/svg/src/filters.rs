@@ -314,11 +314,13 @@ pub enum Unbaked {
 /// the image and where it goes in the coordinates `g`'s parent draws in (`parent_abs`
 /// maps them to the canvas), or `None` when the group draws nothing, reaches coordinates
 /// the rasteriser cannot take ([`Unbaked::Nothing`]), or would need more pixels than
-/// `budget` ([`Unbaked::OverBudget`]).
+/// `budget` ([`Unbaked::OverBudget`]). A group holding a raster image of more than
+/// `max_image_pixels` pixels is not drawn (resvg would decode it whole).
 pub fn bake(
     g: &usvg::Group,
     parent_abs: usvg::Transform,
     budget: f64,
+    max_image_pixels: u64,
 ) -> Result<(ImageNode, Affine), Unbaked> {
     let node = usvg::Node::Group(Box::new(g.clone()));
     let bbox = node.abs_layer_bounding_box().ok_or(Unbaked::Nothing)?;
@@ -330,7 +332,12 @@ pub fn bake(
     if pw * ph > budget {
         return Err(Unbaked::OverBudget);
     }
-    if !(scale.is_finite() && pw >= 1.0 && ph >= 1.0 && drawable(g, scale, bbox)) {
+    if !(scale.is_finite()
+        && pw >= 1.0
+        && ph >= 1.0
+        && drawable(g, scale, bbox)
+        && images_within(g, max_image_pixels))
+    {
         return Err(Unbaked::Nothing);
     }
     let mut pixmap = resvg::tiny_skia::Pixmap::new(pw as u32, ph as u32).ok_or(Unbaked::Nothing)?;
@@ -360,6 +367,28 @@ pub fn bake(
 
 /// Whether every path under `g` (clip paths and masks included), drawn at `scale` from
 /// the corner of `bbox`, stays within what tiny-skia draws without panicking.
+/// Whether every raster image in `g`, its clip paths, masks, patterns and filters
+/// included, declares at most `limit` pixels.
+fn images_within(g: &usvg::Group, limit: u64) -> bool {
+    g.children().iter().all(|n| {
+        let own = match n {
+            usvg::Node::Group(h) => images_within(h, limit),
+            usvg::Node::Image(i) => match i.kind() {
+                usvg::ImageKind::PNG(d)
+                | usvg::ImageKind::JPEG(d)
+                | usvg::ImageKind::GIF(d)
+                | usvg::ImageKind::WEBP(d) => gmotion::scene::image_pixel_size(d)
+                    .is_none_or(|(w, h)| w.saturating_mul(h) <= limit),
+                usvg::ImageKind::SVG(tree) => images_within(tree.root(), limit),
+            },
+            usvg::Node::Path(_) | usvg::Node::Text(_) => true,
+        };
+        let mut inner = true;
+        n.subroots(|s| inner &= images_within(s, limit));
+        own && inner
+    })
+}
+
 fn drawable(g: &usvg::Group, scale: f64, bbox: usvg::NonZeroRect) -> bool {
     const LIMIT: f64 = 1e8;
     let ok = |r: usvg::Rect| {

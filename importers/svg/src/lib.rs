@@ -98,6 +98,11 @@ pub struct Policy {
     /// (default [`MAX_BAKED_PIXELS`]; `--limit filter-pixels=N`); past it, such filters
     /// are left out with a warning.
     pub max_baked_pixels: u64,
+    /// Most pixels a raster image (`<image>`, `<feImage>`, a data URI or a file) may
+    /// declare in its header (default [`gmotion::scene::DEFAULT_MAX_IMAGE_PIXELS`];
+    /// `--limit image-pixels=N`): decoding allocates them all, so a few hundred bytes of
+    /// PNG can ask for a hundred gigabytes. A larger image is dropped with a warning.
+    pub max_image_pixels: u64,
     /// Fonts besides the system's, and the family a text in a missing font is drawn in
     /// (`--font-dir`, `--font-file`, `--font-family`).
     pub fonts: fonts::FontOptions,
@@ -113,6 +118,7 @@ impl Default for Policy {
             max_xml_nodes: 1_000_000,
             max_css_rules: 10_000,
             max_baked_pixels: MAX_BAKED_PIXELS,
+            max_image_pixels: gmotion::scene::DEFAULT_MAX_IMAGE_PIXELS,
             fonts: fonts::FontOptions::default(),
         }
     }
@@ -285,7 +291,7 @@ fn parse_in(
         },
     })?;
 
-    let mut converted = convert::convert(&tree, &src, opts, &uopt.fontdb, policy.max_baked_pixels);
+    let mut converted = convert::convert(&tree, &src, opts, &uopt.fontdb, policy);
     converted.warnings.extend(unmatched);
     let refused = std::mem::take(&mut *refused.lock().unwrap_or_else(|e| e.into_inner()));
     for (href, why) in refused {
