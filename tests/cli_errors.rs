@@ -357,6 +357,8 @@ fn all_cases() -> Vec<Case> {
         Case::new("unknown limit", "convert {d}/scene.svg -o {d}/out.png --limit wombats=3", &["unknown limit `wombats`", "frames"], "out.png"),
         Case::new("input-bytes limit", "convert {d}/scene.svg -o {d}/out.png --limit input-bytes=100", &["scene.svg", "limit of 100 bytes", "input-bytes"], "out.png"),
         scene_case("200 000 CSS rules", &css_bomb(), &["scene.svg", "2:1:", "10000 CSS rules", "css-rules"]),
+        Case::new("path-segments limit", "convert {d}/scene.svg -o {d}/out.png --limit path-segments=1000", &["scene.svg", "3:3:", "limit of 1000 segments", "--limit path-segments=N"], "out.png")
+            .file("scene.svg", format!("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"100\" height=\"100\">\n  <path d=\"M0 0{}\"/>\n  <path d=\"M0 0{}\"/>\n</svg>", " L1 1".repeat(600), " 2 2".repeat(600))),
         Case::new("xml-nodes limit", "convert {d}/scene.svg -o {d}/out.png --limit xml-nodes=3", &["scene.svg", "limit of 3 XML nodes", "xml-nodes"], "out.png"),
         scene_case("entity expansion", &entity_bomb(), &["scene.svg", "7:", "XML entities", "xml-entity-bytes"]),
         Case::new("svgz bomb", "convert {d}/scene.svgz -o {d}/out.png", &["scene.svgz", "decompresses to more than the limit", "svgz-bytes"], "out.png")

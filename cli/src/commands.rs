@@ -1175,12 +1175,7 @@ fn transitions(
             .check_frames(d * fps, &format!("--duration {d}s at {fps} fps"))?;
     }
     // The last target (or the file's own duration) sets how long the animation runs.
-    let last = t
-        .targets
-        .iter()
-        .map(|x| x.time)
-        .chain(t.duration)
-        .fold(0.0, f64::max);
+    let last = t.end();
     if duration.is_none() {
         ctx.limits.check_frames(
             last * fps,

@@ -31,6 +31,11 @@ pub const LIMITS: &[(&str, u64, &str)] = &[
         "CSS rules in an SVG's <style> elements",
     ),
     (
+        "path-segments",
+        gmotion_import_svg::MAX_PATH_SEGMENTS,
+        "path segments of an SVG (commands of `d`, points of `points`)",
+    ),
+    (
         "filter-pixels",
         gmotion_import_svg::MAX_BAKED_PIXELS,
         "pixels of all SVG filters drawn as images (those no Lottie effect expresses)",
@@ -123,6 +128,7 @@ impl Limits {
             max_entity_bytes: self.get("xml-entity-bytes"),
             max_xml_nodes: u32::try_from(self.get("xml-nodes")).unwrap_or(u32::MAX),
             max_css_rules: u32::try_from(self.get("css-rules")).unwrap_or(u32::MAX),
+            max_path_segments: self.get("path-segments"),
             max_baked_pixels: self.get("filter-pixels"),
             max_image_pixels: self.get("image-pixels"),
         }

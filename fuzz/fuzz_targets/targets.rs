@@ -48,13 +48,7 @@ fuzz_target!(|data: &[u8]| {
     };
     let system = t.default_system(None);
     let fps = t.frame_rate(None);
-    let last = t
-        .targets
-        .iter()
-        .map(|x| x.time)
-        .chain(t.duration)
-        .fold(0.0, f64::max);
-    if !(last * fps <= MAX_FRAMES) {
+    if !(t.end() * fps <= MAX_FRAMES) {
         return;
     }
     let scene = gmotion_import_svg::parse(SCENE, "scene.svg", &ImportOptions::default())

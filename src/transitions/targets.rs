@@ -228,6 +228,17 @@ impl Targets {
         option.or(self.fps).unwrap_or(DEFAULT_FPS)
     }
 
+    /// How long the animation runs without `--duration`: the last target's time or the
+    /// file's own `duration`, whichever is later (what the `frames` limit is checked on
+    /// before anything runs).
+    pub fn end(&self) -> f64 {
+        self.targets
+            .iter()
+            .map(|x| x.time)
+            .chain(self.duration)
+            .fold(0.0, f64::max)
+    }
+
     /// The anchor fraction for a tag, if one is set.
     pub fn anchor_for(&self, tag: &str) -> Option<[f64; 2]> {
         self.anchors.iter().find(|(t, _)| t == tag).map(|a| a.1)

@@ -201,6 +201,7 @@ impl<'a> Source<'a> {
         source_name: &str,
         max_nodes: u32,
         max_css_rules: u32,
+        max_segments: u64,
     ) -> Result<Source<'a>, ImportError> {
         // The same options usvg uses, so both parses see the same document, with a limit
         // on the number of nodes.
@@ -244,6 +245,29 @@ impl<'a> Source<'a> {
                     source_name: source_name.to_string(),
                     message: format!(
                         "{}:{}: more than the limit of {max_css_rules} CSS rules (raise it with --limit css-rules=N)",
+                        pos.row, pos.col
+                    ),
+                });
+            }
+        }
+
+        // Path data: usvg builds every segment (and each `<use>` of it) in memory; counted
+        // first, so a document of tens of millions is refused at the element that passes
+        // the limit, not after seconds and gigabytes.
+        let mut segments = 0u64;
+        for node in doc.descendants().filter(|n| n.is_element()) {
+            if let Some(d) = node.attribute("d") {
+                segments += svgtypes::PathParser::from(d).count() as u64;
+            }
+            if let Some(p) = node.attribute("points") {
+                segments += svgtypes::PointsParser::from(p).count() as u64;
+            }
+            if segments > max_segments {
+                let pos = doc.text_pos_at(node.range().start);
+                return Err(ImportError::Encoding {
+                    source_name: source_name.to_string(),
+                    message: format!(
+                        "{}:{}: the paths so far have more than the limit of {max_segments} segments (raise it with --limit path-segments=N)",
                         pos.row, pos.col
                     ),
                 });
@@ -591,7 +615,7 @@ mod tests {
     #[test]
     fn synthetic_ids_are_inserted_and_resolved() {
         let text = r#"<svg xmlns="http://www.w3.org/2000/svg"><g><rect/><circle id="c"/><path id="c"/></g></svg>"#;
-        let src = Source::parse(text, "t.svg", u32::MAX, u32::MAX).unwrap();
+        let src = Source::parse(text, "t.svg", u32::MAX, u32::MAX, u64::MAX).unwrap();
         let prepared = Document::parse(&src.prepared).unwrap();
         let ids: Vec<_> = prepared
             .descendants()
@@ -607,7 +631,7 @@ mod tests {
     #[test]
     fn prefix_avoids_existing_ids() {
         let text = r#"<svg xmlns="http://www.w3.org/2000/svg"><rect id="__gm0"/><rect/></svg>"#;
-        let src = Source::parse(text, "t.svg", u32::MAX, u32::MAX).unwrap();
+        let src = Source::parse(text, "t.svg", u32::MAX, u32::MAX, u64::MAX).unwrap();
         assert!(src.prepared.contains("id=\"__gm_0\""));
         assert!(!src.is_synthetic("__gm0"));
     }
