@@ -182,6 +182,23 @@ fn lottie_with_image(png: &[u8]) -> Vec<u8> {
     .into_bytes()
 }
 
+/// `levels` groups, each holding ten `<use>`s of the one before: 10^levels rects from a
+/// document of a few kilobytes.
+fn use_bomb(levels: usize) -> Vec<u8> {
+    let mut s = String::from(
+        r#"<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink" width="100" height="100"><defs><rect id="l0" width="1" height="1" fill="red"/>"#,
+    );
+    for i in 1..=levels {
+        s.push_str(&format!("<g id=\"l{i}\">"));
+        for k in 0..10 {
+            s.push_str(&format!("<use xlink:href=\"#l{}\" x=\"{k}\"/>", i - 1));
+        }
+        s.push_str("</g>");
+    }
+    s.push_str(&format!("</defs><use xlink:href=\"#l{levels}\"/></svg>"));
+    s.into_bytes()
+}
+
 /// A quadratic entity expansion: a 2 kB entity referenced 1000 times (2 MB of text).
 fn entity_bomb() -> Vec<u8> {
     let value = "x".repeat(2000);
@@ -359,6 +376,7 @@ fn all_cases() -> Vec<Case> {
         scene_case("200 000 CSS rules", &css_bomb(), &["scene.svg", "2:1:", "10000 CSS rules", "css-rules"]),
         Case::new("path-segments limit", "convert {d}/scene.svg -o {d}/out.png --limit path-segments=1000", &["scene.svg", "3:3:", "limit of 1000 segments", "--limit path-segments=N"], "out.png")
             .file("scene.svg", format!("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"100\" height=\"100\">\n  <path d=\"M0 0{}\"/>\n  <path d=\"M0 0{}\"/>\n</svg>", " L1 1".repeat(600), " 2 2".repeat(600))),
+        scene_case("<use> of <use> seven levels deep (10^7 rects)", &use_bomb(7), &["scene.svg", "more than 1 000 000 elements", "`<use>`"]),
         Case::new("xml-nodes limit", "convert {d}/scene.svg -o {d}/out.png --limit xml-nodes=3", &["scene.svg", "limit of 3 XML nodes", "xml-nodes"], "out.png"),
         scene_case("entity expansion", &entity_bomb(), &["scene.svg", "7:", "XML entities", "xml-entity-bytes"]),
         Case::new("svgz bomb", "convert {d}/scene.svgz -o {d}/out.png", &["scene.svgz", "decompresses to more than the limit", "svgz-bytes"], "out.png")

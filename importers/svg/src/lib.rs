@@ -296,6 +296,15 @@ fn parse_in(
         usvg::Error::InvalidSize => ImportError::Size {
             source_name: source_name.to_string(),
         },
+        // The document passed `xml-nodes`, so this is `<use>` multiplying what it references
+        // (ten `<use>`s of a group of ten `<use>`s …): usvg refuses past a fixed million.
+        usvg::Error::ElementsLimitReached
+        | usvg::Error::ParsingFailed(usvg::roxmltree::Error::NodesLimitReached) => {
+            ImportError::Svg {
+                source_name: source_name.to_string(),
+                message: "the document expands to more than 1 000 000 elements once its `<use>` references are copied out (usvg's fixed limit)".into(),
+            }
+        }
         e => ImportError::Svg {
             source_name: source_name.to_string(),
             message: e.to_string(),
