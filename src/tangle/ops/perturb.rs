@@ -13,6 +13,9 @@ use crate::tangle::boolean::clean;
 use crate::tangle::noise::{fractal, mix};
 use crate::tangle::polygon::{Grid, Region};
 
+/// The most points the noise lattice may add to one shape's outline.
+const MAX_ADDED_POINTS: f64 = 200_000.0;
+
 /// The displacement of `p`: two independent noise channels, `amplitude` at most,
 /// varying over `scale` units.
 pub fn displacement(seed: u64, amplitude: f64, scale: f64, p: Point) -> Vec2 {
@@ -65,6 +68,22 @@ pub fn perturb(
     }
     // Four samples per noise feature follow the wobble closely.
     let h = scale / 4.0;
+    // The lattice adds a point per crossing: a scale far below the shape's size would add
+    // them without end (`perturb(1, 1e-300)` ran for ever).
+    let crossings: f64 = region
+        .edges()
+        .map(|(a, b)| ((b.x - a.x).abs() + (b.y - a.y).abs()) / h)
+        .sum();
+    if crossings.is_nan() || crossings > MAX_ADDED_POINTS {
+        return Err(format!(
+            "perturb's scale {} is too small for a shape this size: its outline would gain more than {MAX_ADDED_POINTS} points",
+            if scale >= 1e-4 {
+                format!("{scale}")
+            } else {
+                format!("{scale:e}")
+            }
+        ));
+    }
     let moved = |ring: &Vec<Point>| -> Vec<Point> {
         let mut out = Vec::with_capacity(ring.len() * 2);
         for i in 0..ring.len() {
@@ -116,5 +135,8 @@ mod tests {
         assert!((pa.area() - a.area()).abs() > 1e-3);
         assert!(pa.edges().all(|(p, _)| (p.x - 0.0).abs() < 40.0));
         assert!(perturb(&a, 1.0, 0.0, 9, &grid).is_err());
+        // A scale so small the lattice would never end is refused, not looped over.
+        let e = perturb(&a, 1.0, 1e-300, 9, &grid).unwrap_err();
+        assert!(e.contains("too small"), "{e}");
     }
 }
