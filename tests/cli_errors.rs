@@ -380,6 +380,9 @@ fn all_cases() -> Vec<Case> {
         Case::new("perturb(1, 1e-300): a lattice without end", "animate {d}/scene.svg {d}/g.gm -o {d}/out.png", &["g.gm", "2:1", "scale 1e-300 is too small for a shape this size"], "out.png")
             .file("g.gm", "duration 1s\nperturb(1, 1e-300) : s -> [p]\n")
             .succeeds(),
+        Case::new("streamlineSplit around a centre at 1e300", "animate {d}/scene.svg {d}/g.gm -o {d}/out.png", &[], "out.png")
+            .file("g.gm", "duration 1s\nstreamlineSplit(circular, 1, center=(1e300, 0)) : s -> [r]\n")
+            .succeeds(),
         Case::new("xml-nodes limit", "convert {d}/scene.svg -o {d}/out.png --limit xml-nodes=3", &["scene.svg", "limit of 3 XML nodes", "xml-nodes"], "out.png"),
         scene_case("entity expansion", &entity_bomb(), &["scene.svg", "7:", "XML entities", "xml-entity-bytes"]),
         Case::new("svgz bomb", "convert {d}/scene.svgz -o {d}/out.png", &["scene.svgz", "decompresses to more than the limit", "svgz-bytes"], "out.png")

@@ -487,17 +487,37 @@ fn radial_seeds(region: &Region, centre: Point, spacing: f64) -> Vec<(usize, Poi
         .map(|&q| (q - centre).hypot())
         .fold(0.0, f64::max)
     };
+    // Rings before the shape's nearest point cannot meet it: a centre far outside (`center=
+    // (1e300, 0)`) would otherwise count rings up to it without end.
+    let near = {
+        let bb = region.bbox();
+        let dx = (bb.x0 - centre.x).max(centre.x - bb.x1).max(0.0);
+        let dy = (bb.y0 - centre.y).max(centre.y - bb.y1).max(0.0);
+        dx.hypot(dy)
+    };
+    let first = (near / spacing).floor().max(1.0);
+    let last = (reach / spacing).floor();
+    // More rings than that across one shape are refused before this (streamlineSplit caps
+    // lines per shape size); here it only guards against what rounding does far away.
+    if (last - first).is_nan() || last - first > MAX_RINGS {
+        return Vec::new();
+    }
     let mut out = Vec::new();
     for dir in compass() {
-        for k in 1..=((reach / spacing) as usize) {
-            let p = centre + dir * (k as f64 * spacing);
+        let mut k = first;
+        while k <= last {
+            let p = centre + dir * (k * spacing);
             if region.contains(p) {
-                out.push((k, p));
+                out.push(((k - first) as usize, p));
             }
+            k += 1.0;
         }
     }
     out
 }
+
+/// The most rings [`radial_seeds`] steps through.
+const MAX_RINGS: f64 = 100_000.0;
 
 /// Evenly spaced streamlines of a field of `kind` inside `region`, `spacing` apart along
 /// a seed curve, traced with steps of `step`. Each is a closed loop or a curve whose ends
