@@ -383,6 +383,7 @@ fn all_cases() -> Vec<Case> {
         Case::new("streamlineSplit around a centre at 1e300", "animate {d}/scene.svg {d}/g.gm -o {d}/out.png", &[], "out.png")
             .file("g.gm", "duration 1s\nstreamlineSplit(circular, 1, center=(1e300, 0)) : s -> [r]\n")
             .succeeds(),
+        case("timesplit with 100 000 fractions (the parser was quadratic in arguments: 22 s)", &format!("duration 1s\ntimesplit({}) : [all, s] -> [a]\n", vec!["0.00001"; 100_000].join(",")), &["g.gm:2:1", "100000 fractions but 1 output tags"]),
         Case::new("xml-nodes limit", "convert {d}/scene.svg -o {d}/out.png --limit xml-nodes=3", &["scene.svg", "limit of 3 XML nodes", "xml-nodes"], "out.png"),
         scene_case("entity expansion", &entity_bomb(), &["scene.svg", "7:", "XML entities", "xml-entity-bytes"]),
         Case::new("svgz bomb", "convert {d}/scene.svgz -o {d}/out.png", &["scene.svgz", "decompresses to more than the limit", "svgz-bytes"], "out.png")
