@@ -1103,6 +1103,9 @@ fn check(
         &run_options(run, &ctx.limits)?,
     )
     .map_err(|e| engine_error(grammar_path, &loaded.src, &e))?;
+    for w in &report.warnings {
+        super::report::warn(grammar_path, w);
+    }
     super::report::out(&report.text)?;
     if shapes && let (Some(p), Some(s)) = (&path, &scene) {
         super::report::out(&shape_list(p, s, false))?;

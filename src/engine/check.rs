@@ -35,7 +35,8 @@ pub fn static_errors(grammar: &Grammar) -> Vec<EngineError> {
 pub struct Report {
     /// Problems that do not stop a run but probably are mistakes.
     pub warnings: Vec<Warning>,
-    /// The report text.
+    /// The report text (the warnings are not in it: a caller words them as it words any
+    /// other warning).
     pub text: String,
 }
 
@@ -181,9 +182,6 @@ pub fn check(
         } else {
             time_report(scene, &program, &shape_tags, &s, &mut r, &mut out)?;
         }
-    }
-    for w in &r.warnings {
-        let _ = writeln!(out, "warning: {w}");
     }
     r.text = out;
     Ok(r)
