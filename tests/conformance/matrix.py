@@ -99,7 +99,7 @@ GM_DIMS = [
     Dim("nesting", ["1", "2", "3", "2-twin"]),
     Dim("second", ["none", "fill", "opacity", "stroke-width", "border", "local-rotate", "world-translate"]),
     Dim("inherit", ["none", "motion", "colour"]),
-    Dim("scene", ["rects", "circles", "paths", "group", "strokes", "mixed"]),
+    Dim("scene", ["rects", "circles", "paths", "group", "strokes", "mixed", "filtered"]),
     Dim("spatial", ["none", "regularSplit", "dual-split", "outline", "regroup", "ungroup", "fill",
                     "invert", "perturb", "streamline", "place", "stipple"],
         pair=False, weights=[24] + [1] * 11),
@@ -224,6 +224,22 @@ SCENES = {
         '<path data-tag="s" d="M 40 90 L 80 90 L 60 125 Z" fill="#ffc914" stroke="#1d3557" stroke-width="2"/>',
         '<rect data-tag="c" x="110" y="90" width="60" height="14" rx="4" fill="#6a4c93" stroke="#2e282a" stroke-width="1.5"/>',
         '<circle data-tag="c" cx="140" cy="125" r="8" fill="#d1495b"/>',
+    ],
+    # Blurs and drop shadows, as hand-written SVG and Figma write them: Lottie effects.
+    "filtered": [
+        '<defs><filter id="shadow" x="-50%" y="-50%" width="200%" height="200%">'
+        '<feDropShadow dx="3" dy="4" stdDeviation="2" flood-color="#1d3557" flood-opacity="0.5"/></filter>'
+        '<filter id="soft" x="-50%" y="-50%" width="200%" height="200%"><feGaussianBlur stdDeviation="3"/></filter>'
+        '<filter id="figma" x="90" y="60" width="80" height="80" filterUnits="userSpaceOnUse" color-interpolation-filters="sRGB">'
+        '<feFlood flood-opacity="0" result="BackgroundImageFix"/>'
+        '<feColorMatrix in="SourceAlpha" type="matrix" values="0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 127 0" result="hardAlpha"/>'
+        '<feOffset dy="4"/><feGaussianBlur stdDeviation="3"/><feComposite in2="hardAlpha" operator="out"/>'
+        '<feColorMatrix type="matrix" values="0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0.35 0"/>'
+        '<feBlend mode="normal" in2="BackgroundImageFix" result="effect1"/>'
+        '<feBlend mode="normal" in="SourceGraphic" in2="effect1" result="shape"/></filter></defs>',
+        '<rect data-tag="s" x="30" y="40" width="40" height="30" fill="#e4572e" filter="url(#shadow)"/>',
+        '<rect data-tag="s" x="110" y="80" width="36" height="36" rx="6" fill="#17bebb" filter="url(#figma)"/>',
+        '<circle data-tag="c" cx="165" cy="30" r="14" fill="#ffc914" filter="url(#soft)"/>',
     ],
 }
 
@@ -711,6 +727,8 @@ def export(case, out, gm):
     case["per_paint_opacity"] = translucent_paint_overlap(doc, layers=True)
     case["per_paint_group_opacity"] = translucent_paint_overlap(doc, layers=False)
     case["stroke_under_nonuniform_scale"] = stroke_under_nonuniform_scale(doc)
+    case["effects"] = any(layer.get("ef") for layer in doc.get("layers", []) +
+                          [l for a in doc.get("assets", []) for l in a.get("layers", [])])
     n, fps = int(round(doc["op"] - doc["ip"])), float(doc["fr"])
     if case["family"] == "tr":
         times = targets(dims)[3] + [0.3]
@@ -897,10 +915,14 @@ NA = "n/a"
 # transform is exported as the stroke's outline (for ThorVG, which widens along the canvas
 # axes), which every player draws alike; an animated width stays a stroke (gm-0103: 0.71%).
 # Player -> the case flags that make its frames known, with what they mean.
+# Neither lottie-web's canvas renderer nor rlottie draws Lottie effects (blurs, drop
+# shadows): the export says so in a warning, and README's format table.
 KNOWN = {
-    "lottie-web-canvas": [("per_paint_opacity", "opacity applied per paint")],
+    "lottie-web-canvas": [("per_paint_opacity", "opacity applied per paint"),
+                          ("effects", "effects not drawn")],
     "rlottie": [("per_paint_group_opacity", "opacity applied per paint"),
-                ("stroke_under_nonuniform_scale", "stroke under non-uniform scale")],
+                ("stroke_under_nonuniform_scale", "stroke under non-uniform scale"),
+                ("effects", "effects not drawn")],
 }
 KNOWN_NOTE = "known ("
 # Bake error bound (canvas px) for the exports. Compared at 2x, an edge the exporter moves by
@@ -1015,7 +1037,7 @@ def report(argv):
               "", "`(+N known)`: frames of lottie-web's canvas renderer (a translucent group's or layer's "
               "opacity) and rlottie (a translucent group's) that differ only because they apply that opacity "
               "to each paint (a shape's stroke over its own fill draws darker), and rlottie's strokes under a "
-              "non-uniform scale (widened by one averaged factor); the other players judge "
+              "non-uniform scale (widened by one averaged factor), and the Lottie effects (blurs, drop shadows) neither of them draws; the other players judge "
               "those cases in full. Baked motion is exported with "
               f"`--tolerance {TOLERANCE}`.", ""]
     # Failures per dimension value.

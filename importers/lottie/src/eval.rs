@@ -280,7 +280,10 @@ pub fn bezier_path(b: &Bezier, closed: bool) -> BezPath {
         let (p0, p3) = (vertex(k), vertex(next));
         let c1 = p0 + at(&b.o, k);
         let c2 = p3 + at(&b.i, next);
-        if c1 == p0 && c2 == p3 {
+        // Controls on the ends, or at the thirds (as gmotion writes a straight segment, to
+        // the 1/1000 its coordinates are written to): a line.
+        let third = |c: Point, a: Point, b: Point| (c - a.lerp(b, 1.0 / 3.0)).hypot() <= 1e-3;
+        if (c1 == p0 && c2 == p3) || (p0 != p3 && third(c1, p0, p3) && third(c2, p3, p0)) {
             path.line_to(p3);
         } else {
             path.curve_to(c1, c2, p3);
