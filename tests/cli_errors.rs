@@ -384,6 +384,9 @@ fn all_cases() -> Vec<Case> {
             .file("g.gm", "duration 1s\nstreamlineSplit(circular, 1, center=(1e300, 0)) : s -> [r]\n")
             .succeeds(),
         case("timesplit with 100 000 fractions (the parser was quadratic in arguments: 22 s)", &format!("duration 1s\ntimesplit({}) : [all, s] -> [a]\n", vec!["0.00001"; 100_000].join(",")), &["g.gm:2:1", "100000 fractions but 1 output tags"]),
+        // Found by the `svg` fuzz target: svgtypes cuts an arc into curves by its radius and
+        // takes them from the front of a vector, quadratic in their number (hours).
+        scene_case("arc reaching 1e37 px", b"<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"100\" height=\"100\">\n<path d=\"M10 10 A100 150 0 0 0 1e37 5 Z\"/>\n</svg>", &["scene.svg", "2:1:", "an arc of radius 5.000e36 is too large to draw"]),
         Case::new("xml-nodes limit", "convert {d}/scene.svg -o {d}/out.png --limit xml-nodes=3", &["scene.svg", "limit of 3 XML nodes", "xml-nodes"], "out.png"),
         scene_case("entity expansion", &entity_bomb(), &["scene.svg", "7:", "XML entities", "xml-entity-bytes"]),
         Case::new("svgz bomb", "convert {d}/scene.svgz -o {d}/out.png", &["scene.svgz", "decompresses to more than the limit", "svgz-bytes"], "out.png")

@@ -194,6 +194,70 @@ fn xml_error(e: roxmltree::Error, source_name: &str) -> ImportError {
     }
 }
 
+/// The most element moves that splitting arcs into curves may cost a document (see
+/// [`ArcCost`]): about a second of copying.
+const MAX_ARC_MOVES: f64 = 3e8;
+
+/// What the arcs of path data cost usvg's path parser (svgtypes' `SimplifyingPathParser`):
+/// it cuts an arc into cubics, as many as kurbo's error bound asks of its radius
+/// (`(11.2 · r)^⅙` a turn at a tolerance of 0.1), buffers them and takes them from the
+/// front of a vector, so an arc cut into `n` curves costs `n²/2` moves. An arc of radius
+/// 10³⁷ (or one whose end lies that far away) is two million curves: hours.
+#[derive(Debug, Default)]
+struct ArcCost {
+    /// Element moves so far, all arcs together.
+    moves: f64,
+    /// The last arc's radius (its own, or half its chord when that is longer, as the arc is
+    /// then widened to reach its end) and curve count.
+    radius: f64,
+    curves: f64,
+}
+
+impl ArcCost {
+    /// Adds the arcs of path data `d`; answers its segment count, each arc counted as the
+    /// curves it becomes.
+    fn add(&mut self, d: &str) -> u64 {
+        use svgtypes::PathSegment as S;
+        let (mut at, mut start) = ((0.0f64, 0.0f64), (0.0f64, 0.0f64));
+        let mut segments = 0u64;
+        for seg in svgtypes::PathParser::from(d).flatten() {
+            let to = |abs: bool, x: f64, y: f64| if abs { (x, y) } else { (at.0 + x, at.1 + y) };
+            let end = match seg {
+                S::MoveTo { abs, x, y } => {
+                    start = to(abs, x, y);
+                    start
+                }
+                S::LineTo { abs, x, y }
+                | S::SmoothQuadratic { abs, x, y }
+                | S::CurveTo { abs, x, y, .. }
+                | S::SmoothCurveTo { abs, x, y, .. }
+                | S::Quadratic { abs, x, y, .. } => to(abs, x, y),
+                S::HorizontalLineTo { abs, x } => (if abs { x } else { at.0 + x }, at.1),
+                S::VerticalLineTo { abs, y } => (at.0, if abs { y } else { at.1 + y }),
+                S::ClosePath { .. } => start,
+                S::EllipticalArc {
+                    abs, rx, ry, x, y, ..
+                } => {
+                    let end = to(abs, x, y);
+                    let chord = (end.0 - at.0).hypot(end.1 - at.1);
+                    let r = rx.abs().max(ry.abs()).max(chord / 2.0);
+                    let n = (11.163 * r).powf(1.0 / 6.0).max(4.0).ceil();
+                    let n = if n.is_finite() { n } else { f64::MAX };
+                    self.moves += n * n / 2.0;
+                    self.radius = r;
+                    self.curves = n;
+                    segments = segments.saturating_add(n.min(u64::MAX as f64) as u64);
+                    at = end;
+                    continue;
+                }
+            };
+            segments += 1;
+            at = end;
+        }
+        segments
+    }
+}
+
 impl<'a> Source<'a> {
     /// Parses `text` and prepares the copy usvg will read.
     pub fn parse(
@@ -255,9 +319,20 @@ impl<'a> Source<'a> {
         // first, so a document of tens of millions is refused at the element that passes
         // the limit, not after seconds and gigabytes.
         let mut segments = 0u64;
+        let mut arcs = ArcCost::default();
         for node in doc.descendants().filter(|n| n.is_element()) {
             if let Some(d) = node.attribute("d") {
-                segments += svgtypes::PathParser::from(d).count() as u64;
+                segments += arcs.add(d);
+                if arcs.moves > MAX_ARC_MOVES {
+                    let pos = doc.text_pos_at(node.range().start);
+                    return Err(ImportError::Encoding {
+                        source_name: source_name.to_string(),
+                        message: format!(
+                            "{}:{}: an arc of radius {:.3e} is too large to draw: it is cut into {} curves, and arcs that size make usvg's path parser take minutes",
+                            pos.row, pos.col, arcs.radius, arcs.curves
+                        ),
+                    });
+                }
             }
             if let Some(p) = node.attribute("points") {
                 segments += svgtypes::PointsParser::from(p).count() as u64;
