@@ -50,11 +50,11 @@ impl Contour {
         let n = self.v.len();
         let (mut i, mut o) = (self.i.clone(), self.o.clone());
         let segments = if self.closed { n } else { n.saturating_sub(1) };
-        for k in 0..segments {
+        for (k, out) in o.iter_mut().enumerate().take(segments) {
             let next = (k + 1) % n;
             let (p0, p3) = (self.v[k], self.v[next]);
-            if self.o[k] == p0 && self.i[next] == p3 && p0 != p3 {
-                o[k] = p0.lerp(p3, 1.0 / 3.0);
+            if *out == p0 && self.i[next] == p3 && p0 != p3 {
+                *out = p0.lerp(p3, 1.0 / 3.0);
                 i[next] = p3.lerp(p0, 1.0 / 3.0);
             }
         }
