@@ -9,7 +9,7 @@
 # regression case. A crash, a timeout (10 s) or more than 2 GB of memory stops a target,
 # writes the input to fuzz/artifacts/TARGET/ and makes this script fail. CI builds the
 # targets beside the conformance run (`build`, on the core the players leave idle) and
-# then runs each for 15 s.
+# then runs each for 5 s.
 #
 # It builds what `cargo fuzz build --sanitizer none -O` builds (the same coverage flags, on
 # the stable toolchain: gmotion has no unsafe code, so AddressSanitizer, which needs a

@@ -26,7 +26,8 @@ echo "[test.sh] $((SECONDS - ex_start)) s: examples"
 # The conformance run plays the binary the tests built: building it again with
 # `-p gmotion-cli` would unify features differently and recompile half the tree.
 # The fuzz targets build (one job, niced) while the conformance run plays: its players
-# leave a core idle much of the time. Each target then runs for 15 s.
+# leave a core idle much of the time. Each target then runs for 5 s (a smoke run that
+# also replays fuzz/regressions; the long runs are `bash scripts/fuzz.sh 900`).
 fuzz_start=$SECONDS
 CARGO_BUILD_JOBS=1 nice -n 10 bash scripts/fuzz.sh build >target/fuzz-build.log 2>&1 &
 fuzz_build=$!
@@ -36,4 +37,4 @@ if ! wait $fuzz_build; then
     exit 1
 fi
 echo "[test.sh] $((SECONDS - fuzz_start)) s: fuzz targets built"
-step bash scripts/fuzz.sh 15
+step bash scripts/fuzz.sh 5
