@@ -334,11 +334,19 @@ fn all_cases() -> Vec<Case> {
             .succeeds(),
         // Raster images: a header may declare more pixels than any decoder can allocate
         // (found by the `lottie` fuzz target: 48 × 603 979 904 aborted on allocation).
-        Case::new("PNG declaring 100000 x 100000 px in an SVG", "convert {d}/scene.svg -o {d}/out.png -o {d}/out.json", &["<image id=\"pic\">", "100000 × 100000 pixels", "--limit image-pixels=N"], "out.png")
+        Case::new("PNG declaring 100000 x 100000 px in an SVG", "convert {d}/scene.svg -o {d}/out.png -o {d}/out.json", &["scene.svg", "image data not read", "100000 × 100000 pixels", "--limit image-pixels=N"], "out.png")
             .file("scene.svg", image_svg(&png_url(&png_bomb(100_000, 100_000))))
             .succeeds(),
         Case::new("PNG declaring 48 x 603979904 px in a Lottie", "convert {d}/anim.json -o {d}/out.png --time 1", &["anim.json", "$.layers[0]", "48 × 603979904 pixels", "--limit image-pixels=N"], "out.png")
             .files(vec![("anim.json", lottie_with_image(&png_bomb(48, 603_979_904)))])
+            .succeeds(),
+        // Found by the `svg` fuzz target: usvg panics placing an image so thin that its
+        // fitted side rounds to nothing.
+        Case::new("PNG declaring 1207959553 x 1 px in an SVG", "convert {d}/scene.svg -o {d}/out.png", &["image data not read", "1207959553 × 1 pixels"], "out.png")
+            .file("scene.svg", image_svg(&png_url(&png_bomb(1_207_959_553, 1))))
+            .succeeds(),
+        Case::new("PNG declaring 67000000 x 1 px in an SVG", "convert {d}/scene.svg -o {d}/out.png", &["image data not read", "67000000 × 1 pixels, proportions no renderer places"], "out.png")
+            .file("scene.svg", image_svg(&png_url(&png_bomb(67_000_000, 1))))
             .succeeds(),
         Case::new("image-pixels raised past the rendered image's", "convert {d}/scene.svg -o {d}/out.png --limit image-pixels=1e12", &["out.png", "declares 100000x100000 px", "--limit pixels=N"], "out.png")
             .file("scene.svg", image_svg(&png_url(&png_bomb(100_000, 100_000)))),

@@ -317,7 +317,11 @@ fn parse_in(
     for (href, why) in refused {
         converted.warnings.push((
             src.place_of_href(&href),
-            format!("file `{href}` not read: {why}"),
+            if href == "data:" {
+                format!("image data not read: {why}")
+            } else {
+                format!("file `{href}` not read: {why}")
+            },
         ));
     }
     let mut shapes = Vec::with_capacity(converted.units.len());
