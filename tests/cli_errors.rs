@@ -348,6 +348,9 @@ fn all_cases() -> Vec<Case> {
         Case::new("PNG declaring 67000000 x 1 px in an SVG", "convert {d}/scene.svg -o {d}/out.png", &["image data not read", "67000000 × 1 pixels, proportions no renderer places"], "out.png")
             .file("scene.svg", image_svg(&png_url(&png_bomb(67_000_000, 1))))
             .succeeds(),
+        Case::new("PNG declaring 67000000 x 1 px in a Lottie", "convert {d}/anim.json -o {d}/out.png --time 1", &["anim.json", "$.layers[0]", "67000000 × 1 pixels", "proportions no renderer places"], "out.png")
+            .files(vec![("anim.json", lottie_with_image(&png_bomb(67_000_000, 1)))])
+            .succeeds(),
         Case::new("image-pixels raised past the rendered image's", "convert {d}/scene.svg -o {d}/out.png --limit image-pixels=1e12", &["out.png", "declares 100000x100000 px", "--limit pixels=N"], "out.png")
             .file("scene.svg", image_svg(&png_url(&png_bomb(100_000, 100_000)))),
         // Inputs are regular files: a FIFO is an error at once, not a hang.

@@ -209,7 +209,7 @@ impl<'a> Builder<'a> {
                 if let Some((pw, ph)) = oversized {
                     self.warn(
                         &l.at,
-                        format!("image not drawn: it declares {pw} × {ph} pixels, more than the limit (raise it with --limit image-pixels=N); its rectangle is measured"),
+                        format!("image not drawn: it declares {pw} × {ph} pixels, more than the limit (raise it with --limit image-pixels=N) or proportions no renderer places; its rectangle is measured"),
                     );
                 }
                 let data = asset

@@ -189,8 +189,13 @@ pub fn from_json(
             a.p.as_deref()
                 .and_then(build::embedded_image)
                 .and_then(|(data, _)| gmotion::scene::image_pixel_size(&data));
+        // Too many pixels to decode, or so thin that usvg panics fitting it (see the SVG
+        // importer's image screening).
         if let Some((w, h)) = declared
-            && w.saturating_mul(h) > opts.max_image_pixels
+            && (w.saturating_mul(h) > opts.max_image_pixels
+                || w == 0
+                || h == 0
+                || w.max(h) / w.min(h) > 65_536)
         {
             a.oversized = Some((w, h));
         }
