@@ -194,6 +194,15 @@ fn xml_error(e: roxmltree::Error, source_name: &str) -> ImportError {
     }
 }
 
+/// A document refused at `node`: `why`, after the node's line and column.
+fn refused_at(doc: &Document, node: roxmltree::Node, source_name: &str, why: &str) -> ImportError {
+    let pos = doc.text_pos_at(node.range().start);
+    ImportError::Encoding {
+        source_name: source_name.to_string(),
+        message: format!("{}:{}: {why}", pos.row, pos.col),
+    }
+}
+
 /// The most element moves that splitting arcs into curves may cost a document (see
 /// [`ArcCost`]): about a second of copying.
 const MAX_ARC_MOVES: f64 = 3e8;
@@ -304,14 +313,14 @@ impl<'a> Source<'a> {
                 .map(|t| t.matches('{').count())
                 .sum::<usize>();
             if rules > max_css_rules as usize {
-                let pos = doc.text_pos_at(style.range().start);
-                return Err(ImportError::Encoding {
-                    source_name: source_name.to_string(),
-                    message: format!(
-                        "{}:{}: more than the limit of {max_css_rules} CSS rules (raise it with --limit css-rules=N)",
-                        pos.row, pos.col
+                return Err(refused_at(
+                    &doc,
+                    style,
+                    source_name,
+                    &format!(
+                        "more than the limit of {max_css_rules} CSS rules (raise it with --limit css-rules=N)"
                     ),
-                });
+                ));
             }
         }
 
@@ -324,28 +333,29 @@ impl<'a> Source<'a> {
             if let Some(d) = node.attribute("d") {
                 segments += arcs.add(d);
                 if arcs.moves > MAX_ARC_MOVES {
-                    let pos = doc.text_pos_at(node.range().start);
-                    return Err(ImportError::Encoding {
-                        source_name: source_name.to_string(),
-                        message: format!(
-                            "{}:{}: an arc of radius {:.3e} is too large to draw: it is cut into {} curves, and arcs that size make usvg's path parser take minutes",
-                            pos.row, pos.col, arcs.radius, arcs.curves
+                    return Err(refused_at(
+                        &doc,
+                        node,
+                        source_name,
+                        &format!(
+                            "an arc of radius {:.3e} is too large to draw: it is cut into {} curves, and arcs that size make usvg's path parser take minutes",
+                            arcs.radius, arcs.curves
                         ),
-                    });
+                    ));
                 }
             }
             if let Some(p) = node.attribute("points") {
                 segments += svgtypes::PointsParser::from(p).count() as u64;
             }
             if segments > max_segments {
-                let pos = doc.text_pos_at(node.range().start);
-                return Err(ImportError::Encoding {
-                    source_name: source_name.to_string(),
-                    message: format!(
-                        "{}:{}: the paths so far have more than the limit of {max_segments} segments (raise it with --limit path-segments=N)",
-                        pos.row, pos.col
+                return Err(refused_at(
+                    &doc,
+                    node,
+                    source_name,
+                    &format!(
+                        "the paths so far have more than the limit of {max_segments} segments (raise it with --limit path-segments=N)"
                     ),
-                });
+                ));
             }
         }
 
