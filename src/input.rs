@@ -35,6 +35,68 @@ pub fn irregular_kind(path: &Path) -> io::Result<Option<&'static str>> {
     }))
 }
 
+/// Where a file referenced by another (an SVG's `<image href>`, a Lottie image asset's
+/// `u` + `p`) may be read from: the referring file's folder and the folders the user
+/// allowed, regular files of at most `max_bytes`.
+#[derive(Clone, Debug)]
+pub struct References<'a> {
+    /// What refers to the files, as messages name it: `SVG`, `Lottie file`.
+    pub owner: &'a str,
+    /// The referring file's folder (`None` for text without a file: nothing is read).
+    pub dir: Option<&'a Path>,
+    /// Other folders the user allowed (`--allow-path DIR`).
+    pub allowed: &'a [PathBuf],
+    /// Largest file read (`--limit input-bytes=N`).
+    pub max_bytes: u64,
+}
+
+impl References<'_> {
+    /// The canonical path of `href` (relative to [`References::dir`], `file://` allowed)
+    /// when it may be read, else why not: another scheme, a path resolving outside every
+    /// allowed folder (through `..`, an absolute path or a symbolic link), something other
+    /// than a regular file, or a file over the size limit.
+    pub fn check(&self, href: &str) -> Result<PathBuf, String> {
+        let owner = self.owner;
+        let raw = href.strip_prefix("file://").unwrap_or(href);
+        if raw.contains("://") {
+            return Err("only files and data URIs are read".into());
+        }
+        let Some(dir) = self.dir else {
+            return Err(format!(
+                "{owner} text without a folder may reference data URIs only"
+            ));
+        };
+        let real = dir
+            .join(raw)
+            .canonicalize()
+            .map_err(|e| format!("cannot resolve it ({e})"))?;
+        let mut roots: Vec<PathBuf> = std::iter::once(dir.to_path_buf())
+            .chain(self.allowed.iter().cloned())
+            .filter_map(|d| d.canonicalize().ok())
+            .collect();
+        roots.dedup();
+        if !roots.iter().any(|r| real.starts_with(r)) {
+            return Err(format!(
+                "{} lies outside the {owner}'s folder (it may reference files in its own folder; allow another with --allow-path DIR)",
+                real.display()
+            ));
+        }
+        match irregular_kind(&real) {
+            Ok(None) => {}
+            Ok(Some(kind)) => return Err(format!("it is {kind}, not a regular file")),
+            Err(e) => return Err(e.to_string()),
+        }
+        let len = std::fs::metadata(&real).map(|m| m.len()).unwrap_or(0);
+        if len > self.max_bytes {
+            return Err(format!(
+                "it is larger than the limit of {} bytes (raise it with --limit input-bytes=N)",
+                self.max_bytes
+            ));
+        }
+        Ok(real)
+    }
+}
+
 /// A file that could not be read, and why: the error every reader of input files returns.
 #[derive(Debug, thiserror::Error)]
 #[error("{}: cannot read the file: {source}", path.display())]

@@ -120,7 +120,7 @@ impl Accumulator {
             FillRule::EvenOdd => OverlayRule::EvenOdd,
         };
         for shape in contours.simplify_shape(rule) {
-            self.filled.extend(shape);
+            self.filled.extend(shape.into_iter().filter(|c| !sliver(c)));
         }
         self.filled_paths += 1;
     }
@@ -140,6 +140,21 @@ impl Accumulator {
             stroke_width: self.stroke_width.unwrap_or(1.0),
         })
     }
+}
+
+/// Whether a simple contour encloses next to nothing for its length (area below 10⁻⁷ of
+/// its perimeter squared: thinner than 1 : 10⁷). Such slivers move no centroid, and
+/// i_overlay's union of a few of them can shatter into tens of thousands of pieces and
+/// take seconds (found by the `lottie` fuzz target: thin rotated fills of a precomposition).
+fn sliver(contour: &[[f64; 2]]) -> bool {
+    let n = contour.len();
+    let (mut area2, mut perimeter) = (0.0, 0.0);
+    for (i, q) in contour.iter().enumerate() {
+        let p = contour[(i + n - 1) % n];
+        area2 += p[0] * q[1] - q[0] * p[1];
+        perimeter += (q[0] - p[0]).hypot(q[1] - p[1]);
+    }
+    (area2 / 2.0).abs() <= 1e-7 * perimeter * perimeter
 }
 
 /// The exact bounds of a path, `None` for a path with no points.
@@ -273,6 +288,50 @@ mod tests {
         let m = measure(&node, Affine::IDENTITY).unwrap();
         assert_eq!(m.centroid, Point::new(5.0, 2.0));
         assert_eq!(m.stroke_width, 1.0);
+    }
+
+    #[test]
+    fn slivers_count_for_nothing() {
+        // Two slivers next to flat (from the lottie fuzz target's find, whose union of
+        // such pieces shattered) beside a square: the centroid is the square's.
+        let sliver = |pts: &[(f64, f64)]| {
+            let mut p = BezPath::new();
+            p.move_to(pts[0]);
+            for &q in &pts[1..] {
+                p.line_to(q);
+            }
+            p.close_path();
+            filled(p, FillRule::NonZero)
+        };
+        let g = Node::Group(Group {
+            children: vec![
+                sliver(&[
+                    (652.354982150232, 837.0916515159727),
+                    (431.64681030574957, 454.8138833809018),
+                    (524.2398193008057, 615.1896787452818),
+                    (677.9532487517945, 881.4291492271543),
+                ]),
+                sliver(&[
+                    (-142.39550630390227, -539.4565746867574),
+                    (-160.46805421649992, -570.7591488444723),
+                    (51.82750089824617, -203.0524609172262),
+                    (1945.9889922922891, 3077.731478444346),
+                    (1946.5423827952188, 3078.689985982188),
+                    (263.61524351299227, 163.77467226148474),
+                ]),
+                filled(
+                    Rect::new(0.0, 0.0, 100.0, 100.0).to_path(0.1),
+                    FillRule::NonZero,
+                ),
+            ],
+            ..Group::new()
+        });
+        let m = measure(&g, Affine::IDENTITY).unwrap();
+        assert!(
+            close(m.centroid, Point::new(50.0, 50.0)),
+            "{:?}",
+            m.centroid
+        );
     }
 
     #[test]

@@ -182,6 +182,19 @@ fn lottie_with_image(png: &[u8]) -> Vec<u8> {
     .into_bytes()
 }
 
+/// A Lottie file whose image layer links the picture `u` + `p` (`e: 0`).
+fn lottie_linking(u: &str, p: &str) -> Vec<u8> {
+    String::from_utf8(lottie_with_image(b""))
+        .unwrap()
+        .replacen(r#""u": """#, &format!(r#""u": "{u}""#), 1)
+        .replacen(
+            &format!(r#""p": "{}", "e": 1"#, png_url(b"")),
+            &format!(r#""p": "{p}", "e": 0"#),
+            1,
+        )
+        .into_bytes()
+}
+
 /// `levels` groups, each holding ten `<use>`s of the one before: 10^levels rects from a
 /// document of a few kilobytes.
 fn use_bomb(levels: usize) -> Vec<u8> {
@@ -339,6 +352,35 @@ fn all_cases() -> Vec<Case> {
             .succeeds(),
         Case::new("PNG declaring 48 x 603979904 px in a Lottie", "convert {d}/anim.json -o {d}/out.png --time 1", &["anim.json", "$.layers[0]", "48 × 603979904 pixels", "--limit image-pixels=N"], "out.png")
             .files(vec![("anim.json", lottie_with_image(&png_bomb(48, 603_979_904)))])
+            .succeeds(),
+        // A Lottie file's linked images fall under the same policy as an SVG's.
+        Case::new("Lottie image linked by an absolute path", "convert {d}/anim.json -o {d}/out.png", &["anim.json", "$.layers[0]", "/etc/hostname", "outside the Lottie file's folder", "--allow-path"], "out.png")
+            .files(vec![("anim.json", lottie_linking("/etc/", "hostname"))])
+            .succeeds(),
+        Case::new("Lottie image linked through ..", "convert {d}/anim.json -o {d}/out.png", &["$.layers[0]", "../../../../../../etc/hostname", "outside the Lottie file's folder"], "out.png")
+            .files(vec![("anim.json", lottie_linking("../../../../../../etc/", "hostname"))])
+            .succeeds(),
+        Case::new("Lottie image linked on /dev/zero", "convert {d}/anim.json -o {d}/out.png --allow-path /dev", &["$.layers[0]", "/dev/zero", "a device"], "out.png")
+            .files(vec![("anim.json", lottie_linking("/dev/", "zero"))])
+            .succeeds(),
+        Case::new("Lottie image linked on a FIFO", "convert {d}/anim.json -o {d}/out.png", &["$.layers[0]", "images/pipe.png", "a FIFO"], "out.png")
+            .files(vec![("anim.json", lottie_linking("images/", "pipe.png"))])
+            .setup(|d| {
+                std::fs::create_dir_all(d.join("images")).unwrap();
+                fifo(d, "images/pipe.png");
+                vec!["images"]
+            })
+            .succeeds(),
+        Case::new("Lottie image linking a PNG declaring 100000 x 100000 px", "convert {d}/anim.json -o {d}/out.png", &["$.layers[0]", "100000 × 100000 pixels", "--limit image-pixels=N"], "out.png")
+            .files(vec![("anim.json", lottie_linking("", "bomb.png")), ("bomb.png", png_bomb(100_000, 100_000))])
+            .succeeds(),
+        Case::new("Lottie image linking a file that is no picture", "convert {d}/anim.json -o {d}/out.png", &["$.layers[0]", "`notes.png` is not a PNG, JPEG, GIF or WebP image"], "out.png")
+            .files(vec![("anim.json", lottie_linking("", "notes.png")), ("notes.png", b"just text".to_vec())])
+            .succeeds(),
+        // Found by the `svg` fuzz target: usvg follows a ring of gradient references for
+        // ever when it is entered from outside the ring.
+        Case::new("gradient href ring entered from outside", "convert {d}/scene.svg -o {d}/out.png", &["<linearGradient id=\"b\"> (line 1)", "closes a cycle of references (a → b → a)"], "out.png")
+            .file("scene.svg", r##"<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink" width="100" height="100"><linearGradient id="a" xlink:href="#b"/><linearGradient id="b" xlink:href="#a"/><linearGradient id="c" xlink:href="#a"><stop offset="0" stop-color="red"/><stop offset="1" stop-color="blue"/></linearGradient><rect width="100" height="100" fill="url(#c)"/></svg>"##)
             .succeeds(),
         // Found by the `svg` fuzz target: usvg panics placing an image so thin that its
         // fitted side rounds to nothing.

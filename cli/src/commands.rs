@@ -299,6 +299,8 @@ fn import_options(
         lottie: lottie_import::ImportOptions {
             time: a.reference_time.unwrap_or(0.0),
             max_image_pixels: ctx.limits.get("image-pixels"),
+            allowed_dirs: ctx.allow.clone(),
+            max_file_bytes: ctx.limits.get("input-bytes"),
         },
     })
 }

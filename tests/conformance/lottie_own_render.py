@@ -7,7 +7,8 @@ Plays every `*.json` of FOLDER at 5 evenly spaced frames (ip + k·(op − ip)/5)
 frame as conformance.py does (a pixel is off when a premultiplied channel differs by more
 than OFF; a frame matches when at most 1% of its pixels are off). The players are the
 oracle only where they agree with each other: a file counts when lottie-web and rlottie
-match at all 5 frames, and gmotion passes it when it matches lottie-web at all 5.
+match at all 5 frames, and gmotion passes it when it matches lottie-web at all 5. rlottie
+draws no text layers, so for a file with text the second player is ThorVG.
 
 With --grammar, every file gets motion on top first, as a user adds it (issue 15's "a
 grammar on top"): every unit turns 90° over the composition's length, the first unit's tag
@@ -78,18 +79,33 @@ def frames_of(doc):
     return sorted({min(int(round(k * span / FRAMES)), max(int(span) - 1, 0)) for k in range(FRAMES)})
 
 
+def has_text(doc):
+    """Whether a text layer is anywhere in the document."""
+    comps = [doc.get("layers") or []] + [a.get("layers") or [] for a in doc.get("assets") or []]
+    return any(isinstance(l, dict) and l.get("ty") == 5 for layers in comps for l in layers)
+
+
 def run_players(jobs, out):
-    """Starts lottie-web and rlottie on `jobs` and answers them running (see `wait_players`)."""
+    """Starts lottie-web and the second player (rlottie, or ThorVG for the jobs marked
+    `text`) on `jobs` and answers them running (see `wait_players`)."""
     path = os.path.join(out, "jobs.json")
     with open(path, "w") as f:
         json.dump(jobs, f)
-    lw = [dict(j, out=[p.replace("{player}", "lottie-web") for p in j["out"]]) for j in jobs]
-    rl = [dict(j, out=[p.replace("{player}", "rlottie") for p in j["out"]]) for j in jobs]
+
+    def named(js, who):
+        return [{k: v for k, v in dict(j, out=[p.replace("{player}", who) for p in j["out"]]).items() if k != "text"}
+                for j in js]
+
     started = []
     for name, js, cmd in [
-        ("lottie-web", lw, ["node", os.path.join(HERE, "lottie_web.mjs")]),
-        ("rlottie", rl, [sys.executable, os.path.join(HERE, "rlottie_render.py")]),
+        ("lottie-web", named(jobs, "lottie-web"), ["node", os.path.join(HERE, "lottie_web.mjs")]),
+        ("rlottie", named([j for j in jobs if not j["text"]], "second"),
+         [sys.executable, os.path.join(HERE, "rlottie_render.py")]),
+        ("thorvg", named([j for j in jobs if j["text"]], "second"),
+         [sys.executable, os.path.join(HERE, "thorvg_render.py"), "--each"]),
     ]:
+        if not js:
+            continue
         p = os.path.join(out, f"jobs-{name}.json")
         with open(p, "w") as f:
             json.dump(js, f)
@@ -153,7 +169,7 @@ def main(argv):
                 continue
             grammar, played = made
         docs[name] = (path, grammar, fr, frames, width, stem)
-        jobs.append({"json": played, "width": width, "frames": frames,
+        jobs.append({"json": played, "width": width, "frames": frames, "text": has_text(doc),
                      "out": [os.path.join(args.out, f"{stem}-{f}-{{player}}.png") for f in frames]})
     # The players run while gmotion renders the same frames: lottie-web in Chromium leaves
     # a core idle much of the time.
@@ -174,7 +190,7 @@ def main(argv):
     report, counted, passed = {}, 0, 0
     for name, (path, grammar, fr, frames, width, stem) in docs.items():
         png = lambda f, who: os.path.join(args.out, f"{stem}-{f}-{who}.png")  # noqa: E731
-        players = [off_fraction(png(f, "lottie-web"), png(f, "rlottie")) for f in frames]
+        players = [off_fraction(png(f, "lottie-web"), png(f, "second")) for f in frames]
         ours = [off_fraction(png(f, "lottie-web"), png(f, "gmotion")) for f in frames]
         agree = all(p is not None and p <= MATCH for p in players)
         ok = agree and all(o is not None and o <= MATCH for o in ours)
@@ -184,11 +200,13 @@ def main(argv):
                         "error": gm_errors.get(name)}
         worst = max((o if o is not None else 1.0) for o in ours)
         flag = "pass" if ok else ("FAIL" if agree else "(players disagree)")
+        if has_text(json.load(open(path))):
+            flag += " [text: ThorVG is the second player]"
         print(f"{name}: {flag}  worst frame off {worst:.2%}" + (f"  {gm_errors[name]}" if name in gm_errors else ""))
     with open(os.path.join(args.out, "report.json"), "w") as f:
         json.dump(report, f, indent=1)
     share = passed / counted if counted else 0.0
-    print(f"\n{passed} of {counted} files where lottie-web and rlottie agree pass ({share:.1%}); "
+    print(f"\n{passed} of {counted} files where lottie-web and a second player agree pass ({share:.1%}); "
           f"{len(docs)} files played")
     new = [n for n, r in report.items() if r["agree"] and not r["pass"] and n not in known]
     fixed = [n for n in known if report.get(n, {}).get("pass")]

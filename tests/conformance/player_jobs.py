@@ -1,6 +1,10 @@
 """The job loop both Python players share (rlottie_render.py, thorvg_render.py).
 
     python3 PLAYER.py JOBS.json   plays the jobs of one file and exits;
+    python3 PLAYER.py --each JOBS.json
+                                  the same, each job in a process of its own, so that a
+                                  player crashing on one file (ThorVG's SIGFPE on some
+                                  text) loses only that file's frames;
     python3 PLAYER.py --serve     reads one JSON job list per line on stdin, plays it, and
                                   answers one line {"errors": [...]} on stdout; it exits at
                                   the end of stdin. The Rust tests keep one such player
@@ -13,7 +17,10 @@ A job that fails is reported (stderr, or the answer's errors) and its PNGs are n
 """
 
 import json
+import os
+import subprocess
 import sys
+import tempfile
 
 
 def play_all(name, render, jobs):
@@ -35,8 +42,19 @@ def main(name, render, argv):
                 errors = play_all(name, render, json.loads(line))
                 print(json.dumps({"errors": errors}), flush=True)
         return 0
+    if len(argv) == 3 and argv[1] == "--each":
+        with open(argv[2], encoding="utf-8") as f:
+            jobs = json.load(f)
+        for job in jobs:
+            with tempfile.NamedTemporaryFile("w", suffix=".json", delete=False) as one:
+                json.dump([job], one)
+            r = subprocess.run([sys.executable, argv[0], one.name], check=False)
+            os.unlink(one.name)
+            if r.returncode != 0:
+                print(f"{name}: {job.get('json')}: the player exited with {r.returncode}", file=sys.stderr)
+        return 0
     if len(argv) != 2:
-        print(f"usage: {argv[0]} JOBS.json | --serve", file=sys.stderr)
+        print(f"usage: {argv[0]} JOBS.json | --each JOBS.json | --serve", file=sys.stderr)
         return 2
     with open(argv[1], encoding="utf-8") as f:
         jobs = json.load(f)

@@ -172,11 +172,30 @@ fn ask(
 /// names the folder under the test's temporary folder. A player that fails to start, or
 /// cannot draw the file, fails the test.
 pub fn play(case: &str, lottie: &str, frames: &[f64], width: u32, players: &[Player]) -> PathBuf {
+    play_with_files(case, lottie, &[], frames, width, players)
+}
+
+/// [`play`], with `files` (path relative to the Lottie file, contents) written beside it
+/// first: the pictures its image assets link.
+pub fn play_with_files(
+    case: &str,
+    lottie: &str,
+    files: &[(&str, &[u8])],
+    frames: &[f64],
+    width: u32,
+    players: &[Player],
+) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
         .join("players")
         .join(case);
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("create the case folder");
+    for (name, bytes) in files {
+        let path = dir.join(name);
+        std::fs::create_dir_all(path.parent().expect("a file in the case folder"))
+            .expect("create the file's folder");
+        std::fs::write(&path, bytes).expect("write a file beside the Lottie file");
+    }
     let json = dir.join("anim.json");
     std::fs::write(&json, lottie).expect("write the Lottie file");
 

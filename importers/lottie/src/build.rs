@@ -17,7 +17,7 @@ use crate::model::{
     Asset, Document, Gradient, Layer, LayerKind, LayerMask, Loc, Num, Result, ShapeItem, ShapeKind,
     StrokeStyle, error,
 };
-use crate::{effects, eval, outline};
+use crate::{effects, eval, outline, text};
 
 /// Precompositions may nest this deep.
 pub const MAX_PRECOMP_DEPTH: usize = 32;
@@ -212,10 +212,24 @@ impl<'a> Builder<'a> {
                         format!("image not drawn: it declares {pw} × {ph} pixels, more than the limit (raise it with --limit image-pixels=N) or proportions no renderer places; its rectangle is measured"),
                     );
                 }
-                let data = asset
-                    .filter(|_| oversized.is_none())
-                    .and_then(|a| a.p.as_deref())
-                    .and_then(embedded_image);
+                let data = match asset.map(|a| &a.image) {
+                    _ if oversized.is_some() => None,
+                    Some(Ok(picture)) => picture.clone(),
+                    Some(Err(why)) => {
+                        self.warn(
+                            &l.at,
+                            format!("image not drawn: {why}; its rectangle is measured"),
+                        );
+                        None
+                    }
+                    None => {
+                        self.warn(
+                            &l.at.key("refId"),
+                            "image not drawn: no image asset has this id; nothing is measured",
+                        );
+                        None
+                    }
+                };
                 match data {
                     Some((data, format)) => children.push(Node::Image(ImageNode {
                         id: String::new(),
@@ -226,33 +240,14 @@ impl<'a> Builder<'a> {
                         smooth: true,
                         unit: None,
                     })),
-                    None if oversized.is_some() => children.push(path_node(
+                    None => children.push(path_node(
                         Rect::new(0.0, 0.0, w, h).to_path(0.1),
                         None,
                         None,
                     )),
-                    None => {
-                        self.warn(
-                            &l.at,
-                            "image not drawn: only PNG, JPEG, GIF and WebP images embedded in the file (`e: 1`, a data URL) are read; its rectangle is measured",
-                        );
-                        children.push(path_node(
-                            Rect::new(0.0, 0.0, w, h).to_path(0.1),
-                            None,
-                            None,
-                        ));
-                    }
                 }
             }
-            LayerKind::Text => {
-                self.warn(
-                    &l.at,
-                    "text is not drawn (measured as a point at its anchor)",
-                );
-                let a = eval::vec2(l.ks.a.as_ref(), lt, Vec2::ZERO);
-                let r = Rect::from_center_size(a.to_point(), (1.0, 1.0));
-                children.push(path_node(r.to_path(0.1), None, None));
-            }
+            LayerKind::Text => children = self.text(l, lt)?,
             LayerKind::Precomp => {
                 let Some(id) = l.ref_id.clone() else {
                     return error(&l.at, "a precomposition layer needs its `refId`");
@@ -343,6 +338,100 @@ impl<'a> Builder<'a> {
             },
             None => group,
         })
+    }
+
+    /// A text layer's letters at frame `t`, drawn from the file's glyphs ([`text`]); a
+    /// point at the anchor when there is nothing it can draw.
+    fn text(&mut self, l: &Layer, t: f64) -> Result<Vec<Node>> {
+        let fonts = &self.doc.fonts;
+        let data = l.text.as_ref();
+        let placed = data.map_or_else(Vec::new, |d| text::letters(d, fonts, t));
+        if let Some(d) = data {
+            if d.on_path {
+                self.warn(&d.at.key("p"), "text on a path is set on a straight line");
+            }
+            if d.expression {
+                self.warn(
+                    &d.at.key("d"),
+                    "expressions are not run; the text's own documents are used",
+                );
+            }
+            for a in &d.animators {
+                if a.turns_3d {
+                    self.warn(
+                        &a.at.key("a"),
+                        "3D letter rotation (`rx`, `ry`) is not drawn",
+                    );
+                }
+                if a.selector.random {
+                    self.warn(&a.at.key("s"), "randomised text selectors are applied in order (players shuffle at random)");
+                }
+                if a.selector.expression {
+                    self.warn(
+                        &a.at.key("s"),
+                        "expression text selectors are not run; applied as range selectors",
+                    );
+                }
+            }
+            let shown = d.document(t).is_some_and(|doc| !doc.text.trim().is_empty());
+            if shown && fonts.glyphs.is_empty() {
+                self.warn(&l.at, "text not drawn: the file embeds no glyph outlines (`chars`), and players draw it with the user's fonts; measured as a point at its anchor");
+            }
+        }
+        if placed.is_empty() {
+            let a = eval::vec2(l.ks.a.as_ref(), t, Vec2::ZERO);
+            let r = Rect::from_center_size(a.to_point(), (1.0, 1.0));
+            return Ok(vec![path_node(r.to_path(0.1), None, None)]);
+        }
+        let mut outlines: HashMap<usize, BezPath> = HashMap::new();
+        let mut nodes = Vec::with_capacity(placed.len());
+        for letter in placed {
+            let outline = match outlines.get(&letter.glyph) {
+                Some(o) => o.clone(),
+                None => {
+                    let o = self.unstyled(&fonts.glyphs[letter.glyph].shapes)?;
+                    outlines.insert(letter.glyph, o.clone());
+                    o
+                }
+            };
+            let color = |c: [f64; 3]| {
+                let ch = |v: f64| v.clamp(0.0, 1.0) as f32;
+                Color::rgb(ch(c[0]), ch(c[1]), ch(c[2]))
+            };
+            // lottie-web strokes letters with butt caps, round joins and a miter limit of 4.
+            let stroke = letter.stroke.map(|(c, w)| Stroke {
+                join: LineJoin::Round,
+                ..Stroke::solid(color(c), w)
+            });
+            let fill = letter.fill.map(|c| Fill::solid(color(c)));
+            if fill.is_none() && stroke.is_none() {
+                continue;
+            }
+            nodes.push(Node::Group(Group {
+                transform: letter.transform,
+                opacity: letter.opacity as f32,
+                children: vec![path_node(
+                    Affine::scale(letter.glyph_scale) * outline,
+                    fill,
+                    stroke,
+                )],
+                ..Group::new()
+            }));
+        }
+        Ok(nodes)
+    }
+
+    /// Every outline of `items` at their first frame, with no style of their own (a glyph,
+    /// painted by its text layer).
+    fn unstyled(&mut self, items: &[ShapeItem]) -> Result<BezPath> {
+        let mut outlines = Outlines::default();
+        let scope = self.items(items, 0.0, &mut outlines)?;
+        outlines.modify();
+        let mut path = BezPath::new();
+        for (id, m) in scope.visible {
+            path.extend(outlines.paths[id].iter().map(|el| m * el));
+        }
+        Ok(path)
     }
 
     /// The layers of a composition drawn at its frame `t`, in paint order.
@@ -797,6 +886,12 @@ pub(crate) struct Outlines {
 impl Outlines {
     /// Applies the modifiers, then turns `drawn` into scene nodes.
     fn finish(mut self, drawn: Vec<Draw>) -> Vec<Node> {
+        self.modify();
+        self.nodes(drawn)
+    }
+
+    /// Applies the modifiers to the outlines they take.
+    fn modify(&mut self) {
         for (trim, ids) in std::mem::take(&mut self.modifiers) {
             let mut taken: Vec<BezPath> = ids
                 .iter()
@@ -807,7 +902,6 @@ impl Outlines {
                 self.paths[i] = p;
             }
         }
-        self.nodes(drawn)
     }
 
     fn nodes(&self, drawn: Vec<Draw>) -> Vec<Node> {
@@ -974,7 +1068,11 @@ fn star(sy: i64, c: Point, outer: f64, inner: f64, rotation: f64, points: f64) -
 /// An image asset's picture when it is embedded: a `data:` URL holding base64 of a PNG,
 /// JPEG, GIF or WebP file (told apart by its first bytes, as players do, not by the URL's
 /// type, which exporters spell variously: `image/jpg`, `image/png`, none).
-pub(crate) fn embedded_image(p: &str) -> Option<(Arc<[u8]>, ImageFormat)> {
+/// An image's bytes and format.
+pub type Picture = (Arc<[u8]>, ImageFormat);
+
+/// The picture of a `data:` URL (base64), if it is a PNG, JPEG, GIF or WebP image.
+pub(crate) fn embedded_image(p: &str) -> Option<Picture> {
     use base64::Engine as _;
     let rest = p.strip_prefix("data:")?;
     let (head, body) = rest.split_once(',')?;

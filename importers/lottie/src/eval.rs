@@ -171,14 +171,7 @@ pub fn matrix(tr: &Transform, t: f64) -> Affine {
     }
     let sk = scalar(tr.sk.as_ref(), t, 0.0).to_radians();
     let sa = scalar(tr.sa.as_ref(), t, 0.0).to_radians();
-    let skew = if sk == 0.0 {
-        Affine::IDENTITY
-    } else {
-        // lottie-web's skewFromAxis(-sk, sa): rotate by sa, shear x by tan(-sk), rotate
-        // back.
-        let tan = (-sk).tan().clamp(-1e6, 1e6);
-        Affine::rotate(-sa) * Affine::new([1.0, 0.0, tan, 1.0, 0.0, 0.0]) * Affine::rotate(sa)
-    };
+    let skew = skew(sk, sa);
     let rx = scalar(tr.rx.as_ref(), t, 0.0).to_radians();
     let ry = scalar(tr.ry.as_ref(), t, 0.0).to_radians();
     let or = num(tr.or.as_ref(), t, &[0.0, 0.0, 0.0]);
@@ -224,6 +217,16 @@ pub fn matrix(tr: &Transform, t: f64) -> Affine {
     };
     let (o, ex, ey) = (project(0.0, 0.0), project(1.0, 0.0), project(0.0, 1.0));
     Affine::new([ex.x - o.x, ex.y - o.y, ey.x - o.x, ey.y - o.y, o.x, o.y])
+}
+
+/// A skew by `sk` radians along the axis at `sa` radians, as lottie-web's
+/// `skewFromAxis(-sk, sa)`: rotate by `sa`, shear x by `tan(-sk)`, rotate back.
+pub fn skew(sk: f64, sa: f64) -> Affine {
+    if sk == 0.0 {
+        return Affine::IDENTITY;
+    }
+    let tan = (-sk).tan().clamp(-1e6, 1e6);
+    Affine::rotate(-sa) * Affine::new([1.0, 0.0, tan, 1.0, 0.0, 0.0]) * Affine::rotate(sa)
 }
 
 /// The direction, in radians, an auto-oriented layer faces at `t`: along its position's

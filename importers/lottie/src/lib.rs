@@ -44,8 +44,9 @@ pub mod eval;
 pub mod model;
 pub mod outline;
 pub mod tags;
+pub mod text;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use kurbo::{Affine, Point, Rect};
 use serde_json::Value;
@@ -59,7 +60,7 @@ use gmotion::scene::{Group, Node, Scene, Shape};
 use model::{Document, Loc};
 
 /// How to import.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ImportOptions {
     /// The reference time, in seconds from the composition's in point, at which units are
     /// measured and the still scene drawn (0: the first frame).
@@ -69,6 +70,11 @@ pub struct ImportOptions {
     /// allocates them all. A larger image is not drawn (its rectangle is measured), with a
     /// warning; the document written back keeps it.
     pub max_image_pixels: u64,
+    /// Folders besides the file's own whose images it may link (`--allow-path DIR`).
+    pub allowed_dirs: Vec<PathBuf>,
+    /// Largest Lottie file, and largest linked image, read (default
+    /// [`gmotion::input::DEFAULT_MAX_INPUT_BYTES`]; `--limit input-bytes=N`).
+    pub max_file_bytes: u64,
 }
 
 impl Default for ImportOptions {
@@ -76,6 +82,8 @@ impl Default for ImportOptions {
         ImportOptions {
             time: 0.0,
             max_image_pixels: gmotion::scene::DEFAULT_MAX_IMAGE_PIXELS,
+            allowed_dirs: Vec::new(),
+            max_file_bytes: gmotion::input::DEFAULT_MAX_INPUT_BYTES,
         }
     }
 }
@@ -90,6 +98,9 @@ pub struct UnitLayers {
     /// identity for a layer without a parent): where a motion in canvas space must be
     /// conjugated to act in the parent's space.
     pub parent_world: Vec<Affine>,
+    /// What the unit measured at the reference frame (`None`: no geometry); a frame drawn
+    /// later ([`Source::scene_at`]) keeps it rather than measuring again.
+    pub measure: Option<gmotion::measure::Measure>,
 }
 
 /// The source document of an imported scene, for the exporter that writes it back with
@@ -148,15 +159,29 @@ pub enum ImportError {
 }
 
 /// Imports a Lottie file.
+/// Images it links (an asset's folder `u` and file `p`, `e: 0`) are read from the file's
+/// folder, as players read them, under [`gmotion::input::References`].
 pub fn load(path: &Path, opts: &ImportOptions) -> Result<Imported, ImportError> {
-    let text = gmotion::input::read_text(path, gmotion::input::DEFAULT_MAX_INPUT_BYTES)
-        .map_err(ReadError::at(path))?;
-    parse(&text, &path.display().to_string(), opts)
+    let text = gmotion::input::read_text(path, opts.max_file_bytes).map_err(ReadError::at(path))?;
+    let dir = path.parent().map(|d| {
+        if d.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            d
+        }
+    });
+    let json = json_of(&text, &path.display().to_string())?;
+    import(json, &path.display().to_string(), dir, opts)
 }
 
-/// Imports Lottie JSON text; `source_name` names it in errors and warnings.
+/// Imports Lottie JSON text; `source_name` names it in errors and warnings. Linked images
+/// are not read (there is no folder to read them from).
 pub fn parse(text: &str, source_name: &str, opts: &ImportOptions) -> Result<Imported, ImportError> {
-    let json: Value = serde_json::from_str(text.trim_start_matches('\u{feff}')).map_err(|e| {
+    import(json_of(text, source_name)?, source_name, None, opts)
+}
+
+fn json_of(text: &str, source_name: &str) -> Result<Value, ImportError> {
+    serde_json::from_str(text.trim_start_matches('\u{feff}')).map_err(|e| {
         let message = e.to_string();
         let message = message
             .rsplit_once(" at line ")
@@ -168,14 +193,22 @@ pub fn parse(text: &str, source_name: &str, opts: &ImportOptions) -> Result<Impo
             column: e.column(),
             message,
         }
-    })?;
-    from_json(json, source_name, opts)
+    })
 }
 
-/// Imports a parsed document.
+/// Imports a parsed document; linked images are not read.
 pub fn from_json(
     json: Value,
     source_name: &str,
+    opts: &ImportOptions,
+) -> Result<Imported, ImportError> {
+    import(json, source_name, None, opts)
+}
+
+fn import(
+    json: Value,
+    source_name: &str,
+    dir: Option<&Path>,
     opts: &ImportOptions,
 ) -> Result<Imported, ImportError> {
     let located = |e: model::ModelError| ImportError::Lottie {
@@ -184,11 +217,18 @@ pub fn from_json(
         message: e.message,
     };
     let mut document = Document::read(&json).map_err(located)?;
+    let refs = gmotion::input::References {
+        owner: "Lottie file",
+        dir,
+        allowed: &opts.allowed_dirs,
+        max_bytes: opts.max_file_bytes,
+    };
     for a in &mut document.assets {
-        let declared =
-            a.p.as_deref()
-                .and_then(build::embedded_image)
-                .and_then(|(data, _)| gmotion::scene::image_pixel_size(&data));
+        a.image = picture(a, &refs);
+        let declared = match &a.image {
+            Ok(Some((data, _))) => gmotion::scene::image_pixel_size(data),
+            _ => None,
+        };
         // Too many pixels to decode, or so thin that usvg panics fitting it (see the SVG
         // importer's image screening).
         if let Some((w, h)) = declared
@@ -212,7 +252,7 @@ pub fn from_json(
             ),
         });
     }
-    let (root, shapes, units, warnings) = scene_of(&document, frame).map_err(located)?;
+    let (root, shapes, units, warnings) = scene_of(&document, frame, None).map_err(located)?;
     let scene = Scene {
         width: document.w,
         height: document.h,
@@ -235,9 +275,37 @@ pub fn from_json(
     })
 }
 
+/// An image asset's picture: embedded (`e: 1`, a data URL) or linked (the file `u` + `p`
+/// next to the document, read under `refs`); `Ok(None)` for an asset that is not an
+/// image, `Err` saying why a picture could not be had.
+fn picture(
+    a: &model::Asset,
+    refs: &gmotion::input::References,
+) -> Result<Option<build::Picture>, String> {
+    let Some(p) = a.p.as_deref().filter(|_| a.layers.is_none()) else {
+        return Ok(None);
+    };
+    if p.starts_with("data:") {
+        return build::embedded_image(p)
+            .map(Some)
+            .ok_or_else(|| "only PNG, JPEG, GIF and WebP data URLs are read".into());
+    }
+    let href = format!("{}{p}", a.u.as_deref().unwrap_or(""));
+    let real = refs
+        .check(&href)
+        .map_err(|why| format!("`{href}`: {why}"))?;
+    let data = gmotion::input::read_regular(&real, refs.max_bytes)
+        .map_err(|e| format!("`{href}`: {e}"))?;
+    let format = gmotion::scene::ImageFormat::sniff(&data)
+        .ok_or_else(|| format!("`{href}` is not a PNG, JPEG, GIF or WebP image"))?;
+    Ok(Some((std::sync::Arc::from(data), format)))
+}
+
 type Built = (Group, Vec<Shape>, Vec<UnitLayers>, Vec<(String, String)>);
 
-fn scene_of(doc: &Document, frame: f64) -> model::Result<Built> {
+/// The document drawn at `frame`; its units measured, or given the measures of
+/// `reference` (the same units, at the reference frame).
+fn scene_of(doc: &Document, frame: f64, reference: Option<&[UnitLayers]>) -> model::Result<Built> {
     let mut b = build::Builder::new(doc);
     let layers = &doc.layers;
     let worlds = b.worlds(layers, frame)?;
@@ -271,7 +339,12 @@ fn scene_of(doc: &Document, frame: f64) -> model::Result<Built> {
         let index = shapes.len();
         node.unit = Some(index);
         let node = Node::Group(node);
-        let m = measure(&node, Affine::IDENTITY);
+        // Measuring resolves every overlap of the unit's outlines, which takes seconds for
+        // a rich precomposition: done once, at the reference frame.
+        let m = match reference {
+            Some(units) => units.get(index).and_then(|u| u.measure),
+            None => measure(&node, Affine::IDENTITY),
+        };
         let at = worlds[i] * Point::ORIGIN;
         let tag = tags::layer_tag(&l.nm, l.kind);
         // The layer's own name as written (counter kept), then its parents', nearest first,
@@ -314,6 +387,7 @@ fn scene_of(doc: &Document, frame: f64) -> model::Result<Built> {
         units.push(UnitLayers {
             parent_world: members.iter().map(|&j| parent_world(j)).collect(),
             layers: members,
+            measure: m,
         });
         root.children.push(node);
     }
@@ -357,7 +431,8 @@ impl Source {
     /// The scene as the document draws it at composition `frame`: the same units in the
     /// same order as the imported scene (so an animation's tracks apply to it unchanged),
     /// each where its layers put it then; a unit whose layer is not on screen at `frame`
-    /// is drawn at zero opacity. This is how gmotion plays a Lottie file itself.
+    /// is drawn at zero opacity. This is how gmotion plays a Lottie file itself. The units
+    /// keep the measures (centroid, box, paint) of the reference frame.
     ///
     /// With it, each unit's motion: how the world of the layer the unit hangs from has
     /// moved since the reference frame (`parent(frame) · parent(reference)⁻¹`). gmotion's
@@ -366,10 +441,12 @@ impl Source {
     /// what players draw.
     pub fn scene_at(&self, frame: f64) -> Result<(Scene, Vec<Affine>), ImportError> {
         let (root, shapes, units, _) =
-            scene_of(&self.document, frame).map_err(|e| ImportError::Lottie {
-                source_name: format!("frame {frame}"),
-                at: e.at,
-                message: e.message,
+            scene_of(&self.document, frame, Some(&self.units)).map_err(|e| {
+                ImportError::Lottie {
+                    source_name: format!("frame {frame}"),
+                    at: e.at,
+                    message: e.message,
+                }
             })?;
         let moved = units
             .iter()

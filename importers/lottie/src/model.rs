@@ -12,6 +12,8 @@ use std::fmt;
 
 use serde_json::{Map, Value};
 
+use crate::text::{Fonts, TextData};
+
 /// A JSON location in the document, written as a path from the root: `$.layers[3].ks.p`.
 #[derive(Clone, Debug, PartialEq, Eq, Hash, Default)]
 pub struct Loc(String);
@@ -93,21 +95,21 @@ pub(crate) fn number(v: &Value, at: &Loc) -> Result<f64> {
     }
 }
 
-fn object<'a>(v: &'a Value, at: &Loc) -> Result<&'a Map<String, Value>> {
+pub(crate) fn object<'a>(v: &'a Value, at: &Loc) -> Result<&'a Map<String, Value>> {
     v.as_object().map_or_else(
         || error(at, format!("expected an object, found {}", kind(v))),
         Ok,
     )
 }
 
-fn array<'a>(v: &'a Value, at: &Loc) -> Result<&'a [Value]> {
+pub(crate) fn array<'a>(v: &'a Value, at: &Loc) -> Result<&'a [Value]> {
     v.as_array().map_or_else(
         || error(at, format!("expected an array, found {}", kind(v))),
         |a| Ok(a.as_slice()),
     )
 }
 
-fn opt_number(o: &Map<String, Value>, key: &str, at: &Loc) -> Result<Option<f64>> {
+pub(crate) fn opt_number(o: &Map<String, Value>, key: &str, at: &Loc) -> Result<Option<f64>> {
     match o.get(key) {
         None | Some(Value::Null) => Ok(None),
         Some(v) => number(v, &at.key(key)).map(Some),
@@ -118,7 +120,7 @@ fn opt_int(o: &Map<String, Value>, key: &str, at: &Loc) -> Result<Option<i64>> {
     Ok(opt_number(o, key, at)?.map(|x| x.round() as i64))
 }
 
-fn opt_string(o: &Map<String, Value>, key: &str, at: &Loc) -> Result<Option<String>> {
+pub(crate) fn opt_string(o: &Map<String, Value>, key: &str, at: &Loc) -> Result<Option<String>> {
     match o.get(key) {
         None | Some(Value::Null) => Ok(None),
         Some(Value::String(s)) => Ok(Some(s.clone())),
@@ -382,7 +384,7 @@ pub fn property<T: PropValue>(v: &Value, at: &Loc) -> Result<Property<T>> {
     })
 }
 
-fn opt_property<T: PropValue>(
+pub(crate) fn opt_property<T: PropValue>(
     o: &Map<String, Value>,
     key: &str,
     at: &Loc,
@@ -678,7 +680,7 @@ pub struct ShapeItem {
 
 /// Shape items. Groups nest at most about 60 deep: serde_json refuses documents nested
 /// deeper than 128 levels, which bounds this recursion (and the builder's).
-fn shape_items(v: &Value, at: &Loc) -> Result<Vec<ShapeItem>> {
+pub(crate) fn shape_items(v: &Value, at: &Loc) -> Result<Vec<ShapeItem>> {
     array(v, at)?
         .iter()
         .enumerate()
@@ -894,6 +896,8 @@ pub struct Layer {
     pub masks: Vec<LayerMask>,
     /// Effects (`ef`), in order.
     pub effects: Vec<LayerEffect>,
+    /// Text layers' text (`t`).
+    pub text: Option<TextData>,
 }
 
 /// An After Effects effect on a layer: its type and its parameters' values by position
@@ -1033,6 +1037,10 @@ fn layer(v: &Value, at: &Loc) -> Result<Layer> {
             }
             None => Vec::new(),
         },
+        text: match (kind, o.get("t")) {
+            (LayerKind::Text, Some(t)) if !t.is_null() => Some(TextData::read(t, &at.key("t"))?),
+            _ => None,
+        },
         effects: match o.get("ef") {
             Some(ef) if !ef.is_null() => {
                 let ef_at = at.key("ef");
@@ -1070,6 +1078,11 @@ pub struct Asset {
     pub h: Option<f64>,
     /// The picture (images): a file name, or the image itself as a `data:` URL.
     pub p: Option<String>,
+    /// The folder of a linked picture (`u`, ending in `/`), relative to the document's.
+    pub u: Option<String>,
+    /// The picture's bytes, once the importer has read them (embedded or linked), or why
+    /// it could not.
+    pub image: std::result::Result<Option<crate::build::Picture>, String>,
     /// The pixel size an embedded image declares when it is over the importer's limit
     /// ([`crate::ImportOptions::max_image_pixels`]); such an image is not drawn.
     pub oversized: Option<(u64, u64)>,
@@ -1094,6 +1107,8 @@ pub struct Document {
     pub layers: Vec<Layer>,
     /// Assets.
     pub assets: Vec<Asset>,
+    /// Fonts and embedded glyphs, for text layers.
+    pub fonts: Fonts,
 }
 
 impl Document {
@@ -1140,6 +1155,8 @@ impl Document {
                     w: opt_number(ao, "w", &at)?,
                     h: opt_number(ao, "h", &at)?,
                     p: opt_string(ao, "p", &at)?,
+                    u: opt_string(ao, "u", &at)?,
+                    image: Ok(None),
                     oversized: None,
                     at,
                 });
@@ -1157,6 +1174,7 @@ impl Document {
             h,
             layers,
             assets,
+            fonts: Fonts::read(o, &at)?,
         })
     }
 

@@ -2,7 +2,7 @@
 //! inside the SVG's folder or an allowed folder, regular files, bounded in size; data URIs
 //! always (a gzip-compressed SVG in one is bounded like a `.svgz`). See [`crate::Policy`].
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::{Arc, Mutex};
 
 use usvg::ImageHrefResolver;
@@ -11,49 +11,6 @@ use crate::Policy;
 
 /// The references refused so far: (href, why).
 pub(crate) type Refused = Arc<Mutex<Vec<(String, String)>>>;
-
-/// Why `href` (relative to `dir`) may not be read, or the canonical path that may.
-fn check(
-    href: &str,
-    dir: Option<&Path>,
-    allowed: &[PathBuf],
-    max_bytes: u64,
-) -> Result<PathBuf, String> {
-    let raw = href.strip_prefix("file://").unwrap_or(href);
-    if raw.contains("://") {
-        return Err("only files and data URIs are read".into());
-    }
-    let Some(dir) = dir else {
-        return Err("SVG text without a folder may reference data URIs only".into());
-    };
-    let path = dir.join(raw);
-    let real = path
-        .canonicalize()
-        .map_err(|e| format!("cannot resolve it ({e})"))?;
-    let mut roots: Vec<PathBuf> = std::iter::once(dir.to_path_buf())
-        .chain(allowed.iter().cloned())
-        .filter_map(|d| d.canonicalize().ok())
-        .collect();
-    roots.dedup();
-    if !roots.iter().any(|r| real.starts_with(r)) {
-        return Err(format!(
-            "{} lies outside the SVG's folder (an SVG may reference files in its own folder; allow another with --allow-path DIR)",
-            real.display()
-        ));
-    }
-    match gmotion::input::irregular_kind(&real) {
-        Ok(None) => {}
-        Ok(Some(kind)) => return Err(format!("it is {kind}, not a regular file")),
-        Err(e) => return Err(e.to_string()),
-    }
-    let len = std::fs::metadata(&real).map(|m| m.len()).unwrap_or(0);
-    if len > max_bytes {
-        return Err(format!(
-            "it is larger than the limit of {max_bytes} bytes (raise it with --limit input-bytes=N)"
-        ));
-    }
-    Ok(real)
-}
 
 /// usvg's image resolver under `policy`: refused references are recorded in `refused`
 /// (and the element dropped); allowed ones are read by usvg's own resolver.
@@ -73,7 +30,13 @@ pub(crate) fn resolver(
     let default_data = ImageHrefResolver::default_data_resolver();
     ImageHrefResolver {
         resolve_string: Box::new(move |href: &str, opts: &usvg::Options| {
-            match check(href, dir.as_deref(), &allowed, max_bytes) {
+            let refs = gmotion::input::References {
+                owner: "SVG",
+                dir: dir.as_deref(),
+                allowed: &allowed,
+                max_bytes,
+            };
+            match refs.check(href) {
                 Ok(real) => screened(
                     default_string(&real.to_string_lossy(), opts),
                     max_pixels,

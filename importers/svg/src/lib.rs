@@ -313,6 +313,7 @@ fn parse_in(
 
     let mut converted = convert::convert(&tree, &src, opts, &uopt.fontdb, policy);
     converted.warnings.extend(unmatched);
+    converted.warnings.extend(src.unlinked.iter().cloned());
     let refused = std::mem::take(&mut *refused.lock().unwrap_or_else(|e| e.into_inner()));
     for (href, why) in refused {
         converted.warnings.push((

@@ -38,6 +38,8 @@ pub(super) struct Source<'a> {
     pub prepared: std::borrow::Cow<'a, str>,
     /// Whether the document has `<text>` (usvg then needs fonts).
     pub has_text: bool,
+    /// References cut to break cycles ([`href_cycles`]), as `(place, message)` warnings.
+    pub unlinked: Vec<(String, String)>,
     prefix: String,
     synthetic: Vec<NodeId>,
     by_id: HashMap<String, NodeId>,
@@ -267,6 +269,99 @@ impl ArcCost {
     }
 }
 
+/// An edit of the text usvg reads.
+enum Edit {
+    /// Give the element an id of its own (a synthetic one, or one replacing a duplicate).
+    Id(NodeId),
+    /// Point the href whose value this is at nothing.
+    Unlink,
+}
+
+/// Rings of `href` references between gradients, patterns and filters that another such
+/// element links into, each as the element whose reference closes the ring (the one
+/// pointing back at where the first outside link enters it) and the ids around it. usvg
+/// follows a ring for ever when it enters from outside (found by the `svg` fuzz target:
+/// `lg4 → lg1 → lg2 → lg1 …`), and stops when it comes back to where it started; cutting
+/// that one reference keeps both walks as usvg and browsers make them (a ring nothing
+/// enters is left as it is).
+fn href_cycles(doc: &Document) -> Vec<(NodeId, Vec<String>)> {
+    let linking = |n: &Node| {
+        n.is_element()
+            && is_svg(*n)
+            && matches!(
+                n.tag_name().name(),
+                "linearGradient" | "radialGradient" | "pattern" | "filter"
+            )
+    };
+    let mut by_id: HashMap<&str, Node> = HashMap::new();
+    for n in doc.descendants().filter(|n| n.is_element()) {
+        if let Some(id) = n.attribute("id") {
+            by_id.entry(id).or_insert(n);
+        }
+    }
+    let target = |n: &Node| -> Option<Node> {
+        let href = n
+            .attributes()
+            .find(|a| a.name() == "href" && a.namespace().is_none_or(|ns| ns == XLINK_NS))?;
+        let t = *by_id.get(href.value().trim().strip_prefix('#')?)?;
+        linking(&t).then_some(t)
+    };
+    // Each element links at most one other: walk from each, marking the walk, until it
+    // ends, meets an earlier walk, or meets itself (a ring).
+    let mut state: HashMap<NodeId, u8> = HashMap::new(); // 1 on this walk, 2 done
+    let mut rings: Vec<Vec<Node>> = Vec::new();
+    for start in doc.descendants().filter(linking) {
+        let mut walk = Vec::new();
+        let mut at = Some(start);
+        while let Some(n) = at {
+            match state.get(&n.id()) {
+                Some(2) => break,
+                Some(_) => {
+                    let from = walk
+                        .iter()
+                        .position(|w: &Node| w.id() == n.id())
+                        .unwrap_or(0);
+                    rings.push(walk[from..].to_vec());
+                    break;
+                }
+                None => {
+                    state.insert(n.id(), 1);
+                    walk.push(n);
+                    at = target(&n);
+                }
+            }
+        }
+        for w in walk {
+            state.insert(w.id(), 2);
+        }
+    }
+    let mut out = Vec::new();
+    for ring in rings {
+        let inside = |n: &Node| ring.iter().any(|r| r.id() == n.id());
+        let entry = doc
+            .descendants()
+            .filter(|n| linking(n) && !inside(n))
+            .find_map(|n| target(&n).filter(inside));
+        let Some(entry) = entry else {
+            continue;
+        };
+        let Some(at) = ring.iter().position(|r| r.id() == entry.id()) else {
+            continue;
+        };
+        let closing = ring[(at + ring.len() - 1) % ring.len()];
+        let ids = (0..=ring.len())
+            .map(|k| {
+                ring[(at + k) % ring.len()]
+                    .attribute("id")
+                    .unwrap_or_default()
+                    .to_string()
+            })
+            .collect();
+        out.push((closing.id(), ids));
+    }
+    out
+}
+
 impl<'a> Source<'a> {
     /// Parses `text` and prepares the copy usvg will read.
     pub fn parse(
@@ -359,6 +454,8 @@ impl<'a> Source<'a> {
             }
         }
 
+        let cycles = href_cycles(&doc);
+
         let mut by_id = HashMap::new();
         let mut ids: HashSet<&str> = HashSet::new();
         for node in doc.descendants().filter(|n| n.is_element()) {
@@ -372,7 +469,15 @@ impl<'a> Source<'a> {
         }
 
         // (byte range to replace, node): an empty range inserts a new attribute.
-        let mut edits: Vec<(std::ops::Range<usize>, NodeId)> = Vec::new();
+        let mut edits: Vec<(std::ops::Range<usize>, Edit)> = Vec::new();
+        for (node, _) in &cycles {
+            if let Some(href) = doc.get_node(*node).and_then(|n| {
+                n.attributes()
+                    .find(|a| a.name() == "href" && a.namespace().is_none_or(|ns| ns == XLINK_NS))
+            }) {
+                edits.push((href.range_value(), Edit::Unlink));
+            }
+        }
         let mut has_text = false;
         for node in doc.descendants().filter(|n| named(*n, MAPPED)) {
             has_text |= node.tag_name().name() == "text";
@@ -388,14 +493,14 @@ impl<'a> Source<'a> {
                 }
                 // usvg resolves a duplicated id to its first element, so renaming a later
                 // one changes no reference and lets it be told apart.
-                Some(a) => edits.push((a.range_value(), node.id())),
+                Some(a) => edits.push((a.range_value(), Edit::Id(node.id()))),
                 None => {
                     let start = node.range().start + 1;
                     let name_len = text[start..]
                         .find(|c: char| c.is_ascii_whitespace() || c == '/' || c == '>')
                         .unwrap_or(0);
                     let at = start + name_len;
-                    edits.push((at..at, node.id()));
+                    edits.push((at..at, Edit::Id(node.id())));
                 }
             }
         }
@@ -404,10 +509,20 @@ impl<'a> Source<'a> {
         let prepared = if edits.is_empty() {
             std::borrow::Cow::Borrowed(text)
         } else {
+            edits.sort_by_key(|(range, _)| range.start);
             let mut out = String::with_capacity(text.len() + edits.len() * 16);
             let mut last = 0;
-            for (range, node) in edits {
+            for (range, edit) in edits {
                 out.push_str(&text[last..range.start]);
+                let node = match edit {
+                    Edit::Id(node) => node,
+                    Edit::Unlink => {
+                        // A reference to an id nothing has: usvg stops following there.
+                        out.push_str(&format!("#{prefix}unlinked"));
+                        last = range.end;
+                        continue;
+                    }
+                };
                 let n = synthetic.len();
                 synthetic.push(node);
                 if range.is_empty() {
@@ -420,9 +535,26 @@ impl<'a> Source<'a> {
             out.push_str(&text[last..]);
             std::borrow::Cow::Owned(out)
         };
+        let unlinked = cycles
+            .iter()
+            .filter_map(|(node, ring)| {
+                let n = doc.get_node(*node)?;
+                let line = doc.text_pos_at(n.range().start).row;
+                let name = n.tag_name().name();
+                let id = n.attribute("id").unwrap_or_default();
+                Some((
+                    format!("<{name} id=\"{id}\"> (line {line})"),
+                    format!(
+                        "its href closes a cycle of references ({}); not followed",
+                        ring.join(" → ")
+                    ),
+                ))
+            })
+            .collect();
         Ok(Source {
             doc,
             prepared,
+            unlinked,
             has_text,
             prefix,
             synthetic,
