@@ -54,8 +54,8 @@ struct Cli {
     /// README's "Limits").
     #[arg(long = "limit", value_name = "NAME=N", global = true)]
     limits: Vec<String>,
-    /// A folder whose files an SVG may reference (`<image href>`), besides its own
-    /// folder (repeatable).
+    /// A folder whose files an SVG (`<image href>`) or a Lottie file (linked image
+    /// assets) may reference, besides its own folder (repeatable).
     #[arg(long = "allow-path", value_name = "DIR", global = true)]
     allow_paths: Vec<PathBuf>,
     /// A folder of fonts for SVG text, besides the system's (repeatable).

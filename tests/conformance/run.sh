@@ -92,7 +92,7 @@ fi
 python3 "$here/conformance.py" report "$out" || status=1
 
     # The two passes run together: each waits on its players much of the time.
-    phase "Lottie own render (gmotion convert X.json -o f.png --time T) and with a grammar on top (the layered export), against lottie-web and rlottie"
+    phase "Lottie own render (gmotion convert X.json -o f.png --time T) and with a grammar on top (the layered export), against lottie-web and rlottie (ThorVG for files with text)"
     python3 "$here/lottie_own_render.py" "$gm" "$out/own_render" "$here/lottie-corpus" > "$out/own_render.txt" &
     own=$!
     python3 "$here/lottie_own_render.py" "$gm" "$out/own_render_grammar" "$here/lottie-corpus" --grammar > "$out/own_render_grammar.txt" &

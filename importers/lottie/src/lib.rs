@@ -21,14 +21,16 @@
 //! easing, holds, legacy end values (`e`), split positions, and spatial tangents travelled
 //! by arc length. Each unit is measured on that geometry (centroid, bounds, paint).
 //!
-//! Image layers draw their asset when it is embedded (`e: 1`: a PNG, JPEG, GIF or WebP
-//! data URL). Gaussian Blur and Drop Shadow effects are drawn as lottie-web draws them
-//! ([`effects`]).
+//! Image layers draw their asset: embedded (`e: 1`: a PNG, JPEG, GIF or WebP data URL) or
+//! linked (`u` + `p`, read from the file's folder by [`load`] under
+//! [`gmotion::input::References`]). Text layers draw the glyphs the file embeds, laid out
+//! and animated as lottie-web does ([`text`]). Gaussian Blur and Drop Shadow effects are
+//! drawn as lottie-web draws them ([`effects`]).
 //!
-//! **Not drawn** (with a warning naming the first place and how many): linked images
-//! (their rectangle is measured), text (measured as a point), repeaters, merge paths, round
-//! corners and the other shape modifiers, mask expansion, other effects, expressions (the
-//! property's own value is used).
+//! **Not drawn** (with a warning naming the first place and how many): images that cannot
+//! be read (their rectangle is measured), text without embedded glyphs (measured as a
+//! point), repeaters, merge paths, round corners and the other shape modifiers, mask
+//! expansion, other effects, expressions (the property's own value is used).
 //!
 //! **Errors.** Nothing in the input can make the import panic: every value is checked as it
 //! is read, and every error names its JSON location (`$.layers[3].ks.p.k[1].s`). Parent
