@@ -182,6 +182,21 @@ fn lottie_with_image(png: &[u8]) -> Vec<u8> {
     .into_bytes()
 }
 
+/// A Lottie shape layer of `depth` groups, each repeating the one inside `copies` times.
+fn nested_repeaters(depth: usize, copies: usize) -> Vec<u8> {
+    let repeater = format!(
+        r#"{{"ty": "rp", "c": {{"a": 0, "k": {copies}}}, "o": {{"a": 0, "k": 0}}, "m": 1, "tr": {{"ty": "tr", "p": {{"a": 0, "k": [1, 0]}}, "r": {{"a": 0, "k": 1}}}}}}"#
+    );
+    let mut items = r#"{"ty": "rc", "d": 1, "p": {"a": 0, "k": [0, 0]}, "s": {"a": 0, "k": [5, 5]}, "r": {"a": 0, "k": 0}}, {"ty": "fl", "c": {"a": 0, "k": [1, 0, 0, 1]}, "o": {"a": 0, "k": 100}}"#.to_string();
+    for _ in 0..depth {
+        items = format!(r#"{{"ty": "gr", "it": [{items}, {repeater}]}}"#);
+    }
+    format!(
+        r#"{{"v": "5.7.0", "fr": 30, "ip": 0, "op": 60, "w": 100, "h": 100, "layers": [{{"ddd": 0, "ty": 4, "nm": "burst", "ind": 1, "ip": 0, "op": 60, "st": 0, "ks": {{}}, "shapes": [{items}]}}]}}"#
+    )
+    .into_bytes()
+}
+
 /// A Lottie file whose image layer links the picture `u` + `p` (`e: 0`).
 fn lottie_linking(u: &str, p: &str) -> Vec<u8> {
     String::from_utf8(lottie_with_image(b""))
@@ -352,6 +367,10 @@ fn all_cases() -> Vec<Case> {
             .succeeds(),
         Case::new("PNG declaring 48 x 603979904 px in a Lottie", "convert {d}/anim.json -o {d}/out.png --time 1", &["anim.json", "$.layers[0]", "48 × 603979904 pixels", "--limit image-pixels=N"], "out.png")
             .files(vec![("anim.json", lottie_with_image(&png_bomb(48, 603_979_904)))])
+            .succeeds(),
+        // Repeaters in repeaters multiply what they copy: bounded in all.
+        Case::new("Lottie repeaters nested four deep, 1000 copies each", "convert {d}/anim.json -o {d}/out.png", &["anim.json", "repeater copies past 50000 repeated items in all are left out"], "out.png")
+            .files(vec![("anim.json", nested_repeaters(4, 1000))])
             .succeeds(),
         // A Lottie file's linked images fall under the same policy as an SVG's.
         Case::new("Lottie image linked by an absolute path", "convert {d}/anim.json -o {d}/out.png", &["anim.json", "$.layers[0]", "/etc/hostname", "outside the Lottie file's folder", "--allow-path"], "out.png")

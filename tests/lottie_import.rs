@@ -740,8 +740,52 @@ fn own_render_cases() -> Vec<(&'static str, Value)> {
         json!([shape_layer(
             "rounded",
             1,
-            centre,
+            centre.clone(),
             json!([rounded, trim_back, stroke(blue, 12.0), group_tr()])
+        )]),
+    ));
+    // A repeater: five copies of a bar (with its fill), each turned 30° about the anchor,
+    // moved and shrunk, fading from full to a fifth; offset by half a copy, and the same
+    // drawn with the first copy at the bottom.
+    let repeater = |offset: f64, m: i64| {
+        json!({"ty": "rp", "c": fixed(json!(5)), "o": fixed(json!(offset)), "m": m,
+            "tr": {"ty": "tr", "a": fixed(json!([0, 0])), "p": fixed(json!([12, 6])), "s": fixed(json!([90, 90])),
+                   "r": fixed(json!(30)), "so": fixed(json!(100)), "eo": fixed(json!(20))}})
+    };
+    let bar = polygon(&[[0.0, -10.0], [70.0, -10.0], [70.0, 10.0], [0.0, 10.0]]);
+    for (name, offset, m) in [("repeater", 0.0, 1), ("repeater-offset-below", 0.5, 2)] {
+        cases.push((
+            name,
+            json!([shape_layer(
+                name,
+                1,
+                ks([70.0, 70.0], 0.0, 100.0),
+                json!([
+                    {"ty": "sh", "ks": fixed(bar.clone())},
+                    solid_fill(red),
+                    stroke(blue, 3.0),
+                    repeater(offset, m),
+                    group_tr()
+                ])
+            )]),
+        ));
+    }
+    // Round corners on a square and a triangle (radius animated), and on an ellipse,
+    // which has no corners.
+    cases.push((
+        "round-corners",
+        json!([shape_layer(
+            "rounded",
+            1,
+            centre,
+            json!([
+                rect(120.0, 120.0),
+                {"ty": "sh", "ks": fixed(polygon(&[[-90.0, 90.0], [0.0, -95.0], [90.0, 90.0]]))},
+                {"ty": "rd", "r": anim(json!([0]), json!([40]))},
+                solid_fill(red),
+                stroke(blue, 4.0),
+                group_tr()
+            ])
         )]),
     ));
     cases.extend(text_cases());
@@ -973,6 +1017,31 @@ const OWN_RENDER_KNOWN: &[(&str, Player, &str)] = &[
         "ignores gradient opacity stops",
     ),
     ("3d", Player::Rlottie, "turns 3D layers in another order"),
+    (
+        "repeater",
+        Player::Rlottie,
+        "stacks the copies the other way (the first at the bottom)",
+    ),
+    (
+        "repeater",
+        Player::Thorvg,
+        "stacks the copies the other way (the first at the bottom)",
+    ),
+    (
+        "repeater-offset-below",
+        Player::Rlottie,
+        "stacks the copies the other way (the first on top)",
+    ),
+    (
+        "repeater-offset-below",
+        Player::Thorvg,
+        "stacks the copies the other way and fades them in the other order",
+    ),
+    (
+        "round-corners",
+        Player::Rlottie,
+        "rounds a rectangle's corners but not a path's",
+    ),
     ("text-point", Player::Rlottie, "draws no text layers"),
     ("text-justified", Player::Rlottie, "draws no text layers"),
     ("text-box", Player::Rlottie, "draws no text layers"),

@@ -31,6 +31,8 @@ pub struct Builder<'a> {
     doc: &'a Document,
     assets: HashMap<&'a str, &'a Asset>,
     budget: usize,
+    /// Items repeaters may still copy ([`MAX_REPEATED`]).
+    repeat_budget: usize,
     legacy_colors: bool,
     /// Warnings by kind: the message, how often, and the first place.
     warnings: BTreeMap<String, (usize, Loc)>,
@@ -43,6 +45,7 @@ impl<'a> Builder<'a> {
             doc,
             assets: doc.assets.iter().map(|a| (a.id.as_str(), a)).collect(),
             budget: MAX_DRAWN_LAYERS,
+            repeat_budget: MAX_REPEATED,
             legacy_colors: doc.older_than((4, 1, 9)),
             warnings: BTreeMap::new(),
         }
@@ -639,8 +642,60 @@ impl<'a> Builder<'a> {
                         offset: eval::scalar(o.as_ref(), t, 0.0),
                         individually: *individually,
                     };
-                    let ids = scope.visible.iter().map(|v| v.0).collect();
-                    out.modifiers.push((trim, ids));
+                    out.modifiers
+                        .push((Modifier::Trim(trim), scope.outline_ids()));
+                }
+                ShapeKind::RoundCorners { r } => {
+                    let radius = eval::scalar(r.as_ref(), t, 0.0);
+                    out.modifiers
+                        .push((Modifier::Round(radius), scope.outline_ids()));
+                }
+                ShapeKind::Repeater {
+                    c,
+                    o,
+                    above,
+                    tr,
+                    so,
+                    eo,
+                } => {
+                    let mut copies = repeats(
+                        c.as_ref(),
+                        o.as_ref(),
+                        *above,
+                        tr,
+                        so.as_ref(),
+                        eo.as_ref(),
+                        t,
+                    );
+                    // Repeaters in repeaters multiply: what they copy is bounded in all.
+                    let weight = (weight(&scope.drawn) + scope.visible.len()).max(1);
+                    let affordable = (self.repeat_budget / weight).max(1);
+                    if copies.len() > affordable {
+                        self.warn(
+                            &item.at,
+                            format!("repeater copies past {MAX_REPEATED} repeated items in all are left out"),
+                        );
+                        copies.truncate(affordable);
+                    }
+                    self.repeat_budget = self.repeat_budget.saturating_sub(copies.len() * weight);
+                    let drawn = std::mem::take(&mut scope.drawn);
+                    let visible = std::mem::take(&mut scope.visible);
+                    for (m, opacity) in copies {
+                        scope
+                            .visible
+                            .extend(visible.iter().map(|&(id, a)| (id, m * a)));
+                        if !drawn.is_empty() && opacity > 0.0 {
+                            // Built topmost first, like the items themselves.
+                            let mut children = drawn.clone();
+                            children.reverse();
+                            scope.drawn.push(Draw::Group {
+                                id: item.nm.clone(),
+                                transform: m,
+                                opacity: opacity as f32,
+                                children,
+                            });
+                        }
+                    }
                 }
                 ShapeKind::Transform(tr) => {
                     scope.transform = eval::matrix(tr, t);
@@ -648,8 +703,6 @@ impl<'a> Builder<'a> {
                 }
                 ShapeKind::Other(ty) => {
                     let what = match ty.as_str() {
-                        "rd" => "round corners are",
-                        "rp" => "repeaters are",
                         "mm" => "merge paths are (lottie-web does not apply them either)",
                         "op" => "offset paths are",
                         "pb" => "pucker and bloat are",
@@ -848,6 +901,16 @@ struct Scope {
 }
 
 impl Scope {
+    /// The outlines visible so far, each once (a repeater shows one several times).
+    fn outline_ids(&self) -> Vec<usize> {
+        let mut seen = std::collections::HashSet::new();
+        self.visible
+            .iter()
+            .map(|v| v.0)
+            .filter(|id| seen.insert(*id))
+            .collect()
+    }
+
     /// A style painting every outline visible so far.
     fn paint(&mut self, fill: Option<Fill>, stroke: Option<Stroke>) {
         self.drawn.push(Draw::Paint {
@@ -859,6 +922,7 @@ impl Scope {
 }
 
 /// Painting that waits for the outlines' final geometry.
+#[derive(Clone)]
 enum Draw {
     /// A fill or stroke of outlines (ids into [`Outlines::paths`], with transforms).
     Paint {
@@ -880,7 +944,108 @@ enum Draw {
 #[derive(Default)]
 pub(crate) struct Outlines {
     paths: Vec<BezPath>,
-    modifiers: Vec<(outline::Trim, Vec<usize>)>,
+    modifiers: Vec<(Modifier, Vec<usize>)>,
+}
+
+/// A shape modifier, with what it needs to change outlines.
+enum Modifier {
+    /// Trim paths (`tm`).
+    Trim(outline::Trim),
+    /// Round corners (`rd`) of this radius.
+    Round(f64),
+}
+
+/// A repeater's copies at layer time `t`, topmost first: each one's transform and opacity,
+/// as lottie-web's `RepeaterModifier` makes them. Copy `k` (counted from the offset) is
+/// turned `k` times about the anchor, then scaled `k` times about it, then moved `k`
+/// times (each step a fraction of a whole one for a fractional offset); opacity runs from
+/// the start opacity to the end opacity over the copies.
+fn repeats(
+    c: Option<&Num>,
+    o: Option<&Num>,
+    above: bool,
+    tr: &crate::model::Transform,
+    so: Option<&Num>,
+    eo: Option<&Num>,
+    t: f64,
+) -> Vec<(Affine, f64)> {
+    let copies = eval::scalar(c, t, 1.0)
+        .ceil()
+        .clamp(0.0, MAX_REPEATS as f64) as usize;
+    let offset = eval::scalar(o, t, 0.0);
+    let a = eval::vec2(tr.a.as_ref(), t, Vec2::ZERO);
+    let p = eval::position(tr.p.as_ref(), t);
+    let s = eval::vec2(tr.s.as_ref(), t, Vec2::new(100.0, 100.0)) / 100.0;
+    let r = eval::scalar(tr.r.as_ref(), t, 0.0).to_radians();
+    let (so, eo) = (
+        eval::scalar(so, t, 100.0) / 100.0,
+        eval::scalar(eo, t, 100.0) / 100.0,
+    );
+    // One step (or a fraction `f` of one, backwards when `f` is negative) on each matrix.
+    let (mut pm, mut rm, mut sm) = (Affine::IDENTITY, Affine::IDENTITY, Affine::IDENTITY);
+    let step = |f: f64, pm: &mut Affine, rm: &mut Affine, sm: &mut Affine| {
+        let inv = f < 0.0;
+        let f = f.abs();
+        let dir = if inv { -1.0 } else { 1.0 };
+        let sx = s.x + (1.0 - s.x) * (1.0 - f);
+        let sy = s.y + (1.0 - s.y) * (1.0 - f);
+        let (sx, sy) = if inv { (1.0 / sx, 1.0 / sy) } else { (sx, sy) };
+        *pm = Affine::translate(p * dir * f) * *pm;
+        *rm = Affine::translate(a) * Affine::rotate(r * dir * f) * Affine::translate(-a) * *rm;
+        *sm =
+            Affine::translate(a) * Affine::scale_non_uniform(sx, sy) * Affine::translate(-a) * *sm;
+    };
+    let whole = offset.trunc();
+    let part = offset - whole;
+    for _ in 0..(whole.abs().min(MAX_REPEATS as f64) as usize) {
+        step(offset.signum(), &mut pm, &mut rm, &mut sm);
+    }
+    if part != 0.0 {
+        step(part, &mut pm, &mut rm, &mut sm);
+    }
+    let mut out = vec![(Affine::IDENTITY, 1.0); copies];
+    let order: Vec<usize> = if above {
+        (0..copies).collect()
+    } else {
+        (0..copies).rev().collect()
+    };
+    let mut iteration = offset;
+    for (n, &i) in order.iter().enumerate() {
+        let opacity = if copies == 1 {
+            so
+        } else {
+            so + (eo - so) * (i as f64 / (copies - 1) as f64)
+        };
+        let m = if iteration != 0.0 {
+            if n > 0 {
+                step(1.0, &mut pm, &mut rm, &mut sm);
+            }
+            pm * sm * rm
+        } else {
+            Affine::IDENTITY
+        };
+        out[i] = (m, opacity.clamp(0.0, 1.0));
+        iteration += 1.0;
+    }
+    out
+}
+
+/// Most copies one repeater draws.
+pub const MAX_REPEATS: usize = 1000;
+
+/// Most items (paints, groups, outlines) repeaters copy in one drawing: each copies
+/// everything above it, so repeaters nested in repeaters multiply.
+pub const MAX_REPEATED: usize = 50_000;
+
+/// How many items `drawn` holds, nested ones and outline references included.
+fn weight(drawn: &[Draw]) -> usize {
+    drawn
+        .iter()
+        .map(|d| match d {
+            Draw::Paint { outlines, .. } => 1 + outlines.len(),
+            Draw::Group { children, .. } => 1 + weight(children),
+        })
+        .sum()
 }
 
 impl Outlines {
@@ -892,12 +1057,19 @@ impl Outlines {
 
     /// Applies the modifiers to the outlines they take.
     fn modify(&mut self) {
-        for (trim, ids) in std::mem::take(&mut self.modifiers) {
+        for (modifier, ids) in std::mem::take(&mut self.modifiers) {
             let mut taken: Vec<BezPath> = ids
                 .iter()
                 .map(|&i| std::mem::take(&mut self.paths[i]))
                 .collect();
-            trim.apply(&mut taken);
+            match modifier {
+                Modifier::Trim(trim) => trim.apply(&mut taken),
+                Modifier::Round(radius) => {
+                    for p in &mut taken {
+                        *p = outline::round_corners(p, radius);
+                    }
+                }
+            }
             for (&i, p) in ids.iter().zip(taken) {
                 self.paths[i] = p;
             }

@@ -14,7 +14,8 @@
 //! transform (3D layers projected as players without a camera show them, auto-oriented
 //! layers turned along their path); shape layers' groups, paths (`sh`), rectangles,
 //! ellipses, stars and polygons (built as lottie-web builds them, [`outline`]), fills,
-//! strokes with dashes and gradients become painted paths, after trim paths; layer masks
+//! strokes with dashes and gradients become painted paths, after trim paths, round corners
+//! and repeaters; layer masks
 //! in every mode and every kind of track matte become masks; precompositions are expanded
 //! (start time, stretch, time remap, clipped to their size); solids are filled rectangles.
 //! Keyframes are read in the time of the layer's composition, with per-component Bézier
@@ -29,8 +30,9 @@
 //!
 //! **Not drawn** (with a warning naming the first place and how many): images that cannot
 //! be read (their rectangle is measured), text without embedded glyphs (measured as a
-//! point), repeaters, merge paths, round corners and the other shape modifiers, mask
-//! expansion, other effects, expressions (the property's own value is used).
+//! point), merge paths and the other shape modifiers (offset paths, zig-zags, pucker and
+//! bloat, twists), mask expansion, other effects, expressions (the property's own value is
+//! used).
 //!
 //! **Errors.** Nothing in the input can make the import panic: every value is checked as it
 //! is read, and every error names its JSON location (`$.layers[3].ks.p.k[1].s`). Parent

@@ -592,6 +592,27 @@ pub enum ShapeKind {
         /// `m` 2: the outlines are trimmed one after the other, as one run.
         individually: bool,
     },
+    /// `rd`: round corners, which round every corner of the outlines above it.
+    RoundCorners {
+        /// Radius.
+        r: Option<Num>,
+    },
+    /// `rp`: a repeater, which draws what is above it in its group `c` times, each copy
+    /// transformed once more by `tr`.
+    Repeater {
+        /// Copies.
+        c: Option<Num>,
+        /// Offset, in copies.
+        o: Option<Num>,
+        /// `m` 1: the first copy on top; 2: at the bottom.
+        above: bool,
+        /// The transform between copies (anchor, position, scale, rotation).
+        tr: Box<Transform>,
+        /// Start opacity (the first copy's), percent.
+        so: Option<Num>,
+        /// End opacity (the last copy's), percent.
+        eo: Option<Num>,
+    },
     /// `tr`: the group's transform.
     Transform(Box<Transform>),
     /// Anything else (modifiers such as trim paths, repeaters, merge paths; unknown types):
@@ -784,6 +805,29 @@ fn shape_item(v: &Value, at: &Loc) -> Result<ShapeItem> {
             individually: opt_int(o, "m", at)? == Some(2),
         },
         "tr" => ShapeKind::Transform(Box::new(Transform::read(v, at)?)),
+        "rd" => ShapeKind::RoundCorners { r: num("r")? },
+        "rp" => {
+            let tr_at = at.key("tr");
+            let (tr, so, eo) = match o.get("tr") {
+                Some(tr) => {
+                    let tro = object(tr, &tr_at)?;
+                    (
+                        Transform::read(tr, &tr_at)?,
+                        opt_property(tro, "so", &tr_at)?,
+                        opt_property(tro, "eo", &tr_at)?,
+                    )
+                }
+                None => (Transform::default(), None, None),
+            };
+            ShapeKind::Repeater {
+                c: num("c")?,
+                o: num("o")?,
+                above: opt_int(o, "m", at)?.unwrap_or(1) == 1,
+                tr: Box::new(tr),
+                so,
+                eo,
+            }
+        }
         other => ShapeKind::Other(other.to_string()),
     };
     Ok(ShapeItem {

@@ -237,6 +237,125 @@ fn push(out: &mut BezPath, seg: PathSeg) {
     }
 }
 
+/// Round corners (`rd`): every corner of `path` (a vertex whose tangents are both zero)
+/// replaced by a curve starting and ending up to `radius` away along its two sides (at
+/// most half of each), as lottie-web's `RoundCornersModifier` does; an open outline's
+/// ends stay.
+pub fn round_corners(path: &BezPath, radius: f64) -> BezPath {
+    let mut out = BezPath::new();
+    if radius <= 0.0 {
+        out.extend(path.iter());
+        return out;
+    }
+    for sub in subpaths(path) {
+        let (vertices, closed) = vertices_of(&sub);
+        let n = vertices.len();
+        let mut rounded: Vec<Vertex> = Vec::with_capacity(n * 2);
+        for (k, v) in vertices.iter().enumerate() {
+            let corner = v.i == v.p && v.o == v.p;
+            if !corner || (!closed && (k == 0 || k == n - 1)) {
+                rounded.push(*v);
+                continue;
+            }
+            let prev = vertices[(k + n - 1) % n].p;
+            let next = vertices[(k + 1) % n].p;
+            let towards = |other: Point| {
+                let d = v.p.distance(other);
+                let f = if d > 0.0 {
+                    (d / 2.0).min(radius) / d
+                } else {
+                    0.0
+                };
+                v.p.lerp(other, f)
+            };
+            let a = towards(prev);
+            let b = towards(next);
+            rounded.push(Vertex {
+                p: a,
+                i: a,
+                o: a.lerp(v.p, ROUND),
+            });
+            rounded.push(Vertex {
+                p: b,
+                i: b.lerp(v.p, ROUND),
+                o: b,
+            });
+        }
+        out.extend(vertices_path(&rounded, closed).iter());
+    }
+    out
+}
+
+/// A vertex of an outline with its in and out control points (absolute).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Vertex {
+    p: Point,
+    i: Point,
+    o: Point,
+}
+
+/// A subpath's vertices and whether it is closed (a closing segment back to the start is
+/// folded into the first vertex).
+fn vertices_of(sub: &BezPath) -> (Vec<Vertex>, bool) {
+    let mut vs: Vec<Vertex> = Vec::new();
+    let mut closed = false;
+    let at = |p: Point| Vertex { p, i: p, o: p };
+    for el in sub.elements() {
+        match *el {
+            PathEl::MoveTo(p) => vs.push(at(p)),
+            PathEl::LineTo(p) => vs.push(at(p)),
+            PathEl::QuadTo(c, p) => {
+                if let Some(last) = vs.last_mut() {
+                    last.o = last.p.lerp(c, 2.0 / 3.0);
+                }
+                vs.push(Vertex {
+                    p,
+                    i: p.lerp(c, 2.0 / 3.0),
+                    o: p,
+                });
+            }
+            PathEl::CurveTo(c1, c2, p) => {
+                if let Some(last) = vs.last_mut() {
+                    last.o = c1;
+                }
+                vs.push(Vertex { p, i: c2, o: p });
+            }
+            PathEl::ClosePath => closed = true,
+        }
+    }
+    if closed
+        && vs.len() > 1
+        && vs.first().map(|v| v.p) == vs.last().map(|v| v.p)
+        && let Some(last) = vs.pop()
+    {
+        vs[0].i = last.i;
+    }
+    (vs, closed)
+}
+
+/// The outline through `vs` (closed back to the first when `closed`).
+fn vertices_path(vs: &[Vertex], closed: bool) -> BezPath {
+    let mut path = BezPath::new();
+    let Some(first) = vs.first() else {
+        return path;
+    };
+    path.move_to(first.p);
+    let n = vs.len();
+    let segments = if closed { n } else { n - 1 };
+    for k in 0..segments {
+        let (a, b) = (vs[k], vs[(k + 1) % n]);
+        if a.o == a.p && b.i == b.p {
+            path.line_to(b.p);
+        } else {
+            path.curve_to(a.o, b.i, b.p);
+        }
+    }
+    if closed {
+        path.close_path();
+    }
+    path
+}
+
 /// `path` split at its move-tos.
 fn subpaths(path: &BezPath) -> Vec<BezPath> {
     let mut out: Vec<BezPath> = Vec::new();
@@ -255,6 +374,24 @@ fn subpaths(path: &BezPath) -> Vec<BezPath> {
 mod tests {
     use super::*;
     use kurbo::Shape as _;
+
+    #[test]
+    fn round_corners_cut_each_corner_by_the_radius_and_keep_curves() {
+        let square = kurbo::Rect::new(0.0, 0.0, 100.0, 100.0).to_path(0.1);
+        let r = round_corners(&square, 10.0);
+        let (vs, closed) = vertices_of(&r);
+        assert!(closed);
+        assert_eq!(vs.len(), 8, "two vertices a corner");
+        // The corner at the origin becomes a curve from (0, 10) to (10, 0) (or back).
+        assert!(vs.iter().any(|v| v.p == Point::new(10.0, 0.0)));
+        assert!(vs.iter().any(|v| v.p == Point::new(0.0, 10.0)));
+        // A radius past half a side stops at half of it.
+        let (big, _) = vertices_of(&round_corners(&square, 80.0));
+        assert!(big.iter().all(|v| v.p.x == 50.0 || v.p.y == 50.0));
+        // An ellipse has no corners.
+        let e = kurbo::Ellipse::new((0.0, 0.0), (30.0, 20.0), 0.0).to_path(0.1);
+        assert_eq!(round_corners(&e, 10.0).elements().len(), e.elements().len());
+    }
 
     fn len(p: &BezPath) -> f64 {
         length(p)
