@@ -505,11 +505,28 @@ impl<'a> Source<'a> {
             }
         }
 
+        // Elements an entity expands to have their source range in the DTD (once for all
+        // their copies): only edits inside the root element's own text are made, each
+        // range once (found by the `svg` fuzz target: an entity of two elements, used
+        // twice, made overlapping edits).
+        let body = root.range();
+        edits.retain(|(range, _)| body.start <= range.start && range.end <= body.end);
+        edits.sort_by_key(|(range, _)| range.start);
+        let (mut free_from, mut last_insert) = (0, None);
+        edits.retain(|(range, _)| {
+            let fresh = range.start >= free_from && last_insert != Some(range.start);
+            if fresh {
+                free_from = range.end;
+                if range.is_empty() {
+                    last_insert = Some(range.start);
+                }
+            }
+            fresh
+        });
         let mut synthetic = Vec::with_capacity(edits.len());
         let prepared = if edits.is_empty() {
             std::borrow::Cow::Borrowed(text)
         } else {
-            edits.sort_by_key(|(range, _)| range.start);
             let mut out = String::with_capacity(text.len() + edits.len() * 16);
             let mut last = 0;
             for (range, edit) in edits {
