@@ -175,6 +175,47 @@ fn refuses_without_token_or_with_a_foreign_host() {
 }
 
 #[test]
+fn editing_the_import_directives_imports_the_scene_again() {
+    // A tagged group of two paths: one unit under `units auto`, two under `units paths`;
+    // their tags come from `class` under `tag_from class`, and from their layer's id
+    // under `tag_from layer`.
+    let dir = Studio::folder("reimport");
+    let scene = dir.join("pair.svg");
+    std::fs::write(
+        &scene,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100"><g id="pair" class="duo"><rect class="left" width="40" height="40"/><rect class="right" x="50" width="40" height="40"/></g></svg>"#,
+    )
+    .unwrap();
+    std::fs::write(dir.join("toy.gm"), "duration 1s\n").unwrap();
+    let s = Studio::start_on(dir, &scene);
+    let tags = |st: &Value| -> Vec<String> {
+        st["shapes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x["tag"].as_str().unwrap().to_string())
+            .collect()
+    };
+    assert_eq!(tags(&s.state()), ["duo"]);
+    let put = |text: &str| {
+        let r = s.call("PUT", "/api/grammar", text).json();
+        assert_eq!(r["diagnostics"], serde_json::json!([]), "{text}: {r}");
+    };
+    put("duration 1s\nunits paths\ntag_from class\n");
+    assert_eq!(tags(&s.state()), ["left", "right"]);
+    put("duration 1s\nunits paths\ntag_from layer\n");
+    assert_eq!(tags(&s.state()), ["pair", "pair"]);
+    // A rule on the new tags runs on the scene imported under them.
+    put(
+        "duration 1s\nunits paths\ntag_from class\nanimate(opacity, local, 0, 0) : [all, left] -> [gone]\n",
+    );
+    let lottie: Value = serde_json::from_slice(&s.call("GET", "/api/lottie", "").body).unwrap();
+    assert_eq!(lottie["layers"].as_array().unwrap().len(), 2, "{lottie}");
+    put("duration 1s\n");
+    assert_eq!(tags(&s.state()), ["duo"]);
+}
+
+#[test]
 fn state_edits_file_and_save() {
     let s = Studio::start("edit");
     let st = s.state();

@@ -22,6 +22,7 @@ use super::report::{CliError, Result, engine_error};
 use super::{Command, ImportArgs, RenderArgs, RunArgs, TagFromArg, UnitsArg};
 
 /// What every command is run under: the limits and the file-access policy.
+#[derive(Clone)]
 pub struct Ctx {
     /// `--limit` applied to the defaults.
     pub limits: Limits,
@@ -764,10 +765,35 @@ fn studio(
         (Err(_), Some(s)) => load_scene(s, &import_options(import, None, ctx)?, ctx)?,
         (Err(e), None) => return Err(e),
     };
+    // An edit to the directives that decide the import brings the scene in again, as
+    // `animate` would import it under the edited grammar.
+    let loader = {
+        let (scene, grammar_path, import) = (
+            scene.map(Path::to_path_buf),
+            grammar_path.to_path_buf(),
+            import.clone(),
+        );
+        let ctx = ctx.clone();
+        gmotion_studio::SceneLoader(Box::new(move |settings: &Settings| {
+            let g = Loaded {
+                src: String::new(),
+                grammar: Grammar::default(),
+                settings: settings.clone(),
+            };
+            let path = scene_path(scene.as_deref(), &grammar_path, &g)
+                .map_err(|e| e.0)?
+                .ok_or("no scene: the grammar names none")?;
+            let opts = import_options(&import, Some((&grammar_path, &g)), &ctx).map_err(|e| e.0)?;
+            load_scene(&path, &opts, &ctx)
+                .map(|l| (l.scene, l.source))
+                .map_err(|e| e.0)
+        }))
+    };
     let studio = gmotion_studio::Studio::bind(gmotion_studio::Config {
         grammar_path: grammar_path.to_path_buf(),
         scene: loaded.scene,
         source: loaded.source,
+        loader: Some(loader),
         run: run_options(run, &ctx.limits)?,
         port,
     })

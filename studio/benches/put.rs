@@ -34,6 +34,7 @@ fn put_then_lottie(c: &mut Criterion) {
             grammar_path: path,
             scene: workload::scene(n, tags),
             source: None,
+            loader: None,
             run: RunOptions::default(),
             port: 0,
         })

@@ -28,7 +28,7 @@ use gmotion::Scene;
 use gmotion::engine::RunOptions;
 use gmotion_output::LottieSource;
 
-pub use live::{Diagnostic, Live, shapes_json};
+pub use live::{Diagnostic, Live, SceneLoader, shapes_json};
 pub use preview::{
     LOTTIE_JS, is_preview, preview_document, preview_html, timeline_svg, write_preview,
 };
@@ -38,11 +38,13 @@ pub use preview::{
 pub struct Config {
     /// The grammar file: read at start, watched, written by save.
     pub grammar_path: PathBuf,
-    /// The scene the grammar runs on, loaded once at start (its import settings are those
-    /// of the grammar at start).
+    /// The scene the grammar runs on, as imported under the grammar at start.
     pub scene: Scene,
     /// The Lottie document the scene came from, if it came from one.
     pub source: Option<LottieSource>,
+    /// Imports the scene again when an edit changes the directives that decide the import
+    /// (`scene`, `tag_from`, `units`, `unit_depth`, `tags`); without it the scene stays.
+    pub loader: Option<SceneLoader>,
     /// Overrides of the grammar's header (`--seed`, `--fps`, `--max-steps`).
     pub run: RunOptions,
     /// The port to bind on 127.0.0.1; 0 picks any free port.

@@ -11,8 +11,10 @@ use std::time::{Duration, SystemTime};
 use gmotion::Animation;
 use gmotion::Scene;
 use gmotion::canvas::OutputSize;
+use gmotion::engine::settings::Settings;
 use gmotion::engine::{self, EngineError, RunOptions};
 use gmotion::grammar::{self, ast::Grammar};
+use gmotion::tagging::{TagFrom, Units};
 use gmotion_output::LottieSource;
 use serde_json::{Value, json};
 
@@ -55,8 +57,56 @@ pub(crate) struct Built {
     pub anim: Animation,
     pub grammar: Grammar,
     pub size: OutputSize,
+    /// The scene (and its Lottie source) it was built on.
+    pub scene: Arc<Imported>,
     /// `/api/state`'s shapes and timelines, made on first request.
     state: OnceLock<(Value, Value)>,
+}
+
+/// A scene as imported, with the Lottie document it came from, if any.
+#[derive(Debug)]
+pub(crate) struct Imported {
+    pub scene: Scene,
+    pub source: Option<LottieSource>,
+    /// The grammar settings it was imported under ([`ImportKey`]).
+    key: ImportKey,
+}
+
+/// The grammar settings that decide how the scene is imported: when an edit changes them,
+/// the scene is imported again.
+#[derive(Clone, Debug, PartialEq)]
+struct ImportKey {
+    scene: Option<String>,
+    tag_from: Option<TagFrom>,
+    units: Option<Units>,
+    unit_depth: Option<usize>,
+    tags: Option<String>,
+}
+
+impl ImportKey {
+    fn of(s: &Settings) -> ImportKey {
+        ImportKey {
+            scene: s.scene.as_ref().map(|(p, _)| p.clone()),
+            tag_from: s.tag_from,
+            units: s.units,
+            unit_depth: s.unit_depth,
+            tags: s.tags.as_ref().map(|(p, _)| p.clone()),
+        }
+    }
+}
+
+/// Imports the scene again under a grammar's settings (the command line's choices still
+/// first), answering the scene and its Lottie source, or why not.
+pub struct SceneLoader(
+    /// The import.
+    #[allow(clippy::type_complexity)]
+    pub Box<dyn Fn(&Settings) -> Result<(Scene, Option<LottieSource>), String> + Send + Sync>,
+);
+
+impl std::fmt::Debug for SceneLoader {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("SceneLoader")
+    }
 }
 
 #[derive(Debug)]
@@ -75,8 +125,9 @@ struct State {
 #[derive(Debug)]
 pub struct Live {
     grammar_path: PathBuf,
-    scene: Scene,
-    source: Option<LottieSource>,
+    /// The scene new builds run on.
+    imported: Mutex<Arc<Imported>>,
+    loader: Option<SceneLoader>,
     run: RunOptions,
     state: Mutex<State>,
     /// Serialises builds, so edits apply in the order they arrive.
@@ -107,8 +158,8 @@ pub fn shapes_json(scene: &Scene) -> Value {
         .collect()
 }
 
-/// Runs `text` on `scene`.
-fn build(scene: &Scene, run: &RunOptions, text: &str) -> Result<Built, Vec<Diagnostic>> {
+/// `text` parsed, with its settings.
+fn parse(text: &str) -> Result<(Grammar, Settings), Vec<Diagnostic>> {
     let grammar = grammar::parse(text).map_err(|ds| {
         ds.iter()
             .map(|d| Diagnostic {
@@ -120,8 +171,17 @@ fn build(scene: &Scene, run: &RunOptions, text: &str) -> Result<Built, Vec<Diagn
     })?;
     let settings =
         engine::settings::from_grammar(&grammar).map_err(|e| vec![Diagnostic::from_engine(&e)])?;
-    let (anim, _) =
-        engine::run(scene.clone(), &grammar, run).map_err(|e| vec![Diagnostic::from_engine(&e)])?;
+    Ok((grammar, settings))
+}
+
+/// Runs `grammar` on `imported`.
+fn build(
+    imported: Arc<Imported>,
+    run: &RunOptions,
+    (grammar, settings): (Grammar, Settings),
+) -> Result<Built, Vec<Diagnostic>> {
+    let (anim, _) = engine::run(imported.scene.clone(), &grammar, run)
+        .map_err(|e| vec![Diagnostic::from_engine(&e)])?;
     Ok(Built {
         anim,
         grammar,
@@ -129,6 +189,7 @@ fn build(scene: &Scene, run: &RunOptions, text: &str) -> Result<Built, Vec<Diagn
             width: settings.width,
             height: settings.height,
         },
+        scene: imported,
         state: OnceLock::new(),
     })
 }
@@ -144,10 +205,21 @@ impl Live {
     pub fn new(config: Config) -> io::Result<Live> {
         let text = std::fs::read_to_string(&config.grammar_path)?;
         let stamp = stamp(&config.grammar_path);
-        let (good, diagnostics) = match build(&config.scene, &config.run, &text) {
+        let parsed = parse(&text);
+        let imported = Arc::new(Imported {
+            scene: config.scene,
+            source: config.source,
+            // The scene was imported under the grammar as it was at start.
+            key: match &parsed {
+                Ok((_, settings)) => ImportKey::of(settings),
+                Err(_) => ImportKey::of(&Settings::default()),
+            },
+        });
+        let (good, diagnostics) = match parsed.and_then(|p| build(imported.clone(), &config.run, p))
+        {
             Ok(b) => (b, Vec::new()),
             // The scene still, under an empty grammar.
-            Err(d) => match build(&config.scene, &config.run, "") {
+            Err(d) => match parse("").and_then(|p| build(imported.clone(), &config.run, p)) {
                 Ok(still) => (still, d),
                 Err(e) => {
                     let why = e.first().map_or("", |e| e.message.as_str());
@@ -157,8 +229,8 @@ impl Live {
         };
         Ok(Live {
             grammar_path: config.grammar_path,
-            scene: config.scene,
-            source: config.source,
+            imported: Mutex::new(imported),
+            loader: config.loader,
             run: config.run,
             state: Mutex::new(State {
                 text,
@@ -187,7 +259,10 @@ impl Live {
                 return (st.version, st.diagnostics.clone());
             }
         }
-        let built = build(&self.scene, &self.run, &text);
+        let built = parse(&text).and_then(|(grammar, settings)| {
+            let imported = self.imported_for(&settings)?;
+            build(imported, &self.run, (grammar, settings))
+        });
         let mut st = self.lock();
         st.text = text;
         match built {
@@ -200,6 +275,26 @@ impl Live {
             Err(d) => st.diagnostics = d,
         }
         (st.version, st.diagnostics.clone())
+    }
+
+    /// The scene for a grammar with `settings`: the current one, or, when the settings
+    /// that decide the import changed (`scene`, `tag_from`, `units`, `unit_depth`, `tags`),
+    /// the scene imported again under them (which becomes the current one).
+    fn imported_for(&self, settings: &Settings) -> Result<Arc<Imported>, Vec<Diagnostic>> {
+        let mut current = self.imported.lock().unwrap_or_else(|p| p.into_inner());
+        let key = ImportKey::of(settings);
+        let Some(loader) = self.loader.as_ref().filter(|_| current.key != key) else {
+            return Ok(Arc::clone(&current));
+        };
+        let (scene, source) = (loader.0)(settings).map_err(|why| {
+            vec![Diagnostic {
+                line: 1,
+                column: 1,
+                message: format!("the scene could not be imported under these settings: {why}"),
+            }]
+        })?;
+        *current = Arc::new(Imported { scene, source, key });
+        Ok(Arc::clone(&current))
     }
 
     /// The current version.
@@ -242,12 +337,13 @@ impl Live {
             seed: Some(seed),
             ..self.run.clone()
         };
-        let (anim, _) =
-            engine::run(self.scene.clone(), &good.grammar, &run).map_err(|e| e.to_string())?;
+        let (anim, _) = engine::run(good.scene.scene.clone(), &good.grammar, &run)
+            .map_err(|e| e.to_string())?;
         let built = Arc::new(Built {
             anim,
             grammar: good.grammar.clone(),
             size: good.size,
+            scene: Arc::clone(&good.scene),
             state: OnceLock::new(),
         });
         let mut st = self.lock();
@@ -266,7 +362,7 @@ impl Live {
             .state
             .get_or_init(|| {
                 let shapes = shapes_json(&built.anim.scene);
-                let timelines = match engine::timelines(&self.scene, &built.grammar, &self.run) {
+                let timelines = match engine::timelines(&built.scene.scene, &built.grammar, &self.run) {
                     Ok(x) => x
                         .timelines
                         .iter()
@@ -306,13 +402,14 @@ impl Live {
             time,
             ..Default::default()
         };
-        let (anim, source) = (&built.anim, self.source.as_ref());
+        let (anim, source) = (&built.anim, built.scene.source.as_ref());
         let named = Path::new("studio").with_extension(ext);
         let text = match ext {
             "json" => Some(gmotion_output::lottie_text(anim, source, &named, &opts)),
             "svg" => Some(gmotion_output::smil_text(anim, source, &named, &opts)),
             "html" => {
-                let timelines = engine::timelines(&self.scene, &built.grammar, &self.run).ok();
+                let timelines =
+                    engine::timelines(&built.scene.scene, &built.grammar, &self.run).ok();
                 Some(crate::preview_document(
                     anim,
                     source,
