@@ -401,6 +401,11 @@ fn all_cases() -> Vec<Case> {
         Case::new("gradient href ring entered from outside", "convert {d}/scene.svg -o {d}/out.png", &["<linearGradient id=\"b\"> (line 1)", "closes a cycle of references (a → b → a)"], "out.png")
             .file("scene.svg", r##"<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink" width="100" height="100"><linearGradient id="a" xlink:href="#b"/><linearGradient id="b" xlink:href="#a"/><linearGradient id="c" xlink:href="#a"><stop offset="0" stop-color="red"/><stop offset="1" stop-color="blue"/></linearGradient><rect width="100" height="100" fill="url(#c)"/></svg>"##)
             .succeeds(),
+        // Found by the `svg` fuzz target: an entity of two elements used twice gave the
+        // importer overlapping edits of the text it hands usvg (a panic).
+        Case::new("entity of two elements used twice", "convert {d}/scene.svg -o {d}/out.png", &[], "out.png")
+            .file("scene.svg", "<!DOCTYPE svg [<!ENTITY pair \"<rect id='r' width='20' height='20'/><rect id='r' x='40' width='20' height='20'/>\">]><svg xmlns=\"http://www.w3.org/2000/svg\" width=\"100\" height=\"100\"><g id=\"a\">&pair;</g><g id=\"b\" transform=\"translate(0 50)\">&pair;</g></svg>")
+            .succeeds(),
         // Found by the `svg` fuzz target: usvg panics placing an image so thin that its
         // fitted side rounds to nothing.
         Case::new("PNG declaring 1207959553 x 1 px in an SVG", "convert {d}/scene.svg -o {d}/out.png", &["image data not read", "1207959553 × 1 pixels"], "out.png")
