@@ -114,12 +114,18 @@ impl Fonts {
             .or(self.fonts.first())
     }
 
-    /// The glyph of `ch` in `font`, by index into [`Fonts::glyphs`].
-    fn glyph(&self, ch: &str, font: Option<&Font>) -> Option<usize> {
+    /// The glyphs of `font` by character, as indices into [`Fonts::glyphs`] (the first of
+    /// a character's glyphs, as lottie-web finds it): built once a layout, not searched for
+    /// every letter.
+    fn glyphs_of(&self, font: Option<&Font>) -> std::collections::HashMap<&str, usize> {
         let (style, family) = font.map_or(("", ""), |f| (f.style.as_str(), f.family.as_str()));
-        self.glyphs
-            .iter()
-            .position(|g| g.ch == ch && g.style == style && g.family == family)
+        let mut out = std::collections::HashMap::new();
+        for (i, g) in self.glyphs.iter().enumerate() {
+            if g.style == style && g.family == family {
+                out.entry(g.ch.as_str()).or_insert(i);
+            }
+        }
+        out
     }
 }
 
@@ -461,10 +467,11 @@ fn is_newline(ch: &str) -> bool {
 fn layout(doc: &TextDocument, data: &TextData, fonts: &Fonts) -> Layout {
     let font = fonts.font(&doc.font);
     let size = doc.size;
+    let glyphs = fonts.glyphs_of(font);
     let advance = |ch: &str| -> f64 {
-        fonts
-            .glyph(ch, font)
-            .map_or(0.0, |g| fonts.glyphs[g].width * size / 100.0)
+        glyphs
+            .get(ch)
+            .map_or(0.0, |&g| fonts.glyphs[g].width * size / 100.0)
     };
     let tracking = doc.tracking / 1000.0 * size;
     let mut text = characters(&doc.text);
@@ -527,7 +534,11 @@ fn layout(doc: &TextDocument, data: &TextData, fonts: &Fonts) -> Layout {
             spaces = 0.0;
         }
         letters.push(Letter {
-            glyph: if newline { None } else { fonts.glyph(ch, font) },
+            glyph: if newline {
+                None
+            } else {
+                glyphs.get(ch.as_str()).copied()
+            },
             newline,
             space: ch == " ",
             l,
