@@ -326,6 +326,202 @@ fn a_turn_and_a_fade_on_top_play_in_lottie_web_and_rlottie() {
     }
 }
 
+#[test]
+fn top_level_groups_as_units_move_inside_their_layer_in_lottie_web_and_rlottie() {
+    let dir = out_dir("groups");
+    // One shape layer, turned and under a rotated, scaled null, drawing two top-level
+    // groups: a red bar and a blue square. With `units groups` each is a unit.
+    let red = [1.0, 0.0, 0.0];
+    let blue = [0.0, 0.0, 1.0];
+    let rect = |x: f64, w: f64, h: f64| json!({"ty": "rc", "d": 1, "p": fixed(json!([x, 0])), "s": fixed(json!([w, h])), "r": fixed(json!(0))});
+    let car = json!({"ddd": 0, "ty": 4, "nm": "Car", "ind": 2, "parent": 1, "ip": 0, "op": 60,
+    "st": 0, "sr": 1, "ks": ks([10.0, 5.0], 20.0, 100.0), "ao": 0, "bm": 0,
+    "shapes": [
+        {"ty": "gr", "nm": "Bar 2", "it": [rect(20.0, 40.0, 10.0), solid_fill(red), group_tr()]},
+        {"ty": "gr", "nm": "Group 7", "it": [rect(-25.0, 16.0, 16.0), solid_fill(blue), group_tr()]},
+    ]});
+    let layers = json!([null_layer("Rig", 1, ks([90.0, 80.0], 30.0, 150.0)), car]);
+    let src = write_json(&dir, "scene.json", &doc(layers, json!([])));
+    let (ok, listing, err) = run(bin()
+        .args(["check", "--shapes", "--units", "groups"])
+        .arg(&src));
+    assert!(ok, "{err}");
+    let tags: Vec<&str> = listing
+        .lines()
+        .skip(1)
+        .filter_map(|l| l.split_whitespace().next())
+        .collect();
+    // Bottom first; a default group name gives the item's kind.
+    assert_eq!(tags, ["group:0", "Bar:0"], "{listing}");
+    assert!(
+        listing.contains("group \"Bar 2\" ($.layers[1].shapes[0])"),
+        "{listing}"
+    );
+    assert!(listing.contains("also Bar_2, Car, Rig"), "{listing}");
+    let (ok, _, err) = run(bin()
+        .args(["check", "--shapes", "--units", "paths"])
+        .arg(&src));
+    assert!(!ok && err.contains("--units paths"), "{err}");
+
+    let g = dir.join("groups.gm");
+    std::fs::write(
+        &g,
+        "units groups\nduration 1s\nfps 30\n\
+         animate(affine, local, 0, rotate(90)) : [all, Bar] -> [turned]\n\
+         animate(opacity, local, 0, 0.5) : [all, group] -> [faded]\n",
+    )
+    .unwrap();
+    let out = dir.join("out.json");
+    let (ok, _, err) = run(bin().arg("animate").arg(&src).arg(&g).arg("-o").arg(&out));
+    assert!(ok, "{err}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    let v: Value = serde_json::from_str(&text).unwrap();
+    let source: Value = serde_json::from_str(&std::fs::read_to_string(&src).unwrap()).unwrap();
+    let layers = v["layers"].as_array().unwrap();
+    assert_eq!(
+        layers.len(),
+        2,
+        "a part moves inside its layer: no null layers"
+    );
+    assert_eq!(layers[1]["ks"], source["layers"][1]["ks"]);
+    assert_eq!(layers[1]["parent"], 1);
+    // Each group is wrapped, unchanged, in groups named after its unit.
+    for (k, nm) in [(0, "gmotion Bar 0"), (1, "gmotion group 0")] {
+        let mut item = &layers[1]["shapes"][k];
+        assert_eq!(item["nm"], nm);
+        while item["nm"]
+            .as_str()
+            .is_some_and(|n| n.starts_with("gmotion "))
+        {
+            assert_eq!(item["it"][1]["ty"], "tr");
+            item = &item["it"][0];
+        }
+        assert_eq!(item, &source["layers"][1]["shapes"][k]);
+    }
+
+    let players = [
+        Player::LottieWebSvg,
+        Player::LottieWebCanvas,
+        Player::Rlottie,
+        Player::Thorvg,
+    ];
+    let frames = [0.0, 45.0];
+    let played = play("lottie_import-groups", &text, &frames, 200, &players);
+    let is_red = |r: u8, g: u8, b: u8, a: u8| a > 128 && r > 128 && g < 64 && b < 64;
+    let is_blue = |r: u8, g: u8, b: u8, a: u8| a > 0 && b > 16 && r < 16 && g < 16;
+    for p in players {
+        let (n0, c0, m0) = moments(&frame_path(&played, p, 0.0), is_red);
+        let (n1, c1, m1) = moments(&frame_path(&played, p, 45.0), is_red);
+        // A quarter turn about the bar's centroid, whatever the layer and rig do.
+        let msg =
+            format!("{p:?}: frame 0 {n0} px at {c0:?} {m0:?}, frame 45 {n1} px at {c1:?} {m1:?}");
+        assert!(
+            (c0[0] - c1[0]).abs() < 1.0 && (c0[1] - c1[1]).abs() < 1.0,
+            "{msg}"
+        );
+        assert!((n0 - n1).abs() < 0.03 * n0, "{msg}");
+        let scale = m0[0].max(m0[1]);
+        assert!((m1[0] - m0[1]).abs() < 0.05 * scale, "{msg}");
+        assert!((m1[1] - m0[0]).abs() < 0.05 * scale, "{msg}");
+        assert!((m1[2] + m0[2]).abs() < 0.05 * scale, "{msg}");
+        // The square stays, fading to half.
+        let (b0, d0, _) = moments(&frame_path(&played, p, 0.0), is_blue);
+        let (b1, d1, _) = moments(&frame_path(&played, p, 45.0), is_blue);
+        assert!(
+            (d0[0] - d1[0]).abs() < 1.0
+                && (d0[1] - d1[1]).abs() < 1.0
+                && (b0 - b1).abs() < 0.03 * b0,
+            "{p:?}: {b0} px at {d0:?}, then {b1} px at {d1:?}"
+        );
+        let alpha = |f: f64| {
+            let pm = Pixmap::load_png(frame_path(&played, p, f)).unwrap();
+            let w = pm.width() as usize;
+            pm.pixels()[d0[1] as usize * w + d0[0] as usize].alpha() as f64 / 255.0
+        };
+        assert!((alpha(0.0) - 1.0).abs() < 0.02, "{p:?}: {}", alpha(0.0));
+        assert!((alpha(45.0) - 0.5).abs() < 0.03, "{p:?}: {}", alpha(45.0));
+    }
+}
+
+#[test]
+fn parts_painted_by_their_layers_fill_change_colour_and_fade_alone() {
+    let dir = out_dir("painted-parts");
+    // Two rectangles straight in a shape layer (no groups), painted by one fill of the
+    // layer below them and rounded by its round corners: the left one fades to half, the
+    // right one turns blue; each must change alone.
+    let rect = |nm: &str, x: f64| json!({"ty": "rc", "d": 1, "nm": nm, "p": fixed(json!([x, 0])), "s": fixed(json!([60, 60])), "r": fixed(json!(0))});
+    let mut layer = shape_layer("Tiles", 1, ks([100.0, 100.0], 0.0, 100.0), json!([]));
+    layer["shapes"] = json!([
+        rect("Left", -45.0),
+        rect("Right", 45.0),
+        {"ty": "rd", "nm": "Round Corners 1", "r": fixed(json!(8))},
+        solid_fill([1.0, 0.0, 0.0]),
+    ]);
+    let src = write_json(&dir, "scene.json", &doc(json!([layer]), json!([])));
+    let g = dir.join("paint.gm");
+    std::fs::write(
+        &g,
+        "units groups\nduration 1s\nfps 30\n\
+         animate(opacity, local, 0, 0.5) : [all, Right] -> [faded]\n\
+         animate(fill, local, 0, #0000ff) : [all, Left] -> [blue]\n",
+    )
+    .unwrap();
+    let out = dir.join("out.json");
+    let (ok, _, err) = run(bin().arg("animate").arg(&src).arg(&g).arg("-o").arg(&out));
+    assert!(ok, "{err}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    let players = [
+        Player::LottieWebSvg,
+        Player::LottieWebCanvas,
+        Player::Rlottie,
+        Player::Thorvg,
+    ];
+    let played = play(
+        "lottie_import-painted-parts",
+        &text,
+        &[0.0, 45.0],
+        200,
+        &players,
+    );
+    for p in players {
+        let pixel = |f: f64, x: usize, y: usize| {
+            let pm = Pixmap::load_png(frame_path(&played, p, f)).unwrap();
+            let c = pm.pixels()[y * pm.width() as usize + x].demultiply();
+            (c.red(), c.green(), c.blue(), c.alpha())
+        };
+        let at = |f: f64, x: usize| pixel(f, x, 100);
+        for x in [55, 145] {
+            let (r, g, b, a) = at(0.0, x);
+            assert!(
+                r > 240 && g < 16 && b < 16 && a > 240,
+                "{p:?} frame 0 at x {x}: {:?}",
+                (r, g, b, a)
+            );
+        }
+        let (r, g, b, a) = at(45.0, 145);
+        assert!(
+            r > 240 && g < 16 && b < 16 && a.abs_diff(128) < 8,
+            "{p:?} faded: {:?}",
+            (r, g, b, a)
+        );
+        let (r, g, b, a) = at(45.0, 55);
+        assert!(
+            r < 16 && g < 16 && b > 240 && a > 240,
+            "{p:?} blue: {:?}",
+            (r, g, b, a)
+        );
+        // The corners stay rounded: the left rectangle (x 25–85, y 70–130) has its edges
+        // but not its corners.
+        for f in [0.0, 45.0] {
+            assert!(
+                pixel(f, 26, 100).3 > 240 && pixel(f, 55, 71).3 > 240,
+                "{p:?}"
+            );
+            assert!(pixel(f, 26, 71).3 < 8 && pixel(f, 84, 129).3 < 8, "{p:?}");
+        }
+    }
+}
+
 /// Runs `check --shapes` on `text` and returns the error message (the command must fail,
 /// without panicking).
 fn refused(name: &str, text: &str) -> String {

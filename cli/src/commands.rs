@@ -286,10 +286,11 @@ fn import_options(
     let tag_map = map_path
         .map(|p| read_tag_map(&p, ctx).map(std::sync::Arc::new))
         .transpose()?;
+    let units = units.or(settings.units).unwrap_or_default();
     Ok(SceneOptions {
         svg: ImportOptions {
             tag_from: tag_from.or(settings.tag_from).unwrap_or_default(),
-            units: units.or(settings.units).unwrap_or_default(),
+            units,
             unit_depth: a
                 .unit_depth
                 .map(|d| d as usize)
@@ -302,6 +303,10 @@ fn import_options(
             max_image_pixels: ctx.limits.get("image-pixels"),
             allowed_dirs: ctx.allow.clone(),
             max_file_bytes: ctx.limits.get("input-bytes"),
+            units: match units {
+                Units::Groups => lottie_import::Units::Groups,
+                Units::Auto | Units::Paths => lottie_import::Units::Layers,
+            },
         },
     })
 }
@@ -376,6 +381,12 @@ fn load_scene(path: &Path, options: &SceneOptions, ctx: &Ctx) -> Result<LoadedSc
                 map.source_name
             )));
         }
+        if options.svg.units == Units::Paths {
+            return Err(CliError::msg(format!(
+                "{}: error: --units paths splits SVG groups into their paths; a Lottie scene's units are its layers, or with --units groups the top-level groups of its shape layers",
+                path.display()
+            )));
+        }
         if options.svg.unit_depth != 1 {
             return Err(CliError::msg(format!(
                 "{}: error: --unit-depth chooses SVG groups; a Lottie scene's units are its layers",
@@ -443,6 +454,16 @@ fn shape_list(path: &Path, loaded: &LoadedScene, json: bool) -> String {
                 })
                 .collect();
             let _ = write!(out, "  layer {}", names.join(" + matte "));
+            if let Some(k) = unit.part
+                && let Some(item) = unit
+                    .layers
+                    .first()
+                    .and_then(|&li| src.document.layers.get(li))
+                    .and_then(|l| l.shapes.get(k))
+            {
+                let kind = item.kind.part_name().unwrap_or("item");
+                let _ = write!(out, " {kind} \"{}\" ({})", item.nm, item.at);
+            }
         }
         out.push('\n');
     }

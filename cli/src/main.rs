@@ -418,11 +418,11 @@ enum TagFromArg {
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
 enum UnitsArg {
-    /// Tagged groups move as one; other paths move alone.
+    /// Tagged groups move as one; other paths move alone (Lottie: the layers).
     Auto,
-    /// Every path is its own unit.
+    /// Every path is its own unit (SVG only).
     Paths,
-    /// Tagged groups are the units.
+    /// Tagged groups are the units (Lottie: each top-level group of a shape layer).
     Groups,
 }
 

@@ -1,6 +1,6 @@
 """gmotion's own render of Lottie files against the players (issue 15's "own render").
 
-    python3 lottie_own_render.py GMOTION OUT FOLDER... [--max-files N] [--grammar]
+    python3 lottie_own_render.py GMOTION OUT FOLDER... [--max-files N] [--grammar [--groups]]
 
 Plays every `*.json` of FOLDER at 5 evenly spaced frames (ip + k·(op − ip)/5) in lottie-web
 (svg renderer), rlottie and `gmotion convert X.json -o f.png --time T`, and compares each
@@ -14,6 +14,8 @@ With --grammar, every file gets motion on top first, as a user adds it (issue 15
 grammar on top"): every unit turns 90° over the composition's length, the first unit's tag
 fades to half, the last unit's turns blue and its strokes three times as wide; the players play the Lottie `gmotion animate` writes (the source with
 gmotion's null layers on top) and gmotion draws `animate … -o f.png --time T` itself.
+With --groups as well, the grammar says `units groups`: the units are the top-level groups
+of shape layers, whose motion gmotion writes as new groups around them.
 
 Writes OUT/report.json and prints, per file, the worst frame. Exits 1 when a counted file
 fails that KNOWN_FAILURES does not name (each with why), so that no new failure hides behind
@@ -45,18 +47,23 @@ KNOWN_GRAMMAR_FAILURES.update({
     "rlottie-python__mask.json": "the tinted unit is a solid layer, whose colour (`sc`) Lottie cannot animate",
 })
 
+# The same with the top-level groups of shape layers as units (--grammar --groups).
+KNOWN_GROUPS_FAILURES = dict(KNOWN_GRAMMAR_FAILURES)
 
-def grammar_on_top(gm, src, doc, out, stem):
+
+def grammar_on_top(gm, src, doc, out, stem, groups):
     """Writes the grammar for `src` and its layered Lottie; returns (grammar, lottie) paths,
     or an error line."""
-    r = subprocess.run([gm, "check", "--shapes", src], capture_output=True, text=True, timeout=300)
+    units = ["--units", "groups"] if groups else []
+    r = subprocess.run([gm, "check", "--shapes", *units, src], capture_output=True, text=True, timeout=300)
     tags = [line.split()[0].rsplit(":", 1)[0] for line in r.stdout.splitlines()[1:] if line.startswith("  ")]
     if r.returncode != 0 or not tags:
         return r.stderr.strip().splitlines()[-1:] or ["no units"]
     fr = float(doc["fr"])
     grammar = os.path.join(out, f"{stem}.gm")
     with open(grammar, "w") as f:
-        f.write(f"duration {(doc['op'] - doc['ip']) / fr!r}s\nfps {fr!r}\n"
+        f.write(("units groups\n" if groups else "") +
+                f"duration {(doc['op'] - doc['ip']) / fr!r}s\nfps {fr!r}\n"
                 "animate(affine, local, 0, rotate(90)) : [all, all] -> [turned]\n"
                 f"animate(opacity, local, 0, 0.5) : [turned, {tags[0]}] -> [faded]\n"
                 f"animate(fill, local, 0, #3366ff) : [turned, {tags[-1]}] -> [blue]\n"
@@ -142,8 +149,9 @@ def main(argv):
     ap.add_argument("folders", nargs="+")
     ap.add_argument("--max-files", type=int, default=0)
     ap.add_argument("--grammar", action="store_true")
+    ap.add_argument("--groups", action="store_true")
     args = ap.parse_args(argv)
-    known = KNOWN_GRAMMAR_FAILURES if args.grammar else KNOWN_FAILURES
+    known = (KNOWN_GROUPS_FAILURES if args.groups else KNOWN_GRAMMAR_FAILURES) if args.grammar else KNOWN_FAILURES
     os.makedirs(args.out, exist_ok=True)
     files = sorted((f, os.path.join(d, f)) for d in args.folders for f in os.listdir(d) if f.endswith(".json"))
     if args.max_files:
@@ -162,7 +170,7 @@ def main(argv):
         width = render_width(w, h)
         grammar, played = None, path
         if args.grammar:
-            made = grammar_on_top(args.gmotion, path, doc, args.out, stem)
+            made = grammar_on_top(args.gmotion, path, doc, args.out, stem, args.groups)
             if isinstance(made, list):
                 print(f"{name}: gmotion animate failed: {made}")
                 gm_errors[name] = made

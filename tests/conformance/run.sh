@@ -19,7 +19,8 @@
 # 4. plays the Lottie files in lottie-web (headless Chromium), rlottie and ThorVG, the SMIL
 #    files in Chromium (smil.mjs), and compares every frame (conformance.py report);
 #    then plays the Lottie corpus (install.sh fetches it) with gmotion's own renderer
-#    against lottie-web and rlottie (lottie_own_render.py), and draws 600 real colour
+#    against lottie-web and rlottie (lottie_own_render.py), as it is and with a grammar
+#    on top (units the layers, then the top-level groups), and draws 600 real colour
 #    SVGs from npm (icons.py) with gmotion and Chromium;
 # 5. the conformance matrix (matrix.py): generated scenes with grammars and transitions
 #    targets spanning the language, plus every example, played in lottie-web (svg and canvas
@@ -91,16 +92,20 @@ fi
 
 python3 "$here/conformance.py" report "$out" || status=1
 
-    # The two passes run together: each waits on its players much of the time.
-    phase "Lottie own render (gmotion convert X.json -o f.png --time T) and with a grammar on top (the layered export), against lottie-web and rlottie (ThorVG for files with text)"
+    # The three passes run together: each waits on its players much of the time.
+    phase "Lottie own render (gmotion convert X.json -o f.png --time T) and with a grammar on top (the layered export; units the layers, then the top-level groups), against lottie-web and rlottie (ThorVG for files with text)"
     python3 "$here/lottie_own_render.py" "$gm" "$out/own_render" "$here/lottie-corpus" > "$out/own_render.txt" &
     own=$!
     python3 "$here/lottie_own_render.py" "$gm" "$out/own_render_grammar" "$here/lottie-corpus" --grammar > "$out/own_render_grammar.txt" &
     own_grammar=$!
+    python3 "$here/lottie_own_render.py" "$gm" "$out/own_render_groups" "$here/lottie-corpus" --grammar --groups > "$out/own_render_groups.txt" &
+    own_groups=$!
     wait $own || status=1
     wait $own_grammar || status=1
+    wait $own_groups || status=1
     tail -n 3 "$out/own_render.txt"
     tail -n 3 "$out/own_render_grammar.txt"
+    tail -n 3 "$out/own_render_groups.txt"
     phase "600 real colour SVGs (Fluent, Noto, Twemoji, Tabler) against Chromium (icons.py)"
     python3 "$here/icons.py" "$gm" "$out/icons" > "$out/icons.txt" || status=1
     grep -E "^(set|all) |fails|below" "$out/icons.txt" || true

@@ -21,8 +21,13 @@
 //! - opacity motion is multiplied into the unit layer's `ks.o`: keyframes of the static
 //!   value times the multiplier; where both animate, the product sampled at every frame.
 //!   An opacity an expression drives is left alone, with a warning naming the layer.
-//! - colour, stroke-width and per-vertex motion are not layered yet: a warning names the
-//!   unit.
+//! - colour and stroke-width motion are written into the unit's own fills, strokes and
+//!   gradients ([`crate::restyle`]); per-vertex motion is not layered yet: a warning names
+//!   the unit.
+//! - a part of a shape layer (`--units groups`: one of its top-level groups) is wrapped in
+//!   new groups (`nm` "gmotion TAG ID") whose transforms hold its motion, conjugated by the
+//!   layer's world transform at the reference frame; its opacity motion goes into the
+//!   outermost wrapper's opacity. The layer and its other items are not touched.
 //!
 //! Layers keep their names; null layers gmotion adds are appended after the existing
 //! layers, where they cannot change which layer a track matte applies to.
@@ -34,6 +39,7 @@ use gmotion::Warning;
 use gmotion::motion::Animation;
 use gmotion_import_lottie::Source;
 use gmotion_import_lottie::eval;
+use gmotion_import_lottie::model::{ShapeItem, ShapeKind};
 
 use crate::animate::{Bakes, UnitInfo, static_level, unit_motion};
 use crate::geometry::decompose;
@@ -88,7 +94,12 @@ pub fn over_source(
         .fold(0.0_f64, f64::max) as i64
         + 1;
     let mut nulls: Vec<Json> = Vec::new();
-    let mut restyles: Vec<(usize, usize, String)> = Vec::new();
+    let mut restyles: Vec<(usize, Option<usize>, usize, String)> = Vec::new();
+    // Parts (`--units groups`) to wrap in groups holding their motion: layer, item, the
+    // wrappers' transforms (outermost first).
+    let mut wraps: Vec<(usize, usize, Vec<Transform>, String, String)> = Vec::new();
+    // Layers with a part whose paint changes.
+    let mut paint_parts = std::collections::BTreeSet::new();
     let bakes = Bakes::default();
     for (u, (track, shape)) in anim.tracks.iter().zip(&anim.scene.shapes).enumerate() {
         let info = UnitInfo {
@@ -112,7 +123,44 @@ pub fn over_source(
         if !(motion.fill.is_empty() && motion.stroke.is_empty() && motion.stroke_width.is_empty())
             && let Some(&li) = unit.layers.first()
         {
-            restyles.push((li, u, name.clone()));
+            restyles.push((li, unit.part, u, name.clone()));
+        }
+        if let (Some(k), Some(&li)) = (unit.part, unit.layers.first()) {
+            if !(motion.opacity.is_empty()
+                && motion.fill.is_empty()
+                && motion.stroke.is_empty()
+                && motion.stroke_width.is_empty())
+            {
+                paint_parts.insert(li);
+            }
+            let world = unit
+                .parent_world
+                .first()
+                .copied()
+                .unwrap_or(Affine::IDENTITY);
+            let levels = match motion.levels.is_empty() {
+                true => Some(Vec::new()),
+                false => in_parent_space(&motion.levels, world),
+            };
+            let Some(mut levels) = levels else {
+                warnings.push(Warning::about(
+                    name.clone(),
+                    "its layer is scaled to nothing at the reference frame; the motion is left out",
+                ));
+                continue;
+            };
+            for level in &mut levels {
+                retime(level, |t| ip + t);
+            }
+            if !motion.opacity.is_empty() {
+                if levels.is_empty() {
+                    levels.push(Transform::empty());
+                }
+                levels[0].o = Some(opacity_prop(&motion.opacity, 100.0, ip));
+            }
+            let nm = format!("gmotion {} {}", shape.tag, shape.id);
+            wraps.push((li, k, levels, nm, name));
+            continue;
         }
         if !motion.levels.is_empty() {
             for (k, (&li, &parent_world)) in unit.layers.iter().zip(&unit.parent_world).enumerate()
@@ -162,12 +210,165 @@ pub fn over_source(
         }
     }
     layers.extend(nulls);
+    // Parts painted by their layer's own fills and strokes get copies of them, so that
+    // their colour and opacity can change alone: the layer's new top-level items, and
+    // where each old one went.
+    let mut pushed: std::collections::HashMap<usize, (Vec<ShapeItem>, Vec<usize>)> =
+        Default::default();
+    for li in paint_parts {
+        if let (Some(model), Some(layer)) = (doc.layers.get(li), layers.get_mut(li))
+            && let Some(p) = styles_pushed_down(layer, &model.shapes)
+        {
+            pushed.insert(li, p);
+        }
+    }
+    let moved = |li: usize, k: usize| pushed.get(&li).map_or(k, |(_, at)| at[k]);
+    let items_of = |li: usize| match pushed.get(&li) {
+        Some((items, _)) => items.as_slice(),
+        None => doc.layers.get(li).map_or(&[][..], |l| l.shapes.as_slice()),
+    };
     // Colour and stroke width go into the layers' own items (and copies of the assets
     // they draw), which needs the whole document.
-    for (li, u, name) in restyles {
-        crate::restyle::restyle(&mut json, li, source, &anim.tracks[u], &name, &mut warnings);
+    for (li, part, u, name) in restyles {
+        crate::restyle::restyle(
+            &mut json,
+            li,
+            part.map(|k| (moved(li, k), items_of(li))),
+            source,
+            &anim.tracks[u],
+            &name,
+            &mut warnings,
+        );
+    }
+    // Last: wrapping moves an item into a new group, where the restyling would not find it.
+    for (li, k, levels, nm, name) in wraps {
+        let k = moved(li, k);
+        let fades = levels.first().is_some_and(|l| l.o.is_some());
+        if fades
+            && items_of(li).iter().skip(k + 1).any(|i| {
+                matches!(
+                    i.kind,
+                    ShapeKind::Fill { .. } | ShapeKind::Stroke { .. } | ShapeKind::Gradient(_)
+                )
+            })
+        {
+            warnings.push(Warning::about(
+                name,
+                "fills or strokes of its layer outside its group paint it, with a modifier that takes the layer's outlines together; its opacity motion does not reach them",
+            ));
+        }
+        if let Some(item) = json
+            .get_mut("layers")
+            .and_then(|l| l.get_mut(li))
+            .and_then(|l| l.get_mut("shapes"))
+            .and_then(|s| s.get_mut(k))
+        {
+            wrap(item, levels, &nm);
+        }
     }
     Ok((json.to_string(), warnings))
+}
+
+/// A shape layer's top-level styles (fills, strokes, gradients) moved into copies inside
+/// each of its parts (`--units groups`), so that a part painted by them can be restyled and
+/// faded alone: each part becomes a group of the part and the styles below it, in their
+/// order, with the modifiers among them that change each outline alone (round corners,
+/// trim paths trimming each outline), and the layer's own styles and modifiers go. Every
+/// outline is then modified and painted as before. Done only for layers that need it (a
+/// part with paint motion, and a style below a part) and can take it: no modifier that
+/// treats the outlines above it together (a repeater, merge paths, trim paths as one run,
+/// an unknown item) at the top level. Returns the layer's new top-level items and the new
+/// index of each old one (a removed item's: the next item's), or `None` when the layer
+/// is left as it was.
+fn styles_pushed_down(
+    layer: &mut Json,
+    model: &[ShapeItem],
+) -> Option<(Vec<ShapeItem>, Vec<usize>)> {
+    let is_style = |k: &ShapeKind| {
+        matches!(
+            k,
+            ShapeKind::Fill { .. } | ShapeKind::Stroke { .. } | ShapeKind::Gradient(_)
+        )
+    };
+    let copied = |k: &ShapeKind| {
+        is_style(k)
+            || matches!(
+                k,
+                ShapeKind::RoundCorners { .. }
+                    | ShapeKind::Trim {
+                        individually: false,
+                        ..
+                    }
+            )
+    };
+    let first_part = model.iter().position(|i| i.kind.part_name().is_some())?;
+    if !model[first_part..].iter().any(|i| is_style(&i.kind))
+        || model
+            .iter()
+            .any(|i| !i.hidden && i.kind.part_name().is_none() && !copied(&i.kind))
+    {
+        return None;
+    }
+    let shapes = layer.get_mut("shapes").and_then(Json::as_array_mut)?;
+    if shapes.len() != model.len() {
+        return None;
+    }
+    let mut json_out = Vec::new();
+    let mut model_out = Vec::new();
+    let mut at = Vec::with_capacity(model.len());
+    for (k, (j, m)) in shapes.iter().zip(model).enumerate() {
+        at.push(json_out.len());
+        if copied(&m.kind) {
+            continue;
+        }
+        if m.kind.part_name().is_none() {
+            json_out.push(j.clone());
+            model_out.push(m.clone());
+            continue;
+        }
+        let below = (k + 1..model.len()).filter(|&b| copied(&model[b].kind));
+        let mut it: Vec<Json> = vec![j.clone()];
+        let mut sub = vec![m.clone()];
+        for b in below {
+            it.push(shapes[b].clone());
+            sub.push(model[b].clone());
+        }
+        it.push(
+            serde_json::to_value(crate::model::Shape::Transform(Transform::empty()))
+                .unwrap_or(Json::Null),
+        );
+        let mut g = serde_json::Map::new();
+        g.insert("ty".into(), Json::from("gr"));
+        g.insert("nm".into(), Json::from(format!("gmotion paint {}", m.nm)));
+        g.insert("it".into(), Json::Array(it));
+        json_out.push(Json::Object(g));
+        model_out.push(ShapeItem {
+            at: m.at.clone(),
+            nm: m.nm.clone(),
+            hidden: m.hidden,
+            kind: ShapeKind::Group(sub),
+        });
+    }
+    *shapes = json_out;
+    Some((model_out, at))
+}
+
+/// Wraps shape item `item` in nested groups named `nm` whose transforms are `levels`
+/// (outermost first), so that it moves by them inside its layer.
+fn wrap(item: &mut Json, levels: Vec<Transform>, nm: &str) {
+    for (n, level) in levels.into_iter().enumerate().rev() {
+        let nm = match n {
+            0 => nm.to_string(),
+            n => format!("{nm}/{n}"),
+        };
+        let tr = serde_json::to_value(crate::model::Shape::Transform(level)).unwrap_or(Json::Null);
+        let inner = std::mem::take(item);
+        let mut g = serde_json::Map::new();
+        g.insert("ty".into(), Json::from("gr"));
+        g.insert("nm".into(), Json::from(nm));
+        g.insert("it".into(), Json::Array(vec![inner, tr]));
+        *item = Json::Object(g);
+    }
 }
 
 /// A null layer as After Effects writes one, keys in its order: `ddd` first, since
@@ -224,6 +425,26 @@ fn in_parent_space(levels: &[Transform], a: Affine) -> Option<Vec<Transform>> {
     Some(out)
 }
 
+/// An opacity of `base` percent times the multiplier `keys` (frames from the animation's
+/// start), keyed in the composition's frames (which start at `ip`).
+fn opacity_prop(keys: &[crate::keys::Key<f64>], base: f64, ip: f64) -> Prop {
+    let at = |a: &f64, b: &f64, p: f64| a + (b - a) * p;
+    let keys = within_range(
+        keys,
+        |a, b, lo, hi| {
+            [lo, hi]
+                .iter()
+                .any(|&p| !(0.0..=1.0).contains(&at(a, b, p)))
+        },
+        |a, b, p| at(a, b, p).clamp(0.0, 1.0),
+    );
+    let mut kfs = to_keyframes(&keys, |m| Value::Scalar(N::coord(base * m)));
+    for k in &mut kfs {
+        k.t = N::coord(ip + k.t.0);
+    }
+    Prop::keyed(kfs)
+}
+
 /// Moves every keyframe time of `tr` through `f`.
 fn retime(tr: &mut Transform, f: impl Fn(f64) -> f64) {
     for p in [&mut tr.a, &mut tr.p, &mut tr.s, &mut tr.r, &mut tr.o]
@@ -266,7 +487,6 @@ fn multiply_opacity(
     }
     // Keyframe times of a layer's properties are in the time of its composition (players
     // subtract the start time from both the time and the keyframes).
-    let local = |t: f64| doc.ip + t;
     let animated = matches!(
         model.ks.o.as_ref().map(|o| &o.value),
         Some(gmotion_import_lottie::model::Prop::Animated(_))
@@ -284,22 +504,7 @@ fn multiply_opacity(
             .collect();
         crate::restyle::resampled(samples, OPACITY_EPS)
     } else {
-        let base = eval::scalar(model.ks.o.as_ref(), 0.0, 100.0);
-        let at = |a: &f64, b: &f64, p: f64| a + (b - a) * p;
-        let keys = within_range(
-            keys,
-            |a, b, lo, hi| {
-                [lo, hi]
-                    .iter()
-                    .any(|&p| !(0.0..=1.0).contains(&at(a, b, p)))
-            },
-            |a, b, p| at(a, b, p).clamp(0.0, 1.0),
-        );
-        let mut kfs = to_keyframes(&keys, |m| Value::Scalar(N::coord(base * m)));
-        for k in &mut kfs {
-            k.t = N::coord(local(k.t.0));
-        }
-        Prop::keyed(kfs)
+        opacity_prop(keys, eval::scalar(model.ks.o.as_ref(), 0.0, 100.0), doc.ip)
     };
     let Some(ks) = layer.get_mut("ks").and_then(Json::as_object_mut) else {
         if let Some(l) = layer.as_object_mut() {

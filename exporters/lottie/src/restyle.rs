@@ -24,10 +24,13 @@ const WIDTH_EPS: f64 = 0.01;
 /// `doc` (the document being written) and everything it draws: the fills, strokes and
 /// gradients of a shape layer; for a precomposition, a copy of its asset (so that other
 /// uses keep theirs) with the same done to every layer inside, on the precomposition's own
-/// clock. What cannot be written is warned about under `name`.
+/// clock. With `part` (`--units groups`: the index of a top-level item, and the layer's
+/// top-level items as `doc` holds them now), only that item is restyled. What cannot be
+/// written is warned about under `name`.
 pub(crate) fn restyle(
     doc: &mut Json,
     li: usize,
+    part: Option<(usize, &[ShapeItem])>,
     source: &Source,
     track: &Track,
     name: &str,
@@ -52,7 +55,10 @@ pub(crate) fn restyle(
     let Some(layer) = doc.get_mut("layers").and_then(|l| l.get_mut(li)) else {
         return;
     };
-    walk.layer(layer, model, &clock, 0);
+    match part {
+        Some((k, items)) => walk.part(layer, items, k, &clock),
+        None => walk.layer(layer, model, &clock, 0),
+    }
     let copies = std::mem::take(&mut walk.copies);
     if copies.is_empty() {
         return;
@@ -130,6 +136,32 @@ impl Walk<'_> {
             _ => self.warn(
                 "colour and stroke width are written into shape layers and precompositions only",
             ),
+        }
+    }
+
+    /// Restyles top-level item `k` of shape layer `json` (whose top-level items are
+    /// `model`), one part of it.
+    fn part(
+        &mut self,
+        json: &mut Json,
+        model: &[ShapeItem],
+        k: usize,
+        clock: &[(f64, ShapeState)],
+    ) {
+        let styles_below = model.iter().skip(k + 1).any(|item| {
+            matches!(
+                item.kind,
+                ShapeKind::Fill { .. } | ShapeKind::Stroke { .. } | ShapeKind::Gradient(_)
+            )
+        });
+        if styles_below {
+            self.warn("fills or strokes of its layer outside its group paint it too (and the layer's other groups); their colour and width are left as they are");
+        }
+        if let (Some(item), Some(m)) = (
+            json.get_mut("shapes").and_then(|s| s.get_mut(k)),
+            model.get(k),
+        ) {
+            self.items(std::slice::from_mut(item), std::slice::from_ref(m), clock);
         }
     }
 

@@ -153,13 +153,16 @@ impl<'a> Builder<'a> {
     }
 
     /// A layer drawn at composition frame `t` with world transform `world`: a group, its
-    /// children in paint order.
+    /// children in paint order. With `part`, a shape layer draws only that top-level item
+    /// of its `shapes` among those with outlines of their own ([`ShapeKind::part_name`]),
+    /// styled and modified by the layer's other items as in the whole layer.
     pub fn layer_node(
         &mut self,
         l: &Layer,
         world: Affine,
         t: f64,
         stack: &mut Vec<String>,
+        part: Option<usize>,
     ) -> Result<Group> {
         if self.budget == 0 {
             return error(
@@ -185,7 +188,7 @@ impl<'a> Builder<'a> {
         match l.kind {
             LayerKind::Shape => {
                 let mut outlines = Outlines::default();
-                let scope = self.items(&l.shapes, lt, &mut outlines)?;
+                let scope = self.items(&l.shapes, lt, &mut outlines, part)?;
                 children = outlines.finish(scope.drawn);
             }
             LayerKind::Solid => {
@@ -428,7 +431,7 @@ impl<'a> Builder<'a> {
     /// painted by its text layer).
     fn unstyled(&mut self, items: &[ShapeItem]) -> Result<BezPath> {
         let mut outlines = Outlines::default();
-        let scope = self.items(items, 0.0, &mut outlines)?;
+        let scope = self.items(items, 0.0, &mut outlines, None)?;
         outlines.modify();
         let mut path = BezPath::new();
         for (id, m) in scope.visible {
@@ -451,13 +454,14 @@ impl<'a> Builder<'a> {
             if !l.kind.draws() || l.hidden || l.td || !(l.ip <= t && t < l.op) {
                 continue;
             }
-            let node = self.drawn(layers, i, &worlds, t, stack)?;
+            let node = self.drawn(layers, i, &worlds, t, stack, None)?;
             out.push(Node::Group(node));
         }
         Ok(out)
     }
 
-    /// Layer `i` drawn, with its track matte when it has one.
+    /// Layer `i` drawn, with its track matte when it has one; with `part`, only that part
+    /// of a shape layer ([`Builder::layer_node`]).
     pub fn drawn(
         &mut self,
         layers: &[Layer],
@@ -465,9 +469,10 @@ impl<'a> Builder<'a> {
         worlds: &[Affine],
         t: f64,
         stack: &mut Vec<String>,
+        part: Option<usize>,
     ) -> Result<Group> {
         let l = &layers[i];
-        let node = self.layer_node(l, worlds[i], t, stack)?;
+        let node = self.layer_node(l, worlds[i], t, stack, part)?;
         let Some(m) = Self::matte_source(layers, i) else {
             if l.tt.is_some_and(|tt| tt != 0) {
                 self.warn(
@@ -490,7 +495,7 @@ impl<'a> Builder<'a> {
                 return Ok(node);
             }
         };
-        let source = self.layer_node(&layers[m], worlds[m], t, stack)?;
+        let source = self.layer_node(&layers[m], worlds[m], t, stack, None)?;
         let canvas = Canvas::of(self.doc);
         let mask = |kind, children| canvas.mask(kind, children);
         let everywhere = |color| canvas.everywhere(color);
@@ -518,16 +523,23 @@ impl<'a> Builder<'a> {
     /// and which outlines are visible to styles further down, with the group's transform
     /// and opacity. Painting waits until every modifier has changed the outlines
     /// ([`Outlines::finish`]): in Lottie a modifier below a style still changes what the
-    /// style paints, and a modifier changes the outlines of nested groups too.
-    fn items(&mut self, items: &[ShapeItem], t: f64, out: &mut Outlines) -> Result<Scope> {
+    /// style paints, and a modifier changes the outlines of nested groups too. With `part`,
+    /// the items with outlines of their own other than item `part` are left out.
+    fn items(
+        &mut self,
+        items: &[ShapeItem],
+        t: f64,
+        out: &mut Outlines,
+        part: Option<usize>,
+    ) -> Result<Scope> {
         let mut scope = Scope {
             drawn: Vec::new(),
             visible: Vec::new(),
             transform: Affine::IDENTITY,
             opacity: 1.0,
         };
-        for item in items {
-            if item.hidden {
+        for (k, item) in items.iter().enumerate() {
+            if item.hidden || part.is_some_and(|p| p != k && item.kind.part_name().is_some()) {
                 continue;
             }
             let mut add = |path: BezPath, scope: &mut Scope| {
@@ -536,7 +548,7 @@ impl<'a> Builder<'a> {
             };
             match &item.kind {
                 ShapeKind::Group(sub) => {
-                    let inner = self.items(sub, t, out)?;
+                    let inner = self.items(sub, t, out, None)?;
                     let m = inner.transform;
                     scope
                         .visible

@@ -79,6 +79,21 @@ pub struct ImportOptions {
     /// Largest Lottie file, and largest linked image, read (default
     /// [`gmotion::input::DEFAULT_MAX_INPUT_BYTES`]; `--limit input-bytes=N`).
     pub max_file_bytes: u64,
+    /// What the units are (`--units`).
+    pub units: Units,
+}
+
+/// What a Lottie scene's units are.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Units {
+    /// Every root layer that draws (`--units auto`).
+    #[default]
+    Layers,
+    /// Every top-level item of a shape layer that has outlines of its own (a group, or a
+    /// path, rectangle, ellipse or star outside any group) is a unit, styled by the
+    /// layer's fills and strokes as in the layer; other layers, and shape layers with a
+    /// track matte, stay whole (`--units groups`).
+    Groups,
 }
 
 impl Default for ImportOptions {
@@ -88,6 +103,7 @@ impl Default for ImportOptions {
             max_image_pixels: gmotion::scene::DEFAULT_MAX_IMAGE_PIXELS,
             allowed_dirs: Vec::new(),
             max_file_bytes: gmotion::input::DEFAULT_MAX_INPUT_BYTES,
+            units: Units::Layers,
         }
     }
 }
@@ -100,8 +116,13 @@ pub struct UnitLayers {
     pub layers: Vec<usize>,
     /// For each of `layers`, its parent's world transform at the reference frame (the
     /// identity for a layer without a parent): where a motion in canvas space must be
-    /// conjugated to act in the parent's space.
+    /// conjugated to act in the parent's space. For a part, the world transform of its
+    /// layer, where it moves. Where that is scaled to nothing at the reference frame, the
+    /// first later frame's where it is not.
     pub parent_world: Vec<Affine>,
+    /// With `--units groups`, the index in the layer's `shapes` of the top-level item the
+    /// unit is (the layer's other parts are other units); `None` for a whole layer.
+    pub part: Option<usize>,
     /// What the unit measured at the reference frame (`None`: no geometry); a frame drawn
     /// later ([`Source::scene_at`]) keeps it rather than measuring again.
     pub measure: Option<gmotion::measure::Measure>,
@@ -117,6 +138,8 @@ pub struct Source {
     pub document: Document,
     /// For each unit of the scene (`scene.shapes[i]`), its layers.
     pub units: Vec<UnitLayers>,
+    /// What the units are.
+    pub mode: Units,
     /// The reference frame the scene was measured at.
     pub frame: f64,
 }
@@ -256,7 +279,8 @@ fn import(
             ),
         });
     }
-    let (root, shapes, units, warnings) = scene_of(&document, frame, None).map_err(located)?;
+    let (root, shapes, units, warnings) =
+        scene_of(&document, frame, opts.units, None).map_err(located)?;
     let scene = Scene {
         width: document.w,
         height: document.h,
@@ -273,6 +297,7 @@ fn import(
             json,
             document,
             units,
+            mode: opts.units,
             frame,
         },
         warnings,
@@ -309,7 +334,12 @@ type Built = (Group, Vec<Shape>, Vec<UnitLayers>, Vec<(String, String)>);
 
 /// The document drawn at `frame`; its units measured, or given the measures of
 /// `reference` (the same units, at the reference frame).
-fn scene_of(doc: &Document, frame: f64, reference: Option<&[UnitLayers]>) -> model::Result<Built> {
+fn scene_of(
+    doc: &Document,
+    frame: f64,
+    mode: Units,
+    reference: Option<&[UnitLayers]>,
+) -> model::Result<Built> {
     let mut b = build::Builder::new(doc);
     let layers = &doc.layers;
     let worlds = b.worlds(layers, frame)?;
@@ -319,12 +349,10 @@ fn scene_of(doc: &Document, frame: f64, reference: Option<&[UnitLayers]>) -> mod
             by_ind.entry(ind).or_insert(i);
         }
     }
-    let parent_world = |i: usize| -> Affine {
-        layers[i]
-            .parent
-            .and_then(|p| by_ind.get(&p))
-            .map_or(Affine::IDENTITY, |&j| worlds[j])
-    };
+    let parent_of =
+        |i: usize| -> Option<usize> { layers[i].parent.and_then(|p| by_ind.get(&p)).copied() };
+    // For each unit, the layers whose worlds are its `parent_world` (`None`: the canvas).
+    let mut anchors: Vec<Vec<Option<usize>>> = Vec::new();
     let mut root = Group::new();
     let mut shapes = Vec::new();
     let mut units = Vec::new();
@@ -335,68 +363,159 @@ fn scene_of(doc: &Document, frame: f64, reference: Option<&[UnitLayers]>) -> mod
         if !l.kind.draws() || l.hidden || l.td {
             continue;
         }
-        let mut node = b.drawn(layers, i, &worlds, frame, &mut stack)?;
-        if !(l.ip <= frame && frame < l.op) {
-            // Not on screen at the reference frame: measured, but not drawn in the still.
-            node.opacity = 0.0;
-        }
-        let index = shapes.len();
-        node.unit = Some(index);
-        let node = Node::Group(node);
-        // Measuring resolves every overlap of the unit's outlines, which takes seconds for
-        // a rich precomposition: done once, at the reference frame.
-        let m = match reference {
-            Some(units) => units.get(index).and_then(|u| u.measure),
-            None => measure(&node, Affine::IDENTITY),
+        let matte = build::Builder::matte_source(layers, i);
+        // The parts of a shape layer split into its top-level items, bottom first; a
+        // matted layer stays whole, as its matte moves with it.
+        let parts: Vec<Option<usize>> = match mode {
+            Units::Groups if l.kind == model::LayerKind::Shape && matte.is_none() => l
+                .shapes
+                .iter()
+                .enumerate()
+                .rev()
+                .filter(|(_, item)| !item.hidden && item.kind.part_name().is_some())
+                .map(|(k, _)| Some(k))
+                .collect(),
+            _ => vec![None],
         };
-        let at = worlds[i] * Point::ORIGIN;
-        let tag = tags::layer_tag(&l.nm, l.kind);
-        // The layer's own name as written (counter kept), then its parents', nearest first,
-        // so a rule can name one layer of several or a rig that moves several.
-        let mut aliases: Vec<String> = Vec::new();
-        let mut at_layer = Some(i);
-        let mut hops = 0;
-        while let Some(j) = at_layer.filter(|_| hops <= layers.len()) {
-            let parent = &layers[j];
-            let names = [
-                gmotion::tagging::grammar_name(parent.nm.trim()),
-                Some(tags::layer_tag(&parent.nm, parent.kind)),
-            ];
-            for name in names.into_iter().flatten() {
+        for part in parts {
+            let mut node = b.drawn(layers, i, &worlds, frame, &mut stack, part)?;
+            if !(l.ip <= frame && frame < l.op) {
+                // Not on screen at the reference frame: measured, but not drawn in the still.
+                node.opacity = 0.0;
+            }
+            let index = shapes.len();
+            let mut node_path = vec![root.children.len()];
+            match (part, &node.mask, node.children.as_mut_slice()) {
+                // A part moves inside its layer, under the layer's masks (they wrap the
+                // layer, [`build::Builder::layer_node`]), which stay where they are.
+                (Some(_), Some(_), [Node::Group(layer)]) => {
+                    layer.unit = Some(index);
+                    node_path.push(0);
+                }
+                _ => node.unit = Some(index),
+            }
+            let node = Node::Group(node);
+            // Measuring resolves every overlap of the unit's outlines, which takes seconds
+            // for a rich precomposition: done once, at the reference frame.
+            let m = match reference {
+                Some(units) => units.get(index).and_then(|u| u.measure),
+                None => measure(&node, Affine::IDENTITY),
+            };
+            let at = worlds[i] * Point::ORIGIN;
+            let layer_tag = tags::layer_tag(&l.nm, l.kind);
+            let item = part.and_then(|k| l.shapes.get(k));
+            let tag = match item {
+                Some(item) => tags::part_tag(&item.nm, &item.kind),
+                None => layer_tag.clone(),
+            };
+            // The unit's own name as written (counter kept), then its layer's and the
+            // layer's parents', nearest first, so a rule can name one layer of several, a
+            // rig that moves several, or every part of a layer.
+            let mut aliases: Vec<String> = Vec::new();
+            let mut push = |name: String| {
                 if name != tag && !aliases.contains(&name) {
                     aliases.push(name);
                 }
+            };
+            if let Some(name) = item.and_then(|item| gmotion::tagging::grammar_name(item.nm.trim()))
+            {
+                push(name);
             }
-            at_layer = parent.parent.and_then(|p| by_ind.get(&p).copied());
-            hops += 1;
+            let mut at_layer = Some(i);
+            let mut hops = 0;
+            while let Some(j) = at_layer.filter(|_| hops <= layers.len()) {
+                let parent = &layers[j];
+                let names = [
+                    gmotion::tagging::grammar_name(parent.nm.trim()),
+                    Some(tags::layer_tag(&parent.nm, parent.kind)),
+                ];
+                for name in names.into_iter().flatten() {
+                    push(name);
+                }
+                at_layer = parent.parent.and_then(|p| by_ind.get(&p).copied());
+                hops += 1;
+            }
+            let id = counts.entry(tag.clone()).or_default();
+            shapes.push(Shape {
+                tag,
+                aliases,
+                id: *id,
+                group: 0,
+                z: index,
+                node_path,
+                parent_transform: Affine::IDENTITY,
+                centroid: m.map_or(at, |m| m.centroid),
+                bbox: m.map_or(Rect::from_points(at, at), |m| m.bbox),
+                fill: m.map_or(Color::BLACK, |m| m.fill),
+                stroke: m.map_or(Color::BLACK, |m| m.stroke),
+                stroke_width: m.map_or(1.0, |m| m.stroke_width),
+            });
+            *id += 1;
+            let mut members = vec![i];
+            members.extend(matte);
+            // A part moves inside its layer: in the layer's own space.
+            let anchor: Vec<Option<usize>> = match part {
+                Some(_) => vec![Some(i)],
+                None => members.iter().map(|&j| parent_of(j)).collect(),
+            };
+            units.push(UnitLayers {
+                parent_world: anchor
+                    .iter()
+                    .map(|a| a.map_or(Affine::IDENTITY, |j| worlds[j]))
+                    .collect(),
+                layers: members,
+                part,
+                measure: m,
+            });
+            anchors.push(anchor);
+            root.children.push(node);
         }
-        let id = counts.entry(tag.clone()).or_default();
-        shapes.push(Shape {
-            tag,
-            aliases,
-            id: *id,
-            group: 0,
-            z: index,
-            node_path: vec![root.children.len()],
-            parent_transform: Affine::IDENTITY,
-            centroid: m.map_or(at, |m| m.centroid),
-            bbox: m.map_or(Rect::from_points(at, at), |m| m.bbox),
-            fill: m.map_or(Color::BLACK, |m| m.fill),
-            stroke: m.map_or(Color::BLACK, |m| m.stroke),
-            stroke_width: m.map_or(1.0, |m| m.stroke_width),
-        });
-        *id += 1;
-        let mut members = vec![i];
-        members.extend(build::Builder::matte_source(layers, i));
-        units.push(UnitLayers {
-            parent_world: members.iter().map(|&j| parent_world(j)).collect(),
-            layers: members,
-            measure: m,
-        });
-        root.children.push(node);
+    }
+    if reference.is_none() {
+        first_invertible_worlds(&mut b, layers, frame, doc.op, &mut units, &anchors)?;
     }
     Ok((root, shapes, units, b.warnings()))
 }
+
+/// Gives each unit whose anchor layer is scaled to nothing at the reference `frame` (a
+/// layer that pops in from zero scale) the anchor's world at the first later frame where
+/// it is invertible (sampled at up to [`INVERTIBLE_SEARCH`] frames before `op`): motion in
+/// canvas space is carried into that layer's space through it, on export and in
+/// [`Source::scene_at`] alike. One that never becomes invertible keeps its singular world
+/// (its motion is left out, with a warning, on export).
+fn first_invertible_worlds(
+    b: &mut build::Builder,
+    layers: &[model::Layer],
+    frame: f64,
+    op: f64,
+    units: &mut [UnitLayers],
+    anchors: &[Vec<Option<usize>>],
+) -> model::Result<()> {
+    let singular = |a: &Affine| a.determinant().abs() < 1e-12;
+    if !units.iter().any(|u| u.parent_world.iter().any(singular)) {
+        return Ok(());
+    }
+    let step = ((op - frame) / INVERTIBLE_SEARCH as f64).max(1.0);
+    let mut at = frame + step;
+    while at < op && units.iter().any(|u| u.parent_world.iter().any(singular)) {
+        let worlds = b.worlds(layers, at)?;
+        for (u, anchor) in units.iter_mut().zip(anchors) {
+            for (w, a) in u.parent_world.iter_mut().zip(anchor) {
+                if let Some(j) = *a
+                    && singular(w)
+                    && !singular(&worlds[j])
+                {
+                    *w = worlds[j];
+                }
+            }
+        }
+        at += step;
+    }
+    Ok(())
+}
+
+/// At most this many frames are tried by [`first_invertible_worlds`].
+const INVERTIBLE_SEARCH: usize = 2000;
 
 impl Source {
     /// The composition frame a time in seconds from the animation's start is.
@@ -415,7 +534,12 @@ impl Source {
         for _ in 0..layers.len() {
             let parent = layers.get(at)?.parent?;
             at = layers.iter().position(|l| l.ind == Some(parent))?;
-            if let Some(v) = self.units.iter().position(|w| first(w) == Some(at)) {
+            // A part's motion moves only the part, not the layers parented to its layer.
+            if let Some(v) = self
+                .units
+                .iter()
+                .position(|w| w.part.is_none() && first(w) == Some(at))
+            {
                 return Some(v);
             }
         }
@@ -445,7 +569,7 @@ impl Source {
     /// what players draw.
     pub fn scene_at(&self, frame: f64) -> Result<(Scene, Vec<Affine>), ImportError> {
         let (root, shapes, units, _) =
-            scene_of(&self.document, frame, Some(&self.units)).map_err(|e| {
+            scene_of(&self.document, frame, self.mode, Some(&self.units)).map_err(|e| {
                 ImportError::Lottie {
                     source_name: format!("frame {frame}"),
                     at: e.at,

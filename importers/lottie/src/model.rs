@@ -620,6 +620,22 @@ pub enum ShapeKind {
     Other(String),
 }
 
+impl ShapeKind {
+    /// The name of a top-level item that is a unit of its own (`--units groups`), the tag
+    /// of such an item with a default name; `None` for items that draw no outline of their
+    /// own (styles, modifiers, transforms).
+    pub fn part_name(&self) -> Option<&'static str> {
+        match self {
+            ShapeKind::Group(_) => Some("group"),
+            ShapeKind::Path { .. } => Some("path"),
+            ShapeKind::Rect { .. } => Some("rect"),
+            ShapeKind::Ellipse { .. } => Some("ellipse"),
+            ShapeKind::Star { .. } => Some("star"),
+            _ => None,
+        }
+    }
+}
+
 /// How a stroke (`st` or `gs`) draws its line.
 #[derive(Clone, Debug)]
 pub struct StrokeStyle {

@@ -6,11 +6,13 @@
 //! and without its counter ([`gmotion::tagging::strip_counter`], as for SVG layer ids), so
 //! every "Wheel 2" is a `Wheel`. Names After Effects gives by default ("Shape Layer 3",
 //! "Null 1", "Pre-comp 2", "Dark Gray Solid 1") say nothing about the art: such layers are
-//! tagged with their kind (`shape`, `precomp`, `solid`, `image`, `text`).
+//! tagged with their kind (`shape`, `precomp`, `solid`, `image`, `text`). With
+//! `--units groups`, a shape layer's top-level groups are tagged the same way from their
+//! own names ([`part_tag`]; "Group 2" gives `group`).
 
 use gmotion::tagging::{grammar_name, strip_counter};
 
-use crate::model::LayerKind;
+use crate::model::{LayerKind, ShapeKind};
 
 /// Names After Effects gives new layers, before their counter.
 const DEFAULT_NAMES: [&str; 6] = [
@@ -52,6 +54,43 @@ pub fn layer_tag(name: &str, kind: LayerKind) -> String {
     match grammar_name(name) {
         Some(n) => strip_counter(&n).to_string(),
         None => kind.name().to_string(),
+    }
+}
+
+/// Names After Effects and Illustrator give new shape items, before their counter.
+const DEFAULT_PART_NAMES: [&str; 8] = [
+    "Group",
+    "Shape",
+    "Path",
+    "Rectangle",
+    "Ellipse",
+    "Polystar",
+    "Star",
+    "Polygon",
+];
+
+/// The tag of a top-level shape item named `name` that is a unit of its own
+/// (`--units groups`): as a layer's, with default names ("Group 3", "Rectangle 1") giving
+/// the item's kind (`group`, `path`, `rect`, `ellipse`, `star`).
+///
+/// ```
+/// use gmotion_import_lottie::model::ShapeKind;
+/// use gmotion_import_lottie::tags::part_tag;
+/// assert_eq!(part_tag("Left wheel 2", &ShapeKind::Group(vec![])), "Left_wheel");
+/// assert_eq!(part_tag("Group 3", &ShapeKind::Group(vec![])), "group");
+/// ```
+pub fn part_tag(name: &str, kind: &ShapeKind) -> String {
+    let kind = kind.part_name().unwrap_or("group");
+    let stem = name
+        .trim()
+        .trim_end_matches(|c: char| c.is_ascii_digit())
+        .trim_end();
+    if stem.is_empty() || DEFAULT_PART_NAMES.contains(&stem) {
+        return kind.to_string();
+    }
+    match grammar_name(name.trim()) {
+        Some(n) => strip_counter(&n).to_string(),
+        None => kind.to_string(),
     }
 }
 
