@@ -22,7 +22,7 @@
 //!   value times the multiplier; where both animate, the product sampled at every frame.
 //!   An opacity an expression drives is left alone, with a warning naming the layer.
 //! - colour and stroke-width motion are written into the unit's own fills, strokes and
-//!   gradients ([`crate::restyle`]); per-vertex motion is not layered yet: a warning names
+//!   gradients (the `restyle` module); per-vertex motion is not layered yet: a warning names
 //!   the unit.
 //! - a part of a shape layer (`--units groups`: one of its top-level groups) is wrapped in
 //!   new groups (`nm` "gmotion TAG ID") whose transforms hold its motion, conjugated by the
