@@ -6,7 +6,8 @@
 //! unit; null layers are rigs (they move their children, but are not units); a track
 //! matte's source layer (`td`) moves with the layer it mattes, as one unit; hidden layers
 //! are not units. Units are in paint order (bottom layer first), and ids count within a
-//! tag in that order. Tags come from layer names ([`tags`]).
+//! tag in that order. Tags come from layer names ([`tags`]). With [`Units::Groups`] the
+//! top-level groups of shape layers are the units instead ([`UnitLayers::part`]).
 //!
 //! **Geometry.** The document is evaluated at a reference time (the first frame unless
 //! [`ImportOptions::time`] says otherwise), and at any frame by [`Source::scene_at`], which
