@@ -701,6 +701,34 @@ fn huge_keyframe_arrays_import_in_bounded_time() {
     assert_eq!(got[0].1, [-2.0, 48.0, 2.0, 52.0]);
 }
 
+#[test]
+fn paint_on_a_composition_a_billion_frames_long_is_written_in_bounded_time() {
+    let dir = out_dir("long_comp");
+    let mut l = rect_layer("tile", 1, None, [50.0, 50.0], [20.0, 20.0], [1.0, 0.0, 0.0]);
+    l["op"] = json!(1e9);
+    l["ks"]["o"] = anim(json!([100]), json!([20]));
+    let mut d = doc(json!([l]), json!([]));
+    d["op"] = json!(1e9);
+    let src = write_json(&dir, "long.json", &d);
+    let g = dir.join("paint.gm");
+    std::fs::write(
+        &g,
+        "duration 1s\nfps 30\nloop false\n\
+         animate(fill, local, 0, #0000ff) : [all, tile] -> [blue]\n\
+         animate(opacity, local, 0, 0.5) : [blue, tile] -> [faded]\n",
+    )
+    .unwrap();
+    let out = dir.join("out.json");
+    let start = std::time::Instant::now();
+    let (ok, _, err) = run(bin().arg("animate").arg(&src).arg(&g).arg("-o").arg(&out));
+    assert!(ok, "{err}");
+    assert!(start.elapsed().as_secs() < 30, "took {:?}", start.elapsed());
+    assert!(
+        err.contains("paint and opacity are written for its first"),
+        "{err}"
+    );
+}
+
 /// A shape layer (`ty` 4) named `nm` holding `items` (a group's contents), 60 frames long.
 fn shape_layer(nm: &str, ind: i64, ks: Value, items: Value) -> Value {
     json!({"ddd": 0, "ty": 4, "nm": nm, "ind": ind, "ip": 0, "op": 60, "st": 0, "sr": 1,

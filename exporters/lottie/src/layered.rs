@@ -493,7 +493,7 @@ fn multiply_opacity(
     );
     let prop = if animated {
         // Both animate: the product at every frame of the composition.
-        let frames = (doc.op - doc.ip).ceil().max(1.0) as usize;
+        let frames = crate::restyle::sampled_frames(doc, &label, warnings);
         let samples: Vec<(f64, Vec<f64>)> = (0..=frames)
             .map(|f| {
                 let comp = doc.ip + f as f64;

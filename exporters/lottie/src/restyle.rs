@@ -40,7 +40,7 @@ pub(crate) fn restyle(
     let Some(model) = d.layers.get(li) else {
         return;
     };
-    let frames = (d.op - d.ip).ceil().max(1.0) as usize;
+    let frames = sampled_frames(d, &format!("{name} (layer \"{}\")", model.nm), warnings);
     let clock: Vec<(f64, ShapeState)> = (0..=frames)
         .map(|f| (d.ip + f as f64, track.state_at(f as f64 / d.fr)))
         .collect();
@@ -285,6 +285,34 @@ impl Walk<'_> {
     }
 }
 
+/// Most frames of a composition sampled to multiply gmotion's paint and opacity into the
+/// source's own animated values (ten minutes at 30 fps).
+pub(crate) const MAX_SAMPLED_FRAMES: usize = 18_000;
+
+/// How many frames after its first the composition of `doc` is sampled over: all of them,
+/// or [`MAX_SAMPLED_FRAMES`], with a warning under `label` (after them the last sampled
+/// value holds).
+pub(crate) fn sampled_frames(
+    doc: &gmotion_import_lottie::model::Document,
+    label: &str,
+    warnings: &mut Vec<Warning>,
+) -> usize {
+    let span = (doc.op - doc.ip).ceil().max(1.0);
+    if span > MAX_SAMPLED_FRAMES as f64 {
+        let w = Warning::about(
+            label.to_string(),
+            format!(
+                "the composition is {span} frames long; paint and opacity are written for its first {MAX_SAMPLED_FRAMES} frames, after which they hold"
+            ),
+        );
+        if !warnings.contains(&w) {
+            warnings.push(w);
+        }
+        return MAX_SAMPLED_FRAMES;
+    }
+    span as usize
+}
+
 /// `rgb` (in 0..`scale`) as `tint` shows it.
 fn tinted(tint: Tint, rgb: [f64; 3], scale: f64) -> [f64; 3] {
     let c = |x: f64| (x / scale) as f32;
@@ -313,21 +341,40 @@ pub(crate) fn resampled(samples: Vec<(f64, Vec<f64>)>, eps: f64) -> Prop {
     if samples.iter().all(|s| s.1 == first) {
         return Prop::fixed(value(&first));
     }
-    // Within eps of the line from sample a to sample b, every sample between them.
-    let fits = |a: usize, b: usize| {
-        let ((ta, va), (tb, vb)) = (&samples[a], &samples[b]);
-        samples[a + 1..b].iter().all(|(t, v)| {
-            let u = (t - ta) / (tb - ta);
-            v.iter()
-                .zip(va.iter().zip(vb))
-                .all(|(x, (p, q))| (p + (q - p) * u - x).abs() < eps)
-        })
-    };
+    // Greedy: from keyframe a, the farthest b whose line from a passes within eps of
+    // every sample between them. A line from a is fixed by its slope, so each sample
+    // between narrows the open interval of slopes that pass it (per component); b fits
+    // while its own slope lies in the interval of the samples before it. Linear in the
+    // sample count.
+    let dims = first.len();
     let mut keep = vec![0];
     let mut a = 0;
     while a + 1 < samples.len() {
+        let (ta, va) = &samples[a];
+        let mut lo = vec![f64::NEG_INFINITY; dims];
+        let mut hi = vec![f64::INFINITY; dims];
         let mut b = a + 1;
-        while b + 1 < samples.len() && fits(a, b + 1) {
+        while b + 1 < samples.len() {
+            // Sample b becomes one between a and the candidate b + 1.
+            let (tb, vb) = &samples[b];
+            let dt = tb - ta;
+            for d in 0..dims {
+                let (x, p) = (
+                    vb.get(d).copied().unwrap_or(0.0),
+                    va.get(d).copied().unwrap_or(0.0),
+                );
+                lo[d] = lo[d].max((x - p - eps) / dt);
+                hi[d] = hi[d].min((x - p + eps) / dt);
+            }
+            let (tc, vc) = &samples[b + 1];
+            let fits = (0..dims).all(|d| {
+                let slope = (vc.get(d).copied().unwrap_or(0.0) - va.get(d).copied().unwrap_or(0.0))
+                    / (tc - ta);
+                lo[d] < slope && slope < hi[d]
+            });
+            if !fits {
+                break;
+            }
             b += 1;
         }
         keep.push(b);
@@ -346,4 +393,61 @@ pub(crate) fn resampled(samples: Vec<(f64, Vec<f64>)>, eps: f64) -> Prop {
         last.ease = None;
     }
     Prop::keyed(kept)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The keyframes' values at their times, for the first `dims` components.
+    fn keys(p: &Prop) -> Vec<(f64, Vec<f64>)> {
+        let Prop::Animated(ks) = p else {
+            panic!("animated");
+        };
+        ks.iter()
+            .map(|k| match &k.s {
+                Value::Scalar(x) => (k.t.0, vec![x.0]),
+                Value::Vec(v) => (k.t.0, v.iter().map(|x| x.0).collect()),
+                _ => panic!("a number or a vector"),
+            })
+            .collect()
+    }
+
+    #[test]
+    fn resampling_keeps_every_sample_within_eps_of_its_keyframes_line() {
+        let eps = 0.01;
+        let samples: Vec<(f64, Vec<f64>)> = (0..=300)
+            .map(|f| {
+                let t = f as f64;
+                (
+                    t,
+                    vec![(t / 20.0).sin(), 0.002 * t, if f < 150 { 0.0 } else { 1.0 }],
+                )
+            })
+            .collect();
+        let kept = keys(&resampled(samples.clone(), eps));
+        assert!(kept.len() < samples.len() / 3, "{} keyframes", kept.len());
+        assert_eq!(kept.first().map(|k| k.0), Some(0.0));
+        assert_eq!(kept.last().map(|k| k.0), Some(300.0));
+        for (t, v) in &samples {
+            let i = kept.iter().rposition(|k| k.0 <= *t).unwrap();
+            let j = (i + 1).min(kept.len() - 1);
+            let ((ta, va), (tb, vb)) = (&kept[i], &kept[j]);
+            let u = if tb > ta { (t - ta) / (tb - ta) } else { 0.0 };
+            for d in 0..3 {
+                let line = va[d] + (vb[d] - va[d]) * u;
+                // Keyframe values are rounded to what Lottie writes.
+                assert!(
+                    (line - v[d]).abs() < eps + 1e-3,
+                    "frame {t}, component {d}: {line} for {}",
+                    v[d]
+                );
+            }
+        }
+        // A straight line is its two ends.
+        let line: Vec<(f64, Vec<f64>)> = (0..=100)
+            .map(|f| (f as f64, vec![f as f64 * 0.5]))
+            .collect();
+        assert_eq!(keys(&resampled(line, eps)).len(), 2);
+    }
 }
