@@ -1049,6 +1049,69 @@ fn text_layer(
         "t": {"d": {"k": k}, "p": {}, "m": m, "a": a}})
 }
 
+#[test]
+fn text_without_embedded_glyphs_is_set_in_the_installed_font_as_lottie_web_sets_it() {
+    let dir = out_dir("system-font-text");
+    // "Arial" is what After Effects files name most; Chromium and gmotion both find a
+    // face for it through the machine's fonts (Liberation Sans, metric-compatible, where
+    // Arial itself is missing: tests/conformance/install.sh installs it).
+    let mut d = doc(
+        json!([text_layer(
+            "Title",
+            1,
+            [100.0, 110.0],
+            &[(
+                0.0,
+                json!({"t": "Hello, World\rAgain", "s": 36, "j": 2, "tr": 0, "lh": 44, "ls": 0, "fc": [0.9, 0.1, 0.1]})
+            )],
+            json!([]),
+            json!({"g": 1, "a": fixed(json!([0, 0]))}),
+        )]),
+        json!([]),
+    );
+    d["fonts"] = json!({"list": [{"fName": "Test-Regular", "fFamily": "Arial", "fStyle": "Regular", "ascent": 71.6, "fOrigin": "n"}]});
+    let text = serde_json::to_string(&d).unwrap();
+    let src = write_json(&dir, "text.json", &d);
+    let ours = dir.join("ours.png");
+    let (ok, _, err) = run(bin()
+        .arg("convert")
+        .arg(&src)
+        .args(["-o"])
+        .arg(&ours)
+        .args(["--time", "0", "--width", "200"]));
+    assert!(ok, "{err}");
+    assert!(!err.contains("text not drawn"), "{err}");
+    let red = |r: u8, g: u8, b: u8, a: u8| a > 128 && r > 128 && g < 100 && b < 100;
+    let (n, c, m) = moments(&ours, red);
+    // lottie-web's canvas renderer draws nothing of this text in our harness (as of
+    // multi-line glyph text), rlottie draws no text, ThorVG only embedded glyphs: the svg
+    // renderer is the one player that sets text in the machine's fonts.
+    let players = [Player::LottieWebSvg];
+    let played = play(
+        "lottie_import-system-font-text",
+        &text,
+        &[0.0],
+        200,
+        &players,
+    );
+    for p in players {
+        let (pn, pc, pm) = moments(&frame_path(&played, p, 0.0), red);
+        let msg = format!("{p:?}: {pn} px at {pc:?} {pm:?}; gmotion {n} px at {c:?} {m:?}");
+        // The same letters in the same place: centre within 2 px, spread (the lines'
+        // length and spacing) within 10%; ink within 25% (Chromium rasterises text
+        // heavier than outlines are filled).
+        assert!((pn - n).abs() < 0.25 * pn, "{msg}");
+        assert!(
+            (pc[0] - c[0]).abs() < 2.0 && (pc[1] - c[1]).abs() < 2.0,
+            "{msg}"
+        );
+        assert!(
+            (pm[0] - m[0]).abs() < 0.1 * pm[0] && (pm[1] - m[1]).abs() < 0.1 * pm[1],
+            "{msg}"
+        );
+    }
+}
+
 /// Text layers drawn from embedded glyphs (`chars`), one feature each: point text on two
 /// lines with tracking, fill and stroke; right and centre justification; box text wrapping
 /// at spaces; an animator whose range selector sweeps over the letters moving, scaling,

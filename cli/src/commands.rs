@@ -307,6 +307,10 @@ fn import_options(
                 Units::Groups => lottie_import::Units::Groups,
                 Units::Auto | Units::Paths => lottie_import::Units::Layers,
             },
+            fonts: Some({
+                let fonts = ctx.fonts.clone();
+                lottie_import::fonts::SystemFonts::new(move || svg_import::fonts::database(&fonts))
+            }),
         },
     })
 }

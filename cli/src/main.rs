@@ -58,13 +58,14 @@ struct Cli {
     /// assets) may reference, besides its own folder (repeatable).
     #[arg(long = "allow-path", value_name = "DIR", global = true)]
     allow_paths: Vec<PathBuf>,
-    /// A folder of fonts for SVG text, besides the system's (repeatable).
+    /// A folder of fonts for SVG text and Lottie text without embedded glyphs, besides the
+    /// system's (repeatable).
     #[arg(long = "font-dir", value_name = "DIR", global = true)]
     font_dirs: Vec<PathBuf>,
-    /// A font file for SVG text (repeatable).
+    /// A font file for SVG text and Lottie text without embedded glyphs (repeatable).
     #[arg(long = "font-file", value_name = "FILE", global = true)]
     font_files: Vec<PathBuf>,
-    /// The family SVG text is drawn in when its own font is not installed (default: the
+    /// The family text is drawn in when its own font is not installed (default: the
     /// first installed of Arial, Helvetica, Liberation Sans, DejaVu Sans, Noto Sans, …).
     #[arg(long = "font-family", value_name = "NAME", global = true)]
     font_family: Option<String>,

@@ -395,7 +395,11 @@ impl<'a> Builder<'a> {
             let outline = match outlines.get(&letter.glyph) {
                 Some(o) => o.clone(),
                 None => {
-                    let o = self.unstyled(&fonts.glyphs[letter.glyph].shapes)?;
+                    let glyph = &fonts.glyphs[letter.glyph];
+                    let o = match &glyph.outline {
+                        Some(o) => o.clone(),
+                        None => self.unstyled(&glyph.shapes)?,
+                    };
                     outlines.insert(letter.glyph, o.clone());
                     o
                 }

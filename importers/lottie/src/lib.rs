@@ -26,12 +26,14 @@
 //! Image layers draw their asset: embedded (`e: 1`: a PNG, JPEG, GIF or WebP data URL) or
 //! linked (`u` + `p`, read from the file's folder by [`load`] under
 //! [`gmotion::input::References`]). Text layers draw the glyphs the file embeds, laid out
-//! and animated as lottie-web does ([`text`]). Gaussian Blur and Drop Shadow effects are
+//! and animated as lottie-web does ([`text`]); a file without glyphs has its text set in
+//! the machine's fonts, as players set it ([`fonts`], given [`ImportOptions::fonts`]).
+//! Gaussian Blur and Drop Shadow effects are
 //! drawn as lottie-web draws them ([`effects`]).
 //!
 //! **Not drawn** (with a warning naming the first place and how many): images that cannot
-//! be read (their rectangle is measured), text without embedded glyphs (measured as a
-//! point), merge paths and the other shape modifiers (offset paths, zig-zags, pucker and
+//! be read (their rectangle is measured), text without embedded glyphs when no fonts are
+//! given (measured as a point), merge paths and the other shape modifiers (offset paths, zig-zags, pucker and
 //! bloat, twists), mask expansion, other effects, expressions (the property's own value is
 //! used).
 //!
@@ -46,6 +48,7 @@
 pub mod build;
 pub mod effects;
 pub mod eval;
+pub mod fonts;
 pub mod model;
 pub mod outline;
 pub mod tags;
@@ -82,6 +85,9 @@ pub struct ImportOptions {
     pub max_file_bytes: u64,
     /// What the units are (`--units`).
     pub units: Units,
+    /// The fonts text the file does not embed is drawn in ([`fonts`]); `None`: such text
+    /// is measured as a point, with a warning.
+    pub fonts: Option<fonts::SystemFonts>,
 }
 
 /// What a Lottie scene's units are.
@@ -105,6 +111,7 @@ impl Default for ImportOptions {
             allowed_dirs: Vec::new(),
             max_file_bytes: gmotion::input::DEFAULT_MAX_INPUT_BYTES,
             units: Units::Layers,
+            fonts: None,
         }
     }
 }
@@ -245,6 +252,10 @@ fn import(
         message: e.message,
     };
     let mut document = Document::read(&json).map_err(located)?;
+    let font_warnings = match &opts.fonts {
+        Some(f) => fonts::fill_in(&mut document, f),
+        None => Vec::new(),
+    };
     let refs = gmotion::input::References {
         owner: "Lottie file",
         dir,
@@ -288,8 +299,10 @@ fn import(
         root,
         shapes,
     };
-    let warnings = warnings
+    let warnings = font_warnings
         .into_iter()
+        .map(|(at, what)| (at.to_string(), what))
+        .chain(warnings)
         .map(|(at, what)| Warning::about(at, what))
         .collect();
     Ok(Imported {

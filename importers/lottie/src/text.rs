@@ -6,10 +6,10 @@
 //! low, smoothness, amount, units in percent or index, based on characters, words or lines)
 //! moving, scaling, skewing, turning, fading, re-colouring and stroking letters.
 //!
-//! What players draw with the user's fonts (a file without `chars`) cannot be drawn the same
-//! without those fonts: such text is measured as a point at its anchor, with a warning, as
-//! are text on a path (laid out on a straight line here), 3D letter rotation and expression
-//! selectors.
+//! What players draw with the user's fonts (a file without `chars`) gets glyphs made from
+//! the machine's fonts first ([`crate::fonts`]); without fonts it is measured as a point at
+//! its anchor, with a warning. Text on a path is laid out on a straight line here; 3D letter
+//! rotation and expression selectors are warned about.
 
 use kurbo::{Affine, Vec2};
 use serde_json::Value;
@@ -50,6 +50,9 @@ pub struct Glyph {
     pub width: f64,
     /// The outline as shape items (`data.shapes`).
     pub shapes: Vec<ShapeItem>,
+    /// The outline at size 100, y down from the baseline, of a glyph made from a system
+    /// font ([`crate::fonts`]) rather than embedded; drawn instead of `shapes`.
+    pub outline: Option<kurbo::BezPath>,
 }
 
 /// The fonts and glyphs of a document.
@@ -100,6 +103,7 @@ impl Fonts {
                     family: opt_string(o, "fFamily", &g_at)?.unwrap_or_default(),
                     width: opt_number(o, "w", &g_at)?.unwrap_or(0.0),
                     shapes,
+                    outline: None,
                 });
             }
         }
@@ -442,7 +446,7 @@ struct Layout {
 /// The characters of `text` as lottie-web splits them (`buildFinalText`): code points,
 /// with combining marks, variation selectors, zero-width joiners, emoji modifiers and
 /// regional indicators kept on the character before them.
-fn characters(text: &str) -> Vec<String> {
+pub(crate) fn characters(text: &str) -> Vec<String> {
     let mut out: Vec<String> = Vec::new();
     let mut join_next = false;
     for c in text.chars() {
@@ -960,6 +964,7 @@ mod tests {
             family: "F".into(),
             width,
             shapes: Vec::new(),
+            outline: None,
         }
     }
 
