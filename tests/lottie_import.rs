@@ -221,6 +221,47 @@ fn moments(png: &Path, pick: impl Fn(u8, u8, u8, u8) -> bool) -> (f64, [f64; 2],
     (n, c, m)
 }
 
+/// Runs `gmotion animate SRC GRAMMAR -o out.json` in `dir` with `grammar` as the grammar
+/// file's text; returns the Lottie written and what the command said on stderr.
+fn animate_lottie(dir: &Path, src: &Path, grammar: &str) -> (String, String) {
+    let g = dir.join("grammar.gm");
+    std::fs::write(&g, grammar).unwrap();
+    let out = dir.join("out.json");
+    let (ok, _, err) = run(bin().arg("animate").arg(src).arg(&g).arg("-o").arg(&out));
+    assert!(ok, "{err}");
+    (std::fs::read_to_string(&out).unwrap(), err)
+}
+
+/// Asserts that what `pick` selects in `before` turns a quarter about its centroid by
+/// `after`: the centroid stays, the second moments swap their axes and the cross moment
+/// changes sign; the area is kept. Returns the starting moments.
+fn assert_quarter_turn(
+    who: &str,
+    before: &Path,
+    after: &Path,
+    pick: impl Fn(u8, u8, u8, u8) -> bool + Copy,
+) -> [f64; 3] {
+    let (n0, c0, m0) = moments(before, pick);
+    let (n1, c1, m1) = moments(after, pick);
+    let msg = format!("{who}: before {n0} px at {c0:?} {m0:?}, after {n1} px at {c1:?} {m1:?}");
+    assert!(
+        (c0[0] - c1[0]).abs() < 1.0 && (c0[1] - c1[1]).abs() < 1.0,
+        "{msg}"
+    );
+    assert!((n0 - n1).abs() < 0.03 * n0, "{msg}");
+    let scale = m0[0].max(m0[1]);
+    assert!((m1[0] - m0[1]).abs() < 0.05 * scale, "{msg}");
+    assert!((m1[1] - m0[0]).abs() < 0.05 * scale, "{msg}");
+    assert!((m1[2] + m0[2]).abs() < 0.05 * scale, "{msg}");
+    m0
+}
+
+/// The opacity (0–1) of pixel `(x, y)` of a player's frame.
+fn alpha_at(png: &Path, x: usize, y: usize) -> f64 {
+    let pm = Pixmap::load_png(png).unwrap();
+    pm.pixels()[y * pm.width() as usize + x].alpha() as f64 / 255.0
+}
+
 #[test]
 fn a_turn_and_a_fade_on_top_play_in_lottie_web_and_rlottie() {
     let dir = out_dir("turn");
@@ -249,18 +290,13 @@ fn a_turn_and_a_fade_on_top_play_in_lottie_web_and_rlottie() {
     ]);
     let src = write_json(&dir, "scene.json", &doc(layers, json!([])));
     // The grammar lasts 1 s of the 2 s composition: from frame 30 on the end state holds.
-    let g = dir.join("turn.gm");
-    std::fs::write(
-        &g,
+    let (text, _) = animate_lottie(
+        &dir,
+        &src,
         "duration 1s\nfps 30\n\
          animate(affine, local, 0, rotate(90)) : [all, Bar] -> [turned]\n\
          animate(opacity, local, 0, 0.5) : [all, dot] -> [faded]\n",
-    )
-    .unwrap();
-    let out = dir.join("out.json");
-    let (ok, _, err) = run(bin().arg("animate").arg(&src).arg(&g).arg("-o").arg(&out));
-    assert!(ok, "{err}");
-    let text = std::fs::read_to_string(&out).unwrap();
+    );
     let v: Value = serde_json::from_str(&text).unwrap();
     let layers = v["layers"].as_array().unwrap();
     assert_eq!(layers[1]["nm"], "Bar Outlines");
@@ -290,31 +326,18 @@ fn a_turn_and_a_fade_on_top_play_in_lottie_web_and_rlottie() {
     let red = |r: u8, g: u8, b: u8, a: u8| a > 128 && r > 128 && g < 64 && b < 64;
     let blue = |r: u8, g: u8, b: u8, a: u8| a > 0 && b > 16 && r < 16 && g < 16;
     for p in players {
-        let (n0, c0, m0) = moments(&frame_path(&played, p, 0.0), red);
-        let (n1, c1, m1) = moments(&frame_path(&played, p, 45.0), red);
-        // A quarter turn about the bar's centroid: the centroid stays, the second moments
-        // swap their axes and the cross moment changes sign; the area is kept.
-        let msg =
-            format!("{p:?}: frame 0 {n0} px at {c0:?} {m0:?}, frame 45 {n1} px at {c1:?} {m1:?}");
-        assert!(
-            (c0[0] - c1[0]).abs() < 1.0 && (c0[1] - c1[1]).abs() < 1.0,
-            "{msg}"
+        let m0 = assert_quarter_turn(
+            &format!("{p:?}"),
+            &frame_path(&played, p, 0.0),
+            &frame_path(&played, p, 45.0),
+            red,
         );
-        assert!((n0 - n1).abs() < 0.03 * n0, "{msg}");
-        let scale = m0[0].max(m0[1]);
-        assert!((m1[0] - m0[1]).abs() < 0.05 * scale, "{msg}");
-        assert!((m1[1] - m0[0]).abs() < 0.05 * scale, "{msg}");
-        assert!((m1[2] + m0[2]).abs() < 0.05 * scale, "{msg}");
         assert!(
-            m0[2].abs() > 0.2 * scale,
-            "the bar starts at an angle: {msg}"
+            m0[2].abs() > 0.2 * m0[0].max(m0[1]),
+            "{p:?}: the bar starts at an angle: {m0:?}"
         );
         // The square fades to half its opacity and stays where it was.
-        let alpha = |f: f64| {
-            let pm = Pixmap::load_png(frame_path(&played, p, f)).unwrap();
-            let w = pm.width() as usize;
-            pm.pixels()[160 * w + 160].alpha() as f64 / 255.0
-        };
+        let alpha = |f: f64| alpha_at(&frame_path(&played, p, f), 160, 160);
         assert!((alpha(0.0) - 1.0).abs() < 0.02, "{p:?}: {}", alpha(0.0));
         assert!((alpha(45.0) - 0.5).abs() < 0.03, "{p:?}: {}", alpha(45.0));
         let (_, d0, _) = moments(&frame_path(&played, p, 0.0), blue);
@@ -363,18 +386,13 @@ fn top_level_groups_as_units_move_inside_their_layer_in_lottie_web_and_rlottie()
         .arg(&src));
     assert!(!ok && err.contains("--units paths"), "{err}");
 
-    let g = dir.join("groups.gm");
-    std::fs::write(
-        &g,
+    let (text, _) = animate_lottie(
+        &dir,
+        &src,
         "units groups\nduration 1s\nfps 30\n\
          animate(affine, local, 0, rotate(90)) : [all, Bar] -> [turned]\n\
          animate(opacity, local, 0, 0.5) : [all, group] -> [faded]\n",
-    )
-    .unwrap();
-    let out = dir.join("out.json");
-    let (ok, _, err) = run(bin().arg("animate").arg(&src).arg(&g).arg("-o").arg(&out));
-    assert!(ok, "{err}");
-    let text = std::fs::read_to_string(&out).unwrap();
+    );
     let v: Value = serde_json::from_str(&text).unwrap();
     let source: Value = serde_json::from_str(&std::fs::read_to_string(&src).unwrap()).unwrap();
     let layers = v["layers"].as_array().unwrap();
@@ -410,20 +428,13 @@ fn top_level_groups_as_units_move_inside_their_layer_in_lottie_web_and_rlottie()
     let is_red = |r: u8, g: u8, b: u8, a: u8| a > 128 && r > 128 && g < 64 && b < 64;
     let is_blue = |r: u8, g: u8, b: u8, a: u8| a > 0 && b > 16 && r < 16 && g < 16;
     for p in players {
-        let (n0, c0, m0) = moments(&frame_path(&played, p, 0.0), is_red);
-        let (n1, c1, m1) = moments(&frame_path(&played, p, 45.0), is_red);
         // A quarter turn about the bar's centroid, whatever the layer and rig do.
-        let msg =
-            format!("{p:?}: frame 0 {n0} px at {c0:?} {m0:?}, frame 45 {n1} px at {c1:?} {m1:?}");
-        assert!(
-            (c0[0] - c1[0]).abs() < 1.0 && (c0[1] - c1[1]).abs() < 1.0,
-            "{msg}"
+        assert_quarter_turn(
+            &format!("{p:?}"),
+            &frame_path(&played, p, 0.0),
+            &frame_path(&played, p, 45.0),
+            is_red,
         );
-        assert!((n0 - n1).abs() < 0.03 * n0, "{msg}");
-        let scale = m0[0].max(m0[1]);
-        assert!((m1[0] - m0[1]).abs() < 0.05 * scale, "{msg}");
-        assert!((m1[1] - m0[0]).abs() < 0.05 * scale, "{msg}");
-        assert!((m1[2] + m0[2]).abs() < 0.05 * scale, "{msg}");
         // The square stays, fading to half.
         let (b0, d0, _) = moments(&frame_path(&played, p, 0.0), is_blue);
         let (b1, d1, _) = moments(&frame_path(&played, p, 45.0), is_blue);
@@ -433,11 +444,7 @@ fn top_level_groups_as_units_move_inside_their_layer_in_lottie_web_and_rlottie()
                 && (b0 - b1).abs() < 0.03 * b0,
             "{p:?}: {b0} px at {d0:?}, then {b1} px at {d1:?}"
         );
-        let alpha = |f: f64| {
-            let pm = Pixmap::load_png(frame_path(&played, p, f)).unwrap();
-            let w = pm.width() as usize;
-            pm.pixels()[d0[1] as usize * w + d0[0] as usize].alpha() as f64 / 255.0
-        };
+        let alpha = |f: f64| alpha_at(&frame_path(&played, p, f), d0[0] as usize, d0[1] as usize);
         assert!((alpha(0.0) - 1.0).abs() < 0.02, "{p:?}: {}", alpha(0.0));
         assert!((alpha(45.0) - 0.5).abs() < 0.03, "{p:?}: {}", alpha(45.0));
     }
@@ -458,18 +465,13 @@ fn parts_painted_by_their_layers_fill_change_colour_and_fade_alone() {
         solid_fill([1.0, 0.0, 0.0]),
     ]);
     let src = write_json(&dir, "scene.json", &doc(json!([layer]), json!([])));
-    let g = dir.join("paint.gm");
-    std::fs::write(
-        &g,
+    let (text, _) = animate_lottie(
+        &dir,
+        &src,
         "units groups\nduration 1s\nfps 30\n\
          animate(opacity, local, 0, 0.5) : [all, Right] -> [faded]\n\
          animate(fill, local, 0, #0000ff) : [all, Left] -> [blue]\n",
-    )
-    .unwrap();
-    let out = dir.join("out.json");
-    let (ok, _, err) = run(bin().arg("animate").arg(&src).arg(&g).arg("-o").arg(&out));
-    assert!(ok, "{err}");
-    let text = std::fs::read_to_string(&out).unwrap();
+    );
     let players = [
         Player::LottieWebSvg,
         Player::LottieWebCanvas,
@@ -710,18 +712,14 @@ fn paint_on_a_composition_a_billion_frames_long_is_written_in_bounded_time() {
     let mut d = doc(json!([l]), json!([]));
     d["op"] = json!(1e9);
     let src = write_json(&dir, "long.json", &d);
-    let g = dir.join("paint.gm");
-    std::fs::write(
-        &g,
+    let start = std::time::Instant::now();
+    let (_, err) = animate_lottie(
+        &dir,
+        &src,
         "duration 1s\nfps 30\nloop false\n\
          animate(fill, local, 0, #0000ff) : [all, tile] -> [blue]\n\
          animate(opacity, local, 0, 0.5) : [blue, tile] -> [faded]\n",
-    )
-    .unwrap();
-    let out = dir.join("out.json");
-    let start = std::time::Instant::now();
-    let (ok, _, err) = run(bin().arg("animate").arg(&src).arg(&g).arg("-o").arg(&out));
-    assert!(ok, "{err}");
+    );
     assert!(start.elapsed().as_secs() < 30, "took {:?}", start.elapsed());
     assert!(
         err.contains("paint and opacity are written for its first"),
