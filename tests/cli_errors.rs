@@ -372,6 +372,14 @@ fn all_cases() -> Vec<Case> {
         Case::new("Lottie repeaters nested four deep, 1000 copies each", "convert {d}/anim.json -o {d}/out.png", &["anim.json", "repeater copies past 50000 repeated items in all are left out"], "out.png")
             .files(vec![("anim.json", nested_repeaters(4, 1000))])
             .succeeds(),
+        // Colour changes copy the precompositions a unit draws: one used many times over at
+        // many levels (the lottie fuzz target's find) is copied within a bound.
+        Case::new("Lottie precomposition used many times at many levels, recoloured", "animate {d}/anim.json {d}/g.gm -o {d}/out.json", &["out.json", "feudar_Précomp:0", "more than 20000 layers of precompositions to copy with colour changes"], "out.json")
+            .files(vec![
+                ("anim.json", include_bytes!("../fuzz/regressions/lottie/precomp-used-many-times-at-many-levels-recoloured.json").to_vec()),
+                ("g.gm", b"duration 1s\nfps 10\nanimate(fill, local, 0, #3366ff) : [all, all] -> [blue]\n".to_vec()),
+            ])
+            .succeeds(),
         // A Lottie file's linked images fall under the same policy as an SVG's.
         Case::new("Lottie image linked by an absolute path", "convert {d}/anim.json -o {d}/out.png", &["anim.json", "$.layers[0]", "/etc/hostname", "outside the Lottie file's folder", "--allow-path"], "out.png")
             .files(vec![("anim.json", lottie_linking("/etc/", "hostname"))])

@@ -839,6 +839,10 @@ fn own_render_cases() -> Vec<(&'static str, Value)> {
 
     let outline =
         |x0: f64, y0: f64, x1: f64, y1: f64| polygon(&[[x0, y0], [x1, y0], [x1, y1], [x0, y1]]);
+    let expanded = |mut m: Value, x: f64| {
+        m["x"] = fixed(json!(x));
+        m
+    };
     let (tall, inner, corner) = (
         outline(-30.0, -90.0, 30.0, 90.0),
         outline(-40.0, -40.0, 40.0, 40.0),
@@ -848,8 +852,10 @@ fn own_render_cases() -> Vec<(&'static str, Value)> {
     let mask_cases = [
         ("mask-add", json!([mask("a", square.clone(), false)])),
         ("mask-subtract", json!([mask("a", square.clone(), false), mask("s", tall, false)])),
-        ("mask-intersect-inverted", json!([mask("a", square.clone(), false), mask("i", inner, true)])),
+        ("mask-intersect-inverted", json!([mask("a", square.clone(), false), mask("i", inner.clone(), true)])),
         ("mask-subtract-first", json!([mask("s", corner, false)])),
+        ("mask-expanded", json!([expanded(mask("a", inner.clone(), false), 15.0)])),
+        ("mask-eroded", json!([expanded(mask("a", square.clone(), false), -15.0)])),
     ];
     for (name, masks) in mask_cases {
         let mut l = shape_layer(
@@ -1246,6 +1252,23 @@ fn text_cases() -> Vec<(&'static str, Value)> {
 /// Where a player draws a feature otherwise than After Effects and the other players (and
 /// gmotion) do: (case, player, what it does).
 const OWN_RENDER_KNOWN: &[(&str, Player, &str)] = &[
+    (
+        "mask-expanded",
+        Player::LottieWebCanvas,
+        "does not expand masks",
+    ),
+    ("mask-expanded", Player::Rlottie, "does not expand masks"),
+    (
+        "mask-eroded",
+        Player::LottieWebSvg,
+        "erodes the rasterised mask by whole pixels (feMorphology): its edge lies a pixel inside",
+    ),
+    (
+        "mask-eroded",
+        Player::LottieWebCanvas,
+        "does not expand masks",
+    ),
+    ("mask-eroded", Player::Rlottie, "does not expand masks"),
     (
         "dashes",
         Player::Rlottie,

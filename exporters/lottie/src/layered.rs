@@ -229,6 +229,7 @@ pub fn over_source(
     };
     // Colour and stroke width go into the layers' own items (and copies of the assets
     // they draw), which needs the whole document.
+    let mut budget = crate::restyle::MAX_COPIED_LAYERS;
     for (li, part, u, name) in restyles {
         crate::restyle::restyle(
             &mut json,
@@ -238,6 +239,7 @@ pub fn over_source(
             &anim.tracks[u],
             &name,
             &mut warnings,
+            &mut budget,
         );
     }
     // Last: wrapping moves an item into a new group, where the restyling would not find it.

@@ -24,7 +24,7 @@ const WIDTH_EPS: f64 = 0.01;
 /// `doc` (the document being written) and everything it draws: the fills, strokes and
 /// gradients of a shape layer; for a precomposition, a copy of its asset (so that other
 /// uses keep theirs) with the same done to every layer inside, on the precomposition's own
-/// clock. With `part` (`--units groups`: the index of a top-level item, and the layer's
+/// clock, the copies' layers counted against `budget`. With `part` (`--units groups`: the index of a top-level item, and the layer's
 /// top-level items as `doc` holds them now), only that item is restyled. What cannot be
 /// written is warned about under `name`.
 pub(crate) fn restyle(
@@ -35,6 +35,7 @@ pub(crate) fn restyle(
     track: &Track,
     name: &str,
     warnings: &mut Vec<Warning>,
+    budget: &mut usize,
 ) {
     let d = &source.document;
     let Some(model) = d.layers.get(li) else {
@@ -50,7 +51,9 @@ pub(crate) fn restyle(
         label: format!("{name} (layer \"{}\")", model.nm),
         warnings,
         copies: Vec::new(),
+        made: Default::default(),
         suffix: name.replace(':', " "),
+        budget,
     };
     let Some(layer) = doc.get_mut("layers").and_then(|l| l.get_mut(li)) else {
         return;
@@ -68,6 +71,11 @@ pub(crate) fn restyle(
     }
 }
 
+/// Most layers the precomposition copies that colour changes make may hold in all, over
+/// a document's units (each clock an asset runs on in a unit needs one copy): bounds the
+/// output of a precomposition used many times over at many levels.
+pub(crate) const MAX_COPIED_LAYERS: usize = 20_000;
+
 struct Walk<'a> {
     source: &'a Source,
     /// Files before 4.1.9 may hold 0–255 colours.
@@ -76,8 +84,14 @@ struct Walk<'a> {
     warnings: &'a mut Vec<Warning>,
     /// Restyled copies of precomposition assets, to add to the document.
     copies: Vec<Json>,
+    /// The copy made of each asset for each clock it runs on (its frames' times), so that
+    /// a precomposition used many times over (at many levels) is copied once per clock,
+    /// not once per use.
+    made: std::collections::HashMap<(String, Vec<u64>), String>,
     /// What names the unit in a copied asset's id.
     suffix: String,
+    /// Layers the document's copies may still hold ([`MAX_COPIED_LAYERS`]).
+    budget: &'a mut usize,
 }
 
 impl Walk<'_> {
@@ -117,13 +131,26 @@ impl Walk<'_> {
                 if depth >= gmotion_import_lottie::build::MAX_PRECOMP_DEPTH {
                     return;
                 }
-                let mut copy = original.clone();
-                let id = format!("{} gmotion {} {}", asset.id, self.suffix, self.copies.len());
-                copy["id"] = Json::from(id.clone());
                 let inner_clock: Vec<(f64, ShapeState)> = clock
                     .iter()
                     .map(|(f, s)| (gmotion_import_lottie::build::inner_time(model, *f), *s))
                     .collect();
+                let key = (
+                    asset.id.clone(),
+                    inner_clock.iter().map(|(t, _)| t.to_bits()).collect(),
+                );
+                if let Some(id) = self.made.get(&key) {
+                    json["refId"] = Json::from(id.clone());
+                    return;
+                }
+                if inner.len() > *self.budget {
+                    return self.warn(&format!("more than {MAX_COPIED_LAYERS} layers of precompositions to copy with colour changes; the rest keep their colours"));
+                }
+                *self.budget -= inner.len();
+                let mut copy = original.clone();
+                let id = format!("{} gmotion {} {}", asset.id, self.suffix, self.copies.len());
+                copy["id"] = Json::from(id.clone());
+                self.made.insert(key, id.clone());
                 if let Some(layers) = copy.get_mut("layers").and_then(Json::as_array_mut) {
                     for (lj, lm) in layers.iter_mut().zip(inner) {
                         self.layer(lj, lm, &inner_clock, depth + 1);

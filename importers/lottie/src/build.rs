@@ -751,30 +751,53 @@ impl<'a> Builder<'a> {
         }
         for m in active {
             let Some(pt) = &m.pt else { continue };
-            if eval::scalar(m.x.as_ref(), t, 0.0) != 0.0 {
-                self.warn(&m.at.key("x"), "mask expansion is not applied");
-            }
             let mut outline = eval::outline(pt, t, None);
             outline.apply_affine(world);
             let opacity = percent(m.o.as_ref(), t);
+            // Expansion (`x`, in layer units) grows the mask by a band along its outline,
+            // or shrinks it, as lottie-web draws it: a stroke twice as wide (SVG's miter
+            // joins) for growth, an erosion by the same radius for shrinking.
+            let x = eval::scalar(m.x.as_ref(), t, 0.0);
+            let band = 2.0 * x.abs() * world.determinant().abs().sqrt();
+            let fill = |color: Color| path_node(outline.clone(), Some(Fill::solid(color)), None);
+            let stroke =
+                |color: Color| path_node(outline.clone(), None, Some(Stroke::solid(color, band)));
+            let group = |children: Vec<Node>, mask: Option<Arc<Mask>>| {
+                Node::Group(Group {
+                    children,
+                    mask,
+                    ..Group::new()
+                })
+            };
             // The mask's coverage painted in `color`: its outline, or for an inverted
             // mask everything outside it.
             let coverage = |color: Color| -> Node {
-                let shape = path_node(outline.clone(), Some(Fill::solid(color)), None);
                 let node = if m.inverted {
-                    Node::Group(Group {
-                        children: vec![everywhere(color)],
-                        mask: Some(canvas.mask(
-                            MaskKind::Luminance,
-                            vec![
-                                everywhere(Color::WHITE),
-                                path_node(outline.clone(), Some(Fill::solid(Color::BLACK)), None),
-                            ],
-                        )),
-                        ..Group::new()
-                    })
+                    // Painted through the hole the outline makes: it shrinks as the
+                    // coverage grows and grows as the coverage shrinks.
+                    let hole = match x {
+                        0.0 => fill(Color::BLACK),
+                        x if x > 0.0 => group(vec![fill(Color::BLACK), stroke(Color::WHITE)], None),
+                        _ => group(vec![fill(Color::BLACK), stroke(Color::BLACK)], None),
+                    };
+                    group(
+                        vec![everywhere(color)],
+                        Some(
+                            canvas.mask(MaskKind::Luminance, vec![everywhere(Color::WHITE), hole]),
+                        ),
+                    )
                 } else {
-                    shape
+                    match x {
+                        0.0 => fill(color),
+                        x if x > 0.0 => group(vec![fill(color), stroke(color)], None),
+                        _ => group(
+                            vec![fill(color)],
+                            Some(canvas.mask(
+                                MaskKind::Luminance,
+                                vec![everywhere(Color::WHITE), stroke(Color::BLACK)],
+                            )),
+                        ),
+                    }
                 };
                 Node::Group(Group {
                     opacity,

@@ -34,7 +34,7 @@
 //! **Not drawn** (with a warning naming the first place and how many): images that cannot
 //! be read (their rectangle is measured), text without embedded glyphs when no fonts are
 //! given (measured as a point), merge paths and the other shape modifiers (offset paths, zig-zags, pucker and
-//! bloat, twists), mask expansion, other effects, expressions (the property's own value is
+//! bloat, twists), other effects, expressions (the property's own value is
 //! used).
 //!
 //! **Errors.** Nothing in the input can make the import panic: every value is checked as it
