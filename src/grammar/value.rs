@@ -304,13 +304,15 @@ fn num(expr: &Expr, env: &mut dyn Env) -> Result<f64, EvalError> {
     eval(expr, env)?.as_num().map_err(|e| e.at(expr.span))
 }
 
-/// `expr` by the arithmetic-only route: numbers, variables, `pi`, unary minus and the
-/// binary operators on numbers, each step computed exactly as [`eval`] computes it.
-/// `None` when the expression needs [`eval`]: a call, a tuple, a name that is not a
-/// variable, division by zero, a result that is not finite. It has no side effects (no
-/// `rand()` draws), so [`eval`] can then start over and give the value or the located
-/// error. Per-shape expressions such as `0.01 * (id % 30)` are evaluated for every shape at
-/// every step; this route skips building and matching [`Value`]s for them.
+/// `expr` by the arithmetic-only route: numbers, variables, `pi`, unary minus, the
+/// binary operators on numbers and the numeric functions (`noise`, `floor`, `min`, …) on
+/// positional numbers, each step computed exactly as [`eval`] computes it. `None` when the
+/// expression needs [`eval`]: `rand`, any other call, a tuple, a name that is not a
+/// variable, division by zero, an argument a function refuses, a result that is not finite.
+/// It has no side effects (no `rand()` draws), so [`eval`] can then start over and give the
+/// value or the located error. Per-shape expressions such as `0.01 * (id % 30)` or
+/// `noise(floor(cx / 64), 0)` are evaluated for every shape at every step; this route
+/// skips building and matching [`Value`]s for them.
 pub fn arithmetic(expr: &Expr, env: &dyn Env) -> Option<f64> {
     let x = match &expr.kind {
         ExprKind::Num(v) => *v,
@@ -329,9 +331,59 @@ pub fn arithmetic(expr: &Expr, env: &dyn Env) -> Option<f64> {
                 BinOp::Pow => a.powf(b),
             }
         }
+        ExprKind::Call { name, args } => numeric_call(name, args, env)?,
         _ => return None,
     };
     x.is_finite().then_some(x)
+}
+
+/// A numeric function of [`call`] by the arithmetic route: the same arithmetic on the same
+/// numbers, `None` wherever [`call`] would build anything else or refuse (a named argument,
+/// a wrong count, a square root of a negative number, reversed clamp bounds, …).
+fn numeric_call(name: &str, args: &[Arg], env: &dyn Env) -> Option<f64> {
+    let arg = |i: usize| -> Option<f64> {
+        let a = args.get(i)?;
+        if a.name.is_some() {
+            return None;
+        }
+        arithmetic(&a.value, env)
+    };
+    let n = args.len();
+    let one = || if n == 1 { arg(0) } else { None };
+    Some(match name {
+        "noise" if n == 2 => env.noise(arg(0)?, arg(1)?),
+        "sin" => one()?.sin(),
+        "cos" => one()?.cos(),
+        "tan" => one()?.tan(),
+        "rad" => one()?.to_radians(),
+        "abs" => one()?.abs(),
+        "floor" => one()?.floor(),
+        "ceil" => one()?.ceil(),
+        "round" => one()?.round(),
+        "exp" => one()?.exp(),
+        "sqrt" => {
+            let x = one()?;
+            (x >= 0.0).then(|| x.sqrt())?
+        }
+        "ln" => {
+            let x = one()?;
+            (x > 0.0).then(|| x.ln())?
+        }
+        "pow" if n == 2 => arg(0)?.powf(arg(1)?),
+        "min" | "max" if n >= 1 => {
+            let pick = if name == "min" { f64::min } else { f64::max };
+            let mut acc = arg(0)?;
+            for i in 1..n {
+                acc = pick(acc, arg(i)?);
+            }
+            acc
+        }
+        "clamp" if n == 3 => {
+            let (x, lo, hi) = (arg(0)?, arg(1)?, arg(2)?);
+            (lo <= hi).then(|| x.clamp(lo, hi))?
+        }
+        _ => return None,
+    })
 }
 
 /// A variable, `pi`, or else a keyword.
@@ -749,6 +801,16 @@ mod tests {
             "1e300",
             "rand(1, 2)",
             "nope",
+            "floor(id / 2)",
+            "noise(w, id * 0.9)",
+            "sqrt(id - 4)",
+            "ln(id - 3)",
+            "min(id, -w, 2)",
+            "clamp(id, w, h)",
+            "pow(id, 1 / 2)",
+            "abs(-sin(rad(id)))",
+            "noise(id)",
+            "scale(2)",
         ];
         let ops = ["+", "-", "*", "/", "%", "^"];
         let mut taken = 0;
