@@ -384,6 +384,17 @@ pub enum Paint {
     Pattern(Arc<Pattern>),
 }
 
+impl Paint {
+    /// A gradient's stops; `None` for a solid colour or a pattern.
+    pub fn gradient_stops(&self) -> Option<&[Stop]> {
+        match self {
+            Paint::Linear(g) => Some(&g.stops),
+            Paint::Radial(g) => Some(&g.stops),
+            Paint::Solid(_) | Paint::Pattern(_) => None,
+        }
+    }
+}
+
 /// What a gradient does outside its `0..1` range.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Spread {

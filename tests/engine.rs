@@ -6,6 +6,8 @@ use gmotion::engine::{EngineError, RunOptions, run};
 use gmotion::motion::{Animation, ShapeState};
 use gmotion::scene::{Fill, Node, Scene, SceneBuilder, Stroke};
 use kurbo::{Affine, Point, Rect, Shape as _};
+
+use crate::support::{centre_at, same_point};
 use proptest::prelude::*;
 
 /// A scene of axis-aligned squares: (tag, centre, side).
@@ -48,14 +50,6 @@ fn with_seed(s: &Scene, g: &gmotion::grammar::ast::Grammar, seed: u64) -> Animat
     run(s.clone(), g, &opts).unwrap().0
 }
 
-fn pos(a: &Animation, shape: usize, t: f64) -> Point {
-    a.tracks[shape].transform_at(t) * a.scene.shapes[shape].centroid
-}
-
-fn close(a: Point, b: Point) -> bool {
-    (a - b).hypot() < 1e-6
-}
-
 #[test]
 fn toy_grammar_moves_square_and_loops() {
     let a = animated(
@@ -65,14 +59,14 @@ fn toy_grammar_moves_square_and_loops() {
          animate(affine, world, 0, translate(100, 0)) : [a, s] -> [t]\n\
          animate(affine, local, 0, scale(0.5)) : [a, c] -> [t]\n",
     );
-    assert!(close(pos(&a, 0, 0.0), Point::new(50.0, 150.0)));
-    assert!(close(pos(&a, 0, 1.0), Point::new(100.0, 150.0)));
-    assert!(close(pos(&a, 0, 2.0), Point::new(150.0, 150.0)));
-    assert!(close(pos(&a, 0, 3.0), Point::new(100.0, 150.0)));
-    assert!(close(pos(&a, 0, 4.0), Point::new(50.0, 150.0)));
+    assert!(same_point(centre_at(&a, 0, 0.0), Point::new(50.0, 150.0)));
+    assert!(same_point(centre_at(&a, 0, 1.0), Point::new(100.0, 150.0)));
+    assert!(same_point(centre_at(&a, 0, 2.0), Point::new(150.0, 150.0)));
+    assert!(same_point(centre_at(&a, 0, 3.0), Point::new(100.0, 150.0)));
+    assert!(same_point(centre_at(&a, 0, 4.0), Point::new(50.0, 150.0)));
     // The circle scales about its own centre, which therefore never moves.
     let m = a.tracks[1].transform_at(2.0);
-    assert!(close(
+    assert!(same_point(
         m * Point::new(200.0, 150.0),
         Point::new(200.0, 150.0)
     ));
@@ -99,7 +93,10 @@ fn inverted_split_mirrors_tags_and_fractions() {
         (3.75, 70.0),
         (4.0, 50.0),
     ] {
-        assert!(close(pos(&a, 0, t), Point::new(x, 50.0)), "t = {t}");
+        assert!(
+            same_point(centre_at(&a, 0, t), Point::new(x, 50.0)),
+            "t = {t}"
+        );
     }
 }
 
@@ -111,14 +108,14 @@ fn priority_wins_and_seed_chooses_among_equals() {
          animate(affine, world, 0, translate(0, 10)) : [all, s] -> [t]\n\
          animate(affine, world, 0, translate(-10, 0)) : [all, s] -> [t] priority=1\n";
     let a = animate(s.clone(), src).unwrap();
-    assert!(close(pos(&a, 0, 1.0), Point::new(40.0, 50.0)));
+    assert!(same_point(centre_at(&a, 0, 1.0), Point::new(40.0, 50.0)));
     // Without the priority rule, seeds pick between the two others, and both occur.
     let src2: String = src.lines().take(3).collect::<Vec<_>>().join("\n");
     let g = gmotion::grammar::parse(&src2).unwrap();
     let mut seen = std::collections::BTreeSet::new();
     for seed in 0..40 {
         let a = with_seed(&s, &g, seed);
-        let p = pos(&a, 0, 1.0);
+        let p = centre_at(&a, 0, 1.0);
         seen.insert(((p.x - 50.0).round() as i64, (p.y - 50.0).round() as i64));
     }
     assert_eq!(seen.into_iter().collect::<Vec<_>>(), vec![(0, 10), (10, 0)]);
@@ -131,11 +128,11 @@ fn offsets_delay_and_expressions_stagger() {
         "duration 2s\nanimate(affine, world, 0.5 * id, translate(0, 10)) : [all, d] -> [m]\n",
     );
     // Shape 2 starts at 1s and has 1s to travel.
-    assert!(close(pos(&a, 2, 0.9), Point::new(50.0, 10.0)));
-    assert!(close(pos(&a, 2, 1.5), Point::new(50.0, 15.0)));
+    assert!(same_point(centre_at(&a, 2, 0.9), Point::new(50.0, 10.0)));
+    assert!(same_point(centre_at(&a, 2, 1.5), Point::new(50.0, 15.0)));
     // Shape 1 starts at 0.5s and has 1.5s.
-    assert!(close(pos(&a, 1, 1.25), Point::new(30.0, 15.0)));
-    assert!(close(pos(&a, 0, 1.0), Point::new(10.0, 15.0)));
+    assert!(same_point(centre_at(&a, 1, 1.25), Point::new(30.0, 15.0)));
+    assert!(same_point(centre_at(&a, 0, 1.0), Point::new(10.0, 15.0)));
 }
 
 #[test]
@@ -146,8 +143,8 @@ fn towards_and_path_reach_their_targets_with_exact_lookup() {
          animate(towards, world, 0, (200, 100)) : [all, d] -> [m]\n\
          animate(path, world, 0, \"M 0 250 L 400 250\") : [all, e] -> [m]\n",
     );
-    assert!(close(pos(&a, 0, 1.0), Point::new(200.0, 100.0)));
-    assert!(close(pos(&a, 1, 1.0), Point::new(300.0, 250.0)));
+    assert!(same_point(centre_at(&a, 0, 1.0), Point::new(200.0, 100.0)));
+    assert!(same_point(centre_at(&a, 1, 1.0), Point::new(300.0, 250.0)));
 }
 
 #[test]
@@ -157,9 +154,9 @@ fn nearest_grid_lookup_moves_a_cell_together() {
         &dots(150.0, &[20.0, 180.0, 250.0]),
         "duration 1s\ngrid 2x1\nanimate(towards, world, 0, (200, 150)) : [all, d] -> [m]\n",
     );
-    let d0 = pos(&a, 0, 1.0) - Point::new(20.0, 150.0);
-    let d1 = pos(&a, 1, 1.0) - Point::new(180.0, 150.0);
-    let d2 = pos(&a, 2, 1.0) - Point::new(250.0, 150.0);
+    let d0 = centre_at(&a, 0, 1.0) - Point::new(20.0, 150.0);
+    let d1 = centre_at(&a, 1, 1.0) - Point::new(180.0, 150.0);
+    let d2 = centre_at(&a, 2, 1.0) - Point::new(250.0, 150.0);
     assert!((d0 - d1).hypot() < 1e-9, "same cell, same translation");
     assert!((d0.x - 100.0).abs() < 1e-9 && (d2.x + 100.0).abs() < 1e-9);
 }
@@ -173,7 +170,10 @@ fn split_of_an_animated_slice_keeps_the_motion() {
          timesplit(0.3, 0.7) : [m, s] -> [p, q]\n",
     );
     for t in [0.0, 0.3, 0.6, 1.0, 1.7, 2.0] {
-        assert!(close(pos(&a, 0, t), Point::new(50.0 * t, 0.0)), "t = {t}");
+        assert!(
+            same_point(centre_at(&a, 0, t), Point::new(50.0 * t, 0.0)),
+            "t = {t}"
+        );
     }
 }
 
@@ -322,19 +322,19 @@ fn rotation_about_a_point_keeps_the_point_fixed_while_playing() {
         "duration 1s\nanimate(affine, world, 0, rotate(180, 200, 150)) : [all, s] -> [m]\n",
     );
     for t in [0.25, 0.5, 0.75, 1.0] {
-        let p = pos(&a, 0, t);
+        let p = centre_at(&a, 0, t);
         assert!(
             ((p - Point::new(200.0, 150.0)).hypot() - 100.0).abs() < 1e-6,
             "t = {t}: {p:?}"
         );
     }
-    assert!(close(pos(&a, 0, 0.5), Point::new(300.0, 150.0)));
+    assert!(same_point(centre_at(&a, 0, 0.5), Point::new(300.0, 150.0)));
 }
 
 /// The largest jump in velocity between consecutive frames of a shape's centre.
 fn max_velocity_jump(a: &Animation, fps: f64) -> f64 {
     let n = (a.duration * fps).round() as usize;
-    let p: Vec<Point> = (0..=n).map(|i| pos(a, 0, i as f64 / fps)).collect();
+    let p: Vec<Point> = (0..=n).map(|i| centre_at(a, 0, i as f64 / fps)).collect();
     let v: Vec<kurbo::Vec2> = p.windows(2).map(|w| (w[1] - w[0]) * fps).collect();
     v.windows(2)
         .map(|w| (w[1] - w[0]).hypot())
@@ -366,11 +366,11 @@ fn smoothing_makes_slice_boundaries_velocity_continuous() {
     assert!(js < jr / 5.0, "smoothed jump {js} vs raw {jr}");
     // The loop still closes and the shape still travels most of the way.
     assert!(
-        close(pos(&smooth, 0, 4.0), pos(&smooth, 0, 0.0))
-            || (pos(&smooth, 0, 4.0) - pos(&smooth, 0, 0.0)).hypot() < 1.0
+        same_point(centre_at(&smooth, 0, 4.0), centre_at(&smooth, 0, 0.0))
+            || (centre_at(&smooth, 0, 4.0) - centre_at(&smooth, 0, 0.0)).hypot() < 1.0
     );
     let far = (0..=240)
-        .map(|i| pos(&smooth, 0, i as f64 / 60.0).x)
+        .map(|i| centre_at(&smooth, 0, i as f64 / 60.0).x)
         .fold(0.0, f64::max);
     assert!(far > 130.0, "reached x = {far}");
 }
@@ -595,7 +595,11 @@ fn an_inverted_twin_keeps_the_motion_it_inherited() {
     for i in 0..=40 {
         let t = i as f64 / 40.0;
         let want = Point::new(50.0 + 80.0 * t, 150.0);
-        assert!(close(pos(&a, 0, t), want), "t = {t}: {:?}", pos(&a, 0, t));
+        assert!(
+            same_point(centre_at(&a, 0, t), want),
+            "t = {t}: {:?}",
+            centre_at(&a, 0, t)
+        );
     }
     let m = a.tracks[0].transform_at(0.8);
     assert!((m.determinant() - 1.0).abs() < 1e-9, "{m:?}");
@@ -621,9 +625,9 @@ fn an_inherited_spin_keeps_its_centre_through_a_twin_that_travels() {
             0.0
         };
         assert!(
-            close(pos(&a, 0, t), Point::new(100.0 + dx, 100.0)),
+            same_point(centre_at(&a, 0, t), Point::new(100.0 + dx, 100.0)),
             "t = {t}: {:?}",
-            pos(&a, 0, t)
+            centre_at(&a, 0, t)
         );
     }
     let end = a.tracks[0].transform_at(2.0);
@@ -650,7 +654,7 @@ fn an_inverted_slice_that_comes_first_starts_in_its_twins_end_state() {
         animate(sc(), &last).unwrap(),
     );
     let s0 = a.tracks[0].state_at(0.0);
-    assert!(close(
+    assert!(same_point(
         s0.transform * Point::new(50.0, 50.0),
         Point::new(150.0, 50.0)
     ));
@@ -677,7 +681,7 @@ fn a_pre_applied_entrance_waits_in_its_start_state() {
     for t in [0.0, 0.5, 1.0] {
         let s = a.tracks[0].state_at(t);
         assert!(
-            close(
+            same_point(
                 s.transform * Point::new(50.0, 100.0),
                 Point::new(50.0, 40.0)
             ),
@@ -685,7 +689,7 @@ fn a_pre_applied_entrance_waits_in_its_start_state() {
         );
         assert!(s.opacity.abs() < 1e-9, "{t}: {s:?}");
     }
-    assert!(close(pos(&a, 0, 1.5), Point::new(50.0, 70.0)));
+    assert!(same_point(centre_at(&a, 0, 1.5), Point::new(50.0, 70.0)));
     assert!(same_state(
         &a.tracks[0].state_at(2.5),
         &ShapeState::REST,
@@ -1220,18 +1224,18 @@ fn tag_patterns_and_exclusions_choose_the_shapes() {
          animate(affine, world, 0, translate(0, 20)) : [all, all - (icon-*, bg)] -> [n]\n",
     );
     let moved: Vec<Point> = (0..4)
-        .map(|i| pos(&a, i, 1.0) - pos(&a, i, 0.0).to_vec2())
+        .map(|i| centre_at(&a, i, 1.0) - centre_at(&a, i, 0.0).to_vec2())
         .collect();
-    assert!(close(moved[0], Point::ZERO), "icon-home is left out");
+    assert!(same_point(moved[0], Point::ZERO), "icon-home is left out");
     assert!(
-        close(moved[1], Point::new(10.0, 0.0)),
+        same_point(moved[1], Point::new(10.0, 0.0)),
         "icon-user matches icon-*"
     );
     assert!(
-        close(moved[2], Point::new(0.0, 20.0)),
+        same_point(moved[2], Point::new(0.0, 20.0)),
         "logo is all but icons and bg"
     );
-    assert!(close(moved[3], Point::ZERO), "bg is left out");
+    assert!(same_point(moved[3], Point::ZERO), "bg is left out");
     // A pattern that names no shape is an error at the pattern, as an unknown tag is.
     let e = animate(
         scene(&items),

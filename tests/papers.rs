@@ -8,6 +8,8 @@ use gmotion::motion::Animation;
 use gmotion::scene::{Fill, Scene, SceneBuilder};
 use kurbo::{Point, Rect, Shape as _};
 
+use crate::support::{centre_at, same_point};
+
 /// gMotion Fig. 4, as printed (the figure's fifth rule is the one the text prints twice,
 /// `5. animate ("affine", "world", 0.0, rot_scale(45, 0.5))`).
 const FIG_4: &str = r#"1. timesplit({0.3, 0.4, 0.3}) : [(all), (all)] -> ["a1", "a2", "inv_a1"]
@@ -63,14 +65,6 @@ fn animated(scene: Scene, src: &str) -> Animation {
         .0
 }
 
-fn centre(a: &Animation, shape: usize, t: f64) -> Point {
-    a.tracks[shape].transform_at(t) * a.scene.shapes[shape].centroid
-}
-
-fn near(a: Point, b: Point) -> bool {
-    (a - b).hypot() < 1e-6
-}
-
 #[test]
 fn fig_4_as_printed_slides_scales_and_turns() {
     let scene = squares(&[
@@ -82,12 +76,24 @@ fn fig_4_as_printed_slides_scales_and_turns() {
     let d = a.duration;
     // a1 (the first 0.3): circles 400 to the right, the square 400 to the left, in world
     // coordinates.
-    assert!(near(centre(&a, 0, 0.3 * d), Point::new(200.0, 300.0)));
-    assert!(near(centre(&a, 1, 0.3 * d), Point::new(600.0, 150.0)));
-    assert!(near(centre(&a, 2, 0.3 * d), Point::new(600.0, 450.0)));
+    assert!(same_point(
+        centre_at(&a, 0, 0.3 * d),
+        Point::new(200.0, 300.0)
+    ));
+    assert!(same_point(
+        centre_at(&a, 1, 0.3 * d),
+        Point::new(600.0, 150.0)
+    ));
+    assert!(same_point(
+        centre_at(&a, 2, 0.3 * d),
+        Point::new(600.0, 450.0)
+    ));
     // a2 (the next 0.4): circles halve about their own centres ("local"), which stay put.
     let m = a.tracks[1].transform_at(0.7 * d);
-    assert!(near(centre(&a, 1, 0.7 * d), Point::new(600.0, 150.0)));
+    assert!(same_point(
+        centre_at(&a, 1, 0.7 * d),
+        Point::new(600.0, 150.0)
+    ));
     assert!((m.determinant() - 0.25).abs() < 1e-9);
     // The square turns 45° and halves about the world origin ("world"): its centre goes
     // where rot_scale(45, 0.5) sends (200, 300).
@@ -97,12 +103,12 @@ fn fig_4_as_printed_slides_scales_and_turns() {
         0.5 * (sin * 200.0 + cos * 300.0),
     );
     assert!(
-        near(centre(&a, 0, 0.7 * d), expected),
+        same_point(centre_at(&a, 0, 0.7 * d), expected),
         "{:?}",
-        centre(&a, 0, 0.7 * d)
+        centre_at(&a, 0, 0.7 * d)
     );
     // inv_a1 (the last 0.3) plays a1 backwards: the slide is undone by the end.
-    let slide_back = centre(&a, 1, d) - centre(&a, 1, 0.7 * d);
+    let slide_back = centre_at(&a, 1, d) - centre_at(&a, 1, 0.7 * d);
     assert!((slide_back.x + 400.0).abs() < 1e-6 && slide_back.y.abs() < 1e-6);
 }
 
@@ -195,9 +201,9 @@ animate(affine, world, 0, translate(300 * u, -120 * sin(pi * u)), grid=1x1x5) : 
     for k in 0..=4 {
         let u = f64::from(k) / 4.0;
         // Forward over the first 2 s, backwards over the last 2 s.
-        assert!(near(centre(&a, 0, 2.0 * u), key(u)), "k = {k}");
+        assert!(same_point(centre_at(&a, 0, 2.0 * u), key(u)), "k = {k}");
         assert!(
-            near(centre(&a, 0, 4.0 - 2.0 * u), key(u)),
+            same_point(centre_at(&a, 0, 4.0 - 2.0 * u), key(u)),
             "k = {k}, inverted"
         );
     }
@@ -205,7 +211,7 @@ animate(affine, world, 0, translate(300 * u, -120 * sin(pi * u)), grid=1x1x5) : 
         let (u0, u1) = (f64::from(k) / 4.0, f64::from(k + 1) / 4.0);
         let mid = key(u0).midpoint(key(u1));
         assert!(
-            near(centre(&a, 0, u0 + u1), mid),
+            same_point(centre_at(&a, 0, u0 + u1), mid),
             "between keyframes {k} and {}",
             k + 1
         );

@@ -24,7 +24,7 @@ use super::EngineError;
 use super::plan::Plan;
 use super::random::{draw, noise2};
 use super::rules::{AnimType, CRule, Op, Program};
-use super::settings::{MAX_KEYS, Settings};
+use super::settings::{MAX_KEYS, NoShape, Settings};
 
 /// What an `animate` rule set on a slice, resolved for one shape.
 #[derive(Clone, Debug)]
@@ -492,19 +492,7 @@ fn fractions(
 /// expansion would for every shape. `gmotion check` reports them without a scene, all at
 /// once.
 pub(crate) fn constant_errors(rule: &CRule) -> Vec<EngineError> {
-    /// No shape: every variable is unknown (only shape-independent values are evaluated).
-    struct NoShape;
-    impl Env for NoShape {
-        fn var(&self, _: &str) -> Option<f64> {
-            None
-        }
-        fn rand(&mut self) -> f64 {
-            0.5
-        }
-        fn noise(&self, _: f64, _: f64) -> f64 {
-            0.0
-        }
-    }
+    // No shape: every variable is unknown (only shape-independent values are evaluated).
     let env = &mut NoShape;
     let mut errors = Vec::new();
     match &rule.op {

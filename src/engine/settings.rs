@@ -85,10 +85,12 @@ impl Default for Settings {
     }
 }
 
-/// Directives need no shape variables; randomness in them is an error.
-struct NoEnv;
+/// An environment without a shape: no variable is known, `rand()` and `noise` give fixed
+/// values. Directives need no shape variables (randomness in them is an error), and
+/// `gmotion check` evaluates a rule's shape-independent values with it.
+pub(crate) struct NoShape;
 
-impl Env for NoEnv {
+impl Env for NoShape {
     fn var(&self, _: &str) -> Option<f64> {
         None
     }
@@ -112,7 +114,7 @@ fn one(d: &Directive) -> Result<&crate::grammar::ast::Expr, EngineError> {
 
 fn num(d: &Directive) -> Result<f64, EngineError> {
     let e = one(d)?;
-    let v = eval(e, &mut NoEnv).map_err(EngineError::from)?;
+    let v = eval(e, &mut NoShape).map_err(EngineError::from)?;
     super::finite_number(&v, e.span, |_| {
         format!("`{}` must be a finite number", d.name)
     })
@@ -253,7 +255,7 @@ pub fn from_grammar(grammar: &Grammar) -> Result<Settings, EngineError> {
             }
             "smoothing" => {
                 let e = one(d)?;
-                s.smoothing = Some((eval(e, &mut NoEnv).map_err(EngineError::from)?, e.span));
+                s.smoothing = Some((eval(e, &mut NoShape).map_err(EngineError::from)?, e.span));
             }
             other => {
                 return Err(EngineError::at(

@@ -96,3 +96,13 @@ pub fn run_grammar(scene: Scene, grammar: &str) -> Animation {
         .unwrap_or_else(|e| panic!("{e}\n{grammar}"))
         .0
 }
+
+/// Where shape `shape`'s centroid is at time `t`.
+pub fn centre_at(a: &Animation, shape: usize, t: f64) -> Point {
+    a.tracks[shape].transform_at(t) * a.scene.shapes[shape].centroid
+}
+
+/// Whether two points are the same up to rounding (1e-6 canvas units).
+pub fn same_point(a: Point, b: Point) -> bool {
+    (a - b).hypot() < 1e-6
+}

@@ -551,23 +551,10 @@ impl Writer<'_> {
                         children.push('\n');
                     }
                 }
-                Paint::Linear(g) => {
-                    self.tinted_gradient(
-                        &at(name),
-                        &g.stops,
-                        &keys,
-                        part,
-                        defs.as_deref_mut().expect(GIVEN),
-                    );
-                }
-                Paint::Radial(g) => {
-                    self.tinted_gradient(
-                        &at(name),
-                        &g.stops,
-                        &keys,
-                        part,
-                        defs.as_deref_mut().expect(GIVEN),
-                    );
+                Paint::Linear(_) | Paint::Radial(_) => {
+                    let stops = paint.gradient_stops().unwrap_or_default();
+                    let defs = defs.as_deref_mut().expect(GIVEN);
+                    self.tinted_gradient(&at(name), stops, &keys, part, defs);
                 }
                 Paint::Pattern(p) => {
                     self.tinted_pattern(
