@@ -718,15 +718,15 @@ impl<'a> Builder<'a> {
                     scope.opacity = eval::opacity(tr, t);
                 }
                 ShapeKind::Other(ty) => {
-                    let what = match ty.as_str() {
-                        "mm" => "merge paths are (lottie-web does not apply them either)",
-                        "op" => "offset paths are",
-                        "pb" => "pucker and bloat are",
-                        "tw" => "twists are",
-                        "zz" => "zig-zags are",
-                        _ => "unknown shape items are",
+                    let (what, note) = match ty.as_str() {
+                        "mm" => ("merge paths are", "; lottie-web does not apply them either"),
+                        "op" => ("offset paths are", ""),
+                        "pb" => ("pucker and bloat are", ""),
+                        "tw" => ("twists are", ""),
+                        "zz" => ("zig-zags are", ""),
+                        _ => ("unknown shape items are", ""),
                     };
-                    self.warn(&item.at, format!("{what} not applied (`ty` \"{ty}\")"));
+                    self.warn(&item.at, format!("{what} not applied (`ty` \"{ty}\"{note})"));
                 }
             }
         }
