@@ -111,6 +111,9 @@ impl Accumulator {
             // Flattening yields only moves, lines and closes.
             _ => {}
         });
+        for c in &mut contours {
+            thin_out(c);
+        }
         contours.retain(|c| c.len() >= 3);
         if contours.is_empty() {
             return;
@@ -140,6 +143,26 @@ impl Accumulator {
             stroke_width: self.stroke_width.unwrap_or(1.0),
         })
     }
+}
+
+/// The most points of one flattened contour the measure resolves: past it, every k-th
+/// point is kept. Resolving a contour's fill costs with its self-crossings, which grow
+/// with the square of its points on a spiky outline (a circle of 5000 vertices with
+/// zig-zags of 40 ridges, 200 000 points, took 10 s); the centroid of a contour that
+/// detailed moves by next to nothing when it is thinned out evenly.
+const MAX_CONTOUR_POINTS: usize = 4096;
+
+/// Keeps every k-th point of `contour` so that at most [`MAX_CONTOUR_POINTS`] remain.
+fn thin_out(contour: &mut Vec<[f64; 2]>) {
+    if contour.len() <= MAX_CONTOUR_POINTS {
+        return;
+    }
+    let stride = contour.len().div_ceil(MAX_CONTOUR_POINTS);
+    let mut k = 0;
+    contour.retain(|_| {
+        k += 1;
+        (k - 1) % stride == 0
+    });
 }
 
 /// Whether a simple contour encloses next to nothing for its length (area below 10⁻⁷ of
@@ -332,6 +355,31 @@ mod tests {
             "{:?}",
             m.centroid
         );
+    }
+
+    #[test]
+    fn contours_of_many_points_are_thinned_out_and_keep_their_centroid() {
+        // A half disc of 60 000 vertices (its centroid 4r/3π below the flat side), and
+        // the thinning keeps every k-th point of a contour, in order.
+        let (r, n) = (50.0, 60_000);
+        let mut p = BezPath::new();
+        p.move_to((100.0 - r, 100.0));
+        for k in 1..n {
+            let a = std::f64::consts::PI * k as f64 / n as f64;
+            p.line_to((100.0 - r * a.cos(), 100.0 + r * a.sin()));
+        }
+        p.close_path();
+        let m = measure(&filled(p, FillRule::NonZero), Affine::IDENTITY).unwrap();
+        let expected = Point::new(100.0, 100.0 + 4.0 * r / (3.0 * std::f64::consts::PI));
+        assert!(
+            (m.centroid - expected).hypot() < 1e-3 * r,
+            "{:?}",
+            m.centroid
+        );
+        let mut c: Vec<[f64; 2]> = (0..10_000).map(|i| [i as f64, 0.0]).collect();
+        thin_out(&mut c);
+        assert_eq!(c.len(), 3334);
+        assert!(c.iter().enumerate().all(|(i, q)| q[0] == (3 * i) as f64));
     }
 
     #[test]

@@ -197,6 +197,37 @@ fn nested_repeaters(depth: usize, copies: usize) -> Vec<u8> {
     .into_bytes()
 }
 
+/// A Lottie file of `layers` shape layers, each an outline of `vertices` vertices with
+/// zig-zags of `ridges` ridges a segment.
+fn zigzag_bomb(layers: usize, vertices: usize, ridges: f64) -> Vec<u8> {
+    let v: Vec<String> = (0..vertices)
+        .map(|k| {
+            let a = k as f64 / vertices as f64 * std::f64::consts::TAU;
+            format!(
+                "[{:.3}, {:.3}]",
+                50.0 + 40.0 * a.cos(),
+                50.0 + 40.0 * a.sin()
+            )
+        })
+        .collect();
+    let zero = vec!["[0, 0]"; vertices].join(", ");
+    let shape = format!(
+        r#"{{"ty": "sh", "ks": {{"a": 0, "k": {{"c": true, "v": [{}], "i": [{zero}], "o": [{zero}]}}}}}}"#,
+        v.join(", ")
+    );
+    let layer = |i: usize| {
+        format!(
+            r#"{{"ddd": 0, "ty": 4, "nm": "spiky {i}", "ind": {i}, "ip": 0, "op": 60, "st": 0, "ks": {{}}, "shapes": [{shape}, {{"ty": "zz", "s": {{"a": 0, "k": 3}}, "r": {{"a": 0, "k": {ridges}}}, "pt": {{"a": 0, "k": 1}}}}, {{"ty": "fl", "c": {{"a": 0, "k": [1, 0, 0, 1]}}, "o": {{"a": 0, "k": 100}}}}]}}"#
+        )
+    };
+    let layers: Vec<String> = (1..=layers).map(layer).collect();
+    format!(
+        r#"{{"v": "5.7.0", "fr": 30, "ip": 0, "op": 60, "w": 100, "h": 100, "layers": [{}]}}"#,
+        layers.join(", ")
+    )
+    .into_bytes()
+}
+
 /// A Lottie file whose image layer links the picture `u` + `p` (`e: 0`).
 fn lottie_linking(u: &str, p: &str) -> Vec<u8> {
     String::from_utf8(lottie_with_image(b""))
@@ -371,6 +402,10 @@ fn all_cases() -> Vec<Case> {
         // Repeaters in repeaters multiply what they copy: bounded in all.
         Case::new("Lottie repeaters nested four deep, 1000 copies each", "convert {d}/anim.json -o {d}/out.png", &["anim.json", "repeater copies past 50000 repeated items in all are left out"], "out.png")
             .files(vec![("anim.json", nested_repeaters(4, 1000))])
+            .succeeds(),
+        // Zig-zags multiply an outline's points by their ridge count: bounded in all.
+        Case::new("Lottie zig-zags of a billion ridges on outlines of 5000 vertices", "convert {d}/anim.json -o {d}/out.png", &["anim.json", "$.layers[2].shapes", "zig-zags past 2000000 added points in all are drawn with fewer ridges"], "out.png")
+            .files(vec![("anim.json", zigzag_bomb(3, 5000, 1e9))])
             .succeeds(),
         // Colour changes copy the precompositions a unit draws: one used many times over at
         // many levels (the lottie fuzz target's find) is copied within a bound.

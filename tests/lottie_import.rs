@@ -1005,13 +1005,78 @@ fn own_render_cases() -> Vec<(&'static str, Value)> {
         json!([shape_layer(
             "rounded",
             1,
-            centre,
+            centre.clone(),
             json!([
                 rect(120.0, 120.0),
                 {"ty": "sh", "ks": fixed(polygon(&[[-90.0, 90.0], [0.0, -95.0], [90.0, 90.0]]))},
                 {"ty": "rd", "r": anim(json!([0]), json!([40]))},
                 solid_fill(red),
                 stroke(blue, 4.0),
+                group_tr()
+            ])
+        )]),
+    ));
+    // Pucker and bloat: a square puckered into a star while a triangle bloats (amounts
+    // animated through zero), and an ellipse bloated.
+    let triangle = polygon(&[[-60.0, 50.0], [0.0, -60.0], [60.0, 50.0]]);
+    cases.push((
+        "pucker-bloat",
+        json!([
+            shape_layer(
+                "puckered",
+                1,
+                ks([70.0, 70.0], 0.0, 100.0),
+                json!([
+                    {"ty": "sh", "ks": fixed(polygon(&[[-50.0, -50.0], [50.0, -50.0], [50.0, 50.0], [-50.0, 50.0]]))},
+                    {"ty": "pb", "a": anim(json!([-60]), json!([40]))},
+                    solid_fill(red),
+                    group_tr()
+                ])
+            ),
+            shape_layer(
+                "bloated",
+                2,
+                ks([130.0, 130.0], 0.0, 100.0),
+                json!([
+                    {"ty": "sh", "ks": fixed(triangle.clone())},
+                    ellipse.clone(),
+                    {"ty": "pb", "a": anim(json!([50]), json!([-30]))},
+                    stroke(blue, 4.0),
+                    group_tr()
+                ])
+            )
+        ]),
+    ));
+    // Zig-zags: corners on a rectangle and a triangle (size and ridges animated), smooth
+    // points on an ellipse and an open line.
+    let zigzag = |size: Value, ridges: Value, points: f64| json!({"ty": "zz", "s": size, "r": ridges, "pt": fixed(json!(points))});
+    cases.push((
+        "zig-zag-corners",
+        json!([shape_layer(
+            "zz",
+            1,
+            centre.clone(),
+            json!([
+                rect(140.0, 90.0),
+                {"ty": "sh", "ks": fixed(triangle)},
+                zigzag(anim(json!([4]), json!([12])), anim(json!([2]), json!([6])), 1.0),
+                solid_fill(red),
+                stroke(blue, 2.0),
+                group_tr()
+            ])
+        )]),
+    ));
+    cases.push((
+        "zig-zag-smooth",
+        json!([shape_layer(
+            "zz",
+            1,
+            centre,
+            json!([
+                ellipse.clone(),
+                {"ty": "sh", "ks": fixed(json!({"c": false, "v": [[-80.0, 80.0], [80.0, 80.0]], "i": [[0, 0], [0, 0]], "o": [[0, 0], [0, 0]]}))},
+                zigzag(fixed(json!(9)), fixed(json!(5)), 2.0),
+                stroke(blue, 3.0),
                 group_tr()
             ])
         )]),
@@ -1350,6 +1415,19 @@ const OWN_RENDER_KNOWN: &[(&str, Player, &str)] = &[
         Player::Rlottie,
         "rounds a rectangle's corners but not a path's",
     ),
+    (
+        "pucker-bloat",
+        Player::Rlottie,
+        "does not apply pucker and bloat",
+    ),
+    (
+        "zig-zag-corners",
+        Player::Rlottie,
+        "does not apply zig-zags",
+    ),
+    ("zig-zag-corners", Player::Thorvg, "does not apply zig-zags"),
+    ("zig-zag-smooth", Player::Rlottie, "does not apply zig-zags"),
+    ("zig-zag-smooth", Player::Thorvg, "does not apply zig-zags"),
     ("text-point", Player::Rlottie, "draws no text layers"),
     ("text-justified", Player::Rlottie, "draws no text layers"),
     ("text-box", Player::Rlottie, "draws no text layers"),

@@ -297,6 +297,8 @@ fn styles_pushed_down(
             || matches!(
                 k,
                 ShapeKind::RoundCorners { .. }
+                    | ShapeKind::PuckerBloat { .. }
+                    | ShapeKind::ZigZag { .. }
                     | ShapeKind::Trim {
                         individually: false,
                         ..

@@ -33,6 +33,8 @@ pub struct Builder<'a> {
     budget: usize,
     /// Items repeaters may still copy ([`MAX_REPEATED`]).
     repeat_budget: usize,
+    /// Points zig-zags may still add ([`outline::MAX_RIDGE_POINTS`]).
+    ridge_budget: usize,
     legacy_colors: bool,
     /// Warnings by kind: the message, how often, and the first place.
     warnings: BTreeMap<String, (usize, Loc)>,
@@ -46,6 +48,7 @@ impl<'a> Builder<'a> {
             assets: doc.assets.iter().map(|a| (a.id.as_str(), a)).collect(),
             budget: MAX_DRAWN_LAYERS,
             repeat_budget: MAX_REPEATED,
+            ridge_budget: outline::MAX_RIDGE_POINTS,
             legacy_colors: doc.older_than((4, 1, 9)),
             warnings: BTreeMap::new(),
         }
@@ -189,7 +192,11 @@ impl<'a> Builder<'a> {
             LayerKind::Shape => {
                 let mut outlines = Outlines::default();
                 let scope = self.items(&l.shapes, lt, &mut outlines, part)?;
-                children = outlines.finish(scope.drawn);
+                let cut;
+                (children, cut) = outlines.finish(scope.drawn, &mut self.ridge_budget);
+                if cut {
+                    self.warn(&l.at.key("shapes"), ridges_cut());
+                }
             }
             LayerKind::Solid => {
                 let (w, h) = (l.sw.unwrap_or(0.0), l.sh.unwrap_or(0.0));
@@ -436,7 +443,10 @@ impl<'a> Builder<'a> {
     fn unstyled(&mut self, items: &[ShapeItem]) -> Result<BezPath> {
         let mut outlines = Outlines::default();
         let scope = self.items(items, 0.0, &mut outlines, None)?;
-        outlines.modify();
+        // Glyphs are small and made once each; zig-zags in them count all the same.
+        if outlines.modify(&mut self.ridge_budget) {
+            self.warn(&Loc::root().key("chars"), ridges_cut());
+        }
         let mut path = BezPath::new();
         for (id, m) in scope.visible {
             path.extend(outlines.paths[id].iter().map(|el| m * el));
@@ -666,6 +676,21 @@ impl<'a> Builder<'a> {
                     out.modifiers
                         .push((Modifier::Round(radius), scope.outline_ids()));
                 }
+                ShapeKind::PuckerBloat { a } => {
+                    let amount = eval::scalar(a.as_ref(), t, 0.0);
+                    out.modifiers
+                        .push((Modifier::PuckerBloat(amount), scope.outline_ids()));
+                }
+                ShapeKind::ZigZag { s, r, pt } => {
+                    let zz = outline::ZigZag {
+                        size: eval::scalar(s.as_ref(), t, 0.0),
+                        // lottie-web rounds the ridge count.
+                        ridges: eval::scalar(r.as_ref(), t, 0.0).round().max(0.0),
+                        smooth: eval::scalar(pt.as_ref(), t, 1.0) == 2.0,
+                    };
+                    out.modifiers
+                        .push((Modifier::ZigZag(zz), scope.outline_ids()));
+                }
                 ShapeKind::Repeater {
                     c,
                     o,
@@ -721,12 +746,13 @@ impl<'a> Builder<'a> {
                     let (what, note) = match ty.as_str() {
                         "mm" => ("merge paths are", "; lottie-web does not apply them either"),
                         "op" => ("offset paths are", ""),
-                        "pb" => ("pucker and bloat are", ""),
-                        "tw" => ("twists are", ""),
-                        "zz" => ("zig-zags are", ""),
+                        "tw" => ("twists are", "; lottie-web does not apply them either"),
                         _ => ("unknown shape items are", ""),
                     };
-                    self.warn(&item.at, format!("{what} not applied (`ty` \"{ty}\"{note})"));
+                    self.warn(
+                        &item.at,
+                        format!("{what} not applied (`ty` \"{ty}\"{note})"),
+                    );
                 }
             }
         }
@@ -986,12 +1012,24 @@ pub(crate) struct Outlines {
     modifiers: Vec<(Modifier, Vec<usize>)>,
 }
 
+/// The warning for zig-zags cut short by [`outline::MAX_RIDGE_POINTS`].
+fn ridges_cut() -> String {
+    format!(
+        "zig-zags past {} added points in all are drawn with fewer ridges",
+        outline::MAX_RIDGE_POINTS
+    )
+}
+
 /// A shape modifier, with what it needs to change outlines.
 enum Modifier {
     /// Trim paths (`tm`).
     Trim(outline::Trim),
     /// Round corners (`rd`) of this radius.
     Round(f64),
+    /// Pucker and bloat (`pb`) by this percentage.
+    PuckerBloat(f64),
+    /// Zig-zags (`zz`).
+    ZigZag(outline::ZigZag),
 }
 
 /// A repeater's copies at layer time `t`, topmost first: each one's transform and opacity,
@@ -1088,14 +1126,16 @@ fn weight(drawn: &[Draw]) -> usize {
 }
 
 impl Outlines {
-    /// Applies the modifiers, then turns `drawn` into scene nodes.
-    fn finish(mut self, drawn: Vec<Draw>) -> Vec<Node> {
-        self.modify();
-        self.nodes(drawn)
+    /// Applies the modifiers, then turns `drawn` into scene nodes; also whether zig-zags
+    /// were cut short by `ridge_budget`.
+    fn finish(mut self, drawn: Vec<Draw>, ridge_budget: &mut usize) -> (Vec<Node>, bool) {
+        let cut = self.modify(ridge_budget);
+        (self.nodes(drawn), cut)
     }
 
-    /// Applies the modifiers to the outlines they take.
-    fn modify(&mut self) {
+    /// Applies the modifiers to the outlines they take; whether zig-zags were cut short.
+    fn modify(&mut self, ridge_budget: &mut usize) -> bool {
+        let mut cut = false;
         for (modifier, ids) in std::mem::take(&mut self.modifiers) {
             let mut taken: Vec<BezPath> = ids
                 .iter()
@@ -1108,11 +1148,24 @@ impl Outlines {
                         *p = outline::round_corners(p, radius);
                     }
                 }
+                Modifier::PuckerBloat(amount) => {
+                    for p in &mut taken {
+                        *p = outline::pucker_bloat(p, amount);
+                    }
+                }
+                Modifier::ZigZag(zz) => {
+                    for p in &mut taken {
+                        let short;
+                        (*p, short) = zz.apply(p, ridge_budget);
+                        cut |= short;
+                    }
+                }
             }
             for (&i, p) in ids.iter().zip(taken) {
                 self.paths[i] = p;
             }
         }
+        cut
     }
 
     fn nodes(&self, drawn: Vec<Draw>) -> Vec<Node> {

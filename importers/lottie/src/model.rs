@@ -597,6 +597,21 @@ pub enum ShapeKind {
         /// Radius.
         r: Option<Num>,
     },
+    /// `pb`: pucker and bloat, which pulls every outline's vertices towards their mean and
+    /// pushes its control points away from it (or the other way).
+    PuckerBloat {
+        /// Amount, percent (negative puckers, positive bloats).
+        a: Option<Num>,
+    },
+    /// `zz`: zig-zags, which put ridges along every outline above it.
+    ZigZag {
+        /// Size of the ridges (amplitude).
+        s: Option<Num>,
+        /// Ridges per segment.
+        r: Option<Num>,
+        /// Points: 1 corners, 2 smooth.
+        pt: Option<Num>,
+    },
     /// `rp`: a repeater, which draws what is above it in its group `c` times, each copy
     /// transformed once more by `tr`.
     Repeater {
@@ -822,6 +837,12 @@ fn shape_item(v: &Value, at: &Loc) -> Result<ShapeItem> {
         },
         "tr" => ShapeKind::Transform(Box::new(Transform::read(v, at)?)),
         "rd" => ShapeKind::RoundCorners { r: num("r")? },
+        "pb" => ShapeKind::PuckerBloat { a: num("a")? },
+        "zz" => ShapeKind::ZigZag {
+            s: num("s")?,
+            r: num("r")?,
+            pt: num("pt")?,
+        },
         "rp" => {
             let tr_at = at.key("tr");
             let (tr, so, eo) = match o.get("tr") {

@@ -5,7 +5,9 @@
 //! ellipses and stars are therefore built vertex for vertex as lottie-web builds them
 //! (`ShapeProperty.js`), not with kurbo's shapes, which start elsewhere.
 
-use kurbo::{BezPath, ParamCurve, ParamCurveArclen, PathEl, PathSeg, Point, Vec2};
+use kurbo::{
+    BezPath, CubicBez, ParamCurve, ParamCurveArclen, ParamCurveDeriv, PathEl, PathSeg, Point, Vec2,
+};
 
 /// lottie-web's handle length for a quarter ellipse (`roundCorner`).
 const ROUND: f64 = 0.5519;
@@ -284,6 +286,186 @@ pub fn round_corners(path: &BezPath, radius: f64) -> BezPath {
         out.extend(vertices_path(&rounded, closed).iter());
     }
     out
+}
+
+/// Pucker and bloat (`pb`): each outline's vertices move `amount` percent of the way to
+/// their mean and its control points as far away from it (a negative amount the other
+/// way round), as lottie-web's `PuckerAndBloatModifier` does.
+pub fn pucker_bloat(path: &BezPath, amount: f64) -> BezPath {
+    let mut out = BezPath::new();
+    if amount == 0.0 {
+        out.extend(path.iter());
+        return out;
+    }
+    let k = amount / 100.0;
+    for sub in subpaths(path) {
+        let (vertices, closed) = vertices_of(&sub);
+        if vertices.is_empty() {
+            continue;
+        }
+        let sum = vertices
+            .iter()
+            .fold(Vec2::ZERO, |acc, v| acc + v.p.to_vec2());
+        let centre = (sum / vertices.len() as f64).to_point();
+        let moved: Vec<Vertex> = vertices
+            .iter()
+            .map(|v| Vertex {
+                p: v.p.lerp(centre, k),
+                i: v.i.lerp(centre, -k),
+                o: v.o.lerp(centre, -k),
+            })
+            .collect();
+        out.extend(vertices_path(&moved, closed).iter());
+    }
+    out
+}
+
+/// The most points zig-zags add to one document: two million points already outline
+/// more ridges than a frame has pixels; past it, outlines of many vertices with many ridges
+/// each would grow without bound (a thousand segments of a million ridges).
+pub const MAX_RIDGE_POINTS: usize = 2_000_000;
+
+/// Zig-zags (`zz`): along every segment `ridges` points alternately `size` to one side
+/// and to the other, and every vertex moved off its corner too; corners (`smooth` false)
+/// or smooth points with tangents along the outline, as lottie-web's `ZigZagModifier`
+/// makes them (its angles, its order of sides, its start on the first vertex).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ZigZag {
+    /// How far each point moves off the outline.
+    pub size: f64,
+    /// Points per segment (rounded, at least 0).
+    pub ridges: f64,
+    /// Smooth points instead of corners.
+    pub smooth: bool,
+}
+
+impl ZigZag {
+    /// `path` with its zig-zags, and whether `budget` (points the document may still add,
+    /// counted down) left out some of them.
+    pub fn apply(&self, path: &BezPath, budget: &mut usize) -> (BezPath, bool) {
+        let mut out = BezPath::new();
+        if self.size == 0.0 {
+            out.extend(path.iter());
+            return (out, false);
+        }
+        let mut cut = false;
+        for sub in subpaths(path) {
+            let (vertices, closed) = vertices_of(&sub);
+            let (zigzagged, short) = self.vertices(&vertices, closed, budget);
+            cut |= short;
+            out.extend(vertices_path(&zigzagged, closed).iter());
+        }
+        (out, cut)
+    }
+
+    fn vertices(&self, vs: &[Vertex], closed: bool, budget: &mut usize) -> (Vec<Vertex>, bool) {
+        let n = vs.len();
+        let count = if closed { n } else { n.saturating_sub(1) };
+        if count == 0 {
+            return (Vec::new(), false);
+        }
+        // `as` saturates: a ridge count past usize (or infinite) is cut by the budget.
+        let wanted = self.ridges.max(0.0) as usize;
+        let affordable = (*budget / count).saturating_sub(1);
+        let ridges = wanted.min(affordable);
+        *budget = budget.saturating_sub(count * (ridges + 1));
+        let mut out = Vec::with_capacity((count + 1) * (ridges + 1));
+        let mut side = -1.0;
+        self.corner(vs, 0, side, ridges, &mut out);
+        for i in 0..count {
+            side = self.segment(vs, i, -side, ridges, &mut out);
+            self.corner(vs, i + 1, side, ridges, &mut out);
+        }
+        (out, ridges < wanted)
+    }
+
+    /// The point of vertex `cur`, moved off along the perpendicular of the line joining its
+    /// neighbours (the previous one of the first vertex is the last, open or not).
+    fn corner(&self, vs: &[Vertex], cur: usize, side: f64, ridges: usize, out: &mut Vec<Vertex>) {
+        let n = vs.len();
+        let point = vs[cur % n].p;
+        let prev = vs[if cur == 0 { n - 1 } else { cur - 1 }].p;
+        let next = vs[(cur + 1) % n].p;
+        let v = next - prev;
+        let rot = -std::f64::consts::FRAC_PI_2;
+        let perpendicular = Vec2::new(
+            rot.cos() * v.x - rot.sin() * v.y,
+            rot.sin() * v.x + rot.cos() * v.y,
+        );
+        let angle = 0f64.atan2(1.0) - perpendicular.y.atan2(perpendicular.x);
+        let (to_prev, to_next) = if self.smooth {
+            (point.distance(prev), point.distance(next))
+        } else {
+            (0.0, 0.0)
+        };
+        let share = ((ridges + 1) * 2) as f64;
+        out.push(self.point(point, angle, side, to_next / share, to_prev / share));
+    }
+
+    /// The ridges of segment `i`; returns the side the next point goes to.
+    fn segment(
+        &self,
+        vs: &[Vertex],
+        i: usize,
+        mut side: f64,
+        ridges: usize,
+        out: &mut Vec<Vertex>,
+    ) -> f64 {
+        let seg = segment(vs, i);
+        let dist = if self.smooth {
+            seg.p0.distance(seg.p3)
+        } else {
+            0.0
+        };
+        let share = ((ridges + 1) * 2) as f64;
+        for k in 0..ridges {
+            let t = (k + 1) as f64 / (ridges + 1) as f64;
+            let d = seg.deriv().eval(t);
+            let angle = d.x.atan2(d.y);
+            out.push(self.point(seg.eval(t), angle, side, dist / share, dist / share));
+            side = -side;
+        }
+        side
+    }
+
+    /// A point `size` off `p` in the direction `angle` (lottie-web's: y down, measured the
+    /// other way), with tangents across it.
+    fn point(&self, p: Point, angle: f64, side: f64, out_len: f64, in_len: f64) -> Vertex {
+        let p = Point::new(
+            p.x + angle.cos() * side * self.size,
+            p.y - angle.sin() * side * self.size,
+        );
+        let at = |a: f64, len: f64| Point::new(p.x + a.cos() * len, p.y - a.sin() * len);
+        let quarter = std::f64::consts::FRAC_PI_2;
+        Vertex {
+            p,
+            o: at(angle - quarter, out_len),
+            i: at(angle + quarter, in_len),
+        }
+    }
+}
+
+/// lottie-web's `floatEqual` of two points, each coordinate within a 100 000th of the
+/// smaller.
+fn same_point(a: Point, b: Point) -> bool {
+    let eq = |x: f64, y: f64| (x - y).abs() * 100_000.0 <= x.abs().min(y.abs());
+    eq(a.x, b.x) && eq(a.y, b.y)
+}
+
+/// Segment `i` of an outline (to the next vertex, the first after the last), a control
+/// point that sits on its end moved to a third of the chord, as lottie-web's
+/// `PolynomialBezier.shapeSegment` takes it.
+fn segment(vs: &[Vertex], i: usize) -> CubicBez {
+    let (a, b) = (vs[i], vs[(i + 1) % vs.len()]);
+    let mut p1 = a.o;
+    let mut p2 = b.i;
+    if same_point(a.p, p1) {
+        p1 = a.p.lerp(b.p, 1.0 / 3.0);
+    }
+    if same_point(p2, b.p) {
+        p2 = a.p.lerp(b.p, 2.0 / 3.0);
+    }
+    CubicBez::new(a.p, p1, p2, b.p)
 }
 
 /// A vertex of an outline with its in and out control points (absolute).
