@@ -1071,12 +1071,61 @@ fn own_render_cases() -> Vec<(&'static str, Value)> {
         json!([shape_layer(
             "zz",
             1,
-            centre,
+            centre.clone(),
             json!([
                 ellipse.clone(),
                 {"ty": "sh", "ks": fixed(json!({"c": false, "v": [[-80.0, 80.0], [80.0, 80.0]], "i": [[0, 0], [0, 0]], "o": [[0, 0], [0, 0]]}))},
                 zigzag(fixed(json!(9)), fixed(json!(5)), 2.0),
                 stroke(blue, 3.0),
+                group_tr()
+            ])
+        )]),
+    ));
+    // Offset paths: grown with miters (animated from nothing), shrunk with round joins,
+    // and an open zig-zag line thickened with bevels.
+    let offset = |a: Value, lj: i64| json!({"ty": "op", "a": a, "lj": lj, "ml": fixed(json!(4))});
+    let wedge = polygon(&[[-50.0, 40.0], [0.0, -60.0], [50.0, 40.0], [0.0, 15.0]]);
+    cases.push((
+        "offset-miter",
+        json!([shape_layer(
+            "grown",
+            1,
+            centre.clone(),
+            json!([
+                rect(90.0, 60.0),
+                {"ty": "sh", "ks": fixed(wedge.clone())},
+                offset(anim(json!([0]), json!([14])), 1),
+                solid_fill(red),
+                stroke(blue, 2.0),
+                group_tr()
+            ])
+        )]),
+    ));
+    cases.push((
+        "offset-round",
+        json!([shape_layer(
+            "shrunk",
+            1,
+            centre.clone(),
+            json!([
+                ellipse.clone(),
+                {"ty": "sh", "ks": fixed(wedge)},
+                offset(fixed(json!(-8)), 2),
+                stroke(blue, 3.0),
+                group_tr()
+            ])
+        )]),
+    ));
+    cases.push((
+        "offset-open-bevel",
+        json!([shape_layer(
+            "thick",
+            1,
+            centre,
+            json!([
+                {"ty": "sh", "ks": fixed(json!({"c": false, "v": [[-80.0, 40.0], [-30.0, -40.0], [20.0, 40.0], [80.0, -30.0]], "i": [[0, 0], [0, 0], [0, 0], [-20, -20]], "o": [[0, 0], [0, 0], [20, 20], [0, 0]]}))},
+                offset(fixed(json!(9)), 3),
+                solid_fill(red),
                 group_tr()
             ])
         )]),
@@ -1428,6 +1477,36 @@ const OWN_RENDER_KNOWN: &[(&str, Player, &str)] = &[
     ("zig-zag-corners", Player::Thorvg, "does not apply zig-zags"),
     ("zig-zag-smooth", Player::Rlottie, "does not apply zig-zags"),
     ("zig-zag-smooth", Player::Thorvg, "does not apply zig-zags"),
+    (
+        "offset-miter",
+        Player::Rlottie,
+        "does not apply offset paths",
+    ),
+    (
+        "offset-miter",
+        Player::Thorvg,
+        "draws miters past the miter limit (lottie-web bevels them)",
+    ),
+    (
+        "offset-round",
+        Player::Rlottie,
+        "does not apply offset paths",
+    ),
+    (
+        "offset-round",
+        Player::Thorvg,
+        "rounds a shrunk outline's corners otherwise",
+    ),
+    (
+        "offset-open-bevel",
+        Player::Rlottie,
+        "does not apply offset paths",
+    ),
+    (
+        "offset-open-bevel",
+        Player::Thorvg,
+        "offsets an open outline otherwise (not there and back along both sides)",
+    ),
     ("text-point", Player::Rlottie, "draws no text layers"),
     ("text-justified", Player::Rlottie, "draws no text layers"),
     ("text-box", Player::Rlottie, "draws no text layers"),

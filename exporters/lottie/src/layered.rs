@@ -299,6 +299,7 @@ fn styles_pushed_down(
                 ShapeKind::RoundCorners { .. }
                     | ShapeKind::PuckerBloat { .. }
                     | ShapeKind::ZigZag { .. }
+                    | ShapeKind::OffsetPath { .. }
                     | ShapeKind::Trim {
                         individually: false,
                         ..

@@ -17,6 +17,7 @@ use crate::model::{
     Asset, Document, Gradient, Layer, LayerKind, LayerMask, Loc, Num, Result, ShapeItem, ShapeKind,
     StrokeStyle, error,
 };
+use crate::offset::{Join, Offset};
 use crate::{effects, eval, outline, text};
 
 /// Precompositions may nest this deep.
@@ -681,6 +682,15 @@ impl<'a> Builder<'a> {
                     out.modifiers
                         .push((Modifier::PuckerBloat(amount), scope.outline_ids()));
                 }
+                ShapeKind::OffsetPath { a, lj, ml } => {
+                    let offset = Offset {
+                        amount: eval::scalar(a.as_ref(), t, 0.0),
+                        join: Join::from_code(*lj),
+                        miter_limit: eval::scalar(ml.as_ref(), t, 4.0),
+                    };
+                    out.modifiers
+                        .push((Modifier::Offset(offset), scope.outline_ids()));
+                }
                 ShapeKind::ZigZag { s, r, pt } => {
                     let zz = outline::ZigZag {
                         size: eval::scalar(s.as_ref(), t, 0.0),
@@ -745,7 +755,6 @@ impl<'a> Builder<'a> {
                 ShapeKind::Other(ty) => {
                     let (what, note) = match ty.as_str() {
                         "mm" => ("merge paths are", "; lottie-web does not apply them either"),
-                        "op" => ("offset paths are", ""),
                         "tw" => ("twists are", "; lottie-web does not apply them either"),
                         _ => ("unknown shape items are", ""),
                     };
@@ -1030,6 +1039,8 @@ enum Modifier {
     PuckerBloat(f64),
     /// Zig-zags (`zz`).
     ZigZag(outline::ZigZag),
+    /// Offset paths (`op`).
+    Offset(Offset),
 }
 
 /// A repeater's copies at layer time `t`, topmost first: each one's transform and opacity,
@@ -1151,6 +1162,11 @@ impl Outlines {
                 Modifier::PuckerBloat(amount) => {
                     for p in &mut taken {
                         *p = outline::pucker_bloat(p, amount);
+                    }
+                }
+                Modifier::Offset(offset) => {
+                    for p in &mut taken {
+                        *p = offset.apply(p);
                     }
                 }
                 Modifier::ZigZag(zz) => {

@@ -50,6 +50,7 @@ pub mod effects;
 pub mod eval;
 pub mod fonts;
 pub mod model;
+pub mod offset;
 pub mod outline;
 pub mod tags;
 pub mod text;

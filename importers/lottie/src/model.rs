@@ -603,6 +603,15 @@ pub enum ShapeKind {
         /// Amount, percent (negative puckers, positive bloats).
         a: Option<Num>,
     },
+    /// `op`: offset paths, which move every outline above it along its normals.
+    OffsetPath {
+        /// Amount.
+        a: Option<Num>,
+        /// Join: 1 miter, 2 round, 3 bevel.
+        lj: Option<i64>,
+        /// Miter limit.
+        ml: Option<Num>,
+    },
     /// `zz`: zig-zags, which put ridges along every outline above it.
     ZigZag {
         /// Size of the ridges (amplitude).
@@ -838,6 +847,11 @@ fn shape_item(v: &Value, at: &Loc) -> Result<ShapeItem> {
         "tr" => ShapeKind::Transform(Box::new(Transform::read(v, at)?)),
         "rd" => ShapeKind::RoundCorners { r: num("r")? },
         "pb" => ShapeKind::PuckerBloat { a: num("a")? },
+        "op" => ShapeKind::OffsetPath {
+            a: num("a")?,
+            lj: opt_int(o, "lj", at)?,
+            ml: num("ml")?,
+        },
         "zz" => ShapeKind::ZigZag {
             s: num("s")?,
             r: num("r")?,

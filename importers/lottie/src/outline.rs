@@ -447,38 +447,49 @@ impl ZigZag {
 
 /// lottie-web's `floatEqual` of two points, each coordinate within a 100 000th of the
 /// smaller.
-fn same_point(a: Point, b: Point) -> bool {
+pub(crate) fn same_point(a: Point, b: Point) -> bool {
     let eq = |x: f64, y: f64| (x - y).abs() * 100_000.0 <= x.abs().min(y.abs());
     eq(a.x, b.x) && eq(a.y, b.y)
 }
 
-/// Segment `i` of an outline (to the next vertex, the first after the last), a control
-/// point that sits on its end moved to a third of the chord, as lottie-web's
-/// `PolynomialBezier.shapeSegment` takes it.
+/// Segment `i` of an outline (to the next vertex, the first after the last), as
+/// lottie-web's `PolynomialBezier.shapeSegment` takes it.
 fn segment(vs: &[Vertex], i: usize) -> CubicBez {
     let (a, b) = (vs[i], vs[(i + 1) % vs.len()]);
-    let mut p1 = a.o;
-    let mut p2 = b.i;
-    if same_point(a.p, p1) {
-        p1 = a.p.lerp(b.p, 1.0 / 3.0);
-    }
-    if same_point(p2, b.p) {
-        p2 = a.p.lerp(b.p, 2.0 / 3.0);
-    }
-    CubicBez::new(a.p, p1, p2, b.p)
+    linearized(a.p, a.o, b.i, b.p)
+}
+
+/// A cubic whose control point that sits on its end is moved to a third of the chord, as
+/// lottie-web's `PolynomialBezier` makes its segments (a straight segment then moves
+/// evenly, and has a tangent).
+pub(crate) fn linearized(p0: Point, p1: Point, p2: Point, p3: Point) -> CubicBez {
+    let p1 = if same_point(p0, p1) {
+        p0.lerp(p3, 1.0 / 3.0)
+    } else {
+        p1
+    };
+    let p2 = if same_point(p2, p3) {
+        p0.lerp(p3, 2.0 / 3.0)
+    } else {
+        p2
+    };
+    CubicBez::new(p0, p1, p2, p3)
 }
 
 /// A vertex of an outline with its in and out control points (absolute).
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Vertex {
-    p: Point,
-    i: Point,
-    o: Point,
+pub(crate) struct Vertex {
+    /// The vertex.
+    pub(crate) p: Point,
+    /// Its in control point.
+    pub(crate) i: Point,
+    /// Its out control point.
+    pub(crate) o: Point,
 }
 
 /// A subpath's vertices and whether it is closed (a closing segment back to the start is
 /// folded into the first vertex).
-fn vertices_of(sub: &BezPath) -> (Vec<Vertex>, bool) {
+pub(crate) fn vertices_of(sub: &BezPath) -> (Vec<Vertex>, bool) {
     let mut vs: Vec<Vertex> = Vec::new();
     let mut closed = false;
     let at = |p: Point| Vertex { p, i: p, o: p };
@@ -516,7 +527,7 @@ fn vertices_of(sub: &BezPath) -> (Vec<Vertex>, bool) {
 }
 
 /// The outline through `vs` (closed back to the first when `closed`).
-fn vertices_path(vs: &[Vertex], closed: bool) -> BezPath {
+pub(crate) fn vertices_path(vs: &[Vertex], closed: bool) -> BezPath {
     let mut path = BezPath::new();
     let Some(first) = vs.first() else {
         return path;
@@ -539,7 +550,7 @@ fn vertices_path(vs: &[Vertex], closed: bool) -> BezPath {
 }
 
 /// `path` split at its move-tos.
-fn subpaths(path: &BezPath) -> Vec<BezPath> {
+pub(crate) fn subpaths(path: &BezPath) -> Vec<BezPath> {
     let mut out: Vec<BezPath> = Vec::new();
     for el in path.elements() {
         if matches!(el, PathEl::MoveTo(_)) || out.is_empty() {
