@@ -1612,6 +1612,78 @@ fn own_render_draws_each_feature_as_the_players_do() {
     );
 }
 
+/// `convert anim.json -o anim.svg` (no `--time`) plays the whole composition as SMIL, each
+/// frame as gmotion's own render draws it: Chromium's drawing of the SVG at a frame is
+/// gmotion's PNG of that frame, for features that move by themselves (trims, masks,
+/// repeaters, the shape modifiers); with `--time` the `.svg` is that frame, still.
+#[test]
+fn a_lottie_converted_to_svg_plays_frame_by_frame_in_chromium() {
+    let dir = out_dir("played_svg");
+    let names = [
+        "trim",
+        "auto-orient",
+        "round-corners",
+        "pucker-bloat",
+        "zig-zag-corners",
+        "offset-miter",
+    ];
+    let frames = [0.0, 24.0, 47.0];
+    let mut failures = Vec::new();
+    for (name, content) in own_render_cases() {
+        if !names.contains(&name) {
+            continue;
+        }
+        let src = write_json(&dir, &format!("{name}.json"), &doc(content, json!([])));
+        let svg = dir.join(format!("{name}.svg"));
+        let (ok, _, err) = run(bin().arg("convert").arg(&src).arg("-o").arg(&svg));
+        assert!(ok, "{name}: {err}");
+        let text = std::fs::read_to_string(&svg).unwrap();
+        assert!(
+            text.matches("<animate ").count() > 1,
+            "{name}: no frames animated"
+        );
+        // Midway through each frame: a discrete switch lands on the frame's start.
+        let times: Vec<f64> = frames.iter().map(|f| (f + 0.5) / 30.0).collect();
+        let shots = crate::support::players::chromium(&svg, 200, &times);
+        for (f, theirs) in frames.iter().zip(shots) {
+            let png = dir.join(format!("{name}-{f}.png"));
+            let t = format!("{}", f / 30.0);
+            let (ok, _, err) = run(bin()
+                .arg("convert")
+                .arg(&src)
+                .args(["--time", &t, "--width", "200", "-o"])
+                .arg(&png));
+            assert!(ok, "{name}: {err}");
+            let ours = Pixmap::load_png(&png).unwrap();
+            let off = gmotion_export_raster::compare(&ours, &theirs, 32);
+            if off > 0.01 {
+                failures.push(format!(
+                    "{name} frame {f}: {:.2}% of pixels off",
+                    off * 100.0
+                ));
+            }
+        }
+        let still = dir.join(format!("{name}-still.svg"));
+        let (ok, _, err) = run(bin()
+            .arg("convert")
+            .arg(&src)
+            .args(["--time", "0.5", "-o"])
+            .arg(&still));
+        assert!(ok, "{name}: {err}");
+        assert!(
+            !std::fs::read_to_string(&still)
+                .unwrap()
+                .contains("<animate")
+        );
+    }
+    assert!(
+        failures.is_empty(),
+        "{}\n(files in {})",
+        failures.join("\n"),
+        dir.display()
+    );
+}
+
 /// An image layer whose picture is linked (`u` + `p`, `e: 0`, as Bodymovin exports it
 /// with an `images/` folder) is drawn from the file beside the document, as rlottie and
 /// ThorVG, which read a file's linked pictures, draw it; turned by its layer. (The picture

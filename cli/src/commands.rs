@@ -600,6 +600,7 @@ fn write_animation(
         tolerance: render.tolerance,
         size,
         time,
+        play_svg: false,
         max_pixels: limits.get("pixels"),
         max_animation_pixels: limits.get("animation-pixels"),
     };
@@ -945,7 +946,7 @@ fn animate(
 fn convert(
     input: &Path,
     outputs: &[PathBuf],
-    time: f64,
+    time: Option<f64>,
     render: &RenderArgs,
     import: &ImportArgs,
     ctx: &Ctx,
@@ -958,7 +959,7 @@ fn convert(
 fn convert_staged(
     input: &Path,
     outputs: &[PathBuf],
-    time: f64,
+    time: Option<f64>,
     render: &RenderArgs,
     import: &ImportArgs,
     ctx: &Ctx,
@@ -974,7 +975,7 @@ fn convert_staged(
         guard::check_output_kind(o, moves)?;
         check_writable(o)?;
     }
-    if !moves && time != 0.0 {
+    if !moves && time.is_some_and(|t| t != 0.0) {
         return Err(CliError::msg(format!(
             "{}: error: --time picks a frame of a Lottie input; an SVG is still",
             input.display()
@@ -1001,7 +1002,8 @@ fn convert_staged(
     let opts = output::Options {
         tolerance: render.tolerance,
         size,
-        time,
+        time: time.unwrap_or(0.0),
+        play_svg: time.is_none(),
         max_pixels: ctx.limits.get("pixels"),
         max_animation_pixels: ctx.limits.get("animation-pixels"),
     };
@@ -1030,7 +1032,7 @@ pub fn is_batch(inputs: &[PathBuf]) -> bool {
 fn convert_batch(
     inputs: &[PathBuf],
     outputs: &[PathBuf],
-    time: f64,
+    time: Option<f64>,
     render: &RenderArgs,
     import: &ImportArgs,
     ctx: &Ctx,

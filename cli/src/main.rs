@@ -105,9 +105,10 @@ enum Command {
         #[arg(short, long, required = true)]
         output: Vec<PathBuf>,
         /// Lottie inputs: the time, in seconds from the composition's start, of the frame
-        /// a .png or .svg shows.
-        #[arg(long, default_value_t = 0.0)]
-        time: f64,
+        /// a .png shows (default the first); given, a .svg shows that frame still instead
+        /// of playing the whole animation.
+        #[arg(long)]
+        time: Option<f64>,
         #[command(flatten)]
         size: SizeArgs,
         #[command(flatten)]

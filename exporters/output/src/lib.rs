@@ -20,6 +20,8 @@
 //! ```
 #![forbid(unsafe_code)]
 
+pub mod flipbook;
+
 use std::path::{Path, PathBuf};
 
 use gmotion::Warning;
@@ -96,6 +98,9 @@ pub struct Options {
     pub size: OutputSize,
     /// The time, in seconds, of the frame a `.png` output shows.
     pub time: f64,
+    /// Whether a Lottie source written to `.svg` plays (frame by frame, as SMIL) rather
+    /// than showing the frame at [`time`](Self::time) still.
+    pub play_svg: bool,
     /// The most pixels one rendered image may have (`--limit pixels=N`; default
     /// [`raster::DEFAULT_MAX_PIXELS`]).
     pub max_pixels: u64,
@@ -114,6 +119,7 @@ impl Default for Options {
             tolerance: 0.25,
             size: OutputSize::default(),
             time: 0.0,
+            play_svg: false,
             max_pixels: raster::DEFAULT_MAX_PIXELS,
             max_animation_pixels: DEFAULT_MAX_ANIMATION_PIXELS,
         }
@@ -194,6 +200,19 @@ pub enum OutputError {
         frame: usize,
         /// What failed.
         message: String,
+    },
+    /// A Lottie played as SVG would be larger than [`flipbook::MAX_BYTES`].
+    #[error(
+        "{}: the frames that differ up to frame {frames} already take more than {max} bytes as SVG; write a .gif, .apng or frames folder instead",
+        path.display()
+    )]
+    TooLargeAsSvg {
+        /// The output.
+        path: PathBuf,
+        /// Frames drawn when the bound was passed.
+        frames: usize,
+        /// The bound.
+        max: usize,
     },
     /// A GIF, APNG or frames folder would hold more pixels than allowed.
     #[error(
@@ -609,6 +628,11 @@ pub fn write_still_over_source(
                 looping: true,
                 tracks: vec![Track::default(); scene.shapes.len()],
             };
+            if Format::of(path)? == Format::Svg && opts.play_svg {
+                let (svg, warnings) = flipbook::smil(src, path, opts)?;
+                write_file(path, svg.as_bytes())?;
+                return Ok(warnings);
+            }
             if Format::of(path)? == Format::Svg {
                 let frame = src.frame_at(opts.time);
                 let (at, _) = src.scene_at(frame).map_err(|e| OutputError::Source {
