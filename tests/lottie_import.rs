@@ -1572,15 +1572,7 @@ fn own_render_draws_each_feature_as_the_players_do() {
         let src = write_json(&dir, &format!("{name}.json"), &d);
         let played = play(&format!("own-{name}"), &text, &frames, 200, &Player::ALL);
         for f in frames {
-            let png = dir.join(format!("{name}-{f}.png"));
-            let t = format!("{}", f / 30.0);
-            let (ok, _, err) = run(bin()
-                .arg("convert")
-                .arg(&src)
-                .args(["--time", &t, "--width", "200", "-o"])
-                .arg(&png));
-            assert!(ok, "{name}: {err}");
-            let ours = Pixmap::load_png(&png).unwrap();
+            let ours = own_frame(&src, &dir.join(format!("{name}-{f}.png")), f);
             for p in Player::ALL {
                 let theirs = Pixmap::load_png(frame_path(&played, p, f)).unwrap();
                 let off = gmotion_export_raster::compare(&ours, &theirs, 32);
@@ -1610,6 +1602,19 @@ fn own_render_draws_each_feature_as_the_players_do() {
         failures.join("\n"),
         dir.display()
     );
+}
+
+/// gmotion's own render of frame `f` (at 30 fps) of the Lottie file `src`, 200 px wide,
+/// written to `png`.
+fn own_frame(src: &Path, png: &Path, f: f64) -> Pixmap {
+    let t = format!("{}", f / 30.0);
+    let (ok, _, err) = run(bin()
+        .arg("convert")
+        .arg(src)
+        .args(["--time", &t, "--width", "200", "-o"])
+        .arg(png));
+    assert!(ok, "{}: {err}", src.display());
+    Pixmap::load_png(png).unwrap()
 }
 
 /// `convert anim.json -o anim.svg` (no `--time`) plays the whole composition as SMIL, each
@@ -1646,15 +1651,7 @@ fn a_lottie_converted_to_svg_plays_frame_by_frame_in_chromium() {
         let times: Vec<f64> = frames.iter().map(|f| (f + 0.5) / 30.0).collect();
         let shots = crate::support::players::chromium(&svg, 200, &times);
         for (f, theirs) in frames.iter().zip(shots) {
-            let png = dir.join(format!("{name}-{f}.png"));
-            let t = format!("{}", f / 30.0);
-            let (ok, _, err) = run(bin()
-                .arg("convert")
-                .arg(&src)
-                .args(["--time", &t, "--width", "200", "-o"])
-                .arg(&png));
-            assert!(ok, "{name}: {err}");
-            let ours = Pixmap::load_png(&png).unwrap();
+            let ours = own_frame(&src, &dir.join(format!("{name}-{f}.png")), *f);
             let off = gmotion_export_raster::compare(&ours, &theirs, 32);
             if off > 0.01 {
                 failures.push(format!(
