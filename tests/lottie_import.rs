@@ -1619,8 +1619,9 @@ fn own_frame(src: &Path, png: &Path, f: f64) -> Pixmap {
 
 /// `convert anim.json -o anim.svg` (no `--time`) plays the whole composition as SMIL, each
 /// frame as gmotion's own render draws it: Chromium's drawing of the SVG at a frame is
-/// gmotion's PNG of that frame, for features that move by themselves (trims, masks,
-/// repeaters, the shape modifiers); with `--time` the `.svg` is that frame, still.
+/// gmotion's PNG of that frame, for features that move by themselves (trims, auto-orient,
+/// the shape modifiers), and so is `animate`'s SMIL of the same file with a grammar turning
+/// every unit; with `--time` the `.svg` is that frame, still.
 #[test]
 fn a_lottie_converted_to_svg_plays_frame_by_frame_in_chromium() {
     let dir = out_dir("played_svg");
@@ -1656,6 +1657,46 @@ fn a_lottie_converted_to_svg_plays_frame_by_frame_in_chromium() {
             if off > 0.01 {
                 failures.push(format!(
                     "{name} frame {f}: {:.2}% of pixels off",
+                    off * 100.0
+                ));
+            }
+        }
+        // A grammar on top: the SMIL plays the source's own animation with the motion.
+        let gm = dir.join(format!("{name}.gm"));
+        std::fs::write(
+            &gm,
+            "duration 2s\nfps 30\nloop false\nanimate(affine, local, 0, rotate(90)) : [all, all] -> [turned]\n",
+        )
+        .unwrap();
+        let moved = dir.join(format!("{name}-turned.svg"));
+        let (ok, _, err) = run(bin()
+            .arg("animate")
+            .arg(&src)
+            .arg(&gm)
+            .arg("-o")
+            .arg(&moved));
+        assert!(ok, "{name}: {err}");
+        let played = std::fs::read_to_string(&moved).unwrap();
+        assert!(
+            played.contains("attributeName=\"display\""),
+            "{name}: animate's SMIL is not played frame by frame"
+        );
+        let shots = crate::support::players::chromium(&moved, 200, &times);
+        for (f, theirs) in frames.iter().zip(shots) {
+            let png = dir.join(format!("{name}-turned-{f}.png"));
+            let t = format!("{}", f / 30.0);
+            let (ok, _, err) = run(bin()
+                .arg("animate")
+                .arg(&src)
+                .arg(&gm)
+                .args(["--time", &t, "--width", "200", "-o"])
+                .arg(&png));
+            assert!(ok, "{name}: {err}");
+            let ours = Pixmap::load_png(&png).unwrap();
+            let off = gmotion_export_raster::compare(&ours, &theirs, 32);
+            if off > 0.01 {
+                failures.push(format!(
+                    "{name} turned, frame {f}: {:.2}% of pixels off",
                     off * 100.0
                 ));
             }

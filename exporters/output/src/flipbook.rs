@@ -1,10 +1,11 @@
-//! A Lottie source played as animated SVG (`gmotion convert anim.json -o anim.svg`): every
-//! frame of the composition drawn by gmotion's own renderer, each frame that differs from
-//! the one before an `<image>` holding its own SVG document (so the ids of its masks,
-//! gradients and clips stay its own), shown in turn by a discrete SMIL `display`
-//! animation. Frame for frame what `convert` draws to GIF, but in vectors, scalable and
-//! without a palette; the file grows with the frames that differ, bounded by
-//! [`MAX_BYTES`]. A viewer without SMIL shows the first frame.
+//! A Lottie source played as animated SVG (`gmotion convert anim.json -o anim.svg`, and
+//! `gmotion animate anim.json motion.gm -o out.svg` when the source moves by itself): every
+//! frame drawn by gmotion's own renderer (the source evaluated at the frame, moved by the
+//! animation's tracks), each frame that differs from the one before an `<image>` holding
+//! its own SVG document (so the ids of its masks, gradients and clips stay its own), shown
+//! in turn by a discrete SMIL `display` animation. Frame for frame what a GIF shows, but
+//! in vectors, scalable and without a palette; the file grows with the frames that differ,
+//! bounded by [`MAX_BYTES`]. A viewer without SMIL shows the first frame.
 //!
 //! Why frames rather than animated elements: a Lottie's own motion (path keyframes, trims,
 //! mattes, repeaters, time remapping) has no general counterpart in SMIL's attribute
@@ -14,36 +15,39 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use base64::Engine as _;
-use gmotion::Warning;
 use gmotion_export_svg::frame;
 
-use crate::{LottieSource, Options, OutputError};
+use crate::{LottieSource, Options, OutputError, Stage};
 
 /// The most bytes a played Lottie may take as SVG (256 MiB): past it, a GIF, APNG or
 /// frames folder says the same in far less.
 pub const MAX_BYTES: usize = 256 << 20;
 
-/// `src` played from its first frame to its last as SMIL, for `path` (named in errors).
-pub(crate) fn smil(
-    src: &LottieSource,
-    path: &Path,
-    opts: &Options,
-) -> Result<(String, Vec<Warning>), OutputError> {
-    let fps = src.fps();
-    let frames = ((src.duration() * fps).round() as usize).max(1);
+/// Whether `src` moves by itself: its first frame and some later one differ.
+pub(crate) fn moves(src: &LottieSource) -> bool {
+    let frames = ((src.duration() * src.fps()).round() as usize).max(1);
+    let at = |k: usize| {
+        src.scene_at(src.frame_at(k as f64 / src.fps()))
+            .map(|(scene, _)| frame::scene_svg(&scene))
+            .ok()
+    };
+    let first = at(0);
+    // Eight frames spread over the composition: a source that differs nowhere among them
+    // but moves between them is rare, and still drawn (at its reference frame) with the
+    // animation's motion.
+    (1..=8).any(|i| at(i * (frames - 1) / 8) != first)
+}
+
+/// `stage` played from its first frame to its last as SMIL, for `path` (named in errors).
+pub(crate) fn smil(stage: Stage, path: &Path, opts: &Options) -> Result<String, OutputError> {
+    let anim = stage.anim;
+    let frames = anim.frame_count();
+    let sampler = anim.sampler();
     let mut shown: Vec<(usize, String)> = Vec::new();
     let mut bytes = 0usize;
-    let (mut width, mut height) = (0.0, 0.0);
+    let (width, height) = (anim.scene.width, anim.scene.height);
     for k in 0..frames {
-        let (scene, _) =
-            src.scene_at(src.frame_at(k as f64 / fps))
-                .map_err(|e| OutputError::Source {
-                    path: path.to_path_buf(),
-                    frame: k,
-                    message: e.to_string(),
-                })?;
-        (width, height) = (scene.width, scene.height);
-        let svg = frame::scene_svg(&scene);
+        let svg = stage.svg(Some(&sampler), path, (k, anim.frame_time(k)))?;
         if shown.last().is_some_and(|(_, last)| *last == svg) {
             continue;
         }
@@ -62,7 +66,7 @@ pub(crate) fn smil(
         out,
         r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" viewBox="0 0 {width} {height}">"#
     );
-    let dur = frames as f64 / fps;
+    let dur = frames as f64 / anim.fps;
     for (i, (k, svg)) in shown.iter().enumerate() {
         let end = shown.get(i + 1).map_or(frames, |(next, _)| *next);
         let display = if i == 0 { "inline" } else { "none" };
@@ -93,5 +97,5 @@ pub(crate) fn smil(
         Some(fit) => frame::with_output_size(&out, &fit),
         None => out,
     };
-    Ok((out, Vec::new()))
+    Ok(out)
 }

@@ -274,7 +274,7 @@ pub enum OutputError {
 /// scene was imported from evaluated at the frame (a scene that moves by itself); in both
 /// cases moved by the animation's tracks.
 #[derive(Clone, Copy)]
-struct Stage<'a> {
+pub(crate) struct Stage<'a> {
     anim: &'a Animation,
     source: Option<&'a LottieSource>,
 }
@@ -289,12 +289,25 @@ impl Stage<'_> {
         (index, t): (usize, f64),
         opts: &Options,
     ) -> Result<Pixmap, OutputError> {
+        let svg = self.svg(sampler, path, (index, t))?;
+        raster::render_limited(&svg, opts.size, opts.max_pixels)
+            .map_err(|e| frame_error(path, self.anim, index, t, e))
+    }
+
+    /// Frame `index` (at time `t`) of `path` as an SVG document, its states read from
+    /// `sampler` (or evaluated directly).
+    pub(crate) fn svg(
+        &self,
+        sampler: Option<&Sampler>,
+        path: &Path,
+        (index, t): (usize, f64),
+    ) -> Result<String, OutputError> {
         let anim = self.anim;
         let mut states = match sampler {
             Some(s) => s.evaluate(t),
             None => anim.evaluate(t),
         };
-        let svg = match self.source {
+        Ok(match self.source {
             None => frame::frame_with_states(&anim.scene, anim, t, states),
             Some(src) => {
                 let (scene, moved) =
@@ -307,9 +320,7 @@ impl Stage<'_> {
                 riding(src, &mut states, &moved);
                 frame::frame_with_states(&scene, anim, t, states)
             }
-        };
-        raster::render_limited(&svg, opts.size, opts.max_pixels)
-            .map_err(|e| frame_error(path, anim, index, t, e))
+        })
     }
 
     /// Every frame of `path` rendered in parallel; `tick` is called once per frame. Order
@@ -568,27 +579,33 @@ pub fn lottie_text(
 }
 
 /// The animated SVG (SMIL) [`write_over_source`] writes to an `.svg` `path` (named in
-/// errors), in memory.
+/// errors), in memory. A scene imported from a Lottie source that moves by itself is
+/// played frame by frame ([`flipbook`]): SMIL's attribute animation has no counterpart for
+/// a Lottie's own animation, and the frames carry it with the animation's motion.
 pub fn smil_text(
     anim: &Animation,
     source: Option<&LottieSource>,
     path: &Path,
     opts: &Options,
 ) -> Result<(String, Vec<Warning>), OutputError> {
+    if let Some(src) = source
+        && flipbook::moves(src)
+    {
+        let stage = Stage {
+            anim,
+            source: Some(src),
+        };
+        return Ok((flipbook::smil(stage, path, opts)?, Vec::new()));
+    }
     let sopts = smil::SmilOptions {
         tolerance: opts.tolerance,
         size: opts.size,
         ..Default::default()
     };
-    let (svg, mut warnings) = smil::to_smil(anim, &sopts).map_err(|source| OutputError::Smil {
+    let (svg, warnings) = smil::to_smil(anim, &sopts).map_err(|source| OutputError::Smil {
         path: path.to_path_buf(),
         source,
     })?;
-    if source.is_some() {
-        warnings.push(Warning::new(
-            "the SMIL shows the Lottie source as it is at the reference frame, with gmotion's motion; the source's own animation is not converted to SMIL",
-        ));
-    }
     Ok((svg, warnings))
 }
 
@@ -629,9 +646,13 @@ pub fn write_still_over_source(
                 tracks: vec![Track::default(); scene.shapes.len()],
             };
             if Format::of(path)? == Format::Svg && opts.play_svg {
-                let (svg, warnings) = flipbook::smil(src, path, opts)?;
+                let stage = Stage {
+                    anim: &played,
+                    source: Some(src),
+                };
+                let svg = flipbook::smil(stage, path, opts)?;
                 write_file(path, svg.as_bytes())?;
-                return Ok(warnings);
+                return Ok(Vec::new());
             }
             if Format::of(path)? == Format::Svg {
                 let frame = src.frame_at(opts.time);
