@@ -403,6 +403,9 @@ fn all_cases() -> Vec<Case> {
         Case::new("Lottie repeaters nested four deep, 1000 copies each", "convert {d}/anim.json -o {d}/out.png", &["anim.json", "repeater copies past 50000 repeated items in all are left out"], "out.png")
             .files(vec![("anim.json", nested_repeaters(4, 1000))])
             .succeeds(),
+        // A Lottie played to SVG draws every frame, as a GIF does: the frames limit holds.
+        Case::new("Lottie of 1e8 frames played to SVG", "convert {d}/anim.json -o {d}/out.svg", &["anim.json", "1e8 frames", "--limit frames=N"], "out.svg")
+            .files(vec![("anim.json", LOTTIE.replace(r#""op": 60, "w""#, r#""op": 100000000, "w""#).into_bytes())]),
         // Zig-zags multiply an outline's points by their ridge count: bounded in all.
         Case::new("Lottie zig-zags of a billion ridges on outlines of 5000 vertices", "convert {d}/anim.json -o {d}/out.png", &["anim.json", "$.layers[2].shapes", "zig-zags past 2000000 added points in all are drawn with fewer ridges"], "out.png")
             .files(vec![("anim.json", zigzag_bomb(3, 5000, 1e9))])

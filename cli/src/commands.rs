@@ -983,10 +983,14 @@ fn convert_staged(
     }
     let settings = Settings::default();
     let loaded = load_scene(input, &import_options(import, None, ctx)?, ctx)?;
+    // Played outputs draw every frame: a `.svg` without `--time` too.
+    let played = |o: &PathBuf| match Format::of(o) {
+        Ok(Format::Svg) => time.is_none(),
+        Ok(f) => !f.is_still(),
+        Err(_) => true,
+    };
     if let Some(src) = &loaded.source
-        && outputs
-            .iter()
-            .any(|o| !Format::of(o).is_ok_and(Format::is_still))
+        && outputs.iter().any(played)
     {
         ctx.limits.check_frames(
             src.duration() * src.fps(),
