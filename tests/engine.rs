@@ -4,25 +4,15 @@
 use gmotion::color::Color;
 use gmotion::engine::{EngineError, RunOptions, run};
 use gmotion::motion::{Animation, ShapeState};
-use gmotion::scene::{Fill, Node, Scene, SceneBuilder, Stroke};
-use kurbo::{Affine, Point, Rect, Shape as _};
+use gmotion::scene::{Node, Scene};
+use kurbo::{Affine, Point};
 
 use crate::support::{centre_at, same_point};
 use proptest::prelude::*;
 
-/// A scene of axis-aligned squares: (tag, centre, side).
+/// A 400 × 300 scene of stroked squares: (tag, centre, side).
 fn scene(items: &[(&str, (f64, f64), f64)]) -> Scene {
-    let mut b = SceneBuilder::new(400.0, 300.0);
-    for (tag, (x, y), side) in items {
-        let rect = Rect::from_center_size((*x, *y), (*side, *side));
-        b = b.path(
-            tag,
-            rect.to_path(0.1),
-            Some(Fill::solid(Color::rgb(0.2, 0.4, 0.6))),
-            Some(Stroke::solid(Color::BLACK, 2.0)),
-        );
-    }
-    b.build()
+    crate::support::squares((400.0, 300.0), items, true)
 }
 
 fn animate(scene: Scene, src: &str) -> Result<Animation, EngineError> {

@@ -2,11 +2,10 @@
 //! quoted names, `tran` / `rot_scale`, `→`, gTangle's `⟨tags⟩` with spaces), run on scenes
 //! shaped like the papers' figures, and judged by what the papers' definitions say they do.
 
-use gmotion::color::Color;
 use gmotion::engine::{RunOptions, run, timelines};
 use gmotion::motion::Animation;
-use gmotion::scene::{Fill, Scene, SceneBuilder};
-use kurbo::{Point, Rect, Shape as _};
+use gmotion::scene::Scene;
+use kurbo::{Point, Rect};
 
 use crate::support::{centre_at, same_point};
 
@@ -42,17 +41,7 @@ const FIG_9: &str = "1. outline(25) : big poly → [⟨in⟩, ⟨out⟩]
 
 /// Squares: (tag, centre, side), on a 1200 × 600 canvas.
 fn squares(items: &[(&str, (f64, f64), f64)]) -> Scene {
-    let mut b = SceneBuilder::new(1200.0, 600.0);
-    for (tag, (x, y), side) in items {
-        let rect = Rect::from_center_size((*x, *y), (*side, *side));
-        b = b.path(
-            tag,
-            rect.to_path(0.1),
-            Some(Fill::solid(Color::rgb(0.2, 0.4, 0.6))),
-            None,
-        );
-    }
-    b.build()
+    crate::support::squares((1200.0, 600.0), items, false)
 }
 
 fn parsed(src: &str) -> gmotion::grammar::ast::Grammar {

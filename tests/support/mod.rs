@@ -2,11 +2,12 @@
 
 use std::path::{Path, PathBuf};
 
+use gmotion::color::Color;
 use gmotion::engine::RunOptions;
 use gmotion::motion::Animation;
-use gmotion::scene::Scene;
+use gmotion::scene::{Fill, Scene, SceneBuilder, Stroke};
 use gmotion_import_svg::ImportOptions;
-use kurbo::{BezPath, Point};
+use kurbo::{BezPath, Point, Rect, Shape as _};
 
 pub mod pictures;
 pub mod players;
@@ -105,4 +106,24 @@ pub fn centre_at(a: &Animation, shape: usize, t: f64) -> Point {
 /// Whether two points are the same up to rounding (1e-6 canvas units).
 pub fn same_point(a: Point, b: Point) -> bool {
     (a - b).hypot() < 1e-6
+}
+
+/// A `width` × `height` scene of axis-aligned squares, (tag, centre, side) each, filled
+/// blue-grey and, when `stroked`, outlined in black 2 px wide.
+pub fn squares(
+    (width, height): (f64, f64),
+    items: &[(&str, (f64, f64), f64)],
+    stroked: bool,
+) -> Scene {
+    let mut b = SceneBuilder::new(width, height);
+    for (tag, (x, y), side) in items {
+        let rect = Rect::from_center_size((*x, *y), (*side, *side));
+        b = b.path(
+            tag,
+            rect.to_path(0.1),
+            Some(Fill::solid(Color::rgb(0.2, 0.4, 0.6))),
+            stroked.then(|| Stroke::solid(Color::BLACK, 2.0)),
+        );
+    }
+    b.build()
 }
