@@ -8,7 +8,9 @@
 
 use kurbo::{BezPath, CubicBez, ParamCurve, ParamCurveDeriv, Point, Shape as _};
 
-use crate::outline::{Vertex, linearized, same_point, subpaths, vertices_of, vertices_path};
+use crate::outline::{
+    Vertex, linearized, polar, same, same_point, subpaths, vertices_of, vertices_path,
+};
 
 /// How the offset pieces of neighbouring segments are joined (`lj`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -154,12 +156,6 @@ impl Offset {
     }
 }
 
-/// `p` moved `length` in the direction `angle` (y down, angles the other way round, as
-/// lottie-web's `polarOffset` measures them).
-fn polar(p: Point, angle: f64, length: f64) -> Point {
-    Point::new(p.x + angle.cos() * length, p.y - angle.sin() * length)
-}
-
 fn tangent_angle(seg: &CubicBez, t: f64) -> f64 {
     let d = seg.deriv().eval(t);
     d.y.atan2(d.x)
@@ -194,11 +190,6 @@ fn offset_segment(seg: CubicBez, amount: f64) -> CubicBez {
     let p1 = line_intersection(p0, p1a, p1b, p2b).unwrap_or(p1a);
     let p2 = line_intersection(p2a, p3, p1b, p2b).unwrap_or(p2a);
     CubicBez::new(p0, p1, p2, p3)
-}
-
-/// lottie-web's `floatEqual` of two numbers.
-fn same(a: f64, b: f64) -> bool {
-    (a - b).abs() * 100_000.0 <= a.abs().min(b.abs())
 }
 
 /// Where a segment's curvature changes sign, in `(0, 1)` (lottie-web's

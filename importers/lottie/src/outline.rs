@@ -431,25 +431,30 @@ impl ZigZag {
     /// A point `size` off `p` in the direction `angle` (lottie-web's: y down, measured the
     /// other way), with tangents across it.
     fn point(&self, p: Point, angle: f64, side: f64, out_len: f64, in_len: f64) -> Vertex {
-        let p = Point::new(
-            p.x + angle.cos() * side * self.size,
-            p.y - angle.sin() * side * self.size,
-        );
-        let at = |a: f64, len: f64| Point::new(p.x + a.cos() * len, p.y - a.sin() * len);
+        let p = polar(p, angle, side * self.size);
         let quarter = std::f64::consts::FRAC_PI_2;
         Vertex {
             p,
-            o: at(angle - quarter, out_len),
-            i: at(angle + quarter, in_len),
+            o: polar(p, angle - quarter, out_len),
+            i: polar(p, angle + quarter, in_len),
         }
     }
 }
 
-/// lottie-web's `floatEqual` of two points, each coordinate within a 100 000th of the
-/// smaller.
+/// lottie-web's `floatEqual`: `a` and `b` within a 100 000th of the smaller.
+pub(crate) fn same(a: f64, b: f64) -> bool {
+    (a - b).abs() * 100_000.0 <= a.abs().min(b.abs())
+}
+
+/// lottie-web's `pointEqual`: each coordinate [`same`].
 pub(crate) fn same_point(a: Point, b: Point) -> bool {
-    let eq = |x: f64, y: f64| (x - y).abs() * 100_000.0 <= x.abs().min(y.abs());
-    eq(a.x, b.x) && eq(a.y, b.y)
+    same(a.x, b.x) && same(a.y, b.y)
+}
+
+/// `p` moved `length` in the direction `angle` (y down, angles the other way round, as
+/// lottie-web's `polarOffset` measures them).
+pub(crate) fn polar(p: Point, angle: f64, length: f64) -> Point {
+    Point::new(p.x + angle.cos() * length, p.y - angle.sin() * length)
 }
 
 /// Segment `i` of an outline (to the next vertex, the first after the last), as
