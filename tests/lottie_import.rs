@@ -1722,6 +1722,80 @@ fn a_lottie_converted_to_svg_plays_frame_by_frame_in_chromium() {
     );
 }
 
+/// A played Lottie writes what its frames draw alike once: real files whose frames move a
+/// few parts over a still backdrop (an embedded image, a banner, a map) play in Chromium
+/// frame for frame as Chromium draws each frame written alone (`--time`), in a file
+/// several times smaller than its distinct frames written whole (the parts that stand
+/// still are `<use>`d). Chromium judges both sides: where it draws a frame unlike
+/// gmotion's own render (the banner's edges, by a pixel), the played file must still
+/// show that frame, not another.
+#[test]
+fn a_played_lottie_shares_what_its_frames_draw_alike() {
+    let dir = out_dir("shared_frames");
+    let folder = root().join("tests/conformance/lottie-corpus");
+    let mut failures = Vec::new();
+    for name in [
+        "rlottie-python__image_embedded",
+        "lottie-web__banner",
+        "rlottie-python__world_locations",
+    ] {
+        let src = folder.join(format!("{name}.json"));
+        let doc: Value = serde_json::from_slice(&std::fs::read(&src).unwrap()).unwrap();
+        let (fps, ip, op) = (
+            doc["fr"].as_f64().unwrap(),
+            doc["ip"].as_f64().unwrap(),
+            doc["op"].as_f64().unwrap(),
+        );
+        let svg = dir.join(format!("{name}.svg"));
+        let (ok, _, err) = run(bin().arg("convert").arg(&src).arg("-o").arg(&svg));
+        assert!(ok, "{name}: {err}");
+        let played = std::fs::read_to_string(&svg).unwrap();
+        // Frames spread over the composition.
+        let frames: Vec<f64> = [0.0, 0.37, 0.81]
+            .iter()
+            .map(|x| (x * (op - ip - 1.0)).round())
+            .collect();
+        let mut whole = 0;
+        let mut alone = Vec::new();
+        for f in &frames {
+            let still = dir.join(format!("{name}-{f}.svg"));
+            let t = format!("{}", f / fps);
+            let (ok, _, err) = run(bin()
+                .arg("convert")
+                .arg(&src)
+                .args(["--time", &t, "-o"])
+                .arg(&still));
+            assert!(ok, "{name}: {err}");
+            whole = whole.max(std::fs::metadata(&still).unwrap().len() as usize);
+            alone.extend(crate::support::players::chromium(&still, 200, &[0.0]));
+        }
+        let distinct = played.matches("<animate ").count();
+        assert!(
+            played.contains("<use ") && played.len() * 4 < distinct * whole,
+            "{name}: {} bytes for {distinct} frames of up to {whole} bytes each",
+            played.len()
+        );
+        // Shot midway through each frame: a discrete switch lands on the frame's start.
+        let times: Vec<f64> = frames.iter().map(|f| (f + 0.5) / fps).collect();
+        let shots = crate::support::players::chromium(&svg, 200, &times);
+        for ((f, theirs), ours) in frames.iter().zip(shots).zip(alone) {
+            let off = gmotion_export_raster::compare(&ours, &theirs, 32);
+            if off > 0.002 {
+                failures.push(format!(
+                    "{name} frame {f}: {:.2}% of pixels off",
+                    off * 100.0
+                ));
+            }
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{}\n(files in {})",
+        failures.join("\n"),
+        dir.display()
+    );
+}
+
 /// An image layer whose picture is linked (`u` + `p`, `e: 0`, as Bodymovin exports it
 /// with an `images/` folder) is drawn from the file beside the document, as rlottie and
 /// ThorVG, which read a file's linked pictures, draw it; turned by its layer. (The picture

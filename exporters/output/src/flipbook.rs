@@ -1,27 +1,46 @@
 //! A Lottie source played as animated SVG (`gmotion convert anim.json -o anim.svg`, and
 //! `gmotion animate anim.json motion.gm -o out.svg` when the source moves by itself): every
 //! frame drawn by gmotion's own renderer (the source evaluated at the frame, moved by the
-//! animation's tracks), each frame that differs from the one before an `<image>` holding
-//! its own SVG document (so the ids of its masks, gradients and clips stay its own), shown
-//! in turn by a discrete SMIL `display` animation. Frame for frame what a GIF shows, but
-//! in vectors, scalable and without a palette; the file grows with the frames that differ,
-//! bounded by [`MAX_BYTES`]. A viewer without SMIL shows the first frame.
+//! animation's tracks), each frame that differs from the one before a `<g>` of its own,
+//! shown in turn by a discrete SMIL `display` animation. Frame for frame what a GIF shows,
+//! but in vectors, scalable and without a palette. A viewer without SMIL shows the first
+//! frame.
+//!
+//! Frames share what they draw alike: an element (with everything inside it) that stands
+//! the same in two frames is written once, in the document's `<defs>`, and each frame
+//! shows it through a `<use>`. A scene where a few parts move over a still backdrop costs
+//! the backdrop once and the moving parts once a frame. Elements that refer to a frame's
+//! gradients, clip paths, masks or filters stay in their frame, whose `<defs>` entries are
+//! named after it (`f12_0`, `f12_1`, …, see [`frame::frame_with_ids`]); their content is
+//! shared where it can be. The file is bounded by [`MAX_BYTES`] of frames.
 //!
 //! Why frames rather than animated elements: a Lottie's own motion (path keyframes, trims,
 //! mattes, repeaters, time remapping) has no general counterpart in SMIL's attribute
 //! animation; frames are exact wherever gmotion's own render is.
 
+use std::collections::HashMap;
+use std::collections::hash_map::Entry;
 use std::fmt::Write as _;
+use std::hash::{DefaultHasher, Hash, Hasher};
 use std::path::Path;
 
-use base64::Engine as _;
 use gmotion_export_svg::frame;
+use rayon::prelude::*;
 
 use crate::{LottieSource, Options, OutputError, Stage};
 
-/// The most bytes a played Lottie may take as SVG (256 MiB): past it, a GIF, APNG or
+/// The most bytes the frames of a played Lottie may take, as drawn before sharing (256
+/// MiB): they are all held in memory to find what they share. Past it, a GIF, APNG or
 /// frames folder says the same in far less.
 pub const MAX_BYTES: usize = 256 << 20;
+
+/// Elements shorter than this are written in their frame: a `<use>` of them would save
+/// little or nothing.
+const MIN_SHARED: usize = 64;
+
+/// Frames drawn at a time, in parallel: enough to keep the cores busy, few enough that a
+/// file past [`MAX_BYTES`] is refused before much more than that is drawn.
+const BATCH: usize = 64;
 
 /// Whether `src` moves by itself: its first frame and some later one differ.
 pub(crate) fn moves(src: &LottieSource) -> bool {
@@ -38,64 +57,383 @@ pub(crate) fn moves(src: &LottieSource) -> bool {
     (1..=8).any(|i| at(i * (frames - 1) / 8) != first)
 }
 
+/// A frame that differs from the one before it.
+struct Shown {
+    /// The first frame it stands for.
+    frame: usize,
+    /// Its SVG document, its `<defs>` entries named after [`ids`].
+    svg: String,
+}
+
+/// What frame `k`'s `<defs>` entries are named after. `_` appears nowhere else in a
+/// frame's text (numbers, colours, path data, base64 image data), so frames can be
+/// compared with their names told apart ([`same_frame`]).
+fn ids(k: usize) -> String {
+    format!("f{k}_")
+}
+
+/// Whether frames `a` (named after `ids(ka)`) and `b` (after `ids(kb)`) draw the same.
+fn same_frame(a: &str, ka: usize, b: &str, kb: usize) -> bool {
+    a.split(&ids(ka)).eq(b.split(&ids(kb)))
+}
+
 /// `stage` played from its first frame to its last as SMIL, for `path` (named in errors).
 pub(crate) fn smil(stage: Stage, path: &Path, opts: &Options) -> Result<String, OutputError> {
     let anim = stage.anim;
     let frames = anim.frame_count();
     let sampler = anim.sampler();
-    let mut shown: Vec<(usize, String)> = Vec::new();
+    let mut shown: Vec<Shown> = Vec::new();
     let mut bytes = 0usize;
-    let (width, height) = (anim.scene.width, anim.scene.height);
-    for k in 0..frames {
-        let svg = stage.svg(Some(&sampler), path, (k, anim.frame_time(k)))?;
-        if shown.last().is_some_and(|(_, last)| *last == svg) {
-            continue;
+    for first in (0..frames).step_by(BATCH) {
+        let drawn: Vec<String> = (first..(first + BATCH).min(frames))
+            .into_par_iter()
+            .map(|k| stage.svg(Some(&sampler), path, (k, anim.frame_time(k)), &ids(k)))
+            .collect::<Result<_, _>>()?;
+        for (k, svg) in (first..).zip(drawn) {
+            if shown
+                .last()
+                .is_some_and(|last| same_frame(&last.svg, last.frame, &svg, k))
+            {
+                continue;
+            }
+            bytes += svg.len() + 256;
+            if bytes > MAX_BYTES {
+                return Err(OutputError::TooLargeAsSvg {
+                    path: path.to_path_buf(),
+                    frames: k + 1,
+                    max: MAX_BYTES,
+                });
+            }
+            shown.push(Shown { frame: k, svg });
         }
-        bytes += svg.len().div_ceil(3) * 4 + 256;
-        if bytes > MAX_BYTES {
-            return Err(OutputError::TooLargeAsSvg {
-                path: path.to_path_buf(),
-                frames: k + 1,
-                max: MAX_BYTES,
-            });
-        }
-        shown.push((k, svg));
     }
-    let mut out = String::with_capacity(bytes + 512);
-    let _ = write!(
+    let pages: Vec<Page> = shown.par_iter().map(|s| Page::parse(&s.svg)).collect();
+    let mut seen: HashMap<u64, u32> = HashMap::new();
+    for el in pages.iter().flat_map(|p| &p.els).filter(|e| e.shareable) {
+        *seen.entry(el.hash).or_default() += 1;
+    }
+    let mut shared = Shared {
+        seen,
+        index: HashMap::new(),
+        defs: String::new(),
+    };
+    let (width, height) = (anim.scene.width, anim.scene.height);
+    let dur = frames as f64 / anim.fps;
+    let mut body = String::with_capacity(bytes / 4);
+    for (i, (s, page)) in shown.iter().zip(&pages).enumerate() {
+        let end = shown.get(i + 1).map_or(frames, |next| next.frame);
+        body.push_str(if i == 0 {
+            "<g>\n"
+        } else {
+            "<g display=\"none\">\n"
+        });
+        if shown.len() > 1 {
+            // Shown from frame `k` up to the next distinct frame, hidden otherwise.
+            let (on, off) = (s.frame as f64 / frames as f64, end as f64 / frames as f64);
+            let (values, times) = match (i == 0, end == frames) {
+                (true, _) => ("inline;none".to_string(), format!("0;{off}")),
+                (false, true) => ("none;inline".to_string(), format!("0;{on}")),
+                (false, false) => ("none;inline;none".to_string(), format!("0;{on};{off}")),
+            };
+            let _ = writeln!(
+                body,
+                "<animate attributeName=\"display\" values=\"{values}\" keyTimes=\"{times}\" dur=\"{dur}s\" calcMode=\"discrete\" repeatCount=\"indefinite\"/>"
+            );
+        }
+        if !page.defs.is_empty() {
+            body.push_str("<defs>\n");
+            body.push_str(page.defs);
+            body.push_str("</defs>\n");
+        }
+        page.write(&mut shared, &mut body);
+        body.push_str("</g>\n");
+    }
+    let mut out = String::with_capacity(body.len() + shared.defs.len() + 256);
+    let _ = writeln!(
         out,
         r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" viewBox="0 0 {width} {height}">"#
     );
-    let dur = frames as f64 / anim.fps;
-    for (i, (k, svg)) in shown.iter().enumerate() {
-        let end = shown.get(i + 1).map_or(frames, |(next, _)| *next);
-        let display = if i == 0 { "inline" } else { "none" };
-        let _ = write!(
-            out,
-            "\n<image width=\"{width}\" height=\"{height}\" display=\"{display}\" href=\"data:image/svg+xml;base64,"
-        );
-        base64::engine::general_purpose::STANDARD.encode_string(svg.as_bytes(), &mut out);
-        out.push('"');
-        if shown.len() == 1 {
-            out.push_str("/>");
-            continue;
-        }
-        // Shown from frame `k` up to the next distinct frame, hidden otherwise.
-        let (on, off) = (*k as f64 / frames as f64, end as f64 / frames as f64);
-        let (values, times) = match (*k == 0, end == frames) {
-            (true, _) => ("inline;none".to_string(), format!("0;{off}")),
-            (false, true) => ("none;inline".to_string(), format!("0;{on}")),
-            (false, false) => ("none;inline;none".to_string(), format!("0;{on};{off}")),
-        };
-        let _ = write!(
-            out,
-            "><animate attributeName=\"display\" values=\"{values}\" keyTimes=\"{times}\" dur=\"{dur}s\" calcMode=\"discrete\" repeatCount=\"indefinite\"/></image>"
-        );
+    if !shared.defs.is_empty() {
+        out.push_str("<defs>\n");
+        out.push_str(&shared.defs);
+        out.push_str("</defs>\n");
     }
-    out.push_str("\n</svg>\n");
-    let out = match opts.size.fit(width, height) {
+    out.push_str(&body);
+    out.push_str("</svg>\n");
+    Ok(match opts.size.fit(width, height) {
         Some(fit) => frame::with_output_size(&out, &fit),
         None => out,
-    };
-    Ok(out)
+    })
+}
+
+/// The elements frames share, as they are written.
+struct Shared<'a> {
+    /// How often each shareable element's hash stands in all frames.
+    seen: HashMap<u64, u32>,
+    /// The elements written to [`Self::defs`] so far: hash → (number, text).
+    index: HashMap<u64, (usize, &'a str)>,
+    /// `<g id="sN">…</g>` for each shared element.
+    defs: String,
+}
+
+/// One element of a frame's body, with everything inside it.
+struct El<'a> {
+    /// Its lines, from its start tag to its end tag.
+    text: &'a str,
+    /// Its start tag's line, the whole element for an empty one.
+    open: &'a str,
+    /// Its end tag's line; empty for an empty element.
+    close: &'a str,
+    /// The index past its last descendant (elements are listed in document order).
+    end: usize,
+    /// Identifies its text (with its descendants').
+    hash: u64,
+    /// Whether it may be shared: long enough, and referring to none of its frame's ids.
+    shareable: bool,
+}
+
+/// A frame document split for sharing.
+struct Page<'a> {
+    /// Its `<defs>` entries.
+    defs: &'a str,
+    /// Its body's elements in document order; empty when the body is not one element a
+    /// line as [`frame`] writes it (then [`Self::body`] is written as it stands).
+    els: Vec<El<'a>>,
+    /// Its body's text.
+    body: &'a str,
+}
+
+impl<'a> Page<'a> {
+    /// `svg`, a document [`frame`] wrote: its root start tag, `<defs>` (if any), the body
+    /// one element a line, `</svg>`.
+    fn parse(svg: &'a str) -> Page<'a> {
+        let after_root = svg.find(">\n").map_or(svg.len(), |i| i + 2);
+        let mut rest = &svg[after_root..];
+        let mut defs = "";
+        if let Some(d) = rest.strip_prefix("<defs>\n")
+            && let Some(close) = d.find("</defs>\n")
+        {
+            defs = &d[..close];
+            rest = &d[close + "</defs>\n".len()..];
+        }
+        let body = rest.strip_suffix("</svg>\n").unwrap_or(rest);
+        Page {
+            defs,
+            els: elements(body).unwrap_or_default(),
+            body,
+        }
+    }
+
+    /// Appends the body, each element that stands in more than one frame as a `<use>` of
+    /// its shared copy.
+    fn write(&self, shared: &mut Shared<'a>, out: &mut String) {
+        if self.els.is_empty() {
+            out.push_str(self.body);
+            return;
+        }
+        let mut i = 0;
+        while i < self.els.len() {
+            i = self.write_el(i, shared, out);
+        }
+    }
+
+    /// Writes element `i`; returns the index past it.
+    fn write_el(&self, i: usize, shared: &mut Shared<'a>, out: &mut String) -> usize {
+        let el = &self.els[i];
+        if el.shareable && shared.seen.get(&el.hash).is_some_and(|&n| n > 1) {
+            let next = shared.index.len();
+            let id = match shared.index.entry(el.hash) {
+                Entry::Occupied(e) => {
+                    let (id, text) = *e.get();
+                    // Equal hashes of different text: written in place.
+                    (text == el.text).then_some(id)
+                }
+                Entry::Vacant(e) => {
+                    e.insert((next, el.text));
+                    let _ = writeln!(shared.defs, "<g id=\"s{next}\">");
+                    shared.defs.push_str(el.text);
+                    shared.defs.push_str("</g>\n");
+                    Some(next)
+                }
+            };
+            match id {
+                Some(id) => {
+                    let _ = writeln!(out, "<use href=\"#s{id}\"/>");
+                }
+                None => out.push_str(el.text),
+            }
+            return el.end;
+        }
+        out.push_str(el.open);
+        let mut child = i + 1;
+        while child < el.end {
+            child = self.write_el(child, shared, out);
+        }
+        out.push_str(el.close);
+        el.end
+    }
+}
+
+/// The elements of `body`, one a line as [`frame`] writes them: a start tag, an empty
+/// element, or an end tag on each line. `None` if the text is not so.
+fn elements(body: &str) -> Option<Vec<El<'_>>> {
+    let mut els: Vec<El> = Vec::new();
+    // Where each element's text starts in `body`.
+    let mut starts: Vec<usize> = Vec::new();
+    // Elements whose end tag is still to come.
+    let mut open: Vec<usize> = Vec::new();
+    let mut at = 0;
+    for line in body.split_inclusive('\n') {
+        let (start, end) = (at, at + line.len());
+        at = end;
+        let tag = line.strip_suffix('\n')?;
+        if tag.starts_with("</") {
+            let i = open.pop()?;
+            els[i].text = &body[starts[i]..end];
+            els[i].close = line;
+            continue;
+        }
+        if !tag.starts_with('<') || !tag.ends_with('>') {
+            return None;
+        }
+        els.push(El {
+            text: line,
+            open: line,
+            close: "",
+            end: 0,
+            hash: 0,
+            shareable: false,
+        });
+        starts.push(start);
+        let name_end = tag[1..]
+            .find([' ', '>', '/'])
+            .map_or(tag.len(), |n| n + 1);
+        // An empty element, or one with its text content on its line (`<a>…</a>`), is
+        // complete.
+        if !tag.ends_with("/>") && !tag.ends_with(&format!("</{}>", &tag[1..name_end])) {
+            open.push(els.len() - 1);
+        }
+    }
+    if !open.is_empty() {
+        return None;
+    }
+    // Ends, hashes and what may be shared, innermost first.
+    let n = els.len();
+    let mut refers = vec![false; n];
+    for i in (0..n).rev() {
+        let mut h = DefaultHasher::new();
+        els[i].open.hash(&mut h);
+        refers[i] = refers_to_ids(els[i].open);
+        let stop = starts[i] + els[i].text.len();
+        let mut child = i + 1;
+        while child < n && starts[child] < stop {
+            els[child].hash.hash(&mut h);
+            refers[i] |= refers[child];
+            child = els[child].end;
+        }
+        els[i].close.hash(&mut h);
+        let el = &mut els[i];
+        el.end = child;
+        el.hash = h.finish();
+        el.shareable = !refers[i] && el.text.len() >= MIN_SHARED;
+    }
+    Some(els)
+}
+
+/// Whether a start tag refers to an id (`url(#…)`, `href="#…"`): a frame's ids are its own.
+fn refers_to_ids(tag: &str) -> bool {
+    tag.contains("url(#") || tag.contains("href=\"#")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A frame body: a moving group referring to the frame's clip, a still group inside
+    /// it, and a still path at the top.
+    const BODY: &str = "<g clip-path=\"url(#f0_0)\">\n<g transform=\"translate(1 2)\">\n<path d=\"M0 0 L10 0 L10 10 L0 10 Z M2 2 L8 2 L8 8 L2 8 Z\" fill=\"#ff0000\"/>\n</g>\n</g>\n<path d=\"M0 0 L20 0 L20 20 L0 20 Z M5 5 L6 6\" fill=\"#00ff00\" stroke=\"#000000\"/>\n";
+
+    #[test]
+    fn elements_nest_and_refer_as_written() {
+        let els = elements(BODY).expect("one element a line");
+        assert_eq!(els.len(), 4);
+        // Document order, each with the index past its descendants.
+        assert_eq!(els.iter().map(|e| e.end).collect::<Vec<_>>(), [3, 3, 3, 4]);
+        assert_eq!(
+            els[0].text,
+            &BODY[..BODY.find("<path d=\"M0 0 L20").unwrap()]
+        );
+        assert!(els[1].text.starts_with("<g transform") && els[1].text.ends_with("</g>\n"));
+        // The clipped group refers to its frame's ids: it stays in its frame, while what
+        // it holds may be shared.
+        assert_eq!(
+            els.iter().map(|e| e.shareable).collect::<Vec<_>>(),
+            [false, true, true, true]
+        );
+        // The same text hashes alike; a different one not.
+        let again = elements(BODY).unwrap();
+        assert!(els.iter().zip(&again).all(|(a, b)| a.hash == b.hash));
+        assert_ne!(els[1].hash, els[2].hash);
+    }
+
+    #[test]
+    fn text_that_is_not_one_element_a_line_is_kept_whole() {
+        for body in [
+            "<g>\n<path/>\n",
+            "</g>\n",
+            "<g>\ntext\n</g>\n",
+            "<g><path/>",
+        ] {
+            assert!(elements(body).is_none(), "{body:?}");
+        }
+        assert_eq!(elements("<text x=\"1\">a b</text>\n").unwrap()[0].end, 1);
+    }
+
+    #[test]
+    fn frames_are_compared_with_their_names_told_apart() {
+        let a = "<defs>\n<clipPath id=\"f3_0\"/>\n</defs>\n<g clip-path=\"url(#f3_0)\">\n";
+        let b = a.replace("f3_", "f17_");
+        assert!(same_frame(a, 3, &b, 17));
+        assert!(!same_frame(a, 3, &b.replace("clip-path", "mask"), 17));
+        assert!(!same_frame(a, 3, a, 17));
+    }
+
+    #[test]
+    fn frames_share_what_they_draw_alike() {
+        let moved = BODY.replace("translate(1 2)", "translate(3 4)");
+        let docs = [BODY.to_string(), moved].map(|body| {
+            format!("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"9\" height=\"9\">\n<defs>\n<clipPath id=\"f0_0\"/>\n</defs>\n{body}</svg>\n")
+        });
+        let pages: Vec<Page> = docs.iter().map(|d| Page::parse(d)).collect();
+        let mut seen = HashMap::new();
+        for el in pages.iter().flat_map(|p| &p.els).filter(|e| e.shareable) {
+            *seen.entry(el.hash).or_default() += 1;
+        }
+        let mut shared = Shared {
+            seen,
+            index: HashMap::new(),
+            defs: String::new(),
+        };
+        let written: Vec<String> = pages
+            .iter()
+            .map(|p| {
+                assert_eq!(p.defs, "<clipPath id=\"f0_0\"/>\n");
+                let mut out = String::new();
+                p.write(&mut shared, &mut out);
+                out
+            })
+            .collect();
+        // The red square and the still path stand in both frames: written once each.
+        assert_eq!(shared.index.len(), 2);
+        assert_eq!(shared.defs.matches("<g id=\"s").count(), 2);
+        for (w, doc) in written.iter().zip(&docs) {
+            assert_eq!(w.matches("<use href=\"#s").count(), 2);
+            // Put back, each frame is what was drawn.
+            let mut back = w.clone();
+            for (id, text) in shared.index.values() {
+                back = back.replace(&format!("<use href=\"#s{id}\"/>\n"), text);
+            }
+            assert!(doc.contains(&back), "{back}");
+        }
+    }
 }

@@ -289,18 +289,20 @@ impl Stage<'_> {
         (index, t): (usize, f64),
         opts: &Options,
     ) -> Result<Pixmap, OutputError> {
-        let svg = self.svg(sampler, path, (index, t))?;
+        let svg = self.svg(sampler, path, (index, t), "d")?;
         raster::render_limited(&svg, opts.size, opts.max_pixels)
             .map_err(|e| frame_error(path, self.anim, index, t, e))
     }
 
     /// Frame `index` (at time `t`) of `path` as an SVG document, its states read from
-    /// `sampler` (or evaluated directly).
+    /// `sampler` (or evaluated directly), its `<defs>` entries named `{ids}0`, `{ids}1`, …
+    /// (see [`frame::frame_with_ids`]).
     pub(crate) fn svg(
         &self,
         sampler: Option<&Sampler>,
         path: &Path,
         (index, t): (usize, f64),
+        ids: &str,
     ) -> Result<String, OutputError> {
         let anim = self.anim;
         let mut states = match sampler {
@@ -308,7 +310,7 @@ impl Stage<'_> {
             None => anim.evaluate(t),
         };
         Ok(match self.source {
-            None => frame::frame_with_states(&anim.scene, anim, t, states),
+            None => frame::frame_with_ids(&anim.scene, anim, t, states, ids),
             Some(src) => {
                 let (scene, moved) =
                     src.scene_at(src.frame_at(t))
@@ -318,7 +320,7 @@ impl Stage<'_> {
                             message: e.to_string(),
                         })?;
                 riding(src, &mut states, &moved);
-                frame::frame_with_states(&scene, anim, t, states)
+                frame::frame_with_ids(&scene, anim, t, states, ids)
             }
         })
     }

@@ -90,6 +90,20 @@ pub fn frame_with_states<'a>(
     t: f64,
     states: Vec<ShapeState>,
 ) -> String {
+    frame_with_ids(scene, anim, t, states, "d")
+}
+
+/// [`frame_with_states`] with its `<defs>` entries (gradients, clip paths, masks…) named
+/// `{ids}0`, `{ids}1`, … instead of `d0`, `d1`, …: frames that share one document (a
+/// flipbook) need names of their own. A frame writes no other ids; `ids` must not end in
+/// a digit (`f1` would name frame 1's tenth entry as frame 11's first).
+pub fn frame_with_ids<'a>(
+    scene: &'a Scene,
+    anim: &'a Animation,
+    t: f64,
+    states: Vec<ShapeState>,
+    ids: &str,
+) -> String {
     let writer = Writer {
         scene,
         frame: Some(Frame {
@@ -98,7 +112,7 @@ pub fn frame_with_states<'a>(
             t,
         }),
         out: String::with_capacity(4096),
-        defs: Defs::default(),
+        defs: Defs::numbered(ids),
         deform: Vec::new(),
         written_ids: None,
     };

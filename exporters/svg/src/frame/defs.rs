@@ -104,11 +104,23 @@ impl Names {
 pub(super) struct Defs<'a> {
     index: HashMap<Key, usize>,
     pending: VecDeque<(usize, Def<'a>)>,
-    /// `None` for frames, whose entries are simply `d0`, `d1`, … (frames write no node ids).
+    /// `None` for frames, whose entries are simply numbered after [`Self::prefix`] (frames
+    /// write no node ids).
     names: Option<Names>,
+    /// What a frame's entry names start with: `d` (`d0`, `d1`, …) unless frames sharing one
+    /// document need names of their own.
+    prefix: String,
 }
 
 impl<'a> Defs<'a> {
+    /// A frame's entries, named `{prefix}0`, `{prefix}1`, ….
+    pub(super) fn numbered(prefix: &str) -> Defs<'a> {
+        Defs {
+            prefix: prefix.to_string(),
+            ..Defs::default()
+        }
+    }
+
     pub(super) fn with_names(names: Names) -> Defs<'a> {
         Defs {
             names: Some(names),
@@ -145,7 +157,7 @@ impl<'a> Defs<'a> {
         match &self.names {
             Some(n) => escaped(out, &n.list[i]),
             None => {
-                let _ = write!(out, "d{i}");
+                let _ = write!(out, "{}{i}", self.prefix);
             }
         }
     }
