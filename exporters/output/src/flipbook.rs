@@ -107,20 +107,19 @@ pub(crate) fn smil(stage: Stage, path: &Path, opts: &Options) -> Result<String, 
             shown.push(Shown { frame: k, svg });
         }
     }
-    let pages: Vec<Page> = shown.par_iter().map(|s| Page::parse(&s.svg)).collect();
-    let mut seen: HashMap<u64, u32> = HashMap::new();
-    for el in pages.iter().flat_map(|p| &p.els).filter(|e| e.shareable) {
-        *seen.entry(el.hash).or_default() += 1;
-    }
-    let mut shared = Shared {
-        seen,
-        index: HashMap::new(),
-        defs: String::new(),
-    };
+    // Frames are split twice, to count and to write, rather than held split: an element
+    // takes about as much memory as its text.
+    let hashes: Vec<Vec<u64>> = shown
+        .par_iter()
+        .map(|s| Page::parse(&s.svg).shareable_hashes().collect())
+        .collect();
+    let mut shared = Shared::counting(hashes.iter().flatten().copied());
+    drop(hashes);
     let (width, height) = (anim.scene.width, anim.scene.height);
     let dur = frames as f64 / anim.fps;
     let mut body = String::with_capacity(bytes / 4);
-    for (i, (s, page)) in shown.iter().zip(&pages).enumerate() {
+    for (i, s) in shown.iter().enumerate() {
+        let page = Page::parse(&s.svg);
         let end = shown.get(i + 1).map_or(frames, |next| next.frame);
         body.push_str(if i == 0 {
             "<g>\n"
@@ -176,6 +175,22 @@ struct Shared<'a> {
     defs: String,
 }
 
+impl Shared<'_> {
+    /// Nothing shared yet, of the shareable elements whose `hashes` are listed (once for
+    /// each time the element stands in a frame).
+    fn counting(hashes: impl Iterator<Item = u64>) -> Self {
+        let mut seen: HashMap<u64, u32> = HashMap::new();
+        for h in hashes {
+            *seen.entry(h).or_default() += 1;
+        }
+        Shared {
+            seen,
+            index: HashMap::new(),
+            defs: String::new(),
+        }
+    }
+}
+
 /// One element of a frame's body, with everything inside it.
 struct El<'a> {
     /// Its lines, from its start tag to its end tag.
@@ -222,6 +237,11 @@ impl<'a> Page<'a> {
             els: elements(body).unwrap_or_default(),
             body,
         }
+    }
+
+    /// The hashes of the elements that may be shared.
+    fn shareable_hashes(&self) -> impl Iterator<Item = u64> + '_ {
+        self.els.iter().filter(|e| e.shareable).map(|e| e.hash)
     }
 
     /// Appends the body, each element that stands in more than one frame as a `<use>` of
@@ -305,9 +325,7 @@ fn elements(body: &str) -> Option<Vec<El<'_>>> {
             shareable: false,
         });
         starts.push(start);
-        let name_end = tag[1..]
-            .find([' ', '>', '/'])
-            .map_or(tag.len(), |n| n + 1);
+        let name_end = tag[1..].find([' ', '>', '/']).map_or(tag.len(), |n| n + 1);
         // An empty element, or one with its text content on its line (`<a>…</a>`), is
         // complete.
         if !tag.ends_with("/>") && !tag.ends_with(&format!("</{}>", &tag[1..name_end])) {
@@ -405,15 +423,7 @@ mod tests {
             format!("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"9\" height=\"9\">\n<defs>\n<clipPath id=\"f0_0\"/>\n</defs>\n{body}</svg>\n")
         });
         let pages: Vec<Page> = docs.iter().map(|d| Page::parse(d)).collect();
-        let mut seen = HashMap::new();
-        for el in pages.iter().flat_map(|p| &p.els).filter(|e| e.shareable) {
-            *seen.entry(el.hash).or_default() += 1;
-        }
-        let mut shared = Shared {
-            seen,
-            index: HashMap::new(),
-            defs: String::new(),
-        };
+        let mut shared = Shared::counting(pages.iter().flat_map(Page::shareable_hashes));
         let written: Vec<String> = pages
             .iter()
             .map(|p| {
