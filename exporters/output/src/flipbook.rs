@@ -12,7 +12,8 @@
 //! the backdrop once and the moving parts once a frame. Elements that refer to a frame's
 //! gradients, clip paths, masks or filters stay in their frame, whose `<defs>` entries are
 //! named after it (`f12_0`, `f12_1`, …, see [`frame::frame_with_ids`]); their content is
-//! shared where it can be. The file is bounded by [`MAX_BYTES`] of frames.
+//! shared where it can be, and so is what a mask or a pattern holds (a clip path may
+//! `<use>` a shape only, not a group). The file is bounded by [`MAX_BYTES`] of frames.
 //!
 //! Why frames rather than animated elements: a Lottie's own motion (path keyframes, trims,
 //! mattes, repeaters, time remapping) has no general counterpart in SMIL's attribute
@@ -139,12 +140,12 @@ pub(crate) fn smil(stage: Stage, path: &Path, opts: &Options) -> Result<String, 
                 "<animate attributeName=\"display\" values=\"{values}\" keyTimes=\"{times}\" dur=\"{dur}s\" calcMode=\"discrete\" repeatCount=\"indefinite\"/>"
             );
         }
-        if !page.defs.is_empty() {
+        if !page.defs.text.is_empty() {
             body.push_str("<defs>\n");
-            body.push_str(page.defs);
+            page.defs.write(&mut shared, &mut body);
             body.push_str("</defs>\n");
         }
-        page.write(&mut shared, &mut body);
+        page.body.write(&mut shared, &mut body);
         body.push_str("</g>\n");
     }
     let mut out = String::with_capacity(body.len() + shared.defs.len() + 256);
@@ -209,13 +210,20 @@ struct El<'a> {
 
 /// A frame document split for sharing.
 struct Page<'a> {
-    /// Its `<defs>` entries.
-    defs: &'a str,
-    /// Its body's elements in document order; empty when the body is not one element a
-    /// line as [`frame`] writes it (then [`Self::body`] is written as it stands).
+    /// Its `<defs>` entries: what a mask or a pattern holds may be shared (a clip path may
+    /// `<use>` only a shape, not a group).
+    defs: Lines<'a>,
+    /// Its body.
+    body: Lines<'a>,
+}
+
+/// Text written one element a line, split into its elements.
+struct Lines<'a> {
+    /// The text.
+    text: &'a str,
+    /// Its elements in document order; empty when the text is not one element a line as
+    /// [`frame`] writes it (then it is written as it stands).
     els: Vec<El<'a>>,
-    /// Its body's text.
-    body: &'a str,
 }
 
 impl<'a> Page<'a> {
@@ -232,23 +240,49 @@ impl<'a> Page<'a> {
             rest = &d[close + "</defs>\n".len()..];
         }
         let body = rest.strip_suffix("</svg>\n").unwrap_or(rest);
+        let mut defs = Lines::split(defs);
+        // Only the content of masks and patterns is shared: the entries themselves carry
+        // the frame's names, and a clip path's content must stay shapes.
+        let mut i = 0;
+        let mut shared_inside = vec![false; defs.els.len()];
+        while i < defs.els.len() {
+            let entry = &defs.els[i];
+            if entry.open.starts_with("<mask ") || entry.open.starts_with("<pattern ") {
+                shared_inside[i + 1..entry.end].fill(true);
+            }
+            i = entry.end;
+        }
+        for (el, inside) in defs.els.iter_mut().zip(shared_inside) {
+            el.shareable &= inside;
+        }
         Page {
             defs,
-            els: elements(body).unwrap_or_default(),
-            body,
+            body: Lines::split(body),
         }
     }
 
     /// The hashes of the elements that may be shared.
     fn shareable_hashes(&self) -> impl Iterator<Item = u64> + '_ {
-        self.els.iter().filter(|e| e.shareable).map(|e| e.hash)
+        (self.defs.els.iter())
+            .chain(&self.body.els)
+            .filter(|e| e.shareable)
+            .map(|e| e.hash)
+    }
+}
+
+impl<'a> Lines<'a> {
+    fn split(text: &'a str) -> Lines<'a> {
+        Lines {
+            text,
+            els: elements(text).unwrap_or_default(),
+        }
     }
 
-    /// Appends the body, each element that stands in more than one frame as a `<use>` of
+    /// Appends the text, each element that stands in more than one frame as a `<use>` of
     /// its shared copy.
     fn write(&self, shared: &mut Shared<'a>, out: &mut String) {
         if self.els.is_empty() {
-            out.push_str(self.body);
+            out.push_str(self.text);
             return;
         }
         let mut i = 0;
@@ -427,9 +461,9 @@ mod tests {
         let written: Vec<String> = pages
             .iter()
             .map(|p| {
-                assert_eq!(p.defs, "<clipPath id=\"f0_0\"/>\n");
+                assert_eq!(p.defs.text, "<clipPath id=\"f0_0\"/>\n");
                 let mut out = String::new();
-                p.write(&mut shared, &mut out);
+                p.body.write(&mut shared, &mut out);
                 out
             })
             .collect();
@@ -445,5 +479,36 @@ mod tests {
             }
             assert!(doc.contains(&back), "{back}");
         }
+    }
+
+    #[test]
+    fn what_masks_hold_is_shared_and_what_clip_paths_hold_is_not() {
+        let path = "<path d=\"M0 0 L20 0 L20 20 L0 20 Z M5 5 L6 6 L7 7 L8 8\" fill=\"#ffffff\"/>\n";
+        let defs = |k: usize| {
+            format!(
+                "<clipPath id=\"f{k}_0\">\n{path}</clipPath>\n<mask id=\"f{k}_1\">\n{path}</mask>\n"
+            )
+        };
+        let docs: Vec<String> = (0..2)
+            .map(|k| {
+                format!(
+                    "<svg>\n<defs>\n{}</defs>\n<g mask=\"url(#f{k}_1)\">\n</g>\n</svg>\n",
+                    defs(k)
+                )
+            })
+            .collect();
+        let pages: Vec<Page> = docs.iter().map(|d| Page::parse(d)).collect();
+        let mut shared = Shared::counting(pages.iter().flat_map(Page::shareable_hashes));
+        for (k, p) in pages.iter().enumerate() {
+            let mut out = String::new();
+            p.defs.write(&mut shared, &mut out);
+            assert_eq!(
+                out,
+                format!(
+                    "<clipPath id=\"f{k}_0\">\n{path}</clipPath>\n<mask id=\"f{k}_1\">\n<use href=\"#s0\"/>\n</mask>\n"
+                )
+            );
+        }
+        assert_eq!(shared.defs, format!("<g id=\"s0\">\n{path}</g>\n"));
     }
 }
