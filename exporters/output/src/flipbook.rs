@@ -511,4 +511,98 @@ mod tests {
         }
         assert_eq!(shared.defs, format!("<g id=\"s0\">\n{path}</g>\n"));
     }
+
+    /// The frames of `svg` (a played document), each as the text between its wrapper's
+    /// start tag (and `display` animation) and its end tag, every `<use>` of a shared
+    /// element put back.
+    fn frames_put_back(svg: &str) -> Vec<String> {
+        let rest = svg.split_once(">\n").unwrap().1;
+        let (defs, body) = match rest.strip_prefix("<defs>\n") {
+            Some(r) => r.split_once("</defs>\n").unwrap(),
+            None => ("", rest),
+        };
+        let mut shared = HashMap::new();
+        let lines = Lines::split(defs);
+        let mut i = 0;
+        while i < lines.els.len() {
+            let el = &lines.els[i];
+            let id = &el.open["<g id=\"".len()..el.open.len() - "\">\n".len()];
+            let inner = &el.text[el.open.len()..el.text.len() - el.close.len()];
+            shared.insert(format!("<use href=\"#{id}\"/>\n"), inner);
+            i = el.end;
+        }
+        let body = body.strip_suffix("</svg>\n").unwrap();
+        let mut frames: Vec<String> = Vec::new();
+        for line in body.split_inclusive('\n') {
+            if line == "<g>\n" || line == "<g display=\"none\">\n" {
+                frames.push(String::new());
+            } else if !line.starts_with("<animate attributeName=\"display\"") {
+                let frame = frames.last_mut().unwrap();
+                frame.push_str(shared.get(line).copied().unwrap_or(line));
+            }
+        }
+        for frame in &mut frames {
+            assert!(frame.ends_with("</g>\n"));
+            frame.truncate(frame.len() - "</g>\n".len());
+        }
+        frames
+    }
+
+    /// Every frame of real files (an embedded image under moving parts, masks whose
+    /// content stands still), its `<use>`s put back, is the document drawn for it; and
+    /// sharing made the file several times smaller.
+    #[test]
+    fn each_frame_put_back_is_the_frame_drawn() {
+        let corpus =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/conformance/lottie-corpus");
+        for name in [
+            "rlottie-python__image_embedded",
+            "rlottie-python__1643-exploding-star",
+        ] {
+            let file = corpus.join(format!("{name}.json"));
+            let imported = gmotion_import_lottie::load(&file, &Default::default()).unwrap();
+            let src = &imported.source;
+            let anim = gmotion::motion::Animation {
+                scene: imported.scene.clone(),
+                duration: src.duration(),
+                fps: src.fps(),
+                looping: true,
+                tracks: vec![Default::default(); imported.scene.shapes.len()],
+            };
+            let stage = Stage {
+                anim: &anim,
+                source: Some(src),
+            };
+            let played = smil(stage, &file, &Options::default()).unwrap();
+            let frames = frames_put_back(&played);
+            let sampler = anim.sampler();
+            let mut drawn: Vec<String> = Vec::new();
+            let mut last: Option<(String, usize)> = None;
+            for k in 0..anim.frame_count() {
+                let svg = stage
+                    .svg(Some(&sampler), &file, (k, anim.frame_time(k)), &ids(k))
+                    .unwrap();
+                if last
+                    .as_ref()
+                    .is_some_and(|(l, kl)| same_frame(l, *kl, &svg, k))
+                {
+                    continue;
+                }
+                let inner = svg.split_once(">\n").unwrap().1;
+                drawn.push(inner.strip_suffix("</svg>\n").unwrap().to_string());
+                last = Some((svg, k));
+            }
+            assert_eq!(frames.len(), drawn.len(), "{name}");
+            assert!(frames.len() > 10, "{name}: {} frames", frames.len());
+            for (k, (ours, theirs)) in frames.iter().zip(&drawn).enumerate() {
+                assert!(ours == theirs, "{name}: frame {k} differs");
+            }
+            let whole: usize = drawn.iter().map(String::len).sum();
+            assert!(
+                played.len() * 3 < whole,
+                "{name}: {} of {whole} bytes",
+                played.len()
+            );
+        }
+    }
 }
