@@ -8,7 +8,7 @@
 //!
 //! Frames share what they draw alike: an element (with everything inside it) that stands
 //! the same in two frames is written once, in the document's `<defs>`, and each frame
-//! shows it through a `<use>`. A scene where a few parts move over a still backdrop costs
+//! shows it through a `<use>`; so is a run of such sibling elements (as `<use>`s of each). A scene where a few parts move over a still backdrop costs
 //! the backdrop once and the moving parts once a frame. Elements that refer to a frame's
 //! gradients, clip paths, masks or filters stay in their frame, whose `<defs>` entries are
 //! named after it (`f12_0`, `f12_1`, …, see [`frame::frame_with_ids`]); their content is
@@ -20,7 +20,6 @@
 //! animation; frames are exact wherever gmotion's own render is.
 
 use std::collections::HashMap;
-use std::collections::hash_map::Entry;
 use std::fmt::Write as _;
 use std::hash::{DefaultHasher, Hash, Hasher};
 use std::path::Path;
@@ -114,8 +113,13 @@ pub(crate) fn smil(stage: Stage, path: &Path, opts: &Options) -> Result<String, 
         .par_iter()
         .map(|s| Page::parse(&s.svg).shareable_hashes().collect())
         .collect();
-    let mut shared = Shared::counting(hashes.iter().flatten().copied());
-    drop(hashes);
+    let seen = count(hashes.into_iter().flatten());
+    let hashes: Vec<Vec<u64>> = shown
+        .par_iter()
+        .map(|s| Page::parse(&s.svg).run_hashes(&seen))
+        .collect();
+    let runs = count(hashes.into_iter().flatten());
+    let mut shared = Shared::new(seen, runs);
     let (width, height) = (anim.scene.width, anim.scene.height);
     let dur = frames as f64 / anim.fps;
     let mut body = String::with_capacity(bytes / 4);
@@ -170,30 +174,80 @@ pub(crate) fn smil(stage: Stage, path: &Path, opts: &Options) -> Result<String, 
 struct Shared<'a> {
     /// How often each shareable element's hash stands in all frames.
     seen: HashMap<u64, u32>,
+    /// How often each run of repeated siblings (see [`Lines::runs`]) stands in all frames.
+    runs: HashMap<u64, u32>,
     /// The elements written to [`Self::defs`] so far: hash → (number, text).
     index: HashMap<u64, (usize, &'a str)>,
     /// `<g id="sN">…</g>` for each shared element.
     defs: String,
 }
 
-impl Shared<'_> {
-    /// Nothing shared yet, of the shareable elements whose `hashes` are listed (once for
-    /// each time the element stands in a frame).
-    fn counting(hashes: impl Iterator<Item = u64>) -> Self {
-        let mut seen: HashMap<u64, u32> = HashMap::new();
-        for h in hashes {
-            *seen.entry(h).or_default() += 1;
-        }
+impl<'a> Shared<'a> {
+    fn new(seen: HashMap<u64, u32>, runs: HashMap<u64, u32>) -> Self {
         Shared {
             seen,
+            runs,
             index: HashMap::new(),
             defs: String::new(),
         }
     }
+
+    /// Writes `text` (hashed as `hash`) as a `<use>` of its shared copy, made on first use
+    /// from what `content` writes: the text itself, or for a run of elements a `<use>` of
+    /// each (so an element that stands alone elsewhere is not written twice).
+    fn share(
+        &mut self,
+        hash: u64,
+        text: &'a str,
+        out: &mut String,
+        content: impl FnOnce(&mut Self, &mut String),
+    ) {
+        let id = match self.index.get(&hash) {
+            // Equal hashes of different text: written in place.
+            Some(&(id, shared)) => (shared == text).then_some(id),
+            None => {
+                let mut body = String::new();
+                content(self, &mut body);
+                let id = self.index.len();
+                self.index.insert(hash, (id, text));
+                let _ = writeln!(self.defs, "<g id=\"s{id}\">");
+                self.defs.push_str(&body);
+                self.defs.push_str("</g>\n");
+                Some(id)
+            }
+        };
+        match id {
+            Some(id) => {
+                let _ = writeln!(out, "<use href=\"#s{id}\"/>");
+            }
+            None => out.push_str(text),
+        }
+    }
+
+    /// [`Self::share`] for an element's own text.
+    fn share_text(&mut self, hash: u64, text: &'a str, out: &mut String) {
+        self.share(hash, text, out, |_, body| body.push_str(text));
+    }
+}
+
+/// Whether `el` may be shared and stands in more than one place (`seen` counts them).
+fn repeated(seen: &HashMap<u64, u32>, el: &El) -> bool {
+    el.shareable && seen.get(&el.hash).is_some_and(|&n| n > 1)
+}
+
+/// How often each value stands in `hashes`.
+fn count(hashes: impl Iterator<Item = u64>) -> HashMap<u64, u32> {
+    let mut seen: HashMap<u64, u32> = HashMap::new();
+    for h in hashes {
+        *seen.entry(h).or_default() += 1;
+    }
+    seen
 }
 
 /// One element of a frame's body, with everything inside it.
 struct El<'a> {
+    /// Where its text starts in the text split.
+    start: usize,
     /// Its lines, from its start tag to its end tag.
     text: &'a str,
     /// Its start tag's line, the whole element for an empty one.
@@ -261,6 +315,19 @@ impl<'a> Page<'a> {
         }
     }
 
+    /// The hashes of its runs of repeated siblings.
+    fn run_hashes(&self, seen: &HashMap<u64, u32>) -> Vec<u64> {
+        let mut hashes = Vec::new();
+        for lines in [&self.defs, &self.body] {
+            let parents = std::iter::once((0, lines.els.len()))
+                .chain((0..lines.els.len()).map(|i| (i + 1, lines.els[i].end)));
+            for (from, to) in parents {
+                hashes.extend(lines.runs(from, to, seen).into_iter().map(|r| r.hash));
+            }
+        }
+        hashes
+    }
+
     /// The hashes of the elements that may be shared.
     fn shareable_hashes(&self) -> impl Iterator<Item = u64> + '_ {
         (self.defs.els.iter())
@@ -278,15 +345,38 @@ impl<'a> Lines<'a> {
         }
     }
 
-    /// Appends the text, each element that stands in more than one frame as a `<use>` of
-    /// its shared copy.
+    /// Appends the text, each element or run of sibling elements that stands in more than
+    /// one place as a `<use>` of its shared copy.
     fn write(&self, shared: &mut Shared<'a>, out: &mut String) {
         if self.els.is_empty() {
             out.push_str(self.text);
             return;
         }
-        let mut i = 0;
-        while i < self.els.len() {
+        self.write_children(0, self.els.len(), shared, out);
+    }
+
+    /// Writes the elements from `from` up to `to`, siblings.
+    fn write_children(&self, from: usize, to: usize, shared: &mut Shared<'a>, out: &mut String) {
+        let runs = self.runs(from, to, &shared.seen);
+        let mut runs = runs.iter().peekable();
+        let mut i = from;
+        while i < to {
+            // A run found here but standing nowhere else is written element by element.
+            if let Some(run) = runs.next_if(|r| r.first == i)
+                && shared.runs.get(&run.hash).is_some_and(|&n| n > 1)
+            {
+                let text = &self.text[run.text.clone()];
+                shared.share(run.hash, text, out, |shared, body| {
+                    let mut j = run.first;
+                    while j < run.end {
+                        let el = &self.els[j];
+                        shared.share_text(el.hash, el.text, body);
+                        j = el.end;
+                    }
+                });
+                i = run.end;
+                continue;
+            }
             i = self.write_el(i, shared, out);
         }
     }
@@ -294,46 +384,64 @@ impl<'a> Lines<'a> {
     /// Writes element `i`; returns the index past it.
     fn write_el(&self, i: usize, shared: &mut Shared<'a>, out: &mut String) -> usize {
         let el = &self.els[i];
-        if el.shareable && shared.seen.get(&el.hash).is_some_and(|&n| n > 1) {
-            let next = shared.index.len();
-            let id = match shared.index.entry(el.hash) {
-                Entry::Occupied(e) => {
-                    let (id, text) = *e.get();
-                    // Equal hashes of different text: written in place.
-                    (text == el.text).then_some(id)
-                }
-                Entry::Vacant(e) => {
-                    e.insert((next, el.text));
-                    let _ = writeln!(shared.defs, "<g id=\"s{next}\">");
-                    shared.defs.push_str(el.text);
-                    shared.defs.push_str("</g>\n");
-                    Some(next)
-                }
-            };
-            match id {
-                Some(id) => {
-                    let _ = writeln!(out, "<use href=\"#s{id}\"/>");
-                }
-                None => out.push_str(el.text),
-            }
+        if repeated(&shared.seen, el) {
+            shared.share_text(el.hash, el.text, out);
             return el.end;
         }
         out.push_str(el.open);
-        let mut child = i + 1;
-        while child < el.end {
-            child = self.write_el(child, shared, out);
-        }
+        self.write_children(i + 1, el.end, shared, out);
         out.push_str(el.close);
         el.end
     }
+
+    /// The runs of two or more consecutive repeated elements among the siblings from
+    /// `from` up to `to`: a backdrop of many still shapes under one moving group is one
+    /// `<use>` a frame rather than one a shape.
+    fn runs(&self, from: usize, to: usize, seen: &HashMap<u64, u32>) -> Vec<Run> {
+        let mut runs = Vec::new();
+        let mut i = from;
+        while i < to {
+            if !repeated(seen, &self.els[i]) {
+                i = self.els[i].end;
+                continue;
+            }
+            let (first, mut last) = (i, i);
+            let mut h = DefaultHasher::new();
+            while i < to && repeated(seen, &self.els[i]) {
+                self.els[i].hash.hash(&mut h);
+                last = i;
+                i = self.els[i].end;
+            }
+            if last > first {
+                let stop = self.els[last].start + self.els[last].text.len();
+                runs.push(Run {
+                    first,
+                    end: i,
+                    hash: h.finish(),
+                    text: self.els[first].start..stop,
+                });
+            }
+        }
+        runs
+    }
+}
+
+/// Consecutive sibling elements, each repeated.
+struct Run {
+    /// Its first element.
+    first: usize,
+    /// The index past its last element's descendants.
+    end: usize,
+    /// Identifies the elements' hashes in order.
+    hash: u64,
+    /// Where its text lies in the text split.
+    text: std::ops::Range<usize>,
 }
 
 /// The elements of `body`, one a line as [`frame`] writes them: a start tag, an empty
 /// element, or an end tag on each line. `None` if the text is not so.
 fn elements(body: &str) -> Option<Vec<El<'_>>> {
     let mut els: Vec<El> = Vec::new();
-    // Where each element's text starts in `body`.
-    let mut starts: Vec<usize> = Vec::new();
     // Elements whose end tag is still to come.
     let mut open: Vec<usize> = Vec::new();
     let mut at = 0;
@@ -343,7 +451,7 @@ fn elements(body: &str) -> Option<Vec<El<'_>>> {
         let tag = line.strip_suffix('\n')?;
         if tag.starts_with("</") {
             let i = open.pop()?;
-            els[i].text = &body[starts[i]..end];
+            els[i].text = &body[els[i].start..end];
             els[i].close = line;
             continue;
         }
@@ -351,6 +459,7 @@ fn elements(body: &str) -> Option<Vec<El<'_>>> {
             return None;
         }
         els.push(El {
+            start,
             text: line,
             open: line,
             close: "",
@@ -358,7 +467,6 @@ fn elements(body: &str) -> Option<Vec<El<'_>>> {
             hash: 0,
             shareable: false,
         });
-        starts.push(start);
         let name_end = tag[1..].find([' ', '>', '/']).map_or(tag.len(), |n| n + 1);
         // An empty element, or one with its text content on its line (`<a>…</a>`), is
         // complete.
@@ -376,9 +484,9 @@ fn elements(body: &str) -> Option<Vec<El<'_>>> {
         let mut h = DefaultHasher::new();
         els[i].open.hash(&mut h);
         refers[i] = refers_to_ids(els[i].open);
-        let stop = starts[i] + els[i].text.len();
+        let stop = els[i].start + els[i].text.len();
         let mut child = i + 1;
-        while child < n && starts[child] < stop {
+        while child < n && els[child].start < stop {
             els[child].hash.hash(&mut h);
             refers[i] |= refers[child];
             child = els[child].end;
@@ -457,7 +565,9 @@ mod tests {
             format!("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"9\" height=\"9\">\n<defs>\n<clipPath id=\"f0_0\"/>\n</defs>\n{body}</svg>\n")
         });
         let pages: Vec<Page> = docs.iter().map(|d| Page::parse(d)).collect();
-        let mut shared = Shared::counting(pages.iter().flat_map(Page::shareable_hashes));
+        let seen = count(pages.iter().flat_map(Page::shareable_hashes));
+        let runs = count(pages.iter().flat_map(|p| p.run_hashes(&seen)));
+        let mut shared = Shared::new(seen, runs);
         let written: Vec<String> = pages
             .iter()
             .map(|p| {
@@ -482,6 +592,37 @@ mod tests {
     }
 
     #[test]
+    fn runs_of_repeated_siblings_are_shared_as_one() {
+        let still: String = (0..3)
+            .map(|k| format!("<path d=\"M{k} 0 L20 0 L20 20 L0 20 Z M5 5 L6 6 L7 7 L8 8\" fill=\"#ffffff\"/>\n"))
+            .collect();
+        let docs: Vec<String> = (0..3)
+            .map(|k| format!("<svg>\n<g transform=\"translate({k} 0)\">\n</g>\n{still}</svg>\n"))
+            .collect();
+        let pages: Vec<Page> = docs.iter().map(|d| Page::parse(d)).collect();
+        let seen = count(pages.iter().flat_map(Page::shareable_hashes));
+        let runs = count(pages.iter().flat_map(|p| p.run_hashes(&seen)));
+        let mut shared = Shared::new(seen, runs);
+        for (k, p) in pages.iter().enumerate() {
+            let mut out = String::new();
+            p.body.write(&mut shared, &mut out);
+            assert_eq!(
+                out,
+                format!("<g transform=\"translate({k} 0)\">\n</g>\n<use href=\"#s3\"/>\n")
+            );
+        }
+        // Each shape once, and the run as `<use>`s of them.
+        let mut defs = String::new();
+        for (k, line) in still.lines().enumerate() {
+            defs.push_str(&format!("<g id=\"s{k}\">\n{line}\n</g>\n"));
+        }
+        defs.push_str(
+            "<g id=\"s3\">\n<use href=\"#s0\"/>\n<use href=\"#s1\"/>\n<use href=\"#s2\"/>\n</g>\n",
+        );
+        assert_eq!(shared.defs, defs);
+    }
+
+    #[test]
     fn what_masks_hold_is_shared_and_what_clip_paths_hold_is_not() {
         let path = "<path d=\"M0 0 L20 0 L20 20 L0 20 Z M5 5 L6 6 L7 7 L8 8\" fill=\"#ffffff\"/>\n";
         let defs = |k: usize| {
@@ -498,7 +639,9 @@ mod tests {
             })
             .collect();
         let pages: Vec<Page> = docs.iter().map(|d| Page::parse(d)).collect();
-        let mut shared = Shared::counting(pages.iter().flat_map(Page::shareable_hashes));
+        let seen = count(pages.iter().flat_map(Page::shareable_hashes));
+        let runs = count(pages.iter().flat_map(|p| p.run_hashes(&seen)));
+        let mut shared = Shared::new(seen, runs);
         for (k, p) in pages.iter().enumerate() {
             let mut out = String::new();
             p.defs.write(&mut shared, &mut out);
@@ -531,14 +674,22 @@ mod tests {
             shared.insert(format!("<use href=\"#{id}\"/>\n"), inner);
             i = el.end;
         }
+        // A shared run is `<use>`s of shared elements.
+        fn put_back(line: &str, shared: &HashMap<String, &str>, out: &mut String) {
+            match shared.get(line) {
+                Some(inner) => inner
+                    .split_inclusive('\n')
+                    .for_each(|l| put_back(l, shared, out)),
+                None => out.push_str(line),
+            }
+        }
         let body = body.strip_suffix("</svg>\n").unwrap();
         let mut frames: Vec<String> = Vec::new();
         for line in body.split_inclusive('\n') {
             if line == "<g>\n" || line == "<g display=\"none\">\n" {
                 frames.push(String::new());
             } else if !line.starts_with("<animate attributeName=\"display\"") {
-                let frame = frames.last_mut().unwrap();
-                frame.push_str(shared.get(line).copied().unwrap_or(line));
+                put_back(line, &shared, frames.last_mut().unwrap());
             }
         }
         for frame in &mut frames {
