@@ -513,6 +513,13 @@ mod tests {
     /// it, and a still path at the top.
     const BODY: &str = "<g clip-path=\"url(#f0_0)\">\n<g transform=\"translate(1 2)\">\n<path d=\"M0 0 L10 0 L10 10 L0 10 Z M2 2 L8 2 L8 8 L2 8 Z\" fill=\"#ff0000\"/>\n</g>\n</g>\n<path d=\"M0 0 L20 0 L20 20 L0 20 Z M5 5 L6 6\" fill=\"#00ff00\" stroke=\"#000000\"/>\n";
 
+    /// What `pages` share, counted as [`smil`] counts it.
+    fn counted<'a>(pages: &[Page<'a>]) -> Shared<'a> {
+        let seen = count(pages.iter().flat_map(Page::shareable_hashes));
+        let runs = count(pages.iter().flat_map(|p| p.run_hashes(&seen)));
+        Shared::new(seen, runs)
+    }
+
     #[test]
     fn elements_nest_and_refer_as_written() {
         let els = elements(BODY).expect("one element a line");
@@ -565,9 +572,7 @@ mod tests {
             format!("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"9\" height=\"9\">\n<defs>\n<clipPath id=\"f0_0\"/>\n</defs>\n{body}</svg>\n")
         });
         let pages: Vec<Page> = docs.iter().map(|d| Page::parse(d)).collect();
-        let seen = count(pages.iter().flat_map(Page::shareable_hashes));
-        let runs = count(pages.iter().flat_map(|p| p.run_hashes(&seen)));
-        let mut shared = Shared::new(seen, runs);
+        let mut shared = counted(&pages);
         let written: Vec<String> = pages
             .iter()
             .map(|p| {
@@ -600,9 +605,7 @@ mod tests {
             .map(|k| format!("<svg>\n<g transform=\"translate({k} 0)\">\n</g>\n{still}</svg>\n"))
             .collect();
         let pages: Vec<Page> = docs.iter().map(|d| Page::parse(d)).collect();
-        let seen = count(pages.iter().flat_map(Page::shareable_hashes));
-        let runs = count(pages.iter().flat_map(|p| p.run_hashes(&seen)));
-        let mut shared = Shared::new(seen, runs);
+        let mut shared = counted(&pages);
         for (k, p) in pages.iter().enumerate() {
             let mut out = String::new();
             p.body.write(&mut shared, &mut out);
@@ -639,9 +642,7 @@ mod tests {
             })
             .collect();
         let pages: Vec<Page> = docs.iter().map(|d| Page::parse(d)).collect();
-        let seen = count(pages.iter().flat_map(Page::shareable_hashes));
-        let runs = count(pages.iter().flat_map(|p| p.run_hashes(&seen)));
-        let mut shared = Shared::new(seen, runs);
+        let mut shared = counted(&pages);
         for (k, p) in pages.iter().enumerate() {
             let mut out = String::new();
             p.defs.write(&mut shared, &mut out);
