@@ -1734,7 +1734,7 @@ fn a_lottie_converted_to_svg_plays_frame_by_frame_in_chromium() {
 fn a_played_lottie_shares_what_its_frames_draw_alike() {
     let dir = out_dir("shared_frames");
     let folder = root().join("tests/conformance/lottie-corpus");
-    let mut failures = Vec::new();
+    let mut judge = crate::support::pictures::Judge::new(0.002);
     for name in [
         "rlottie-python__image_embedded",
         "lottie-web__banner",
@@ -1781,21 +1781,10 @@ fn a_played_lottie_shares_what_its_frames_draw_alike() {
         let times: Vec<f64> = frames.iter().map(|f| (f + 0.5) / fps).collect();
         let shots = crate::support::players::chromium(&svg, 200, &times);
         for ((f, theirs), ours) in frames.iter().zip(shots).zip(alone) {
-            let off = gmotion_export_raster::compare(&ours, &theirs, 32);
-            if off > 0.002 {
-                failures.push(format!(
-                    "{name} frame {f}: {:.2}% of pixels off",
-                    off * 100.0
-                ));
-            }
+            judge.close(&format!("{name} frame {f}"), &ours, &theirs);
         }
     }
-    assert!(
-        failures.is_empty(),
-        "{}\n(files in {})",
-        failures.join("\n"),
-        dir.display()
-    );
+    judge.assert_all_close(&dir);
 }
 
 /// An image layer whose picture is linked (`u` + `p`, `e: 0`, as Bodymovin exports it
