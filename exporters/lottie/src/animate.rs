@@ -19,6 +19,7 @@ use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
 use super::bake::{BakedRigid, RigidSample, bake_rigid};
+use super::fold::fold;
 use super::geometry::{Trs, decompose, max_stretch, svd};
 use super::keys::{Key, Near, Piece, progress_keys, to_keyframes};
 use super::model::{Keyframe, N, Prop, Transform, Value};
@@ -126,7 +127,7 @@ pub fn unit_motion(
     // Many windows (smoothed or data-driven motion has one per frame) would nest one group
     // level each; bake the whole track instead, into at most two levels.
     if windows.len() > MAX_WINDOW_LEVELS {
-        out.levels = whole_track_levels(track, info, fps, frames, tolerance);
+        out.levels = fold(whole_track_levels(track, info, fps, frames, tolerance));
         return out;
     }
     let mut prev_end = Affine::IDENTITY;
@@ -149,7 +150,7 @@ pub fn unit_motion(
         }) * w.start;
         per_window.push(levels);
     }
-    out.levels = per_window.into_iter().rev().flatten().collect();
+    out.levels = fold(per_window.into_iter().rev().flatten().collect());
     out
 }
 
@@ -392,12 +393,15 @@ fn exact_components(seg: &MotionSeg) -> Option<(&[Component], Point)> {
     Some((comps, *pivot))
 }
 
+// Levels are made at full precision and rounded once folded (`fold`), so that composing
+// them does not compound the rounding: the anchors of two levels about one point would
+// then differ in the last written digit and no longer fold.
 fn v2(v: [f64; 2]) -> Value {
-    Value::Vec(vec![N::coord(v[0]), N::coord(v[1])])
+    Value::Vec(vec![N(v[0]), N(v[1])])
 }
 
 fn scalar(x: f64) -> Value {
-    Value::Scalar(N::coord(x))
+    Value::Scalar(N(x))
 }
 
 /// Levels writing `F(f(t))·F(f(t₀))⁻¹` for `t` in `[seg.t0, end]`, if exact.
@@ -446,7 +450,7 @@ fn exact_levels(seg: &MotionSeg, end: f64, fps: f64) -> Option<Vec<Transform>> {
             decompose(undo, Point::ORIGIN)
                 .iter()
                 .filter(|l| !l.is_identity())
-                .map(static_level),
+                .map(exact_static_level),
         );
     }
     Some(out)
@@ -468,13 +472,18 @@ fn prop_or_default<V: Near + Clone>(
     }
 }
 
-/// A fixed level.
+/// A fixed level, rounded as written.
 pub fn static_level(l: &Trs) -> Transform {
+    exact_static_level(l).rounded()
+}
+
+/// A fixed level at full precision.
+fn exact_static_level(l: &Trs) -> Transform {
     Transform {
         a: (l.a != Vec2::ZERO).then(|| Prop::fixed(v2([l.a.x, l.a.y]))),
         p: (l.p != Vec2::ZERO).then(|| Prop::fixed(v2([l.p.x, l.p.y]))),
         s: (l.s != Vec2::new(1.0, 1.0)).then(|| Prop::fixed(v2([l.s.x * 100.0, l.s.y * 100.0]))),
-        r: (l.r != 0.0).then(|| Prop::scalar(N::coord(l.r))),
+        r: (l.r != 0.0).then(|| Prop::scalar(N(l.r))),
         o: None,
     }
 }
@@ -486,7 +495,7 @@ fn hold_levels(m: Affine, frame: f64) -> Vec<Transform> {
     }
     let levels = decompose(m, Point::ORIGIN);
     if frame <= 0.0 {
-        return levels.iter().map(static_level).collect();
+        return levels.iter().map(exact_static_level).collect();
     }
     let held = |from: Value, to: Value| {
         Prop::Animated(vec![

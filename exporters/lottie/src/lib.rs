@@ -31,6 +31,7 @@
 
 mod animate;
 mod bake;
+mod fold;
 mod geometry;
 mod keys;
 pub mod layered;

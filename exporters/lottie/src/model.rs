@@ -448,6 +448,20 @@ impl Transform {
             o: Some(Prop::fixed(Value::Scalar(N(100.0)))),
         }
     }
+
+    /// Every value rounded as a coordinate ([`N::coord`]); a channel whose keys then all
+    /// hold one value becomes fixed. For levels computed at full precision, so that
+    /// composing them does not compound the rounding.
+    pub fn rounded(self) -> Transform {
+        let round = |p: Option<Prop>| p.map(Prop::rounded);
+        Transform {
+            a: round(self.a),
+            p: round(self.p),
+            s: round(self.s),
+            r: round(self.r),
+            o: round(self.o),
+        }
+    }
 }
 
 /// A shape item.
@@ -626,6 +640,17 @@ pub enum Value {
 }
 
 impl Value {
+    /// A number or vector rounded as a coordinate ([`N::coord`]); an outline as it is
+    /// (transforms, the values rounded this way, hold none).
+    fn rounded(mut self) -> Value {
+        match &mut self {
+            Value::Scalar(x) => *x = N::coord(x.0),
+            Value::Vec(xs) => xs.iter_mut().for_each(|x| *x = N::coord(x.0)),
+            Value::Bezier(_) => {}
+        }
+        self
+    }
+
     fn write_keyframe_value<S: SerializeMap>(&self, m: &mut S) -> Result<(), S::Error> {
         match self {
             Value::Scalar(x) => m.serialize_entry("s", &[x]),
@@ -722,6 +747,20 @@ pub enum Prop {
 }
 
 impl Prop {
+    /// Every value rounded as a coordinate; keys that then all hold one value become a
+    /// fixed value.
+    fn rounded(self) -> Prop {
+        match self {
+            Prop::Fixed(v) => Prop::Fixed(v.rounded()),
+            Prop::Animated(mut keys) => {
+                for k in &mut keys {
+                    k.s = std::mem::replace(&mut k.s, Value::Scalar(N(0.0))).rounded();
+                }
+                Prop::keyed(keys)
+            }
+        }
+    }
+
     /// A fixed value.
     pub fn fixed(v: Value) -> Prop {
         Prop::Fixed(v)

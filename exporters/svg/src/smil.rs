@@ -6,8 +6,10 @@
 //!
 //! - each animated unit node is wrapped in nested `<g>`s, one per motion segment, carrying
 //!   additive `animateTransform`s (`translate`, `rotate`, `scale`, `skewX`, `skewY`) whose
-//!   `keyTimes`/`keySplines` reproduce the segment's timing and easing exactly; the outermost
-//!   group also carries the unit's opacity;
+//!   `keyTimes`/`keySplines` reproduce the segment's timing and easing exactly, then merged
+//!   wherever the product stays the same at every instant (groups whose static transforms
+//!   commute with the animations outside them, animations of one type in turn: the
+//!   `merge` module); the outermost group also carries the unit's opacity;
 //! - paths inside animated units get `<animate>` children for fill and stroke colours (the
 //!   tint applied to the path's own colour), stroke width, and, for per-vertex deformation,
 //!   `d`; gradients and patterns under a tint are copied per path with animated
@@ -28,6 +30,7 @@ mod bake;
 mod curve;
 mod decompose;
 mod deform;
+mod merge;
 mod paint;
 mod splice;
 mod transform;

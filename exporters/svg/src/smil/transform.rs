@@ -209,6 +209,7 @@ pub fn plan(
         nested.push(layers);
     }
     let (layers, inner) = fold(nested.into_iter().rev().flatten(), parent_inv, parent);
+    let (layers, inner) = super::merge::merge(layers, inner);
     Ok(Some(Plan {
         layers,
         inner,
