@@ -5,8 +5,10 @@
 // diagnostic while the preview stays; clicking a shape highlights its timeline row; a
 // frozen variation keeps its seed when the rest re-roll; save writes the file; an edit of
 // the file on disk shows up in the page; no request leaves 127.0.0.1; and `animate -o
-// preview.html` plays with the network off. Saves a screenshot
-// to docs/studio.png. Exits 1 on the first failed check.
+// preview.html` plays with the network off. Saves a screenshot to $STUDIO_SCREENSHOT when
+// set (`STUDIO_SCREENSHOT=docs/studio.png` refreshes the README's picture), else beside its
+// work files, so that a test run leaves the checkout as it was. Exits 1 on the first
+// failed check.
 import { spawn, spawnSync } from 'node:child_process';
 import { copyFileSync, mkdtempSync, readFileSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -151,7 +153,7 @@ try {
   await page.selectOption('#mode', 'render');
   await page.click('#play');
   await page.waitForTimeout(1500);
-  await page.screenshot({ path: join(root, 'docs', 'studio.png') });
+  await page.screenshot({ path: process.env.STUDIO_SCREENSHOT || join(dir, 'studio.png') });
   check(errors.length === 0, `no script errors ${errors.join('; ')}`);
   check(outside.length === 0, `no request leaves 127.0.0.1 ${outside.join(' ')}`);
 
