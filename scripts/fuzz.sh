@@ -6,10 +6,12 @@
 #
 # runs each TARGET (default: all five) for SECONDS (default 60) after seeding its corpus
 # (fuzz/seed.sh) with the bundled examples, the resvg test SVGs, the Lottie corpus and every
-# regression case. A crash, a timeout (10 s) or more than 2 GB of memory stops a target,
-# writes the input to fuzz/artifacts/TARGET/ and makes this script fail. CI builds the
-# targets beside the conformance run (`build`, on the core the players leave idle) and
-# then runs each for 5 s.
+# regression case. A crash, a timeout (10 s, or FUZZ_TIMEOUT seconds) or more than 2 GB of
+# memory stops a target, writes the input to fuzz/artifacts/TARGET/ and makes this script
+# fail. The timeout is wall-clock time: a long run niced beside other work wants a larger
+# one (FUZZ_TIMEOUT=60), or an input that takes 0.5 s alone is reported as a hang. CI
+# builds the targets beside the conformance run (`build`, on the core the players leave
+# idle) and then runs each for 5 s.
 #
 # It builds what `cargo fuzz build --sanitizer none -O` builds (the same coverage flags, on
 # the stable toolchain: gmotion has no unsafe code, so AddressSanitizer, which needs a
@@ -40,7 +42,7 @@ for t in "${targets[@]}"; do
     mkdir -p "fuzz/artifacts/$t"
     echo "== fuzz $t for ${secs}s"
     if ! "fuzz/target/$triple/release/$t" "fuzz/corpus/$t" \
-        -max_total_time="$secs" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
+        -max_total_time="$secs" -timeout="${FUZZ_TIMEOUT:-10}" -rss_limit_mb=2048 -max_len=65536 \
         -artifact_prefix="fuzz/artifacts/$t/" -print_final_stats=1 2>"fuzz/artifacts/$t.log"; then
         status=1
         grep -E "panicked|ERROR|SUMMARY|Test unit written" "fuzz/artifacts/$t.log" | head -20
