@@ -139,9 +139,12 @@ impl Group {
     }
 
     /// The region this group's filter draws in, in the group's coordinates (`abs` maps
-    /// them to the canvas): the source's, unless animated units inside may move out of it,
-    /// when it grows to cover the canvas plus the effects' reach (anything beyond is not
-    /// seen). `None` without a filter.
+    /// them to the canvas): the source's, unless animated content may move out of it (a
+    /// unit inside, or the group being a unit itself, whose outlines a per-vertex motion
+    /// moves within the group), when it grows to cover the canvas plus the effects' reach
+    /// (anything beyond is not seen). A region exported tight around a still shape (as
+    /// Figma writes them) would otherwise cut off the shape it moves. `None` without a
+    /// filter.
     pub fn filter_region(&self, abs: Affine, canvas: Rect) -> Option<Rect> {
         fn has_unit(g: &Group) -> bool {
             g.children
@@ -149,7 +152,8 @@ impl Group {
                 .any(|n| n.unit().is_some() || matches!(n, Node::Group(h) if has_unit(h)))
         }
         let f = self.filter.as_ref()?;
-        if !has_unit(self) || abs.determinant() == 0.0 {
+        let moves = self.unit.is_some() || has_unit(self);
+        if !moves || abs.determinant() == 0.0 {
             return Some(f.region);
         }
         let reach: f64 = f.effects.iter().map(Effect::reach).sum();

@@ -12,7 +12,7 @@
 //! effects: they must draw the same picture without the blurs and shadows, and the export
 //! says so in a warning.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use gmotion_export_raster::compare;
 
@@ -202,19 +202,39 @@ fn filtered_shapes_move_with_their_effects() {
          animate(opacity, local, 0, 0.4) : [all, pill] -> [d]\n",
     )
     .unwrap();
+    moves_alike_in_players("filters-animated", &d);
+}
+
+/// Plays `d`'s `art.svg` with `art.gm` in lottie-web and ThorVG at the first, middle and
+/// last frame: they draw what gmotion draws, and the shapes moved.
+fn moves_alike_in_players(name: &str, d: &Path) {
     let mut judge = Judge::new(MAX_OFF);
     let players = [Player::LottieWebSvg, Player::Thorvg];
-    let ours = animate_and_play(
-        "filters-animated",
-        &d,
-        640,
-        10.0,
-        &[0.0, 10.0, 19.0],
-        &players,
-        &mut judge,
-    );
+    let ours = animate_and_play(name, d, 640, 10.0, &[0.0, 10.0, 19.0], &players, &mut judge);
     assert!(compare(&ours[0], &ours[2], OFF) > 0.05, "the shapes move");
-    judge.assert_all_close(&d);
+    judge.assert_all_close(d);
+}
+
+#[test]
+fn filtered_shapes_moved_by_their_own_vertices_are_not_cut_off() {
+    // A per-vertex motion (`lookup vertex` on a grid) moves the outline inside its filtered
+    // group, not the group: the tight regions Figma writes would cut the shape off where
+    // it goes, which no Lottie player does (the effect follows the layer). The region
+    // grows instead, as it does for a unit inside the group.
+    let d = folder("deformed");
+    std::fs::write(
+        d.join("art.svg"),
+        picture(|id| id == "card" || id == "chip"),
+    )
+    .unwrap();
+    std::fs::write(
+        d.join("art.gm"),
+        "duration 2s\nfps 10\ngrid 3x2\nlookup vertex\n\
+         animate(affine, local, 0, translate(150, 40)) : [all, card] -> [a]\n\
+         animate(affine, local, 0, translate(170, -60)) : [all, chip] -> [b]\n",
+    )
+    .unwrap();
+    moves_alike_in_players("filters-deformed", &d);
 }
 
 #[test]
