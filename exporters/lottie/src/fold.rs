@@ -197,11 +197,11 @@ impl Chan {
 
     /// `op(a(t), b(t))` where `a` changes only before `b` starts changing (or either is
     /// fixed): `a`'s keys with `b` at its first value, then `b`'s with `a` at its last.
-    /// `op` must be affine in each argument, so that easings carry over.
-    fn join(a: Chan, b: Chan, op: impl Fn([f64; 2], [f64; 2]) -> [f64; 2]) -> Chan {
+    /// `op` must be affine in each argument, so that easings carry over. `None` only when
+    /// the two parts do not meet, which takes a value that is not a number.
+    fn join(a: Chan, b: Chan, op: impl Fn([f64; 2], [f64; 2]) -> [f64; 2]) -> Option<Chan> {
         let (a_last, b_first) = (a.last(), b.first());
         Chan::concat(a.map(|x| op(x, b_first)), b.map(|y| op(a_last, y)))
-            .expect("both parts meet at op(a's last, b's first)")
     }
 
     /// `a` and then `b`, for `a` changing only before `b` starts changing; `None` unless `b`
@@ -412,8 +412,8 @@ impl Level {
         let a = [self.a.x, self.a.y];
         let d = self.p.clone().map(|p| [p[0] - a[0], p[1] - a[1]]);
         let p = match ordered(&d, &inner.p)? {
-            Order::FirstThen => Chan::join(d, inner.p.clone(), add),
-            Order::SecondThen => Chan::join(inner.p.clone(), d, add),
+            Order::FirstThen => Chan::join(d, inner.p.clone(), add)?,
+            Order::SecondThen => Chan::join(inner.p.clone(), d, add)?,
         };
         Some(Level {
             a: inner.a,
@@ -434,12 +434,11 @@ impl Level {
         if !self.s.all(even) && !inner.r.all(|r| near(r, ZERO)) {
             return None;
         }
-        let in_order = |a: &Chan, b: &Chan, op: fn([f64; 2], [f64; 2]) -> [f64; 2]| {
-            Some(match ordered(a, b)? {
+        let in_order =
+            |a: &Chan, b: &Chan, op: fn([f64; 2], [f64; 2]) -> [f64; 2]| match ordered(a, b)? {
                 Order::FirstThen => Chan::join(a.clone(), b.clone(), op),
                 Order::SecondThen => Chan::join(b.clone(), a.clone(), op),
-            })
-        };
+            };
         Some(Level {
             a: self.a,
             p: self.p.clone(),

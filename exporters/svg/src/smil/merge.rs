@@ -73,6 +73,9 @@ fn merge_anims(anims: &mut Vec<TransformAnim>) {
 /// Whether `a` and `b` are one type, both continuous or both discrete, with keys in
 /// disjoint spans of time, and a type whose values compose by adding or multiplying.
 fn mergeable(a: &TransformAnim, b: &TransformAnim) -> bool {
+    if a.keys.is_empty() || b.keys.is_empty() {
+        return false;
+    }
     let span = |x: &TransformAnim| (x.keys[0].t, x.keys[x.keys.len() - 1].t);
     let ((a0, a1), (b0, b1)) = (span(a), span(b));
     a.kind == b.kind
