@@ -642,6 +642,18 @@ mod tests {
         }
     }
 
+    /// A translation written about anchor `a`: its position from `a` to `to` over frames
+    /// `t0`–`t1`.
+    fn shift_about(a: [f64; 2], t0: f64, t1: f64, to: [f64; 2]) -> Transform {
+        Transform {
+            a: fixed(a),
+            p: Some(keyed(t0, t1, a, to, EASE_IN_OUT, false)),
+            s: None,
+            r: None,
+            o: None,
+        }
+    }
+
     /// A fixed level `T(p)·R(r)·S(s)·T(-a)`.
     fn still(a: [f64; 2], p: [f64; 2], r: f64, s: [f64; 2]) -> Transform {
         Transform {
@@ -703,20 +715,7 @@ mod tests {
     #[test]
     fn a_translation_folds_into_the_level_inside_it() {
         let c = [100.0, 50.0];
-        let shift = Transform {
-            a: fixed([0.0, -4.0]),
-            p: Some(keyed(
-                10.0,
-                30.0,
-                [0.0, -4.0],
-                [7.0, 2.0],
-                EASE_IN_OUT,
-                false,
-            )),
-            s: None,
-            r: None,
-            o: None,
-        };
+        let shift = shift_about([0.0, -4.0], 10.0, 30.0, [7.0, 2.0]);
         let levels = vec![shift, scale_about(c, 20.0, 60.0, [80.0, 120.0])];
         let folded = fold(levels.clone());
         assert_eq!(folded.len(), 1, "{folded:#?}");
@@ -768,20 +767,7 @@ mod tests {
                     ),
                     1 => turn_about(c, t0, t1, (next() - 0.5) * 180.0),
                     2 => scale_about(c, t0, t1, [k * uneven, k]),
-                    3 => Transform {
-                        a: fixed(c),
-                        p: Some(keyed(
-                            t0,
-                            t1,
-                            c,
-                            [c[0] + 9.0, c[1] - 4.0],
-                            EASE_IN_OUT,
-                            false,
-                        )),
-                        s: None,
-                        r: None,
-                        o: None,
-                    },
+                    3 => shift_about(c, t0, t1, [c[0] + 9.0, c[1] - 4.0]),
                     _ => Transform {
                         s: Some(keyed(t0, t1, FULL, [k * uneven, k], EASE_IN_OUT, false)),
                         ..turn_about(c, t0, t1, (next() - 0.5) * 90.0)
