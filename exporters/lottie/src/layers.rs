@@ -192,8 +192,14 @@ impl<'a> Builder<'a> {
             size,
         };
         let mut comp = Comp::new(0);
-        let root = self.src.scene.root.clone();
-        self.node(&Node::Group(root), Affine::IDENTITY, env, &mut comp);
+        let root = &self.src.scene.root;
+        if root.unit.is_some() {
+            // The walk takes a unit as a node; wrapping the root in one copies the whole
+            // tree, so only a root that is a unit itself is.
+            self.node(&Node::Group(root.clone()), Affine::IDENTITY, env, &mut comp);
+        } else {
+            self.group(root, Affine::IDENTITY, env, &mut comp);
+        }
         let next = comp.next_ind;
         let mut layers = comp.into_layers(self.src.op);
         // Lottie sizes are whole pixels: stretch a fractional canvas onto them, through a

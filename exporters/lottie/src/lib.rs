@@ -39,6 +39,7 @@ mod layers;
 mod model;
 mod paint;
 mod restyle;
+mod text;
 
 use rayon::prelude::*;
 
@@ -48,6 +49,7 @@ use gmotion::canvas::{Fit, OutputSize};
 use gmotion::motion::{Animation, Track};
 use gmotion::scene::{Scene, Shape};
 use layers::Source;
+pub use text::LottieText;
 
 /// Options of the Lottie export.
 #[derive(Clone, Debug, PartialEq)]
@@ -111,6 +113,15 @@ const PARALLEL_UNITS: usize = 64;
 
 /// Writes an animation as Lottie JSON.
 pub fn to_lottie(anim: &Animation, opts: &LottieOptions) -> Result<LottieOutput, LottieError> {
+    to_lottie_text(anim, opts).map(|(text, warnings)| (text.into_string(), warnings))
+}
+
+/// [`to_lottie`] with the text left in the pieces it was written in, for writing to a
+/// file without joining them first ([`LottieText::write_to`]).
+pub fn to_lottie_text(
+    anim: &Animation,
+    opts: &LottieOptions,
+) -> Result<(LottieText, Vec<Warning>), LottieError> {
     if !(anim.fps.is_finite() && anim.fps > 0.0 && anim.duration.is_finite() && anim.duration > 0.0)
     {
         return Err(LottieError::Timing {
@@ -169,10 +180,10 @@ pub fn still_to_lottie(scene: &Scene, opts: &LottieOptions) -> Result<LottieOutp
         fps: 30.0,
         op: 1.0,
     };
-    write(src, opts)
+    write(src, opts).map(|(text, warnings)| (text.into_string(), warnings))
 }
 
-fn write(src: Source, opts: &LottieOptions) -> Result<LottieOutput, LottieError> {
+fn write(src: Source, opts: &LottieOptions) -> Result<(LottieText, Vec<Warning>), LottieError> {
     let (w, h) = (src.scene.width, src.scene.height);
     let (fps, op) = (src.fps, src.op);
     if !(w.is_finite() && h.is_finite() && w > 0.0 && h > 0.0) {

@@ -8,6 +8,8 @@
 use serde::ser::{SerializeMap, SerializeSeq};
 use serde::{Serialize, Serializer};
 
+use crate::LottieText;
+
 /// A number as written: rounded by its constructor, integral values without `.0`.
 #[derive(Clone, Copy, Debug, PartialEq, PartialOrd, Default)]
 pub struct N(pub f64);
@@ -70,15 +72,19 @@ pub struct Animation {
 
 impl Animation {
     /// The document as JSON text. Its layers are written in parallel, each to its own
-    /// buffer and dropped there, then joined into a string of the exact length: at the
-    /// intersections scale (8214 layers, 25 MB) one thread writing into one doubling
-    /// string, then freeing the model, was a fifth of the export.
-    pub fn into_json(mut self) -> String {
+    /// buffer and dropped there (at the intersections scale, 8214 layers, one thread
+    /// writing into one doubling string, then freeing the model, was a fifth of the
+    /// export); the buffers stay apart ([`LottieText`]).
+    pub fn into_json(mut self) -> LottieText {
         use rayon::prelude::*;
         let layers: Vec<Vec<u8>> = std::mem::take(&mut self.layers)
             .into_par_iter()
-            .map(|l| {
+            .enumerate()
+            .map(|(k, l)| {
                 let mut out = Vec::new();
+                if k > 0 {
+                    out.push(b',');
+                }
                 l.write_json(&mut out);
                 out
             })
@@ -103,17 +109,11 @@ impl Animation {
             head.push(b']');
         }
         head.extend_from_slice(b",\"layers\":[");
-        let len = head.len() + layers.iter().map(|l| l.len() + 1).sum::<usize>() + "]}".len();
-        let mut out = Vec::with_capacity(len);
-        out.extend_from_slice(&head);
-        for (k, l) in layers.iter().enumerate() {
-            if k > 0 {
-                out.push(b',');
-            }
-            out.extend_from_slice(l);
-        }
-        out.extend_from_slice(b"]}");
-        String::from_utf8(out).expect("serde_json writes UTF-8")
+        let mut pieces = Vec::with_capacity(layers.len() + 2);
+        pieces.push(head);
+        pieces.extend(layers);
+        pieces.push(b"]}".to_vec());
+        LottieText::new(pieces)
     }
 }
 

@@ -532,7 +532,7 @@ fn write_staged(
             }
         }
         Format::Lottie => {
-            return write_lottie(path, lottie::to_lottie(anim, &lottie_options(opts)));
+            return write_lottie(path, lottie::to_lottie_text(anim, &lottie_options(opts)));
         }
         Format::Svg => {
             let (svg, warnings) = smil_text(anim, stage.source, path, opts)?;
@@ -739,15 +739,21 @@ fn lottie_options(opts: &Options) -> LottieOptions {
 }
 
 /// Writes an exporter's Lottie (or says why it refused) and passes its warnings on.
-fn write_lottie(
+fn write_lottie<T: Into<lottie::LottieText>>(
     path: &Path,
-    exported: Result<lottie::LottieOutput, lottie::LottieError>,
+    exported: Result<(T, Vec<Warning>), lottie::LottieError>,
 ) -> Result<Vec<Warning>, OutputError> {
     let (json, warnings) = exported.map_err(|source| OutputError::Lottie {
         path: path.to_path_buf(),
         source,
     })?;
-    write_file(path, json.as_bytes())?;
+    let json: lottie::LottieText = json.into();
+    gmotion::atomic::write_with(path, |out| json.write_to(out)).map_err(|source| {
+        OutputError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    })?;
     Ok(warnings)
 }
 
