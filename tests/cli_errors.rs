@@ -107,6 +107,18 @@ fn scene_case(name: &'static str, svg: &[u8], expect: &[&'static str]) -> Case {
     Case::new(name, ANIMATE_PNG, expect, "out.png").file("scene.svg", svg)
 }
 
+/// A scene whose one `<text>` (on line 2) holds `spans` `<tspan>`s of `chars` characters.
+fn text_svg(spans: usize, chars: usize) -> String {
+    let span = format!(
+        "<tspan fill=\"blue\">{}</tspan>",
+        &"ab c".repeat(chars / 4 + 1)[..chars]
+    );
+    format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"100\" height=\"100\">\n<text x=\"10\" y=\"20\" font-size=\"12\">{}</text>\n<rect data-tag=\"s\" width=\"10\" height=\"10\"/>\n</svg>",
+        span.repeat(spans)
+    )
+}
+
 fn fifo(dir: &Path, name: &'static str) -> Vec<&'static str> {
     let status = Command::new("mkfifo").arg(dir.join(name)).status().unwrap();
     assert!(status.success(), "mkfifo");
@@ -510,6 +522,13 @@ fn all_cases() -> Vec<Case> {
         // Found by the `svg` fuzz target: svgtypes cuts an arc into curves by its radius and
         // takes them from the front of a vector, quadratic in their number (hours).
         scene_case("arc reaching 1e37 px", b"<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"100\" height=\"100\">\n<path d=\"M10 10 A100 150 0 0 0 1e37 5 Z\"/>\n</svg>", &["scene.svg", "2:1:", "an arc of radius 5.000e36 is too large to draw"]),
+        // Found by the `svg` fuzz target: usvg lays a text out in time that grows with its
+        // spans times its characters (4 000 spans: 42 s).
+        scene_case("text of 4 000 spans", text_svg(4000, 2).as_bytes(), &["scene.svg", "2:1:", "4000 elements inside it", "--limit text-spans=N"]),
+        scene_case("text of 30 000 characters", text_svg(1, 30_000).as_bytes(), &["scene.svg", "2:1:", "30000 characters", "--limit text-chars=N"]),
+        Case::new("text-chars limit raised", "animate {d}/scene.svg {d}/g.gm -o {d}/out.png --limit text-chars=20000", &[], "out.png")
+            .file("scene.svg", text_svg(1, 12_000))
+            .succeeds(),
         Case::new("xml-nodes limit", "convert {d}/scene.svg -o {d}/out.png --limit xml-nodes=3", &["scene.svg", "limit of 3 XML nodes", "xml-nodes"], "out.png"),
         scene_case("entity expansion", &entity_bomb(), &["scene.svg", "7:", "XML entities", "xml-entity-bytes"]),
         Case::new("svgz bomb", "convert {d}/scene.svgz -o {d}/out.png", &["scene.svgz", "decompresses to more than the limit", "svgz-bytes"], "out.png")

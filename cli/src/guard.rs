@@ -36,6 +36,16 @@ pub const LIMITS: &[(&str, u64, &str)] = &[
         "path segments of an SVG (commands of `d`, points of `points`)",
     ),
     (
+        "text-chars",
+        gmotion_import_svg::MAX_TEXT_CHARS,
+        "characters of one SVG <text> element",
+    ),
+    (
+        "text-spans",
+        gmotion_import_svg::MAX_TEXT_SPANS,
+        "elements (<tspan>, <a>, …) inside one SVG <text> element",
+    ),
+    (
         "filter-pixels",
         gmotion_import_svg::MAX_BAKED_PIXELS,
         "pixels of all SVG filters drawn as images (those no Lottie effect expresses)",
@@ -129,6 +139,8 @@ impl Limits {
             max_xml_nodes: u32::try_from(self.get("xml-nodes")).unwrap_or(u32::MAX),
             max_css_rules: u32::try_from(self.get("css-rules")).unwrap_or(u32::MAX),
             max_path_segments: self.get("path-segments"),
+            max_text_chars: self.get("text-chars"),
+            max_text_spans: self.get("text-spans"),
             max_baked_pixels: self.get("filter-pixels"),
             max_image_pixels: self.get("image-pixels"),
         }

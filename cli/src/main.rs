@@ -50,7 +50,8 @@ struct Cli {
     #[arg(long, value_enum, global = true)]
     format: Option<FormatArg>,
     /// Raise or lower a limit, `NAME=N` (repeatable): input-bytes, svgz-bytes,
-    /// xml-entity-bytes, xml-nodes, css-rules, frames, pixels, animation-pixels, steps (see the
+    /// xml-entity-bytes, xml-nodes, css-rules, path-segments, text-chars, text-spans,
+    /// filter-pixels, image-pixels, frames, pixels, animation-pixels, steps, pieces (see the
     /// README's "Limits").
     #[arg(long = "limit", value_name = "NAME=N", global = true)]
     limits: Vec<String>,
@@ -511,6 +512,31 @@ fn main() -> ExitCode {
         Err(e) => {
             eprintln!("{e}");
             ExitCode::FAILURE
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::CommandFactory;
+
+    #[test]
+    fn the_limit_flag_names_every_limit() {
+        let cmd = super::Cli::command();
+        let flag = cmd
+            .get_arguments()
+            .find(|a| a.get_long() == Some("limit"))
+            .expect("--limit");
+        let help = flag
+            .get_long_help()
+            .or(flag.get_help())
+            .expect("help")
+            .to_string();
+        for (name, _, _) in super::guard::LIMITS {
+            assert!(
+                help.contains(name),
+                "--limit's help does not name {name}: {help}"
+            );
         }
     }
 }

@@ -22,7 +22,7 @@
 mod defs;
 mod number;
 
-use std::collections::HashSet;
+use foldhash::{HashSet, HashSetExt};
 
 use kurbo::{Affine, BezPath, PathEl, Point, Rect};
 

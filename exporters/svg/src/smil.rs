@@ -36,7 +36,7 @@ mod splice;
 mod transform;
 mod xml;
 
-use std::collections::{HashMap, HashSet};
+use foldhash::{HashMap, HashSet};
 
 use kurbo::Point;
 use rayon::prelude::*;

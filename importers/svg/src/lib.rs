@@ -98,6 +98,12 @@ pub struct Policy {
     /// together, counted before usvg builds them (default [`MAX_PATH_SEGMENTS`];
     /// `--limit path-segments=N`).
     pub max_path_segments: u64,
+    /// Most characters one `<text>` element may hold, its spans' included (default
+    /// [`MAX_TEXT_CHARS`]; `--limit text-chars=N`).
+    pub max_text_chars: u64,
+    /// Most elements (`<tspan>`, `<a>`, `<textPath>`, …) one `<text>` element may hold
+    /// (default [`MAX_TEXT_SPANS`]; `--limit text-spans=N`).
+    pub max_text_spans: u64,
     /// Most pixels drawn for filters that are drawn as images, over the whole document
     /// (default [`MAX_BAKED_PIXELS`]; `--limit filter-pixels=N`); past it, such filters
     /// are left out with a warning.
@@ -122,6 +128,8 @@ impl Default for Policy {
             max_xml_nodes: 1_000_000,
             max_css_rules: 10_000,
             max_path_segments: MAX_PATH_SEGMENTS,
+            max_text_chars: MAX_TEXT_CHARS,
+            max_text_spans: MAX_TEXT_SPANS,
             max_baked_pixels: MAX_BAKED_PIXELS,
             max_image_pixels: gmotion::scene::DEFAULT_MAX_IMAGE_PIXELS,
             fonts: fonts::FontOptions::default(),
@@ -133,6 +141,14 @@ impl Default for Policy {
 /// path, 17 MB of text, animates in under 3 s; each segment costs about 100 bytes through
 /// usvg and the scene).
 pub const MAX_PATH_SEGMENTS: u64 = 10_000_000;
+
+/// The default of [`Policy::max_text_chars`]: usvg lays a span of 10 000 characters out in
+/// about half a second, and its time grows faster than the characters.
+pub const MAX_TEXT_CHARS: u64 = 10_000;
+
+/// The default of [`Policy::max_text_spans`]: usvg's layout time grows with spans times
+/// characters, so a text at both limits takes about 3 s (1 000 spans of 10 characters).
+pub const MAX_TEXT_SPANS: u64 = 1_000;
 
 /// An imported scene with what could not be kept.
 ///
@@ -272,13 +288,7 @@ fn parse_in(
     policy: &Policy,
 ) -> Result<Imported, ImportError> {
     source::check_entities(text, source_name, policy.max_entity_bytes)?;
-    let mut src = source::Source::parse(
-        text,
-        source_name,
-        policy.max_xml_nodes,
-        policy.max_css_rules,
-        policy.max_path_segments,
-    )?;
+    let mut src = source::Source::parse(text, source_name, policy)?;
     let unmatched = opts
         .tag_map
         .as_deref()

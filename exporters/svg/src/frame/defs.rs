@@ -1,7 +1,9 @@
 //! Paint servers, clip paths and masks as `<defs>` entries: each written once per variant,
 //! in the order first referenced, under an id that collides with nothing else written.
 
-use std::collections::{HashMap, HashSet, VecDeque};
+use std::collections::VecDeque;
+
+use foldhash::{HashMap, HashSet};
 use std::fmt::Write;
 
 use kurbo::{Affine, Rect, Vec2};

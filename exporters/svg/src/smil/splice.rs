@@ -6,7 +6,7 @@
 //! removes again. The writer's output is regular (one tag per line, escaped attribute
 //! values), so a tag scanner is enough to find elements.
 
-use std::collections::{HashMap, HashSet};
+use foldhash::{HashMap, HashMapExt, HashSet, HashSetExt};
 
 use kurbo::Affine;
 
@@ -60,9 +60,12 @@ pub fn mark<'a>(scene: &'a Scene, units: &HashSet<usize>) -> Marked<'a> {
         &mut Vec::new(),
     );
     let (unit_ids, paths, markers) = (st.unit_ids, st.paths, st.markers);
+    // Field by field: `..scene.clone()` would copy the whole tree once more.
     let marked = Scene {
         root,
-        ..scene.clone()
+        width: scene.width,
+        height: scene.height,
+        shapes: scene.shapes.clone(),
     };
     Marked {
         svg: scene_svg(&marked),
