@@ -526,6 +526,11 @@ fn all_cases() -> Vec<Case> {
         // spans times its characters (4 000 spans: 42 s).
         scene_case("text of 4 000 spans", text_svg(4000, 2).as_bytes(), &["scene.svg", "2:1:", "4000 elements inside it", "--limit text-spans=N"]),
         scene_case("text of 30 000 characters", text_svg(1, 30_000).as_bytes(), &["scene.svg", "2:1:", "30000 characters", "--limit text-chars=N"]),
+        // i_overlay's union of 300 rotated glyphs crossing one another took 44 s in the
+        // measure; they are summed as drawn now.
+        Case::new("text along a path folded on itself", "convert {d}/scene.svg -o {d}/out.json", &[], "out.json")
+            .file("scene.svg", include_bytes!("../fuzz/regressions/svg/text-on-a-path-of-4000-segments-folded-on-itself.svg").to_vec())
+            .succeeds(),
         Case::new("text-chars limit raised", "animate {d}/scene.svg {d}/g.gm -o {d}/out.png --limit text-chars=20000", &[], "out.png")
             .file("scene.svg", text_svg(1, 12_000))
             .succeeds(),
