@@ -166,10 +166,11 @@ const MAX_CONTOUR_POINTS: usize = 4096;
 
 /// The most contours, and the most points in all, that the measure resolves together.
 /// Resolving them costs with their crossings, which grow with the square of the contours
-/// where they overlap: text set along a `<textPath>` folded back and forth on itself, 300 glyphs turned every way, took
-/// 17 s (found probing text after the `svg` fuzz target's slow texts). Past either bound the contours are taken as
-/// drawn, their signed areas summed: exact where they do not overlap, as a text's glyphs
-/// usually do not, and overlaps counted once per contour where they do.
+/// where they overlap: text set along a `<textPath>` folded back and forth on itself (300
+/// glyphs turned every way, on top of one another) took 44 s, found probing text after
+/// the `svg` fuzz target's slow texts. Past either bound the contours are taken as drawn,
+/// their signed areas summed: exact where they do not overlap, as a text's glyphs usually
+/// do not, and overlaps counted once per contour where they do.
 const MAX_RESOLVED_CONTOURS: usize = 128;
 const MAX_RESOLVED_POINTS: usize = 4 * MAX_CONTOUR_POINTS;
 
