@@ -181,15 +181,16 @@ fn too_many_to_resolve(contours: &[Vec<[f64; 2]>]) -> bool {
 
 /// Twice the signed area of `contours` (positive counter-clockwise in y-up axes).
 fn signed_area2(contours: &[Vec<[f64; 2]>]) -> f64 {
-    contours
-        .iter()
-        .map(|c| {
-            (0..c.len())
-                .map(|i| {
-                    let (p, q) = (c[i], c[(i + 1) % c.len()]);
-                    p[0] * q[1] - q[0] * p[1]
-                })
-                .sum::<f64>()
+    contours.iter().map(|c| contour_area2(c)).sum()
+}
+
+/// Twice the signed area of one closed contour (the shoelace sum).
+fn contour_area2(contour: &[[f64; 2]]) -> f64 {
+    let n = contour.len();
+    (0..n)
+        .map(|i| {
+            let (p, q) = (contour[i], contour[(i + 1) % n]);
+            p[0] * q[1] - q[0] * p[1]
         })
         .sum()
 }
@@ -213,13 +214,13 @@ fn thin_out(contour: &mut Vec<[f64; 2]>) {
 /// take seconds (found by the `lottie` fuzz target: thin rotated fills of a precomposition).
 fn sliver(contour: &[[f64; 2]]) -> bool {
     let n = contour.len();
-    let (mut area2, mut perimeter) = (0.0, 0.0);
-    for (i, q) in contour.iter().enumerate() {
-        let p = contour[(i + n - 1) % n];
-        area2 += p[0] * q[1] - q[0] * p[1];
-        perimeter += (q[0] - p[0]).hypot(q[1] - p[1]);
-    }
-    (area2 / 2.0).abs() <= 1e-7 * perimeter * perimeter
+    let perimeter: f64 = (0..n)
+        .map(|i| {
+            let (p, q) = (contour[i], contour[(i + 1) % n]);
+            (q[0] - p[0]).hypot(q[1] - p[1])
+        })
+        .sum();
+    (contour_area2(contour) / 2.0).abs() <= 1e-7 * perimeter * perimeter
 }
 
 /// The exact bounds of a path, `None` for a path with no points.

@@ -60,12 +60,13 @@ pub fn mark<'a>(scene: &'a Scene, units: &HashSet<usize>) -> Marked<'a> {
         &mut Vec::new(),
     );
     let (unit_ids, paths, markers) = (st.unit_ids, st.paths, st.markers);
-    // Field by field: `..scene.clone()` would copy the whole tree once more.
+    // Field by field: `..scene.clone()` would copy the whole tree once more. The static
+    // document writes no frame, so it reads no shapes.
     let marked = Scene {
         root,
         width: scene.width,
         height: scene.height,
-        shapes: scene.shapes.clone(),
+        shapes: Vec::new(),
     };
     Marked {
         svg: scene_svg(&marked),
