@@ -923,7 +923,11 @@ mod tests {
             let mut doc = document(40);
             doc.layers.iter_mut().step_by(every).for_each(Layer::seal);
             assert!(doc.layers[0].sealed.is_some());
-            assert_eq!(doc.into_json().into_string(), whole, "every {every}th sealed");
+            assert_eq!(
+                doc.into_json().into_string(),
+                whole,
+                "every {every}th sealed"
+            );
         }
     }
 

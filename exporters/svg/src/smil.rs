@@ -173,8 +173,23 @@ pub fn smil_document(anim: &Animation, opts: &SmilOptions) -> Result<SmilDocumen
         found
     });
     take(lost);
-    let marked = splice::mark(&anim.scene, &units.iter().copied().collect());
-    let els = splice::elements_by_id(&marked.svg);
+    // A unit's groups do not depend on where its element lands in the marked document:
+    // they are written while the document is marked (a serial pass, a tenth of a large
+    // export), and placed once it is.
+    let ((marked, els), unit_groups) = rayon::join(
+        || {
+            let marked = splice::mark(&anim.scene, &units.iter().copied().collect());
+            let els = splice::elements_by_id(&marked.svg);
+            (marked, els)
+        },
+        || {
+            par_map(&units, |&u| {
+                let mut part = Part::default();
+                let groups = w.unit(u, &mut part);
+                (part, groups)
+            })
+        },
+    );
     let mut defs = Defs {
         text: String::new(),
         taken: marked
@@ -184,15 +199,21 @@ pub fn smil_document(anim: &Animation, opts: &SmilOptions) -> Result<SmilDocumen
             .chain(els.keys().cloned())
             .collect(),
     };
-    let unit_parts: Vec<Part> = par_map(&units, |&u| {
-        let mut part = Part::default();
+    for (&u, (mut part, groups)) in units.iter().zip(unit_groups) {
         match marked.unit_ids.get(&u).and_then(|id| els.get(id)) {
-            Some(el) => w.unit(u, el, &mut part),
-            None => part.warn(u, "its node was not written; not animated".into()),
+            Some(el) => {
+                if let Some(groups) = groups {
+                    part.insert(el.tag.start, groups.open);
+                    part.insert(el.end, "\n</g>".repeat(groups.depth));
+                }
+            }
+            None => {
+                part = Part::default();
+                part.warn(u, "its node was not written; not animated".into());
+            }
         }
-        part
-    });
-    unit_parts.into_iter().for_each(&mut take);
+        take(part);
+    }
     // A tinted gradient or pattern is copied under a fresh id, and ids are handed out in
     // document order: paths painted with one are written afterwards, in order.
     let path_parts: Vec<Option<Part>> = par_map(&marked.paths, |mp| {
@@ -371,6 +392,14 @@ impl Part {
     }
 }
 
+/// The groups [`Writer::unit`] wraps a unit's element in.
+struct UnitGroups {
+    /// The opening tags with their animations, written before the element.
+    open: String,
+    /// How many groups to close after it.
+    depth: usize,
+}
+
 /// Definitions added to the document (tinted copies of gradients and patterns).
 struct Defs {
     /// Their text.
@@ -389,8 +418,9 @@ impl Writer<'_> {
         }
     }
 
-    /// Wraps unit `u`'s node in its transform groups and opacity.
-    fn unit(&self, u: usize, el: &Element, part: &mut Part) {
+    /// The transform groups and opacity that wrap unit `u`'s element, if it needs any;
+    /// its warnings and counts go to `part`.
+    fn unit(&self, u: usize, part: &mut Part) -> Option<UnitGroups> {
         let (track, shape) = (&self.anim.tracks[u], &self.anim.scene.shapes[u]);
         let dur = self.clock.dur;
         let mut plan: Option<Plan> = None;
@@ -461,10 +491,7 @@ impl Writer<'_> {
                 depth += 1;
             }
         }
-        if depth > 0 {
-            part.insert(el.tag.start, open);
-            part.insert(el.end, "\n</g>".repeat(depth));
-        }
+        (depth > 0).then_some(UnitGroups { open, depth })
     }
 
     fn transform_anim(&self, out: &mut String, a: &TransformAnim) {
