@@ -168,7 +168,14 @@ pub fn to_lottie_text(
         fps: anim.fps,
         op: frames as f64,
     };
-    write(src, opts)
+    let written = write(src, opts);
+    // The layers hold what they need of the motions: freeing many (every shape's keys,
+    // 7 ms at the intersections scale) is left to the thread pool, while the caller
+    // writes the text.
+    if motions.len() >= PARALLEL_UNITS {
+        rayon::spawn(move || drop(motions));
+    }
+    written
 }
 
 /// Writes a still scene as a one-frame Lottie.

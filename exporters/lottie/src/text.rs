@@ -26,6 +26,11 @@ impl LottieText {
         self.pieces.iter().map(Vec::len).sum()
     }
 
+    /// How many pieces the text is held in.
+    pub fn pieces(&self) -> usize {
+        self.pieces.len()
+    }
+
     /// Whether the text is empty.
     pub fn is_empty(&self) -> bool {
         self.pieces.iter().all(Vec::is_empty)

@@ -748,14 +748,24 @@ fn write_lottie<T: Into<lottie::LottieText>>(
         source,
     })?;
     let json: lottie::LottieText = json.into();
-    gmotion::atomic::write_with(path, |out| json.write_to(out)).map_err(|source| {
-        OutputError::Io {
-            path: path.to_path_buf(),
-            source,
+    gmotion::atomic::write_with(path, |out| {
+        json.write_to(out)?;
+        // Freeing a large document's thousands of pieces takes milliseconds: done on the
+        // thread pool while the file is synced, not before the caller gets control back.
+        if json.pieces() >= BACKGROUND_FREE_PIECES {
+            rayon::spawn(move || drop(json));
         }
+        Ok(())
+    })
+    .map_err(|source| OutputError::Io {
+        path: path.to_path_buf(),
+        source,
     })?;
     Ok(warnings)
 }
+
+/// From this many pieces a written Lottie text is freed on the thread pool.
+const BACKGROUND_FREE_PIECES: usize = 1000;
 
 fn write_file(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
     gmotion::atomic::write_bytes(path, bytes).map_err(|source| OutputError::Io {
