@@ -7,7 +7,7 @@
 //! step responses of low-pass filters, so they are convex easings: monotone, within
 //! `[0, 1]`, and with zero initial velocity from order 2 on (the hypothesis of Claim 1).
 
-use kurbo::{CubicBez, ParamCurve};
+use kurbo::CubicBez;
 
 use super::error::{SignalError, finite, positive, whole};
 
@@ -401,6 +401,7 @@ fn erlang_quantile(n: u32, tail: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use kurbo::ParamCurve;
 
     /// The solver as first written: 64 halvings, each evaluating the whole point.
     fn solve_by_64_halvings(curve: &CubicBez, x: f64) -> f64 {
