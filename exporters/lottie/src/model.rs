@@ -888,7 +888,7 @@ mod tests {
         );
     }
 
-    /// A document of `n` shape layers, each with a transform shape, some with a mask.
+    /// A document of `n` shape layers holding 0–3 transform shapes, some with a parent.
     fn document(n: u32) -> Animation {
         let layers = (0..n)
             .map(|i| {
