@@ -7,7 +7,6 @@
 //! on a generated grammar and grid, shows the cost per shape from 1k to 1M shapes.
 
 use std::hint::black_box;
-use std::path::Path;
 
 use criterion::{BatchSize, BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use gmotion::engine::{RunOptions, run};
@@ -15,11 +14,8 @@ use gmotion::motion::Animation;
 use gmotion::scene::Scene;
 use rayon::prelude::*;
 
-mod workload;
-use workload::{grammar, scene};
-#[path = "workload/table1.rs"]
-mod table1;
-use table1::TABLE1;
+use gmotion_benches::table1::TABLE1;
+use gmotion_benches::{grammar, repo_root, scene};
 
 /// The allocator the `gmotion` binary uses, so the numbers are what the command gets.
 #[global_allocator]
@@ -53,7 +49,7 @@ fn full_run(scene: Scene, src: &str) -> usize {
 /// An example of `grammars/`: its scene (imported, as the command does) and its grammar's
 /// text.
 fn example(file: &str) -> (Scene, String) {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("grammars");
+    let dir = repo_root().join("grammars");
     let scene = gmotion_import_svg::load(
         &dir.join(format!("{file}.svg")),
         &gmotion_import_svg::ImportOptions::default(),

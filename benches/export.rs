@@ -15,7 +15,7 @@
 //! animation.
 
 use std::hint::black_box;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use gmotion::engine::{RunOptions, run};
@@ -23,7 +23,7 @@ use gmotion::motion::Animation;
 use gmotion_import_svg::ImportOptions;
 use gmotion_output::Options;
 
-mod workload;
+use gmotion_benches as workload;
 
 /// The allocator the `gmotion` binary uses, so the numbers are what the command gets.
 #[global_allocator]
@@ -31,7 +31,7 @@ static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 /// The intersections scene as SVG text, and its grammar.
 fn input() -> (String, String) {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = workload::repo_root();
     let real = (
         root.join("grammars/intersections.svg"),
         root.join("grammars/intersections.gm"),

@@ -6,7 +6,6 @@
 //! on the same files, for the README's comparison.
 
 use std::hint::black_box;
-use std::path::Path;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use gmotion_export_lottie::layered::source_verbatim;
@@ -16,7 +15,7 @@ use gmotion_import_lottie::{ImportOptions, parse};
 static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 fn corpus() -> Vec<(String, String)> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/conformance/lottie-corpus");
+    let dir = gmotion_benches::repo_root().join("tests/conformance/lottie-corpus");
     let mut files: Vec<(String, String)> = std::fs::read_dir(&dir)
         .unwrap_or_else(|e| panic!("{}: {e}; run tests/conformance/install.sh", dir.display()))
         .filter_map(|e| e.ok().map(|e| e.path()))

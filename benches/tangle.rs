@@ -8,7 +8,6 @@
 
 use std::fmt::Write as _;
 use std::hint::black_box;
-use std::path::Path;
 
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use gmotion::grammar::ast::Rule;
@@ -17,7 +16,7 @@ use gmotion::tangle::{TangleOptions, expand, graph_stats};
 use gmotion_import_svg::{ImportOptions, load, parse as parse_svg};
 
 fn village(c: &mut Criterion) {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("grammars/bench");
+    let dir = gmotion_benches::repo_root().join("grammars/bench");
     let scene = load(&dir.join("village.svg"), &ImportOptions::default())
         .expect("village.svg imports")
         .scene;

@@ -10,10 +10,7 @@ use gmotion_import_svg::{ImportOptions, load};
 
 use crate::support::grammar_file;
 
-#[path = "../benches/workload/table1.rs"]
-#[allow(dead_code)] // The paper's times are the benchmark's business, not this test's.
-mod table1;
-use table1::TABLE1;
+use gmotion_benches::table1::TABLE1;
 
 /// The files of Table 1 made for the gallery, held to the paper's rule and step counts.
 /// cube, abstract and panel are older, smaller re-creations (14, 11 and 9 rules against

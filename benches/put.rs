@@ -13,8 +13,7 @@ use gmotion::scene::Scene;
 use gmotion_import_svg::ImportOptions;
 use gmotion_studio::{Config, Live};
 
-#[path = "../../benches/workload/mod.rs"]
-mod workload;
+use gmotion_benches as workload;
 
 /// The allocator the `gmotion` binary uses, so the numbers are what the command gets.
 #[global_allocator]
@@ -90,7 +89,7 @@ fn put_then_lottie(c: &mut Criterion) {
 /// The gallery's intersections scene and grammar, when the checkout has them; the grammar's
 /// `scene` line is left out because the bench hands the studio the scene itself.
 fn gallery_intersections() -> Option<(Scene, String)> {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../grammars");
+    let root = workload::repo_root().join("grammars");
     let svg = std::fs::read_to_string(root.join("intersections.svg")).ok()?;
     let gm = std::fs::read_to_string(root.join("intersections.gm")).ok()?;
     let scene = gmotion_import_svg::parse(&svg, "intersections.svg", &ImportOptions::default())

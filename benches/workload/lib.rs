@@ -1,11 +1,25 @@
-//! Generated workloads, shared by the engine benchmark's scaling group and the studio's
-//! benchmark (`studio/benches/put.rs`, at the sizes of gMotion's teaser and intersections):
-//! a grid of squares over some shape tags, and a grammar with a chain of rules per tag.
+//! What the benchmarks run: generated workloads, shared by the engine benchmark's scaling
+//! group and the studio's (`benches/put.rs`, at the sizes of gMotion's teaser and
+//! intersections) — a grid of squares over some shape tags, and a grammar with a chain of
+//! rules per tag — and gMotion's Table 1 as the example files that re-create it
+//! ([`table1`]), which the gallery test holds to the paper's counts too.
+//!
+//! The benchmarks are a crate of their own so that criterion is built only for them: the
+//! tests depend on this library alone, never on the benchmark harness.
 
 use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
 
 use gmotion::scene::{Scene, SceneBuilder};
 use kurbo::{BezPath, Rect};
+
+pub mod table1;
+
+/// The repository's top folder, where `grammars/`, `tests/` and `target/` are.
+pub fn repo_root() -> PathBuf {
+    let here = Path::new(env!("CARGO_MANIFEST_DIR"));
+    here.parent().unwrap_or(here).to_path_buf()
+}
 
 /// A scene of `n` small squares on a grid, spread over `tags` shape tags.
 pub fn scene(n: usize, tags: usize) -> Scene {
