@@ -149,21 +149,38 @@ pub fn read_text(path: &Path, max_bytes: u64) -> io::Result<String> {
 /// `bytes` as UTF-8 text, or a message naming where it is not (`line L, column C`) or that
 /// it is UTF-16.
 pub fn utf8_text(bytes: Vec<u8>) -> Result<String, String> {
+    // Valid text keeps its buffer; only a failure is looked at again, to say where.
+    String::from_utf8(bytes).map_err(|e| match utf8_str(e.as_bytes()) {
+        Err(located) => located,
+        Ok(_) => e.to_string(),
+    })
+}
+
+/// [`utf8_text`] for borrowed bytes: the same check and the same located message
+/// (`L:C: the file is not UTF-8 text …`), shared by every reader of text files.
+///
+/// ```
+/// use gmotion::input::utf8_str;
+/// assert_eq!(utf8_str(b"<svg/>"), Ok("<svg/>"));
+/// let err = utf8_str(b"<svg>\n<text>caf\xe9</text>").unwrap_err();
+/// assert!(err.starts_with("2:10: the file is not UTF-8 text (invalid byte 0xe9"), "{err}");
+/// ```
+pub fn utf8_str(bytes: &[u8]) -> Result<&str, String> {
     if bytes.starts_with(&[0xff, 0xfe]) || bytes.starts_with(&[0xfe, 0xff]) {
         return Err(
             "1:1: the file is UTF-16 text (it starts with a UTF-16 byte-order mark); save it as UTF-8"
                 .into(),
         );
     }
-    String::from_utf8(bytes).map_err(|e| {
-        let at = e.utf8_error().valid_up_to();
-        let good = &e.as_bytes()[..at];
+    std::str::from_utf8(bytes).map_err(|e| {
+        let at = e.valid_up_to();
+        let good = &bytes[..at];
         let line = good.iter().filter(|&&b| b == b'\n').count() + 1;
         let start = good.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
         let column = String::from_utf8_lossy(&good[start..]).chars().count() + 1;
         format!(
             "{line}:{column}: the file is not UTF-8 text (invalid byte 0x{:02x} at byte {at})",
-            e.as_bytes()[at]
+            bytes[at]
         )
     })
 }

@@ -552,6 +552,8 @@ fn all_cases() -> Vec<Case> {
         case("BOM then an error", "\u{feff}duration 1s\nwiggle(3) : [all, s] -> [m]\n", &["g.gm:2:1", "wiggle"]),
         Case::new("grammar in UTF-16", ANIMATE_PNG, &["g.gm:1:1", "UTF-16"], "out.png").file("g.gm", vec![0xff, 0xfe, b'd', 0, b'u', 0]),
         Case::new("invalid UTF-8 on line 3", ANIMATE_PNG, &["g.gm:3:4", "not UTF-8"], "out.png").file("g.gm", b"duration 1s\n# ok\n# b\xffad\n".to_vec()),
+        scene_case("scene in Windows-1252, line 2", b"<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"10\" height=\"10\">\n<text>caf\xe9</text><rect id=\"s\" width=\"5\" height=\"5\"/></svg>", &["scene.svg", "2:10:", "not UTF-8", "0xe9"]),
+        scene_case("scene in UTF-16", &[0xfe, 0xff, 0, b'<'], &["scene.svg", "1:1:", "UTF-16"]),
     ];
     v.extend(cases());
     v

@@ -254,18 +254,9 @@ pub fn load_with(
     } else {
         bytes
     };
-    if bytes.starts_with(&[0xff, 0xfe]) || bytes.starts_with(&[0xfe, 0xff]) {
-        return Err(ImportError::Encoding {
-            source_name: name,
-            message: "1:1: UTF-16 text (it starts with a UTF-16 byte-order mark); only UTF-8 SVG is supported".into(),
-        });
-    }
-    let text = std::str::from_utf8(&bytes).map_err(|e| ImportError::Encoding {
+    let text = gmotion::input::utf8_str(&bytes).map_err(|message| ImportError::Encoding {
         source_name: name.clone(),
-        message: format!(
-            "not UTF-8 text (byte {}); only UTF-8 SVG is supported",
-            e.valid_up_to()
-        ),
+        message,
     })?;
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
