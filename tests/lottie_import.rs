@@ -524,6 +524,104 @@ fn parts_painted_by_their_layers_fill_change_colour_and_fade_alone() {
     }
 }
 
+/// A solid layer's colour changes although Lottie cannot animate a solid's `sc`: the solid
+/// (turned, anchored off its corner, half of it masked away) is written as a shape layer
+/// drawing its rectangle, whose fill is keyed, and every player draws it as before at the
+/// first frame and in the grammar's colour once it is done, as gmotion's own render of the
+/// file does; the layer keeps its mask, transform and name, and the shape layer on top
+/// keeps its colour.
+#[test]
+fn a_solid_layers_colour_changes_in_every_player() {
+    let dir = out_dir("solid-colour");
+    let dot = shape_layer(
+        "Dot",
+        1,
+        ks([150.0, 150.0], 0.0, 100.0),
+        json!([{"ty": "el", "d": 1, "p": fixed(json!([0, 0])), "s": fixed(json!([30, 30]))},
+               solid_fill([0.0, 1.0, 0.0]), group_tr()]),
+    );
+    let corner = json!([0, 0]);
+    let mut solid = json!({"ddd": 0, "ty": 1, "nm": "Red Solid 1", "ind": 2, "ip": 0, "op": 60,
+        "st": 0, "sr": 1, "ao": 0, "bm": 0, "sw": 120, "sh": 80, "sc": "#e02020",
+        "ks": ks([100.0, 90.0], 20.0, 100.0), "hasMask": true,
+        "masksProperties": [{"inv": false, "mode": "a", "nm": "Mask 1", "o": fixed(json!(100)),
+            "x": fixed(json!(0)), "pt": fixed(json!({"c": true,
+                "v": [[0, 0], [60, 0], [60, 80], [0, 80]],
+                "i": [corner, corner, corner, corner], "o": [corner, corner, corner, corner]}))}]});
+    solid["ks"]["a"] = fixed(json!([60, 40, 0]));
+    let src = write_json(&dir, "scene.json", &doc(json!([dot, solid]), json!([])));
+    // The grammar lasts 1 s of the 2 s composition: from frame 30 on the end state holds.
+    let (text, err) = animate_lottie(
+        &dir,
+        &src,
+        "duration 1s\nfps 30\nloop false\nanimate(fill, local, 0, #2040e0) : [all, solid] -> [blue]\n",
+    );
+    assert!(!err.contains("warning"), "{err}");
+    let v: Value = serde_json::from_str(&text).unwrap();
+    let layer = &v["layers"][1];
+    assert_eq!(
+        (
+            &layer["nm"],
+            &layer["ty"],
+            &layer["masksProperties"][0]["nm"]
+        ),
+        (&json!("Red Solid 1"), &json!(4), &json!("Mask 1"))
+    );
+    let players = [
+        Player::LottieWebSvg,
+        Player::LottieWebCanvas,
+        Player::Rlottie,
+        Player::Thorvg,
+    ];
+    let frames = [0.0, 45.0];
+    let played = play("lottie_import-solid-colour", &text, &frames, 200, &players);
+    let out = played.join("anim.json");
+    let mut failures = Vec::new();
+    for f in frames {
+        let ours = own_frame(&out, &dir.join(format!("own-{f}.png")), f);
+        for p in players {
+            let theirs = Pixmap::load_png(frame_path(&played, p, f)).unwrap();
+            let px = |x: usize, y: usize| {
+                let c = theirs.pixels()[y * theirs.width() as usize + x].demultiply();
+                (c.red(), c.green(), c.blue(), c.alpha())
+            };
+            // The unmasked half's middle (layer point (30, 40)), the masked half's (90, 40)
+            // and the dot on top.
+            let (r, g, b, a) = px(72, 80);
+            let want_red = f == 0.0;
+            let coloured = a > 240
+                && if want_red {
+                    r > 200 && g < 50 && b < 50
+                } else {
+                    r < 50 && g < 80 && b > 200
+                };
+            if !coloured {
+                failures.push(format!("{p:?} frame {f}: solid drawn {:?}", (r, g, b, a)));
+            }
+            if px(128, 100).3 > 8 {
+                failures.push(format!("{p:?} frame {f}: the masked half is drawn"));
+            }
+            let (r, g, b, _) = px(150, 150);
+            if !(r < 50 && g > 200 && b < 50) {
+                failures.push(format!("{p:?} frame {f}: the dot is {:?}", (r, g, b)));
+            }
+            let off = gmotion_export_raster::compare(&ours, &theirs, 32);
+            if off > 0.01 {
+                failures.push(format!(
+                    "{p:?} frame {f}: {:.2}% of pixels differ from gmotion's own render",
+                    off * 100.0
+                ));
+            }
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{}\n(files in {})",
+        failures.join("\n"),
+        played.display()
+    );
+}
+
 /// Runs `check --shapes` on `text` and returns the error message (the command must fail,
 /// without panicking).
 fn refused(name: &str, text: &str) -> String {

@@ -159,6 +159,7 @@ impl Walk<'_> {
                 json["refId"] = Json::from(id);
                 self.copies.push(copy);
             }
+            LayerKind::Solid if !self.legacy => self.solid(json, model, clock),
             LayerKind::Null => {}
             _ => self.warn(
                 "colour and stroke width are written into shape layers and precompositions only",
@@ -224,6 +225,56 @@ impl Walk<'_> {
         }
     }
 
+    /// A solid layer whose fill changes becomes a shape layer drawing what the solid
+    /// drew, a `sw` × `sh` rectangle of its colour from the layer's origin, whose fill is
+    /// then tinted: Lottie cannot animate a solid's colour (`sc`), and a shape layer keeps
+    /// everything else a layer has (transform, parent, masks, mattes, effects, timing). A
+    /// solid draws no stroke, so only the fill's tint is written.
+    fn solid(&mut self, json: &mut Json, model: &Layer, clock: &[(f64, ShapeState)]) {
+        if clock.iter().all(|(_, s)| s.fill == Tint::NONE) {
+            return;
+        }
+        // The colour and size gmotion's own render draws the solid with.
+        let c = model
+            .solid_color
+            .as_deref()
+            .and_then(Color::parse)
+            .unwrap_or(Color::BLACK);
+        let rgb = [c.r, c.g, c.b].map(f64::from);
+        let (w, h) = (model.sw.unwrap_or(0.0), model.sh.unwrap_or(0.0));
+        let corner = serde_json::json!([0, 0]);
+        let rect = serde_json::json!({
+            "ty": "sh",
+            "nm": "gmotion solid",
+            "ks": {"a": 0, "k": {
+                "c": true,
+                "v": [[0, 0], [w, 0], [w, h], [0, h]],
+                "i": [corner, corner, corner, corner],
+                "o": [corner, corner, corner, corner],
+            }},
+        });
+        let mut fill = serde_json::json!({
+            "ty": "fl",
+            "nm": "gmotion solid colour",
+            "o": {"a": 0, "k": 100},
+            "r": 1,
+        });
+        self.tinted_color(
+            &mut fill,
+            |_| vec![rgb[0], rgb[1], rgb[2], 1.0],
+            clock,
+            |s| s.fill,
+        );
+        let Some(layer) = json.as_object_mut() else {
+            return;
+        };
+        for key in ["sc", "sw", "sh"] {
+            layer.remove(key);
+        }
+        layer.insert("ty".into(), Json::from(4));
+        layer.insert("shapes".into(), Json::Array(vec![rect, fill]));
+    }
+
     /// The item's colour `c` tinted by `tint` of each state.
     fn color(
         &mut self,
@@ -239,7 +290,23 @@ impl Walk<'_> {
             return self
                 .warn("an expression drives a colour; gmotion's colour motion is left out there");
         }
-        let own = |f: f64| eval::num(c, f, &[0.0, 0.0, 0.0, 1.0]);
+        self.tinted_color(
+            item,
+            |f| eval::num(c, f, &[0.0, 0.0, 0.0, 1.0]),
+            clock,
+            tint,
+        );
+    }
+
+    /// Writes `item`'s colour `c`: its own colour at each frame (`own`) tinted by `tint`
+    /// of the state then, reduced to the keyframes that matter.
+    fn tinted_color(
+        &mut self,
+        item: &mut Json,
+        own: impl Fn(f64) -> Vec<f64>,
+        clock: &[(f64, ShapeState)],
+        tint: impl Fn(&ShapeState) -> Tint,
+    ) {
         let scale = self.scale(&own(clock[0].0)[..3.min(own(clock[0].0).len())]);
         let samples = clock
             .iter()
