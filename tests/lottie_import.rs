@@ -472,12 +472,7 @@ fn parts_painted_by_their_layers_fill_change_colour_and_fade_alone() {
          animate(opacity, local, 0, 0.5) : [all, Right] -> [faded]\n\
          animate(fill, local, 0, #0000ff) : [all, Left] -> [blue]\n",
     );
-    let players = [
-        Player::LottieWebSvg,
-        Player::LottieWebCanvas,
-        Player::Rlottie,
-        Player::Thorvg,
-    ];
+    let players = Player::ALL;
     let played = play(
         "lottie_import-painted-parts",
         &text,
@@ -567,12 +562,7 @@ fn a_solid_layers_colour_changes_in_every_player() {
         ),
         (&json!("Red Solid 1"), &json!(4), &json!("Mask 1"))
     );
-    let players = [
-        Player::LottieWebSvg,
-        Player::LottieWebCanvas,
-        Player::Rlottie,
-        Player::Thorvg,
-    ];
+    let players = Player::ALL;
     let frames = [0.0, 45.0];
     let played = play("lottie_import-solid-colour", &text, &frames, 200, &players);
     let out = played.join("anim.json");
