@@ -565,7 +565,7 @@ fn cases() -> Vec<Case> {
         scene_case("malformed svg", b"<svg xmlns='http://www.w3.org/2000/svg'>\n  <rect width='10'\n</svg>", &["scene.svg", "3:"]),
         scene_case("empty svg file", b"", &["scene.svg"]),
         scene_case("not an svg", b"hello, I am text", &["scene.svg"]),
-        scene_case("svg without shapes", b"<svg xmlns='http://www.w3.org/2000/svg' width='10' height='10'/>", &["no visible shapes"]),
+        scene_case("svg without shapes", b"<svg xmlns='http://www.w3.org/2000/svg' width='10' height='10'/>", &["scene.svg: error:", "no visible shapes"]),
         scene_case("zero-size svg", b"<svg xmlns='http://www.w3.org/2000/svg' width='0' height='10'><rect width='5' height='5'/></svg>", &["scene.svg"]),
         case("syntax error", "duration 1s\nanimate(affine, world, 0, translate(1, 0)) : [all, s] [m]\n", &["g.gm:2:", "^", "->"]),
         case("unknown operator", "duration 1s\nwiggle(3) : [all, s] -> [m]\n", &["g.gm:2:1", "unknown", "wiggle"]),

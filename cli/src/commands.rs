@@ -713,6 +713,7 @@ fn build(
         &import_options(import, Some((grammar_path, &g)), ctx)?,
         ctx,
     )?;
+    has_shapes(&loaded, &scene_path)?;
     let opts = run_options(run, &ctx.limits)?;
     // The preview's timeline picture: the slices, which the run does not keep.
     let timelines = timelines
@@ -770,6 +771,18 @@ fn load_grammar_and_scene(
         ctx,
     )?;
     Ok((g, loaded))
+}
+
+/// A scene to animate must draw something: said of the scene's file, not the grammar the
+/// engine would blame (the engine refuses an empty scene too, for library callers).
+fn has_shapes(loaded: &LoadedScene, path: &Path) -> Result<()> {
+    if loaded.scene.shapes.is_empty() {
+        return Err(CliError::msg(format!(
+            "{}: error: the drawing has no visible shapes to animate (hidden, empty and zero-size elements draw nothing)",
+            path.display()
+        )));
+    }
+    Ok(())
 }
 
 /// `gmotion studio`: loads the scene as `animate` does (a grammar that does not parse is
@@ -860,6 +873,9 @@ fn variations(
         .is_some_and(|e| e.eq_ignore_ascii_case("png"));
     guard::check_not_input(&[out], &[grammar_path])?;
     let (g, loaded) = load_grammar_and_scene(scene, grammar_path, import, ctx)?;
+    if let Some(path) = scene_path(scene, grammar_path, &g)? {
+        has_shapes(&loaded, &path)?;
+    }
     let t = time.unwrap_or(g.settings.duration / 2.0);
     if !(t.is_finite() && (0.0..=g.settings.duration).contains(&t)) {
         return Err(CliError::msg(format!(
