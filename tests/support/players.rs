@@ -102,8 +102,10 @@ struct Server {
     stdout: BufReader<ChildStdout>,
 }
 
-/// lottie-web in Chromium, rlottie and ThorVG, each started on first use.
+/// lottie-web in Chromium, rlottie and ThorVG, and Chromium playing SVG (SMIL), each
+/// started on first use.
 static LOTTIE_WEB: Mutex<Option<Server>> = Mutex::new(None);
+static CHROMIUM_SMIL: Mutex<Option<Server>> = Mutex::new(None);
 static RLOTTIE: Mutex<Option<Server>> = Mutex::new(None);
 static THORVG: Mutex<Option<Server>> = Mutex::new(None);
 
@@ -299,22 +301,24 @@ pub fn assert_plays_like_model(
 
 /// Chromium's drawing of the SVG document `svg` at each time (seconds), `width` px wide,
 /// as `tests/conformance/smil.mjs` shoots it (the file loaded from disk, so its linked
-/// files resolve). The PNGs are written beside `svg`.
+/// files resolve), in the Chromium kept running for the whole test binary. The PNGs are
+/// written beside `svg`.
 pub fn chromium(svg: &Path, width: u32, times: &[f64]) -> Vec<Pixmap> {
     let prefix = svg.with_extension("chromium");
-    let out = Command::new("node")
-        .arg(super::root().join("tests/conformance/smil.mjs"))
-        .arg(svg)
-        .arg(width.to_string())
-        .arg(&prefix)
-        .args(times.iter().map(|t| t.to_string()))
-        .output()
-        .expect("node runs (tests/conformance/install.sh)");
-    assert!(
-        out.status.success(),
-        "smil.mjs failed: {}",
-        String::from_utf8_lossy(&out.stderr)
+    let job = serde_json::json!([{
+        "svg": svg,
+        "width": width,
+        "out_prefix": prefix,
+        "times": times,
+    }]);
+    let errors = ask(
+        &CHROMIUM_SMIL,
+        "chromium-smil",
+        "node",
+        "smil.mjs",
+        &job.to_string(),
     );
+    assert!(errors.is_empty(), "smil.mjs: {}", errors.join("\n"));
     (0..times.len())
         .map(|i| {
             let png = PathBuf::from(format!("{}-{i}.png", prefix.display()));
