@@ -1658,9 +1658,17 @@ fn own_render_draws_each_feature_as_the_players_do() {
         };
         let text = d.to_string();
         let src = write_json(&dir, &format!("{name}.json"), &d);
-        let played = play(&format!("own-{name}"), &text, &frames, 200, &Player::ALL);
-        for f in frames {
-            let ours = own_frame(&src, &dir.join(format!("{name}-{f}.png")), f);
+        // gmotion draws its frames while the players draw theirs.
+        let (played, own) = std::thread::scope(|scope| {
+            let own = scope
+                .spawn(|| frames.map(|f| own_frame(&src, &dir.join(format!("{name}-{f}.png")), f)));
+            let played = play(&format!("own-{name}"), &text, &frames, 200, &Player::ALL);
+            (
+                played,
+                own.join().unwrap_or_else(|e| std::panic::resume_unwind(e)),
+            )
+        });
+        for (f, ours) in frames.into_iter().zip(own) {
             for p in Player::ALL {
                 let theirs = Pixmap::load_png(frame_path(&played, p, f)).unwrap();
                 let off = gmotion_export_raster::compare(&ours, &theirs, 32);

@@ -10,9 +10,10 @@
 // JOBS.json: [{"json": "a.json", "width": 300, "frames": [0, 5], "out": ["a-0.png", "a-5.png"]}, …]
 // A job may add "renderer": "svg" (the default) or "canvas"; each uses lottie-web's own
 // build for that renderer (lottie_svg.min.js, lottie_canvas.min.js).
-// Jobs run on a few pages in parallel; a job that fails (bad JSON, player exception) is
-// reported (stderr, or the answer's errors) with its file and the run goes on, leaving its
-// PNGs unwritten.
+// Each renderer's jobs run on pages of their own (PAGES in all, at least one a renderer),
+// both renderers at once; a job that fails (bad JSON, player exception) is reported
+// (stderr, or the answer's errors) with its file and the run goes on, leaving its PNGs
+// unwritten.
 import { readFileSync, statSync } from 'node:fs';
 import { createInterface } from 'node:readline';
 import { join, dirname } from 'node:path';
@@ -34,22 +35,25 @@ const browser = await chromium.launch({
   // playwright gives every launch a fresh temporary profile (--user-data-dir).
 });
 
-async function worker(queue, errors) {
+// Pages that hold one renderer's build (both builds define the global `lottie`), kept
+// between job lists: loading a build into a fresh page cost more than playing a small file.
+const idle = { svg: [], canvas: [] };
+
+async function pageWith(renderer) {
+  const kept = idle[renderer].pop();
+  if (kept && !kept.isClosed()) return kept;
   const page = await browser.newPage({ deviceScaleFactor: 1 });
-  // The page holds one renderer's build at a time (both define the global `lottie`); it is
-  // reloaded when a job wants the other (the queue is sorted so that this is rare).
-  let loaded = null;
+  await page.setContent('<!doctype html><html><body style="margin:0;background:transparent"><div id="c"></div></body></html>');
+  await page.addScriptTag({ path: players[renderer] });
+  return page;
+}
+
+async function worker(renderer, queue, errors) {
+  const page = await pageWith(renderer);
   for (;;) {
     const job = queue.shift();
     if (!job) break;
     try {
-      const renderer = job.renderer || 'svg';
-      if (!players[renderer]) throw new Error(`unknown renderer ${JSON.stringify(renderer)} (svg or canvas)`);
-      if (loaded !== renderer) {
-        await page.setContent('<!doctype html><html><body style="margin:0;background:transparent"><div id="c"></div></body></html>');
-        await page.addScriptTag({ path: players[renderer] });
-        loaded = renderer;
-      }
       const data = JSON.parse(readFileSync(job.json, 'utf8'));
       const height = Math.max(1, Math.round(job.width * data.h / data.w));
       await page.setViewportSize({ width: job.width, height });
@@ -67,24 +71,40 @@ async function worker(queue, errors) {
       }, { data, width: job.width, height, renderer });
       for (let i = 0; i < job.frames.length; i++) {
         await page.evaluate((f) => window.anim.goToAndStop(f, true), job.frames[i]);
+        // The viewport is the player's box: a page shot skips the element shot's waits for
+        // a stable, visible element (half of the time of a small file's frames).
         // Generous: a file with tens of thousands of shapes takes long on two busy cores.
-        await page.locator('#c').screenshot({ path: job.out[i], omitBackground: true, timeout: 300000 });
+        await page.screenshot({ path: job.out[i], omitBackground: true, timeout: 300000 });
       }
     } catch (e) {
       errors.push(`lottie-web: ${job.json}: ${String(e.message || e).split('\n')[0]}`);
     }
   }
-  await page.close();
+  idle[renderer].push(page);
 }
 
-// Jobs of one renderer together, so pages rarely switch builds; within a renderer, biggest
-// files first, so that a huge one does not start last and hold up the end.
+// Each renderer's jobs on pages of their own, both renderers at once; within a renderer,
+// biggest files first, so that a huge one does not start last and hold up the end.
 async function playAll(jobs) {
   const size = (j) => { try { return statSync(j.json).size; } catch { return 0; } };
-  const kind = (j) => String(j.renderer || 'svg');
-  const queue = jobs.slice().sort((a, b) => kind(a).localeCompare(kind(b)) || size(b) - size(a));
   const errors = [];
-  await Promise.all(Array.from({ length: pages }, () => worker(queue, errors)));
+  const queues = { svg: [], canvas: [] };
+  for (const job of jobs) {
+    const renderer = job.renderer || 'svg';
+    if (!Object.hasOwn(queues, renderer)) {
+      errors.push(`lottie-web: ${job.json}: unknown renderer ${JSON.stringify(renderer)} (svg or canvas)`);
+    } else {
+      queues[renderer].push(job);
+    }
+  }
+  const used = Object.values(queues).filter((q) => q.length > 0).length;
+  const each = Math.max(1, Math.round(pages / Math.max(1, used)));
+  const workers = [];
+  for (const [renderer, queue] of Object.entries(queues)) {
+    queue.sort((a, b) => size(b) - size(a));
+    for (let k = 0; k < Math.min(each, queue.length); k++) workers.push(worker(renderer, queue, errors));
+  }
+  await Promise.all(workers);
   return errors;
 }
 

@@ -5,8 +5,6 @@
 
 import sys
 
-import numpy as np
-from PIL import Image
 from rlottie_python import LottieAnimation
 
 import player_jobs
@@ -20,12 +18,7 @@ def render(job):
         height = max(1, round(width * h0 / w0))
         for frame, out in zip(job["frames"], job["out"]):
             buf = anim.lottie_animation_render(frame_num=int(frame), width=width, height=height)
-            # rlottie writes premultiplied BGRA; PNG wants straight RGBA.
-            px = np.frombuffer(bytes(buf), dtype=np.uint8).reshape(height, width, 4)[..., [2, 1, 0, 3]].astype(np.float64)
-            a = px[..., 3:4]
-            rgb = np.where(a > 0, np.clip(px[..., :3] * 255.0 / np.maximum(a, 1), 0, 255), 0)
-            img = np.concatenate([rgb, a], axis=2).round().astype(np.uint8)
-            Image.fromarray(img, "RGBA").save(out)
+            player_jobs.save_premultiplied(buf, width, height, "BGRa", out)
     finally:
         anim.lottie_animation_destroy()
 

@@ -7,9 +7,7 @@ transparent PNGs.
 import os
 import sys
 
-import numpy as np
 import thorvg_python as tvg
-from PIL import Image
 
 import player_jobs
 
@@ -38,10 +36,7 @@ def render(engine, job):
             check(canvas.update(), "update")
             check(canvas.draw(True), "draw")
             check(canvas.sync(), "sync")
-            px = np.frombuffer(bytes(canvas.buffer_arr), dtype=np.uint8).reshape(height, width, 4).astype(np.float64)
-            a = px[..., 3:4]
-            rgb = np.where(a > 0, np.clip(px[..., :3] * 255.0 / np.maximum(a, 1), 0, 255), 0)
-            Image.fromarray(np.concatenate([rgb, a], axis=2).round().astype(np.uint8), "RGBA").save(out)
+            player_jobs.save_premultiplied(canvas.buffer_arr, width, height, "RGBa", out)
     finally:
         if canvas is not None:
             canvas.destroy()

@@ -230,16 +230,44 @@ pub fn play_with_files(
             .collect();
         (!list.is_empty()).then(|| serde_json::to_string(&list).expect("jobs as JSON"))
     };
-    let mut failures = Vec::new();
-    if let Some(j) = jobs_of(&|p| matches!(p, Player::LottieWebSvg | Player::LottieWebCanvas)) {
-        failures.extend(ask(&LOTTIE_WEB, "lottie-web", "node", "lottie_web.mjs", &j));
-    }
-    if let Some(j) = jobs_of(&|p| p == Player::Rlottie) {
-        failures.extend(ask(&RLOTTIE, "rlottie", "python3", "rlottie_render.py", &j));
-    }
-    if let Some(j) = jobs_of(&|p| p == Player::Thorvg) {
-        failures.extend(ask(&THORVG, "thorvg", "python3", "thorvg_render.py", &j));
-    }
+    // The three players are separate processes: asked together, a test waits for the
+    // slowest rather than for the sum (the suite's longest tests are mostly this wait).
+    let asks = [
+        (
+            jobs_of(&|p| matches!(p, Player::LottieWebSvg | Player::LottieWebCanvas)),
+            &LOTTIE_WEB,
+            "lottie-web",
+            "node",
+            "lottie_web.mjs",
+        ),
+        (
+            jobs_of(&|p| p == Player::Rlottie),
+            &RLOTTIE,
+            "rlottie",
+            "python3",
+            "rlottie_render.py",
+        ),
+        (
+            jobs_of(&|p| p == Player::Thorvg),
+            &THORVG,
+            "thorvg",
+            "python3",
+            "thorvg_render.py",
+        ),
+    ];
+    let failures: Vec<String> = std::thread::scope(|scope| {
+        let asked: Vec<_> = asks
+            .iter()
+            .filter_map(|(jobs, slot, name, program, script)| {
+                let jobs = jobs.as_deref()?;
+                Some(scope.spawn(move || ask(slot, name, program, script, jobs)))
+            })
+            .collect();
+        asked
+            .into_iter()
+            .flat_map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+            .collect()
+    });
     assert!(
         failures.is_empty(),
         "{case}: players could not draw it (files in {}):\n{}",
@@ -265,10 +293,22 @@ pub fn assert_plays_like_model(
     width: u32,
     players: &[Player],
 ) {
-    let dir = play(case, lottie, frames, width, players);
+    // The model's frames are drawn while the players draw theirs.
+    let (dir, models) = std::thread::scope(|scope| {
+        let models = scope.spawn(|| {
+            frames
+                .iter()
+                .map(|&f| render(&frame_svg(anim, f / anim.fps), width).expect("render the model"))
+                .collect::<Vec<_>>()
+        });
+        let dir = play(case, lottie, frames, width, players);
+        let models = models
+            .join()
+            .unwrap_or_else(|e| std::panic::resume_unwind(e));
+        (dir, models)
+    });
     let mut failures = Vec::new();
-    for &f in frames {
-        let model = render(&frame_svg(anim, f / anim.fps), width).expect("render the model");
+    for (&f, model) in frames.iter().zip(models) {
         save_png(&model, &dir.join(format!("model-{f}.png"))).expect("save the model frame");
         for &p in players {
             let got_path = frame_path(&dir, p, f);
