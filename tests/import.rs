@@ -390,3 +390,21 @@ fn text_in_a_missing_font_is_drawn_in_the_default_family_and_said_so() {
         "{said:?}"
     );
 }
+
+/// An element drawn several times (a marker's image at each of a path's five vertices) is
+/// warned about once, not once per copy.
+#[test]
+fn a_warning_about_a_copied_element_is_said_once() {
+    let imported = import(
+        r#"<marker id="m" markerWidth="10" markerHeight="10"><image id="pic" href="missing.png" width="10" height="10"/></marker>
+        <path d="M 10 10 L 50 10 L 90 10 L 130 10 L 170 10" stroke="black" marker-start="url(#m)" marker-mid="url(#m)" marker-end="url(#m)"/>"#,
+        ImportOptions::default(),
+    );
+    let about: Vec<String> = imported
+        .warnings
+        .iter()
+        .map(ToString::to_string)
+        .filter(|w| w.contains("missing.png"))
+        .collect();
+    assert_eq!(about.len(), 1, "{about:#?}");
+}

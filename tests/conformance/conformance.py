@@ -10,8 +10,8 @@
 
 Pixels are compared premultiplied (what shows over black, alpha included): a pixel is off
 when some channel differs by more than 32/255. Thresholds: example frames at most 0.5%
-off in every player (lottie-web, rlottie, ThorVG, Chromium's SMIL); corpus files at most 1% off, and at least 95% of gmotion's Lottie files passing in
-lottie-web.
+off in every player (lottie-web, rlottie, ThorVG, Chromium's SMIL); corpus files at most 1%
+off in lottie-web, but for the named known failures (CORPUS_KNOWN).
 """
 
 import glob
@@ -45,7 +45,26 @@ SMIL_MAX_BYTES = int(os.environ.get("SMIL_MAX_BYTES", "16000000")) or None
 SMIL_FEW_FRAMES_BYTES = 4_000_000
 SMIL_FRAMES_LARGE = 2
 CORPUS_MAX = 0.01
-CORPUS_PASS = 0.95
+# The resvg corpus files whose gmotion Lottie lottie-web does not draw as resvg's reference
+# (each with why). Any other file failing fails the run by name, and so does a listed file
+# that passes, whose entry would otherwise hide it failing again. (The last run's passing
+# files were all within 0.75% of their reference, these at least 1.4% off.)
+_PATTERN = "resvg draws pattern tiles as pictures, gmotion's Lottie as vector copies of the tile: their edges differ"
+CORPUS_KNOWN = {
+    "paint-servers__pattern__invalid-patternUnits-and-patternContentUnits": _PATTERN,
+    "paint-servers__pattern__pattern-on-child": _PATTERN,
+    "paint-servers__pattern__patternContentUnits-with-viewBox": _PATTERN,
+    "paint-servers__pattern__patternContentUnits=objectBoundingBox": _PATTERN,
+    "paint-servers__pattern__patternUnits=objectBoundingBox-with-percent": _PATTERN,
+    "paint-servers__pattern__patternUnits=objectBoundingBox": _PATTERN,
+    "paint-servers__pattern__patternUnits=userSpaceOnUse-with-percent": _PATTERN,
+    "paint-servers__pattern__recursive-on-child": _PATTERN,
+    "paint-servers__pattern__self-recursive-on-child": _PATTERN,
+    "paint-servers__pattern__text-child": _PATTERN + " (the tile holds text)",
+    "painting__marker__with-an-image-child": "the marker's picture is `../../../resources/image.svg`, outside the vendored corpus: not drawn (warned)",
+    "structure__svg__no-size": "no width, height or viewBox: usvg sizes the canvas to the drawing (199 x 199) where the reference is 200 x 200, so every edge lands a little off",
+    "structure__svg__not-UTF-8-encoding": "not UTF-8: refused with the byte's line and column",
+}
 
 
 def load(path, size=None):
@@ -387,8 +406,12 @@ def report(out):
     for name, g, err in gm_fail:
         why = err if err else ("no picture" if g is None else f"{g * 100:.2f}% off")
         print(f"    gmotion fails {name}: {why}")
-    if gm_pass < CORPUS_PASS * n:
-        failures.append(f"corpus: gmotion passes {gm_pass}/{n}, below {CORPUS_PASS * 100:.0f}%")
+    failed = {name for name, _, _ in gm_fail}
+    for name in sorted(failed - CORPUS_KNOWN.keys()):
+        failures.append(f"corpus: {name} fails and is not a known failure")
+    played = {e["name"] for e in manifest["corpus"]}
+    for name in sorted((CORPUS_KNOWN.keys() & played) - failed):
+        failures.append(f"corpus: {name} passes now; take it off CORPUS_KNOWN")
 
     gt = [e["gm_time"] for e in manifest["corpus"] if e.get("gm_ok")]
     pt = [e["pl_time"] for e in manifest["corpus"] if e.get("pl_ok")]

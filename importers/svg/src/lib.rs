@@ -375,9 +375,13 @@ fn parse_in(
         *count += 1;
     }
     scene.shapes = shapes;
+    // One element drawn several times (a marker at every vertex, a `<use>`d group) would
+    // say the same thing once per copy: each warning is said once, in first-seen order.
+    let mut seen = std::collections::HashSet::new();
     let warnings = converted
         .warnings
         .into_iter()
+        .filter(|w| seen.insert(w.clone()))
         .map(|(place, what)| Warning::about(format!("{source_name}: {place}"), what))
         .collect();
     Ok(Imported { scene, warnings })
