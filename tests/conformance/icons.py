@@ -15,7 +15,9 @@ for comparison. A drawing passes when at most 1% of its pixels differ from Chrom
 more than 32/255 in a premultiplied channel (the corpus check's bar).
 
 Prints a table per set and converter, then the failing files with how far off they are.
-Exits 1 when gmotion's Lottie passes fewer than --min (default 0.99) of the files.
+Exits 1 when a file that KNOWN does not name fails with gmotion (its PNG or its Lottie), or
+when a named one passes (its entry would hide it failing again). All renderers here are
+deterministic: the last run's passing files were within 0.91% (Lottie) and 0.98% (PNG).
 """
 
 import argparse
@@ -28,6 +30,18 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
+
+# The files gmotion does not draw as Chromium does, by converter, each with why.
+_EDGES = "edge pixels: resvg anti-aliases curved edges and thin strokes unlike Chromium's Skia"
+KNOWN = {
+    "gmotion PNG": {
+        "noto-copyright": _EDGES + " (1.1%)",
+        "noto-goal-net": _EDGES + " (the net's hairlines, 3%)",
+        "twemoji-1f506": _EDGES + " (1.2%)",
+    },
+    "gmotion Lottie": {},
+}
+
 from conformance import CORPUS_MAX, off_fraction  # noqa: E402
 
 WIDTH = 128
@@ -129,7 +143,6 @@ def main(argv):
     ap.add_argument("out")
     ap.add_argument("--per-set", type=int, default=150)
     ap.add_argument("--python-lottie", action="store_true")
-    ap.add_argument("--min", type=float, default=0.99)
     args = ap.parse_args(argv)
     out = os.path.abspath(args.out)
     os.makedirs(out, exist_ok=True)
@@ -191,11 +204,17 @@ def main(argv):
             for name, off in fails:
                 how = "nothing drawn" if off is None else f"{off * 100:.2f}% off"
                 print(f"  {conv} fails {name}: {how}")
-    rate = totals["gmotion Lottie"] / n
-    if rate < args.min:
-        print(f"icons: gmotion's Lottie passes {rate * 100:.1f}%, below {args.min * 100:.1f}%")
-        return 1
-    return 0
+    status = 0
+    played = {stem(f) for f in files}
+    for conv, known in KNOWN.items():
+        failed = {name for name, _ in failures.get(conv, [])}
+        for name in sorted(failed - known.keys()):
+            print(f"icons: {conv} fails {name}, which is not a known failure")
+            status = 1
+        for name in sorted((known.keys() & played) - failed):
+            print(f"icons: {conv} passes {name} now; take it off KNOWN")
+            status = 1
+    return status
 
 
 if __name__ == "__main__":
