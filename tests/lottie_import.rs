@@ -519,6 +519,110 @@ fn parts_painted_by_their_layers_fill_change_colour_and_fade_alone() {
     }
 }
 
+/// A file from before Bodymovin 4.1.9 holds fill and stroke colours in 0–255, which
+/// lottie-web (Bodymovin's own player, the only one that upgrades such files) divides by 255
+/// whatever they are. A black fill tinted blue by a grammar must be written in that scale
+/// too (it was written `[0.125, 0.5, 1]`, which lottie-web drew black), and gmotion reads
+/// the file as lottie-web does: `[1, 1, 1]` there is near black, not white. rlottie and
+/// ThorVG read legacy colours as they are (a 0–255 red is white to them), so lottie-web's
+/// two renderers judge.
+#[test]
+fn a_legacy_files_colours_are_read_and_tinted_in_its_scale() {
+    let dir = out_dir("legacy-colour");
+    let square = |nm: &str, ind: i64, x: f64, rgb: [f64; 3]| {
+        shape_layer(
+            nm,
+            ind,
+            ks([x, 100.0], 0.0, 100.0),
+            json!([{"ty": "rc", "d": 1, "p": fixed(json!([0, 0])), "s": fixed(json!([50, 50])), "r": fixed(json!(0))},
+                   {"ty": "fl", "c": fixed(json!([rgb[0], rgb[1], rgb[2], 255])), "o": fixed(json!(100))},
+                   group_tr()]),
+        )
+    };
+    let mut d = doc(
+        json!([
+            square("black", 1, 40.0, [0.0, 0.0, 0.0]),
+            square("red", 2, 100.0, [200.0, 40.0, 40.0]),
+            square("dim", 3, 160.0, [1.0, 1.0, 1.0])
+        ]),
+        json!([]),
+    );
+    d["v"] = json!("4.0.0");
+    let src = write_json(&dir, "scene.json", &d);
+    let (text, err) = animate_lottie(
+        &dir,
+        &src,
+        "duration 1s\nfps 30\nloop false\nanimate(fill, local, 0, #2040e0) : [all, black] -> [blue]\n",
+    );
+    assert!(!err.contains("warning"), "{err}");
+    let players = [Player::LottieWebSvg, Player::LottieWebCanvas];
+    let frames = [0.0, 45.0];
+    let played = play("lottie_import-legacy-colour", &text, &frames, 200, &players);
+    let out = played.join("anim.json");
+    let mut failures = Vec::new();
+    for f in frames {
+        let ours = own_frame(&out, &dir.join(format!("own-{f}.png")), f);
+        let drawn = |pm: &Pixmap, x: usize| {
+            let c = pm.pixels()[100 * pm.width() as usize + x].demultiply();
+            (c.red(), c.green(), c.blue())
+        };
+        let want_blue = f > 0.0;
+        for (who, pm) in players
+            .iter()
+            .map(|p| {
+                (
+                    format!("{p:?}"),
+                    Pixmap::load_png(frame_path(&played, *p, f)).unwrap(),
+                )
+            })
+            .chain([("gmotion".to_string(), ours.clone())])
+        {
+            let (r, g, b) = drawn(&pm, 40);
+            let ok = if want_blue {
+                r < 60 && b > 200
+            } else {
+                r < 20 && g < 20 && b < 20
+            };
+            if !ok {
+                failures.push(format!(
+                    "{who} frame {f}: the tinted square is {:?}",
+                    (r, g, b)
+                ));
+            }
+            let (r, g, b) = drawn(&pm, 100);
+            if !(r > 180 && g < 60 && b < 60) {
+                failures.push(format!(
+                    "{who} frame {f}: the red square is {:?}",
+                    (r, g, b)
+                ));
+            }
+            let (r, g, b) = drawn(&pm, 160);
+            if r.max(g).max(b) > 20 {
+                failures.push(format!(
+                    "{who} frame {f}: the [1, 1, 1] square is {:?}",
+                    (r, g, b)
+                ));
+            }
+        }
+        for p in players {
+            let theirs = Pixmap::load_png(frame_path(&played, p, f)).unwrap();
+            let off = gmotion_export_raster::compare(&ours, &theirs, 32);
+            if off > 0.01 {
+                failures.push(format!(
+                    "{p:?} frame {f}: {:.2}% of pixels differ from gmotion's own render",
+                    off * 100.0
+                ));
+            }
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "{}\n(files in {})",
+        failures.join("\n"),
+        played.display()
+    );
+}
+
 /// A solid layer's colour changes although Lottie cannot animate a solid's `sc`: the solid
 /// (turned, anchored off its corner, half of it masked away) is written as a shape layer
 /// drawing its rectangle, whose fill is keyed, and every player draws it as before at the

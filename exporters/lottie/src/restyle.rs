@@ -78,7 +78,7 @@ pub(crate) const MAX_COPIED_LAYERS: usize = 20_000;
 
 struct Walk<'a> {
     source: &'a Source,
-    /// Files before 4.1.9 may hold 0–255 colours.
+    /// Files before 4.1.9 hold 0–255 fill and stroke colours (see [`Walk::scale`]).
     legacy: bool,
     label: String,
     warnings: &'a mut Vec<Warning>,
@@ -307,7 +307,7 @@ impl Walk<'_> {
         clock: &[(f64, ShapeState)],
         tint: impl Fn(&ShapeState) -> Tint,
     ) {
-        let scale = self.scale(&own(clock[0].0)[..3.min(own(clock[0].0).len())]);
+        let scale = self.scale();
         let samples = clock
             .iter()
             .map(|(f, s)| {
@@ -354,13 +354,11 @@ impl Walk<'_> {
         }
     }
 
-    /// 255 for a legacy document whose colour `rgb` is in 0–255, else 1.
-    fn scale(&self, rgb: &[f64]) -> f64 {
-        if self.legacy && rgb.iter().any(|x| *x > 1.0) {
-            255.0
-        } else {
-            1.0
-        }
+    /// What a colour component of 1 is written as: 255 in a legacy document, whose fill and
+    /// stroke colours lottie-web divides by 255 whatever they hold (a black fill tinted
+    /// blue was written `[0.125, 0.5, 1]` and drawn black), else 1.
+    fn scale(&self) -> f64 {
+        if self.legacy { 255.0 } else { 1.0 }
     }
 
     /// The stroke's width `w` multiplied by each state's stroke-width factor.

@@ -869,14 +869,12 @@ impl<'a> Builder<'a> {
         Some(canvas.mask(MaskKind::Luminance, children))
     }
 
-    /// A colour property (0–255 components in files before 4.1.9, as players upgrade them).
+    /// A fill's or stroke's colour: 0–255 components in files before 4.1.9, which lottie-web
+    /// (Bodymovin's own player, the only one that upgrades such files) divides by 255
+    /// whatever their values, so that `[1, 1, 1]` there is near black, not white.
     fn color(&self, c: Option<&Num>, t: f64) -> Color {
         let v = eval::num(c, t, &[0.0, 0.0, 0.0]);
-        let scale = if self.legacy_colors && v.iter().take(3).any(|x| *x > 1.0) {
-            255.0
-        } else {
-            1.0
-        };
+        let scale = if self.legacy_colors { 255.0 } else { 1.0 };
         let ch = |k: usize| (v.get(k).copied().unwrap_or(0.0) / scale).clamp(0.0, 1.0) as f32;
         Color::rgb(ch(0), ch(1), ch(2))
     }
