@@ -523,7 +523,8 @@ fn parts_painted_by_their_layers_fill_change_colour_and_fade_alone() {
 /// lottie-web (Bodymovin's own player, the only one that upgrades such files) divides by 255
 /// whatever they are. A black fill tinted blue by a grammar must be written in that scale
 /// too (it was written `[0.125, 0.5, 1]`, which lottie-web drew black), and gmotion reads
-/// the file as lottie-web does: `[1, 1, 1]` there is near black, not white. rlottie and
+/// the file as lottie-web does: `[1, 1, 1]` there is near black, not white. A solid layer
+/// whose colour changes becomes a shape layer there too, its fill in that scale. rlottie and
 /// ThorVG read legacy colours as they are (a 0–255 red is white to them), so lottie-web's
 /// two renderers judge.
 #[test]
@@ -539,11 +540,17 @@ fn a_legacy_files_colours_are_read_and_tinted_in_its_scale() {
                    group_tr()]),
         )
     };
+    // A red solid along the bottom, whose colour changes too (written as a shape layer).
+    let mut plate = json!({"ddd": 0, "ty": 1, "nm": "plate", "ind": 4, "ip": 0, "op": 60,
+        "st": 0, "sr": 1, "ao": 0, "sw": 200, "sh": 40, "sc": "#e02020",
+        "ks": ks([100.0, 170.0], 0.0, 100.0)});
+    plate["ks"]["a"] = fixed(json!([100, 20, 0]));
     let mut d = doc(
         json!([
             square("black", 1, 40.0, [0.0, 0.0, 0.0]),
             square("red", 2, 100.0, [200.0, 40.0, 40.0]),
-            square("dim", 3, 160.0, [1.0, 1.0, 1.0])
+            square("dim", 3, 160.0, [1.0, 1.0, 1.0]),
+            plate
         ]),
         json!([]),
     );
@@ -552,7 +559,7 @@ fn a_legacy_files_colours_are_read_and_tinted_in_its_scale() {
     let (text, err) = animate_lottie(
         &dir,
         &src,
-        "duration 1s\nfps 30\nloop false\nanimate(fill, local, 0, #2040e0) : [all, black] -> [blue]\n",
+        "duration 1s\nfps 30\nloop false\nanimate(fill, local, 0, #2040e0) : [all, (black, plate)] -> [blue]\n",
     );
     assert!(!err.contains("warning"), "{err}");
     let players = [Player::LottieWebSvg, Player::LottieWebCanvas];
@@ -562,10 +569,11 @@ fn a_legacy_files_colours_are_read_and_tinted_in_its_scale() {
     let mut failures = Vec::new();
     for f in frames {
         let ours = own_frame(&out, &dir.join(format!("own-{f}.png")), f);
-        let drawn = |pm: &Pixmap, x: usize| {
-            let c = pm.pixels()[100 * pm.width() as usize + x].demultiply();
+        let drawn_at = |pm: &Pixmap, x: usize, y: usize| {
+            let c = pm.pixels()[y * pm.width() as usize + x].demultiply();
             (c.red(), c.green(), c.blue())
         };
+        let drawn = |pm: &Pixmap, x: usize| drawn_at(pm, x, 100);
         let want_blue = f > 0.0;
         for (who, pm) in players
             .iter()
@@ -602,6 +610,15 @@ fn a_legacy_files_colours_are_read_and_tinted_in_its_scale() {
                     "{who} frame {f}: the [1, 1, 1] square is {:?}",
                     (r, g, b)
                 ));
+            }
+            let (r, g, b) = drawn_at(&pm, 100, 170);
+            let ok = if want_blue {
+                r < 60 && b > 200
+            } else {
+                r > 200 && g < 60 && b < 60
+            };
+            if !ok {
+                failures.push(format!("{who} frame {f}: the solid is {:?}", (r, g, b)));
             }
         }
         for p in players {

@@ -159,7 +159,7 @@ impl Walk<'_> {
                 json["refId"] = Json::from(id);
                 self.copies.push(copy);
             }
-            LayerKind::Solid if !self.legacy => self.solid(json, model, clock),
+            LayerKind::Solid => self.solid(json, model, clock),
             LayerKind::Null => {}
             _ => self.warn(
                 "colour and stroke width are written into shape layers and precompositions only",
@@ -259,9 +259,11 @@ impl Walk<'_> {
             "o": {"a": 0, "k": 100},
             "r": 1,
         });
+        // In the document's own scale (0–255 in a legacy one, see [`Walk::scale`]).
+        let scale = self.scale();
         self.tinted_color(
             &mut fill,
-            |_| vec![rgb[0], rgb[1], rgb[2], 1.0],
+            |_| vec![rgb[0] * scale, rgb[1] * scale, rgb[2] * scale, scale],
             clock,
             |s| s.fill,
         );
