@@ -623,13 +623,7 @@ fn a_legacy_files_colours_are_read_and_tinted_in_its_scale() {
         }
         for p in players {
             let theirs = Pixmap::load_png(frame_path(&played, p, f)).unwrap();
-            let off = gmotion_export_raster::compare(&ours, &theirs, 32);
-            if off > 0.01 {
-                failures.push(format!(
-                    "{p:?} frame {f}: {:.2}% of pixels differ from gmotion's own render",
-                    off * 100.0
-                ));
-            }
+            failures.extend(unlike_own(&ours, &theirs, p, f));
         }
     }
     assert!(
@@ -716,13 +710,7 @@ fn a_solid_layers_colour_changes_in_every_player() {
             if !(r < 50 && g > 200 && b < 50) {
                 failures.push(format!("{p:?} frame {f}: the dot is {:?}", (r, g, b)));
             }
-            let off = gmotion_export_raster::compare(&ours, &theirs, 32);
-            if off > 0.01 {
-                failures.push(format!(
-                    "{p:?} frame {f}: {:.2}% of pixels differ from gmotion's own render",
-                    off * 100.0
-                ));
-            }
+            failures.extend(unlike_own(&ours, &theirs, p, f));
         }
     }
     assert!(
@@ -731,6 +719,18 @@ fn a_solid_layers_colour_changes_in_every_player() {
         failures.join("\n"),
         played.display()
     );
+}
+
+/// Says how `theirs`, player `p`'s frame `f`, differs from gmotion's own render `ours`,
+/// when more than 1% of its pixels do.
+fn unlike_own(ours: &Pixmap, theirs: &Pixmap, p: Player, f: f64) -> Option<String> {
+    let off = gmotion_export_raster::compare(ours, theirs, 32);
+    (off > 0.01).then(|| {
+        format!(
+            "{p:?} frame {f}: {:.2}% of pixels differ from gmotion's own render",
+            off * 100.0
+        )
+    })
 }
 
 /// Runs `check --shapes` on `text` and returns the error message (the command must fail,
