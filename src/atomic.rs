@@ -16,7 +16,7 @@
 //!   device node with a regular file).
 
 use std::fs::File;
-use std::io::{self, BufWriter, Write};
+use std::io::{self, BufWriter, IoSlice, Write};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -195,6 +195,36 @@ pub fn write_bytes(path: &Path, bytes: &[u8]) -> io::Result<()> {
     write_with(path, |out| out.write_all(bytes))
 }
 
+/// How many pieces one `write_vectored` call is given (Linux's `IOV_MAX`).
+const PIECES_PER_WRITE: usize = 1024;
+
+/// Writes `pieces` to `out` in order, a thousand to a call for a writer that takes
+/// vectored writes (a file, or a `BufWriter` over one): a large document held in pieces
+/// goes to its file without first being copied into one allocation of its whole size.
+pub fn write_pieces<'a>(
+    out: &mut impl Write,
+    pieces: impl IntoIterator<Item = &'a [u8]>,
+) -> io::Result<()> {
+    let mut pieces = pieces.into_iter().peekable();
+    let mut slices: Vec<IoSlice<'a>> = Vec::with_capacity(PIECES_PER_WRITE);
+    while pieces.peek().is_some() {
+        slices.clear();
+        slices.extend(pieces.by_ref().take(PIECES_PER_WRITE).map(IoSlice::new));
+        let mut rest = &mut slices[..];
+        // Skips empty pieces at the front, so a return of 0 below means no progress.
+        IoSlice::advance_slices(&mut rest, 0);
+        while !rest.is_empty() {
+            match out.write_vectored(rest) {
+                Ok(0) => return Err(io::ErrorKind::WriteZero.into()),
+                Ok(n) => IoSlice::advance_slices(&mut rest, n),
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+                Err(e) => return Err(e),
+            }
+        }
+    }
+    Ok(())
+}
+
 /// `dir/.name.<pid>-<n>.tmp`: hidden, unique per process and call, on the same file system
 /// as `path` so the rename cannot cross devices.
 pub fn temp_path(path: &Path) -> PathBuf {
@@ -209,6 +239,75 @@ pub fn temp_path(path: &Path) -> PathBuf {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A writer that takes at most `most` bytes a call, counting its calls.
+    struct Trickle {
+        out: Vec<u8>,
+        most: usize,
+        calls: usize,
+    }
+
+    impl Write for Trickle {
+        fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+            self.write_vectored(&[IoSlice::new(buf)])
+        }
+
+        fn write_vectored(&mut self, bufs: &[IoSlice<'_>]) -> io::Result<usize> {
+            self.calls += 1;
+            let mut n = 0;
+            for b in bufs {
+                let take = b.len().min(self.most - n);
+                self.out.extend_from_slice(&b[..take]);
+                n += take;
+                if n == self.most {
+                    break;
+                }
+            }
+            Ok(n)
+        }
+
+        fn flush(&mut self) -> io::Result<()> {
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn pieces_are_written_whole_and_in_order_through_short_writes() {
+        let pieces: Vec<Vec<u8>> = (0..3000)
+            .map(|k| format!(",{k}").into_bytes())
+            .chain([Vec::new(), b"]}".to_vec()])
+            .collect();
+        let joined = pieces.concat();
+        let slices = || pieces.iter().map(Vec::as_slice);
+        for most in [1, 7, 4096, usize::MAX / 2] {
+            let mut w = Trickle {
+                out: Vec::new(),
+                most,
+                calls: 0,
+            };
+            write_pieces(&mut w, slices()).unwrap();
+            assert_eq!(w.out, joined, "{most} a call");
+        }
+        // Whole pieces go a thousand to a call.
+        let mut w = Trickle {
+            out: Vec::new(),
+            most: usize::MAX / 2,
+            calls: 0,
+        };
+        write_pieces(&mut w, slices()).unwrap();
+        assert_eq!(w.calls, 3);
+    }
+
+    #[test]
+    fn a_writer_that_takes_nothing_is_an_error_not_a_loop() {
+        let mut w = Trickle {
+            out: Vec::new(),
+            most: 0,
+            calls: 0,
+        };
+        let e = write_pieces(&mut w, [b"{}".as_slice()]).unwrap_err();
+        assert_eq!(e.kind(), io::ErrorKind::WriteZero);
+    }
 
     #[test]
     fn failed_write_leaves_nothing() {

@@ -9,6 +9,7 @@
 use std::collections::HashMap;
 
 use kurbo::{Point, Rect};
+use rayon::prelude::*;
 
 use crate::motion::{ShapeState, Track};
 use crate::scene::Shape;
@@ -30,14 +31,28 @@ pub fn loop_warning(
     duration: f64,
     canvas: Rect,
 ) -> Option<Warning> {
-    // What each shape looks like at both ends, when it changed at all.
-    let changed: Vec<(usize, Look, Look)> = (tracks.iter().zip(shapes).enumerate())
-        .filter_map(|(i, (track, shape))| {
-            let (a, b) = (track.state_at(0.0), track.state_at(duration));
-            let (first, last) = (Look::of(shape, &a, canvas), Look::of(shape, &b, canvas));
-            (first != last).then_some((i, first, last))
-        })
-        .collect();
+    // What each shape looks like at both ends, when it changed at all: on the thread pool
+    // for a large scene (on one thread this pass took 6 ms of a 25 ms run on 8214 shapes).
+    let ends = |(i, (track, shape)): (usize, (&Track, &Shape))| {
+        let (a, b) = (track.state_at(0.0), track.state_at(duration));
+        let (first, last) = (Look::of(shape, &a, canvas), Look::of(shape, &b, canvas));
+        (first != last).then_some((i, first, last))
+    };
+    let changed: Vec<(usize, Look, Look)> = if shapes.len() >= super::expand::PARALLEL_SHAPES {
+        tracks
+            .par_iter()
+            .zip(shapes)
+            .enumerate()
+            .filter_map(ends)
+            .collect()
+    } else {
+        tracks
+            .iter()
+            .zip(shapes)
+            .enumerate()
+            .filter_map(ends)
+            .collect()
+    };
     // The changed shapes' first looks, less the last looks that cover them.
     let mut unmatched: HashMap<(&str, &Look), usize> = HashMap::new();
     for (i, first, _) in &changed {

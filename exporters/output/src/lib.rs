@@ -535,8 +535,9 @@ fn write_staged(
             return write_lottie(path, lottie::to_lottie_text(anim, &lottie_options(opts)));
         }
         Format::Svg => {
-            let (svg, warnings) = smil_text(anim, stage.source, path, opts)?;
-            write_file(path, svg.as_bytes())?;
+            let (svg, warnings) = smil_pieces(anim, stage.source, path, opts)?;
+            let many = svg.edits() >= BACKGROUND_FREE_PIECES;
+            write_text(path, svg, many, smil::SmilText::write_to)?;
             return Ok(warnings);
         }
     };
@@ -590,6 +591,16 @@ pub fn smil_text(
     path: &Path,
     opts: &Options,
 ) -> Result<(String, Vec<Warning>), OutputError> {
+    smil_pieces(anim, source, path, opts).map(|(svg, warnings)| (svg.into_string(), warnings))
+}
+
+/// [`smil_text`] as it was put together, to be written without being joined first.
+fn smil_pieces(
+    anim: &Animation,
+    source: Option<&LottieSource>,
+    path: &Path,
+    opts: &Options,
+) -> Result<(smil::SmilText, Vec<Warning>), OutputError> {
     if let Some(src) = source
         && flipbook::moves(src)
     {
@@ -597,18 +608,18 @@ pub fn smil_text(
             anim,
             source: Some(src),
         };
-        return Ok((flipbook::smil(stage, path, opts)?, Vec::new()));
+        return Ok((flipbook::smil(stage, path, opts)?.into(), Vec::new()));
     }
     let sopts = smil::SmilOptions {
         tolerance: opts.tolerance,
         size: opts.size,
         ..Default::default()
     };
-    let (svg, warnings) = smil::to_smil(anim, &sopts).map_err(|source| OutputError::Smil {
+    let doc = smil::smil_document(anim, &sopts).map_err(|source| OutputError::Smil {
         path: path.to_path_buf(),
         source,
     })?;
-    Ok((svg, warnings))
+    Ok((doc.svg, doc.warnings))
 }
 
 /// [`write_still`] for a scene imported from `source`: a `.json` output is the source
@@ -748,23 +759,34 @@ fn write_lottie<T: Into<lottie::LottieText>>(
         source,
     })?;
     let json: lottie::LottieText = json.into();
+    let many = json.pieces() >= BACKGROUND_FREE_PIECES;
+    write_text(path, json, many, lottie::LottieText::write_to)?;
+    Ok(warnings)
+}
+
+/// Writes `text`, held in pieces, to `path` with `write`. Freeing a large document's
+/// thousands of pieces (`many`) takes milliseconds: done on the thread pool while the file
+/// is synced, not before the caller gets control back.
+fn write_text<T: Send + 'static>(
+    path: &Path,
+    text: T,
+    many: bool,
+    write: impl FnOnce(&T, &mut std::io::BufWriter<std::fs::File>) -> std::io::Result<()>,
+) -> Result<(), OutputError> {
     gmotion::atomic::write_with(path, |out| {
-        json.write_to(out)?;
-        // Freeing a large document's thousands of pieces takes milliseconds: done on the
-        // thread pool while the file is synced, not before the caller gets control back.
-        if json.pieces() >= BACKGROUND_FREE_PIECES {
-            rayon::spawn(move || drop(json));
+        write(&text, out)?;
+        if many {
+            rayon::spawn(move || drop(text));
         }
         Ok(())
     })
     .map_err(|source| OutputError::Io {
         path: path.to_path_buf(),
         source,
-    })?;
-    Ok(warnings)
+    })
 }
 
-/// From this many pieces a written Lottie text is freed on the thread pool.
+/// From this many pieces a written Lottie or SVG text is freed on the thread pool.
 const BACKGROUND_FREE_PIECES: usize = 1000;
 
 fn write_file(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {

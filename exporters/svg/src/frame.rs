@@ -41,18 +41,28 @@ const ROOT: &str = "<svg xmlns=\"http://www.w3.org/2000/svg\"";
 /// keeps the canvas, so viewers scale the art to fit and centre it, as [`Fit`] says.
 /// Text that does not start as this module writes it is returned unchanged.
 pub fn with_output_size(svg: &str, fit: &Fit) -> String {
-    let Some(rest) = svg.strip_prefix(ROOT) else {
-        return svg.to_string();
-    };
-    let Some(view_box) = rest.find(" viewBox=") else {
-        return svg.to_string();
-    };
-    let mut out = String::with_capacity(svg.len() + 16);
-    out.push_str(ROOT);
-    attr_num(&mut out, "width", f64::from(fit.width));
-    attr_num(&mut out, "height", f64::from(fit.height));
-    out.push_str(&rest[view_box..]);
-    out
+    match output_size_edit(svg, fit) {
+        Some((range, text)) => {
+            let mut out = String::with_capacity(svg.len() + 16);
+            out.push_str(&svg[..range.start]);
+            out.push_str(&text);
+            out.push_str(&svg[range.end..]);
+            out
+        }
+        None => svg.to_string(),
+    }
+}
+
+/// What [`with_output_size`] changes: the range of `svg` before the root's `viewBox` and
+/// the `width` and `height` attributes that replace it; `None` for text that does not
+/// start as this module writes it.
+pub fn output_size_edit(svg: &str, fit: &Fit) -> Option<(std::ops::Range<usize>, String)> {
+    let rest = svg.strip_prefix(ROOT)?;
+    let view_box = rest.find(" viewBox=")?;
+    let mut text = String::with_capacity(32);
+    attr_num(&mut text, "width", f64::from(fit.width));
+    attr_num(&mut text, "height", f64::from(fit.height));
+    Some((ROOT.len()..ROOT.len() + view_box, text))
 }
 
 /// The scene as a static SVG document, with its node ids.

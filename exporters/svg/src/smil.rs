@@ -33,6 +33,7 @@ mod deform;
 mod merge;
 mod paint;
 mod splice;
+mod text;
 mod transform;
 mod xml;
 
@@ -41,7 +42,7 @@ use foldhash::{HashMap, HashSet};
 use kurbo::Point;
 use rayon::prelude::*;
 
-use crate::frame::with_output_size;
+use crate::frame::output_size_edit;
 use attr::Bake;
 use curve::Key;
 use gmotion::Warning;
@@ -50,6 +51,7 @@ use gmotion::motion::{Animation, Tint, Track};
 use gmotion::scene::{Group, Node, Paint, PathNode, Pattern, Stop};
 use paint::{COLOR_TOL, Chain, OPACITY_TOL, WIDTH_TOL, tint_dist};
 use splice::{Edits, Element, MarkedPath, attr as tag_attr};
+pub use text::SmilText;
 use transform::{Kind, Plan, TransformAnim};
 use xml::{COORD, Clock, FACTOR, num, push_num};
 
@@ -112,7 +114,7 @@ pub enum SmilError {
 #[derive(Clone, Debug)]
 pub struct SmilDocument {
     /// The SVG text.
-    pub svg: String,
+    pub svg: SmilText,
     /// What the document does not show as gmotion renders it.
     pub warnings: Vec<Warning>,
     /// Motion segments written exactly.
@@ -125,7 +127,7 @@ pub struct SmilDocument {
 /// not show exactly as gmotion renders it.
 pub fn to_smil(anim: &Animation, opts: &SmilOptions) -> Result<(String, Vec<Warning>), SmilError> {
     let doc = smil_document(anim, opts)?;
-    Ok((doc.svg, doc.warnings))
+    Ok((doc.svg.into_string(), doc.warnings))
 }
 
 /// Like [`to_smil`], also counting what was written exactly and what was baked.
@@ -140,7 +142,7 @@ pub fn smil_document(anim: &Animation, opts: &SmilOptions) -> Result<SmilDocumen
         opts,
     };
     let mut doc = SmilDocument {
-        svg: String::new(),
+        svg: SmilText::default(),
         warnings: Vec::new(),
         exact_segments: 0,
         baked_segments: 0,
@@ -192,14 +194,13 @@ pub fn smil_document(anim: &Animation, opts: &SmilOptions) -> Result<SmilDocumen
     );
     let mut defs = Defs {
         text: String::new(),
-        taken: marked
-            .taken
-            .iter()
-            .cloned()
-            .chain(els.keys().cloned())
-            .collect(),
+        marked: &marked.taken,
+        els: &els,
+        given: HashSet::default(),
     };
-    for (&u, (mut part, groups)) in units.iter().zip(unit_groups) {
+    // Each unit's groups go around its element, found by id (on the thread pool for a large
+    // document: the look-ups were most of this serial stretch).
+    let place = |(&u, (mut part, groups)): (&usize, (Part, Option<UnitGroups>))| {
         match marked.unit_ids.get(&u).and_then(|id| els.get(id)) {
             Some(el) => {
                 if let Some(groups) = groups {
@@ -212,8 +213,14 @@ pub fn smil_document(anim: &Animation, opts: &SmilOptions) -> Result<SmilDocumen
                 part.warn(u, "its node was not written; not animated".into());
             }
         }
-        take(part);
-    }
+        part
+    };
+    let placed: Vec<Part> = if units.len() >= PARALLEL_ITEMS {
+        units.par_iter().zip(unit_groups).map(place).collect()
+    } else {
+        units.iter().zip(unit_groups).map(place).collect()
+    };
+    placed.into_iter().for_each(&mut take);
     // A tinted gradient or pattern is copied under a fresh id, and ids are handed out in
     // document order: paths painted with one are written afterwards, in order.
     let path_parts: Vec<Option<Part>> = par_map(&marked.paths, |mp| {
@@ -236,16 +243,20 @@ pub fn smil_document(anim: &Animation, opts: &SmilOptions) -> Result<SmilDocumen
             (None, None) => {}
         }
     }
-    for id in &marked.markers {
-        if let Some(el) = els.get(id)
-            && let Some((r, _)) = tag_attr(&marked.svg[el.tag.start..el.tag.end], "id")
-        {
-            // The range of ` id="…"`, quotes included.
-            edits.replace(
-                el.tag.start + r.start - 5..el.tag.start + r.end + 1,
-                String::new(),
-            );
-        }
+    // The range of each marker's ` id="…"`, quotes included, found on the thread pool
+    // (a large document has thousands); the order is the edits' own once sorted.
+    let marker_range = |id: &String| {
+        let el = els.get(id)?;
+        let (r, _) = tag_attr(&marked.svg[el.tag.start..el.tag.end], "id")?;
+        Some(el.tag.start + r.start - 5..el.tag.start + r.end + 1)
+    };
+    let markers: Vec<std::ops::Range<usize>> = if marked.markers.len() >= PARALLEL_ITEMS {
+        marked.markers.par_iter().filter_map(marker_range).collect()
+    } else {
+        marked.markers.iter().filter_map(marker_range).collect()
+    };
+    for range in markers {
+        edits.replace(range, String::new());
     }
     if !defs.text.is_empty() {
         match marked.svg.find("</defs>") {
@@ -256,10 +267,12 @@ pub fn smil_document(anim: &Animation, opts: &SmilOptions) -> Result<SmilDocumen
             }
         }
     }
-    doc.svg = edits.apply(&marked.svg);
-    if let Some(fit) = opts.size.fit(anim.scene.width, anim.scene.height) {
-        doc.svg = with_output_size(&doc.svg, &fit);
+    if let Some(fit) = opts.size.fit(anim.scene.width, anim.scene.height)
+        && let Some((range, text)) = output_size_edit(&marked.svg, &fit)
+    {
+        edits.replace(range, text);
     }
+    doc.svg = edits.apply(marked.svg);
     Ok(doc)
 }
 
@@ -401,11 +414,23 @@ struct UnitGroups {
 }
 
 /// Definitions added to the document (tinted copies of gradients and patterns).
-struct Defs {
+struct Defs<'m> {
     /// Their text.
     text: String,
-    /// Every id in use.
-    taken: HashSet<String>,
+    /// The ids the marked document uses besides its elements' (markers, def names).
+    marked: &'m HashSet<String>,
+    /// The marked document's elements, by id.
+    els: &'m HashMap<String, Element>,
+    /// The ids given to copies so far.
+    given: HashSet<String>,
+}
+
+impl Defs<'_> {
+    /// Whether `id` is in use (looked up where it is kept: copying every id of a large
+    /// document into one set took milliseconds on the export's one serial thread).
+    fn taken(&self, id: &str) -> bool {
+        self.marked.contains(id) || self.els.contains_key(id) || self.given.contains(id)
+    }
 }
 
 impl Writer<'_> {
@@ -756,7 +781,7 @@ fn tinted_def(
         return;
     };
     let mut copy_name = format!("{name}-{}", at.attr);
-    while defs.taken.contains(&copy_name) {
+    while defs.taken(&copy_name) {
         copy_name.push('_');
     }
     let text = &at.svg[def.tag.start..def.end];
@@ -765,8 +790,8 @@ fn tinted_def(
         edits.replace(r, copy_name.clone());
     }
     body(text, &mut edits);
-    defs.taken.insert(copy_name.clone());
-    defs.text.push_str(&edits.apply(text));
+    defs.given.insert(copy_name.clone());
+    edits.apply(text.to_string()).push_to(&mut defs.text);
     defs.text.push('\n');
     let start = at.el.tag.start;
     part.replace(

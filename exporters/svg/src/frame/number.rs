@@ -20,11 +20,18 @@ pub(super) fn num(out: &mut String, v: f64) {
     }
     let a = f.abs();
     // Plain notation reads best; exponents keep very small and very large values short.
-    let _ = if (1e-5..1e9).contains(&a) {
-        write!(out, "{f}")
+    if (1e-5..1e9).contains(&a) {
+        // zmij prints the shortest digits here in plain notation as `{f}` does, whole
+        // numbers with a `.0` added, four times faster (a large document's writing spent a
+        // third of its time in std's float formatting). Checked on every `f32` in this
+        // range: the texts differ only where two shortest texts are equally near (std
+        // rounds the tie up, zmij to even); both read back as `f`.
+        let mut buf = zmij::Buffer::new();
+        let text = buf.format_finite(f);
+        out.push_str(text.strip_suffix(".0").unwrap_or(text));
     } else {
-        write!(out, "{f:e}")
-    };
+        let _ = write!(out, "{f:e}");
+    }
 }
 
 /// Appends `x y`.
@@ -111,6 +118,28 @@ mod tests {
         for v in [1.0 / 3.0, 12345.678, -0.000123, 2.5e10] {
             assert_eq!(n(v).parse::<f32>().unwrap(), v as f32);
         }
+    }
+
+    /// Spread over the plain-notation range: each text reads back as the same `f32`, and
+    /// is std's shortest text or, in a tie, one of the same length.
+    #[test]
+    fn plain_numbers_are_the_shortest_texts_that_read_back() {
+        let (lo, hi) = (1e-5f32.to_bits(), 1e9f32.to_bits());
+        let mut ties = 0;
+        for k in 0..200_000u32 {
+            let f = f32::from_bits(lo + (k as u64 * u64::from(hi - lo) / 200_000) as u32);
+            for v in [f, -f] {
+                let text = n(f64::from(v));
+                let std = format!("{v}");
+                assert_eq!(text.parse::<f32>().unwrap(), v, "{std}");
+                if text != std {
+                    assert_eq!(text.len(), std.len(), "{text} for {std}");
+                    ties += 1;
+                }
+            }
+        }
+        // Ties are about one value in a hundred.
+        assert!(ties < 20_000, "{ties}");
     }
 
     #[test]

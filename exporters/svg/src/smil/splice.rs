@@ -10,6 +10,7 @@ use foldhash::{HashMap, HashMapExt, HashSet, HashSetExt};
 
 use kurbo::Affine;
 
+use super::SmilText;
 use crate::frame::scene_svg;
 use gmotion::scene::{Group, Node, PathNode, Scene};
 
@@ -208,10 +209,21 @@ pub fn tags(svg: &str) -> Vec<Tag> {
 
 /// The value of attribute `name` in a tag's text, with its byte range in that text.
 pub fn attr<'s>(tag: &'s str, name: &str) -> Option<(std::ops::Range<usize>, &'s str)> {
-    let pat = format!(" {name}=\"");
-    let at = tag.find(&pat)? + pat.len();
-    let len = tag[at..].find('"')?;
-    Some((at..at + len, &tag[at..at + len]))
+    // The first ` name="`, found without building that pattern: this runs for every tag
+    // of a large document, and the pattern's allocation was most of its time.
+    let step = name.chars().next()?.len_utf8();
+    let mut from = 0;
+    while let Some(i) = tag[from..].find(name) {
+        let at = from + i;
+        let after = at + name.len();
+        if tag[..at].ends_with(' ') && tag[after..].starts_with("=\"") {
+            let start = after + 2;
+            let len = tag[start..].find('"')?;
+            return Some((start..start + len, &tag[start..start + len]));
+        }
+        from = at + step;
+    }
+    None
 }
 
 /// The elements that carry an id, by id (the first one when an id repeats).
@@ -259,18 +271,14 @@ impl Edits {
     }
 
     /// The edited document. Replaced ranges must not overlap.
-    pub fn apply(mut self, doc: &str) -> String {
+    pub fn apply(mut self, doc: String) -> SmilText {
         self.list.sort_by_key(|e| (e.0, e.1 != e.0, e.2));
-        let extra: usize = self.list.iter().map(|e| e.3.len()).sum();
-        let mut out = String::with_capacity(doc.len() + extra);
-        let mut at = 0;
-        for (start, end, _, text) in self.list {
-            out.push_str(&doc[at..start.max(at)]);
-            out.push_str(&text);
-            at = at.max(end);
-        }
-        out.push_str(&doc[at..]);
-        out
+        let edits = self
+            .list
+            .into_iter()
+            .map(|(s, e, _, t)| (s, e, t))
+            .collect();
+        SmilText::new(doc, edits)
     }
 }
 
@@ -292,12 +300,22 @@ mod tests {
     }
 
     #[test]
+    fn an_attribute_is_found_by_its_whole_name() {
+        let tag = "<path data-id=\"a\" xid=\"b\" title=\"id=c\" id=\"d\" idx=\"e\"/>";
+        let (range, value) = attr(tag, "id").unwrap();
+        assert_eq!((value, &tag[range]), ("d", "d"));
+        assert_eq!(attr(tag, "idx").unwrap().1, "e");
+        assert_eq!(attr(tag, "x"), None);
+        assert_eq!(attr(tag, ""), None);
+    }
+
+    #[test]
     fn edits_apply_in_order() {
         let mut e = Edits::default();
         e.insert(3, "b".into());
         e.replace(1..2, "X".into());
         e.insert(3, "c".into());
         e.insert(0, "<".into());
-        assert_eq!(e.apply("0123"), "<0X2bc3");
+        assert_eq!(e.apply("0123".into()).into_string(), "<0X2bc3");
     }
 }

@@ -76,19 +76,34 @@ fn num_by_integer(out: &mut String, x: f64, decimals: usize) -> bool {
     while skip < decimals && digits[skip] == b'0' {
         skip += 1;
     }
+    // Laid out in order and appended at once: a `push` per character was a third of the
+    // time this function took in a large export.
+    let mut text = [0u8; 18];
+    let mut at = 0;
     if r < 0.0 {
-        out.push('-');
+        text[0] = b'-';
+        at = 1;
     }
     for k in (decimals..len).rev() {
-        out.push(digits[k] as char);
+        text[at] = digits[k];
+        at += 1;
     }
     if skip < decimals {
-        out.push('.');
+        text[at] = b'.';
+        at += 1;
         for k in (skip..decimals).rev() {
-            out.push(digits[k] as char);
+            text[at] = digits[k];
+            at += 1;
         }
     }
-    true
+    // ASCII digits, a sign and a point: always UTF-8.
+    match std::str::from_utf8(&text[..at]) {
+        Ok(t) => {
+            out.push_str(t);
+            true
+        }
+        Err(_) => false,
+    }
 }
 
 fn num_by_format(x: f64, decimals: usize) -> String {
