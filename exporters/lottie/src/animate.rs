@@ -121,8 +121,9 @@ pub fn unit_motion(
         out.deform_frames = (0..=frames).map(|f| f as f64).collect();
         return out;
     }
-    out.anisotropic =
-        info.strokes && (0..=frames).any(|f| !is_even(track.transform_at(f as f64 / fps)));
+    out.anisotropic = info.strokes
+        && !always_even(track)
+        && (0..=frames).any(|f| !is_even(track.transform_at(f as f64 / fps)));
     let windows = windows(&track.motions);
     // Many windows (smoothed or data-driven motion has one per frame) would nest one group
     // level each; bake the whole track instead, into at most two levels.
@@ -205,6 +206,26 @@ pub fn may_stroke(node: &Node) -> bool {
         }
         Node::Image(_) => false,
     }
+}
+
+/// Whether every transform of `track` is a similarity, known from its motions without
+/// sampling it frame by frame (that scan was the largest cost of a large export's strokes):
+/// each start is one, and every component translates, rotates or scales evenly. Such
+/// matrices (`[a −b; b a]`) stay such under products, weighted blends and Alexa's powers.
+fn always_even(track: &Track) -> bool {
+    track.motions.iter().all(|m| {
+        is_even(m.start)
+            && match &m.kind {
+                MotionKind::Rigid { blend, .. } => blend.iter().all(|(_, comps)| {
+                    comps.iter().all(|c| match c {
+                        Component::Translate(_) | Component::Rotate(_) => true,
+                        Component::Scale(k) => k.x == k.y,
+                        Component::Skew(..) | Component::Matrix(_) => false,
+                    })
+                }),
+                MotionKind::Vertex { .. } => false,
+            }
+    })
 }
 
 /// Whether `m` scales every direction by the same factor (a similarity).
@@ -695,4 +716,71 @@ fn attr_keys<T: Copy + gmotion::motion::Blendable, V: Clone + Near>(
         |k, p| map(segs[k].from.blend(segs[k].to, p)),
         |_| value_tolerance,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use gmotion::motion::Blend;
+
+    /// A track of two overlapping windows of `comps`, a bilinear-style blend of two
+    /// weighted entries in the second, starting from `start`.
+    fn track(comps: &[Component], other: &[Component], start: Affine, interp: Interp) -> Track {
+        let mut t = Track::default();
+        t.motions.push(MotionSeg::linear(0.0, 1.0, comps, start));
+        let blend: Blend = Arc::from([
+            (0.3, Arc::<[Component]>::from(comps)),
+            (0.7, Arc::<[Component]>::from(other)),
+        ]);
+        t.motions.push(MotionSeg {
+            t0: 1.0,
+            t1: 2.0,
+            timing: gmotion::motion::Timing::linear(1.0, 2.0),
+            kind: MotionKind::Rigid {
+                pivot: Point::new(3.0, -2.0),
+                blend,
+                interp,
+            },
+            start: t.transform_at(1.0),
+        });
+        t
+    }
+
+    /// What the shortcut claims the frame-by-frame scan finds: similarities throughout for
+    /// even components (from a mirrored start too, blended, under Alexa's interpolation);
+    /// and it makes no claim once a component is uneven.
+    #[test]
+    fn even_components_keep_every_frame_even() {
+        use Component::{Rotate, Scale, Skew, Translate};
+        let even = [
+            Translate(Vec2::new(4.0, -7.0)),
+            Rotate(130.0),
+            Scale(Vec2::new(-1.5, -1.5)),
+        ];
+        let other = [
+            Rotate(-40.0),
+            Scale(Vec2::new(0.25, 0.25)),
+            Translate(Vec2::new(1.0, 2.0)),
+        ];
+        let mirrored = Affine::new([-2.0, 0.0, 0.0, 2.0, 10.0, 5.0]);
+        for interp in [Interp::Linear, Interp::Alexa] {
+            for start in [Affine::IDENTITY, mirrored] {
+                let t = track(&even, &other, start, interp);
+                assert!(always_even(&t));
+                assert!((0..=60).all(|f| is_even(t.transform_at(f as f64 / 30.0))));
+            }
+            for uneven in [Scale(Vec2::new(1.0, 0.5)), Skew(10.0, 0.0)] {
+                let t = track(&even, &[uneven], Affine::IDENTITY, interp);
+                assert!(!always_even(&t));
+                assert!(!(0..=60).all(|f| is_even(t.transform_at(f as f64 / 30.0))));
+            }
+        }
+        let stretched = track(
+            &even,
+            &other,
+            Affine::scale_non_uniform(1.0, 2.0),
+            Interp::Linear,
+        );
+        assert!(!always_even(&stretched));
+    }
 }
