@@ -12,7 +12,10 @@
 //! target/bench-workload/intersections.gm -o x.json`.
 //!
 //! The `phases` group splits a run: import, expansion, and each export from a built
-//! animation.
+//! animation. The `process` group is the targets' own measure: the `gmotion` binary run on
+//! those files, start to exit, writing its output into a temporary folder (the release
+//! build at `target/release/gmotion`, or the one `GMOTION_BIN` names; skipped, saying so,
+//! when there is none: `cargo build --release` first).
 
 use std::hint::black_box;
 use std::path::PathBuf;
@@ -161,5 +164,50 @@ fn end_to_end(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, end_to_end);
+/// The whole command, as a user runs it: start, import, expansion, export, the atomic
+/// write and the exit.
+fn process(c: &mut Criterion) {
+    let root = workload::repo_root();
+    let bin = std::env::var_os("GMOTION_BIN")
+        .map_or_else(|| root.join("target/release/gmotion"), PathBuf::from);
+    if !bin.is_file() {
+        eprintln!(
+            "process: skipped, no binary at {} (cargo build --release, or set GMOTION_BIN)",
+            bin.display()
+        );
+        return;
+    }
+    // The files `input` wrote, which are what the export group measured.
+    let _ = input();
+    let inputs = root.join("target/bench-workload");
+    let out = inputs.join("process");
+    if let Err(e) = std::fs::create_dir_all(&out) {
+        eprintln!("process: skipped, {}: {e}", out.display());
+        return;
+    }
+    let mut group = c.benchmark_group("process");
+    group.sample_size(20);
+    for (name, file) in [
+        ("intersections/lottie", "x.json"),
+        ("intersections/smil", "x.svg"),
+    ] {
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                let status = std::process::Command::new(&bin)
+                    .arg("--quiet")
+                    .arg("animate")
+                    .arg(inputs.join("intersections.svg"))
+                    .arg(inputs.join("intersections.gm"))
+                    .arg("-o")
+                    .arg(out.join(file))
+                    .status()
+                    .expect("the binary starts");
+                assert!(status.success(), "{} failed: {status}", bin.display());
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, end_to_end, process);
 criterion_main!(benches);
