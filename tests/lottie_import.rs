@@ -482,9 +482,7 @@ fn parts_painted_by_their_layers_fill_change_colour_and_fade_alone() {
     );
     for p in players {
         let pixel = |f: f64, x: usize, y: usize| {
-            let pm = Pixmap::load_png(frame_path(&played, p, f)).unwrap();
-            let c = pm.pixels()[y * pm.width() as usize + x].demultiply();
-            (c.red(), c.green(), c.blue(), c.alpha())
+            rgba_at(&Pixmap::load_png(frame_path(&played, p, f)).unwrap(), x, y)
         };
         let at = |f: f64, x: usize| pixel(f, x, 100);
         for x in [55, 145] {
@@ -569,11 +567,10 @@ fn a_legacy_files_colours_are_read_and_tinted_in_its_scale() {
     let mut failures = Vec::new();
     for f in frames {
         let ours = own_frame(&out, &dir.join(format!("own-{f}.png")), f);
-        let drawn_at = |pm: &Pixmap, x: usize, y: usize| {
-            let c = pm.pixels()[y * pm.width() as usize + x].demultiply();
-            (c.red(), c.green(), c.blue())
+        let drawn = |pm: &Pixmap, x: usize| {
+            let (r, g, b, _) = rgba_at(pm, x, 100);
+            (r, g, b)
         };
-        let drawn = |pm: &Pixmap, x: usize| drawn_at(pm, x, 100);
         let want_blue = f > 0.0;
         for (who, pm) in players
             .iter()
@@ -611,7 +608,7 @@ fn a_legacy_files_colours_are_read_and_tinted_in_its_scale() {
                     (r, g, b)
                 ));
             }
-            let (r, g, b) = drawn_at(&pm, 100, 170);
+            let (r, g, b, _) = rgba_at(&pm, 100, 170);
             let ok = if want_blue {
                 r < 60 && b > 200
             } else {
@@ -626,12 +623,7 @@ fn a_legacy_files_colours_are_read_and_tinted_in_its_scale() {
             failures.extend(unlike_own(&ours, &theirs, p, f));
         }
     }
-    assert!(
-        failures.is_empty(),
-        "{}\n(files in {})",
-        failures.join("\n"),
-        played.display()
-    );
+    assert_no_failures(&failures, &played);
 }
 
 /// A solid layer's colour changes although Lottie cannot animate a solid's `sc`: the solid
@@ -686,10 +678,7 @@ fn a_solid_layers_colour_changes_in_every_player() {
         let ours = own_frame(&out, &dir.join(format!("own-{f}.png")), f);
         for p in players {
             let theirs = Pixmap::load_png(frame_path(&played, p, f)).unwrap();
-            let px = |x: usize, y: usize| {
-                let c = theirs.pixels()[y * theirs.width() as usize + x].demultiply();
-                (c.red(), c.green(), c.blue(), c.alpha())
-            };
+            let px = |x: usize, y: usize| rgba_at(&theirs, x, y);
             // The unmasked half's middle (layer point (30, 40)), the masked half's (90, 40)
             // and the dot on top.
             let (r, g, b, a) = px(72, 80);
@@ -713,11 +702,22 @@ fn a_solid_layers_colour_changes_in_every_player() {
             failures.extend(unlike_own(&ours, &theirs, p, f));
         }
     }
+    assert_no_failures(&failures, &played);
+}
+
+/// The colour at `(x, y)` of a rendered frame, straight (not premultiplied).
+fn rgba_at(pm: &Pixmap, x: usize, y: usize) -> (u8, u8, u8, u8) {
+    let c = pm.pixels()[y * pm.width() as usize + x].demultiply();
+    (c.red(), c.green(), c.blue(), c.alpha())
+}
+
+/// Fails with every collected failure, naming where the played files are.
+fn assert_no_failures(failures: &[String], files: &Path) {
     assert!(
         failures.is_empty(),
         "{}\n(files in {})",
         failures.join("\n"),
-        played.display()
+        files.display()
     );
 }
 
@@ -1813,12 +1813,7 @@ fn own_render_draws_each_feature_as_the_players_do() {
             ));
         }
     }
-    assert!(
-        failures.is_empty(),
-        "{}\n(files in {})",
-        failures.join("\n"),
-        dir.display()
-    );
+    assert_no_failures(&failures, &dir);
 }
 
 /// gmotion's own render of frame `f` (at 30 fps) of the Lottie file `src`, 200 px wide,
@@ -1931,12 +1926,7 @@ fn a_lottie_converted_to_svg_plays_frame_by_frame_in_chromium() {
                 .contains("<animate")
         );
     }
-    assert!(
-        failures.is_empty(),
-        "{}\n(files in {})",
-        failures.join("\n"),
-        dir.display()
-    );
+    assert_no_failures(&failures, &dir);
 }
 
 /// A played Lottie writes what its frames draw alike once: real files whose frames move a
@@ -2066,12 +2056,7 @@ fn linked_images_are_drawn_from_the_files_folder() {
             }
         }
     }
-    assert!(
-        failures.is_empty(),
-        "{} (files in {})",
-        failures.join("\n"),
-        played.display()
-    );
+    assert_no_failures(&failures, &played);
 }
 
 /// `convert anim.json` plays the composition: a GIF of every frame (60 at 30 fps), a
