@@ -26,6 +26,18 @@ pub struct Scene {
     pub root: Group,
     /// The animated units in document order; `Node::unit` indexes into this list.
     pub shapes: Vec<Shape>,
+    /// The scene's own time, when it moves by itself (a Lottie composition's).
+    pub time: Option<SceneTime>,
+}
+
+/// A scene's own timeline: a Lottie composition's length and frame rate. A grammar that
+/// sets no `duration` runs for as long, and one that sets no `fps` at that rate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SceneTime {
+    /// Length in seconds.
+    pub duration: f64,
+    /// Frames per second.
+    pub fps: f64,
 }
 
 /// An animated unit: a leaf path, or a whole group that carries a tag.
@@ -38,6 +50,16 @@ pub struct Shape {
     /// imported shape, the ids of its element and of the groups around it (as grammar
     /// names), and the tags a tag map (`--tags`) gives it. Never holds `tag` itself.
     pub aliases: Vec<String>,
+    /// How many of the last [`aliases`](Shape::aliases) name ancestors that already move
+    /// the shape through parenting (a Lottie scene's parent layers and the nulls of its
+    /// rigs). A rule that takes the shape only through them gives it no motion of its own
+    /// (it follows them, once), but still changes its paint and opacity.
+    pub inherited: usize,
+    /// A rig rather than a drawing: a Lottie null layer that moves the layers parented to
+    /// it. It draws nothing and takes only motion, about its anchor point (its
+    /// [`centroid`](Shape::centroid)); `all` does not take it, and `n`, `k` and `count`
+    /// count drawings only.
+    pub rig: bool,
     /// Unique within the tag, in document order, from 0.
     pub id: usize,
     /// The group grammar's group id (0 for imported shapes).
@@ -62,8 +84,15 @@ pub struct Shape {
 
 impl Shape {
     /// Every tag the shape answers to: its [`Shape::tag`], then its [`Shape::aliases`].
-    pub fn tags(&self) -> impl Iterator<Item = &str> {
+    pub fn tags(&self) -> impl Iterator<Item = &str> + Clone {
         std::iter::once(self.tag.as_str()).chain(self.aliases.iter().map(String::as_str))
+    }
+
+    /// The tags the shape answers to by itself: [`Shape::tags`] without the
+    /// [`inherited`](Shape::inherited) names of the ancestors that move it.
+    pub fn own_tags(&self) -> impl Iterator<Item = &str> + Clone {
+        let own = self.aliases.len().saturating_sub(self.inherited);
+        std::iter::once(self.tag.as_str()).chain(self.aliases[..own].iter().map(String::as_str))
     }
 }
 
@@ -675,6 +704,7 @@ impl SceneBuilder {
                 height,
                 root: Group::new(),
                 shapes: Vec::new(),
+                time: None,
             },
             ids: HashMap::new(),
         }
@@ -701,6 +731,8 @@ impl SceneBuilder {
         self.scene.shapes.push(Shape {
             tag: tag.to_string(),
             aliases: Vec::new(),
+            inherited: 0,
+            rig: false,
             id: *id,
             group: 0,
             z: index,

@@ -427,7 +427,7 @@ fn all_cases() -> Vec<Case> {
         Case::new("Lottie precomposition used many times at many levels, recoloured", "animate {d}/anim.json {d}/g.gm -o {d}/out.json", &["out.json", "feudar_Précomp:0", "more than 20000 layers of precompositions to copy with colour changes"], "out.json")
             .files(vec![
                 ("anim.json", include_bytes!("../fuzz/regressions/lottie/precomp-used-many-times-at-many-levels-recoloured.json").to_vec()),
-                ("g.gm", b"duration 1s\nfps 10\nanimate(fill, local, 0, #3366ff) : [all, all] -> [blue]\n".to_vec()),
+                ("g.gm", b"fps 10\nanimate(fill, local, 0, #3366ff) : [all, all] -> [blue]\n".to_vec()),
             ])
             .succeeds(),
         // A Lottie file's linked images fall under the same policy as an SVG's.
@@ -577,7 +577,7 @@ fn cases() -> Vec<Case> {
         case("pattern naming no shape", "duration 1s\nanimate(affine, world, 0, scale(2)) : [all, btn-*] -> [m]\n", &["g.gm:2:", "matches the pattern `btn-*`"]),
         case("pattern as a slice tag", "duration 1s\ntimesplit(0.5, 0.5) : [a*, s] -> [b, c]\n", &["g.gm:2:24", "is a pattern here"]),
         case("excluding an unknown tag", "duration 1s\nanimate(affine, world, 0, scale(2)) : [all, all - bgg] -> [m]\n", &["g.gm:2:", "unknown shape tag `bgg`"]),
-        case("let bound twice", "let k = 1\nlet k = 2\nanimate(affine, world, 0, scale(k)) : [all, s] -> [m]\n", &["g.gm:2:5", "bound twice", "line 1"]),
+        case("let bound twice", "let q = 1\nlet q = 2\nanimate(affine, world, 0, scale(q)) : [all, s] -> [m]\n", &["g.gm:2:5", "bound twice", "line 1"]),
         case("let renaming a variable", "let cx = 1\nanimate(affine, world, 0, scale(2)) : [all, s] -> [m]\n", &["g.gm:1:5", "a variable every shape has"]),
         case("let growing without bound", &(1..20).fold("let a0 = id\n".to_string(), |g, i| g + &format!("let a{i} = a{} + a{}\n", i - 1, i - 1)), &["g.gm:", "too large"]),
         case("keyframe variable without keyframes", "duration 1s\nanimate(affine, world, 0, translate(10 * u, 0)) : [all, s] -> [m]\n", &["g.gm:2:", "grid=1x1x5"]),

@@ -815,7 +815,7 @@ outline(2) : (Layer_*, *_1) - bg -> [x, y]
     assert!(!s.takes_shape(["Layer_2", "bg"], true));
     // Patterns pick shape tags only; a bound name is bound once and renames no variable.
     let d = errors(
-        "timesplit(0.5, 0.5) : [a*, s] -> [b, c]\nanimate(affine, world, 0, scale(2)) : [a, s] -> [t*]\nlet cx = 2\nlet k = 1\nlet k = 2\n",
+        "timesplit(0.5, 0.5) : [a*, s] -> [b, c]\nanimate(affine, world, 0, scale(2)) : [a, s] -> [t*]\nlet cx = 2\nlet q = 1\nlet q = 2\n",
     );
     assert_eq!(positions(&d), [(1, 24), (2, 50), (3, 5), (5, 5)]);
     // A binding of bindings that would grow without bound is refused where it is bound.

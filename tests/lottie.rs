@@ -1156,6 +1156,7 @@ fn still(root: Group) -> Scene {
         height: 200.0,
         root,
         shapes: Vec::new(),
+        time: None,
     }
 }
 

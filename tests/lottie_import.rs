@@ -136,6 +136,7 @@ fn units(path: &Path) -> Vec<(String, [f64; 4], String)> {
     assert!(ok, "{err}");
     out.lines()
         .skip(1)
+        .filter(|l| !l.trim_start().starts_with("measured at frame"))
         .map(|l| {
             let l = l.trim();
             let (name, rest) = l.split_once("  box [").expect("a unit line");
@@ -171,11 +172,18 @@ fn layers_are_units_tagged_from_their_names() {
     let path = write_json(&dir, "units.json", &doc(layers, json!([])));
     let got = units(&path);
     let names: Vec<&str> = got.iter().map(|u| u.0.as_str()).collect();
-    // Paint order, bottom first: ids count within a tag in that order; the null, the
-    // hidden layer and the matte source are no units.
+    // Paint order, bottom first: ids count within a tag in that order; the hidden layer and
+    // the matte source are no units; the null, parent of two, is a rig, after the units.
     assert_eq!(
         names,
-        ["solid:0", "Body:0", "shape:0", "Wheel:0", "Wheel:1"]
+        [
+            "solid:0",
+            "Body:0",
+            "shape:0",
+            "Wheel:0",
+            "Wheel:1",
+            "rig null:0"
+        ]
     );
     let by = |n: &str| got.iter().find(|u| u.0 == n).unwrap();
     // Parenting: the null moves its children by (50, 0).
@@ -289,13 +297,14 @@ fn a_turn_and_a_fade_on_top_play_in_lottie_web_and_rlottie() {
         ),
     ]);
     let src = write_json(&dir, "scene.json", &doc(layers, json!([])));
-    // The grammar lasts 1 s of the 2 s composition: from frame 30 on the end state holds.
+    // The changes last the first 1 s of the 2 s composition: from frame 30 on their end
+    // state holds.
     let (text, _) = animate_lottie(
         &dir,
         &src,
-        "duration 1s\nfps 30\n\
-         animate(affine, local, 0, rotate(90)) : [all, Bar] -> [turned]\n\
-         animate(opacity, local, 0, 0.5) : [all, dot] -> [faded]\n",
+        "fps 30\ntimesplit(0.5, 0.5) : [all, all] -> [change, hold]\n\
+         animate(affine, local, 0, rotate(90)) : [change, Bar] -> [turned]\n\
+         animate(opacity, local, 0, 0.5) : [change, dot] -> [faded]\n",
     );
     let v: Value = serde_json::from_str(&text).unwrap();
     let layers = v["layers"].as_array().unwrap();
@@ -371,16 +380,20 @@ fn top_level_groups_as_units_move_inside_their_layer_in_lottie_web_and_rlottie()
     assert!(ok, "{err}");
     let tags: Vec<&str> = listing
         .lines()
-        .skip(1)
+        .skip(2)
         .filter_map(|l| l.split_whitespace().next())
         .collect();
-    // Bottom first; a default group name gives the item's kind.
-    assert_eq!(tags, ["group:0", "Bar:0"], "{listing}");
+    // Bottom first; a default group name gives the item's kind; the null is a rig.
+    assert_eq!(tags, ["group:0", "Bar:0", "rig"], "{listing}");
     assert!(
         listing.contains("group \"Bar 2\" ($.layers[1].shapes[0])"),
         "{listing}"
     );
-    assert!(listing.contains("also Bar_2, Car, Rig"), "{listing}");
+    // The layer's parts answer to its name by themselves; the null moves them, once.
+    assert!(
+        listing.contains("also Bar_2, Car  follows Rig"),
+        "{listing}"
+    );
     let (ok, _, err) = run(bin()
         .args(["check", "--shapes", "--units", "paths"])
         .arg(&src));
@@ -389,9 +402,9 @@ fn top_level_groups_as_units_move_inside_their_layer_in_lottie_web_and_rlottie()
     let (text, _) = animate_lottie(
         &dir,
         &src,
-        "units groups\nduration 1s\nfps 30\n\
-         animate(affine, local, 0, rotate(90)) : [all, Bar] -> [turned]\n\
-         animate(opacity, local, 0, 0.5) : [all, group] -> [faded]\n",
+        "units groups\nfps 30\ntimesplit(0.5, 0.5) : [all, all] -> [change, hold]\n\
+         animate(affine, local, 0, rotate(90)) : [change, Bar] -> [turned]\n\
+         animate(opacity, local, 0, 0.5) : [change, group] -> [faded]\n",
     );
     let v: Value = serde_json::from_str(&text).unwrap();
     let source: Value = serde_json::from_str(&std::fs::read_to_string(&src).unwrap()).unwrap();
@@ -468,9 +481,9 @@ fn parts_painted_by_their_layers_fill_change_colour_and_fade_alone() {
     let (text, _) = animate_lottie(
         &dir,
         &src,
-        "units groups\nduration 1s\nfps 30\n\
-         animate(opacity, local, 0, 0.5) : [all, Right] -> [faded]\n\
-         animate(fill, local, 0, #0000ff) : [all, Left] -> [blue]\n",
+        "units groups\nfps 30\ntimesplit(0.5, 0.5) : [all, all] -> [change, hold]\n\
+         animate(opacity, local, 0, 0.5) : [change, Right] -> [faded]\n\
+         animate(fill, local, 0, #0000ff) : [change, Left] -> [blue]\n",
     );
     let players = Player::ALL;
     let played = play(
@@ -557,7 +570,7 @@ fn a_legacy_files_colours_are_read_and_tinted_in_its_scale() {
     let (text, err) = animate_lottie(
         &dir,
         &src,
-        "duration 1s\nfps 30\nloop false\nanimate(fill, local, 0, #2040e0) : [all, (black, plate)] -> [blue]\n",
+        "loop false\ntimesplit(0.5, 0.5) : [all, (black, plate)] -> [change, hold]\nanimate(fill, local, 0, #2040e0) : [change, (black, plate)] -> [blue]\n",
     );
     assert!(!err.contains("warning"), "{err}");
     let players = [Player::LottieWebSvg, Player::LottieWebCanvas];
@@ -652,11 +665,12 @@ fn a_solid_layers_colour_changes_in_every_player() {
                 "i": [corner, corner, corner, corner], "o": [corner, corner, corner, corner]}))}]});
     solid["ks"]["a"] = fixed(json!([60, 40, 0]));
     let src = write_json(&dir, "scene.json", &doc(json!([dot, solid]), json!([])));
-    // The grammar lasts 1 s of the 2 s composition: from frame 30 on the end state holds.
+    // The change lasts the first 1 s of the 2 s composition: from frame 30 on its end
+    // state holds.
     let (text, err) = animate_lottie(
         &dir,
         &src,
-        "duration 1s\nfps 30\nloop false\nanimate(fill, local, 0, #2040e0) : [all, solid] -> [blue]\n",
+        "loop false\ntimesplit(0.5, 0.5) : [all, solid] -> [change, hold]\nanimate(fill, local, 0, #2040e0) : [change, solid] -> [blue]\n",
     );
     assert!(!err.contains("warning"), "{err}");
     let v: Value = serde_json::from_str(&text).unwrap();
@@ -912,6 +926,10 @@ fn huge_keyframe_arrays_import_in_bounded_time() {
     assert_eq!(got[0].1, [-2.0, 48.0, 2.0, 52.0]);
 }
 
+/// A composition a billion frames long: a grammar without `duration` would last as long,
+/// and is refused at once for its frame count, naming the file; one with a duration cuts
+/// the composition, and paint over more frames than are sampled is written for the first
+/// of them, with a warning, in bounded time.
 #[test]
 fn paint_on_a_composition_a_billion_frames_long_is_written_in_bounded_time() {
     let dir = out_dir("long_comp");
@@ -921,19 +939,33 @@ fn paint_on_a_composition_a_billion_frames_long_is_written_in_bounded_time() {
     let mut d = doc(json!([l]), json!([]));
     d["op"] = json!(1e9);
     let src = write_json(&dir, "long.json", &d);
-    let start = std::time::Instant::now();
-    let (_, err) = animate_lottie(
-        &dir,
-        &src,
-        "duration 1s\nfps 30\nloop false\n\
+    let rules = "loop false\n\
          animate(fill, local, 0, #0000ff) : [all, tile] -> [blue]\n\
-         animate(opacity, local, 0, 0.5) : [blue, tile] -> [faded]\n",
+         animate(opacity, local, 0, 0.5) : [blue, tile] -> [faded]\n";
+    let start = std::time::Instant::now();
+    let g = dir.join("grammar.gm");
+    std::fs::write(&g, rules).unwrap();
+    let (ok, _, err) = run(bin()
+        .arg("animate")
+        .arg(&src)
+        .arg(&g)
+        .arg("-o")
+        .arg(dir.join("no.json")));
+    assert!(
+        !ok && err.contains("long.json") && err.contains("more than the limit"),
+        "{err}"
     );
+    assert!(!dir.join("no.json").exists());
+    // 700 s at the grammar's 1 fps, 21 000 frames of the 30 fps composition.
+    let (text, err) = animate_lottie(&dir, &src, &format!("duration 700s\nfps 1\n{rules}"));
     assert!(start.elapsed().as_secs() < 30, "took {:?}", start.elapsed());
+    assert!(err.contains("the composition is cut at 700s"), "{err}");
     assert!(
         err.contains("paint and opacity are written for its first"),
         "{err}"
     );
+    let v: Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(v["op"].as_f64(), Some(21_000.0));
 }
 
 /// A shape layer (`ty` 4) named `nm` holding `items` (a group's contents), 60 frames long.

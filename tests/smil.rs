@@ -471,6 +471,8 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
     root.children = vec![Node::Group(outer)];
     let shape = Shape {
         aliases: Vec::new(),
+        inherited: 0,
+        rig: false,
         tag: "pair".into(),
         id: 0,
         group: 0,
@@ -508,6 +510,7 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
         height: 200.0,
         root,
         shapes: vec![shape],
+        time: None,
     };
     out.push(("group-unit", true, anim(pair, 3.0, true, vec![t])));
 
@@ -529,6 +532,8 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
     root.children = vec![Node::Group(outer)];
     let shape = |id: usize, node_path: Vec<usize>, bbox: Rect| Shape {
         aliases: Vec::new(),
+        inherited: 0,
+        rig: false,
         tag: "n".into(),
         id,
         group: 0,
@@ -569,6 +574,7 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
         height: 200.0,
         root,
         shapes,
+        time: None,
     };
     out.push((
         "nested-units",

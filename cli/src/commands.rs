@@ -299,7 +299,9 @@ fn import_options(
             tag_map,
         },
         lottie: lottie_import::ImportOptions {
-            time: a.reference_time.unwrap_or(0.0),
+            time: a
+                .reference_time
+                .or(settings.reference_time.as_ref().map(|(t, _)| *t)),
             max_image_pixels: ctx.limits.get("image-pixels"),
             allowed_dirs: ctx.allow.clone(),
             max_file_bytes: ctx.limits.get("input-bytes"),
@@ -428,22 +430,43 @@ fn shape_list(path: &Path, loaded: &LoadedScene, json: bool) -> String {
     if json {
         return format!("{}\n", gmotion_studio::shapes_json(scene));
     }
+    let rigs = scene.shapes.iter().filter(|s| s.rig).count();
     let mut out = format!(
-        "{}: {} units ({} × {})\n",
+        "{}: {} units{} ({} × {})\n",
         path.display(),
-        scene.shapes.len(),
+        scene.shapes.len() - rigs,
+        match rigs {
+            0 => String::new(),
+            n => format!(" and {n} rig{}", if n == 1 { "" } else { "s" }),
+        },
         scene.width,
         scene.height
     );
+    if let Some(src) = &loaded.source {
+        let _ = writeln!(
+            out,
+            "  measured at frame {} ({:.3}s from the start; `reference_time` sets another)",
+            guard::short(src.frame),
+            (src.frame - src.document.ip) / src.document.fr
+        );
+    }
     for (i, s) in scene.shapes.iter().enumerate() {
         let b = s.bbox;
+        let (at, what) = match s.rig {
+            true => ("anchor", "rig "),
+            false => ("centroid", ""),
+        };
         let _ = write!(
             out,
-            "  {}:{}  box [{:.1}, {:.1}, {:.1}, {:.1}]  centroid ({:.1}, {:.1})",
+            "  {what}{}:{}  box [{:.1}, {:.1}, {:.1}, {:.1}]  {at} ({:.1}, {:.1})",
             s.tag, s.id, b.x0, b.y0, b.x1, b.y1, s.centroid.x, s.centroid.y
         );
-        if !s.aliases.is_empty() {
-            let _ = write!(out, "  also {}", s.aliases.join(", "));
+        let (own, inherited) = s.aliases.split_at(s.aliases.len() - s.inherited);
+        if !own.is_empty() {
+            let _ = write!(out, "  also {}", own.join(", "));
+        }
+        if !inherited.is_empty() {
+            let _ = write!(out, "  follows {}", inherited.join(", "));
         }
         if let Some(src) = &loaded.source
             && let Some(unit) = src.units.get(i)
@@ -714,6 +737,29 @@ fn build(
         ctx,
     )?;
     has_shapes(&loaded, &scene_path)?;
+    // A Lottie scene lasts as long as its composition where the grammar does not say.
+    if let Some(time) = loaded.scene.time
+        && !(g.settings.duration_given && (g.settings.fps_given || run.fps.is_some()))
+    {
+        let duration = match g.settings.duration_given {
+            true => g.settings.duration,
+            false => time.duration,
+        };
+        let fps = run.fps.unwrap_or(if g.settings.fps_given {
+            g.settings.fps
+        } else {
+            time.fps
+        });
+        ctx.limits.check_frames(
+            duration * fps,
+            &format!(
+                "{}: error: the composition's duration {}s at {} fps",
+                scene_path.display(),
+                guard::short(duration),
+                guard::short(fps)
+            ),
+        )?;
+    }
     let opts = run_options(run, &ctx.limits)?;
     // The preview's timeline picture: the slices, which the run does not keep.
     let timelines = timelines

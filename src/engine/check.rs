@@ -248,9 +248,9 @@ fn time_report(
     }
     // A shape tag is still when none of its shapes is taken under any of its names.
     let mut still: BTreeMap<&str, bool> = BTreeMap::new();
-    for s in &scene.shapes {
-        let names: Vec<String> = s.tags().map(str::to_string).collect();
-        let taken = program.rules.iter().any(|rule| rule.takes(&names));
+    // A rig no rule names is only a layer's parent: nothing to warn about.
+    for s in scene.shapes.iter().filter(|s| !s.rig) {
+        let taken = program.rules.iter().any(|rule| rule.takes(s.tags(), false));
         *still.entry(s.tag.as_str()).or_insert(true) &= !taken;
     }
     for (t, _) in still.into_iter().filter(|(_, still)| *still) {

@@ -138,7 +138,8 @@ pub struct Expansion {
 /// The variables [`ShapeEnv`] defines: an expression naming none of them (and not calling
 /// `rand`) has one value for every shape of a step.
 const SHAPE_VARS: &[&str] = &[
-    "id", "n", "cx", "cy", "w", "h", "x0", "y0", "z", "group", "t0", "d", "step", "W", "H",
+    "id", "n", "k", "count", "cx", "cy", "w", "h", "x0", "y0", "z", "group", "t0", "d", "step",
+    "W", "H",
 ];
 
 /// True when `e` evaluates the same for every shape and slice of a step.
@@ -160,6 +161,9 @@ fn shape_independent(e: &Expr) -> bool {
 struct ShapeEnv<'a> {
     shape: &'a Shape,
     n: usize,
+    /// The shape's index among those the rule takes, and how many those are (`k`,
+    /// `count`), when the rule's values name them.
+    rank: Option<(usize, usize)>,
     canvas: (f64, f64),
     t0: f64,
     d: f64,
@@ -179,6 +183,8 @@ impl Env for ShapeEnv<'_> {
         Some(match name {
             "id" => s.id as f64,
             "n" => self.n as f64,
+            "k" => self.rank?.0 as f64,
+            "count" => self.rank?.1 as f64,
             "z" => s.z as f64,
             "group" => s.group as f64,
             "t0" => self.t0,
@@ -373,7 +379,12 @@ impl Runner<'_> {
         let (plan, settings) = (self.plan, self.settings);
         let class = plan.class_of[si] as usize;
         let shape = &self.scene.shapes[si];
-        let n = plan.tag_sizes[plan.shape_tag_of[si] as usize];
+        let sizes = if shape.rig {
+            &plan.rig_sizes
+        } else {
+            &plan.tag_sizes
+        };
+        let n = sizes[plan.shape_tag_of[si] as usize];
         // Two buffers as long as the final timeline, swapped at every step.
         let mut timeline = Vec::with_capacity(plan.lens[class]);
         let mut next = Vec::with_capacity(plan.lens[class]);
@@ -403,6 +414,9 @@ impl Runner<'_> {
                 let mut env = ShapeEnv {
                     shape,
                     n,
+                    rank: plan.ranks[a.rule]
+                        .as_ref()
+                        .and_then(|r| r.of(si, shape.rig)),
                     canvas: (self.scene.width, self.scene.height),
                     t0: slice.t0,
                     d: slice.dur,
@@ -627,18 +641,31 @@ fn apply(
             let out_tag = &rule.outputs[0];
             let inverted = out_tag.inverted ^ slice.inverted;
             let parts = specs.len();
-            let insts = specs.iter().enumerate().map(|(k, spec)| {
-                Arc::new(AnimInst {
-                    step: ctx.step * MAX_KEYS + k,
-                    spec: spec.clone(),
-                    start: slice.t0,
-                    end: slice.t0 + slice.dur,
-                    delay,
-                    ease: ease.clone(),
-                    reversed: inverted,
-                    part: (k as f64 / parts as f64, (k + 1) as f64 / parts as f64),
-                })
-            });
+            // A rig only moves (it draws nothing to paint); a shape the rule takes only
+            // through an ancestor that moves it (a Lottie parent or null) follows that
+            // ancestor's motion, once, and takes only the paint.
+            let shape = env.shape;
+            let follows = shape.inherited > 0 && !rule.takes(shape.own_tags(), shape.rig);
+            let keeps = |spec: &AnimSpec| match spec {
+                AnimSpec::Motion { .. } => !follows,
+                _ => !shape.rig,
+            };
+            let insts = specs
+                .iter()
+                .enumerate()
+                .filter(|(_, spec)| keeps(spec))
+                .map(|(k, spec)| {
+                    Arc::new(AnimInst {
+                        step: ctx.step * MAX_KEYS + k,
+                        spec: spec.clone(),
+                        start: slice.t0,
+                        end: slice.t0 + slice.dur,
+                        delay,
+                        ease: ease.clone(),
+                        reversed: inverted,
+                        part: (k as f64 / parts as f64, (k + 1) as f64 / parts as f64),
+                    })
+                });
             out.push(Slice {
                 tag: ctx.outputs[0],
                 inverted,
@@ -653,13 +680,31 @@ fn apply(
 
 /// True when `e` names the keyframe variable `u`.
 fn uses_u(e: &Expr) -> bool {
+    mentions(e, &["u"])
+}
+
+/// True when `e` names one of the variables `names`.
+fn mentions(e: &Expr, names: &[&str]) -> bool {
     match &e.kind {
-        ExprKind::Ident(name) => name == "u",
-        ExprKind::Call { args, .. } => args.iter().any(|a| uses_u(&a.value)),
-        ExprKind::Tuple(items) => items.iter().any(uses_u),
-        ExprKind::Neg(x) => uses_u(x),
-        ExprKind::Binary { lhs, rhs, .. } => uses_u(lhs) || uses_u(rhs),
+        ExprKind::Ident(name) => names.contains(&name.as_str()),
+        ExprKind::Call { args, .. } => args.iter().any(|a| mentions(&a.value, names)),
+        ExprKind::Tuple(items) => items.iter().any(|x| mentions(x, names)),
+        ExprKind::Neg(x) => mentions(x, names),
+        ExprKind::Binary { lhs, rhs, .. } => mentions(lhs, names) || mentions(rhs, names),
         ExprKind::Num(_) | ExprKind::Str(_) | ExprKind::Color(_) | ExprKind::Size(..) => false,
+    }
+}
+
+/// True when a rule's values name `k` or `count`, whose planning walks every shape.
+pub(super) fn names_rank(rule: &CRule) -> bool {
+    let names = &["k", "count"];
+    match &rule.op {
+        Op::Animate(a) => {
+            mentions(&a.value, names)
+                || mentions(&a.offset, names)
+                || a.ease.as_ref().is_some_and(|e| mentions(e, names))
+        }
+        Op::Timesplit { fractions } => fractions.iter().any(|f| mentions(f, names)),
     }
 }
 

@@ -202,7 +202,7 @@ pub fn timelines(
     grammar: &Grammar,
     opts: &RunOptions,
 ) -> Result<expand::Expansion, EngineError> {
-    let settings = effective_settings(grammar, opts)?;
+    let settings = effective_settings(grammar, scene, opts)?;
     let program = rules::Program::new(grammar)?;
     let spatial = spatial_stage(scene, grammar, &program, &settings, opts)?;
     let scene = spatial.as_ref().map_or(scene, |(s, _)| s);
@@ -210,8 +210,21 @@ pub fn timelines(
 }
 
 /// The grammar's header with `opts` applied.
-fn effective_settings(grammar: &Grammar, opts: &RunOptions) -> Result<Settings, EngineError> {
+fn effective_settings(
+    grammar: &Grammar,
+    scene: &Scene,
+    opts: &RunOptions,
+) -> Result<Settings, EngineError> {
     let mut settings = settings::from_grammar(grammar)?;
+    // A scene with a time of its own (a Lottie composition) sets what the grammar does not.
+    if let Some(time) = scene.time {
+        if !settings.duration_given {
+            settings.duration = time.duration;
+        }
+        if !settings.fps_given {
+            settings.fps = time.fps;
+        }
+    }
     if let Some(s) = opts.seed {
         settings.seed = s;
     }
@@ -234,7 +247,7 @@ fn run_here(
     grammar: &Grammar,
     opts: &RunOptions,
 ) -> Result<(Animation, RunStats), EngineError> {
-    let settings = effective_settings(grammar, opts)?;
+    let settings = effective_settings(grammar, &scene, opts)?;
     let program = rules::Program::new(grammar)?;
     if scene.shapes.is_empty() {
         return Err(EngineError::general(

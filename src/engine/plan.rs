@@ -24,7 +24,7 @@ use crate::scene::Scene;
 
 use super::EngineError;
 use super::random::{Place, hash_str};
-use super::rules::{CRule, Op, Program};
+use super::rules::{CRule, MatchKey, Op, Program};
 use super::settings::{Choice, Settings};
 
 /// One step as a class of shapes goes through it.
@@ -47,6 +47,44 @@ pub(super) struct Applied {
     pub key: usize,
 }
 
+/// Where each shape stands among the shapes one rule takes by its shape tags, in paint
+/// order: `k` and `count` in the rule's values. Drawings and rigs are counted apart.
+pub(super) struct Ranks {
+    /// Per shape, its index among the taken shapes of its kind (`u32::MAX`: not taken).
+    k: Vec<u32>,
+    /// How many drawings, and how many rigs, the rule takes.
+    count: [usize; 2],
+}
+
+impl Ranks {
+    fn new(rule: &CRule, keys: &[MatchKey], key_of: &[u32], scene: &Scene) -> Ranks {
+        let taken: Vec<bool> = keys
+            .iter()
+            .map(|key| rule.takes(key.tags.iter().map(String::as_str), key.rig))
+            .collect();
+        let mut count = [0; 2];
+        let k = key_of
+            .iter()
+            .zip(&scene.shapes)
+            .map(|(&key, s)| {
+                if !taken[key as usize] {
+                    return u32::MAX;
+                }
+                let c = &mut count[usize::from(s.rig)];
+                *c += 1;
+                (*c - 1) as u32
+            })
+            .collect();
+        Ranks { k, count }
+    }
+
+    /// Shape `si`'s `(k, count)`, if the rule takes it.
+    pub fn of(&self, si: usize, rig: bool) -> Option<(usize, usize)> {
+        let k = *self.k.get(si)?;
+        (k != u32::MAX).then(|| (k as usize, self.count[usize::from(rig)]))
+    }
+}
+
 /// The outcome of planning.
 pub(super) struct Plan {
     /// Each shape's class.
@@ -58,8 +96,13 @@ pub(super) struct Plan {
     pub lens: Vec<usize>,
     /// Each shape's shape tag, and the number of shapes per shape tag (`n` in expressions).
     pub shape_tag_of: Vec<u32>,
-    /// Shapes per shape tag.
+    /// Drawings per shape tag.
     pub tag_sizes: Vec<usize>,
+    /// Rigs per shape tag (the `n` of a rig).
+    pub rig_sizes: Vec<usize>,
+    /// Per rule position, for the rules whose values name `k` or `count`: where each
+    /// shape stands among those the rule takes.
+    pub ranks: Vec<Option<Ranks>>,
     /// Slice tag ids of each rule's outputs, by rule position and output.
     pub outputs: Vec<Vec<u32>>,
     /// Number of [`Applied::key`]s.
@@ -145,8 +188,8 @@ impl Tags {
 /// Caches which rules match a (slice tag, match key) pair, in a table indexed by both ids.
 struct Matcher<'a> {
     program: &'a Program,
-    /// Per match key, the tags its shapes answer to.
-    key_tags: &'a [Vec<String>],
+    /// Per match key, what rules can tell of its shapes.
+    key_tags: &'a [MatchKey],
     cache: Vec<Option<Arc<[usize]>>>,
 }
 
@@ -169,9 +212,9 @@ impl Matcher<'_> {
 /// program can tell (the same shape tag, and the same aliases among those some rule names)
 /// share one, and rules see nothing else of a shape. Without aliases that rules name, the
 /// keys are the shape tags. Returns each key's tags and each shape's key.
-fn match_keys(scene: &Scene, program: &Program) -> (Vec<Vec<String>>, Vec<u32>) {
+fn match_keys(scene: &Scene, program: &Program) -> (Vec<MatchKey>, Vec<u32>) {
     let mut named: HashMap<&str, bool> = HashMap::new();
-    let shape_keys: Vec<Vec<String>> = scene
+    let shape_keys: Vec<MatchKey> = scene
         .shapes
         .iter()
         .map(|s| {
@@ -184,7 +227,7 @@ fn match_keys(scene: &Scene, program: &Program) -> (Vec<Vec<String>>, Vec<u32>) 
                     tags.push(a.clone());
                 }
             }
-            tags
+            MatchKey { rig: s.rig, tags }
         })
         .collect();
     // Sorted, so that without aliases the keys are the shape tags in the order steps have
@@ -280,12 +323,22 @@ impl Plan {
             .iter()
             .map(|s| shape_tag_names.binary_search(&s.tag).expect("tag listed") as u32)
             .collect();
+        // `n` counts drawings and rigs apart: a rig named like a layer is not one more.
         let mut tag_sizes = vec![0; shape_tag_names.len()];
-        for &t in &shape_tag_of {
-            tag_sizes[t as usize] += 1;
+        let mut rig_sizes = vec![0; shape_tag_names.len()];
+        for (s, &t) in scene.shapes.iter().zip(&shape_tag_of) {
+            match s.rig {
+                false => tag_sizes[t as usize] += 1,
+                true => rig_sizes[t as usize] += 1,
+            }
         }
         // Steps go by match key: a key is a shape tag unless a rule names an alias.
         let (key_tags, key_of) = match_keys(scene, program);
+        let ranks = program
+            .rules
+            .iter()
+            .map(|r| super::expand::names_rank(r).then(|| Ranks::new(r, &key_tags, &key_of, scene)))
+            .collect();
         let mut shapes_by_key: Vec<Vec<usize>> = vec![Vec::new(); key_tags.len()];
         for (i, &k) in key_of.iter().enumerate() {
             shapes_by_key[k as usize].push(i);
@@ -304,7 +357,10 @@ impl Plan {
         let all = tags.id("all");
         // A key's random draws are keyed by its shape tag, and by the aliases that make it
         // a key of its own, so adding an alias no rule names changes no draw.
-        let tag_hashes: Vec<u64> = key_tags.iter().map(|t| hash_str(&t.join("\0"))).collect();
+        let tag_hashes: Vec<u64> = key_tags
+            .iter()
+            .map(|k| hash_str(&k.tags.join("\0")))
+            .collect();
         let mut matcher = Matcher {
             program,
             key_tags: &key_tags,
@@ -462,6 +518,8 @@ impl Plan {
             lens,
             shape_tag_of,
             tag_sizes,
+            rig_sizes,
+            ranks,
             outputs: tags
                 .outputs
                 .into_iter()

@@ -118,14 +118,14 @@ pub struct CRule {
 }
 
 impl CRule {
-    /// Whether the rule takes a shape whose tags (its tag and aliases) are `shape_tags`.
-    pub fn takes(&self, shape_tags: &[String]) -> bool {
-        takes_shape(
-            &self.shape_tags,
-            &self.shape_excluded,
-            shape_tags.iter().map(String::as_str),
-            true,
-        )
+    /// Whether the rule takes a shape whose tags (its tag and aliases) are `shape_tags`;
+    /// `all` takes it unless it is a rig ([`crate::scene::Shape::rig`]).
+    pub fn takes<'t>(
+        &self,
+        shape_tags: impl IntoIterator<Item = &'t str> + Clone,
+        rig: bool,
+    ) -> bool {
+        takes_shape(&self.shape_tags, &self.shape_excluded, shape_tags, !rig)
     }
 
     /// Whether the rule names `tag` (or a pattern that matches it) among the shape tags it
@@ -136,6 +136,16 @@ impl CRule {
             .chain(&self.shape_excluded)
             .any(|t| t != "all" && tag_matches(t, tag))
     }
+}
+
+/// What rules can tell of a shape: the tags it answers to (its tag, then the aliases some
+/// rule names) and whether it is a rig. Shapes with one key go through the same steps.
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub struct MatchKey {
+    /// Whether the shapes are rigs ([`crate::scene::Shape::rig`]), which `all` leaves out.
+    pub rig: bool,
+    /// The shape tag, then the aliases some rule names.
+    pub tags: Vec<String>,
 }
 
 /// All rules of a grammar, checked: timeslice rules for [`super::expand`], spatial ones
@@ -198,16 +208,17 @@ impl Program {
         self.rules.iter().any(|r| r.names_shape_tag(tag))
     }
 
-    /// Rules whose tags match a slice tag (base name) on a shape with tags `shape_tags`,
+    /// Rules whose tags match a slice tag (base name) on the shapes of match key `key`,
     /// highest priority only.
-    pub fn candidates(&self, slice_tag: &str, shape_tags: &[String]) -> Vec<usize> {
+    pub fn candidates(&self, slice_tag: &str, key: &MatchKey) -> Vec<usize> {
         let Some(list) = self.by_slice_tag.get(slice_tag) else {
             return Vec::new();
         };
+        let tags = key.tags.iter().map(String::as_str);
         let matching: Vec<usize> = list
             .iter()
             .copied()
-            .filter(|&i| self.rules[i].takes(shape_tags))
+            .filter(|&i| self.rules[i].takes(tags.clone(), key.rig))
             .collect();
         let Some(top) = matching.iter().map(|&i| self.rules[i].priority).max() else {
             return Vec::new();

@@ -23,8 +23,16 @@ pub enum Choice {
 pub struct Settings {
     /// Animation length in seconds.
     pub duration: f64,
+    /// Whether the grammar sets `duration` (else a scene with a time of its own, a Lottie
+    /// composition, lasts as long as that).
+    pub duration_given: bool,
     /// Frames per second.
     pub fps: f64,
+    /// Whether the grammar sets `fps` (else a Lottie scene runs at its own rate).
+    pub fps_given: bool,
+    /// When a Lottie scene's units are measured (`reference_time`), in seconds, and where
+    /// it is written.
+    pub reference_time: Option<(f64, Span)>,
     /// Default grid columns × rows × keyframes in time (gMotion's n×m×p).
     pub grid: (usize, usize, usize),
     /// Random seed.
@@ -65,7 +73,10 @@ impl Default for Settings {
     fn default() -> Self {
         Settings {
             duration: 5.0,
+            duration_given: false,
             fps: 30.0,
+            fps_given: false,
+            reference_time: None,
             grid: (1, 1, 2),
             seed: 0,
             scene: None,
@@ -184,8 +195,24 @@ pub fn from_grammar(grammar: &Grammar) -> Result<Settings, EngineError> {
     let mut s = Settings::default();
     for d in &grammar.directives {
         match d.name.as_str() {
-            "duration" => s.duration = positive(d)?,
-            "fps" => s.fps = positive(d)?,
+            "duration" => {
+                s.duration = positive(d)?;
+                s.duration_given = true;
+            }
+            "fps" => {
+                s.fps = positive(d)?;
+                s.fps_given = true;
+            }
+            "reference_time" => {
+                let x = num(d)?;
+                if x < 0.0 {
+                    return Err(EngineError::at(
+                        d.span,
+                        format!("`reference_time` cannot be negative, found {x}"),
+                    ));
+                }
+                s.reference_time = Some((x, one(d)?.span));
+            }
             "seed" => {
                 let x = num(d)?;
                 if x < 0.0 || x.fract() != 0.0 {

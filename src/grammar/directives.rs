@@ -11,6 +11,8 @@
 pub enum DirectiveKind {
     /// A positive duration in seconds; `s` and `ms` suffixes allowed (`6s`, `500ms`, `6`).
     Seconds,
+    /// A time in seconds from the start, 0 or more; `s` and `ms` suffixes allowed.
+    Instant,
     /// A positive number.
     Positive,
     /// A positive whole number.
@@ -46,13 +48,13 @@ pub const DIRECTIVES: &[DirectiveSpec] = &[
         name: "duration",
         kind: DirectiveKind::Seconds,
         default: "5s",
-        summary: "length of every shape's timeline",
+        summary: "length of every shape's timeline (a Lottie scene's: its composition's)",
     },
     DirectiveSpec {
         name: "fps",
         kind: DirectiveKind::Positive,
         default: "30",
-        summary: "frames per second of sampled output",
+        summary: "frames per second of sampled output (a Lottie scene's: its composition's)",
     },
     DirectiveSpec {
         name: "grid",
@@ -131,6 +133,12 @@ pub const DIRECTIVES: &[DirectiveSpec] = &[
         kind: DirectiveKind::Count,
         default: "1",
         summary: "how deep a group must sit in the SVG to become a unit (as the CLI's --unit-depth)",
+    },
+    DirectiveSpec {
+        name: "reference_time",
+        kind: DirectiveKind::Instant,
+        default: "the first frame where every unit draws something with area",
+        summary: "when a Lottie scene's units are measured, in seconds from its start (as the CLI's --reference-time)",
     },
     DirectiveSpec {
         name: "tags",

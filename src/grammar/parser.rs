@@ -978,6 +978,7 @@ fn check_directive(spec: &DirectiveSpec, values: &[Expr], span: Span) -> PResult
     let name = spec.name;
     let what = match spec.kind {
         DirectiveKind::Seconds => "a positive duration such as `6s` or `500ms`".to_string(),
+        DirectiveKind::Instant => "a time such as `0`, `1.5s` or `500ms`".to_string(),
         DirectiveKind::Positive => "a positive number".to_string(),
         DirectiveKind::Count => "a positive whole number".to_string(),
         DirectiveKind::Seed => "a whole number from 0 to 2^53".to_string(),
@@ -997,6 +998,7 @@ fn check_directive(spec: &DirectiveSpec, values: &[Expr], span: Span) -> PResult
     };
     let ok = match (&spec.kind, &value.kind) {
         (DirectiveKind::Seconds | DirectiveKind::Positive, ExprKind::Num(v)) => *v > 0.0,
+        (DirectiveKind::Instant, ExprKind::Num(v)) => *v >= 0.0 && v.is_finite(),
         (DirectiveKind::Count, ExprKind::Num(v)) => {
             *v >= 1.0 && v.fract() == 0.0 && *v <= f64::from(u32::MAX)
         }

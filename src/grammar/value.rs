@@ -53,10 +53,10 @@ pub trait Env {
 }
 
 /// Every variable a rule's expressions may name, in the timeslice or the group grammar
-/// (`u` only in a motion keyed in time), and the constant `pi`: a `let` cannot rename them.
+/// (`u` only in a motion keyed in time; `k` and `count` only in the timeslice grammar), and the constant `pi`: a `let` cannot rename them.
 pub const VARIABLES: &[&str] = &[
-    "id", "n", "cx", "cy", "w", "h", "x0", "y0", "z", "group", "t0", "d", "step", "W", "H", "u",
-    "pi",
+    "id", "n", "k", "count", "cx", "cy", "w", "h", "x0", "y0", "z", "group", "t0", "d", "step",
+    "W", "H", "u", "pi",
 ];
 
 /// The variables every shape has from its geometry: `cx`, `cy` (centroid), `w`, `h`,

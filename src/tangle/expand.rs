@@ -585,6 +585,8 @@ fn renumber(
                 Shape {
                     tag: p.tag.clone(),
                     aliases: Vec::new(),
+                    inherited: 0,
+                    rig: false,
                     id: 0,
                     group: p.group,
                     z: 0,

@@ -22,6 +22,7 @@
 
 pub mod flipbook;
 
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 
 use gmotion::Warning;
@@ -349,6 +350,17 @@ impl Stage<'_> {
     }
 }
 
+/// Whether some unit of a Lottie source moves another through parenting (its layer a
+/// parent of the other's) in `anim`: SMIL has no parenting, so such a scene is drawn
+/// frame by frame, as players draw it ([`riding`]).
+fn rides(anim: &Animation, src: &LottieSource) -> bool {
+    (0..src.units.len()).any(|u| {
+        src.parent_unit(u)
+            .and_then(|v| anim.tracks.get(v))
+            .is_some_and(|t| !t.motions.is_empty())
+    })
+}
+
 /// The canvas-space states of a Lottie source's units as players draw the exported
 /// motion: each unit's motion rides on the layer it hangs from (conjugated by how that
 /// layer has `moved` since the reference frame), and a unit that hangs from another unit
@@ -554,12 +566,29 @@ pub fn write_over_source(
     opts: &Options,
     tick: &(dyn Fn() + Sync),
 ) -> Result<Vec<Warning>, OutputError> {
-    match source {
+    let (source, said) = lasting(anim, source);
+    let source = source.as_deref();
+    let mut warnings = match source {
         Some(src) if Format::of(path)? == Format::Lottie => write_lottie(
             path,
             lottie::layered::over_source(anim, src, &lottie_options(opts)),
         ),
         _ => write_staged(Stage { anim, source }, path, opts, tick),
+    }?;
+    warnings.extend(said);
+    Ok(warnings)
+}
+
+/// `source` made to last as long as `anim` ([`LottieSource::lasting`]: its last frame held,
+/// or cut), and a warning saying so; `source` itself when it lasts as long already.
+fn lasting<'s>(
+    anim: &Animation,
+    source: Option<&'s LottieSource>,
+) -> (Option<Cow<'s, LottieSource>>, Option<Warning>) {
+    match source.map(|s| (s, s.lasting(anim.duration))) {
+        None => (None, None),
+        Some((s, None)) => (Some(Cow::Borrowed(s)), None),
+        Some((_, Some((fitted, said)))) => (Some(Cow::Owned(fitted)), Some(Warning::new(said))),
     }
 }
 
@@ -571,14 +600,17 @@ pub fn lottie_text(
     path: &Path,
     opts: &Options,
 ) -> Result<(String, Vec<Warning>), OutputError> {
-    match source {
+    let (source, said) = lasting(anim, source);
+    let (text, mut warnings) = match source.as_deref() {
         Some(src) => lottie::layered::over_source(anim, src, &lottie_options(opts)),
         None => lottie::to_lottie(anim, &lottie_options(opts)),
     }
     .map_err(|source| OutputError::Lottie {
         path: path.to_path_buf(),
         source,
-    })
+    })?;
+    warnings.extend(said);
+    Ok((text, warnings))
 }
 
 /// The animated SVG (SMIL) [`write_over_source`] writes to an `.svg` `path` (named in
@@ -591,7 +623,10 @@ pub fn smil_text(
     path: &Path,
     opts: &Options,
 ) -> Result<(String, Vec<Warning>), OutputError> {
-    smil_pieces(anim, source, path, opts).map(|(svg, warnings)| (svg.into_string(), warnings))
+    let (source, said) = lasting(anim, source);
+    let (svg, mut warnings) = smil_pieces(anim, source.as_deref(), path, opts)?;
+    warnings.extend(said);
+    Ok((svg.into_string(), warnings))
 }
 
 /// [`smil_text`] as it was put together, to be written without being joined first.
@@ -602,7 +637,7 @@ fn smil_pieces(
     opts: &Options,
 ) -> Result<(smil::SmilText, Vec<Warning>), OutputError> {
     if let Some(src) = source
-        && flipbook::moves(src)
+        && (rides(anim, src) || flipbook::moves(src))
     {
         let stage = Stage {
             anim,

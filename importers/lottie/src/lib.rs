@@ -72,8 +72,9 @@ use model::{Document, Loc};
 #[derive(Clone, Debug, PartialEq)]
 pub struct ImportOptions {
     /// The reference time, in seconds from the composition's in point, at which units are
-    /// measured and the still scene drawn (0: the first frame).
-    pub time: f64,
+    /// measured and the still scene drawn; `None`: the first frame where every unit draws
+    /// something with area ([`reference_frame`]).
+    pub time: Option<f64>,
     /// Most pixels an embedded image may declare in its header (default
     /// [`gmotion::scene::DEFAULT_MAX_IMAGE_PIXELS`]; `--limit image-pixels=N`): decoding
     /// allocates them all. A larger image is not drawn (its rectangle is measured), with a
@@ -107,7 +108,7 @@ pub enum Units {
 impl Default for ImportOptions {
     fn default() -> ImportOptions {
         ImportOptions {
-            time: 0.0,
+            time: None,
             max_image_pixels: gmotion::scene::DEFAULT_MAX_IMAGE_PIXELS,
             allowed_dirs: Vec::new(),
             max_file_bytes: gmotion::input::DEFAULT_MAX_INPUT_BYTES,
@@ -280,18 +281,35 @@ fn import(
             a.oversized = Some((w, h));
         }
     }
-    let frame = document.ip + opts.time * document.fr;
-    if !(frame.is_finite() && document.ip <= frame && frame <= document.op) {
-        return Err(ImportError::Lottie {
-            source_name: source_name.to_string(),
-            at: Loc::root(),
-            message: format!(
-                "the reference time {}s lies outside the composition (0 to {}s)",
-                opts.time,
-                (document.op - document.ip) / document.fr
-            ),
-        });
-    }
+    let mut reference_warning = None;
+    let frame = match opts.time {
+        Some(time) => {
+            let frame = document.ip + time * document.fr;
+            if !(frame.is_finite() && document.ip <= frame && frame <= document.op) {
+                return Err(ImportError::Lottie {
+                    source_name: source_name.to_string(),
+                    at: Loc::root(),
+                    message: format!(
+                        "the reference time {time}s lies outside the composition (0 to {}s)",
+                        (document.op - document.ip) / document.fr
+                    ),
+                });
+            }
+            frame
+        }
+        None => {
+            let (frame, empty) = reference_frame(&document, opts.units).map_err(located)?;
+            if empty > 0 {
+                reference_warning = Some((
+                    Loc::root().to_string(),
+                    format!(
+                        "no frame shows every unit: {empty} have no area at frame {frame}, where they are measured (their `local` motion pivots about a point; set `reference_time` to measure them elsewhere)"
+                    ),
+                ));
+            }
+            frame
+        }
+    };
     let (root, shapes, units, warnings) =
         scene_of(&document, frame, opts.units, None).map_err(located)?;
     let scene = Scene {
@@ -299,10 +317,15 @@ fn import(
         height: document.h,
         root,
         shapes,
+        time: Some(gmotion::scene::SceneTime {
+            duration: (document.op - document.ip) / document.fr,
+            fps: document.fr,
+        }),
     };
     let warnings = font_warnings
         .into_iter()
         .map(|(at, what)| (at.to_string(), what))
+        .chain(reference_warning)
         .chain(warnings)
         .map(|(at, what)| Warning::about(at, what))
         .collect();
@@ -347,6 +370,9 @@ fn picture(
 
 type Built = (Group, Vec<Shape>, Vec<UnitLayers>, Vec<(String, String)>);
 
+/// For each unit, the layers whose worlds are its `parent_world` (`None`: the canvas).
+type Anchors = Vec<Vec<Option<usize>>>;
+
 /// The document drawn at `frame`; its units measured, or given the measures of
 /// `reference` (the same units, at the reference frame).
 fn scene_of(
@@ -366,8 +392,8 @@ fn scene_of(
     }
     let parent_of =
         |i: usize| -> Option<usize> { layers[i].parent.and_then(|p| by_ind.get(&p)).copied() };
-    // For each unit, the layers whose worlds are its `parent_world` (`None`: the canvas).
-    let mut anchors: Vec<Vec<Option<usize>>> = Vec::new();
+    let roles = roles(layers, mode, &parent_of);
+    let mut anchors: Anchors = Vec::new();
     let mut root = Group::new();
     let mut shapes = Vec::new();
     let mut units = Vec::new();
@@ -375,22 +401,11 @@ fn scene_of(
     let mut stack = Vec::new();
     for i in (0..layers.len()).rev() {
         let l = &layers[i];
-        if !l.kind.draws() || l.hidden || l.td {
-            continue;
-        }
         let matte = build::Builder::matte_source(layers, i);
-        // The parts of a shape layer split into its top-level items, bottom first; a
-        // matted layer stays whole, as its matte moves with it.
-        let parts: Vec<Option<usize>> = match mode {
-            Units::Groups if l.kind == model::LayerKind::Shape && matte.is_none() => l
-                .shapes
-                .iter()
-                .enumerate()
-                .rev()
-                .filter(|(_, item)| !item.hidden && item.kind.part_name().is_some())
-                .map(|(k, _)| Some(k))
-                .collect(),
-            _ => vec![None],
+        let parts: Vec<Option<usize>> = match roles[i] {
+            Role::Whole => vec![None],
+            Role::Parts => split_parts(l),
+            Role::Rig | Role::None => continue,
         };
         for part in parts {
             let mut node = b.drawn(layers, i, &worlds, frame, &mut stack, part)?;
@@ -423,37 +438,14 @@ fn scene_of(
                 Some(item) => tags::part_tag(&item.nm, &item.kind),
                 None => layer_tag.clone(),
             };
-            // The unit's own name as written (counter kept), then its layer's and the
-            // layer's parents', nearest first, so a rule can name one layer of several, a
-            // rig that moves several, or every part of a layer.
-            let mut aliases: Vec<String> = Vec::new();
-            let mut push = |name: String| {
-                if name != tag && !aliases.contains(&name) {
-                    aliases.push(name);
-                }
-            };
-            if let Some(name) = item.and_then(|item| gmotion::tagging::grammar_name(item.nm.trim()))
-            {
-                push(name);
-            }
-            let mut at_layer = Some(i);
-            let mut hops = 0;
-            while let Some(j) = at_layer.filter(|_| hops <= layers.len()) {
-                let parent = &layers[j];
-                let names = [
-                    gmotion::tagging::grammar_name(parent.nm.trim()),
-                    Some(tags::layer_tag(&parent.nm, parent.kind)),
-                ];
-                for name in names.into_iter().flatten() {
-                    push(name);
-                }
-                at_layer = parent.parent.and_then(|p| by_ind.get(&p).copied());
-                hops += 1;
-            }
+            let own = item.and_then(|item| gmotion::tagging::grammar_name(item.nm.trim()));
+            let (aliases, inherited) = names_of(layers, &roles, &parent_of, i, &tag, own);
             let id = counts.entry(tag.clone()).or_default();
             shapes.push(Shape {
                 tag,
                 aliases,
+                inherited,
+                rig: false,
                 id: *id,
                 group: 0,
                 z: index,
@@ -486,10 +478,307 @@ fn scene_of(
             root.children.push(node);
         }
     }
+    rigs(
+        doc,
+        &worlds,
+        (&roles, &parent_of),
+        frame,
+        &mut counts,
+        (&mut root, &mut shapes, &mut units, &mut anchors),
+    );
     if reference.is_none() {
         first_invertible_worlds(&mut b, layers, frame, doc.op, &mut units, &anchors)?;
     }
     Ok((root, shapes, units, b.warnings()))
+}
+
+/// `x` seconds as people write them: at most three decimals, no trailing zeros.
+fn seconds(x: f64) -> String {
+    let s = format!("{x:.3}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+/// Most frames [`reference_frame`] looks at, evenly spread from the first.
+pub const REFERENCE_TRIES: usize = 240;
+
+/// The frame a Lottie scene's units are measured at when no reference time is given: the
+/// first where every unit draws something with area (a unit that scales in from nothing,
+/// or is drawn on by a trim path, has none at frame 0, and `local` motion would pivot
+/// about a point), trying each frame from the in point, at most [`REFERENCE_TRIES`]. When
+/// none shows them all, the first that shows the most; with how many it misses.
+pub fn reference_frame(doc: &Document, mode: Units) -> model::Result<(f64, usize)> {
+    let (ip, op) = (doc.ip, doc.op);
+    let span = (op - ip).max(0.0);
+    let step = (span / REFERENCE_TRIES as f64).max(1.0);
+    let mut best: Option<(f64, usize)> = None;
+    let mut k = 0;
+    loop {
+        // Whole frames from the in point, as players draw them.
+        let frame = ip + (k as f64 * step).round();
+        if k > 0 && frame >= op {
+            break;
+        }
+        let empty = units_without_area(doc, frame, mode)?;
+        if best.is_none_or(|(_, e)| empty < e) {
+            best = Some((frame, empty));
+        }
+        if empty == 0 {
+            break;
+        }
+        k += 1;
+    }
+    Ok(best.unwrap_or((ip, 0)))
+}
+
+/// How many of the scene's units draw nothing with area at `frame`.
+fn units_without_area(doc: &Document, frame: f64, mode: Units) -> model::Result<usize> {
+    let layers = &doc.layers;
+    let mut b = build::Builder::new(doc);
+    let worlds = b.worlds(layers, frame)?;
+    let mut by_ind = std::collections::HashMap::new();
+    for (i, l) in layers.iter().enumerate() {
+        if let Some(ind) = l.ind {
+            by_ind.entry(ind).or_insert(i);
+        }
+    }
+    let parent_of =
+        |i: usize| -> Option<usize> { layers[i].parent.and_then(|p| by_ind.get(&p)).copied() };
+    let roles = roles(layers, mode, &parent_of);
+    let mut stack = Vec::new();
+    let mut empty = 0;
+    for (i, l) in layers.iter().enumerate() {
+        let parts = match roles[i] {
+            Role::Whole => vec![None],
+            Role::Parts => split_parts(l),
+            Role::Rig | Role::None => continue,
+        };
+        for part in parts {
+            let node = b.drawn(layers, i, &worlds, frame, &mut stack, part)?;
+            let on = l.ip <= frame && frame < l.op;
+            if !(on && has_area(&Node::Group(node), Affine::IDENTITY)) {
+                empty += 1;
+            }
+        }
+    }
+    Ok(empty)
+}
+
+/// Whether `node`, placed by `at`, draws something with width and height (a stroked
+/// line has its stroke's width).
+fn has_area(node: &Node, at: Affine) -> bool {
+    use kurbo::Shape as _;
+    match node {
+        Node::Group(g) => {
+            g.opacity > 0.0 && g.children.iter().any(|c| has_area(c, at * g.transform))
+        }
+        Node::Path(p) => {
+            if p.fill.is_none() && p.stroke.is_none() {
+                return false;
+            }
+            let half = p.stroke.as_ref().map_or(0.0, |s| s.width / 2.0);
+            let b = p.path.bounding_box().inflate(half, half);
+            let area = (at * b.to_path(0.1)).bounding_box();
+            area.width() > 1e-9 && area.height() > 1e-9 && at.determinant().abs() > 1e-18
+        }
+        Node::Image(i) => i.width > 0.0 && i.height > 0.0 && at.determinant().abs() > 1e-18,
+    }
+}
+
+/// What a root layer is to the scene.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Role {
+    /// One unit.
+    Whole,
+    /// Split into units, one per top-level item (`--units groups`).
+    Parts,
+    /// A rig: a layer that draws no unit of its own (a null, a hidden layer) but moves the
+    /// units parented to it.
+    Rig,
+    /// Neither.
+    None,
+}
+
+/// Each root layer's [`Role`].
+fn roles(
+    layers: &[model::Layer],
+    mode: Units,
+    parent_of: &dyn Fn(usize) -> Option<usize>,
+) -> Vec<Role> {
+    let mut roles: Vec<Role> = layers
+        .iter()
+        .enumerate()
+        .map(|(i, l)| {
+            if !l.kind.draws() || l.hidden || l.td {
+                Role::None
+            } else if mode == Units::Groups
+                && l.kind == model::LayerKind::Shape
+                // A matted layer stays whole, as its matte moves with it.
+                && build::Builder::matte_source(layers, i).is_none()
+            {
+                Role::Parts
+            } else {
+                Role::Whole
+            }
+        })
+        .collect();
+    // Every layer up a unit's chain of parents that is no unit itself moves it: a rig.
+    for i in 0..layers.len() {
+        if !matches!(roles[i], Role::Whole | Role::Parts) {
+            continue;
+        }
+        let mut at = parent_of(i);
+        let mut hops = 0;
+        while let Some(j) = at.filter(|_| hops <= layers.len()) {
+            if roles[j] == Role::None {
+                roles[j] = Role::Rig;
+            }
+            at = parent_of(j);
+            hops += 1;
+        }
+    }
+    roles
+}
+
+/// A shape layer's parts (`--units groups`): its top-level items with outlines of their
+/// own, bottom first.
+fn split_parts(l: &model::Layer) -> Vec<Option<usize>> {
+    l.shapes
+        .iter()
+        .enumerate()
+        .rev()
+        .filter(|(_, item)| !item.hidden && item.kind.part_name().is_some())
+        .map(|(k, _)| Some(k))
+        .collect()
+}
+
+/// The aliases of a unit on layer `i` whose tag is `tag` (its `own` name as written first,
+/// e.g. a part's, counter kept), and how many of them are inherited: its layer's names,
+/// then its parents', nearest first, so a rule can name one layer of several, a rig that
+/// moves several, or every part of a layer. A parent that moves the unit through
+/// parenting (a unit or a rig) is inherited: a rule naming it moves the unit once, through
+/// the parent. A layer split into parts moves none of its children, so its name stays the
+/// children's own.
+fn names_of(
+    layers: &[model::Layer],
+    roles: &[Role],
+    parent_of: &dyn Fn(usize) -> Option<usize>,
+    i: usize,
+    tag: &str,
+    own: Option<String>,
+) -> (Vec<String>, usize) {
+    let names = |l: &model::Layer| {
+        [
+            gmotion::tagging::grammar_name(l.nm.trim()),
+            Some(tags::layer_tag(&l.nm, l.kind)),
+        ]
+        .into_iter()
+        .flatten()
+    };
+    let mut mine: Vec<String> = Vec::new();
+    let mut theirs: Vec<String> = Vec::new();
+    for name in own.into_iter().chain(names(&layers[i])) {
+        if name != tag && !mine.contains(&name) {
+            mine.push(name);
+        }
+    }
+    let mut at = parent_of(i);
+    let mut hops = 0;
+    while let Some(j) = at.filter(|_| hops <= layers.len()) {
+        let carries = matches!(roles[j], Role::Whole | Role::Rig);
+        for name in names(&layers[j]) {
+            if name == tag || mine.contains(&name) || theirs.contains(&name) {
+                continue;
+            }
+            match carries {
+                true => theirs.push(name),
+                false => mine.push(name),
+            }
+        }
+        at = parent_of(j);
+        hops += 1;
+    }
+    let inherited = theirs.len();
+    mine.extend(theirs);
+    (mine, inherited)
+}
+
+/// Appends the rigs (layers of [`Role::Rig`], top layer last) as units after the drawn
+/// ones, so that the drawn units keep their places and ids: each draws nothing, pivots
+/// about its anchor point at `frame`, and spans the units it moves.
+fn rigs(
+    doc: &Document,
+    worlds: &[Affine],
+    (roles, parent_of): (&[Role], &dyn Fn(usize) -> Option<usize>),
+    frame: f64,
+    counts: &mut std::collections::HashMap<String, usize>,
+    (root, shapes, units, anchors): (
+        &mut Group,
+        &mut Vec<Shape>,
+        &mut Vec<UnitLayers>,
+        &mut Anchors,
+    ),
+) {
+    let layers = &doc.layers;
+    let drawn = shapes.len();
+    for r in (0..layers.len()).rev().filter(|&r| roles[r] == Role::Rig) {
+        let l = &layers[r];
+        let pivot = worlds[r] * eval::vec2(l.ks.a.as_ref(), frame, kurbo::Vec2::ZERO).to_point();
+        // The box of every drawn unit it moves.
+        let moves = |u: &UnitLayers| {
+            let mut at = u.layers.first().copied();
+            let mut hops = 0;
+            while let Some(j) = at.filter(|_| hops <= layers.len()) {
+                if j == r {
+                    return true;
+                }
+                at = parent_of(j);
+                hops += 1;
+            }
+            false
+        };
+        let bbox = units[..drawn]
+            .iter()
+            .zip(&shapes[..drawn])
+            .filter(|(u, _)| moves(u))
+            .map(|(_, s)| s.bbox)
+            .reduce(|a, b| a.union(b))
+            .unwrap_or(Rect::from_points(pivot, pivot));
+        let tag = tags::layer_tag(&l.nm, l.kind);
+        let (aliases, inherited) = names_of(layers, roles, parent_of, r, &tag, None);
+        let index = shapes.len();
+        let id = counts.entry(tag.clone()).or_default();
+        shapes.push(Shape {
+            tag,
+            aliases,
+            inherited,
+            rig: true,
+            id: *id,
+            group: 0,
+            z: index,
+            node_path: vec![root.children.len()],
+            parent_transform: Affine::IDENTITY,
+            centroid: pivot,
+            bbox,
+            fill: Color::BLACK,
+            stroke: Color::BLACK,
+            stroke_width: 1.0,
+        });
+        *id += 1;
+        let anchor = vec![parent_of(r)];
+        units.push(UnitLayers {
+            parent_world: anchor
+                .iter()
+                .map(|a| a.map_or(Affine::IDENTITY, |j| worlds[j]))
+                .collect(),
+            layers: vec![r],
+            part: None,
+            measure: None,
+        });
+        anchors.push(anchor);
+        let mut node = Group::new();
+        node.unit = Some(index);
+        root.children.push(Node::Group(node));
+    }
 }
 
 /// Gives each unit whose anchor layer is scaled to nothing at the reference `frame` (a
@@ -504,7 +793,7 @@ fn first_invertible_worlds(
     frame: f64,
     op: f64,
     units: &mut [UnitLayers],
-    anchors: &[Vec<Option<usize>>],
+    anchors: &Anchors,
 ) -> model::Result<()> {
     let singular = |a: &Affine| a.determinant().abs() < 1e-12;
     if !units.iter().any(|u| u.parent_world.iter().any(singular)) {
@@ -561,6 +850,69 @@ impl Source {
         None
     }
 
+    /// The source made to last `duration` seconds, when that is not the composition's own
+    /// length, and what that did: a longer animation holds the composition's last frame
+    /// (every root layer on screen at its end stays on, its properties held after their
+    /// last keyframes, and a precomposition's content held at its last frame by a time
+    /// remap), a shorter one cuts it. The document written back and gmotion's own render
+    /// both use the new source, so they agree on every frame.
+    pub fn lasting(&self, duration: f64) -> Option<(Source, String)> {
+        let doc = &self.document;
+        let (ip, op, fr) = (doc.ip, doc.op, doc.fr);
+        let new_op = ip + duration * fr;
+        if !(new_op.is_finite() && new_op > ip) || (new_op - op).abs() < 1e-6 {
+            return None;
+        }
+        let mut src = self.clone();
+        let json = src.json.as_object_mut()?;
+        json.insert("op".into(), new_op.into());
+        src.document.op = new_op;
+        let said = if new_op < op {
+            format!(
+                "the grammar's duration ({}s) is shorter than the composition ({}s): the composition is cut at {}s",
+                seconds(duration),
+                seconds((op - ip) / fr),
+                seconds(duration)
+            )
+        } else {
+            let last = op - 1.0;
+            let layers = json.get_mut("layers").and_then(Value::as_array_mut)?;
+            for (l, model) in layers.iter_mut().zip(src.document.layers.iter_mut()) {
+                let Some(o) = l.as_object_mut() else {
+                    continue;
+                };
+                // A layer that is on screen until the end stays on.
+                if model.op < op - 1e-9 || model.ip > last {
+                    continue;
+                }
+                o.insert("op".into(), new_op.into());
+                model.op = new_op;
+                if model.kind == model::LayerKind::Precomp && model.tm.is_none() && model.ip < last
+                {
+                    // Its content runs as it did up to the last frame, then holds there:
+                    // precomposition time (seconds) = (t − st) / sr / fr, until `last`.
+                    let at = |t: f64| (t - model.st) / model.sr / fr;
+                    let tm = serde_json::json!({
+                        "a": 1,
+                        "k": [
+                            {"t": model.ip, "s": [at(model.ip)], "i": {"x": [1], "y": [1]}, "o": {"x": [0], "y": [0]}},
+                            {"t": last, "s": [at(last)]}
+                        ]
+                    });
+                    o.insert("tm".into(), tm);
+                    model.tm = model::opt_property(o, "tm", &model.at).ok().flatten();
+                }
+            }
+            format!(
+                "the grammar's duration ({}s) is longer than the composition ({}s): its last frame is held from {}s",
+                seconds(duration),
+                seconds((op - ip) / fr),
+                seconds((last - ip) / fr)
+            )
+        };
+        Some((src, said))
+    }
+
     /// The composition's length in seconds, from its in point to its out point.
     pub fn duration(&self) -> f64 {
         (self.document.op - self.document.ip) / self.document.fr
@@ -610,6 +962,10 @@ impl Source {
             height: self.document.h,
             root,
             shapes,
+            time: Some(gmotion::scene::SceneTime {
+                duration: self.duration(),
+                fps: self.fps(),
+            }),
         };
         Ok((scene, moved))
     }

@@ -333,6 +333,7 @@ fn parse_in(
         height: tree.size().height() as f64,
         root: converted.root,
         shapes: Vec::new(),
+        time: None,
     };
     // The converter registers only units that hold a path, so a measure exists; the
     // fallback keeps `Node::unit` indices aligned should that ever change.
@@ -362,6 +363,8 @@ fn parse_in(
             id: *count,
             tag: unit.tag,
             aliases: unit.aliases,
+            inherited: 0,
+            rig: false,
             group: 0,
             z,
             node_path: unit.node_path,

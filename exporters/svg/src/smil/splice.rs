@@ -68,6 +68,7 @@ pub fn mark<'a>(scene: &'a Scene, units: &HashSet<usize>) -> Marked<'a> {
         width: scene.width,
         height: scene.height,
         shapes: Vec::new(),
+        time: None,
     };
     Marked {
         svg: scene_svg(&marked),
