@@ -407,11 +407,12 @@ struct ImportArgs {
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
 enum TagFromArg {
-    /// data-tag, then class, then inkscape:label, then the enclosing layer's id.
+    /// data-tag, then the first class that is not a generated style class (st0, cls-1,
+    /// fil0), then inkscape:label, then the enclosing layer's id.
     Auto,
     /// Only `data-tag`.
     DataTag,
-    /// Only the first `class`.
+    /// Only the first `class`, generated style classes (st0) included.
     Class,
     /// Only `inkscape:label`.
     Label,

@@ -11,7 +11,7 @@ use usvg::roxmltree::{self, Document, Node, NodeId};
 
 use super::{ImportError, Policy};
 use crate::tagmap::{Given, TagMap};
-use crate::tags::{TagFrom, first_class, strip_counter_among};
+use crate::tags::{TagFrom, first_class, first_named_class, strip_counter_among};
 
 const SVG_NS: &str = "http://www.w3.org/2000/svg";
 const XLINK_NS: &str = "http://www.w3.org/1999/xlink";
@@ -775,9 +775,12 @@ impl<'a> Source<'a> {
         let nonempty = |v: Option<&'s str>| v.map(str::trim).filter(|v| !v.is_empty());
         let data = || nonempty(node.attribute("data-tag"));
         let class = || node.attribute("class").and_then(first_class);
+        // Generated style classes (`st0`) name no shape by default; asked for by
+        // `--tag-from class`, every class counts.
+        let named_class = || node.attribute("class").and_then(first_named_class);
         let label = || nonempty(node.attribute((INKSCAPE_NS, "label"))).filter(|_| labels);
         match from {
-            TagFrom::Auto => data().or_else(class).or_else(label),
+            TagFrom::Auto => data().or_else(named_class).or_else(label),
             TagFrom::DataTag => data(),
             TagFrom::Class => class(),
             TagFrom::Label => label(),
