@@ -494,3 +494,43 @@ fn designer_exports_are_tagged_by_their_layer_names_not_their_style_classes() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// Asked for classes, Illustrator's `st0`… are what a scene gets; `check` says that the
+/// default source names the shapes, from the command line and from the grammar.
+#[test]
+fn check_says_which_tag_source_names_generated_tags_better() {
+    let dir = corpus_dir();
+    let (ok, _, err) = run(bin().current_dir(&dir).args([
+        "check",
+        "--shapes",
+        "--tag-from",
+        "class",
+        "illustrator-internal-css.svg",
+    ]));
+    assert!(ok, "{err}");
+    let hint = err
+        .lines()
+        .find(|l| l.contains("hint:"))
+        .unwrap_or_else(|| panic!("no hint: {err}"));
+    assert!(
+        hint.contains("`--tag-from auto`") && hint.contains("st0") && hint.contains("letter_G"),
+        "{hint}"
+    );
+    let d = files(
+        "hint",
+        &[(
+            "class.gm",
+            "tag_from class\nanimate(affine, local, 0, rotate(90)) : [all, all] -> [t]\n",
+        )],
+    );
+    let (ok, _, err) = run(bin()
+        .current_dir(&d)
+        .arg("check")
+        .arg("class.gm")
+        .arg(dir.join("coreldraw.svg")));
+    assert!(ok, "{err}");
+    assert!(
+        err.contains("hint:") && err.contains("tag_from auto") && err.contains("fil1"),
+        "{err}"
+    );
+}
