@@ -534,3 +534,34 @@ fn check_says_which_tag_source_names_generated_tags_better() {
         "{err}"
     );
 }
+
+/// A tag map's `unit` holds whatever `--units` says, also for an element inside a group
+/// that would otherwise move as one: the group's other content then moves as usual.
+#[test]
+fn a_tag_map_unit_inside_a_group_that_moves_as_one_is_a_unit() {
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 120">
+<g data-tag="face">
+<g id="eyes"><circle cx="80" cy="40" r="6"/><circle cx="120" cy="40" r="6"/></g>
+<path id="mouth" d="M70 80 Q100 100 130 80" stroke="black" fill="none"/>
+</g>
+</svg>"##;
+    let d = files(
+        "map-unit",
+        &[("face.svg", svg), ("eyes.tags", "#eyes -> unit\n")],
+    );
+    assert_eq!(units(&d, "face.svg", &[]).len(), 1, "the face moves as one");
+    for extra in [
+        &["--tags", "eyes.tags"][..],
+        &["--tags", "eyes.tags", "--units", "groups"],
+    ] {
+        let got = units(&d, "face.svg", extra);
+        assert_eq!(
+            got.len(),
+            2,
+            "{extra:?}: the eyes as one, the mouth: {got:?}"
+        );
+        assert!(got.iter().all(|u| u.0 == "face"), "{got:?}");
+        assert!(got[0].1.contains(&"eyes".to_string()), "{got:?}");
+        assert!(got[1].1.contains(&"mouth".to_string()), "{got:?}");
+    }
+}

@@ -355,6 +355,11 @@ impl<'s, 'a> Converter<'s, 'a> {
         if kind == GroupKind::Element && self.src.forced_unit(elem) {
             return Some(scope.tag(elem.tag_name().name()));
         }
+        // A unit a tag map asks for inside this group outranks the group's own unit-ness
+        // under the `--units` rules; the group's other content becomes units as usual.
+        if kind == GroupKind::Element && self.src.holds_forced_unit(elem) {
+            return None;
+        }
         match (self.opts.units, kind) {
             (Units::Paths, _) => None,
             (_, GroupKind::Text) => Some(scope.tag("text")),
