@@ -408,3 +408,24 @@ fn a_warning_about_a_copied_element_is_said_once() {
         .collect();
     assert_eq!(about.len(), 1, "{about:#?}");
 }
+
+/// Under `--units paths` a text's glyph runs are units of their own; they still answer to
+/// the text's id and the ids of the groups around it, as the text does under `auto`
+/// (the group's name is their tag).
+#[test]
+fn a_texts_glyph_runs_keep_the_texts_and_its_groups_names_under_units_paths() {
+    let body = r#"<g id="heading"><text id="title" x="10" y="40" font-family="sans-serif" font-size="20">Hi <tspan fill="red">there</tspan></text></g>"#;
+    for units in [Units::Auto, Units::Paths] {
+        let scene = import(body, with(TagFrom::Auto, units)).scene;
+        assert!(!scene.shapes.is_empty(), "{units:?}: no font to draw with");
+        for s in &scene.shapes {
+            assert_eq!(s.tag, "heading", "{units:?}");
+            // The tag is the group's name; its own id is left out of the aliases.
+            assert!(
+                s.aliases.iter().any(|a| a == "title"),
+                "{units:?}: {:?}",
+                s.aliases
+            );
+        }
+    }
+}

@@ -602,7 +602,11 @@ impl<'s, 'a> Converter<'s, 'a> {
             let scope = elem.map_or(ctx.scope, |e| self.src.scope(e, ctx.scope, from, limit));
             let name = elem.map_or("path", |e| e.tag_name().name());
             let index = dst.children.len();
-            node.unit = Some(self.register(scope.tag(name), elem, ctx.scope, ctx.abs, index));
+            // A path usvg made (a glyph run of a text under `--units paths`, a `use`
+            // instance's path) has no element of its own: it answers to the names of the
+            // element it was made from and of the groups around that.
+            let named = elem.or_else(|| ctx.scope.elem().and_then(|id| self.src.node(id)));
+            node.unit = Some(self.register(scope.tag(name), named, ctx.scope, ctx.abs, index));
         }
         dst.children.push(Node::Path(node));
     }
