@@ -67,7 +67,8 @@ struct Cli {
     #[arg(long = "font-file", value_name = "FILE", global = true)]
     font_files: Vec<PathBuf>,
     /// The family text is drawn in when its own font is not installed (default: the
-    /// first installed of Arial, Helvetica, Liberation Sans, DejaVu Sans, Noto Sans, …).
+    /// first installed of Arial, Helvetica, Liberation Sans, DejaVu Sans, Noto Sans, …;
+    /// a missing serif or monospace font, such as Georgia or Consolas, in one of its kind).
     #[arg(long = "font-family", value_name = "NAME", global = true)]
     font_family: Option<String>,
 }

@@ -363,6 +363,7 @@ fn parse_in(
     };
     if src.has_text {
         uopt.fontdb = fonts::database(&policy.fonts);
+        uopt.font_resolver = fonts::resolver(&policy.fonts);
     }
     let tree = usvg::Tree::from_str(&src.prepared, &uopt).map_err(|e| match e {
         usvg::Error::InvalidSize => ImportError::Size {
