@@ -6,14 +6,15 @@
 /// Which source attribute names a shape's tag.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum TagFrom {
-    /// The nearest of `data-tag`, the first `class`, `inkscape:label` on the element or an
-    /// ancestor; else the id of the nearest ancestor `<g>` without its counter; else the
-    /// element's name.
+    /// The nearest of `data-tag`, the first `class` that is not a generated style class
+    /// ([`is_generated_class`]), `inkscape:label` on the element or an ancestor; else the
+    /// id of the nearest ancestor `<g>` without its counter; else the element's name.
     #[default]
     Auto,
     /// Only `data-tag`, then the element's name.
     DataTag,
-    /// Only the first class name, then the element's name.
+    /// Only the first class name, generated style classes included (asked for by name,
+    /// `st0` groups shapes by their style), then the element's name.
     Class,
     /// Only `inkscape:label`, then the element's name.
     Label,
@@ -22,10 +23,100 @@ pub enum TagFrom {
 }
 
 impl TagFrom {
+    /// Every source, in the order `--tag-from` lists them.
+    pub const ALL: [TagFrom; 5] = [
+        TagFrom::Auto,
+        TagFrom::DataTag,
+        TagFrom::Class,
+        TagFrom::Label,
+        TagFrom::Layer,
+    ];
+
+    /// The option's name as `--tag-from` and the grammar's `tag_from` spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            TagFrom::Auto => "auto",
+            TagFrom::DataTag => "data-tag",
+            TagFrom::Class => "class",
+            TagFrom::Label => "label",
+            TagFrom::Layer => "layer",
+        }
+    }
+
     /// Whether this source reads layer (`<g>`) ids.
     pub fn reads_layers(self) -> bool {
         matches!(self, TagFrom::Auto | TagFrom::Layer)
     }
+}
+
+/// The style classes design tools generate, as `(prefix, tool)`: a class that is one of
+/// these prefixes followed by a whole number (`st0`, `cls-12`) only carries a style, so it
+/// never names a shape under [`TagFrom::Auto`].
+///
+/// Only these prefixes count: a class the designer chose may well end in a number
+/// (`node3`, `vseg0`, `icon2`), so no looser rule (any short word and a number) is safe.
+/// Tools not listed write no classes of their own: Figma, Sketch and Affinity Designer
+/// write presentation attributes or `style` and name layers with ids, Inkscape writes
+/// `style` and `inkscape:label`.
+pub const GENERATED_CLASSES: &[(&str, &str)] = &[
+    (
+        "st",
+        "Adobe Illustrator, Save As SVG with internal CSS (st0, st1, …)",
+    ),
+    (
+        "cls-",
+        "Adobe Illustrator's Export As SVG with internal CSS (cls-1, cls-2, …)",
+    ),
+    ("fil", "CorelDRAW fills (fil0, fil1, …)"),
+    ("str", "CorelDRAW strokes (str0, str1, …)"),
+    ("fnt", "CorelDRAW fonts (fnt0, fnt1, …)"),
+];
+
+/// Whether `class` is a generated style class ([`GENERATED_CLASSES`]): one of the listed
+/// prefixes followed by ASCII digits and nothing else.
+///
+/// ```
+/// use gmotion::tagging::is_generated_class;
+/// assert!(is_generated_class("st12"));
+/// assert!(is_generated_class("cls-3"));
+/// assert!(is_generated_class("fil0"));
+/// assert!(!is_generated_class("st"));
+/// assert!(!is_generated_class("stem2"));
+/// assert!(!is_generated_class("node3"));
+/// ```
+pub fn is_generated_class(class: &str) -> bool {
+    GENERATED_CLASSES.iter().any(|(prefix, _)| {
+        class
+            .strip_prefix(prefix)
+            .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
+    })
+}
+
+/// The names the SVG importer falls back to when nothing names a shape: the names of the
+/// elements that draw (`path`, `rect`, …) or group.
+const INVENTED: &[&str] = &[
+    "path", "rect", "circle", "ellipse", "line", "polyline", "polygon", "text", "image", "g",
+    "use", "svg",
+];
+
+/// Whether a shape tag names nothing a designer chose: a generated style class (`st0`), an
+/// element name an importer fell back to (`path`), or an element name with a tool's
+/// serial number (Inkscape's `path1234`, `g12`, `rect5`, or `layer1`). Used to tell a user
+/// when another tag source would name a scene's shapes better.
+///
+/// ```
+/// use gmotion::tagging::looks_generated;
+/// assert!(looks_generated("st3"));
+/// assert!(looks_generated("path"));
+/// assert!(looks_generated("path1234"));
+/// assert!(!looks_generated("letter_G"));
+/// assert!(!looks_generated("Layer_1"));
+/// ```
+pub fn looks_generated(tag: &str) -> bool {
+    let word = tag.trim_end_matches(|c: char| c.is_ascii_digit());
+    is_generated_class(tag)
+        || INVENTED.contains(&word)
+        || (word == "layer" && word.len() < tag.len())
 }
 
 /// Which nodes become animated units (shapes). Units never nest: inside a unit nothing else
@@ -131,4 +222,58 @@ pub fn grammar_name(name: &str) -> Option<String> {
         out.insert(0, '_');
     }
     Some(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_generated_classes_of_each_tool_are_recognised() {
+        for class in [
+            "st0", "st1", "st12", "st123", "cls-1", "cls-12", "fil0", "fil3", "str1", "fnt0",
+        ] {
+            assert!(is_generated_class(class), "{class}");
+        }
+    }
+
+    #[test]
+    fn a_designers_class_is_not_generated_even_with_a_number() {
+        for class in [
+            "st", "cls-", "cls1", "st-1", "st1a", "stem", "stem2", "star3", "first", "node3",
+            "vseg0", "hseg1", "block2", "icon2", "fill0", "stroke1", "font0", "ST0", "st０",
+            "letter_G", "",
+        ] {
+            assert!(!is_generated_class(class), "{class}");
+        }
+    }
+
+    #[test]
+    fn invented_and_serial_names_look_generated_and_layer_names_do_not() {
+        for tag in [
+            "st0", "cls-2", "path", "rect", "text", "path1234", "g12", "layer1",
+        ] {
+            assert!(looks_generated(tag), "{tag}");
+        }
+        for tag in [
+            "letter_G",
+            "Wheel",
+            "Layer_1",
+            "layer",
+            "Vector",
+            "Ellipse 1",
+            "icon-home",
+            "node3",
+            "a",
+            "pathway",
+        ] {
+            assert!(!looks_generated(tag), "{tag}");
+        }
+    }
+
+    #[test]
+    fn every_tag_source_has_its_option_name() {
+        let names: Vec<&str> = TagFrom::ALL.iter().map(|t| t.name()).collect();
+        assert_eq!(names, ["auto", "data-tag", "class", "label", "layer"]);
+    }
 }

@@ -1,7 +1,9 @@
 //! Files shaped like real Illustrator, Figma and Inkscape exports, through the real binary:
 //! element ids as tags (a rule on one id moves that shape and nothing else), counters that
 //! tell copies apart without merging layers, set differences on ids, tag maps with CSS-like
-//! selectors (`--tags` and the grammar's `tags`), and the unit depth.
+//! selectors (`--tags` and the grammar's `tags`), and the unit depth. The corpus of
+//! tests/corpus/designer (Illustrator, CorelDRAW, Inkscape, Figma, Sketch) is checked
+//! against the tags its expected-tags.txt writes down.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -204,14 +206,17 @@ fn a_layer_left_out_by_id_stays_still_while_the_rest_moves() {
 fn ids_and_their_counters_are_aliases_that_keep_layers_apart() {
     let d = files("aliases", &[("art.svg", ILLUSTRATOR), ("figma.svg", FIGMA)]);
     let ai = units(&d, "art.svg", &[]);
-    // Tags from the style classes; ids (and Illustrator's `_1_` copies without their
-    // suffix) and enclosing layers as aliases.
+    // Tags from the layers, never from Illustrator's style classes (`st0`, `st1`); ids
+    // (and Illustrator's `_1_` copies without their suffix) and enclosing layers as
+    // aliases.
     assert_eq!(ai.len(), 4);
-    assert_eq!(ai[1].0, "st1");
+    let tags: Vec<&str> = ai.iter().map(|u| u.0.as_str()).collect();
+    assert_eq!(tags, ["Layer_1", "Layer_1", "Layer_2", "Layer_2"], "{ai:?}");
     assert!(ai[1].1.contains(&"tile_1".to_string()), "{ai:?}");
     assert!(ai[2].1.contains(&"eye_1_".to_string()) && ai[2].1.contains(&"eye".to_string()));
     assert!(ai[3].1.contains(&"eye".to_string()), "{ai:?}");
-    assert!(ai[2].1.contains(&"Layer_2".to_string()));
+    // The layer is the eyes' tag, so it is no alias of theirs.
+    assert!(!ai[2].1.contains(&"Layer_2".to_string()), "{ai:?}");
     assert!(!ai[0].1.contains(&"Layer_2".to_string()), "{ai:?}");
     // Layers stay distinct: no shape of Layer_2 answers to a Layer_1 name and vice versa.
     assert!(ai[0].1.iter().all(|a| a.starts_with("Layer_1")), "{ai:?}");
@@ -431,4 +436,132 @@ fn dropped_effects_are_warned_about_by_the_element_that_has_them() {
         "{err}"
     );
     assert!(!err.contains("<svg>"), "{err}");
+}
+
+/// The designer-export corpus, by name: `expected-tags.txt` as `(file, tags)`.
+fn expected_corpus_tags(dir: &Path) -> Vec<(String, Vec<String>)> {
+    let text = std::fs::read_to_string(dir.join("expected-tags.txt")).unwrap();
+    let mut files: Vec<(String, Vec<String>)> = Vec::new();
+    for line in text.lines().map(str::trim) {
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        match line.strip_prefix('[').and_then(|l| l.strip_suffix(']')) {
+            Some(file) => files.push((file.to_string(), Vec::new())),
+            None => files
+                .last_mut()
+                .expect("a tag before any [file] header")
+                .1
+                .push(line.to_string()),
+        }
+    }
+    files
+}
+
+fn corpus_dir() -> PathBuf {
+    crate::support::root().join("tests/corpus/designer")
+}
+
+/// Every designer export is named by its layers (and labels, and the classes a designer
+/// chose), never by the style classes its tool generated (`st0`, `cls-1`, `fil0`, `str0`).
+#[test]
+fn designer_exports_are_tagged_by_their_layer_names_not_their_style_classes() {
+    let dir = corpus_dir();
+    let files = expected_corpus_tags(&dir);
+    let on_disk: Vec<String> =
+        crate::support::files_with_extension(&dir, "svg", "in the repository")
+            .iter()
+            .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+            .collect();
+    let mut listed: Vec<String> = files.iter().map(|f| f.0.clone()).collect();
+    listed.sort();
+    assert_eq!(
+        listed, on_disk,
+        "expected-tags.txt lists every file of the corpus"
+    );
+    let mut failures = Vec::new();
+    for (file, want) in &files {
+        let got: Vec<String> = units(&dir, file, &[]).into_iter().map(|u| u.0).collect();
+        if &got != want {
+            failures.push(format!("{file}: tags {got:?}, expected {want:?}"));
+        }
+        // The names are the designer's: `check` has nothing better to suggest.
+        let (ok, _, err) = run(bin().current_dir(&dir).args(["check", "--shapes", file]));
+        assert!(ok, "{err}");
+        if err.contains("hint:") {
+            failures.push(format!("{file}: unexpected hint: {err}"));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// Asked for classes, Illustrator's `st0`… are what a scene gets; `check` says that the
+/// default source names the shapes, from the command line and from the grammar.
+#[test]
+fn check_says_which_tag_source_names_generated_tags_better() {
+    let dir = corpus_dir();
+    let (ok, _, err) = run(bin().current_dir(&dir).args([
+        "check",
+        "--shapes",
+        "--tag-from",
+        "class",
+        "illustrator-internal-css.svg",
+    ]));
+    assert!(ok, "{err}");
+    let hint = err
+        .lines()
+        .find(|l| l.contains("hint:"))
+        .unwrap_or_else(|| panic!("no hint: {err}"));
+    assert!(
+        hint.contains("`--tag-from auto`") && hint.contains("st0") && hint.contains("letter_G"),
+        "{hint}"
+    );
+    let d = files(
+        "hint",
+        &[(
+            "class.gm",
+            "tag_from class\nanimate(affine, local, 0, rotate(90)) : [all, all] -> [t]\n",
+        )],
+    );
+    let (ok, _, err) = run(bin()
+        .current_dir(&d)
+        .arg("check")
+        .arg("class.gm")
+        .arg(dir.join("coreldraw.svg")));
+    assert!(ok, "{err}");
+    assert!(
+        err.contains("hint:") && err.contains("tag_from auto") && err.contains("fil1"),
+        "{err}"
+    );
+}
+
+/// A tag map's `unit` holds whatever `--units` says, also for an element inside a group
+/// that would otherwise move as one: the group's other content then moves as usual.
+#[test]
+fn a_tag_map_unit_inside_a_group_that_moves_as_one_is_a_unit() {
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 200 120">
+<g data-tag="face">
+<g id="eyes"><circle cx="80" cy="40" r="6"/><circle cx="120" cy="40" r="6"/></g>
+<path id="mouth" d="M70 80 Q100 100 130 80" stroke="black" fill="none"/>
+</g>
+</svg>"##;
+    let d = files(
+        "map-unit",
+        &[("face.svg", svg), ("eyes.tags", "#eyes -> unit\n")],
+    );
+    assert_eq!(units(&d, "face.svg", &[]).len(), 1, "the face moves as one");
+    for extra in [
+        &["--tags", "eyes.tags"][..],
+        &["--tags", "eyes.tags", "--units", "groups"],
+    ] {
+        let got = units(&d, "face.svg", extra);
+        assert_eq!(
+            got.len(),
+            2,
+            "{extra:?}: the eyes as one, the mouth: {got:?}"
+        );
+        assert!(got.iter().all(|u| u.0 == "face"), "{got:?}");
+        assert!(got[0].1.contains(&"eyes".to_string()), "{got:?}");
+        assert!(got[1].1.contains(&"mouth".to_string()), "{got:?}");
+    }
 }

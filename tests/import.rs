@@ -408,3 +408,78 @@ fn a_warning_about_a_copied_element_is_said_once() {
         .collect();
     assert_eq!(about.len(), 1, "{about:#?}");
 }
+
+/// Under `--units paths` a text's glyph runs are units of their own; they still answer to
+/// the text's id and the ids of the groups around it, as the text does under `auto`
+/// (the group's name is their tag).
+#[test]
+fn a_texts_glyph_runs_keep_the_texts_and_its_groups_names_under_units_paths() {
+    let body = r#"<g id="heading"><text id="title" x="10" y="40" font-family="sans-serif" font-size="20">Hi <tspan fill="red">there</tspan></text></g>"#;
+    for units in [Units::Auto, Units::Paths] {
+        let scene = import(body, with(TagFrom::Auto, units)).scene;
+        assert!(!scene.shapes.is_empty(), "{units:?}: no font to draw with");
+        for s in &scene.shapes {
+            assert_eq!(s.tag, "heading", "{units:?}");
+            // The tag is the group's name; its own id is left out of the aliases.
+            assert!(
+                s.aliases.iter().any(|a| a == "title"),
+                "{units:?}: {:?}",
+                s.aliases
+            );
+        }
+    }
+}
+
+/// A text in a missing sans-serif family (Montserrat, as Illustrator exports name it) is
+/// drawn in the sans-serif family, not the serif one usvg falls back to; a missing serif
+/// family (Georgia) in the serif one. Judged by the outlines: the same box as the generic
+/// family's text.
+#[test]
+fn a_missing_font_falls_back_to_a_font_of_its_kind() {
+    let outline = |family: &str| {
+        let body = format!(
+            r#"<text id="t" x="10" y="100" font-family="{family}" font-size="40">Hamburg</text>"#
+        );
+        let imported = import(&body, ImportOptions::default());
+        let said: Vec<String> = imported.warnings.iter().map(ToString::to_string).collect();
+        (imported.scene.shapes.first().map(|s| s.bbox), said)
+    };
+    let (sans, _) = outline("sans-serif");
+    let (serif, _) = outline("serif");
+    if sans.is_none() || sans == serif {
+        return; // one font or none on this machine: nothing to tell apart
+    }
+    for (missing, box_of_kind, kind) in [
+        ("Montserrat", sans, "sans"),
+        ("Montserrat-SemiBold", sans, "sans"),
+        ("Arial Black", sans, "sans"),
+        ("Georgia", serif, "serif"),
+    ] {
+        if gmotion_import_svg::fonts::installed(
+            &gmotion_import_svg::fonts::database(&Default::default()),
+            missing,
+        ) {
+            continue;
+        }
+        let (got, said) = outline(missing);
+        assert_eq!(
+            got, box_of_kind,
+            "{missing} is drawn in the {kind} family: {said:?}"
+        );
+        let warning = said
+            .iter()
+            .find(|w| w.contains("is not installed"))
+            .unwrap_or_else(|| panic!("{said:?}"));
+        let generic = if kind == "sans" {
+            usvg::fontdb::Family::SansSerif
+        } else {
+            usvg::fontdb::Family::Serif
+        };
+        let db = gmotion_import_svg::fonts::database(&Default::default());
+        let named = db.family_name(&generic).to_string();
+        assert!(
+            warning.contains(&format!("drawn in `{named}`")),
+            "{warning}"
+        );
+    }
+}

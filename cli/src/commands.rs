@@ -134,7 +134,9 @@ pub fn run(cmd: Command, ctx: &Ctx) -> Result<()> {
                 && shapes
                 && kind_of(one) == Kind::Scene
             {
-                let loaded = load_scene(one, &import_options(&import, None, ctx)?, ctx)?;
+                let options = import_options(&import, None, ctx)?;
+                let loaded = load_scene(one, &options, ctx)?;
+                hint_tags(one, &options, &loaded, ctx);
                 super::report::out(&shape_list(one, &loaded, json))?;
                 return Ok(());
             }
@@ -419,6 +421,19 @@ fn load_scene(path: &Path, options: &SceneOptions, ctx: &Ctx) -> Result<LoadedSc
         scene: imported.scene,
         source: None,
     })
+}
+
+/// Says which `--tag-from` would name an SVG scene's shapes better, when most of its tags
+/// name nothing a designer chose (`st0`, `path`): only `check` asks, as finding out imports
+/// the scene again under each other source.
+fn hint_tags(path: &Path, options: &SceneOptions, loaded: &LoadedScene, ctx: &Ctx) {
+    if loaded.source.is_some() {
+        return; // a Lottie scene's tags are its layer names: `--tag-from` does not apply
+    }
+    let policy = ctx.limits.svg_policy(&ctx.allow, &ctx.fonts);
+    if let Some(hint) = svg_import::tag_hint(path, &options.svg, &policy, &loaded.scene) {
+        super::report::note(&format!("{}: hint: {hint}", path.display()));
+    }
 }
 
 /// The units of a scene, one line each: tag and id, bounding box, centroid, the other tags
@@ -1214,11 +1229,10 @@ fn check(
     let scene = path
         .as_ref()
         .map(|p| {
-            load_scene(
-                p,
-                &import_options(import, Some((grammar_path, &loaded)), ctx)?,
-                ctx,
-            )
+            let options = import_options(import, Some((grammar_path, &loaded)), ctx)?;
+            let scene = load_scene(p, &options, ctx)?;
+            hint_tags(p, &options, &scene, ctx);
+            Ok::<_, CliError>(scene)
         })
         .transpose()?;
     let g = &loaded.grammar;

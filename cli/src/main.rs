@@ -67,7 +67,8 @@ struct Cli {
     #[arg(long = "font-file", value_name = "FILE", global = true)]
     font_files: Vec<PathBuf>,
     /// The family text is drawn in when its own font is not installed (default: the
-    /// first installed of Arial, Helvetica, Liberation Sans, DejaVu Sans, Noto Sans, …).
+    /// first installed of Arial, Helvetica, Liberation Sans, DejaVu Sans, Noto Sans, …;
+    /// a missing serif or monospace font, such as Georgia or Consolas, in one of its kind).
     #[arg(long = "font-family", value_name = "NAME", global = true)]
     font_family: Option<String>,
 }
@@ -407,11 +408,12 @@ struct ImportArgs {
 
 #[derive(ValueEnum, Clone, Copy, Debug)]
 enum TagFromArg {
-    /// data-tag, then class, then inkscape:label, then the enclosing layer's id.
+    /// data-tag, then the first class that is not a generated style class (st0, cls-1,
+    /// fil0), then inkscape:label, then the enclosing layer's id.
     Auto,
     /// Only `data-tag`.
     DataTag,
-    /// Only the first `class`.
+    /// Only the first `class`, generated style classes (st0) included.
     Class,
     /// Only `inkscape:label`.
     Label,

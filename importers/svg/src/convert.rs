@@ -37,16 +37,17 @@ pub(super) struct Converted {
 }
 
 /// Converts a usvg tree parsed from `src.prepared`.
-pub(super) fn convert(
+pub(super) fn convert<'s>(
     tree: &usvg::Tree,
-    src: &Source,
+    src: &'s Source,
     opts: &ImportOptions,
-    fonts: &usvg::fontdb::Database,
-    policy: &crate::Policy,
+    fonts: &'s usvg::fontdb::Database,
+    policy: &'s crate::Policy,
 ) -> Converted {
     let mut c = Converter {
         src,
         fonts,
+        font_options: &policy.fonts,
         opts: opts.clone(),
         warnings: Vec::new(),
         warned: HashSet::new(),
@@ -138,8 +139,9 @@ struct Zip {
 
 struct Converter<'s, 'a> {
     src: &'s Source<'a>,
-    /// The fonts text is drawn with (to name missing ones).
+    /// The fonts text is drawn with (to name missing ones), and the options they came from.
     fonts: &'s usvg::fontdb::Database,
+    font_options: &'s crate::fonts::FontOptions,
     opts: ImportOptions,
     warnings: Vec<(String, String)>,
     warned: HashSet<String>,
@@ -312,7 +314,8 @@ impl<'s, 'a> Converter<'s, 'a> {
                 usvg::Node::Text(t) => {
                     let near = self.src.element(t.id()).map(|e| e.id()).or(ctx.near);
                     for missing in self.missing_fonts(t) {
-                        let instead = crate::fonts::fallback_family(self.fonts);
+                        let instead =
+                            crate::fonts::fallback_family(self.fonts, &missing, self.font_options);
                         self.warn(
                             near,
                             &format!("font `{missing}` is not installed: the text is drawn in `{instead}` (give the font with --font-file or --font-dir, or choose the family with --font-family)"),
@@ -354,6 +357,11 @@ impl<'s, 'a> Converter<'s, 'a> {
         let from = self.opts.tag_from;
         if kind == GroupKind::Element && self.src.forced_unit(elem) {
             return Some(scope.tag(elem.tag_name().name()));
+        }
+        // A unit a tag map asks for inside this group outranks the group's own unit-ness
+        // under the `--units` rules; the group's other content becomes units as usual.
+        if kind == GroupKind::Element && self.src.holds_forced_unit(elem) {
+            return None;
         }
         match (self.opts.units, kind) {
             (Units::Paths, _) => None,
@@ -597,7 +605,11 @@ impl<'s, 'a> Converter<'s, 'a> {
             let scope = elem.map_or(ctx.scope, |e| self.src.scope(e, ctx.scope, from, limit));
             let name = elem.map_or("path", |e| e.tag_name().name());
             let index = dst.children.len();
-            node.unit = Some(self.register(scope.tag(name), elem, ctx.scope, ctx.abs, index));
+            // A path usvg made (a glyph run of a text under `--units paths`, a `use`
+            // instance's path) has no element of its own: it answers to the names of the
+            // element it was made from and of the groups around that.
+            let named = elem.or_else(|| ctx.scope.elem().and_then(|id| self.src.node(id)));
+            node.unit = Some(self.register(scope.tag(name), named, ctx.scope, ctx.abs, index));
         }
         dst.children.push(Node::Path(node));
     }

@@ -221,6 +221,77 @@ pub fn load(path: &Path, opts: &ImportOptions) -> Result<Imported, ImportError> 
     load_with(path, opts, &Policy::default())
 }
 
+/// A hint for a scene whose tags mostly name nothing a designer chose (generated style
+/// classes such as `st0`, element names such as `path`; see
+/// [`gmotion::tagging::looks_generated`]): the `--tag-from` source that names more of its
+/// shapes, found by importing `path` again under each other source, with a few of the
+/// names it gives. `None` when most tags are names already, or no other source does
+/// better. `scene` is `path` imported under `opts`.
+pub fn tag_hint(
+    path: &Path,
+    opts: &ImportOptions,
+    policy: &Policy,
+    scene: &Scene,
+) -> Option<String> {
+    let named = |scene: &Scene| {
+        let names = scene.shapes.iter().map(|s| s.tag.as_str());
+        names
+            .filter(|t| !gmotion::tagging::looks_generated(t))
+            .count()
+    };
+    let (have, total) = (named(scene), scene.shapes.len());
+    if total == 0 || have * 2 >= total {
+        return None;
+    }
+    // A source is better when it names a larger share of its units (each source may
+    // choose different units) and more of them.
+    let mut best: Option<(TagFrom, usize, Scene)> = None;
+    for from in TagFrom::ALL.into_iter().filter(|f| *f != opts.tag_from) {
+        let other = ImportOptions {
+            tag_from: from,
+            ..opts.clone()
+        };
+        let Ok(imported) = load_with(path, &other, policy) else {
+            continue;
+        };
+        let n = named(&imported.scene);
+        let better_than = |k: usize, of: usize| n * of > k * imported.scene.shapes.len() && n > k;
+        let beats = match &best {
+            None => better_than(have, total),
+            Some((_, k, s)) => better_than(*k, s.shapes.len()),
+        };
+        if beats {
+            best = Some((from, n, imported.scene));
+        }
+    }
+    let (from, n, better) = best?;
+    let mut examples: Vec<&str> = Vec::new();
+    for tag in better.shapes.iter().map(|s| s.tag.as_str()) {
+        if examples.len() < 3 && !gmotion::tagging::looks_generated(tag) && !examples.contains(&tag)
+        {
+            examples.push(tag);
+        }
+    }
+    let mut generated: Vec<&str> = Vec::new();
+    for tag in scene.shapes.iter().map(|s| s.tag.as_str()) {
+        if generated.len() < 3
+            && gmotion::tagging::looks_generated(tag)
+            && !generated.contains(&tag)
+        {
+            generated.push(tag);
+        }
+    }
+    Some(format!(
+        "{} of {total} shapes have tags no designer chose ({}, …): `--tag-from {}` (or `tag_from {}` in the grammar) names {n} of {} ({}, …)",
+        total - have,
+        generated.join(", "),
+        from.name(),
+        from.name(),
+        better.shapes.len(),
+        examples.join(", ")
+    ))
+}
+
 /// Decompresses gzip `bytes`, refusing more than `limit` bytes of output.
 fn gunzip(bytes: &[u8], limit: u64) -> Result<Vec<u8>, String> {
     use std::io::Read;
@@ -292,6 +363,7 @@ fn parse_in(
     };
     if src.has_text {
         uopt.fontdb = fonts::database(&policy.fonts);
+        uopt.font_resolver = fonts::resolver(&policy.fonts);
     }
     let tree = usvg::Tree::from_str(&src.prepared, &uopt).map_err(|e| match e {
         usvg::Error::InvalidSize => ImportError::Size {

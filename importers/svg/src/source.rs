@@ -11,7 +11,7 @@ use usvg::roxmltree::{self, Document, Node, NodeId};
 
 use super::{ImportError, Policy};
 use crate::tagmap::{Given, TagMap};
-use crate::tags::{TagFrom, first_class, strip_counter_among};
+use crate::tags::{TagFrom, first_class, first_named_class, strip_counter_among};
 
 const SVG_NS: &str = "http://www.w3.org/2000/svg";
 const XLINK_NS: &str = "http://www.w3.org/1999/xlink";
@@ -45,6 +45,8 @@ pub(super) struct Source<'a> {
     by_id: HashMap<String, NodeId>,
     /// What a tag map gives elements ([`Source::apply`]).
     given: HashMap<NodeId, Given>,
+    /// The ancestors of the elements a tag map made units ([`Source::holds_forced_unit`]).
+    forced_within: HashSet<NodeId>,
 }
 
 /// The tag sources seen on the way from the root to a node (nearest wins).
@@ -682,6 +684,7 @@ impl<'a> Source<'a> {
             synthetic,
             by_id,
             given: HashMap::new(),
+            forced_within: HashSet::new(),
         })
     }
 
@@ -691,10 +694,21 @@ impl<'a> Source<'a> {
         let mut matched = vec![false; map.selectors()];
         for node in self.doc.descendants().filter(|n| is_svg(*n)) {
             if let Some(given) = map.given(node, &mut matched) {
+                if given.unit {
+                    let above = node.ancestors().skip(1).filter(|n| n.is_element());
+                    self.forced_within.extend(above.map(|n| n.id()));
+                }
                 self.given.insert(node.id(), given);
             }
         }
         map.unmatched(&matched)
+    }
+
+    /// Whether a tag map made an element inside `node` a unit: then `node` is no unit by
+    /// the `--units` rules, so that the element inside can be one (units never nest, and
+    /// the map's `unit` holds whatever `--units` says).
+    pub fn holds_forced_unit(&self, node: Node) -> bool {
+        self.forced_within.contains(&node.id())
     }
 
     /// Whether a tag map made `node` a unit.
@@ -775,9 +789,12 @@ impl<'a> Source<'a> {
         let nonempty = |v: Option<&'s str>| v.map(str::trim).filter(|v| !v.is_empty());
         let data = || nonempty(node.attribute("data-tag"));
         let class = || node.attribute("class").and_then(first_class);
+        // Generated style classes (`st0`) name no shape by default; asked for by
+        // `--tag-from class`, every class counts.
+        let named_class = || node.attribute("class").and_then(first_named_class);
         let label = || nonempty(node.attribute((INKSCAPE_NS, "label"))).filter(|_| labels);
         match from {
-            TagFrom::Auto => data().or_else(class).or_else(label),
+            TagFrom::Auto => data().or_else(named_class).or_else(label),
             TagFrom::DataTag => data(),
             TagFrom::Class => class(),
             TagFrom::Label => label(),

@@ -5,8 +5,13 @@
 //! [`strip_counter_among`] removes Illustrator's copy suffix (`eye_1_`) and Figma's copy
 //! numbers (`Vector_2` beside `Vector`), but keeps names whose number is all that tells
 //! distinct layers apart (`Layer_1`, `Layer_2`). Which attributes are read is [`TagFrom`].
+//!
+//! A class names a shape only when a designer chose it: the style classes design tools
+//! generate (Illustrator's `st0` and `cls-1`, CorelDRAW's `fil0`, `str1`, `fnt0`; the list
+//! is [`GENERATED_CLASSES`]) are skipped by [`first_named_class`], so an Illustrator
+//! export's shapes are named by their layers (`letter_G`), not by their colours (`st1`).
 
-pub use gmotion::tagging::TagFrom;
+pub use gmotion::tagging::{GENERATED_CLASSES, TagFrom, is_generated_class};
 
 /// Removes a trailing layer counter (shared with the other importers; see
 /// [`gmotion::tagging::strip_counter`]).
@@ -20,6 +25,20 @@ pub use gmotion::tagging::{strip_counter, strip_counter_among};
 /// The first class name of a `class` attribute value, if any.
 pub fn first_class(value: &str) -> Option<&str> {
     value.split_ascii_whitespace().next()
+}
+
+/// The first class name of a `class` attribute value that is not a generated style class
+/// ([`is_generated_class`]): `st0 hero` is named `hero`, `st0 st1` not at all.
+///
+/// ```
+/// use gmotion_import_svg::tags::first_named_class;
+/// assert_eq!(first_named_class("st0 hero"), Some("hero"));
+/// assert_eq!(first_named_class("fil0 str1"), None);
+/// ```
+pub fn first_named_class(value: &str) -> Option<&str> {
+    value
+        .split_ascii_whitespace()
+        .find(|c| !is_generated_class(c))
 }
 
 #[cfg(test)]
@@ -40,5 +59,16 @@ mod tests {
     fn first_class_skips_whitespace() {
         assert_eq!(first_class("  hero big "), Some("hero"));
         assert_eq!(first_class("   "), None);
+    }
+
+    #[test]
+    fn named_classes_skip_the_generated_ones() {
+        assert_eq!(first_named_class("st1"), None);
+        assert_eq!(first_named_class("cls-1 cls-2"), None);
+        assert_eq!(first_named_class("st2 st3 title"), Some("title"));
+        assert_eq!(first_named_class("wheel st0"), Some("wheel"));
+        assert_eq!(first_named_class("fil0 str2 fnt1"), None);
+        assert_eq!(first_named_class("node3"), Some("node3"));
+        assert_eq!(first_named_class(""), None);
     }
 }
