@@ -15,7 +15,7 @@ use gmotion::scene::{
     RadialGradient, Scene, SceneBuilder, Spread, Stop, Stroke,
 };
 use gmotion::signals::Easing;
-use gmotion_export_lottie::{LottieOptions, still_to_lottie, to_lottie};
+use gmotion_export_lottie::{LottieOptions, layer_name, still_to_lottie, to_lottie};
 use kurbo::{Affine, BezPath, Point, Rect, Shape as _, Vec2};
 use serde_json::Value;
 
@@ -368,7 +368,7 @@ fn max_error(anim: &Animation, doc: &Value, samples: usize) -> f64 {
         for k in 0..=frames * samples {
             let frame = k as f64 / samples as f64;
             let t = frame / anim.fps;
-            let got = drawn(doc, &format!("{}:{}", shape.tag, shape.id), frame);
+            let got = drawn(doc, &layer_name(shape), frame);
             let track = &anim.tracks[i];
             let want: Vec<Point> = if track.deforms() {
                 rest.iter().map(|q| track.deform(*q, t)).collect()
@@ -411,7 +411,7 @@ fn animated_keys(doc: &Value) -> usize {
 // ---- structure ---------------------------------------------------------------------------
 
 #[test]
-fn layers_are_named_tag_id_and_carry_no_skew() {
+fn layers_are_named_after_tags_and_carry_no_skew() {
     let s = scene(vec![
         (
             rect_path(Rect::new(10.0, 10.0, 50.0, 50.0)),
@@ -444,7 +444,7 @@ fn layers_are_named_tag_id_and_carry_no_skew() {
         .iter()
         .map(|l| l["nm"].as_str().unwrap())
         .collect();
-    assert!(names.contains(&"t:1"), "{names:?}");
+    assert!(names.contains(&"t 2"), "{names:?}");
     assert_eq!(keys_anywhere(&doc, "sk"), 0);
     // The skewing motion is sampled, and still lands within the tolerance.
     assert!(max_error(&anim, &doc, 1) <= 0.25);
@@ -784,7 +784,7 @@ fn tints_opacity_and_stroke_width_follow_the_model() {
         let frame = k as f64 / 2.0;
         let t = frame / 30.0;
         let state = anim.tracks[0].state_at(t);
-        let d = drawn(&doc, "t:0", frame);
+        let d = drawn(&doc, "t", frame);
         let want = state.fill.apply(Color::rgb(0.2, 0.4, 0.8));
         let fill = d.iter().find_map(|x| x.fill).expect("a fill");
         for (g, w) in fill.iter().zip([want.r, want.g, want.b]) {

@@ -3,8 +3,11 @@
 //!
 //! What is written:
 //!
-//! - one shape layer per animated shape, named `tag:id` (a still shape is a group of that
-//!   name), in paint order; paths as Bézier outlines (quadratics raised to cubics, one
+//! - one shape layer per animated shape, named after its tag: `Wheel`, then `Wheel 2`,
+//!   `Wheel 3`… for the other shapes of the tag (a still shape is a group of that name), in
+//!   paint order; the named groups of the source (`<g id>`, and the `<svg>`'s own id) that
+//!   hold such layers as null layers of that name, their parent, so the layer tree reads
+//!   as the designer's groups (`Layer_1` › `Wheel` › `Wheel 2`); paths as Bézier outlines (quadratics raised to cubics, one
 //!   `sh` per subpath); fills and strokes, solid or linear/radial gradient with colour and
 //!   opacity stops, fill rule, opacity, caps, joins, miter limit and dashes, in SVG paint
 //!   order; group transforms as skew-free levels (a skew is written as a
@@ -49,6 +52,7 @@ use gmotion::canvas::{Fit, OutputSize};
 use gmotion::motion::{Animation, Track};
 use gmotion::scene::{Scene, Shape};
 use layers::Source;
+pub use layers::layer_name;
 pub use text::LottieText;
 
 /// Options of the Lottie export.
