@@ -668,7 +668,7 @@ fn units_choose_what_moves_as_one() {
     let paths = format!("units paths\n{moves}");
     assert_eq!(
         animate_with("units-paths", svg, &paths, &[]).unwrap(),
-        ["pair", "pair 2"]
+        ["pair 1", "pair 2"]
     );
     // The flag overrides the directive.
     assert_eq!(

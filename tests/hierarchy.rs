@@ -149,7 +149,7 @@ fn an_illustrator_files_groups_come_out_as_named_lottie_layers_and_nulls() {
         ("Layer_1/Bike", null),
         // A group whose only layer is named after it gets no null of its own.
         ("Layer_1/Bike/Wheel", null),
-        ("Layer_1/Bike/Wheel/Wheel", shape),
+        ("Layer_1/Bike/Wheel/Wheel 1", shape),
         ("Layer_1/Bike/Wheel/Wheel 2", shape),
         ("Layer_1/Bike/letter_G", shape),
         // Still art stays a shape layer, in its place among the group's layers.

@@ -15,7 +15,7 @@ use gmotion::scene::{
     RadialGradient, Scene, SceneBuilder, Spread, Stop, Stroke,
 };
 use gmotion::signals::Easing;
-use gmotion_export_lottie::{LottieOptions, layer_name, still_to_lottie, to_lottie};
+use gmotion_export_lottie::{LottieOptions, layer_names, still_to_lottie, to_lottie};
 use kurbo::{Affine, BezPath, Point, Rect, Shape as _, Vec2};
 use serde_json::Value;
 
@@ -354,8 +354,9 @@ const EASE_IN_OUT: Easing = Easing::CubicBezier([0.42, 0.0, 0.58, 1.0]);
 /// instants per frame, for every path unit of `anim`.
 fn max_error(anim: &Animation, doc: &Value, samples: usize) -> f64 {
     let frames = anim.frame_count();
+    let names = layer_names(&anim.scene);
     let mut worst: f64 = 0.0;
-    for (i, shape) in anim.scene.shapes.iter().enumerate() {
+    for (i, name) in names.iter().enumerate() {
         let Some(Node::Path(p)) = anim.scene.unit_node(i) else {
             panic!("path units")
         };
@@ -368,12 +369,12 @@ fn max_error(anim: &Animation, doc: &Value, samples: usize) -> f64 {
         for k in 0..=frames * samples {
             let frame = k as f64 / samples as f64;
             let t = frame / anim.fps;
-            let got = drawn(doc, &layer_name(shape), frame);
+            let got = drawn(doc, name, frame);
             let track = &anim.tracks[i];
             let want: Vec<Point> = if track.deforms() {
                 rest.iter().map(|q| track.deform(*q, t)).collect()
             } else {
-                let m = track.state_at(t).transform * shape.parent_transform;
+                let m = track.state_at(t).transform * anim.scene.shapes[i].parent_transform;
                 rest.iter().map(|q| m * *q).collect()
             };
             let pts = &got[0].points;

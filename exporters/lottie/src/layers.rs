@@ -13,7 +13,7 @@
 //! - a group with opacity below 1 that paints more than once: a layer with that opacity
 //!   (group opacity composites the whole group, unlike per-paint opacity);
 //! - a pattern paint: its tiles as content under an alpha matte of the painted outline;
-//! - an animated shape: its own layer named after its tag (see [`units::layer_name`] and
+//! - an animated shape: its own layer named after its tag (see [`units::layer_names`] and
 //!   [`super::animate`]);
 //! - a named group whose content makes layers: a null layer of its name, their parent
 //!   (see [`Builder::named_group`]);
@@ -55,7 +55,7 @@ use gmotion::scene::{
     PathNode, Pattern, Scene, Stroke,
 };
 use mattes::{ClipKind, clip_group, mask, mask_group};
-pub use units::layer_name;
+pub use units::layer_names;
 pub(crate) use units::{conjugate, full_transform};
 
 /// What applies to the nodes being emitted.
@@ -164,6 +164,8 @@ pub struct Source<'a> {
     pub tracks: &'a [Track],
     /// The shapes' motions, as the layers key them.
     pub motions: &'a [UnitMotion],
+    /// The shapes' layer names ([`layer_names`]).
+    pub names: &'a [String],
     /// Frames per second.
     pub fps: f64,
     /// The out point: the frame the document ends at.
