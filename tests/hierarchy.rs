@@ -14,13 +14,15 @@ use gmotion_export_raster::{compare, render};
 use gmotion_export_svg::frame::frame_svg;
 use gmotion_export_svg::smil::{SmilOptions, to_smil};
 use gmotion_import_svg::ImportOptions;
-use serde_json::Value;
+use serde_json::{Value, json};
 
 use crate::support::players::{Player, assert_plays_like_model, chromium, frames_to_check};
 use crate::support::{root, run_grammar};
 
 /// An Illustrator export with internal CSS: the `<svg>` is the layer `Layer_1`, sublayers
-/// and groups are `<g id>`s, every shape is styled by a generated class.
+/// and groups are `<g id>`s, every shape is styled by a generated class. The groups carry
+/// what a null could not: a rotation under a non-uniform scale (a skew, which rlottie
+/// cannot draw as one) and an opacity (which a null does not pass on).
 const ART: &str = r##"<?xml version="1.0" encoding="utf-8"?>
 <!-- Generator: Adobe Illustrator 27.0.0, SVG Export Plug-In . SVG Version: 6.00 Build 0)  -->
 <svg version="1.1" id="Layer_1" xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink" x="0px" y="0px"
@@ -34,11 +36,11 @@ const ART: &str = r##"<?xml version="1.0" encoding="utf-8"?>
 <g id="Ground">
 	<rect y="100" class="st3" width="200" height="20"/>
 </g>
-<g id="Bike">
-	<g id="letter_G">
+<g id="Bike" transform="translate(0 6) scale(1 0.9)">
+	<g id="letter_G" opacity="0.8">
 		<path class="st0" d="M20,20h40v20H40v40h20V60h10v30H20V20z"/>
 	</g>
-	<g id="Wheel">
+	<g id="Wheel" transform="rotate(20 140 60)">
 		<circle class="st1" cx="140" cy="60" r="30"/>
 		<rect x="136" y="32" class="st2" width="8" height="56"/>
 	</g>
@@ -158,7 +160,23 @@ fn an_illustrator_files_groups_come_out_as_named_lottie_layers_and_nulls() {
     .into_iter()
     .map(|(p, ty)| (p.to_string(), ty))
     .collect();
-    assert_eq!(layer_tree(doc["layers"].as_array().unwrap()), expected);
+    let layers = doc["layers"].as_array().unwrap();
+    assert_eq!(layer_tree(layers), expected);
+    // The nulls only name and parent: the group transforms stay in the layers' content.
+    for null in layers.iter().filter(|l| l["ty"] == 3) {
+        let ks = &null["ks"];
+        assert_eq!(
+            [&ks["p"]["k"], &ks["a"]["k"], &ks["s"]["k"], &ks["r"]["k"]],
+            [
+                &json!([0, 0]),
+                &json!([0, 0]),
+                &json!([100, 100]),
+                &json!(0)
+            ],
+            "{}",
+            null["nm"]
+        );
+    }
 
     let d = dir("lottie");
     std::fs::write(d.join("art.svg"), ART).unwrap();
