@@ -376,10 +376,10 @@ impl<'a> Builder<'a> {
     /// still shapes among them become shape layers of their own so they are parented too.
     ///
     /// The null is the identity: the content keeps the group's transform as an unnamed
-    /// group's does, which is exact whatever the transform (a skew under a non-uniform
-    /// scale, which a parent's transform could not carry for rlottie) and needs no
-    /// conjugated motion; the group's opacity, which nulls do not pass on in Lottie, stays
-    /// folded into its paints. A group whose only layer is named after it (a unit tagged
+    /// group's does, which is exact whatever the transform (a rotation under a non-uniform
+    /// scale, for one, is a skew, which a null could say only with the `sk` rlottie does
+    /// not draw) and needs no motion conjugated by it; the group's opacity, which a null
+    /// does not pass on in Lottie, stays folded into its paints. A group whose only layer is named after it (a unit tagged
     /// with the group's name) gets no null: it would only repeat the name. Content that
     /// makes no layers (still shapes) stays in the shape layers as it was.
     fn named_group(&mut self, g: &Group, acc: Affine, env: Env, comp: &mut Comp) {
