@@ -633,19 +633,16 @@ fn tag_from_chooses_the_tags_the_scene_gets() {
     // By default the data-tag names the shape, so a rule for class `b` finds nothing.
     let err = animate_with("tag-default", svg, &moves("b"), &[]).unwrap_err();
     assert!(err.contains("`b`"), "{err}");
-    assert_eq!(
-        animate_with("tag-a", svg, &moves("a"), &[]).unwrap(),
-        ["a:0"]
-    );
+    assert_eq!(animate_with("tag-a", svg, &moves("a"), &[]).unwrap(), ["a"]);
     let by_class = format!("tag_from class\n{}", moves("b"));
     assert_eq!(
         animate_with("tag-class", svg, &by_class, &[]).unwrap(),
-        ["b:0"]
+        ["b"]
     );
     // The flag overrides the directive.
     let all = format!("tag_from class\n{}", moves("all"));
     let flagged = animate_with("tag-flag", svg, &all, &["--tag-from", "data-tag"]).unwrap();
-    assert_eq!(flagged, ["a:0"]);
+    assert_eq!(flagged, ["a"]);
     // An unknown source is an error at the value.
     let err = animate_with(
         "tag-bad",
@@ -666,17 +663,17 @@ fn units_choose_what_moves_as_one() {
     // A tagged group is one unit; `units paths` makes each of its paths one.
     assert_eq!(
         animate_with("units-auto", svg, moves, &[]).unwrap(),
-        ["pair:0"]
+        ["pair"]
     );
     let paths = format!("units paths\n{moves}");
     assert_eq!(
         animate_with("units-paths", svg, &paths, &[]).unwrap(),
-        ["pair:0", "pair:1"]
+        ["pair 1", "pair 2"]
     );
     // The flag overrides the directive.
     assert_eq!(
         animate_with("units-flag", svg, &paths, &["--units", "auto"]).unwrap(),
-        ["pair:0"]
+        ["pair"]
     );
     let err = animate_with("units-bad", svg, &format!("units path\n{moves}"), &[]).unwrap_err();
     assert!(err.contains("g.gm:2:7") && err.contains("`paths`"), "{err}");

@@ -15,7 +15,7 @@ use gmotion::scene::{
     RadialGradient, Scene, SceneBuilder, Spread, Stop, Stroke,
 };
 use gmotion::signals::Easing;
-use gmotion_export_lottie::{LottieOptions, still_to_lottie, to_lottie};
+use gmotion_export_lottie::{LottieOptions, layer_names, still_to_lottie, to_lottie};
 use kurbo::{Affine, BezPath, Point, Rect, Shape as _, Vec2};
 use serde_json::Value;
 
@@ -354,8 +354,9 @@ const EASE_IN_OUT: Easing = Easing::CubicBezier([0.42, 0.0, 0.58, 1.0]);
 /// instants per frame, for every path unit of `anim`.
 fn max_error(anim: &Animation, doc: &Value, samples: usize) -> f64 {
     let frames = anim.frame_count();
+    let names = layer_names(&anim.scene);
     let mut worst: f64 = 0.0;
-    for (i, shape) in anim.scene.shapes.iter().enumerate() {
+    for (i, name) in names.iter().enumerate() {
         let Some(Node::Path(p)) = anim.scene.unit_node(i) else {
             panic!("path units")
         };
@@ -368,12 +369,12 @@ fn max_error(anim: &Animation, doc: &Value, samples: usize) -> f64 {
         for k in 0..=frames * samples {
             let frame = k as f64 / samples as f64;
             let t = frame / anim.fps;
-            let got = drawn(doc, &format!("{}:{}", shape.tag, shape.id), frame);
+            let got = drawn(doc, name, frame);
             let track = &anim.tracks[i];
             let want: Vec<Point> = if track.deforms() {
                 rest.iter().map(|q| track.deform(*q, t)).collect()
             } else {
-                let m = track.state_at(t).transform * shape.parent_transform;
+                let m = track.state_at(t).transform * anim.scene.shapes[i].parent_transform;
                 rest.iter().map(|q| m * *q).collect()
             };
             let pts = &got[0].points;
@@ -411,7 +412,7 @@ fn animated_keys(doc: &Value) -> usize {
 // ---- structure ---------------------------------------------------------------------------
 
 #[test]
-fn layers_are_named_tag_id_and_carry_no_skew() {
+fn layers_are_named_after_tags_and_carry_no_skew() {
     let s = scene(vec![
         (
             rect_path(Rect::new(10.0, 10.0, 50.0, 50.0)),
@@ -444,7 +445,7 @@ fn layers_are_named_tag_id_and_carry_no_skew() {
         .iter()
         .map(|l| l["nm"].as_str().unwrap())
         .collect();
-    assert!(names.contains(&"t:1"), "{names:?}");
+    assert!(names.contains(&"t 2"), "{names:?}");
     assert_eq!(keys_anywhere(&doc, "sk"), 0);
     // The skewing motion is sampled, and still lands within the tolerance.
     assert!(max_error(&anim, &doc, 1) <= 0.25);
@@ -784,7 +785,7 @@ fn tints_opacity_and_stroke_width_follow_the_model() {
         let frame = k as f64 / 2.0;
         let t = frame / 30.0;
         let state = anim.tracks[0].state_at(t);
-        let d = drawn(&doc, "t:0", frame);
+        let d = drawn(&doc, "t", frame);
         let want = state.fill.apply(Color::rgb(0.2, 0.4, 0.8));
         let fill = d.iter().find_map(|x| x.fill).expect("a fill");
         for (g, w) in fill.iter().zip([want.r, want.g, want.b]) {

@@ -17,6 +17,7 @@ mod frame;
 mod fuzz;
 mod gallery;
 mod grammar_parse;
+mod hierarchy;
 mod images;
 mod import;
 mod lottie;

@@ -210,7 +210,20 @@ fn editing_the_import_directives_imports_the_scene_again() {
         "duration 1s\nunits paths\ntag_from class\nanimate(opacity, local, 0, 0) : [all, left] -> [gone]\n",
     );
     let lottie: Value = serde_json::from_slice(&s.call("GET", "/api/lottie", "").body).unwrap();
-    assert_eq!(lottie["layers"].as_array().unwrap().len(), 2, "{lottie}");
+    // The moving `left`, the still `right`, and their group as the null they hang from.
+    let layers = lottie["layers"].as_array().unwrap();
+    let pair = layers.iter().find(|l| l["nm"] == "pair").expect("a null");
+    let mut children: Vec<&str> = layers
+        .iter()
+        .filter(|l| l["parent"] == pair["ind"])
+        .map(|l| l["nm"].as_str().unwrap())
+        .collect();
+    children.sort();
+    assert_eq!(
+        (layers.len(), children),
+        (3, vec!["left", "right"]),
+        "{lottie}"
+    );
     put("duration 1s\n");
     assert_eq!(tags(&s.state()), ["duo"]);
 }

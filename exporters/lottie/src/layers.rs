@@ -13,7 +13,10 @@
 //! - a group with opacity below 1 that paints more than once: a layer with that opacity
 //!   (group opacity composites the whole group, unlike per-paint opacity);
 //! - a pattern paint: its tiles as content under an alpha matte of the painted outline;
-//! - an animated shape: its own layer named `tag:id` (see [`super::animate`]);
+//! - an animated shape: its own layer named after its tag (see [`units::layer_names`] and
+//!   [`super::animate`]);
+//! - a named group whose content makes layers: a null layer of its name, their parent
+//!   (see [`Builder::named_group`]);
 //! - an image: an image layer drawing an embedded image asset (see [`images`]).
 //!
 //! A layer holding only shapes is a shape layer; one holding layers is a precomposition,
@@ -52,6 +55,7 @@ use gmotion::scene::{
     PathNode, Pattern, Scene, Stroke,
 };
 use mattes::{ClipKind, clip_group, mask, mask_group};
+pub use units::layer_names;
 pub(crate) use units::{conjugate, full_transform};
 
 /// What applies to the nodes being emitted.
@@ -111,6 +115,14 @@ impl Comp {
 
     /// The layers, topmost first; runs of shapes become shape layers.
     fn into_layers(mut self, op: f64) -> Vec<Layer> {
+        let mut bottom_up = self.take_layers(op);
+        bottom_up.reverse();
+        bottom_up
+    }
+
+    /// The layers made so far, bottom first, runs of shapes as shape layers; the
+    /// composition keeps numbering after them.
+    fn take_layers(&mut self, op: f64) -> Vec<Layer> {
         let mut bottom_up: Vec<Layer> = Vec::new();
         let mut run: Vec<Shape> = Vec::new();
         let items = std::mem::take(&mut self.items);
@@ -124,7 +136,6 @@ impl Comp {
             }
         }
         self.flush(&mut run, &mut bottom_up, op);
-        bottom_up.reverse();
         bottom_up
     }
 
@@ -153,6 +164,8 @@ pub struct Source<'a> {
     pub tracks: &'a [Track],
     /// The shapes' motions, as the layers key them.
     pub motions: &'a [UnitMotion],
+    /// The shapes' layer names ([`layer_names`]).
+    pub names: &'a [String],
     /// Frames per second.
     pub fps: f64,
     /// The out point: the frame the document ends at.
@@ -347,9 +360,47 @@ impl<'a> Builder<'a> {
             || (g.opacity < 1.0 && paints(g) > 1);
         if !isolate {
             env.alpha *= g.opacity as f64;
-            return self.children(g, acc * g.transform, env, comp);
+            if g.id.is_empty() || env.unit.is_some() {
+                return self.children(g, acc * g.transform, env, comp);
+            }
+            return self.named_group(g, acc * g.transform, env, comp);
         }
         let layers = self.isolate(g, clip, acc, env, comp);
+        comp.items.push(Item::Layers(layers));
+    }
+
+    /// The content of a named group that needs no layer of its own. When it makes layers,
+    /// they are parented to a null layer named after the group (its id, as the designer
+    /// wrote it), so the document's layer tree reads as the SVG's groups: the `Layer_1`
+    /// null holds `letter_G` and the `Wheel` null, which holds the wheel's units. Runs of
+    /// still shapes among them become shape layers of their own so they are parented too.
+    ///
+    /// The null is the identity: the content keeps the group's transform as an unnamed
+    /// group's does, which is exact whatever the transform (a rotation under a non-uniform
+    /// scale, for one, is a skew, which a null could say only with the `sk` rlottie does
+    /// not draw) and needs no motion conjugated by it; the group's opacity, which a null
+    /// does not pass on in Lottie, stays folded into its paints. A group whose only layer is named after it (a unit tagged
+    /// with the group's name) gets no null: it would only repeat the name. Content that
+    /// makes no layers (still shapes) stays in the shape layers as it was.
+    fn named_group(&mut self, g: &Group, acc: Affine, env: Env, comp: &mut Comp) {
+        let mut sub = Comp::new(comp.next_ind);
+        self.children(g, acc, env, &mut sub);
+        if sub.only_shapes() {
+            comp.next_ind = sub.next_ind;
+            comp.items.append(&mut sub.items);
+            return;
+        }
+        let mut layers = sub.take_layers(self.src.op);
+        let repeats_name =
+            matches!(layers.as_slice(), [l] if l.nm.split(' ').next() == Some(g.id.as_str()));
+        if !repeats_name {
+            let null = sub.layer(LayerType::Null, g.id.clone(), self.src.op);
+            for l in layers.iter_mut().filter(|l| l.parent.is_none()) {
+                l.parent = Some(null.ind);
+            }
+            layers.push(null);
+        }
+        comp.next_ind = sub.next_ind;
         comp.items.push(Item::Layers(layers));
     }
 

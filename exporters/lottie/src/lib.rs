@@ -3,12 +3,18 @@
 //!
 //! What is written:
 //!
-//! - one shape layer per animated shape, named `tag:id` (a still shape is a group of that
-//!   name), in paint order; paths as Bézier outlines (quadratics raised to cubics, one
-//!   `sh` per subpath); fills and strokes, solid or linear/radial gradient with colour and
-//!   opacity stops, fill rule, opacity, caps, joins, miter limit and dashes, in SVG paint
-//!   order; group transforms as skew-free levels (a skew is written as a
-//!   rotation·scale·rotation pair, since rlottie cannot draw skew);
+//! - one shape layer per animated shape, named after its tag: `letter_G` for a tag's only
+//!   shape, `Wheel 1`, `Wheel 2`… for the shapes of a tag with several ([`layer_names`]; a
+//!   still shape is a group of that name), in paint order;
+//! - the source's named groups (`<g id>`, and the `<svg>`'s own id) whose content makes
+//!   layers as null layers of that name, parents of those layers, so that the layer tree
+//!   reads as the designer's groups (`Layer_1` › `Wheel` › `Wheel 1`, `Wheel 2`); the nulls
+//!   are the identity, group transforms and opacity staying where they were;
+//! - paths as Bézier outlines (quadratics raised to cubics, one `sh` per subpath); fills
+//!   and strokes, solid or linear/radial gradient with colour and opacity stops, fill
+//!   rule, opacity, caps, joins, miter limit and dashes, in SVG paint order; group
+//!   transforms as skew-free levels (a skew is written as a rotation·scale·rotation pair,
+//!   since rlottie cannot draw skew);
 //! - clip paths as layer masks, or as alpha track mattes when they are more than a union
 //!   of simple outlines; masks as luma or alpha track mattes; group opacity over several
 //!   paints as layer opacity; patterns as tiles under an alpha matte of the outline;
@@ -49,6 +55,7 @@ use gmotion::canvas::{Fit, OutputSize};
 use gmotion::motion::{Animation, Track};
 use gmotion::scene::{Scene, Shape};
 use layers::Source;
+pub use layers::layer_names;
 pub use text::LottieText;
 
 /// Options of the Lottie export.
@@ -161,10 +168,12 @@ pub fn to_lottie_text(
             .map(motion)
             .collect()
     };
+    let names = layer_names(&anim.scene);
     let src = Source {
         scene: &anim.scene,
         tracks: &anim.tracks,
         motions: &motions,
+        names: &names,
         fps: anim.fps,
         op: frames as f64,
     };
@@ -180,10 +189,12 @@ pub fn to_lottie_text(
 
 /// Writes a still scene as a one-frame Lottie.
 pub fn still_to_lottie(scene: &Scene, opts: &LottieOptions) -> Result<LottieOutput, LottieError> {
+    let names = layer_names(scene);
     let src = Source {
         scene,
         tracks: &[],
         motions: &[],
+        names: &names,
         fps: 30.0,
         op: 1.0,
     };

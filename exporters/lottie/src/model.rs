@@ -235,7 +235,7 @@ impl Serialize for LayerType {
 pub struct Layer {
     /// Layer type.
     pub ty: LayerType,
-    /// Name (`tag:id` for animated shapes).
+    /// Name (an animated shape's tag and number, a named group's id).
     pub nm: String,
     /// Index, unique within the composition.
     pub ind: u32,

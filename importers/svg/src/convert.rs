@@ -73,6 +73,11 @@ pub(super) fn convert<'s>(
         near: None,
     };
     let mut root = Group::new();
+    // The `<svg>` element's id (Illustrator's `Layer_1`) names the root group, as a `<g>`'s
+    // id names its group: exporters keep it as the outermost group's name.
+    if let Some(id) = root_elem.attribute("id") {
+        root.id = c.keep_id(id);
+    }
     let top = tree.root();
     // The viewBox mapping arrives as usvg's only top-level group; it becomes the root's
     // transform, as the scene model documents.

@@ -1,12 +1,57 @@
-//! Animated units: each animated shape as a layer of its own, named `tag:id`, with its
-//! motion as nested transform levels (see `crate::animate`).
+//! Animated units: each animated shape as a layer of its own, named after its tag
+//! ([`layer_names`]), with its motion as nested transform levels (see `crate::animate`).
+
+use std::collections::HashMap;
+
+use gmotion::scene::Shape as Unit;
+use gmotion::tagging::strip_counter;
 
 use super::*;
 
+/// The names of the layers the scene's shapes are exported as, in shape order (see
+/// [`crate::to_lottie`]): a tag's only shape is named by the tag, the shapes of a tag that
+/// has several by the tag and their number from 1 after a space (`Wheel 1`, `Wheel 2`), as
+/// After Effects numbers copies. So a group's null (named after the group, `Wheel`) never
+/// shares its name with the shapes tagged after it. A tag ending in what reads as a
+/// counter (`Layer_1`) always gets a number (`Layer_1 1`): a Lottie import drops one
+/// trailing counter from a layer name, so the tag reads back whole. The names are unique
+/// among the shapes whose tags are grammar names (no spaces).
+///
+/// ```
+/// use gmotion::scene::SceneBuilder;
+/// use gmotion_export_lottie::layer_names;
+/// use kurbo::{Rect, Shape as _};
+///
+/// let square = || Rect::new(0.0, 0.0, 10.0, 10.0).to_path(0.1);
+/// let scene = SceneBuilder::new(100.0, 100.0)
+///     .path("Wheel", square(), None, None)
+///     .path("letter_G", square(), None, None)
+///     .path("Wheel", square(), None, None)
+///     .path("Layer_1", square(), None, None)
+///     .build();
+/// assert_eq!(
+///     layer_names(&scene),
+///     ["Wheel 1", "letter_G", "Wheel 2", "Layer_1 1"]
+/// );
+/// ```
+pub fn layer_names(scene: &Scene) -> Vec<String> {
+    let mut counts: HashMap<&str, usize> = HashMap::new();
+    for s in &scene.shapes {
+        *counts.entry(s.tag.as_str()).or_default() += 1;
+    }
+    let name = |s: &Unit| {
+        if counts.get(s.tag.as_str()) == Some(&1) && strip_counter(&s.tag) == s.tag {
+            s.tag.clone()
+        } else {
+            format!("{} {}", s.tag, s.id + 1)
+        }
+    };
+    scene.shapes.iter().map(name).collect()
+}
+
 impl Builder<'_> {
     pub(super) fn unit(&mut self, node: &Node, u: usize, acc: Affine, env: Env, comp: &mut Comp) {
-        let shape = &self.src.scene.shapes[u];
-        let name = format!("{}:{}", shape.tag, shape.id);
+        let name = self.src.names.get(u).cloned().unwrap_or_default();
         let unit_env = Env {
             unit: Some(u),
             ..env
