@@ -415,6 +415,17 @@ fn all_cases() -> Vec<Case> {
         Case::new("Lottie repeaters nested four deep, 1000 copies each", "convert {d}/anim.json -o {d}/out.png", &["anim.json", "repeater copies past 50000 repeated items in all are left out"], "out.png")
             .files(vec![("anim.json", nested_repeaters(4, 1000))])
             .succeeds(),
+        // A reference time the grammar gives is blamed on its line; the command line's on the file.
+        Case::new("reference_time outside the Lottie composition", "animate {d}/anim.json {d}/g.gm -o {d}/out.json", &["g.gm:1:16", "^^^", "anim.json", "the reference time 99s lies outside the composition (0 to 2s)"], "out.json")
+            .files(vec![
+                ("anim.json", LOTTIE.as_bytes().to_vec()),
+                ("g.gm", b"reference_time 99s\nanimate(affine, local, 0, rotate(90)) : [all, all] -> [m]\n".to_vec()),
+            ]),
+        Case::new("--reference-time outside the Lottie composition", "animate {d}/anim.json {d}/g.gm -o {d}/out.json --reference-time 50", &["anim.json", "the reference time 50s lies outside the composition (0 to 2s)"], "out.json")
+            .files(vec![
+                ("anim.json", LOTTIE.as_bytes().to_vec()),
+                ("g.gm", b"animate(affine, local, 0, rotate(90)) : [all, all] -> [m]\n".to_vec()),
+            ]),
         // A Lottie played to SVG draws every frame, as a GIF does: the frames limit holds.
         Case::new("Lottie of 1e8 frames played to SVG", "convert {d}/anim.json -o {d}/out.svg", &["anim.json", "1e8 frames", "--limit frames=N"], "out.svg")
             .files(vec![("anim.json", LOTTIE.replace(r#""op": 60, "w""#, r#""op": 100000000, "w""#).into_bytes())]),

@@ -102,8 +102,9 @@ fn layer_tree(layers: &[Value]) -> Vec<(String, u64)> {
     out
 }
 
-/// The tags `check --shapes --json` lists for `file`, in the scene's order.
-fn tags(d: &Path, file: &str, extra: &[&str]) -> Vec<String> {
+/// The tags `check --shapes --json` lists for `file`, in the scene's order: the units'
+/// (`rig` false) or the rigs' (true).
+fn tags_of(d: &Path, file: &str, extra: &[&str], rig: bool) -> Vec<String> {
     let out = bin()
         .current_dir(d)
         .args(["check", "--shapes", "--json", file])
@@ -119,8 +120,14 @@ fn tags(d: &Path, file: &str, extra: &[&str]) -> Vec<String> {
     json.as_array()
         .unwrap()
         .iter()
+        .filter(|u| u["rig"].as_bool() == Some(rig))
         .map(|u| u["tag"].as_str().unwrap().to_string())
         .collect()
+}
+
+/// The units' tags [`tags_of`] lists.
+fn tags(d: &Path, file: &str, extra: &[&str]) -> Vec<String> {
+    tags_of(d, file, extra, false)
 }
 
 /// Validates `file` against the official Lottie schema (`tests/conformance/install.sh`
@@ -186,6 +193,11 @@ fn an_illustrator_files_groups_come_out_as_named_lottie_layers_and_nulls() {
     let svg_tags = tags(&d, "art.svg", &["--tag-from", "layer"]);
     assert_eq!(svg_tags, ["Ground", "letter_G", "Wheel", "Wheel"]);
     assert_eq!(tags(&d, "out.json", &[]), svg_tags);
+    // The groups come back as the rigs that move them (top layer last).
+    assert_eq!(
+        tags_of(&d, "out.json", &[], true),
+        ["Wheel", "Bike", "Layer"]
+    );
 
     let width = (2.0 * anim.scene.width).round() as u32;
     assert_plays_like_model(

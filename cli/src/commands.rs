@@ -247,6 +247,9 @@ fn scene_and_grammar(files: &[PathBuf], order: Order) -> Result<(Option<&Path>, 
 struct SceneOptions {
     svg: ImportOptions,
     lottie: lottie_import::ImportOptions,
+    /// The grammar whose `reference_time` the Lottie import uses (its path, text and the
+    /// directive's place), to blame for a time outside the composition.
+    reference_from: Option<(PathBuf, String, gmotion::grammar::ast::Span)>,
 }
 
 fn import_options(
@@ -315,6 +318,12 @@ fn import_options(
                 let fonts = ctx.fonts.clone();
                 lottie_import::fonts::SystemFonts::new(move || svg_import::fonts::database(&fonts))
             }),
+        },
+        reference_from: match (a.reference_time, grammar, &settings.reference_time) {
+            (None, Some((path, g)), Some((_, span))) => {
+                Some((path.to_path_buf(), g.src.clone(), *span))
+            }
+            _ => None,
         },
     })
 }
@@ -401,8 +410,14 @@ fn load_scene(path: &Path, options: &SceneOptions, ctx: &Ctx) -> Result<LoadedSc
                 path.display()
             )));
         }
-        let imported =
-            lottie_import::load(path, &options.lottie).map_err(|e| CliError::msg(e.to_string()))?;
+        let imported = lottie_import::load(path, &options.lottie).map_err(|e| {
+            match (&e, &options.reference_from) {
+                (lottie_import::ImportError::ReferenceTime { .. }, Some((grammar, src, span))) => {
+                    engine_error(grammar, src, &EngineError::at(*span, e.to_string()))
+                }
+                _ => CliError::msg(e.to_string()),
+            }
+        })?;
         for w in &imported.warnings {
             super::report::warn(path, w);
         }

@@ -146,9 +146,12 @@ pub fn shapes_json(scene: &Scene) -> Value {
         .shapes
         .iter()
         .map(|s| {
+            let own = s.aliases.len() - s.inherited;
             json!({
                 "tag": s.tag,
-                "aliases": s.aliases,
+                "aliases": s.aliases[..own],
+                "follows": s.aliases[own..],
+                "rig": s.rig,
                 "id": s.id,
                 "z": s.z,
                 "bbox": [s.bbox.x0, s.bbox.y0, s.bbox.width(), s.bbox.height()],

@@ -183,6 +183,18 @@ pub enum ImportError {
         /// What serde_json said.
         message: String,
     },
+    /// The reference time asked for lies outside the composition.
+    #[error(
+        "{source_name}: the reference time {time}s lies outside the composition (0 to {duration}s)"
+    )]
+    ReferenceTime {
+        /// The file name.
+        source_name: String,
+        /// The reference time asked for, in seconds.
+        time: f64,
+        /// The composition's length in seconds.
+        duration: f64,
+    },
     /// The JSON is not a Lottie animation gmotion can read.
     #[error("{source_name}: {at}: {message}")]
     Lottie {
@@ -286,13 +298,10 @@ fn import(
         Some(time) => {
             let frame = document.ip + time * document.fr;
             if !(frame.is_finite() && document.ip <= frame && frame <= document.op) {
-                return Err(ImportError::Lottie {
+                return Err(ImportError::ReferenceTime {
                     source_name: source_name.to_string(),
-                    at: Loc::root(),
-                    message: format!(
-                        "the reference time {time}s lies outside the composition (0 to {}s)",
-                        (document.op - document.ip) / document.fr
-                    ),
+                    time,
+                    duration: (document.op - document.ip) / document.fr,
                 });
             }
             frame
