@@ -12,21 +12,29 @@
 //! effects: they must draw the same picture without the blurs and shadows, and the export
 //! says so in a warning.
 
-use std::path::{Path, PathBuf};
+#[cfg(feature = "players")]
+use std::path::Path;
+use std::path::PathBuf;
 
+#[cfg(feature = "players")]
 use gmotion_export_raster::compare;
 
-use crate::support::pictures::{Judge, OFF, animate_and_play, gmotion, load};
+#[cfg(feature = "players")]
+use crate::support::pictures::{Judge, OFF, animate_and_play};
+use crate::support::pictures::{gmotion, load};
+#[cfg(feature = "players")]
 use crate::support::players::{Player, chromium, frame_path, play};
 
 /// Most pixels that may be off in a picture. Blurs are approximated differently by
 /// Skia (Chromium), resvg and ThorVG, which shows on the soft edges only: measured
 /// 0.01–0.40 % (gmotion's PNG 0.40 %, its SVG 0.04 %, lottie-web 0.02 %, ThorVG 0.04 %;
 /// animated frames ≤ 0.36 %). A player that drops the effects is 7.7–8.6 % off.
+#[cfg(feature = "players")]
 const MAX_OFF: f64 = 0.01;
 
 /// The filters of the picture, by the id of the element they are on, and whether a
 /// player without Lottie effects still draws them (only the rasterised one).
+#[cfg(feature = "players")]
 const FILTERED: [(&str, bool); 7] = [
     ("card", false),
     ("badge", false),
@@ -38,6 +46,7 @@ const FILTERED: [(&str, bool); 7] = [
 ];
 
 /// The picture, with the filters of the elements for which `keep` answers false removed.
+#[cfg(feature = "players")]
 fn picture(keep: impl Fn(&str) -> bool) -> String {
     let attr = |id: &str, filter: &str| {
         if keep(id) {
@@ -116,6 +125,7 @@ fn folder(name: &str) -> PathBuf {
     d
 }
 
+#[cfg(feature = "players")]
 #[test]
 fn blurs_and_drop_shadows_export_as_effects_and_the_rest_as_images() {
     let d = folder("still");
@@ -188,6 +198,7 @@ fn blurs_and_drop_shadows_export_as_effects_and_the_rest_as_images() {
     judge.assert_all_close(&d);
 }
 
+#[cfg(feature = "players")]
 #[test]
 fn filtered_shapes_move_with_their_effects() {
     let d = folder("animated");
@@ -207,6 +218,7 @@ fn filtered_shapes_move_with_their_effects() {
 
 /// Plays `d`'s `art.svg` with `art.gm` in lottie-web and ThorVG at the first, middle and
 /// last frame: they draw what gmotion draws, and the shapes moved.
+#[cfg(feature = "players")]
 fn moves_alike_in_players(name: &str, d: &Path) {
     let mut judge = Judge::new(MAX_OFF);
     let players = [Player::LottieWebSvg, Player::Thorvg];
@@ -215,6 +227,7 @@ fn moves_alike_in_players(name: &str, d: &Path) {
     judge.assert_all_close(d);
 }
 
+#[cfg(feature = "players")]
 #[test]
 fn filtered_shapes_moved_by_their_own_vertices_are_not_cut_off() {
     // A per-vertex motion (`lookup vertex` on a grid) moves the outline inside its filtered

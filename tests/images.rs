@@ -6,11 +6,16 @@
 //! the SMIL, and animation frames are compared with gmotion's own frames.
 
 use std::path::PathBuf;
+#[cfg(feature = "players")]
 use std::process::Command;
 
+#[cfg(feature = "players")]
 use gmotion_export_raster::compare;
 
-use crate::support::pictures::{Judge, OFF, animate_and_play, gmotion, load};
+use crate::support::pictures::gmotion;
+#[cfg(feature = "players")]
+use crate::support::pictures::{Judge, OFF, animate_and_play, load};
+#[cfg(feature = "players")]
 use crate::support::players::{Player, chromium, frame_path, play};
 
 /// Most pixels that may be off in a frame. Players resample an image each with their own
@@ -18,6 +23,7 @@ use crate::support::players::{Player, chromium, frame_path, play};
 /// image's border, which differ along the picture's colour edges and outline: measured
 /// 0.0–2.1 % here (rlottie ≤ 1.9 %, ThorVG ≤ 2.1 %, the rest < 0.01 %). rlottie ignoring
 /// the placing rotation (`ddd` written after the transform) put 5–23 % off.
+#[cfg(feature = "players")]
 const MAX_OFF: f64 = 0.025;
 
 /// A `w`×`h` PNG: four quadrant colours and a dark disc, blocks large enough that
@@ -87,6 +93,7 @@ fn art(name: &str) -> PathBuf {
     d
 }
 
+#[cfg(feature = "players")]
 #[test]
 fn images_import_as_chromium_draws_them_and_play_in_every_player() {
     let d = art("still");
@@ -128,6 +135,7 @@ fn images_import_as_chromium_draws_them_and_play_in_every_player() {
     judge.assert_all_close(&d);
 }
 
+#[cfg(feature = "players")]
 #[test]
 fn images_are_units_that_move_by_their_ids_in_every_format() {
     let d = art("animated");

@@ -6,24 +6,27 @@
 use std::sync::Arc;
 
 use gmotion::color::Color;
-use gmotion::motion::{
-    Animation, AttrSeg, Blend, Component, Field, Grid, Interp, MotionKind, MotionSeg, Timing, Tint,
-    Track,
-};
+use gmotion::motion::{Animation, Blend, Component, Interp, MotionKind, MotionSeg, Timing, Track};
+#[cfg(feature = "players")]
+use gmotion::motion::{AttrSeg, Field, Grid, Tint};
+#[cfg(feature = "players")]
+use gmotion::scene::LineJoin;
 use gmotion::scene::{
-    ClipPath, Fill, FillRule, Group, LineJoin, Mask, MaskKind, Node, Paint, PathNode,
-    RadialGradient, Scene, SceneBuilder, Spread, Stop, Stroke,
+    ClipPath, Fill, FillRule, Group, Mask, MaskKind, Node, Paint, PathNode, RadialGradient, Scene,
+    SceneBuilder, Spread, Stop, Stroke,
 };
 use gmotion::signals::Easing;
 use gmotion_export_lottie::{LottieOptions, layer_names, still_to_lottie, to_lottie};
 use kurbo::{Affine, BezPath, Point, Rect, Shape as _, Vec2};
 use serde_json::Value;
 
+#[cfg(feature = "players")]
 use crate::support::players::{Player, assert_plays_like_model, frames_to_check};
 
 /// Plays `json` (the export of `anim`) in every real player in `players` against the
 /// model's own rendering, at twice the canvas width: the evaluator below checks geometry to
 /// a hundredth of a pixel, the players decide whether the file draws what it should.
+#[cfg(feature = "players")]
 fn plays(case: &str, anim: &Animation, json: &str, players: &[Player]) {
     let width = (2.0 * anim.scene.width).round() as u32;
     assert_plays_like_model(case, anim, json, &frames_to_check(anim), width, players);
@@ -147,8 +150,9 @@ fn opacity_at(tr: &Value, frame: f64) -> f64 {
 }
 
 /// A drawn path: its outline at `frame` in canvas space, with the colour and opacity
-/// it is drawn with.
+/// it is drawn with (the colours and opacity are read by the player tests only).
 #[derive(Debug)]
+#[cfg_attr(not(feature = "players"), allow(dead_code))]
 struct Drawn {
     points: Vec<Point>,
     fill: Option<[f64; 3]>,
@@ -248,6 +252,7 @@ fn parse(json: &str) -> Value {
 }
 
 /// Every object in the document with its key, for "never written" checks.
+#[cfg(feature = "players")]
 fn keys_anywhere(v: &Value, key: &str) -> usize {
     match v {
         Value::Object(m) => {
@@ -268,6 +273,7 @@ fn solid(c: Color) -> Option<Fill> {
     Some(Fill::solid(c))
 }
 
+#[cfg(feature = "players")]
 fn stroke(width: f64) -> Option<Stroke> {
     Some(Stroke::solid(Color::BLACK, width))
 }
@@ -313,6 +319,7 @@ fn push(track: &mut Track, t0: f64, t1: f64, timing: &Timing, kind: &MotionKind)
 }
 
 /// An opacity change from `from` to `to` over its timing's window.
+#[cfg(feature = "players")]
 fn fade(track: &mut Track, timing: Timing, from: f64, to: f64) {
     track.opacity.push(AttrSeg {
         t0: timing.start,
@@ -391,6 +398,7 @@ fn max_error(anim: &Animation, doc: &Value, samples: usize) -> f64 {
     worst
 }
 
+#[cfg(feature = "players")]
 fn animated_keys(doc: &Value) -> usize {
     fn count(v: &Value) -> usize {
         match v {
@@ -411,6 +419,7 @@ fn animated_keys(doc: &Value) -> usize {
 
 // ---- structure ---------------------------------------------------------------------------
 
+#[cfg(feature = "players")]
 #[test]
 fn layers_are_named_after_tags_and_carry_no_skew() {
     let s = scene(vec![
@@ -504,6 +513,7 @@ fn shapes_skewed_alike_share_bakes_each_where_it_is() {
     assert!(err <= 0.25 + 0.02, "error {err} px");
 }
 
+#[cfg(feature = "players")]
 #[test]
 fn one_window_has_keyframes_at_the_active_ends_only() {
     let s = black_rect(Rect::new(10.0, 10.0, 50.0, 50.0));
@@ -554,6 +564,7 @@ fn one_window_has_keyframes_at_the_active_ends_only() {
     plays("one-window", &anim, &json, &Player::ALL);
 }
 
+#[cfg(feature = "players")]
 #[test]
 fn split_reversed_and_shared_windows_are_exact() {
     let s = scene(vec![
@@ -649,6 +660,7 @@ fn split_reversed_and_shared_windows_are_exact() {
 /// profiles, yet share one easing (lottie-web cannot draw the split position that gave
 /// each its own inside a shape group), so it needs about three times the keys straight
 /// motion does; the reduction must still cut the per-frame keys threefold.
+#[cfg(feature = "players")]
 #[test]
 fn smooth_baked_motion_is_three_times_smaller_than_per_frame() {
     let s = black_rect(Rect::new(50.0, 50.0, 110.0, 90.0));
@@ -700,6 +712,7 @@ fn smooth_baked_motion_is_three_times_smaller_than_per_frame() {
     plays("smooth-baked", &anim, &json, &Player::ALL);
 }
 
+#[cfg(feature = "players")]
 #[test]
 fn bilinear_blend_is_sampled_within_tolerance() {
     let s = black_rect(Rect::new(150.0, 120.0, 190.0, 160.0));
@@ -722,6 +735,7 @@ fn bilinear_blend_is_sampled_within_tolerance() {
     plays("bilinear-blend", &anim, &json, &Player::ALL);
 }
 
+#[cfg(feature = "players")]
 #[test]
 fn vertex_deformation_becomes_path_keyframes() {
     let mut p = BezPath::new();
@@ -746,6 +760,7 @@ fn vertex_deformation_becomes_path_keyframes() {
     plays("vertex-deformation", &anim, &json, &Player::ALL);
 }
 
+#[cfg(feature = "players")]
 #[test]
 fn tints_opacity_and_stroke_width_follow_the_model() {
     let s = scene(vec![(
@@ -817,6 +832,7 @@ fn tints_opacity_and_stroke_width_follow_the_model() {
 /// A translucent animated shape of two paths, a circle over a square: the circle must show
 /// the background beneath it, not the square (group opacity composites the whole group).
 /// ThorVG applies a shape group's opacity to each path in it, so this is layer opacity.
+#[cfg(feature = "players")]
 #[test]
 fn translucent_shape_of_two_paths_composites_as_a_whole() {
     let square = PathNode {
@@ -861,6 +877,7 @@ fn translucent_shape_of_two_paths_composites_as_a_whole() {
 /// as its filled outline. ThorVG widens a stroke along the canvas axes by the matrix's
 /// column lengths, which is wrong once the scaling is rotated, as the skew's is: the 6 px
 /// stroke came out about 8 px wide at 2x (0.94% of the case's pixels off).
+#[cfg(feature = "players")]
 #[test]
 fn stroke_with_held_width_under_skew_is_an_outline() {
     let mut zigzag = BezPath::new();
@@ -897,6 +914,7 @@ fn stroke_with_held_width_under_skew_is_an_outline() {
 /// from full opacity: the eased value passes the range at the start. The model clamps;
 /// rlottie wraps a keyframed channel past its end (the yellow drew green, matrix gm-0187;
 /// the opacity drew about 0%, gm-0199), so those stretches are written as clamped keys.
+#[cfg(feature = "players")]
 #[test]
 fn overshooting_colour_and_opacity_stay_in_range() {
     let s = scene(vec![
@@ -1621,6 +1639,7 @@ fn lottie_web_checker_rejects_split_positions_in_shape_groups() {
 /// its position together, also when a later split ends the window before the change
 /// begins: the export follows the model at every frame within the tolerance. Before, such a
 /// window wrote the anchor alone and every player drew the square 100 px up and left.
+#[cfg(feature = "players")]
 #[test]
 fn delayed_windows_follow_the_model() {
     let toy = import(&repo_file("grammars/toy.svg"));
@@ -1645,6 +1664,7 @@ fn delayed_windows_follow_the_model() {
 /// 1/255, which adds up, so the exporter keeps a single-path shape's opacity on its group
 /// (the cube example's background fell to alpha 215 when 50-odd fading units carried their
 /// opacity on their layers).
+#[cfg(feature = "players")]
 #[test]
 fn many_translucent_shapes_leave_the_background_opaque() {
     let mut paths = vec![(

@@ -9,8 +9,11 @@ use std::process::Command;
 use gmotion_export_raster::Pixmap;
 use serde_json::{Value, json};
 
+use crate::support::files_with_extension;
+#[cfg(feature = "players")]
 use crate::support::players::{Player, frame_path, play, play_with_files};
-use crate::support::{files_with_extension, root};
+#[cfg(feature = "players")]
+use crate::support::root;
 
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_gmotion"))
@@ -70,6 +73,7 @@ fn rect_layer(
     l
 }
 
+#[cfg(feature = "players")]
 fn null_layer(nm: &str, ind: i64, ks: Value) -> Value {
     json!({"ddd": 0, "ty": 3, "nm": nm, "ind": ind, "ip": 0, "op": 60, "st": 0, "sr": 1, "ks": ks, "ao": 0})
 }
@@ -84,6 +88,7 @@ fn write_json(dir: &Path, name: &str, v: &Value) -> PathBuf {
 /// key order ignored), so the check does not share a parser with what wrote them.
 /// Which of the pairs of files read back unequal in Python's JSON reader (one process
 /// for all of them).
+#[cfg(feature = "players")]
 fn json_unequal(pairs: &[(PathBuf, PathBuf)]) -> Vec<PathBuf> {
     let list: Vec<String> = pairs
         .iter()
@@ -109,6 +114,7 @@ fn json_unequal(pairs: &[(PathBuf, PathBuf)]) -> Vec<PathBuf> {
 /// The identity on every file of the Lottie corpus (lottie-web's test animations and
 /// rlottie's examples, fetched by `tests/conformance/install.sh`): what `convert` writes
 /// reads back equal to what it read.
+#[cfg(feature = "players")]
 #[test]
 fn convert_is_the_identity_on_the_lottie_corpus() {
     let folder = root().join("tests/conformance/lottie-corpus");
@@ -148,6 +154,7 @@ fn units(path: &Path) -> Vec<(String, [f64; 4], String)> {
         .collect()
 }
 
+#[cfg(feature = "players")]
 #[test]
 fn layers_are_units_tagged_from_their_names() {
     let dir = out_dir("units");
@@ -208,6 +215,7 @@ fn layers_are_units_tagged_from_their_names() {
 }
 
 /// Red pixels' count, centroid and second moments (`xx`, `yy`, `xy`) in a player's frame.
+#[cfg(feature = "players")]
 fn moments(png: &Path, pick: impl Fn(u8, u8, u8, u8) -> bool) -> (f64, [f64; 2], [f64; 3]) {
     let pm = Pixmap::load_png(png).unwrap_or_else(|e| panic!("{}: {e}", png.display()));
     let w = pm.width() as usize;
@@ -243,6 +251,7 @@ fn animate_lottie(dir: &Path, src: &Path, grammar: &str) -> (String, String) {
 /// Asserts that what `pick` selects in `before` turns a quarter about its centroid by
 /// `after`: the centroid stays, the second moments swap their axes and the cross moment
 /// changes sign; the area is kept. Returns the starting moments.
+#[cfg(feature = "players")]
 fn assert_quarter_turn(
     who: &str,
     before: &Path,
@@ -265,11 +274,13 @@ fn assert_quarter_turn(
 }
 
 /// The opacity (0–1) of pixel `(x, y)` of a player's frame.
+#[cfg(feature = "players")]
 fn alpha_at(png: &Path, x: usize, y: usize) -> f64 {
     let pm = Pixmap::load_png(png).unwrap();
     pm.pixels()[y * pm.width() as usize + x].alpha() as f64 / 255.0
 }
 
+#[cfg(feature = "players")]
 #[test]
 fn a_turn_and_a_fade_on_top_play_in_lottie_web_and_rlottie() {
     let dir = out_dir("turn");
@@ -358,6 +369,7 @@ fn a_turn_and_a_fade_on_top_play_in_lottie_web_and_rlottie() {
     }
 }
 
+#[cfg(feature = "players")]
 #[test]
 fn top_level_groups_as_units_move_inside_their_layer_in_lottie_web_and_rlottie() {
     let dir = out_dir("groups");
@@ -463,6 +475,7 @@ fn top_level_groups_as_units_move_inside_their_layer_in_lottie_web_and_rlottie()
     }
 }
 
+#[cfg(feature = "players")]
 #[test]
 fn parts_painted_by_their_layers_fill_change_colour_and_fade_alone() {
     let dir = out_dir("painted-parts");
@@ -538,6 +551,7 @@ fn parts_painted_by_their_layers_fill_change_colour_and_fade_alone() {
 /// whose colour changes becomes a shape layer there too, its fill in that scale. rlottie and
 /// ThorVG read legacy colours as they are (a 0–255 red is white to them), so lottie-web's
 /// two renderers judge.
+#[cfg(feature = "players")]
 #[test]
 fn a_legacy_files_colours_are_read_and_tinted_in_its_scale() {
     let dir = out_dir("legacy-colour");
@@ -645,6 +659,7 @@ fn a_legacy_files_colours_are_read_and_tinted_in_its_scale() {
 /// first frame and in the grammar's colour once it is done, as gmotion's own render of the
 /// file does; the layer keeps its mask, transform and name, and the shape layer on top
 /// keeps its colour.
+#[cfg(feature = "players")]
 #[test]
 fn a_solid_layers_colour_changes_in_every_player() {
     let dir = out_dir("solid-colour");
@@ -720,12 +735,14 @@ fn a_solid_layers_colour_changes_in_every_player() {
 }
 
 /// The colour at `(x, y)` of a rendered frame, straight (not premultiplied).
+#[cfg(feature = "players")]
 fn rgba_at(pm: &Pixmap, x: usize, y: usize) -> (u8, u8, u8, u8) {
     let c = pm.pixels()[y * pm.width() as usize + x].demultiply();
     (c.red(), c.green(), c.blue(), c.alpha())
 }
 
 /// Fails with every collected failure, naming where the played files are.
+#[cfg(feature = "players")]
 fn assert_no_failures(failures: &[String], files: &Path) {
     assert!(
         failures.is_empty(),
@@ -737,6 +754,7 @@ fn assert_no_failures(failures: &[String], files: &Path) {
 
 /// Says how `theirs`, player `p`'s frame `f`, differs from gmotion's own render `ours`,
 /// when more than 1% of its pixels do.
+#[cfg(feature = "players")]
 fn unlike_own(ours: &Pixmap, theirs: &Pixmap, p: Player, f: f64) -> Option<String> {
     let off = gmotion_export_raster::compare(ours, theirs, 32);
     (off > 0.01).then(|| {
@@ -995,12 +1013,14 @@ fn solid_fill(rgb: [f64; 3]) -> Value {
     json!({"ty": "fl", "c": fixed(json!([rgb[0], rgb[1], rgb[2], 1])), "o": fixed(json!(100)), "r": 1})
 }
 
+#[cfg(feature = "players")]
 fn stroke(rgb: [f64; 3], w: f64) -> Value {
     json!({"ty": "st", "c": fixed(json!([rgb[0], rgb[1], rgb[2], 1])), "o": fixed(json!(100)),
         "w": fixed(json!(w)), "lc": 1, "lj": 1, "ml": 4})
 }
 
 /// A closed outline through `points`, straight edges.
+#[cfg(feature = "players")]
 fn polygon(points: &[[f64; 2]]) -> Value {
     let zero = vec![[0.0, 0.0]; points.len()];
     json!({"c": true, "v": points, "i": zero, "o": zero})
@@ -1012,6 +1032,7 @@ fn polygon(points: &[[f64; 2]]) -> Value {
 /// mattes, linear and radial gradients with opacity stops, a 3D turn, an auto-oriented
 /// layer on a curved path, a precomposition with a start time, stretch and clip, a
 /// rounded rectangle drawn counter-clockwise.
+#[cfg(feature = "players")]
 fn own_render_cases() -> Vec<(&'static str, Value)> {
     let red = [0.9, 0.1, 0.1];
     let blue = [0.1, 0.2, 0.9];
@@ -1377,6 +1398,7 @@ fn own_render_cases() -> Vec<(&'static str, Value)> {
 
 /// A glyph of the test font (size 100, baseline at y = 0): `outlines` (each a closed
 /// polygon; a hole runs the other way) and an advance `w`.
+#[cfg(feature = "players")]
 fn glyph(ch: &str, w: f64, outlines: &[&[[f64; 2]]]) -> Value {
     let items: Vec<Value> = outlines
         .iter()
@@ -1387,6 +1409,7 @@ fn glyph(ch: &str, w: f64, outlines: &[&[[f64; 2]]]) -> Value {
 }
 
 /// A text layer of `documents` (`(frame, document)`), animators `a` and more options `m`.
+#[cfg(feature = "players")]
 fn text_layer(
     nm: &str,
     ind: i64,
@@ -1408,6 +1431,7 @@ fn text_layer(
         "t": {"d": {"k": k}, "p": {}, "m": m, "a": a}})
 }
 
+#[cfg(feature = "players")]
 #[test]
 fn text_without_embedded_glyphs_is_set_in_the_installed_font_as_lottie_web_sets_it() {
     let dir = out_dir("system-font-text");
@@ -1475,6 +1499,7 @@ fn text_without_embedded_glyphs_is_set_in_the_installed_font_as_lottie_web_sets_
 /// lines with tracking, fill and stroke; right and centre justification; box text wrapping
 /// at spaces; an animator whose range selector sweeps over the letters moving, scaling,
 /// turning, fading and re-colouring them; a document keyframe; anchor grouping by words.
+#[cfg(feature = "players")]
 fn text_cases() -> Vec<(&'static str, Value)> {
     let square = |x0: f64, x1: f64, y0: f64, y1: f64| vec![[x0, y0], [x1, y0], [x1, y1], [x0, y1]];
     let hole = |x0: f64, x1: f64, y0: f64, y1: f64| vec![[x0, y0], [x0, y1], [x1, y1], [x1, y0]];
@@ -1606,6 +1631,7 @@ fn text_cases() -> Vec<(&'static str, Value)> {
 
 /// Where a player draws a feature otherwise than After Effects and the other players (and
 /// gmotion) do: (case, player, what it does).
+#[cfg(feature = "players")]
 const OWN_RENDER_KNOWN: &[(&str, Player, &str)] = &[
     (
         "mask-expanded",
@@ -1790,6 +1816,7 @@ const OWN_RENDER_KNOWN: &[(&str, Player, &str)] = &[
 /// as every player does: lottie-web (both renderers), rlottie and ThorVG, at three frames,
 /// each within 1% of pixels, but for the named differences of one player from the others
 /// (each checked to still differ, so that a list entry cannot outlive its reason).
+#[cfg(feature = "players")]
 #[test]
 fn own_render_draws_each_feature_as_the_players_do() {
     let dir = out_dir("own_render");
@@ -1850,6 +1877,7 @@ fn own_render_draws_each_feature_as_the_players_do() {
 
 /// gmotion's own render of frame `f` (at 30 fps) of the Lottie file `src`, 200 px wide,
 /// written to `png`.
+#[cfg(feature = "players")]
 fn own_frame(src: &Path, png: &Path, f: f64) -> Pixmap {
     let t = format!("{}", f / 30.0);
     let (ok, _, err) = run(bin()
@@ -1866,6 +1894,7 @@ fn own_frame(src: &Path, png: &Path, f: f64) -> Pixmap {
 /// gmotion's PNG of that frame, for features that move by themselves (trims, auto-orient,
 /// the shape modifiers), and so is `animate`'s SMIL of the same file with a grammar turning
 /// every unit; with `--time` the `.svg` is that frame, still.
+#[cfg(feature = "players")]
 #[test]
 fn a_lottie_converted_to_svg_plays_frame_by_frame_in_chromium() {
     let dir = out_dir("played_svg");
@@ -1969,6 +1998,7 @@ fn a_lottie_converted_to_svg_plays_frame_by_frame_in_chromium() {
 /// still are `<use>`d). Chromium judges both sides: where it draws a frame unlike
 /// gmotion's own render (the banner's edges, by a pixel), the played file must still
 /// show that frame, not another.
+#[cfg(feature = "players")]
 #[test]
 fn a_played_lottie_shares_what_its_frames_draw_alike() {
     let dir = out_dir("shared_frames");
@@ -2031,6 +2061,7 @@ fn a_played_lottie_shares_what_its_frames_draw_alike() {
 /// ThorVG, which read a file's linked pictures, draw it; turned by its layer. (The picture
 /// is a soft gradient: players resample pictures each their own way, which a sharp edge
 /// inside the picture would show.)
+#[cfg(feature = "players")]
 #[test]
 fn linked_images_are_drawn_from_the_files_folder() {
     let pic = gmotion_export_raster::render(

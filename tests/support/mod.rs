@@ -10,6 +10,9 @@ use gmotion_import_svg::ImportOptions;
 use kurbo::{BezPath, Point, Rect, Shape as _};
 
 pub mod pictures;
+// The real players (node, Python, Chromium), compiled in by the `players` feature (see
+// cli/Cargo.toml), as is every test that uses them.
+#[cfg(feature = "players")]
 pub mod players;
 
 /// Runs `cmd` (stdin empty, stdout dropped), killing it past `bound`: its exit code

@@ -1,14 +1,19 @@
-//! The player tests' common ground: running the binary on files in a folder, and judging
-//! the pictures players drew against a reference, every difference named at the end.
+//! The player tests' common ground: running the binary on files in a folder, and (with the
+//! `players` feature) judging the pictures players drew against a reference, every
+//! difference named at the end.
 
 use std::path::Path;
 use std::process::Command;
 
-use gmotion_export_raster::{Pixmap, compare};
+use gmotion_export_raster::Pixmap;
+#[cfg(feature = "players")]
+use gmotion_export_raster::compare;
 
+#[cfg(feature = "players")]
 use super::players::{Player, chromium, frame_path, play};
 
 /// A pixel is off when a premultiplied channel differs by more than this (of 255).
+#[cfg(feature = "players")]
 pub const OFF: u8 = 32;
 
 /// Runs the `gmotion` binary in `dir`, asserting success, and returns its standard error.
@@ -30,11 +35,13 @@ pub fn load(path: &Path) -> Pixmap {
 
 /// Collects the pictures that are more than `max_off` (a fraction of the pixels) off their
 /// reference, so that one run reports every player and frame that differs.
+#[cfg(feature = "players")]
 pub struct Judge {
     max_off: f64,
     failures: Vec<String>,
 }
 
+#[cfg(feature = "players")]
 impl Judge {
     /// A judge allowing `max_off` of a picture's pixels to be off.
     pub fn new(max_off: f64) -> Judge {
@@ -73,6 +80,7 @@ impl Judge {
 /// wide, the grammar at `fps`), plays the Lottie in `players` and the SMIL in Chromium at
 /// `frames`, and judges both against gmotion's own frames, which it returns (for the
 /// caller to check that something moved). `case` names the players' folder.
+#[cfg(feature = "players")]
 pub fn animate_and_play(
     case: &str,
     dir: &Path,

@@ -659,6 +659,7 @@ mod tests {
     /// The frames of `svg` (a played document), each as the text between its wrapper's
     /// start tag (and `display` animation) and its end tag, every `<use>` of a shared
     /// element put back.
+    #[cfg(feature = "players")]
     fn frames_put_back(svg: &str) -> Vec<String> {
         let rest = svg.split_once(">\n").unwrap().1;
         let (defs, body) = match rest.strip_prefix("<defs>\n") {
@@ -702,7 +703,9 @@ mod tests {
 
     /// Every frame of real files (an embedded image under moving parts, masks whose
     /// content stands still), its `<use>`s put back, is the document drawn for it; and
-    /// sharing made the file several times smaller.
+    /// sharing made the file several times smaller. Reads the Lottie corpus that
+    /// `tests/conformance/install.sh` fetches, so only with the `players` feature.
+    #[cfg(feature = "players")]
     #[test]
     fn each_frame_put_back_is_the_frame_drawn() {
         let corpus =
