@@ -2,8 +2,9 @@
 //! element ids as tags (a rule on one id moves that shape and nothing else), counters that
 //! tell copies apart without merging layers, set differences on ids, tag maps with CSS-like
 //! selectors (`--tags` and the grammar's `tags`), and the unit depth. The corpus of
-//! tests/corpus/designer (Illustrator, CorelDRAW, Inkscape, Figma, Sketch) is checked
-//! against the tags its expected-tags.txt writes down.
+//! tests/corpus/designer (Illustrator, CorelDRAW, Inkscape, Figma, Sketch, and real exports
+//! from published packages in its `real/` folder) is checked against the tags its
+//! expected-tags.txt writes down.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -467,17 +468,35 @@ fn corpus_dir() -> PathBuf {
     crate::support::root().join("tests/corpus/designer")
 }
 
+/// Every SVG under `dir` (the hand-written files and the real exports in `real/` and its
+/// package folders), as paths relative to the corpus written with `/`, sorted.
+fn corpus_svgs(dir: &Path, prefix: &str) -> Vec<String> {
+    let mut out: Vec<String> =
+        crate::support::files_with_extension(dir, "svg", "in the repository")
+            .iter()
+            .map(|p| format!("{prefix}{}", p.file_name().unwrap().to_string_lossy()))
+            .collect();
+    let mut subdirs: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.is_dir())
+        .collect();
+    subdirs.sort();
+    for sub in subdirs {
+        let name = sub.file_name().unwrap().to_string_lossy().into_owned();
+        out.extend(corpus_svgs(&sub, &format!("{prefix}{name}/")));
+    }
+    out.sort();
+    out
+}
+
 /// Every designer export is named by its layers (and labels, and the classes a designer
 /// chose), never by the style classes its tool generated (`st0`, `cls-1`, `fil0`, `str0`).
 #[test]
 fn designer_exports_are_tagged_by_their_layer_names_not_their_style_classes() {
     let dir = corpus_dir();
     let files = expected_corpus_tags(&dir);
-    let on_disk: Vec<String> =
-        crate::support::files_with_extension(&dir, "svg", "in the repository")
-            .iter()
-            .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
-            .collect();
+    let on_disk = corpus_svgs(&dir, "");
     let mut listed: Vec<String> = files.iter().map(|f| f.0.clone()).collect();
     listed.sort();
     assert_eq!(
