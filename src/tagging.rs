@@ -73,18 +73,23 @@ pub const GENERATED_CLASSES: &[(&str, &str)] = &[
 ];
 
 /// Whether `class` is a generated style class ([`GENERATED_CLASSES`]): one of the listed
-/// prefixes followed by ASCII digits and nothing else.
+/// prefixes followed by ASCII digits and nothing else, possibly behind the `NAME__` an
+/// optimiser puts before every class to keep files apart (svgo's `prefixIds`, which svgr
+/// and React icon builds run: `prefix__cls-1`, `icon__st0`).
 ///
 /// ```
 /// use gmotion::tagging::is_generated_class;
 /// assert!(is_generated_class("st12"));
 /// assert!(is_generated_class("cls-3"));
 /// assert!(is_generated_class("fil0"));
+/// assert!(is_generated_class("prefix__cls-1"));
 /// assert!(!is_generated_class("st"));
 /// assert!(!is_generated_class("stem2"));
 /// assert!(!is_generated_class("node3"));
+/// assert!(!is_generated_class("hero__wing"));
 /// ```
 pub fn is_generated_class(class: &str) -> bool {
+    let class = class.rsplit_once("__").map_or(class, |(_, rest)| rest);
     GENERATED_CLASSES.iter().any(|(prefix, _)| {
         class
             .strip_prefix(prefix)

@@ -439,8 +439,8 @@ fn load_scene(path: &Path, options: &SceneOptions, ctx: &Ctx) -> Result<LoadedSc
 }
 
 /// Says which `--tag-from` would name an SVG scene's shapes better, when most of its tags
-/// name nothing a designer chose (`st0`, `path`): only `check` asks, as finding out imports
-/// the scene again under each other source.
+/// name nothing a designer chose (`st0`, `path`): `check` and `studio` ask, once, as finding
+/// out imports the scene again under each other source.
 fn hint_tags(path: &Path, options: &SceneOptions, loaded: &LoadedScene, ctx: &Ctx) {
     if loaded.source.is_some() {
         return; // a Lottie scene's tags are its layer names: `--tag-from` does not apply
@@ -876,8 +876,22 @@ fn studio(
         load_grammar_and_scene(scene, grammar_path, import, ctx),
         scene,
     ) {
-        (Ok((_, loaded)), _) => loaded,
-        (Err(_), Some(s)) => load_scene(s, &import_options(import, None, ctx)?, ctx)?,
+        (Ok((g, loaded)), _) => {
+            // As `check` does: a scene whose tags look generated gets a hint on the
+            // terminal the studio runs in.
+            if let Some(path) = scene_path(scene, grammar_path, &g)?
+                && let Ok(options) = import_options(import, Some((grammar_path, &g)), ctx)
+            {
+                hint_tags(&path, &options, &loaded, ctx);
+            }
+            loaded
+        }
+        (Err(_), Some(s)) => {
+            let options = import_options(import, None, ctx)?;
+            let loaded = load_scene(s, &options, ctx)?;
+            hint_tags(s, &options, &loaded, ctx);
+            loaded
+        }
         (Err(e), None) => return Err(e),
     };
     // An edit to the directives that decide the import brings the scene in again, as

@@ -393,14 +393,8 @@ fn scene_of(
     let mut b = build::Builder::new(doc);
     let layers = &doc.layers;
     let worlds = b.worlds(layers, frame)?;
-    let mut by_ind = std::collections::HashMap::new();
-    for (i, l) in layers.iter().enumerate() {
-        if let Some(ind) = l.ind {
-            by_ind.entry(ind).or_insert(i);
-        }
-    }
-    let parent_of =
-        |i: usize| -> Option<usize> { layers[i].parent.and_then(|p| by_ind.get(&p)).copied() };
+    let parents = parent_indices(layers);
+    let parent_of = |i: usize| parents[i];
     let roles = roles(layers, mode, &parent_of);
     let mut anchors: Anchors = Vec::new();
     let mut root = Group::new();
@@ -501,6 +495,21 @@ fn scene_of(
     Ok((root, shapes, units, b.warnings()))
 }
 
+/// Each layer's parent, as an index into `layers` (the first layer with the `ind` its
+/// `parent` names; `None` without a parent, or when none has that `ind`).
+fn parent_indices(layers: &[model::Layer]) -> Vec<Option<usize>> {
+    let mut by_ind = std::collections::HashMap::new();
+    for (i, l) in layers.iter().enumerate() {
+        if let Some(ind) = l.ind {
+            by_ind.entry(ind).or_insert(i);
+        }
+    }
+    layers
+        .iter()
+        .map(|l| l.parent.and_then(|p| by_ind.get(&p)).copied())
+        .collect()
+}
+
 /// `x` seconds as people write them: at most three decimals, no trailing zeros.
 fn seconds(x: f64) -> String {
     let s = format!("{x:.3}");
@@ -544,14 +553,8 @@ fn units_without_area(doc: &Document, frame: f64, mode: Units) -> model::Result<
     let layers = &doc.layers;
     let mut b = build::Builder::new(doc);
     let worlds = b.worlds(layers, frame)?;
-    let mut by_ind = std::collections::HashMap::new();
-    for (i, l) in layers.iter().enumerate() {
-        if let Some(ind) = l.ind {
-            by_ind.entry(ind).or_insert(i);
-        }
-    }
-    let parent_of =
-        |i: usize| -> Option<usize> { layers[i].parent.and_then(|p| by_ind.get(&p)).copied() };
+    let parents = parent_indices(layers);
+    let parent_of = |i: usize| parents[i];
     let roles = roles(layers, mode, &parent_of);
     let mut stack = Vec::new();
     let mut empty = 0;
