@@ -20,12 +20,7 @@ fn bin() -> Command {
 }
 
 fn out_dir(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("lottie_import")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    crate::support::case_dir("lottie_import", name)
 }
 
 /// Runs `cmd`; returns (success, stdout, stderr).

@@ -14,12 +14,7 @@ use crate::support::pictures::load;
 use crate::support::players::{Player, frame_path, play};
 
 fn out_dir(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("lottie_time")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    crate::support::case_dir("lottie_time", name)
 }
 
 /// Runs gmotion in `dir`; returns its standard output and error, failing the test when it

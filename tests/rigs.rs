@@ -2,7 +2,7 @@
 //! or a null moves its whole rig once, through parenting, as After Effects would. Judged
 //! by real players against the source with that parent's position offset by hand.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Command;
 
 use serde_json::Value;
@@ -17,12 +17,7 @@ fn bin() -> Command {
 }
 
 fn out_dir(name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("rigs")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    crate::support::case_dir("rigs", name)
 }
 
 /// Runs gmotion with `args`; fails the test with its message when it fails.

@@ -15,6 +15,16 @@ pub mod pictures;
 #[cfg(feature = "players")]
 pub mod players;
 
+/// A fresh, empty folder `name` for the tests of `module` under the tests' temporary folder.
+pub fn case_dir(module: &str, name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(module)
+        .join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("create the test's folder");
+    d
+}
+
 /// Runs `cmd` (stdin empty, stdout dropped), killing it past `bound`: its exit code
 /// (`None` when killed or ended by a signal), its stderr and the time it took.
 pub fn run_bounded(
