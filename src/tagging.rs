@@ -229,6 +229,47 @@ pub fn grammar_name(name: &str) -> Option<String> {
     Some(out)
 }
 
+/// The name an id spells with the escapes Adobe Illustrator and CorelDRAW write for the
+/// characters an XML id cannot hold (`_xHH_` or `_xHHHH_`, the character's code in hex:
+/// `_x33_D_box` is the layer "3D box", `PL_x5F_Reset` is "PL_Reset", `Layer_x0020_1` is
+/// "Layer 1"), as the designer wrote it (spaces kept, as an Inkscape label's are: a grammar
+/// names it in quotes); `None` when it has no escape.
+///
+/// ```
+/// use gmotion::tagging::unescape_id;
+/// assert_eq!(unescape_id("PL_x5F_Reset_1_").as_deref(), Some("PL_Reset_1_"));
+/// assert_eq!(unescape_id("_x33_D_box").as_deref(), Some("3D_box"));
+/// assert_eq!(unescape_id("Layer_x0020_1").as_deref(), Some("Layer 1"));
+/// assert_eq!(unescape_id("Wheel_2"), None);
+/// assert_eq!(unescape_id("box_xyz_"), None);
+/// ```
+pub fn unescape_id(id: &str) -> Option<String> {
+    let mut out = String::with_capacity(id.len());
+    let mut rest = id;
+    let mut found = false;
+    while let Some(at) = rest.find("_x") {
+        out.push_str(&rest[..at]);
+        let after = &rest[at + 2..];
+        let hex = after
+            .find('_')
+            .map(|end| &after[..end])
+            .filter(|h| (2..=4).contains(&h.len()) && h.bytes().all(|b| b.is_ascii_hexdigit()));
+        match hex.and_then(|h| u32::from_str_radix(h, 16).ok().and_then(char::from_u32)) {
+            Some(c) => {
+                out.push(c);
+                rest = &after[hex.map_or(0, str::len) + 1..];
+                found = true;
+            }
+            None => {
+                out.push_str("_x");
+                rest = after;
+            }
+        }
+    }
+    out.push_str(rest);
+    found.then_some(out).filter(|s| !s.trim().is_empty())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

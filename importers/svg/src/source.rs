@@ -43,6 +43,9 @@ pub(super) struct Source<'a> {
     prefix: String,
     synthetic: Vec<NodeId>,
     by_id: HashMap<String, NodeId>,
+    /// The names the ids with Illustrator's or CorelDRAW's escapes spell
+    /// ([`gmotion::tagging::unescape_id`]), by element.
+    unescaped: HashMap<NodeId, String>,
     /// What a tag map gives elements ([`Source::apply`]).
     given: HashMap<NodeId, Given>,
     /// The ancestors of the elements a tag map made units ([`Source::holds_forced_unit`]).
@@ -682,6 +685,10 @@ impl<'a> Source<'a> {
             has_text,
             prefix,
             synthetic,
+            unescaped: by_id
+                .iter()
+                .filter_map(|(id, &node)| Some((node, gmotion::tagging::unescape_id(id)?)))
+                .collect(),
             by_id,
             given: HashMap::new(),
             forced_within: HashSet::new(),
@@ -808,8 +815,10 @@ impl<'a> Source<'a> {
             return None;
         }
         let id = node.attribute("id")?;
+        // The name an escaped id spells (`PL_x5F_Reset` is "PL_Reset").
+        let name = self.unescaped.get(&node.id()).map_or(id, String::as_str);
         (self.by_id.get(id) == Some(&node.id()))
-            .then(|| strip_counter_among(id, |stem| self.by_id.contains_key(stem)))
+            .then(|| strip_counter_among(name, |stem| self.by_id.contains_key(stem)))
     }
 
     /// The tag a container element carries itself (for units): its explicit tag, with
@@ -896,7 +905,14 @@ impl<'a> Source<'a> {
                 continue;
             }
             let stem = strip_counter_among(id, |stem| self.by_id.contains_key(stem));
-            for name in [id, stem] {
+            // An escaped id also answers to the name it spells, with and without counter.
+            let spelt = self.unescaped.get(&node.id()).map(String::as_str);
+            let spelt_stem =
+                spelt.map(|s| strip_counter_among(s, |stem| self.by_id.contains_key(stem)));
+            for name in [Some(id), Some(stem), spelt, spelt_stem]
+                .into_iter()
+                .flatten()
+            {
                 if name != tag && !out.iter().any(|a| a == name) {
                     out.push(name.to_string());
                 }
