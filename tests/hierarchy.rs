@@ -58,10 +58,7 @@ fn bin() -> Command {
 }
 
 fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("gmotion-hierarchy-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    crate::support::case_dir("hierarchy", name)
 }
 
 /// The animation of [`ART`] by [`GRAMMAR`], the tags taken from the layer ids (what

@@ -28,6 +28,15 @@ fn gmotion(args: &[&std::ffi::OsStr]) -> String {
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
+/// The files of the Lottie corpus (fetched by `tests/conformance/install.sh`).
+fn corpus_files() -> Vec<PathBuf> {
+    files_with_extension(
+        &root().join("tests/conformance/lottie-corpus"),
+        "json",
+        "run `bash tests/conformance/install.sh` to fetch the Lottie corpus",
+    )
+}
+
 /// The root layers of `doc` that parent other layers and have no parent themselves, the
 /// one that moves the most layers first.
 fn top_parents(doc: &Value) -> Vec<i64> {
@@ -152,12 +161,7 @@ fn offset_position(layer: &mut Value, dx: f64, dy: f64) {
 /// child answered to its parent's name and moved a second time.
 #[test]
 fn a_rule_on_a_rigs_parent_moves_the_rig_whole_in_every_player() {
-    let folder = root().join("tests/conformance/lottie-corpus");
-    let files = files_with_extension(
-        &folder,
-        "json",
-        "run `bash tests/conformance/install.sh` to fetch the Lottie corpus",
-    );
+    let files = corpus_files();
     let players = [
         Player::LottieWebSvg,
         Player::LottieWebCanvas,
@@ -279,12 +283,7 @@ fn layer_tree(doc: &Value) -> Vec<Row> {
 /// parent).
 #[test]
 fn a_rigged_files_layer_tree_survives_convert_and_animate() {
-    let folder = root().join("tests/conformance/lottie-corpus");
-    let files = files_with_extension(
-        &folder,
-        "json",
-        "run `bash tests/conformance/install.sh` to fetch the Lottie corpus",
-    );
+    let files = corpus_files();
     let dir = out_dir("trees");
     let g = dir.join("turn.gm");
     std::fs::write(

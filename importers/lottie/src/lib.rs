@@ -528,6 +528,9 @@ pub fn reference_frame(doc: &Document, mode: Units) -> model::Result<(f64, usize
     let (ip, op) = (doc.ip, doc.op);
     let span = (op - ip).max(0.0);
     let step = (span / REFERENCE_TRIES as f64).max(1.0);
+    // What each layer is does not change with the frame: found once for every try.
+    let parents = parent_indices(&doc.layers);
+    let roles = roles(&doc.layers, mode, &|i: usize| parents[i]);
     let mut best: Option<(f64, usize)> = None;
     let mut k = 0;
     loop {
@@ -536,7 +539,7 @@ pub fn reference_frame(doc: &Document, mode: Units) -> model::Result<(f64, usize
         if k > 0 && frame >= op {
             break;
         }
-        let empty = units_without_area(doc, frame, mode)?;
+        let empty = units_without_area(doc, frame, &roles)?;
         if best.is_none_or(|(_, e)| empty < e) {
             best = Some((frame, empty));
         }
@@ -548,14 +551,12 @@ pub fn reference_frame(doc: &Document, mode: Units) -> model::Result<(f64, usize
     Ok(best.unwrap_or((ip, 0)))
 }
 
-/// How many of the scene's units draw nothing with area at `frame`.
-fn units_without_area(doc: &Document, frame: f64, mode: Units) -> model::Result<usize> {
+/// How many of the scene's units (by the layers' `roles`) draw nothing with area at
+/// `frame`.
+fn units_without_area(doc: &Document, frame: f64, roles: &[Role]) -> model::Result<usize> {
     let layers = &doc.layers;
     let mut b = build::Builder::new(doc);
     let worlds = b.worlds(layers, frame)?;
-    let parents = parent_indices(layers);
-    let parent_of = |i: usize| parents[i];
-    let roles = roles(layers, mode, &parent_of);
     let mut stack = Vec::new();
     let mut empty = 0;
     for (i, l) in layers.iter().enumerate() {
