@@ -62,11 +62,35 @@ pub fn remove_temporaries() {
     }
 }
 
+/// Refuses an existing file at `path` that is write-protected or that the user may not
+/// open for writing (a missing file is fine). The rename that puts an output in place needs
+/// only the directory's permission, so without this check a file the user may not write
+/// would be silently replaced (`cp` refuses it). Write protection counts even for the
+/// superuser, who may write anything: a read-only output is a file someone meant to keep.
+pub fn check_writable(path: &Path) -> io::Result<()> {
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_file() && m.permissions().readonly() => Err(io::Error::new(
+            io::ErrorKind::PermissionDenied,
+            "the file is write-protected; gmotion does not replace it (make it writable or choose another name)",
+        )),
+        Ok(m) if m.is_file() => match std::fs::OpenOptions::new().append(true).open(path) {
+            Ok(_) => Ok(()),
+            Err(e) if e.kind() == io::ErrorKind::PermissionDenied => Err(io::Error::new(
+                io::ErrorKind::PermissionDenied,
+                "you may not write the file; gmotion does not replace it",
+            )),
+            Err(e) => Err(e),
+        },
+        _ => Ok(()),
+    }
+}
+
 /// Refuses an output path that exists and is not a regular file (or a symbolic link to
-/// one): a directory, a device, a FIFO or a socket would be replaced by a regular file.
+/// one): a directory, a device, a FIFO or a socket would be replaced by a regular file;
+/// and a file the user may not write ([`check_writable`]).
 pub fn check_target(path: &Path) -> io::Result<()> {
     match std::fs::metadata(path) {
-        Ok(m) if m.is_file() => Ok(()),
+        Ok(m) if m.is_file() => check_writable(path),
         Ok(m) => {
             let kind = if m.is_dir() {
                 "a directory"
@@ -227,18 +251,45 @@ pub fn write_pieces<'a>(
 
 /// `dir/.name.<pid>-<n>.tmp`: hidden, unique per process and call, on the same file system
 /// as `path` so the rename cannot cross devices.
+///
+/// The name is cut so the temporary name stays within `NAME_MAX` (255 bytes) when the output's
+/// own name is near it: an output named with 255 bytes would otherwise fail to be written
+/// because its temporary sibling's name is too long.
 pub fn temp_path(path: &Path) -> PathBuf {
     static COUNTER: AtomicUsize = AtomicUsize::new(0);
     let n = COUNTER.fetch_add(1, Ordering::Relaxed);
     let name = path
         .file_name()
         .map_or_else(|| "output".into(), |n| n.to_string_lossy().into_owned());
-    path.with_file_name(format!(".{name}.{}-{n}.tmp", std::process::id()))
+    let suffix = format!(".{}-{n}.tmp", std::process::id());
+    let mut keep = name.len().min(NAME_MAX - 1 - suffix.len());
+    while !name.is_char_boundary(keep) {
+        keep -= 1;
+    }
+    path.with_file_name(format!(".{}{suffix}", &name[..keep]))
 }
+
+/// The longest file name, in bytes, of the file systems gmotion writes to (Linux, macOS and
+/// Windows all allow 255).
+const NAME_MAX: usize = 255;
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn temporary_names_fit_the_name_limit() {
+        for name in ["a".repeat(255), "é".repeat(127), "out.json".into()] {
+            let tmp = temp_path(&Path::new("dir").join(&name));
+            let t = tmp.file_name().unwrap().to_str().unwrap();
+            assert!(t.len() <= NAME_MAX, "{} bytes: {t}", t.len());
+            assert!(t.starts_with('.') && t.ends_with(".tmp"), "{t}");
+            // Short names are kept whole, so a temporary file is easy to trace to its output.
+            if name.len() < 200 {
+                assert!(t.starts_with(&format!(".{name}.")), "{t}");
+            }
+        }
+    }
 
     /// A writer that takes at most `most` bytes a call, counting its calls.
     struct Trickle {

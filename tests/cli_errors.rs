@@ -366,6 +366,13 @@ fn all_cases() -> Vec<Case> {
             std::os::unix::fs::symlink("/dev/null", d.join("dev.png")).unwrap();
             vec!["dev.png"]
         }),
+        Case::new("output is write-protected", "animate {d}/scene.svg {d}/g.gm -o {d}/out.json -o {d}/kept.png", &["kept.png", "write-protected"], "out.json")
+            .file("kept.png", "a picture someone keeps")
+            .setup(|d| {
+                use std::os::unix::fs::PermissionsExt;
+                std::fs::set_permissions(d.join("kept.png"), std::fs::Permissions::from_mode(0o444)).unwrap();
+                Vec::new()
+            }),
         Case::new("output is /dev/full", "convert {d}/scene.svg -o /dev/full", &["/dev/full", "a device"], "none"),
         Case::new(
             "second output fails: the first is not written, the old one kept",
@@ -617,6 +624,17 @@ fn cases() -> Vec<Case> {
             &["g.gm:3:1", "slices (at most 10000)", "line 3"],
         ),
         case(
+            "a spatial rule feeding itself",
+            "duration 1s\nregularSplit(line, 2) : s -> [s]\n",
+            &["pieces in", "`regularSplit` at 2:1", "--limit pieces=N"],
+        )
+        // A large square: its halves stay splittable for long enough that the work, not the
+        // steps, is what runs away (over a minute before the limit on the pieces made).
+        .file(
+            "scene.svg",
+            r#"<svg xmlns="http://www.w3.org/2000/svg" width="800" height="800"><rect data-tag="s" width="800" height="800"/></svg>"#,
+        ),
+        case(
             "bad value before a cycle",
             "duration 1s\nanimate(opacity, local, 0, 2) : [all, s] -> [x]\nanimate(opacity, local, 0, 0.5) : [x, s] -> [x]\n",
             &["g.gm:2:", "[0, 1]"],
@@ -741,4 +759,33 @@ fn bad_input_is_reported_cleanly() {
         all.len(),
         failures.join("\n\n")
     );
+}
+
+/// An output whose name takes the whole 255 bytes a file name may have is written: its
+/// temporary sibling's name is cut to fit instead of failing as too long.
+#[test]
+fn an_output_name_of_255_bytes_is_written() {
+    let dir = case_dir(9_000);
+    std::fs::write(dir.join("scene.svg"), SCENE).unwrap();
+    std::fs::write(dir.join("g.gm"), GOOD).unwrap();
+    let name = format!("{}.json", "é".repeat(125));
+    assert_eq!(name.len(), 255);
+    let out = dir.join(&name);
+    let (code, stderr, _) = run_bounded(
+        Command::new(env!("CARGO_BIN_EXE_gmotion"))
+            .arg("animate")
+            .arg(dir.join("scene.svg"))
+            .arg(dir.join("g.gm"))
+            .arg("-o")
+            .arg(&out),
+        TIME_BOUND,
+    );
+    assert_eq!(code, Some(0), "{stderr}");
+    let names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(names.contains(&name), "{names:?}");
+    assert_eq!(names.len(), 3, "a temporary file was left: {names:?}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -74,7 +74,7 @@ pub const LIMITS: &[(&str, u64, &str)] = &[
     (
         "pieces",
         gmotion::tangle::DEFAULT_MAX_PIECES as u64,
-        "shapes a group grammar may make (about 4 KB each), and pieces one `place` may scatter",
+        "shapes a group grammar may make (about 4 KB each; four times as many over all its steps), and pieces one `place` may scatter",
     ),
 ];
 
@@ -200,7 +200,7 @@ pub fn check_not_input(outputs: &[&Path], inputs: &[&Path]) -> Result<()> {
 }
 
 /// Refuses an existing output that is not a regular file (a directory is allowed only for
-/// a frames folder, `frames_ok`).
+/// a frames folder, `frames_ok`) or that the user may not write, before any work.
 pub fn check_output_kind(o: &Path, frames_ok: bool) -> Result<()> {
     match gmotion::input::irregular_kind(o) {
         Ok(Some("a directory")) if frames_ok => Ok(()),
@@ -208,7 +208,8 @@ pub fn check_output_kind(o: &Path, frames_ok: bool) -> Result<()> {
             "{}: cannot write output: it is {kind}; gmotion writes outputs as regular files (or a folder of frames)",
             o.display()
         ))),
-        _ => Ok(()),
+        _ => gmotion::atomic::check_writable(o)
+            .map_err(|e| CliError::msg(format!("{}: cannot write output: {e}", o.display()))),
     }
 }
 

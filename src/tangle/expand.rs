@@ -270,6 +270,8 @@ pub fn expand(
     }
     let mut next_group = scene.shapes.iter().map(|s| s.group + 1).max().unwrap_or(1);
     let mut live = roots.len();
+    // Pieces made over all steps: the work done, which the `pieces` limit also bounds.
+    let mut made = 0usize;
     let mut recent: Vec<usize> = Vec::new();
 
     while let Some((_, nodes)) = pending.pop_first() {
@@ -403,6 +405,7 @@ pub fn expand(
                     next_group += 1;
                 }
             }
+            made += produced.iter().map(|(_, ps)| ps.len()).sum::<usize>();
             for (k, (node, pieces)) in produced.into_iter().enumerate() {
                 arena.shapes[node] = None;
                 live -= 1;
@@ -453,6 +456,19 @@ pub fn expand(
                         pending.entry(g).or_default().push(child);
                     }
                 }
+            }
+            if made > opts.max_work() {
+                recent.sort_unstable();
+                recent.dedup();
+                return Err(TangleError::MaxWork {
+                    made,
+                    steps: stats.steps,
+                    limit: opts.max_work(),
+                    rules: recent
+                        .iter()
+                        .map(|&i| (spatial[i].op.clone(), spatial[i].span))
+                        .collect(),
+                });
             }
             if live > opts.max_shapes {
                 return Err(TangleError::MaxShapes {

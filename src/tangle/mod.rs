@@ -49,6 +49,14 @@ pub struct TangleOptions {
 }
 
 impl TangleOptions {
+    /// The most pieces expansion may make over all its steps: four times `max_shapes`, room
+    /// for pieces that are split again (a shape split in two, then each half in two, makes
+    /// six pieces for four alive) while a rule that rewrites its own output in place for ever
+    /// ends within a second instead of running through every step.
+    pub fn max_work(&self) -> usize {
+        self.max_shapes.saturating_mul(4)
+    }
+
     /// The default settings with `seed`.
     pub fn with_seed(seed: u64) -> TangleOptions {
         TangleOptions {
@@ -105,6 +113,21 @@ pub enum TangleError {
     MaxSteps {
         /// Steps taken.
         steps: usize,
+        /// The rules applied in the last steps, with their places.
+        rules: Vec<(String, Span)>,
+    },
+    /// Expansion made too many pieces over all its steps: a rule that keeps rewriting its
+    /// own output (`regularSplit(line, 2) : s -> [s]`) halves slivers until they cannot be
+    /// split, then rewrites each in place at every step, so its cost is the pieces it makes,
+    /// not the steps or the shapes alive.
+    #[error("spatial expansion made {made} pieces in {steps} steps, more than the limit of {limit} (`--limit pieces=N` raises it); still rewriting: {}", rules.iter().map(|(op, s)| format!("`{op}` at {}:{}", s.line, s.col)).collect::<Vec<_>>().join(", "))]
+    MaxWork {
+        /// Pieces made, all steps together.
+        made: usize,
+        /// Steps taken.
+        steps: usize,
+        /// The limit.
+        limit: usize,
         /// The rules applied in the last steps, with their places.
         rules: Vec<(String, Span)>,
     },
