@@ -624,6 +624,11 @@ fn cases() -> Vec<Case> {
             &["g.gm:3:1", "slices (at most 10000)", "line 3"],
         ),
         case(
+            "a flood of errors",
+            &(0..50_000).map(|i| format!("zzzzzzzzzz @@ {i} !!\n")).collect::<String>(),
+            &["g.gm:1:1", "g.gm:100:1", "49900 more errors not shown", "50000 errors in"],
+        ),
+        case(
             "a spatial rule feeding itself",
             "duration 1s\nregularSplit(line, 2) : s -> [s]\n",
             &["pieces in", "`regularSplit` at 2:1", "--limit pieces=N"],

@@ -51,7 +51,7 @@ impl Diagnostic {
     pub fn render(&self, file_name: &str, src: &str) -> String {
         let Span { line, col, .. } = self.span;
         let mut out = format!("{file_name}:{line}:{col}: error: {}\n", self.message);
-        let text = source_line(src, line);
+        let text = source_line(src, self.span.start);
         let gutter = line.to_string().len();
         let pad = " ".repeat(gutter);
         out.push_str(&format!("{pad} |\n{line} | {text}\n"));
@@ -89,16 +89,19 @@ impl Diagnostic {
     }
 }
 
-/// The text of 1-based line `line` without its line terminator (empty past the end).
-/// Lines end at `\n`, `\r\n` or a lone `\r`, as the lexer counts them.
-fn source_line(src: &str, line: u32) -> &str {
-    src.split('\n')
-        .flat_map(|l| {
-            let l = l.strip_suffix('\r').unwrap_or(l);
-            l.split('\r')
-        })
-        .nth(line.saturating_sub(1) as usize)
-        .unwrap_or("")
+/// The text of the line holding byte `at` without its line terminator (empty past the
+/// end). Lines end at `\n`, `\r\n` or a lone `\r`, as the lexer counts them. Found from the
+/// byte offset, not by counting lines from the start, so rendering every error of a file
+/// takes time linear in it.
+fn source_line(src: &str, at: usize) -> &str {
+    let mut at = at.min(src.len());
+    while !src.is_char_boundary(at) {
+        at -= 1;
+    }
+    let is_end = |c: char| c == '\n' || c == '\r';
+    let start = src[..at].rfind(is_end).map_or(0, |i| i + 1);
+    let end = src[start..].find(is_end).map_or(src.len(), |i| start + i);
+    &src[start..end]
 }
 
 /// Spaces up to column `col` (tabs kept, so the caret lines up with the source above it),
@@ -127,10 +130,15 @@ pub fn did_you_mean<'a>(
             .collect()
     };
     let name = folded(name);
-    let limit = (name.chars().count() / 3).max(1);
+    let len = name.chars().count();
+    let limit = (len / 3).max(1);
     candidates
         .into_iter()
-        .map(|c| (edit_distance(&name, &folded(c)), c))
+        .map(|c| (folded(c), c))
+        // The distance is at least the difference in length: most candidates are ruled out
+        // without the quadratic comparison (a file of unknown words stays fast to report).
+        .filter(|(f, _)| f.chars().count().abs_diff(len) <= limit)
+        .map(|(f, c)| (edit_distance(&name, &f), c))
         .filter(|(d, _)| *d <= limit)
         .min_by_key(|(d, _)| *d)
         .map(|(_, c)| c)
@@ -170,27 +178,38 @@ impl fmt::Display for Diagnostic {
 
 impl std::error::Error for Diagnostic {}
 
-/// Every error found in one grammar file, in source order.
+/// The most errors kept and shown for one file; the rest are counted. A file of garbage
+/// (200 000 lines of it) would otherwise print hundreds of megabytes nobody reads.
+pub const MAX_SHOWN: usize = 100;
+
+/// Every error found in one grammar file, in source order: the first [`MAX_SHOWN`], and a
+/// count of the rest.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Diagnostics {
-    /// The errors.
+    /// The errors kept (at most [`MAX_SHOWN`]).
     pub items: Vec<Diagnostic>,
+    /// Errors found after the first [`MAX_SHOWN`], counted but not kept.
+    pub omitted: usize,
 }
 
 impl Diagnostics {
-    /// Adds an error.
+    /// Adds an error (counts it only, past the first [`MAX_SHOWN`]).
     pub fn push(&mut self, diagnostic: Diagnostic) {
-        self.items.push(diagnostic);
+        if self.items.len() < MAX_SHOWN {
+            self.items.push(diagnostic);
+        } else {
+            self.omitted += 1;
+        }
     }
 
-    /// Number of errors.
+    /// Number of errors, those counted but not kept included.
     pub fn len(&self) -> usize {
-        self.items.len()
+        self.items.len() + self.omitted
     }
 
     /// True when there are no errors.
     pub fn is_empty(&self) -> bool {
-        self.items.is_empty()
+        self.len() == 0
     }
 
     /// The errors in source order.
@@ -206,8 +225,14 @@ impl Diagnostics {
             .iter()
             .map(|d| d.render(file_name, src))
             .collect();
-        if self.items.len() > 1 {
-            out.push(format!("{} errors in {file_name}\n", self.items.len()));
+        if self.omitted > 0 {
+            out.push(format!(
+                "… {} more errors not shown (the first {MAX_SHOWN} are)\n",
+                self.omitted
+            ));
+        }
+        if self.len() > 1 {
+            out.push(format!("{} errors in {file_name}\n", self.len()));
         }
         out.join("\n")
     }
@@ -217,6 +242,7 @@ impl From<Diagnostic> for Diagnostics {
     fn from(diagnostic: Diagnostic) -> Diagnostics {
         Diagnostics {
             items: vec![diagnostic],
+            omitted: 0,
         }
     }
 }
@@ -236,6 +262,9 @@ impl fmt::Display for Diagnostics {
                 writeln!(f)?;
             }
             write!(f, "{d}")?;
+        }
+        if self.omitted > 0 {
+            write!(f, "\n… {} more errors", self.omitted)?;
         }
         Ok(())
     }
