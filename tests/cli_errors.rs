@@ -624,6 +624,17 @@ fn cases() -> Vec<Case> {
             &["g.gm:3:1", "slices (at most 10000)", "line 3"],
         ),
         case(
+            "a microscopic zig-zag split",
+            "duration 1s\nregularSplit(\"M0 0 L0.001 0.001 L0.002 0 L0.003 0.001 L0.004 0\", 12) : s -> [p]\n",
+            &["g.gm: warning: 2:1:", "repeats 204003 times", "more than 1000000"],
+        )
+        // Copies of a 0.004-unit period across an 800 px square asked for 6 GB and a minute.
+        .file(
+            "scene.svg",
+            r#"<svg xmlns="http://www.w3.org/2000/svg" width="800" height="800"><rect data-tag="s" width="800" height="800"/></svg>"#,
+        )
+        .succeeds(),
+        case(
             "a flood of errors",
             &(0..50_000).map(|i| format!("zzzzzzzzzz @@ {i} !!\n")).collect::<String>(),
             &["g.gm:1:1", "g.gm:100:1", "49900 more errors not shown", "50000 errors in"],

@@ -46,6 +46,9 @@ pub struct SplitPiece {
 /// exhaust memory.
 const MAX_CUTS: usize = 20_000;
 const MAX_CELLS: usize = 250_000;
+/// Points all copies of a curve may hold together (16 bytes each, before the cut): room for
+/// a fine pattern over a large shape, while a microscopic one is refused before allocating.
+const MAX_CUT_POINTS: usize = 1_000_000;
 
 /// One family of parallel copies: the curve period in its frame (u along the chord, v
 /// across it), and the copies' positions along the family's axis.
@@ -119,8 +122,10 @@ impl Family {
         })
     }
 
-    /// The copies as polylines crossing the whole shape.
-    fn cuts(&self, region: &Region) -> Vec<Vec<Point>> {
+    /// The copies as polylines crossing the whole shape; an error when they would hold more
+    /// than [`MAX_CUT_POINTS`] points (a microscopic period repeated across a large shape
+    /// asked for gigabytes at once).
+    fn cuts(&self, region: &Region) -> Result<Vec<Vec<Point>>, String> {
         let (c0, c1) = region
             .edges()
             .map(|(p, _)| p.to_vec2().dot(self.across))
@@ -131,15 +136,26 @@ impl Family {
         if self.period_pts.iter().all(|&(_, v)| v == 0.0) {
             // A straight period needs no repeats: one segment across the shape.
             let at = |c: f64, t: f64| (self.across * c + self.along * t).to_point();
-            return self
+            return Ok(self
                 .positions
                 .iter()
                 .map(|&t| vec![at(c0 - margin, t), at(c1 + margin, t)])
-                .collect();
+                .collect());
+        }
+        let repeats = ((c1 - c0 + 2.0 * margin) / self.period).ceil() + 2.0;
+        let points = repeats * (self.period_pts.len() - 1) as f64 * self.positions.len() as f64;
+        // NaN (a degenerate period) counts as too many.
+        if points.is_nan() || points > MAX_CUT_POINTS as f64 {
+            return Err(format!(
+                "the split curve, {} long, repeats {repeats:.0} times across the shape: its {} copies would hold {points:.0} points, more than {MAX_CUT_POINTS}; use a longer curve or larger offsets",
+                self.period,
+                self.positions.len()
+            ));
         }
         let first = ((c0 - margin) / self.period).floor() as i64 - 1;
         let last = ((c1 + margin) / self.period).ceil() as i64 + 1;
-        self.positions
+        Ok(self
+            .positions
             .iter()
             .map(|&t| {
                 let mut line = Vec::new();
@@ -156,7 +172,7 @@ impl Family {
                 }
                 line
             })
-            .collect()
+            .collect())
     }
 
     /// The curve's offset along the axis at across-coordinate `c` (first crossing).
@@ -206,7 +222,7 @@ pub fn regular_split(
         return Err("the shape's orientation is not a direction".into());
     }
     let first = Family::new(region, &params.curve, along, &params.offsets)?;
-    let mut cuts = first.cuts(region);
+    let mut cuts = first.cuts(region)?;
     let second = if params.dual {
         let f = Family::new(
             region,
@@ -219,7 +235,7 @@ pub fn regular_split(
                 "more than {MAX_CELLS} cells: the offsets are too small for the shape"
             ));
         }
-        cuts.extend(f.cuts(region));
+        cuts.extend(f.cuts(region)?);
         Some(f)
     } else {
         None
@@ -324,6 +340,16 @@ mod tests {
         assert!(regular_split(&r, Vec2::new(1.0, 0.0), &p, &grid()).is_err());
         let p = stripes(Curve::Line, &[1e-6]);
         assert!(regular_split(&r, Vec2::new(1.0, 0.0), &p, &grid()).is_err());
+        // A period so short that its copies would hold millions of points is refused
+        // before they are made.
+        let tiny = Curve::Polyline(vec![
+            Point::new(0.0, 0.0),
+            Point::new(1e-4, 1e-4),
+            Point::new(2e-4, 0.0),
+        ]);
+        let p = stripes(tiny, &[1.0]);
+        let err = regular_split(&r, Vec2::new(1.0, 0.0), &p, &grid()).unwrap_err();
+        assert!(err.contains("more than 1000000"), "{err}");
         // An offset larger than the shape misses it: the shape comes back whole.
         let p = stripes(Curve::Line, &[50.0]);
         let pieces = regular_split(&r, Vec2::new(1.0, 0.0), &p, &grid()).unwrap();
