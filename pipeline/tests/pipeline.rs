@@ -111,13 +111,15 @@ fn a_lottie_scene_travels_with_its_source() {
     small(&env)
         .write_still(&still, &lottie)
         .expect("a still Lottie");
-    let project = Project::load(
-        Some(&lottie),
-        &example("toy.gm"),
-        &ImportChoices::default(),
-        &env,
+    // The still Lottie's layers are tagged by their names: the toy's shapes are `shapes`.
+    let grammar = dir.join("slide.gm");
+    std::fs::write(
+        &grammar,
+        "duration 1s\nfps 10\nanimate(affine, world, 0, translate(10, 0)) : [all, shapes] -> [moved]\n",
     )
-    .expect("the Lottie scene loads");
+    .expect("the grammar");
+    let project = Project::load(Some(&lottie), &grammar, &ImportChoices::default(), &env)
+        .expect("the Lottie scene loads");
     assert!(project.imported.source.is_some());
     let run = Overrides::default().run_options(&env.limits).unwrap();
     let rendered = project.run(&run, false).expect("it runs");
