@@ -278,14 +278,14 @@ impl Live {
         let Some(rescene) = self.rescene.as_ref().filter(|_| current.key != key) else {
             return Ok(Arc::clone(&current));
         };
-        let gmotion_pipeline::Imported { scene, source } =
-            rescene.import(settings).map_err(|why| {
-                vec![Diagnostic {
-                    line: 1,
-                    column: 1,
-                    message: format!("the scene could not be imported under these settings: {why}"),
-                }]
-            })?;
+        let again = rescene.import(settings).map_err(|why| {
+            vec![Diagnostic {
+                line: 1,
+                column: 1,
+                message: format!("the scene could not be imported under these settings: {why}"),
+            }]
+        })?;
+        let (scene, source) = (again.scene, again.source);
         *current = Arc::new(Imported { scene, source, key });
         Ok(Arc::clone(&current))
     }
