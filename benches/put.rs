@@ -11,6 +11,7 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use gmotion::engine::RunOptions;
 use gmotion::scene::Scene;
 use gmotion_import_svg::ImportOptions;
+use gmotion_pipeline::Imported;
 use gmotion_studio::{Config, Live};
 
 use gmotion_benches as workload;
@@ -54,9 +55,11 @@ fn put_then_lottie(c: &mut Criterion) {
         std::fs::write(&path, &src).expect("the grammar file");
         let live = Live::new(Config {
             grammar_path: path,
-            scene,
-            source: None,
-            loader: None,
+            imported: Imported {
+                scene,
+                source: None,
+            },
+            rescene: None,
             run: RunOptions::default(),
             port: 0,
         })

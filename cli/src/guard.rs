@@ -1,172 +1,10 @@
-//! Hostile input: the limits users can see and raise (`--limit NAME=N`), the file-access
-//! policy (`--allow-path DIR`), outputs that may not overwrite inputs, and removal of
-//! temporary files on SIGINT/SIGTERM.
+//! Hostile input on the command line's side: outputs that may not overwrite inputs, and
+//! removal of temporary files on SIGINT/SIGTERM (the limits users can see and raise,
+//! `--limit NAME=N`, are the pipeline's: [`gmotion_pipeline::env`]).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use super::report::{CliError, Result};
-
-/// Every limit, its name for `--limit`, its default and what it bounds (the README's
-/// "Limits" section lists the same).
-pub const LIMITS: &[(&str, u64, &str)] = &[
-    (
-        "input-bytes",
-        gmotion::input::DEFAULT_MAX_INPUT_BYTES,
-        "size of a scene, grammar, targets file or referenced image",
-    ),
-    (
-        "svgz-bytes",
-        64 << 20,
-        "decompressed size of a .svgz (or gzip data URI)",
-    ),
-    (
-        "xml-entity-bytes",
-        1 << 20,
-        "total text XML entities expand to",
-    ),
-    ("xml-nodes", 1_000_000, "XML nodes of an SVG"),
-    (
-        "css-rules",
-        10_000,
-        "CSS rules in an SVG's <style> elements",
-    ),
-    (
-        "path-segments",
-        gmotion_import_svg::MAX_PATH_SEGMENTS,
-        "path segments of an SVG (commands of `d`, points of `points`)",
-    ),
-    (
-        "text-chars",
-        gmotion_import_svg::MAX_TEXT_CHARS,
-        "characters of one SVG <text> element",
-    ),
-    (
-        "text-spans",
-        gmotion_import_svg::MAX_TEXT_SPANS,
-        "elements (<tspan>, <a>, …) inside one SVG <text> element",
-    ),
-    (
-        "filter-pixels",
-        gmotion_import_svg::MAX_BAKED_PIXELS,
-        "pixels of all SVG filters drawn as images (those no Lottie effect expresses)",
-    ),
-    (
-        "image-pixels",
-        gmotion::scene::DEFAULT_MAX_IMAGE_PIXELS,
-        "pixels a raster image in an SVG or Lottie scene may declare (decoding allocates them)",
-    ),
-    ("frames", 10_000, "frames of an animation (duration × fps)"),
-    (
-        "pixels",
-        gmotion_export_raster::DEFAULT_MAX_PIXELS,
-        "pixels of one rendered image",
-    ),
-    (
-        "animation-pixels",
-        gmotion_output::DEFAULT_MAX_ANIMATION_PIXELS,
-        "pixels of all frames of a GIF, APNG or frames folder",
-    ),
-    (
-        "steps",
-        100_000,
-        "largest --max-steps or max_steps (expansion time grows with its square)",
-    ),
-    (
-        "pieces",
-        gmotion::tangle::DEFAULT_MAX_PIECES as u64,
-        "shapes a group grammar may make (about 4 KB each; four times as many over all its steps), and pieces one `place` may scatter",
-    ),
-];
-
-/// The limits in force.
-#[derive(Clone, Debug)]
-pub struct Limits {
-    values: Vec<u64>,
-}
-
-impl Limits {
-    /// The defaults, with each `NAME=N` of `--limit` applied.
-    pub fn parse(args: &[String]) -> Result<Limits> {
-        let mut values: Vec<u64> = LIMITS.iter().map(|l| l.1).collect();
-        for a in args {
-            let names = || LIMITS.iter().map(|l| l.0).collect::<Vec<_>>().join(", ");
-            let Some((name, value)) = a.split_once('=') else {
-                return Err(CliError::msg(format!(
-                    "--limit {a}: expected NAME=N, one of {}",
-                    names()
-                )));
-            };
-            let Some(i) = LIMITS.iter().position(|l| l.0 == name.trim()) else {
-                return Err(CliError::msg(format!(
-                    "--limit {a}: unknown limit `{name}`; the limits are {}",
-                    names()
-                )));
-            };
-            let v = value.trim();
-            let parsed = v.parse::<u64>().ok().or_else(|| {
-                v.parse::<f64>()
-                    .ok()
-                    .filter(|f| f.is_finite() && *f >= 0.0 && *f < 1.8e19)
-                    .map(|f| f as u64)
-            });
-            values[i] = parsed.ok_or_else(|| {
-                CliError::msg(format!("--limit {a}: `{v}` is not a whole number"))
-            })?;
-        }
-        Ok(Limits { values })
-    }
-
-    /// The value of limit `name` (one of [`LIMITS`]).
-    pub fn get(&self, name: &str) -> u64 {
-        LIMITS
-            .iter()
-            .position(|l| l.0 == name)
-            .map_or(u64::MAX, |i| self.values[i])
-    }
-
-    /// The SVG importer's policy under these limits, `--allow-path` and the font options.
-    pub fn svg_policy(
-        &self,
-        allow: &[PathBuf],
-        fonts: &gmotion_import_svg::fonts::FontOptions,
-    ) -> gmotion_import_svg::Policy {
-        gmotion_import_svg::Policy {
-            fonts: fonts.clone(),
-            allowed_dirs: allow.to_vec(),
-            max_file_bytes: self.get("input-bytes"),
-            max_svgz_bytes: self.get("svgz-bytes"),
-            max_entity_bytes: self.get("xml-entity-bytes"),
-            max_xml_nodes: u32::try_from(self.get("xml-nodes")).unwrap_or(u32::MAX),
-            max_css_rules: u32::try_from(self.get("css-rules")).unwrap_or(u32::MAX),
-            max_path_segments: self.get("path-segments"),
-            max_text_chars: self.get("text-chars"),
-            max_text_spans: self.get("text-spans"),
-            max_baked_pixels: self.get("filter-pixels"),
-            max_image_pixels: self.get("image-pixels"),
-        }
-    }
-
-    /// Refuses `frames` frames past the `frames` limit; `what` says where they come from.
-    pub fn check_frames(&self, frames: f64, what: &str) -> Result<()> {
-        let limit = self.get("frames");
-        if frames.is_nan() || frames > limit as f64 {
-            return Err(CliError::msg(format!(
-                "{what} make {} frames, more than the limit of {limit} (raise it with --limit frames=N)",
-                short(frames)
-            )));
-        }
-        Ok(())
-    }
-}
-
-/// `x` as written by a person: plain below a million, else in exponent form.
-pub fn short(x: f64) -> String {
-    if x.abs() < 1e6 {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
-}
 
 /// The identity of an existing file (device and inode), following symbolic links.
 #[cfg(unix)]
@@ -176,7 +14,7 @@ fn identity(path: &Path) -> Option<(u64, u64)> {
 }
 
 #[cfg(not(unix))]
-fn identity(path: &Path) -> Option<PathBuf> {
+fn identity(path: &Path) -> Option<std::path::PathBuf> {
     path.canonicalize().ok()
 }
 

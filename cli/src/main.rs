@@ -460,7 +460,7 @@ fn main() -> ExitCode {
         _ => {}
     }
     guard::clean_up_on_signals();
-    let limits = match guard::Limits::parse(&cli.limits) {
+    let limits = match gmotion_pipeline::Limits::parse(&cli.limits) {
         Ok(l) => l,
         Err(e) => {
             eprintln!("{e}");
@@ -495,9 +495,12 @@ fn main() -> ExitCode {
         return ExitCode::FAILURE;
     }
     let ctx = commands::Ctx {
-        limits,
-        allow: cli.allow_paths,
-        fonts,
+        env: gmotion_pipeline::Env {
+            limits,
+            allow: cli.allow_paths,
+            fonts,
+            warn: |origin, warning| report::warn(origin, warning),
+        },
         format,
     };
     let result = stdio.and_then(|stdio| {
@@ -534,7 +537,7 @@ mod tests {
             .or(flag.get_help())
             .expect("help")
             .to_string();
-        for (name, _, _) in super::guard::LIMITS {
+        for (name, _, _) in gmotion_pipeline::LIMITS {
             assert!(
                 help.contains(name),
                 "--limit's help does not name {name}: {help}"

@@ -1,11 +1,9 @@
-//! Error messages for the terminal: grammar errors with the source line and a caret.
+//! What the command line prints: errors (the pipeline words them), warnings, notes and the
+//! summary of what was written.
 
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
-
-use gmotion::engine::EngineError;
-use gmotion::grammar::diagnostics::Diagnostic;
 
 /// An error already worded for the user.
 #[derive(Debug)]
@@ -27,24 +25,15 @@ impl CliError {
 /// Result of a command.
 pub type Result<T> = std::result::Result<T, CliError>;
 
-/// An engine error rendered against the grammar source.
-pub fn engine_error(grammar_path: &Path, src: &str, e: &EngineError) -> CliError {
-    let name = grammar_path.display().to_string();
-    match e.span {
-        Some(span) => {
-            let mut d = Diagnostic::new(span, e.message.clone());
-            if !e.notes.is_empty() {
-                d = d.with_help(e.notes.join("\n"));
-            }
-            CliError(d.render(&name, src).trim_end().to_string())
-        }
-        None => {
-            let mut s = format!("{name}: error: {}", e.message);
-            for n in &e.notes {
-                s.push_str(&format!("\n  note: {n}"));
-            }
-            CliError(s)
-        }
+impl From<gmotion_pipeline::Error> for CliError {
+    fn from(e: gmotion_pipeline::Error) -> CliError {
+        CliError(e.to_string())
+    }
+}
+
+impl From<gmotion_pipeline::OutputError> for CliError {
+    fn from(e: gmotion_pipeline::OutputError) -> CliError {
+        CliError(e.to_string())
     }
 }
 

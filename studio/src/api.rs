@@ -8,7 +8,6 @@ use serde_json::json;
 use tiny_http::{Header, Method, Request, Response};
 
 use crate::live::{Built, Live};
-use crate::preview;
 
 /// What every request thread shares.
 #[derive(Debug)]
@@ -124,7 +123,10 @@ fn route(ctx: &Ctx, request: &mut Request) -> Reply {
     match (&method, path) {
         (Method::Get, "/") => return Reply::ok("text/html; charset=utf-8", PAGE),
         (Method::Get, "/lottie.min.js") => {
-            return Reply::ok("text/javascript; charset=utf-8", preview::LOTTIE_JS);
+            return Reply::ok(
+                "text/javascript; charset=utf-8",
+                gmotion_pipeline::html::LOTTIE_JS,
+            );
         }
         _ => {}
     }
@@ -140,11 +142,11 @@ fn route(ctx: &Ctx, request: &mut Request) -> Reply {
         (Method::Get, "/state") => {
             let good = live.good();
             let (shapes, timelines) = live.shapes_and_timelines(&good);
-            let scene = &good.anim.scene;
+            let scene = &good.rendered.anim.scene;
             Reply::json(&json!({
                 "version": live.version(),
-                "duration": good.anim.duration,
-                "fps": good.anim.fps,
+                "duration": good.rendered.anim.duration,
+                "fps": good.rendered.anim.fps,
                 "width": scene.width,
                 "height": scene.height,
                 "shapes": shapes,
@@ -206,7 +208,7 @@ fn route(ctx: &Ctx, request: &mut Request) -> Reply {
                 },
                 Some(Err(_)) => return Reply::error(400, "seed must be a whole number"),
             };
-            let t = t.clamp(0.0, built.anim.duration);
+            let t = t.clamp(0.0, built.rendered.anim.duration);
             export(live, &built, "png", t, None)
         }
         (Method::Get, "/export/lottie") => {

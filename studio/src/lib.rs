@@ -17,34 +17,28 @@
 
 mod api;
 mod live;
-mod preview;
 
 use std::io;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::thread;
 
-use gmotion::Scene;
 use gmotion::engine::RunOptions;
-use gmotion_output::LottieSource;
+use gmotion_pipeline::{Imported, Rescene};
 
-pub use live::{Diagnostic, Live, SceneLoader, shapes_json};
-pub use preview::{
-    LOTTIE_JS, is_preview, preview_document, preview_html, timeline_svg, write_preview,
-};
+pub use live::{Diagnostic, Live, shapes_json};
 
 /// What a studio session edits.
 #[derive(Debug)]
 pub struct Config {
     /// The grammar file: read at start, watched, written by save.
     pub grammar_path: PathBuf,
-    /// The scene the grammar runs on, as imported under the grammar at start.
-    pub scene: Scene,
-    /// The Lottie document the scene came from, if it came from one.
-    pub source: Option<LottieSource>,
+    /// The scene the grammar runs on (with the Lottie document it came from), as imported
+    /// under the grammar at start.
+    pub imported: Imported,
     /// Imports the scene again when an edit changes the directives that decide the import
     /// (`scene`, `tag_from`, `units`, `unit_depth`, `tags`); without it the scene stays.
-    pub loader: Option<SceneLoader>,
+    pub rescene: Option<Rescene>,
     /// Overrides of the grammar's header (`--seed`, `--fps`, `--max-steps`).
     pub run: RunOptions,
     /// The port to bind on 127.0.0.1; 0 picks any free port.

@@ -4,18 +4,16 @@
 use std::collections::HashMap;
 use std::io;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, OnceLock};
 use std::time::{Duration, SystemTime};
 
-use gmotion::Animation;
 use gmotion::Scene;
 use gmotion::canvas::OutputSize;
 use gmotion::engine::settings::Settings;
 use gmotion::engine::{self, EngineError, RunOptions};
 use gmotion::grammar::{self, ast::Grammar};
 use gmotion::tagging::{TagFrom, Units};
-use gmotion_output::LottieSource;
+use gmotion_pipeline::{LottieSource, Rendered, Rescene, Writer};
 use serde_json::{Value, json};
 
 use crate::Config;
@@ -51,10 +49,11 @@ impl Diagnostic {
     }
 }
 
-/// An animation that built, with what the page asks about it.
+/// An animation that built (with the Lottie source its scene came from), with what the
+/// page asks about it.
 #[derive(Debug)]
 pub(crate) struct Built {
-    pub anim: Animation,
+    pub rendered: Rendered,
     pub grammar: Grammar,
     pub size: OutputSize,
     /// The scene (and its Lottie source) it was built on.
@@ -67,7 +66,7 @@ pub(crate) struct Built {
 #[derive(Debug)]
 pub(crate) struct Imported {
     pub scene: Scene,
-    pub source: Option<LottieSource>,
+    pub source: Option<Arc<LottieSource>>,
     /// The grammar settings it was imported under ([`ImportKey`]).
     key: ImportKey,
 }
@@ -95,20 +94,6 @@ impl ImportKey {
     }
 }
 
-/// Imports the scene again under a grammar's settings (the command line's choices still
-/// first), answering the scene and its Lottie source, or why not.
-pub struct SceneLoader(
-    /// The import.
-    #[allow(clippy::type_complexity)]
-    pub Box<dyn Fn(&Settings) -> Result<(Scene, Option<LottieSource>), String> + Send + Sync>,
-);
-
-impl std::fmt::Debug for SceneLoader {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str("SceneLoader")
-    }
-}
-
 #[derive(Debug)]
 struct State {
     text: String,
@@ -127,7 +112,7 @@ pub struct Live {
     grammar_path: PathBuf,
     /// The scene new builds run on.
     imported: Mutex<Arc<Imported>>,
-    loader: Option<SceneLoader>,
+    rescene: Option<Rescene>,
     run: RunOptions,
     state: Mutex<State>,
     /// Serialises builds, so edits apply in the order they arrive.
@@ -186,7 +171,11 @@ fn build(
     let (anim, _) = engine::run(imported.scene.clone(), &grammar, run)
         .map_err(|e| vec![Diagnostic::from_engine(&e)])?;
     Ok(Built {
-        anim,
+        rendered: Rendered {
+            anim,
+            source: imported.source.clone(),
+            timelines: None,
+        },
         grammar,
         size: OutputSize {
             width: settings.width,
@@ -210,8 +199,8 @@ impl Live {
         let stamp = stamp(&config.grammar_path);
         let parsed = parse(&text);
         let imported = Arc::new(Imported {
-            scene: config.scene,
-            source: config.source,
+            scene: config.imported.scene,
+            source: config.imported.source,
             // The scene was imported under the grammar as it was at start.
             key: match &parsed {
                 Ok((_, settings)) => ImportKey::of(settings),
@@ -233,7 +222,7 @@ impl Live {
         Ok(Live {
             grammar_path: config.grammar_path,
             imported: Mutex::new(imported),
-            loader: config.loader,
+            rescene: config.rescene,
             run: config.run,
             state: Mutex::new(State {
                 text,
@@ -286,16 +275,17 @@ impl Live {
     fn imported_for(&self, settings: &Settings) -> Result<Arc<Imported>, Vec<Diagnostic>> {
         let mut current = self.imported.lock().unwrap_or_else(|p| p.into_inner());
         let key = ImportKey::of(settings);
-        let Some(loader) = self.loader.as_ref().filter(|_| current.key != key) else {
+        let Some(rescene) = self.rescene.as_ref().filter(|_| current.key != key) else {
             return Ok(Arc::clone(&current));
         };
-        let (scene, source) = (loader.0)(settings).map_err(|why| {
+        let again = rescene.import(settings).map_err(|why| {
             vec![Diagnostic {
                 line: 1,
                 column: 1,
                 message: format!("the scene could not be imported under these settings: {why}"),
             }]
         })?;
+        let (scene, source) = (again.scene, again.source);
         *current = Arc::new(Imported { scene, source, key });
         Ok(Arc::clone(&current))
     }
@@ -343,7 +333,11 @@ impl Live {
         let (anim, _) = engine::run(good.scene.scene.clone(), &good.grammar, &run)
             .map_err(|e| e.to_string())?;
         let built = Arc::new(Built {
-            anim,
+            rendered: Rendered {
+                anim,
+                source: good.scene.source.clone(),
+                timelines: None,
+            },
             grammar: good.grammar.clone(),
             size: good.size,
             scene: Arc::clone(&good.scene),
@@ -364,7 +358,7 @@ impl Live {
         built
             .state
             .get_or_init(|| {
-                let shapes = shapes_json(&built.anim.scene);
+                let shapes = shapes_json(&built.rendered.anim.scene);
                 let timelines = match engine::timelines(&built.scene.scene, &built.grammar, &self.run) {
                     Ok(x) => x
                         .timelines
@@ -384,11 +378,12 @@ impl Live {
                         .collect(),
                     // The still scene: one `all` slice per shape.
                     Err(_) => built
+                        .rendered
                         .anim
                         .scene
                         .shapes
                         .iter()
-                        .map(|_| json!([{"tag": "all", "start": 0.0, "end": built.anim.duration, "inverted": false}]))
+                        .map(|_| json!([{"tag": "all", "start": 0.0, "end": built.rendered.anim.duration, "inverted": false}]))
                         .collect(),
                 };
                 (shapes, Value::Array(timelines))
@@ -396,45 +391,23 @@ impl Live {
             .clone()
     }
 
-    /// `built` as `ext`: `json` (Lottie), `svg` (SMIL) and `html` (the preview) in memory,
-    /// `png` (the frame at `time`) and `gif` through a temporary file. The bytes, or why not.
+    /// `built` as `ext` (`json` Lottie, `svg` SMIL, `html` the page, `png` the frame at
+    /// `time`, `gif`), straight from the pipeline's writer: the bytes, or why not.
     pub(crate) fn export(&self, built: &Built, ext: &str, time: f64) -> Result<Vec<u8>, String> {
-        static COUNTER: AtomicU64 = AtomicU64::new(0);
-        let opts = gmotion_output::Options {
-            size: built.size,
-            time,
-            ..Default::default()
-        };
-        let (anim, source) = (&built.anim, built.scene.source.as_ref());
+        let mut writer = Writer::new(built.size, &gmotion_pipeline::Limits::default());
+        writer.options.time = time;
         let named = Path::new("studio").with_extension(ext);
-        let text = match ext {
-            "json" => Some(gmotion_output::lottie_text(anim, source, &named, &opts)),
-            "svg" => Some(gmotion_output::smil_text(anim, source, &named, &opts)),
-            "html" => {
-                let timelines =
-                    engine::timelines(&built.scene.scene, &built.grammar, &self.run).ok();
-                Some(crate::preview_document(
-                    anim,
-                    source,
-                    timelines.as_ref(),
-                    &named,
-                    &opts,
-                ))
-            }
-            _ => None,
+        let bytes = if ext == "html" {
+            // The page's timeline: the slices, which a build does not keep.
+            let page = Rendered {
+                timelines: engine::timelines(&built.scene.scene, &built.grammar, &self.run).ok(),
+                ..built.rendered.clone()
+            };
+            writer.bytes(&page, &named)
+        } else {
+            writer.bytes(&built.rendered, &named)
         };
-        if let Some(text) = text {
-            return text.map(|(t, _)| t.into_bytes()).map_err(|e| e.to_string());
-        }
-        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-        let path =
-            std::env::temp_dir().join(format!("gmotion-studio-{}-{n}.{ext}", std::process::id()));
-        let written = gmotion_output::write_over_source(anim, source, &path, &opts, &|| {});
-        let bytes = written
-            .map_err(|e| e.to_string())
-            .and_then(|_| std::fs::read(&path).map_err(|e| e.to_string()));
-        let _ = std::fs::remove_file(&path);
-        bytes
+        bytes.map(|(b, _)| b).map_err(|e| e.to_string())
     }
 
     /// The Lottie JSON of the live animation (what `GET /api/lottie` answers).

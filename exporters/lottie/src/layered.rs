@@ -229,7 +229,10 @@ pub fn over_source(
     };
     // Colour and stroke width go into the layers' own items (and copies of the assets
     // they draw), which needs the whole document.
-    let mut budget = crate::restyle::MAX_COPIED_LAYERS;
+    let mut tally = crate::restyle::Tally {
+        warnings: &mut warnings,
+        budget: crate::restyle::MAX_COPIED_LAYERS,
+    };
     for (li, part, u, name) in restyles {
         crate::restyle::restyle(
             &mut json,
@@ -238,8 +241,7 @@ pub fn over_source(
             source,
             &anim.tracks[u],
             &name,
-            &mut warnings,
-            &mut budget,
+            &mut tally,
         );
     }
     // Last: wrapping moves an item into a new group, where the restyling would not find it.

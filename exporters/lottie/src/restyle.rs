@@ -26,7 +26,7 @@ const WIDTH_EPS: f64 = 0.01;
 /// uses keep theirs) with the same done to every layer inside, on the precomposition's own
 /// clock, the copies' layers counted against `budget`. With `part` (`--units groups`: the index of a top-level item, and the layer's
 /// top-level items as `doc` holds them now), only that item is restyled. What cannot be
-/// written is warned about under `name`.
+/// written is warned about under `name`, in `tally`.
 pub(crate) fn restyle(
     doc: &mut Json,
     li: usize,
@@ -34,9 +34,10 @@ pub(crate) fn restyle(
     source: &Source,
     track: &Track,
     name: &str,
-    warnings: &mut Vec<Warning>,
-    budget: &mut usize,
+    tally: &mut Tally,
 ) {
+    let warnings = &mut *tally.warnings;
+    let budget = &mut tally.budget;
     let d = &source.document;
     let Some(model) = d.layers.get(li) else {
         return;
@@ -69,6 +70,15 @@ pub(crate) fn restyle(
     if let Some(assets) = doc.get_mut("assets").and_then(Json::as_array_mut) {
         assets.extend(copies);
     }
+}
+
+/// What the restyles of one document add up as they go: the warnings, and how many more
+/// layers their precomposition copies may hold.
+pub(crate) struct Tally<'a> {
+    /// The document's warnings.
+    pub warnings: &'a mut Vec<Warning>,
+    /// Layers the copies may still hold (from [`MAX_COPIED_LAYERS`]).
+    pub budget: usize,
 }
 
 /// Most layers the precomposition copies that colour changes make may hold in all, over

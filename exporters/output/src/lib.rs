@@ -260,6 +260,12 @@ pub enum OutputError {
         #[source]
         source: smil::SmilError,
     },
+    /// A folder of frames was asked for in memory ([`bytes_over_source`]): it is files.
+    #[error("{}: a folder of frames is written to disk, not returned as bytes", path.display())]
+    FramesInMemory {
+        /// The output named.
+        path: PathBuf,
+    },
     /// Writing the file failed.
     #[error("{}: cannot write output: {source}", path.display())]
     Io {
@@ -484,7 +490,14 @@ pub fn write_with_progress(
     opts: &Options,
     tick: &(dyn Fn() + Sync),
 ) -> Result<Vec<Warning>, OutputError> {
-    write_staged(Stage { anim, source: None }, path, opts, tick)
+    write_staged(Stage { anim, source: None }, path, opts, tick, Target::File)
+}
+
+/// Where an output goes: its file, written whole or not at all, or memory (the bytes the
+/// file would hold).
+enum Target<'b> {
+    File,
+    Memory(&'b mut Vec<u8>),
 }
 
 fn write_staged(
@@ -492,6 +505,7 @@ fn write_staged(
     path: &Path,
     opts: &Options,
     tick: &(dyn Fn() + Sync),
+    target: Target,
 ) -> Result<Vec<Warning>, OutputError> {
     let anim = stage.anim;
     let raster_err = |source| OutputError::Raster {
@@ -526,10 +540,21 @@ fn write_staged(
             }
             let index = (t * anim.fps).round() as usize;
             let pm = stage.render(None, path, (index, t), opts)?;
-            raster::save_png(&pm, path).map_err(raster_err)?;
+            match target {
+                Target::File => raster::save_png(&pm, path),
+                Target::Memory(bytes) => raster::png_bytes(&pm, path).map(|b| *bytes = b),
+            }
+            .map_err(raster_err)?;
             return Ok(Vec::new());
         }
-        Format::Frames => raster::write_frames(&stage.render_all(path, opts, tick)?, path),
+        Format::Frames => match target {
+            Target::File => raster::write_frames(&stage.render_all(path, opts, tick)?, path),
+            Target::Memory(_) => {
+                return Err(OutputError::FramesInMemory {
+                    path: path.to_path_buf(),
+                });
+            }
+        },
         format @ (Format::Gif | Format::Apng) => {
             let frames = stage.render_all(path, opts, tick)?;
             let played = raster::Frames {
@@ -537,19 +562,28 @@ fn write_staged(
                 fps: anim.fps,
                 looping: anim.looping,
             };
-            if format == Format::Gif {
-                raster::write_gif(played, path)
-            } else {
-                raster::write_apng(played, path)
+            match (format == Format::Gif, target) {
+                (true, Target::File) => raster::write_gif(played, path),
+                (false, Target::File) => raster::write_apng(played, path),
+                (true, Target::Memory(bytes)) => {
+                    raster::gif_bytes(played, path).map(|b| *bytes = b)
+                }
+                (false, Target::Memory(bytes)) => {
+                    raster::apng_bytes(played, path).map(|b| *bytes = b)
+                }
             }
         }
         Format::Lottie => {
-            return write_lottie(path, lottie::to_lottie_text(anim, &lottie_options(opts)));
+            return write_lottie(
+                path,
+                lottie::to_lottie_text(anim, &lottie_options(opts)),
+                target,
+            );
         }
         Format::Svg => {
             let (svg, warnings) = smil_pieces(anim, stage.source, path, opts)?;
             let many = svg.edits() >= BACKGROUND_FREE_PIECES;
-            write_text(path, svg, many, smil::SmilText::write_to)?;
+            write_text(path, svg, many, |t, mut out| t.write_to(&mut out), target)?;
             return Ok(warnings);
         }
     };
@@ -566,14 +600,43 @@ pub fn write_over_source(
     opts: &Options,
     tick: &(dyn Fn() + Sync),
 ) -> Result<Vec<Warning>, OutputError> {
-    let (source, said) = lasting(anim, source);
+    staged_over_source(Stage { anim, source }, path, opts, tick, Target::File)
+}
+
+/// The bytes [`write_over_source`] would write to `path` (which names the format and is
+/// named in errors; nothing is written), and its warnings: a file format's bytes straight
+/// from its writer, with no file between. A folder of frames has no single bytes
+/// ([`OutputError::FramesInMemory`]).
+pub fn bytes_over_source(
+    anim: &Animation,
+    source: Option<&LottieSource>,
+    path: &Path,
+    opts: &Options,
+) -> Result<(Vec<u8>, Vec<Warning>), OutputError> {
+    let mut bytes = Vec::new();
+    let stage = Stage { anim, source };
+    let warnings = staged_over_source(stage, path, opts, &|| {}, Target::Memory(&mut bytes))?;
+    Ok((bytes, warnings))
+}
+
+/// [`write_over_source`] to `target`.
+fn staged_over_source(
+    stage: Stage,
+    path: &Path,
+    opts: &Options,
+    tick: &(dyn Fn() + Sync),
+    target: Target,
+) -> Result<Vec<Warning>, OutputError> {
+    let anim = stage.anim;
+    let (source, said) = lasting(anim, stage.source);
     let source = source.as_deref();
     let mut warnings = match source {
         Some(src) if Format::of(path)? == Format::Lottie => write_lottie(
             path,
             lottie::layered::over_source(anim, src, &lottie_options(opts)),
+            target,
         ),
-        _ => write_staged(Stage { anim, source }, path, opts, tick),
+        _ => write_staged(Stage { anim, source }, path, opts, tick, target),
     }?;
     warnings.extend(said);
     Ok(warnings)
@@ -719,6 +782,7 @@ pub fn write_still_over_source(
                 path,
                 opts,
                 &|| {},
+                Target::File,
             )
         }
         None => write_still(scene, path, opts),
@@ -759,7 +823,11 @@ pub fn write_still(
             })?;
             Ok(Vec::new())
         }
-        Format::Lottie => write_lottie(path, lottie::still_to_lottie(scene, &lottie_options(opts))),
+        Format::Lottie => write_lottie(
+            path,
+            lottie::still_to_lottie(scene, &lottie_options(opts)),
+            Target::File,
+        ),
         Format::Svg => {
             let svg = frame::scene_svg(scene);
             let svg = match opts.size.fit(scene.width, scene.height) {
@@ -788,6 +856,7 @@ fn lottie_options(opts: &Options) -> LottieOptions {
 fn write_lottie<T: Into<lottie::LottieText>>(
     path: &Path,
     exported: Result<(T, Vec<Warning>), lottie::LottieError>,
+    target: Target,
 ) -> Result<Vec<Warning>, OutputError> {
     let (json, warnings) = exported.map_err(|source| OutputError::Lottie {
         path: path.to_path_buf(),
@@ -795,19 +864,27 @@ fn write_lottie<T: Into<lottie::LottieText>>(
     })?;
     let json: lottie::LottieText = json.into();
     let many = json.pieces() >= BACKGROUND_FREE_PIECES;
-    write_text(path, json, many, lottie::LottieText::write_to)?;
+    write_text(path, json, many, |t, mut out| t.write_to(&mut out), target)?;
     Ok(warnings)
 }
 
-/// Writes `text`, held in pieces, to `path` with `write`. Freeing a large document's
-/// thousands of pieces (`many`) takes milliseconds: done on the thread pool while the file
-/// is synced, not before the caller gets control back.
+/// Writes `text`, held in pieces, to `path` (or `target`'s memory) with `write`. Freeing
+/// a large document's thousands of pieces (`many`) takes milliseconds: done on the thread
+/// pool while the file is synced, not before the caller gets control back.
 fn write_text<T: Send + 'static>(
     path: &Path,
     text: T,
     many: bool,
-    write: impl FnOnce(&T, &mut std::io::BufWriter<std::fs::File>) -> std::io::Result<()>,
+    write: impl FnOnce(&T, &mut dyn std::io::Write) -> std::io::Result<()>,
+    target: Target,
 ) -> Result<(), OutputError> {
+    let io_error = |source| OutputError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    if let Target::Memory(bytes) = target {
+        return write(&text, bytes).map_err(io_error);
+    }
     gmotion::atomic::write_with(path, |out| {
         write(&text, out)?;
         if many {
@@ -815,10 +892,7 @@ fn write_text<T: Send + 'static>(
         }
         Ok(())
     })
-    .map_err(|source| OutputError::Io {
-        path: path.to_path_buf(),
-        source,
-    })
+    .map_err(io_error)
 }
 
 /// From this many pieces a written Lottie or SVG text is freed on the thread pool.

@@ -286,10 +286,15 @@ fn write_error(path: &Path, source: io::Error) -> RenderError {
 
 /// Writes a PNG (straight alpha, as PNG requires).
 pub fn save_png(pixmap: &Pixmap, path: &Path) -> Result<(), RenderError> {
-    let bytes = pixmap
-        .encode_png()
-        .map_err(|e| write_error(path, io::Error::other(e)))?;
+    let bytes = png_bytes(pixmap, path)?;
     atomic::write_bytes(path, &bytes).map_err(|e| write_error(path, e))
+}
+
+/// The PNG [`save_png`] writes, in memory (`path` is named in errors).
+pub fn png_bytes(pixmap: &Pixmap, path: &Path) -> Result<Vec<u8>, RenderError> {
+    pixmap
+        .encode_png()
+        .map_err(|e| write_error(path, io::Error::other(e)))
 }
 
 /// A rendered animation, as an animated GIF or PNG holds it: its frames, shown `fps` a
@@ -379,6 +384,20 @@ fn gif_schedule(n: usize, fps: f64) -> Vec<(usize, u16)> {
 /// frame delays in GIF's 1/100 s that add up to the exact time (see `gif_schedule`:
 /// above 50 fps, 50 frames a second are shown).
 pub fn write_gif(anim: Frames, path: &Path) -> Result<(), RenderError> {
+    let encode = gif_encoder(anim)?;
+    atomic::write_with(path, |out| encode(out)).map_err(|e| write_error(path, e))
+}
+
+/// The animated GIF [`write_gif`] writes, in memory (`path` is named in errors).
+pub fn gif_bytes(anim: Frames, path: &Path) -> Result<Vec<u8>, RenderError> {
+    let mut bytes = Vec::new();
+    gif_encoder(anim)?(&mut bytes).map_err(|e| write_error(path, e))?;
+    Ok(bytes)
+}
+
+/// Checks `anim` can be a GIF and returns what encodes it into a byte stream: a file and
+/// memory get the same bytes.
+fn gif_encoder(anim: Frames) -> Result<impl FnOnce(&mut dyn Write) -> io::Result<()>, RenderError> {
     let (w, h) = anim.size()?;
     let (w16, h16) = match (u16::try_from(w), u16::try_from(h)) {
         (Ok(w), Ok(h)) => (w, h),
@@ -390,7 +409,7 @@ pub fn write_gif(anim: Frames, path: &Path) -> Result<(), RenderError> {
         }
     };
     let schedule = gif_schedule(anim.frames.len(), anim.fps);
-    atomic::write_with(path, |out| -> io::Result<()> {
+    Ok(move |out: &mut dyn Write| -> io::Result<()> {
         let mut enc = gif::Encoder::new(out, w16, h16, &[]).map_err(io::Error::other)?;
         let repeat = if anim.looping {
             gif::Repeat::Infinite
@@ -409,7 +428,6 @@ pub fn write_gif(anim: Frames, path: &Path) -> Result<(), RenderError> {
         drop(enc);
         Ok(())
     })
-    .map_err(|e| write_error(path, e))
 }
 
 /// `x` as a fraction `num/den` with both terms at most `u16::MAX`, if one equals it (to
@@ -459,9 +477,24 @@ fn apng_delays(n: usize, fps: f64) -> Vec<(u16, u16)> {
 
 /// Writes an animated PNG with full alpha and exact frame delays (see `apng_delays`).
 pub fn write_apng(anim: Frames, path: &Path) -> Result<(), RenderError> {
+    let encode = apng_encoder(anim)?;
+    atomic::write_with(path, |out| encode(out)).map_err(|e| write_error(path, e))
+}
+
+/// The animated PNG [`write_apng`] writes, in memory (`path` is named in errors).
+pub fn apng_bytes(anim: Frames, path: &Path) -> Result<Vec<u8>, RenderError> {
+    let mut bytes = Vec::new();
+    apng_encoder(anim)?(&mut bytes).map_err(|e| write_error(path, e))?;
+    Ok(bytes)
+}
+
+/// Checks `anim` can be an APNG and returns what encodes it into a byte stream.
+fn apng_encoder(
+    anim: Frames,
+) -> Result<impl FnOnce(&mut dyn Write) -> io::Result<()>, RenderError> {
     let (w, h) = anim.size()?;
     let delays = apng_delays(anim.frames.len(), anim.fps);
-    atomic::write_with(path, |out| -> io::Result<()> {
+    Ok(move |out: &mut dyn Write| -> io::Result<()> {
         let mut enc = png::Encoder::new(&mut *out, w, h);
         enc.set_color(png::ColorType::Rgba);
         enc.set_depth(png::BitDepth::Eight);
@@ -477,7 +510,6 @@ pub fn write_apng(anim: Frames, path: &Path) -> Result<(), RenderError> {
         writer.finish().map_err(io::Error::other)?;
         out.flush()
     })
-    .map_err(|e| write_error(path, e))
 }
 
 /// The name of frame `i` in a frames folder: `frame_00000.png`, `frame_00001.png`, …

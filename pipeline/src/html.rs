@@ -1,5 +1,7 @@
-//! The self-contained HTML preview: lottie-web, the Lottie and the SMIL in one file that
-//! plays with the network off (`gmotion animate … -o preview.html`, `gmotion demo`).
+//! The self-contained HTML page: lottie-web, the Lottie and the SMIL in one file that
+//! plays with the network off (`gmotion animate … -o preview.html`, `gmotion demo`, the
+//! studio's export). It sits here, over the Lottie and SMIL writers, because it joins
+//! both with the run's timelines.
 
 use std::path::Path;
 
@@ -7,7 +9,9 @@ use std::fmt::Write as _;
 
 use gmotion::engine::expand::Expansion;
 use gmotion::{Animation, Warning};
-use gmotion_output::{LottieSource, Options, OutputError};
+use gmotion_output::{Options, OutputError};
+
+use crate::write::Rendered;
 
 /// lottie-web's player (5.13.0, MIT, vendored from npm; licence in
 /// `assets/LICENSE-lottie-web.md`).
@@ -145,23 +149,22 @@ lottie.loadAnimation({{ container: document.getElementById('lottie'), renderer: 
     )
 }
 
-/// Whether `path` names an HTML preview (`.html` or `.htm`).
-pub fn is_preview(path: &Path) -> bool {
+/// Whether `path` names an HTML page (`.html` or `.htm`).
+pub fn is_page(path: &Path) -> bool {
     path.extension()
         .and_then(|e| e.to_str())
         .is_some_and(|e| e.eq_ignore_ascii_case("html") || e.eq_ignore_ascii_case("htm"))
 }
 
-/// The self-contained preview of `anim` ([`preview_html`]; the timeline picture when
-/// `timelines`, [`gmotion::engine::timelines`], are given), with what the Lottie and SMIL
-/// exporters could not show exactly; `path` is named in errors and gives the title.
-pub fn preview_document(
-    anim: &Animation,
-    source: Option<&LottieSource>,
-    timelines: Option<&Expansion>,
+/// The self-contained page of `r` ([`preview_html`]; the timeline picture when the run
+/// kept its timelines), with what the Lottie and SMIL exporters could not show exactly;
+/// `path` is named in errors and gives the title.
+pub fn page(
+    r: &Rendered,
     path: &Path,
     opts: &Options,
 ) -> Result<(String, Vec<Warning>), OutputError> {
+    let (anim, source) = (&r.anim, r.source.as_deref());
     let (lottie, mut warnings) = gmotion_output::lottie_text(anim, source, path, opts)?;
     let (smil, more) = gmotion_output::smil_text(anim, source, path, opts)?;
     warnings.extend(more);
@@ -172,22 +175,19 @@ pub fn preview_document(
         preview_html(
             &lottie,
             &smil,
-            timelines.map(|x| timeline_svg(anim, x)).as_deref(),
+            r.timelines
+                .as_ref()
+                .map(|x| timeline_svg(anim, x))
+                .as_deref(),
             &format!("gmotion: {title}"),
         ),
         warnings,
     ))
 }
 
-/// Writes [`preview_document`] to `path`, whole or not at all ([`gmotion::atomic`]).
-pub fn write_preview(
-    anim: &Animation,
-    source: Option<&LottieSource>,
-    timelines: Option<&Expansion>,
-    path: &Path,
-    opts: &Options,
-) -> Result<Vec<Warning>, OutputError> {
-    let (html, warnings) = preview_document(anim, source, timelines, path, opts)?;
+/// Writes [`page`] to `path`, whole or not at all ([`gmotion::atomic`]).
+pub fn write_page(r: &Rendered, path: &Path, opts: &Options) -> crate::Result<Vec<Warning>> {
+    let (html, warnings) = page(r, path, opts)?;
     gmotion::atomic::write_bytes(path, html.as_bytes()).map_err(|source| OutputError::Io {
         path: path.to_path_buf(),
         source,

@@ -1,0 +1,79 @@
+//! `gmotion studio`: the local web editor on a grammar and its scene.
+
+use gmotion_pipeline::{ImportChoices, Imported, Overrides, Project, Rescene, SceneOptions};
+
+use super::check::hint_tags;
+use super::{Ctx, Files};
+use crate::report::{CliError, Result};
+
+/// A `studio` command, its flags resolved.
+pub struct StudioJob {
+    /// The scene (if given) and the grammar.
+    pub files: Files,
+    /// The port on 127.0.0.1 (0: any free port).
+    pub port: u16,
+    /// Do not open a browser.
+    pub no_open: bool,
+    /// `--seed`, `--fps`, `--max-steps`.
+    pub run: Overrides,
+    /// How to import the scene.
+    pub choices: ImportChoices,
+}
+
+impl StudioJob {
+    /// Loads the scene as `animate` does (a grammar that does not parse is opened anyway
+    /// when the scene is given, to be fixed in the studio) and serves until interrupted.
+    pub fn run(self, ctx: &Ctx) -> Result<()> {
+        let env = &ctx.env;
+        let (scene, grammar_path) = (self.files.scene(), &self.files.grammar);
+        let imported = match (
+            Project::load(scene, grammar_path, &self.choices, env),
+            scene,
+        ) {
+            (Ok(project), _) => {
+                // As `check` does: a scene whose tags look generated gets a hint on the
+                // terminal the studio runs in.
+                if let Ok(options) = SceneOptions::new(&self.choices, Some(&project.grammar), env) {
+                    hint_tags(&project.scene_path, &options, &project.imported, env);
+                }
+                project.imported
+            }
+            (Err(_), Some(s)) => {
+                let options = SceneOptions::new(&self.choices, None, env)?;
+                let imported = Imported::load(s, &options, env)?;
+                hint_tags(s, &options, &imported, env);
+                imported
+            }
+            (Err(e), None) => return Err(e.into()),
+        };
+        // An edit to the directives that decide the import brings the scene in again, as
+        // `animate` would import it under the edited grammar.
+        let rescene = Rescene {
+            given: self.files.scene.clone(),
+            grammar_path: grammar_path.clone(),
+            choices: self.choices.clone(),
+            env: env.clone(),
+        };
+        let studio = gmotion_studio::Studio::bind(gmotion_studio::Config {
+            grammar_path: grammar_path.clone(),
+            imported,
+            rescene: Some(rescene),
+            run: self.run.run_options(&env.limits)?,
+            port: self.port,
+        })
+        .map_err(|e| CliError::msg(format!("studio: {e}")))?;
+        let url = studio.url();
+        {
+            use std::io::Write;
+            let mut out = std::io::stdout().lock();
+            let _ = writeln!(out, "studio: {url}");
+            let _ = out.flush();
+        }
+        if !self.no_open {
+            gmotion_studio::open_browser(&url);
+        }
+        studio
+            .serve()
+            .map_err(|e| CliError::msg(format!("studio: {e}")))
+    }
+}

@@ -1,0 +1,113 @@
+//! One writer for every output: the animation (with the Lottie source it moves, when its
+//! scene came from one) written by extension to a file, or to bytes.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use gmotion::Warning;
+use gmotion::canvas::OutputSize;
+use gmotion::engine::expand::Expansion;
+use gmotion::motion::Animation;
+use gmotion_output::{self as output, LottieSource};
+
+use crate::Result;
+use crate::env::Limits;
+use crate::html;
+use crate::scene::Imported;
+
+/// A run's animation with what its outputs draw besides: the Lottie document its scene
+/// came from, and the slices the HTML page's timeline shows.
+#[derive(Clone, Debug)]
+pub struct Rendered {
+    /// The animation.
+    pub anim: Animation,
+    /// The Lottie document the scene came from, if it came from one.
+    pub source: Option<Arc<LottieSource>>,
+    /// Every shape's final slices, when the run kept them ([`crate::Project::run`]).
+    pub timelines: Option<Expansion>,
+}
+
+/// Writes by extension: `.json` Lottie, `.svg` SMIL, `.png` the frame at
+/// [`output::Options::time`], `.gif`, `.apng`, `.html` (the page, [`html`]), and a path
+/// without extension (or an existing folder, or a `%04d` pattern) a PNG per frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Writer {
+    /// How to write.
+    pub options: output::Options,
+}
+
+impl Writer {
+    /// A writer of outputs of `size` under `limits` (`pixels`, `animation-pixels`), with
+    /// the default tolerance, `.png` showing the first frame.
+    pub fn new(size: OutputSize, limits: &Limits) -> Writer {
+        Writer {
+            options: output::Options {
+                size,
+                max_pixels: limits.get("pixels"),
+                max_animation_pixels: limits.get("animation-pixels"),
+                ..output::Options::default()
+            },
+        }
+    }
+
+    /// Whether `path` is written one frame at a time (GIF, APNG, a folder of frames): what
+    /// a progress bar counts. A name no format is known by is an error.
+    pub fn draws_every_frame(path: &Path) -> Result<bool> {
+        if html::is_page(path) {
+            return Ok(false);
+        }
+        Ok(matches!(
+            output::Format::of(path)?,
+            output::Format::Frames | output::Format::Gif | output::Format::Apng
+        ))
+    }
+
+    /// Writes `r` to `path` whole or not at all, calling `tick` once per frame rendered;
+    /// returns what the format could not show exactly.
+    pub fn write(
+        &self,
+        r: &Rendered,
+        path: &Path,
+        tick: &(dyn Fn() + Sync),
+    ) -> Result<Vec<Warning>> {
+        if html::is_page(path) {
+            return html::write_page(r, path, &self.options);
+        }
+        Ok(output::write_over_source(
+            &r.anim,
+            r.source.as_deref(),
+            path,
+            &self.options,
+            tick,
+        )?)
+    }
+
+    /// The bytes [`Writer::write`] would write to `path` (which names the format and is
+    /// named in errors; nothing is written), and its warnings. A folder of frames has no
+    /// single bytes.
+    pub fn bytes(&self, r: &Rendered, path: &Path) -> Result<(Vec<u8>, Vec<Warning>)> {
+        if html::is_page(path) {
+            let (page, warnings) = html::page(r, path, &self.options)?;
+            return Ok((page.into_bytes(), warnings));
+        }
+        Ok(output::bytes_over_source(
+            &r.anim,
+            r.source.as_deref(),
+            path,
+            &self.options,
+        )?)
+    }
+
+    /// Writes a still scene to `path`: `.png` rendered, `.json` a still Lottie (a Lottie
+    /// source written back as it was read), `.svg` a clean SVG; a Lottie source, which
+    /// moves by itself, is also played to `.gif`, `.apng` or a folder of frames, and to
+    /// `.svg` when [`output::Options::play_svg`].
+    pub fn write_still(&self, still: &Imported, path: &Path) -> Result<Vec<Warning>> {
+        Ok(output::write_still_over_source(
+            &still.scene,
+            still.source.as_deref(),
+            path,
+            &self.options,
+        )?)
+    }
+}
