@@ -44,6 +44,7 @@ pub mod color;
 pub mod engine;
 pub mod grammar;
 pub mod input;
+pub mod keyframe;
 pub mod measure;
 pub mod motion;
 pub mod scene;
@@ -52,6 +53,7 @@ pub mod tagging;
 pub mod tangle;
 #[cfg(test)]
 mod testing;
+pub mod tolerance;
 pub mod transitions;
 pub mod warning;
 

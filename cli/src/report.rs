@@ -30,22 +30,12 @@ pub type Result<T> = std::result::Result<T, CliError>;
 /// An engine error rendered against the grammar source.
 pub fn engine_error(grammar_path: &Path, src: &str, e: &EngineError) -> CliError {
     let name = grammar_path.display().to_string();
-    match e.span {
-        Some(span) => {
-            let mut d = Diagnostic::new(span, e.message.clone());
-            if !e.notes.is_empty() {
-                d = d.with_help(e.notes.join("\n"));
-            }
-            CliError(d.render(&name, src).trim_end().to_string())
-        }
-        None => {
-            let mut s = format!("{name}: error: {}", e.message);
-            for n in &e.notes {
-                s.push_str(&format!("\n  note: {n}"));
-            }
-            CliError(s)
-        }
-    }
+    CliError(
+        Diagnostic::from(e)
+            .render(&name, src)
+            .trim_end()
+            .to_string(),
+    )
 }
 
 /// `--quiet`: warnings and the summary of what was written are not printed (errors are).

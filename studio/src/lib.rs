@@ -28,7 +28,7 @@ use gmotion::Scene;
 use gmotion::engine::RunOptions;
 use gmotion_output::LottieSource;
 
-pub use live::{Diagnostic, Live, SceneLoader, shapes_json};
+pub use live::{Live, SceneLoader, shapes_json};
 pub use preview::{
     LOTTIE_JS, is_preview, preview_document, preview_html, timeline_svg, write_preview,
 };

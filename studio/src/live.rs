@@ -12,43 +12,28 @@ use gmotion::Animation;
 use gmotion::Scene;
 use gmotion::canvas::OutputSize;
 use gmotion::engine::settings::Settings;
-use gmotion::engine::{self, EngineError, RunOptions};
-use gmotion::grammar::{self, ast::Grammar};
+use gmotion::engine::{self, RunOptions};
+use gmotion::grammar::ast::{Grammar, Span};
+use gmotion::grammar::{self, diagnostics::Diagnostic};
 use gmotion::tagging::{TagFrom, Units};
 use gmotion_output::LottieSource;
 use serde_json::{Value, json};
 
 use crate::Config;
 
-/// A located problem in the grammar text (line and column 1-based; 0 when the problem has
-/// no place).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Diagnostic {
-    /// 1-based line, 0 if none.
-    pub line: u32,
-    /// 1-based column in characters, 0 if none.
-    pub column: u32,
-    /// What is wrong.
-    pub message: String,
-}
-
-impl Diagnostic {
-    fn from_engine(e: &EngineError) -> Diagnostic {
-        let mut message = e.message.clone();
-        for n in &e.notes {
-            message.push_str("; ");
-            message.push_str(n);
-        }
-        Diagnostic {
-            line: e.span.map_or(0, |s| s.line),
-            column: e.span.map_or(0, |s| s.col),
-            message,
-        }
-    }
-
-    fn to_json(&self) -> Value {
-        json!({"line": self.line, "column": self.column, "message": self.message})
-    }
+/// A grammar diagnostic as the page reads it: `line` and `column` 1-based (0 when the
+/// problem has no place), the byte range `start..end`, the `expected` alternatives (already
+/// quoted) and the `help` (`null` without one; lines separated by `\n`).
+pub(crate) fn diagnostic_json(d: &Diagnostic) -> Value {
+    json!({
+        "line": d.span.line,
+        "column": d.span.col,
+        "start": d.span.start,
+        "end": d.span.end,
+        "message": d.message,
+        "expected": d.expected,
+        "help": d.help,
+    })
 }
 
 /// An animation that built, with what the page asks about it.
@@ -161,19 +146,16 @@ pub fn shapes_json(scene: &Scene) -> Value {
         .collect()
 }
 
-/// `text` parsed, with its settings.
+/// `text` parsed, with its settings: every syntax error, else every error of meaning
+/// found without a scene (as `gmotion check` reports them).
 fn parse(text: &str) -> Result<(Grammar, Settings), Vec<Diagnostic>> {
-    let grammar = grammar::parse(text).map_err(|ds| {
-        ds.iter()
-            .map(|d| Diagnostic {
-                line: d.span.line,
-                column: d.span.col,
-                message: d.message.clone(),
-            })
-            .collect::<Vec<_>>()
-    })?;
+    let grammar = grammar::parse(text).map_err(|ds| ds.items)?;
     let settings =
-        engine::settings::from_grammar(&grammar).map_err(|e| vec![Diagnostic::from_engine(&e)])?;
+        engine::settings::from_grammar(&grammar).map_err(|e| vec![Diagnostic::from(&e)])?;
+    let errors = engine::check::static_errors(&grammar);
+    if !errors.is_empty() {
+        return Err(errors.iter().map(Diagnostic::from).collect());
+    }
     Ok((grammar, settings))
 }
 
@@ -184,7 +166,7 @@ fn build(
     (grammar, settings): (Grammar, Settings),
 ) -> Result<Built, Vec<Diagnostic>> {
     let (anim, _) = engine::run(imported.scene.clone(), &grammar, run)
-        .map_err(|e| vec![Diagnostic::from_engine(&e)])?;
+        .map_err(|e| vec![Diagnostic::from(&e)])?;
     Ok(Built {
         anim,
         grammar,
@@ -290,11 +272,15 @@ impl Live {
             return Ok(Arc::clone(&current));
         };
         let (scene, source) = (loader.0)(settings).map_err(|why| {
-            vec![Diagnostic {
+            let first = Span {
                 line: 1,
-                column: 1,
-                message: format!("the scene could not be imported under these settings: {why}"),
-            }]
+                col: 1,
+                ..Span::default()
+            };
+            vec![Diagnostic::new(
+                first,
+                format!("the scene could not be imported under these settings: {why}"),
+            )]
         })?;
         *current = Arc::new(Imported { scene, source, key });
         Ok(Arc::clone(&current))
@@ -316,7 +302,7 @@ impl Live {
             self.lock()
                 .diagnostics
                 .iter()
-                .map(Diagnostic::to_json)
+                .map(diagnostic_json)
                 .collect(),
         )
     }

@@ -2,7 +2,7 @@
 //! that what a player reconstructs (linear interpolation between the kept keyframes) stays
 //! within the error bound, measured as the displacement of check points in canvas units.
 
-use gmotion::motion::reduce::greedy;
+use gmotion::keyframe::reduce::greedy;
 use kurbo::{Affine, Point, Vec2};
 
 use super::geometry::{Contour, svd};

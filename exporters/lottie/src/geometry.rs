@@ -247,7 +247,7 @@ pub fn max_stretch(m: Affine) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use gmotion::motion::affine_within;
+    use gmotion::tolerance::Tolerance;
 
     fn product(levels: &[Trs]) -> Affine {
         levels
@@ -268,7 +268,7 @@ mod tests {
         for m in cases {
             let levels = decompose(m, Point::new(10.0, 20.0));
             assert!(
-                affine_within(product(&levels), m, 1e-9),
+                Tolerance::Below(1e-9).same_affine(product(&levels), m),
                 "{m:?} -> {levels:?}"
             );
         }

@@ -432,7 +432,7 @@ fn in_parent_space(levels: &[Transform], a: Affine) -> Option<Vec<Transform>> {
 
 /// An opacity of `base` percent times the multiplier `keys` (frames from the animation's
 /// start), keyed in the composition's frames (which start at `ip`).
-fn opacity_prop(keys: &[crate::keys::Key<f64>], base: f64, ip: f64) -> Prop {
+fn opacity_prop(keys: &[gmotion::keyframe::Key<f64>], base: f64, ip: f64) -> Prop {
     let at = |a: &f64, b: &f64, p: f64| a + (b - a) * p;
     let keys = within_range(
         keys,
@@ -474,7 +474,7 @@ fn multiply_opacity(
     li: usize,
     source: &Source,
     track: &gmotion::motion::Track,
-    keys: &[crate::keys::Key<f64>],
+    keys: &[gmotion::keyframe::Key<f64>],
     name: &str,
     warnings: &mut Vec<Warning>,
 ) {

@@ -19,8 +19,8 @@
 
 use kurbo::Affine;
 
-use super::curve::Key;
 use super::transform::{Kind, Layer, TransformAnim};
+use gmotion::keyframe::Key;
 
 /// The groups, outermost first, and the innermost group's transform, merged where exact.
 pub fn merge(mut layers: Vec<Layer>, mut inner: Affine) -> (Vec<Layer>, Affine) {
@@ -155,8 +155,8 @@ fn commutes_with(m: Affine, a: &TransformAnim) -> bool {
 
 #[cfg(test)]
 mod tests {
-    use super::super::curve::Ease;
     use super::*;
+    use gmotion::keyframe::Ease;
     use kurbo::Point;
 
     /// Keys `from` at `t0` to `to` at `t1` along a spline, held before and after.
@@ -168,7 +168,7 @@ mod tests {
                 Key {
                     t: t1,
                     v: to,
-                    ease: Ease::Spline([0.42, 0.0, 0.58, 1.0]),
+                    ease: Ease::Bezier([0.42, 0.0, 0.58, 1.0]),
                 },
             ],
             discrete: false,
@@ -189,7 +189,8 @@ mod tests {
             let u = (t - x.t) / (y.t - x.t);
             let u = match y.ease {
                 Ease::Linear => u,
-                Ease::Spline(c) => gmotion::signals::easing::Easing::CubicBezier(c).apply(u),
+                Ease::Bezier(c) => gmotion::signals::easing::Easing::CubicBezier(c).apply(u),
+                Ease::Hold => 0.0,
             };
             [
                 x.v[0] + (y.v[0] - x.v[0]) * u,
