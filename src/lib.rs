@@ -32,9 +32,10 @@
 //! The modules, in the order data flows: [`scene`] (the model an importer fills),
 //! [`grammar`] (the language), [`tangle`] (group grammars: spatial rules), [`engine`]
 //! (expansion and compilation), [`motion`] (the animation model and its sampling),
-//! [`signals`] (easings, FIR and spring filters), [`transitions`] (data-driven motion);
-//! beside them [`color`], [`canvas`] (output sizes), [`tagging`] (import options the
-//! grammar sets), [`warning`] and [`atomic`] (whole-or-nothing file writes).
+//! [`keyframe`] (the keys exporters write), [`signals`] (easings, FIR and spring filters),
+//! [`transitions`] (data-driven motion); beside them [`color`], [`canvas`] (output sizes),
+//! [`tagging`] (import options the grammar sets), [`tolerance`] ("the same up to rounding"),
+//! [`warning`] and [`atomic`] (whole-or-nothing file writes).
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 

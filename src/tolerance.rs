@@ -58,6 +58,10 @@ pub const TELESCOPE: Tolerance = Tolerance::Relative(1e-9);
 /// Lottie exporter's motion chains and identity checks).
 pub const COMPOSED: Tolerance = Tolerance::OfFirst(1e-9);
 
+/// The two scale factors of a Lottie transform level are one (a uniform scale, about which
+/// the rotation may move between levels): relative to the first factor.
+pub const UNIFORM: Tolerance = Tolerance::OfFirst(1e-9);
+
 /// Coordinates the Lottie exporter writes with three decimals: closer than half the last
 /// written digit is the same number in the file.
 pub const WRITTEN: Tolerance = Tolerance::Below(5e-4);

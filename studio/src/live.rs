@@ -455,3 +455,43 @@ impl Live {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The diagnostics of `text` as the page receives them.
+    fn page(text: &str) -> Vec<Value> {
+        parse(text)
+            .err()
+            .unwrap()
+            .iter()
+            .map(diagnostic_json)
+            .collect()
+    }
+
+    #[test]
+    fn every_error_of_meaning_reaches_the_page_with_its_help() {
+        let d = page(
+            "duration 2s\n\
+             timesplit(0.5, 0.6) : [all, s] -> [a, b]\n\
+             animate(opacity, local, 0, 2) : [a, s] -> [m]\n\
+             animate(afine, world, 0, translate(1, 0)) : [b, s] -> [n]\n",
+        );
+        let at: Vec<(u64, u64)> = d
+            .iter()
+            .map(|x| (x["line"].as_u64().unwrap(), x["column"].as_u64().unwrap()))
+            .collect();
+        assert_eq!(at, vec![(2, 1), (3, 28), (4, 9)], "{d:?}");
+        assert_eq!(d[2]["help"], "did you mean `affine`?", "{d:?}");
+        assert!(d[2]["end"].as_u64() > d[2]["start"].as_u64(), "{d:?}");
+    }
+
+    #[test]
+    fn syntax_errors_keep_what_was_expected() {
+        let d = page("duration 2s\ntimesplit(0.5 : [all, s]\n");
+        assert_eq!(d[0]["line"], 2, "{d:?}");
+        let expected = d[0]["expected"].as_array().unwrap();
+        assert!(!expected.is_empty(), "{d:?}");
+    }
+}

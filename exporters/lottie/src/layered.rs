@@ -37,6 +37,7 @@ use serde_json::Value as Json;
 
 use gmotion::Warning;
 use gmotion::motion::Animation;
+use gmotion::tolerance::Tolerance;
 use gmotion_import_lottie::Source;
 use gmotion_import_lottie::eval;
 use gmotion_import_lottie::model::{ShapeItem, ShapeKind};
@@ -410,11 +411,7 @@ fn null_json(null: &Layer, ind: i64, parent: Option<Json>) -> Json {
 /// reference frame is `a`: `A⁻¹·L₁·…·Lₙ·A` as levels. `None` when `a` is singular.
 fn in_parent_space(levels: &[Transform], a: Affine) -> Option<Vec<Transform>> {
     let [m11, m12, m21, m22, _, _] = a.as_coeffs();
-    if (m11 - 1.0).abs() < 1e-12
-        && m12.abs() < 1e-12
-        && m21.abs() < 1e-12
-        && (m22 - 1.0).abs() < 1e-12
-    {
+    if Tolerance::Below(1e-12).same_all(&[m11, m12, m21, m22], &[1.0, 0.0, 0.0, 1.0]) {
         // A translation (or nothing): shift the pivot and the position.
         return Some(conjugate(levels.to_vec(), a));
     }
