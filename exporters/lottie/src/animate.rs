@@ -21,9 +21,9 @@ use std::sync::{Arc, Mutex};
 use super::bake::{BakedRigid, RigidSample, bake_rigid};
 use super::fold::fold;
 use super::geometry::{Trs, decompose, max_stretch, svd};
-use super::keys::{frame_keys, to_keyframes};
+use super::keys::to_keyframes;
 use super::model::{Keyframe, N, Prop, Transform, Value};
-use gmotion::keyframe::{Key, Piece, Same};
+use gmotion::keyframe::{Format, Key, Piece, Same, progress_keys};
 use gmotion::motion::grid::blend_at;
 use gmotion::motion::{AttrSeg, Component, Interp, MotionKind, MotionSeg, Tint, Track};
 use gmotion::scene::{Node, Paint};
@@ -430,7 +430,13 @@ fn exact_levels(seg: &MotionSeg, end: f64, fps: f64) -> Option<Vec<Transform>> {
         timing: &seg.timing,
     }];
     let p0 = seg.timing.progress(seg.t0);
-    let track = |f: &dyn Fn(f64) -> [f64; 2]| frame_keys(&piece, fps, f(p0), |_, p| f(p), 1e-4);
+    let track = |f: &dyn Fn(f64) -> [f64; 2]| {
+        let spaced = Format::Spaced {
+            fps,
+            tolerance: 1e-4,
+        };
+        progress_keys(&piece, f(p0), |_, p| f(p), spaced).expect(SAMPLED)
+    };
     let mut out = Vec::with_capacity(levels.len() + 2);
     // A channel whose window ends before its change begins (a delay longer than the part
     // of the slice this window covers) has no keys and stays at its start value `f(p0)`,
@@ -683,6 +689,9 @@ fn bake_key(
     Some(key)
 }
 
+/// Why Lottie keys always exist: `Format::Spaced` samples the easings it cannot say.
+const SAMPLED: &str = "spaced keys sample what is not a Bézier";
+
 /// Keys of an attribute channel.
 fn attr_keys<T: Copy + gmotion::motion::Blendable, V: Clone + Same>(
     segs: &[AttrSeg<T>],
@@ -703,13 +712,17 @@ fn attr_keys<T: Copy + gmotion::motion::Blendable, V: Clone + Same>(
             timing: &s.timing,
         })
         .collect();
-    frame_keys(
-        &pieces,
+    let spaced = Format::Spaced {
         fps,
+        tolerance: value_tolerance,
+    };
+    progress_keys(
+        &pieces,
         default,
         |k, p| map(segs[k].from.blend(segs[k].to, p)),
-        value_tolerance,
+        spaced,
     )
+    .expect(SAMPLED)
 }
 
 #[cfg(test)]

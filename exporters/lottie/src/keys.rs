@@ -1,22 +1,10 @@
-//! The core's keys ([`gmotion::keyframe`], made in [`Format::Spaced`]) as Lottie keyframes:
+//! The core's keys ([`gmotion::keyframe`], made in `Format::Spaced`) as Lottie keyframes:
 //! each key's easing and hold written on the keyframe before it, and eased stretches that
 //! would carry a value out of its range sampled for rlottie.
 
 use super::model::{Ease as LottieEase, Keyframe, N, Value};
-use gmotion::keyframe::{Ease, Format, Key, Piece, Same, progress_keys};
+use gmotion::keyframe::{Ease, Key, Same};
 use gmotion::signals::Easing;
-
-/// The keys of a channel in Lottie frames (see [`progress_keys`] in [`Format::Spaced`]).
-pub fn frame_keys<V: Clone + Same>(
-    pieces: &[Piece],
-    fps: f64,
-    default: V,
-    value: impl Fn(usize, f64) -> V,
-    tolerance: f64,
-) -> Vec<Key<V>> {
-    progress_keys(pieces, default, value, Format::Spaced { fps, tolerance })
-        .expect("spaced keys sample what is not a Bézier")
-}
 
 /// Turns keys into Lottie keyframes with `to_value` mapping each value. Lottie writes how a
 /// channel leaves a keyframe: a key's easing goes on the keyframe before it, and a key
