@@ -32,9 +32,10 @@
 //! The modules, in the order data flows: [`scene`] (the model an importer fills),
 //! [`grammar`] (the language), [`tangle`] (group grammars: spatial rules), [`engine`]
 //! (expansion and compilation), [`motion`] (the animation model and its sampling),
-//! [`signals`] (easings, FIR and spring filters), [`transitions`] (data-driven motion);
-//! beside them [`color`], [`canvas`] (output sizes), [`tagging`] (import options the
-//! grammar sets), [`warning`] and [`atomic`] (whole-or-nothing file writes).
+//! [`keyframe`] (the keys exporters write), [`signals`] (easings, FIR and spring filters),
+//! [`transitions`] (data-driven motion); beside them [`color`], [`canvas`] (output sizes),
+//! [`tagging`] (import options the grammar sets), [`tolerance`] ("the same up to rounding"),
+//! [`warning`] and [`atomic`] (whole-or-nothing file writes).
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
@@ -44,6 +45,7 @@ pub mod color;
 pub mod engine;
 pub mod grammar;
 pub mod input;
+pub mod keyframe;
 pub mod measure;
 pub mod motion;
 pub mod scene;
@@ -52,6 +54,7 @@ pub mod tagging;
 pub mod tangle;
 #[cfg(test)]
 mod testing;
+pub mod tolerance;
 pub mod transitions;
 pub mod warning;
 

@@ -161,22 +161,7 @@ pub fn output_size(width: Option<u32>, height: Option<u32>, settings: &Settings)
 /// the line with a caret when the error has a place.
 pub fn located(grammar_path: &Path, src: &str, e: &EngineError) -> Error {
     let name = grammar_path.display().to_string();
-    match e.span {
-        Some(span) => {
-            let mut d = Diagnostic::new(span, e.message.clone());
-            if !e.notes.is_empty() {
-                d = d.with_help(e.notes.join("\n"));
-            }
-            Error::msg(d.render(&name, src).trim_end())
-        }
-        None => {
-            let mut s = format!("{name}: error: {}", e.message);
-            for n in &e.notes {
-                s.push_str(&format!("\n  note: {n}"));
-            }
-            Error::msg(s)
-        }
-    }
+    Error::msg(Diagnostic::from(e).render(&name, src).trim_end())
 }
 
 /// What a front end overrides of a grammar's header for the run (`--seed`, `--fps`,

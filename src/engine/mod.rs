@@ -19,6 +19,7 @@ use std::fmt;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use crate::grammar::ast::{Grammar, Span};
+use crate::grammar::diagnostics::Diagnostic;
 use crate::motion::Animation;
 use crate::scene::Scene;
 
@@ -87,6 +88,22 @@ impl fmt::Display for EngineError {
 }
 
 impl std::error::Error for EngineError {}
+
+/// The error as a grammar diagnostic: at its place, or with none, its notes as the help
+/// (one line each).
+impl From<&EngineError> for Diagnostic {
+    fn from(e: &EngineError) -> Diagnostic {
+        let d = match e.span {
+            Some(span) => Diagnostic::new(span, e.message.clone()),
+            None => Diagnostic::general(e.message.clone()),
+        };
+        if e.notes.is_empty() {
+            d
+        } else {
+            d.with_help(e.notes.join("\n"))
+        }
+    }
+}
 
 impl From<crate::grammar::value::EvalError> for EngineError {
     fn from(e: crate::grammar::value::EvalError) -> Self {

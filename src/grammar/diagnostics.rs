@@ -1,7 +1,9 @@
 //! Errors in a grammar file, with their location and a caret rendering.
 //!
 //! The parser collects every error it can recover from into one [`Diagnostics`], so a user
-//! fixes a file in one round instead of one error per run.
+//! fixes a file in one round instead of one error per run. Errors of meaning (an
+//! [`EngineError`](crate::engine::EngineError)) become the same [`Diagnostic`], their notes
+//! its help: the command line renders it, the studio sends it to the page whole.
 
 use std::fmt;
 
@@ -10,7 +12,8 @@ use super::ast::Span;
 /// One error: where it is, what is wrong, what would have been accepted, and a hint.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Diagnostic {
-    /// The offending source range.
+    /// The offending source range; line 0 when the error has no place in the source
+    /// ([`Diagnostic::general`]).
     pub span: Span,
     /// What is wrong, in one sentence without a trailing period.
     pub message: String,
@@ -31,6 +34,17 @@ impl Diagnostic {
         }
     }
 
+    /// An error with no place in the source (a scene that cannot be imported, a run that
+    /// fails as a whole).
+    pub fn general(message: impl Into<String>) -> Diagnostic {
+        Diagnostic::new(Span::default(), message)
+    }
+
+    /// Whether the error points at a place in the source.
+    pub fn has_place(&self) -> bool {
+        self.span.line > 0
+    }
+
     /// The same error with a list of accepted alternatives.
     pub fn with_expected<S: Into<String>>(
         mut self,
@@ -47,8 +61,17 @@ impl Diagnostic {
     }
 
     /// Renders this error as `file:line:col: error: message`, the source line, a caret line
-    /// under the span, then the expected alternatives and the hint.
+    /// under the span, then the expected alternatives and the hint. An error with no place
+    /// is `file: error: message` with each line of the hint as a note.
     pub fn render(&self, file_name: &str, src: &str) -> String {
+        if !self.has_place() {
+            let mut out = format!("{file_name}: error: {}\n", self.message);
+            let expected = self.expected_line();
+            for line in expected.iter().chain(&self.help).flat_map(|h| h.lines()) {
+                out.push_str(&format!("  note: {line}\n"));
+            }
+            return out;
+        }
         let Span { line, col, .. } = self.span;
         let mut out = format!("{file_name}:{line}:{col}: error: {}\n", self.message);
         let text = source_line(src, self.span.start);
@@ -59,13 +82,8 @@ impl Diagnostic {
             "{pad} | {}\n",
             caret_line(text, col, self.caret_len(src))
         ));
-        match self.expected.len() {
-            0 => {}
-            1 => out.push_str(&format!("{pad} = expected {}\n", self.expected[0])),
-            _ => out.push_str(&format!(
-                "{pad} = expected one of {}\n",
-                self.expected.join(", ")
-            )),
+        if let Some(expected) = self.expected_line() {
+            out.push_str(&format!("{pad} = {expected}\n"));
         }
         if let Some(help) = &self.help {
             // Further lines of a long hint line up under its first line.
@@ -73,6 +91,15 @@ impl Diagnostic {
             out.push_str(&format!("{pad} = help: {help}\n"));
         }
         out
+    }
+
+    /// `expected X` or `expected one of X, Y`, when alternatives are known.
+    pub fn expected_line(&self) -> Option<String> {
+        match self.expected.len() {
+            0 => None,
+            1 => Some(format!("expected {}", self.expected[0])),
+            _ => Some(format!("expected one of {}", self.expected.join(", "))),
+        }
     }
 
     /// How many characters of the span lie on its first line (at least one, so an empty span

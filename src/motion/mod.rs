@@ -18,7 +18,6 @@
 pub mod alexa;
 pub mod component;
 pub mod grid;
-pub mod reduce;
 pub mod sampler;
 
 use std::sync::Arc;
@@ -54,14 +53,6 @@ impl Channel {
     pub const COUNT: usize = 5;
 }
 
-/// Whether `a` and `b` agree in every coefficient to within `tol`: the same map up to
-/// rounding. The engine's and the exporters' tests compare transforms by it.
-pub fn affine_within(a: Affine, b: Affine, tol: f64) -> bool {
-    a.as_coeffs()
-        .iter()
-        .zip(b.as_coeffs())
-        .all(|(x, y)| (x - y).abs() < tol)
-}
 /// How a motion's transform is interpolated between its neutral and full value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Interp {

@@ -18,6 +18,7 @@ use crate::motion::{
     Animation, AttrSeg, Component, Interp, MotionKind, MotionSeg, Timing, Tint, Track,
 };
 use crate::scene::Scene;
+use crate::tolerance::{FRAME, TELESCOPE};
 
 /// The animation for `samples` on `scene` (shapes without samples get empty tracks).
 pub fn animation(scene: &Scene, samples: &Samples) -> Animation {
@@ -34,19 +35,6 @@ pub fn animation(scene: &Scene, samples: &Samples) -> Animation {
     }
 }
 
-/// Coefficient-wise equality within `tol` relative to each coefficient's size.
-fn near(a: Affine, b: Affine, tol: f64) -> bool {
-    a.as_coeffs()
-        .iter()
-        .zip(b.as_coeffs())
-        .all(|(x, y)| (x - y).abs() <= tol * (1.0 + x.abs().max(y.abs())))
-}
-
-/// The same transform up to rounding: frames that do not move get no window.
-fn close(a: Affine, b: Affine) -> bool {
-    near(a, b, 1e-12)
-}
-
 /// The track of one shape.
 pub fn track(s: &ShapeSamples, samples: &Samples) -> Track {
     let states: Vec<FrameState> = (0..samples.frames).map(|k| s.state(k)).collect();
@@ -54,8 +42,8 @@ pub fn track(s: &ShapeSamples, samples: &Samples) -> Track {
     if s.has_transform() {
         let mats: Vec<Affine> = states.iter().map(|st| st.transform(s.anchor)).collect();
         for k in 0..samples.frames - 1 {
-            let first = k == 0 && !close(mats[0], Affine::IDENTITY);
-            if !first && close(mats[k], mats[k + 1]) {
+            let first = k == 0 && !FRAME.same_affine(mats[0], Affine::IDENTITY);
+            if !first && FRAME.same_affine(mats[k], mats[k + 1]) {
                 continue;
             }
             let (pivot, comps) = window(s.anchor, &states[k], &states[k + 1], mats[k], mats[k + 1]);
@@ -151,7 +139,7 @@ fn window(
         comps.push(Component::Translate(Vec2::ZERO));
     }
     let full = about(crate::motion::component::product_at(&comps, 1.0));
-    if near(full * ma, mb, 1e-9) {
+    if TELESCOPE.same_affine(full * ma, mb) {
         (pivot, comps)
     } else {
         // Rounding in the decomposition: fall back to the exact relative matrix.

@@ -180,7 +180,7 @@ fn route(ctx: &Ctx, request: &mut Request) -> Reply {
             let (version, diagnostics) = live.set_text(text);
             Reply::json(&json!({
                 "version": version,
-                "diagnostics": diagnostics.iter().map(|d| json!({"line": d.line, "column": d.column, "message": d.message})).collect::<Vec<_>>(),
+                "diagnostics": diagnostics.iter().map(crate::live::diagnostic_json).collect::<Vec<_>>(),
             }))
         }
         (Method::Post, "/save") => match live.save() {

@@ -26,7 +26,7 @@ use std::thread;
 use gmotion::engine::RunOptions;
 use gmotion_pipeline::{Imported, Rescene};
 
-pub use live::{Diagnostic, Live, shapes_json};
+pub use live::{Live, shapes_json};
 
 /// What a studio session edits.
 #[derive(Debug)]

@@ -10,43 +10,28 @@ use std::time::{Duration, SystemTime};
 use gmotion::Scene;
 use gmotion::canvas::OutputSize;
 use gmotion::engine::settings::Settings;
-use gmotion::engine::{self, EngineError, RunOptions};
-use gmotion::grammar::{self, ast::Grammar};
+use gmotion::engine::{self, RunOptions};
+use gmotion::grammar::ast::{Grammar, Span};
+use gmotion::grammar::{self, diagnostics::Diagnostic};
 use gmotion::tagging::{TagFrom, Units};
 use gmotion_pipeline::{LottieSource, Rendered, Rescene, Writer};
 use serde_json::{Value, json};
 
 use crate::Config;
 
-/// A located problem in the grammar text (line and column 1-based; 0 when the problem has
-/// no place).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Diagnostic {
-    /// 1-based line, 0 if none.
-    pub line: u32,
-    /// 1-based column in characters, 0 if none.
-    pub column: u32,
-    /// What is wrong.
-    pub message: String,
-}
-
-impl Diagnostic {
-    fn from_engine(e: &EngineError) -> Diagnostic {
-        let mut message = e.message.clone();
-        for n in &e.notes {
-            message.push_str("; ");
-            message.push_str(n);
-        }
-        Diagnostic {
-            line: e.span.map_or(0, |s| s.line),
-            column: e.span.map_or(0, |s| s.col),
-            message,
-        }
-    }
-
-    fn to_json(&self) -> Value {
-        json!({"line": self.line, "column": self.column, "message": self.message})
-    }
+/// A grammar diagnostic as the page reads it: `line` and `column` 1-based (0 when the
+/// problem has no place), the byte range `start..end`, the `expected` alternatives (already
+/// quoted) and the `help` (`null` without one; lines separated by `\n`).
+pub(crate) fn diagnostic_json(d: &Diagnostic) -> Value {
+    json!({
+        "line": d.span.line,
+        "column": d.span.col,
+        "start": d.span.start,
+        "end": d.span.end,
+        "message": d.message,
+        "expected": d.expected,
+        "help": d.help,
+    })
 }
 
 /// An animation that built (with the Lottie source its scene came from), with what the
@@ -146,19 +131,16 @@ pub fn shapes_json(scene: &Scene) -> Value {
         .collect()
 }
 
-/// `text` parsed, with its settings.
+/// `text` parsed, with its settings: every syntax error, else every error of meaning
+/// found without a scene (as `gmotion check` reports them).
 fn parse(text: &str) -> Result<(Grammar, Settings), Vec<Diagnostic>> {
-    let grammar = grammar::parse(text).map_err(|ds| {
-        ds.iter()
-            .map(|d| Diagnostic {
-                line: d.span.line,
-                column: d.span.col,
-                message: d.message.clone(),
-            })
-            .collect::<Vec<_>>()
-    })?;
+    let grammar = grammar::parse(text).map_err(|ds| ds.items)?;
     let settings =
-        engine::settings::from_grammar(&grammar).map_err(|e| vec![Diagnostic::from_engine(&e)])?;
+        engine::settings::from_grammar(&grammar).map_err(|e| vec![Diagnostic::from(&e)])?;
+    let errors = engine::check::static_errors(&grammar);
+    if !errors.is_empty() {
+        return Err(errors.iter().map(Diagnostic::from).collect());
+    }
     Ok((grammar, settings))
 }
 
@@ -169,7 +151,7 @@ fn build(
     (grammar, settings): (Grammar, Settings),
 ) -> Result<Built, Vec<Diagnostic>> {
     let (anim, _) = engine::run(imported.scene.clone(), &grammar, run)
-        .map_err(|e| vec![Diagnostic::from_engine(&e)])?;
+        .map_err(|e| vec![Diagnostic::from(&e)])?;
     Ok(Built {
         rendered: Rendered {
             anim,
@@ -279,11 +261,15 @@ impl Live {
             return Ok(Arc::clone(&current));
         };
         let again = rescene.import(settings).map_err(|why| {
-            vec![Diagnostic {
+            let first = Span {
                 line: 1,
-                column: 1,
-                message: format!("the scene could not be imported under these settings: {why}"),
-            }]
+                col: 1,
+                ..Span::default()
+            };
+            vec![Diagnostic::new(
+                first,
+                format!("the scene could not be imported under these settings: {why}"),
+            )]
         })?;
         let (scene, source) = (again.scene, again.source);
         *current = Arc::new(Imported { scene, source, key });
@@ -306,7 +292,7 @@ impl Live {
             self.lock()
                 .diagnostics
                 .iter()
-                .map(Diagnostic::to_json)
+                .map(diagnostic_json)
                 .collect(),
         )
     }
@@ -440,5 +426,45 @@ impl Live {
             self.lock().stamp = now;
             self.set_text(text);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The diagnostics of `text` as the page receives them.
+    fn page(text: &str) -> Vec<Value> {
+        parse(text)
+            .err()
+            .unwrap()
+            .iter()
+            .map(diagnostic_json)
+            .collect()
+    }
+
+    #[test]
+    fn every_error_of_meaning_reaches_the_page_with_its_help() {
+        let d = page(
+            "duration 2s\n\
+             timesplit(0.5, 0.6) : [all, s] -> [a, b]\n\
+             animate(opacity, local, 0, 2) : [a, s] -> [m]\n\
+             animate(afine, world, 0, translate(1, 0)) : [b, s] -> [n]\n",
+        );
+        let at: Vec<(u64, u64)> = d
+            .iter()
+            .map(|x| (x["line"].as_u64().unwrap(), x["column"].as_u64().unwrap()))
+            .collect();
+        assert_eq!(at, vec![(2, 1), (3, 28), (4, 9)], "{d:?}");
+        assert_eq!(d[2]["help"], "did you mean `affine`?", "{d:?}");
+        assert!(d[2]["end"].as_u64() > d[2]["start"].as_u64(), "{d:?}");
+    }
+
+    #[test]
+    fn syntax_errors_keep_what_was_expected() {
+        let d = page("duration 2s\ntimesplit(0.5 : [all, s]\n");
+        assert_eq!(d[0]["line"], 2, "{d:?}");
+        let expected = d[0]["expected"].as_array().unwrap();
+        assert!(!expected.is_empty(), "{d:?}");
     }
 }

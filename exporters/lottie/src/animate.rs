@@ -21,12 +21,14 @@ use std::sync::{Arc, Mutex};
 use super::bake::{BakedRigid, RigidSample, bake_rigid};
 use super::fold::fold;
 use super::geometry::{Trs, decompose, max_stretch, svd};
-use super::keys::{Key, Near, Piece, progress_keys, to_keyframes};
+use super::keys::to_keyframes;
 use super::model::{Keyframe, N, Prop, Transform, Value};
+use gmotion::keyframe::{Format, Key, Piece, Same, progress_keys};
 use gmotion::motion::grid::blend_at;
 use gmotion::motion::{AttrSeg, Component, Interp, MotionKind, MotionSeg, Tint, Track};
 use gmotion::scene::{Node, Paint};
 use gmotion::signals::easing::Easing;
+use gmotion::tolerance::COMPOSED;
 
 /// What a shape's track becomes.
 #[derive(Clone, Debug, Default)]
@@ -269,13 +271,6 @@ fn same_motion(a: &MotionSeg, b: &MotionSeg) -> bool {
     kind && a.timing == b.timing
 }
 
-fn close(a: Affine, b: Affine) -> bool {
-    a.as_coeffs()
-        .iter()
-        .zip(b.as_coeffs())
-        .all(|(x, y)| (x - y).abs() <= 1e-9 * x.abs().max(1.0))
-}
-
 /// Groups segments into windows and merges consecutive single-segment windows of one
 /// motion (they telescope: `F(f(t))·F(f(t₀))⁻¹` over the union).
 fn windows(segs: &[MotionSeg]) -> Vec<Window> {
@@ -293,7 +288,7 @@ fn windows(segs: &[MotionSeg]) -> Vec<Window> {
             && let [prev] = w.segs.as_mut_slice()
             && same_motion(prev, seg)
             && (prev.t1 - seg.t0).abs() < 1e-12
-            && close(seg.start, prev.relative_at(prev.t1) * prev.start)
+            && COMPOSED.same_affine(seg.start, prev.relative_at(prev.t1) * prev.start)
         {
             prev.t1 = seg.t1;
             continue;
@@ -406,7 +401,7 @@ fn exact_components(seg: &MotionSeg) -> Option<(&[Component], Point)> {
         let linear = |p: f64| blend_at(blend, *pivot, p);
         let same = [0.25, 0.5, 0.75]
             .iter()
-            .all(|&p| close(seg.full_at(p), linear(p)));
+            .all(|&p| COMPOSED.same_affine(seg.full_at(p), linear(p)));
         if !same {
             return None;
         }
@@ -435,8 +430,13 @@ fn exact_levels(seg: &MotionSeg, end: f64, fps: f64) -> Option<Vec<Transform>> {
         timing: &seg.timing,
     }];
     let p0 = seg.timing.progress(seg.t0);
-    let track =
-        |f: &dyn Fn(f64) -> [f64; 2]| progress_keys(&piece, fps, f(p0), |_, p| f(p), |_| 1e-4);
+    let track = |f: &dyn Fn(f64) -> [f64; 2]| {
+        let spaced = Format::Spaced {
+            fps,
+            tolerance: 1e-4,
+        };
+        progress_keys(&piece, f(p0), |_, p| f(p), spaced).expect(SAMPLED)
+    };
     let mut out = Vec::with_capacity(levels.len() + 2);
     // A channel whose window ends before its change begins (a delay longer than the part
     // of the slice this window covers) has no keys and stays at its start value `f(p0)`,
@@ -479,13 +479,13 @@ fn exact_levels(seg: &MotionSeg, end: f64, fps: f64) -> Option<Vec<Transform>> {
 
 /// A keyed channel as a property, or `None` when it stays at `neutral`. No keys means the
 /// channel holds `start` throughout.
-fn prop_or_default<V: Near + Clone>(
+fn prop_or_default<V: Same + Clone>(
     keys: &[Key<V>],
     start: V,
     neutral: V,
     to: impl Fn(&V) -> Value,
 ) -> Option<Prop> {
-    let fixed = |v: &V| (!v.near(&neutral)).then(|| Prop::fixed(to(v)));
+    let fixed = |v: &V| (!v.same(&neutral)).then(|| Prop::fixed(to(v)));
     match keys {
         [] => fixed(&start),
         [k] => fixed(&k.v),
@@ -511,7 +511,7 @@ fn exact_static_level(l: &Trs) -> Transform {
 
 /// Levels that are the identity before `frame` and `m` from then on.
 fn hold_levels(m: Affine, frame: f64) -> Vec<Transform> {
-    if close(m, Affine::IDENTITY) {
+    if COMPOSED.same_affine(m, Affine::IDENTITY) {
         return Vec::new();
     }
     let levels = decompose(m, Point::ORIGIN);
@@ -689,8 +689,11 @@ fn bake_key(
     Some(key)
 }
 
+/// Why Lottie keys always exist: `Format::Spaced` samples the easings it cannot say.
+const SAMPLED: &str = "spaced keys sample what is not a Bézier";
+
 /// Keys of an attribute channel.
-fn attr_keys<T: Copy + gmotion::motion::Blendable, V: Clone + Near>(
+fn attr_keys<T: Copy + gmotion::motion::Blendable, V: Clone + Same>(
     segs: &[AttrSeg<T>],
     fps: f64,
     default: V,
@@ -709,13 +712,17 @@ fn attr_keys<T: Copy + gmotion::motion::Blendable, V: Clone + Near>(
             timing: &s.timing,
         })
         .collect();
+    let spaced = Format::Spaced {
+        fps,
+        tolerance: value_tolerance,
+    };
     progress_keys(
         &pieces,
-        fps,
         default,
         |k, p| map(segs[k].from.blend(segs[k].to, p)),
-        |_| value_tolerance,
+        spaced,
     )
+    .expect(SAMPLED)
 }
 
 #[cfg(test)]

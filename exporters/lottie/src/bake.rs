@@ -2,7 +2,8 @@
 //! that what a player reconstructs (linear interpolation between the kept keyframes) stays
 //! within the error bound, measured as the displacement of check points in canvas units.
 
-use gmotion::motion::reduce::greedy;
+use gmotion::keyframe::reduce::greedy;
+use gmotion::tolerance::UNIFORM;
 use kurbo::{Affine, Point, Vec2};
 
 use super::geometry::{Contour, svd};
@@ -41,7 +42,7 @@ fn params(m: Affine, anchor: Point, prev: Option<&Params>) -> Params {
     let Some(prev) = prev else {
         return Params { p, phi, s, theta };
     };
-    let uniform = (s.x - s.y).abs() <= 1e-9 * s.x.abs().max(1.0);
+    let uniform = UNIFORM.same(s.x, s.y);
     if uniform {
         // The split between the two rotations is free: keep the inner one still.
         let total = phi + theta;

@@ -20,6 +20,7 @@
 use kurbo::{Affine, Vec2};
 
 use crate::model::{Ease, Keyframe, N, Prop, Transform, Value};
+use gmotion::tolerance::{UNIFORM, WRITTEN};
 
 /// The levels, outermost first, with adjacent levels composed where that is exact, then
 /// rounded as written ([`Transform::rounded`]).
@@ -249,7 +250,7 @@ impl Chan {
 
 /// Equal within what the output writes (three decimals).
 fn near(a: [f64; 2], b: [f64; 2]) -> bool {
-    (a[0] - b[0]).abs() < 5e-4 && (a[1] - b[1]).abs() < 5e-4
+    WRITTEN.same_all(&a, &b)
 }
 
 /// A level `T(p)·R(r)·S(s)·T(-a)` with a fixed anchor and no opacity.
@@ -267,7 +268,7 @@ const ZERO: [f64; 2] = [0.0, 0.0];
 const FULL: [f64; 2] = [100.0, 100.0];
 
 fn even(s: [f64; 2]) -> bool {
-    (s[0] - s[1]).abs() <= 1e-9 * s[0].abs().max(1.0)
+    UNIFORM.same(s[0], s[1])
 }
 
 fn vec2(v: [f64; 2]) -> Vec2 {

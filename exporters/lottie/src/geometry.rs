@@ -1,6 +1,7 @@
 //! Geometry for Lottie: Bézier paths as vertex/tangent lists, and affine maps as chains of
 //! skew-free transforms (`T·R·S`, at most two levels) that every player draws the same.
 
+use gmotion::tolerance::Tolerance;
 use kurbo::{Affine, BezPath, PathEl, Point, Vec2};
 
 use super::model::{Bezier, N};
@@ -212,7 +213,9 @@ pub fn decompose(m: Affine, anchor: Point) -> Vec<Trs> {
         s = Vec2::new(s.y, s.x);
     }
     let p = (m * anchor).to_vec2();
-    let uniform = (s.x - s.y).abs() <= 1e-9 * s.x.abs().max(s.y.abs()).max(1.0);
+    // Uniform measured against the larger factor (not the first, as `UNIFORM` does):
+    // written so before the tolerances had names, and kept for identical output.
+    let uniform = Tolerance::Scaled(1e-9).same(s.x, s.y);
     if theta.abs() < 1e-9 || uniform {
         let r = if uniform { phi + theta } else { phi };
         return vec![Trs {
@@ -247,7 +250,6 @@ pub fn max_stretch(m: Affine) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use gmotion::motion::affine_within;
 
     fn product(levels: &[Trs]) -> Affine {
         levels
@@ -268,7 +270,7 @@ mod tests {
         for m in cases {
             let levels = decompose(m, Point::new(10.0, 20.0));
             assert!(
-                affine_within(product(&levels), m, 1e-9),
+                Tolerance::Below(1e-9).same_affine(product(&levels), m),
                 "{m:?} -> {levels:?}"
             );
         }

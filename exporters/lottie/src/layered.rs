@@ -37,6 +37,7 @@ use serde_json::Value as Json;
 
 use gmotion::Warning;
 use gmotion::motion::Animation;
+use gmotion::tolerance::Tolerance;
 use gmotion_import_lottie::Source;
 use gmotion_import_lottie::eval;
 use gmotion_import_lottie::model::{ShapeItem, ShapeKind};
@@ -412,11 +413,7 @@ fn null_json(null: &Layer, ind: i64, parent: Option<Json>) -> Json {
 /// reference frame is `a`: `A⁻¹·L₁·…·Lₙ·A` as levels. `None` when `a` is singular.
 fn in_parent_space(levels: &[Transform], a: Affine) -> Option<Vec<Transform>> {
     let [m11, m12, m21, m22, _, _] = a.as_coeffs();
-    if (m11 - 1.0).abs() < 1e-12
-        && m12.abs() < 1e-12
-        && m21.abs() < 1e-12
-        && (m22 - 1.0).abs() < 1e-12
-    {
+    if Tolerance::Below(1e-12).same_all(&[m11, m12, m21, m22], &[1.0, 0.0, 0.0, 1.0]) {
         // A translation (or nothing): shift the pivot and the position.
         return Some(conjugate(levels.to_vec(), a));
     }
@@ -434,7 +431,7 @@ fn in_parent_space(levels: &[Transform], a: Affine) -> Option<Vec<Transform>> {
 
 /// An opacity of `base` percent times the multiplier `keys` (frames from the animation's
 /// start), keyed in the composition's frames (which start at `ip`).
-fn opacity_prop(keys: &[crate::keys::Key<f64>], base: f64, ip: f64) -> Prop {
+fn opacity_prop(keys: &[gmotion::keyframe::Key<f64>], base: f64, ip: f64) -> Prop {
     let at = |a: &f64, b: &f64, p: f64| a + (b - a) * p;
     let keys = within_range(
         keys,
@@ -476,7 +473,7 @@ fn multiply_opacity(
     li: usize,
     source: &Source,
     track: &gmotion::motion::Track,
-    keys: &[crate::keys::Key<f64>],
+    keys: &[gmotion::keyframe::Key<f64>],
     name: &str,
     warnings: &mut Vec<Warning>,
 ) {

@@ -42,13 +42,14 @@ use rayon::prelude::*;
 use super::animate::{UnitMotion, WIDTH_FACTOR_TOLERANCE, is_even, static_level};
 use super::bake::bake_paths;
 use super::geometry::{Contour, contours, decompose, max_stretch};
-use super::keys::{Key, to_keyframes, within_range};
+use super::keys::{to_keyframes, within_range};
 use super::model::{
     Asset, Bezier, Group as LGroup, Layer, LayerType, Mask as LMask, N, PathShape, Prop, Shape,
     Transform, Value,
 };
 use super::paint::{self, PaintAnim, Styled};
 use gmotion::color::Color;
+use gmotion::keyframe::Key;
 use gmotion::motion::Track;
 use gmotion::scene::{
     ClipPath, Fill, FillRule, Filter, Group, LineCap, LineJoin, Mask, MaskKind, Node, Paint,

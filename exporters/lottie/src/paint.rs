@@ -11,12 +11,13 @@ use std::sync::Arc;
 
 use kurbo::{Affine, Point, Rect, Vec2};
 
-use super::keys::{Key, to_keyframes, within_range};
+use super::keys::{to_keyframes, within_range};
 use super::model::{
     Dash, Fill as LFill, Gradient, GradientFill, GradientStops, GradientStroke, N, Prop, Shape,
     Stroke as LStroke, StrokeStyle, Value,
 };
 use gmotion::color::Color;
+use gmotion::keyframe::Key;
 use gmotion::motion::Tint;
 use gmotion::scene::{
     Fill, FillRule, LineCap, LineJoin, LinearGradient, Paint, Pattern, RadialGradient, Spread,

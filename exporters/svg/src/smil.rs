@@ -26,8 +26,6 @@
 //! degrees, 1e-6 for scale factors, matrix entries and key times, 1e-5 for key splines.
 
 mod attr;
-mod bake;
-mod curve;
 mod decompose;
 mod deform;
 mod merge;
@@ -44,9 +42,9 @@ use rayon::prelude::*;
 
 use crate::frame::output_size_edit;
 use attr::Bake;
-use curve::Key;
 use gmotion::Warning;
 use gmotion::canvas::OutputSize;
+use gmotion::keyframe::Key;
 use gmotion::motion::{Animation, Tint, Track};
 use gmotion::scene::{Group, Node, Paint, PathNode, Pattern, Stop};
 use paint::{COLOR_TOL, Chain, OPACITY_TOL, WIDTH_TOL, tint_dist};

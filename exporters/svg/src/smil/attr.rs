@@ -4,8 +4,8 @@
 //! holds, jumps (equal-time keys) and eased runs; every run is exact because the value is
 //! linear in the progress. The progress of an easing SMIL cannot say is sampled and reduced.
 
-use super::bake::{frame_times, sample_times};
-use super::curve::{Key, progress_keys, sampled_progress};
+use gmotion::keyframe::sample::{frame_times, sample_times, sampled_progress};
+use gmotion::keyframe::{Format, Key, Piece, progress_keys};
 use gmotion::motion::{AttrSeg, Blendable};
 
 /// How baked attribute values are compared.
@@ -46,7 +46,13 @@ pub fn attr_keys<T: Blendable + PartialEq>(
         let b = seg.t1.min(next_t0).max(a);
         let held = keys[keys.len() - 1].v;
         keys.push(Key::linear(a, held));
-        match progress_keys(&seg.timing, a, b) {
+        let piece = Piece {
+            t0: a,
+            t1: b,
+            timing: &seg.timing,
+        };
+        let progress = seg.timing.progress(a);
+        match progress_keys(&[piece], progress, |_, p| p, Format::UnitBox) {
             Some(ps) => keys.extend(ps.iter().map(|k| Key {
                 t: k.t,
                 v: seg.from.blend(seg.to, k.v),

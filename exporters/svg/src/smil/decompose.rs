@@ -83,7 +83,7 @@ impl Decomposed {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use gmotion::motion::affine_within;
+    use gmotion::tolerance::Tolerance;
 
     #[test]
     fn round_trips_general_maps() {
@@ -94,7 +94,10 @@ mod tests {
             Affine::skew(0.4, -0.3) * Affine::translate((3.0, 9.0)),
         ] {
             let d = Decomposed::of(m).unwrap();
-            assert!(affine_within(d.to_affine(), m, 1e-9), "{m:?} -> {d:?}");
+            assert!(
+                Tolerance::Below(1e-9).same_affine(d.to_affine(), m),
+                "{m:?} -> {d:?}"
+            );
         }
     }
 

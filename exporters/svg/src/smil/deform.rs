@@ -7,11 +7,11 @@ use std::fmt::Write;
 
 use kurbo::{Affine, BezPath, PathEl, Point};
 
-use super::bake::{fraction, frame_times, sample_times};
-use super::curve::Key;
 use super::xml::{COORD, num};
+use gmotion::keyframe::Key;
+use gmotion::keyframe::reduce::ramer_douglas_peucker;
+use gmotion::keyframe::sample::{fraction, frame_times, sample_times};
 use gmotion::motion::Track;
-use gmotion::motion::reduce::ramer_douglas_peucker;
 
 /// The keys of the path's `d` over `[0, dur]`, the path in its own coordinates `abs` away
 /// from the canvas and deformed by `tracks` (outermost first, applied innermost first).

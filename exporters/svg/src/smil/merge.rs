@@ -19,8 +19,9 @@
 
 use kurbo::Affine;
 
-use super::curve::Key;
 use super::transform::{Kind, Layer, TransformAnim};
+use gmotion::keyframe::Key;
+use gmotion::tolerance::Tolerance;
 
 /// The groups, outermost first, and the innermost group's transform, merged where exact.
 pub fn merge(mut layers: Vec<Layer>, mut inner: Affine) -> (Vec<Layer>, Affine) {
@@ -123,7 +124,7 @@ fn join(a: Vec<Key<[f64; 2]>>, b: Vec<Key<[f64; 2]>>, kind: Kind) -> Vec<Key<[f6
 fn even(a: &TransformAnim) -> bool {
     a.keys
         .iter()
-        .all(|k| (k.v[0] - k.v[1]).abs() <= 1e-12 * k.v[0].abs().max(1.0))
+        .all(|k| Tolerance::OfFirst(1e-12).same(k.v[0], k.v[1]))
 }
 
 /// Whether `x·y = y·x` at every instant for two animations.
@@ -140,7 +141,7 @@ fn anims_commute(x: &TransformAnim, y: &TransformAnim) -> bool {
 /// Whether the static `m` commutes with `a` at every instant.
 fn commutes_with(m: Affine, a: &TransformAnim) -> bool {
     let [p, q, r, s, e, f] = m.as_coeffs();
-    let close = |x: f64, y: f64| (x - y).abs() <= 1e-12 * x.abs().max(y.abs()).max(1.0);
+    let close = |x: f64, y: f64| Tolerance::Scaled(1e-12).same(x, y);
     let linear = close(e, 0.0) && close(f, 0.0);
     let diagonal = close(q, 0.0) && close(r, 0.0);
     let identity_part = diagonal && close(p, 1.0) && close(s, 1.0);
@@ -155,8 +156,8 @@ fn commutes_with(m: Affine, a: &TransformAnim) -> bool {
 
 #[cfg(test)]
 mod tests {
-    use super::super::curve::Ease;
     use super::*;
+    use gmotion::keyframe::Ease;
     use kurbo::Point;
 
     /// Keys `from` at `t0` to `to` at `t1` along a spline, held before and after.
@@ -168,7 +169,7 @@ mod tests {
                 Key {
                     t: t1,
                     v: to,
-                    ease: Ease::Spline([0.42, 0.0, 0.58, 1.0]),
+                    ease: Ease::Bezier([0.42, 0.0, 0.58, 1.0]),
                 },
             ],
             discrete: false,
@@ -189,7 +190,8 @@ mod tests {
             let u = (t - x.t) / (y.t - x.t);
             let u = match y.ease {
                 Ease::Linear => u,
-                Ease::Spline(c) => gmotion::signals::easing::Easing::CubicBezier(c).apply(u),
+                Ease::Bezier(c) => gmotion::signals::easing::Easing::CubicBezier(c).apply(u),
+                Ease::Hold => 0.0,
             };
             [
                 x.v[0] + (y.v[0] - x.v[0]) * u,

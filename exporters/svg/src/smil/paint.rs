@@ -6,9 +6,9 @@
 use gmotion::motion::{AttrSeg, Blendable, Tint, Track};
 
 use super::attr::{Bake, attr_keys};
-use super::bake::{fraction, frame_times, sample_times};
-use super::curve::Key;
-use gmotion::motion::reduce::ramer_douglas_peucker;
+use gmotion::keyframe::Key;
+use gmotion::keyframe::reduce::ramer_douglas_peucker;
+use gmotion::keyframe::sample::{fraction, frame_times, sample_times};
 
 /// Largest error of a baked colour or tint component (half an 8-bit step).
 pub const COLOR_TOL: f64 = 0.5 / 255.0;

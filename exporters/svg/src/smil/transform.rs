@@ -18,12 +18,13 @@
 
 use kurbo::{Affine, Point};
 
-use super::bake::{fraction, frame_times, sample_times};
-use super::curve::{Key, progress_keys, sampled_progress};
 use super::decompose::Decomposed;
+use gmotion::keyframe::reduce::ramer_douglas_peucker;
+use gmotion::keyframe::sample::{fraction, frame_times, sample_times, sampled_progress};
+use gmotion::keyframe::{Format, Key, Piece, progress_keys};
 use gmotion::motion::component::product_at;
-use gmotion::motion::reduce::ramer_douglas_peucker;
 use gmotion::motion::{Component, Interp, MotionKind, MotionSeg, Track};
+use gmotion::tolerance::PROGRESS;
 
 /// A SMIL `animateTransform` type.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -419,7 +420,13 @@ fn exact_layer(w: &Window<'_>) -> Option<SegLayer> {
     let kinds: Vec<Kind> = comps.iter().map(smil_kind).collect::<Option<_>>()?;
     let p_ref = seg.timing.progress(seg.t0);
     let held = invert(product_at(&comps, p_ref))?;
-    let (keys, sampled) = match progress_keys(&seg.timing, w.a, w.b) {
+    let piece = Piece {
+        t0: w.a,
+        t1: w.b,
+        timing: &seg.timing,
+    };
+    let start = seg.timing.progress(w.a);
+    let (keys, sampled) = match progress_keys(&[piece], start, |_, p| p, Format::UnitBox) {
         Some(keys) => (keys, false),
         None => {
             let s = w.samples();
@@ -433,7 +440,7 @@ fn exact_layer(w: &Window<'_>) -> Option<SegLayer> {
             (keys, true)
         }
     };
-    if comps.is_empty() || keys.iter().all(|k| (k.v - p_ref).abs() <= 1e-12) {
+    if comps.is_empty() || keys.iter().all(|k| PROGRESS.same(k.v, p_ref)) {
         return Some(SegLayer::Identity);
     }
     let anims = comps

@@ -3,7 +3,7 @@
 
 use kurbo::Affine;
 
-use super::curve::{Ease, Key};
+use gmotion::keyframe::{Ease, Key};
 
 /// Decimals for coordinates and angles: 1e-4 user units is far below a pixel.
 pub const COORD: usize = 4;
@@ -239,7 +239,7 @@ pub fn animation(
     out.push('"');
     if discrete {
         out.push_str(" calcMode=\"discrete\"");
-    } else if keys[1..].iter().any(|k| matches!(k.ease, Ease::Spline(_))) {
+    } else if keys[1..].iter().any(|k| matches!(k.ease, Ease::Bezier(_))) {
         out.push_str(" calcMode=\"spline\" keySplines=\"");
         for (i, k) in keys[1..].iter().enumerate() {
             if i > 0 {
@@ -247,7 +247,7 @@ pub fn animation(
             }
             match k.ease {
                 Ease::Linear => out.push_str("0 0 1 1"),
-                Ease::Spline(s) => {
+                Ease::Bezier(s) => {
                     for (j, v) in s.iter().enumerate() {
                         if j > 0 {
                             out.push(' ');
@@ -255,6 +255,7 @@ pub fn animation(
                         push_num(out, v.clamp(0.0, 1.0), SPLINE);
                     }
                 }
+                Ease::Hold => unreachable!("SMIL keys spell a hold as two keys of one value"),
             }
         }
         out.push('"');

@@ -20,7 +20,7 @@
 /// not, a jump may land farther, and every kept span still satisfies `fits`.
 ///
 /// ```
-/// use gmotion::motion::reduce::greedy;
+/// use gmotion::keyframe::reduce::greedy;
 /// assert_eq!(greedy(10, |i, j| j - i <= 3), vec![0, 3, 6, 9]);
 /// assert_eq!(greedy(1, |_, _| true), vec![0]);
 /// ```

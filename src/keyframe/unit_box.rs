@@ -1,5 +1,6 @@
-//! A motion's progress over one window as SMIL keyframes: holds, linear runs and
-//! `keySplines` pieces that reproduce [`Timing::progress`] exactly.
+//! [`Format::UnitBox`](super::Format::UnitBox): a motion's progress over one window as SMIL
+//! keyframes: holds, linear runs and `keySplines` pieces that reproduce
+//! [`Timing::progress`] exactly.
 //!
 //! SMIL splines map an interval's time fraction to its value fraction with a cubic whose
 //! control points must lie in `[0, 1]²`. An easing curve cut to a window, or one that
@@ -7,54 +8,59 @@
 //! at its extrema in value (each piece is then monotone) and halved until every piece's
 //! normalised control points fit.
 
-use gmotion::motion::reduce::ramer_douglas_peucker;
 use kurbo::{CubicBez, ParamCurve, Point};
 
-use gmotion::motion::Timing;
-use gmotion::signals::easing::solve_bezier_x;
-
-/// How a channel arrives at a key from the key before it.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Ease {
-    /// Straight interpolation (also used for holds, where both values are equal).
-    Linear,
-    /// A SMIL key spline `x1 y1 x2 y2`, every number in `[0, 1]`.
-    Spline([f64; 4]),
-}
-
-/// A keyframe: at time `t` the channel has value `v`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Key<V> {
-    /// Seconds from the start of the document's animation.
-    pub t: f64,
-    /// The value.
-    pub v: V,
-    /// How the channel gets here from the previous key (ignored on the first key).
-    pub ease: Ease,
-}
-
-impl<V> Key<V> {
-    /// A key reached by straight interpolation.
-    pub fn linear(t: f64, v: V) -> Key<V> {
-        Key {
-            t,
-            v,
-            ease: Ease::Linear,
-        }
-    }
-}
+use super::{Ease, Key, Piece, Same};
+use crate::motion::Timing;
+use crate::signals::easing::solve_bezier_x;
+use crate::tolerance::{PROGRESS, Tolerance};
 
 /// Smallest time step treated as an interval (shorter pieces become jumps).
-const TIME_EPS: f64 = 1e-9;
+pub(super) const TIME_EPS: f64 = 1e-9;
 /// How far a normalised control point may stray outside `[0, 1]` before a piece is halved.
 const BOX_EPS: f64 = 1e-7;
 /// Halvings allowed per monotone piece; a piece this short is within rounding of any fit.
 const MAX_DEPTH: u32 = 10;
 
+/// The keys of a channel that holds `default` before its first piece and
+/// `value(piece, progress)` within each piece: the first at the first piece's start, the
+/// last at the last piece's end; equal times in consecutive keys mark a jump (between
+/// pieces too). `None` when an easing is not a cubic Bézier with `x1, x2 ∈ [0, 1]` (the
+/// caller bakes such motion by sampling).
+pub fn keys<V: Clone + Same>(
+    pieces: &[Piece],
+    default: V,
+    value: impl Fn(usize, f64) -> V,
+) -> Option<Vec<Key<V>>> {
+    let Some(first) = pieces.first() else {
+        return Some(Vec::new());
+    };
+    let mut keys = vec![Key::linear(first.t0, default)];
+    for (k, piece) in pieces.iter().enumerate() {
+        let ps = window(piece.timing, piece.t0, piece.t1)?;
+        let mut ps = ps.into_iter().map(|p| Key {
+            t: p.t,
+            v: value(k, p.v),
+            ease: p.ease,
+        });
+        let start = ps.next().expect("a window has a first key");
+        let last = keys.last().expect("the default's key").clone();
+        if !last.v.same(&start.v) {
+            // Hold the value up to the piece, then jump: SMIL spells both as keys.
+            if last.t < start.t {
+                keys.push(Key::linear(start.t, last.v));
+            }
+            keys.push(start);
+        }
+        keys.extend(ps);
+    }
+    Some(keys)
+}
+
 /// The progress `f(t)` of `timing` over `[a, b]` as keys, the first at `a` and the last at
 /// `b`; equal times in consecutive keys mark a jump. `None` when the easing is not a cubic
-/// Bézier with `x1, x2 ∈ [0, 1]` (the caller bakes such motion by sampling).
-pub fn progress_keys(timing: &Timing, a: f64, b: f64) -> Option<Vec<Key<f64>>> {
+/// Bézier with `x1, x2 ∈ [0, 1]`.
+fn window(timing: &Timing, a: f64, b: f64) -> Option<Vec<Key<f64>>> {
     let b = b.max(a);
     let mut keys = vec![Key::linear(a, timing.progress(a))];
     let span = timing.end - timing.start - timing.delay;
@@ -119,7 +125,7 @@ pub fn progress_keys(timing: &Timing, a: f64, b: f64) -> Option<Vec<Key<f64>>> {
 fn push_hold(keys: &mut Vec<Key<f64>>, t: f64, v: f64) {
     if let Some(last) = keys.last()
         && t - last.t <= TIME_EPS
-        && (v - last.v).abs() <= 1e-12
+        && PROGRESS.same(v, last.v)
     {
         return;
     }
@@ -146,7 +152,7 @@ fn fit(c: &CubicBez, time: &impl Fn(f64) -> f64, keys: &mut Vec<Key<f64>>, depth
         let ease = if is_linear(spline) {
             Ease::Linear
         } else {
-            Ease::Spline(spline)
+            Ease::Bezier(spline)
         };
         keys.push(Key { t, v: c.p3.y, ease });
         return;
@@ -157,7 +163,8 @@ fn fit(c: &CubicBez, time: &impl Fn(f64) -> f64, keys: &mut Vec<Key<f64>>, depth
 
 /// True when a spline is the straight line (its control points on the diagonal).
 fn is_linear([x1, y1, x2, y2]: [f64; 4]) -> bool {
-    (x1 - y1).abs() < 1e-12 && (x2 - y2).abs() < 1e-12
+    let diagonal = Tolerance::Below(1e-12);
+    diagonal.same(x1, y1) && diagonal.same(x2, y2)
 }
 
 /// Parameters in `(0, 1)` where the curve's y turns, sorted.
@@ -174,95 +181,19 @@ fn y_extrema(c: &CubicBez) -> Vec<f64> {
     roots
 }
 
-/// The progress of `timing` at the sample instants `ts` as few keys as keep
-/// `err(i, played, true)` within `tolerance` at every sample `i` (`err` measures what a
-/// progress error costs, e.g. on the canvas). For easings that are not cubic Béziers: each
-/// run between kept samples is a cubic Hermite piece with the curve's own slopes at its ends
-/// (a key spline with `x1 = 1/3, x2 = 2/3`) where that fits the spline box, else straight.
-pub fn sampled_progress(
-    timing: &Timing,
-    ts: &[f64],
-    tolerance: f64,
-    err: impl Fn(usize, f64, f64) -> f64,
-) -> Vec<Key<f64>> {
-    let ps: Vec<f64> = ts.iter().map(|&t| timing.progress(t)).collect();
-    // One-sided slopes: the curve may kink where the change starts and stops.
-    let h = 1e-6 * (timing.end - timing.start).abs().max(1e-3);
-    let slopes: Vec<(f64, f64)> = ts
-        .iter()
-        .zip(&ps)
-        .map(|(&t, &p)| {
-            (
-                (p - timing.progress(t - h)) / h,
-                (timing.progress(t + h) - p) / h,
-            )
-        })
-        .collect();
-    let piece = |i: usize, j: usize| -> Ease {
-        let (dt, dp) = (ts[j] - ts[i], ps[j] - ps[i]);
-        if dt <= TIME_EPS || dp.abs() <= 1e-12 {
-            return Ease::Linear;
-        }
-        let y1 = slopes[i].1 * dt / (3.0 * dp);
-        let y2 = 1.0 - slopes[j].0 * dt / (3.0 * dp);
-        if (0.0..=1.0).contains(&y1) && (0.0..=1.0).contains(&y2) {
-            Ease::Spline([1.0 / 3.0, y1, 2.0 / 3.0, y2])
-        } else {
-            Ease::Linear
-        }
-    };
-    let keep = ramer_douglas_peucker(ts.len(), tolerance, |k, i, j| {
-        let x = super::bake::fraction(ts, k, i, j);
-        let y = match piece(i, j) {
-            // With x1 = 1/3 and x2 = 2/3 the spline's x is its parameter.
-            Ease::Spline([_, y1, _, y2]) => {
-                3.0 * (1.0 - x) * x * ((1.0 - x) * y1 + x * y2) + x * x * x
-            }
-            Ease::Linear => x,
-        };
-        err(k, ps[i] + (ps[j] - ps[i]) * y, ps[k])
-    });
-    let mut keys = vec![Key::linear(ts[keep[0]], ps[keep[0]])];
-    for w in keep.windows(2) {
-        keys.push(Key {
-            t: ts[w[1]],
-            v: ps[w[1]],
-            ease: piece(w[0], w[1]),
-        });
-    }
-    keys
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use gmotion::signals::Easing;
-
-    /// What a SMIL player computes from the keys at time `t`.
-    fn play(keys: &[Key<f64>], t: f64) -> f64 {
-        let i = keys.partition_point(|k| k.t <= t);
-        if i == 0 {
-            return keys[0].v;
-        }
-        if i == keys.len() {
-            return keys[i - 1].v;
-        }
-        let (a, b) = (&keys[i - 1], &keys[i]);
-        let x = (t - a.t) / (b.t - a.t);
-        let y = match b.ease {
-            Ease::Linear => x,
-            Ease::Spline(s) => Easing::CubicBezier(s).apply(x),
-        };
-        a.v + (b.v - a.v) * y
-    }
+    use crate::keyframe::tests::play;
+    use crate::signals::Easing;
 
     fn check(timing: Timing, a: f64, b: f64) {
-        let keys = progress_keys(&timing, a, b).unwrap();
+        let keys = window(&timing, a, b).unwrap();
         assert_eq!(keys[0].t, a);
         assert!((keys[keys.len() - 1].t - b).abs() < 1e-12);
         for w in keys.windows(2) {
             assert!(w[1].t >= w[0].t);
-            if let Ease::Spline(s) = w[1].ease {
+            if let Ease::Bezier(s) = w[1].ease {
                 assert!(s.iter().all(|v| (0.0..=1.0).contains(v)), "{s:?}");
             }
         }
@@ -310,9 +241,9 @@ mod tests {
     #[test]
     fn reversed_spline_mirrors_the_curve() {
         let tm = timing(Easing::CubicBezier([0.1, 0.2, 0.6, 0.9]), true, 0.0);
-        let keys = progress_keys(&tm, 1.0, 3.0).unwrap();
+        let keys = window(&tm, 1.0, 3.0).unwrap();
         assert_eq!(keys.len(), 2);
-        let Ease::Spline(s) = keys[1].ease else {
+        let Ease::Bezier(s) = keys[1].ease else {
             panic!("not a spline")
         };
         let want = [1.0 - 0.6, 1.0 - 0.9, 1.0 - 0.1, 1.0 - 0.2];
@@ -331,32 +262,14 @@ mod tests {
             ease: Easing::Linear,
             reversed: false,
         };
-        let keys = progress_keys(&tm, 0.0, 2.0).unwrap();
+        let keys = window(&tm, 0.0, 2.0).unwrap();
         let jump: Vec<(f64, f64)> = keys.iter().map(|k| (k.t, k.v)).collect();
         assert_eq!(jump, vec![(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (2.0, 1.0)]);
     }
 
     #[test]
-    fn sampled_easings_stay_within_tolerance_with_few_keys() {
-        for ease in [Easing::BSpline(4), Easing::poles(3).unwrap()] {
-            for reversed in [false, true] {
-                let tm = timing(ease.clone(), reversed, 0.3);
-                let ts = crate::smil::bake::sample_times(0.5, 3.5, 240.0, 8, &[1.3, 3.0]);
-                // An error of one progress unit costs 100 canvas units.
-                let keys = sampled_progress(&tm, &ts, 0.05, |_, a, b| 100.0 * (a - b).abs());
-                assert!(keys.len() < 16, "{ease:?}: {} keys", keys.len());
-                for i in 0..=2000 {
-                    let t = 0.5 + 3.0 * i as f64 / 2000.0;
-                    let err = 100.0 * (play(&keys, t) - tm.progress(t)).abs();
-                    assert!(err < 0.1, "{ease:?} reversed {reversed} at {t}: {err}");
-                }
-            }
-        }
-    }
-
-    #[test]
     fn other_easings_are_not_splines() {
         let tm = timing(Easing::BSpline(3), false, 0.0);
-        assert!(progress_keys(&tm, 1.0, 3.0).is_none());
+        assert!(window(&tm, 1.0, 3.0).is_none());
     }
 }
