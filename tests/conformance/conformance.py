@@ -157,7 +157,7 @@ def prepare(out, gm, corpus, grammars):
         else:
             entry["gm_error"] = (r.stderr.strip().splitlines() or ["no output"])[-1][:200]
         # python-lottie: parse and serialise in process (its own exporter's JSON), twice,
-        # keeping the faster time, as gmotion's in-process figure does (tests/lottie.rs).
+        # keeping the faster time, as gmotion's in-process figure does (exporters/lottie/tests/lottie.rs).
         pj = os.path.join(pl_dir, name + ".json")
         t = time.perf_counter()
         try:

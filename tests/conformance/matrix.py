@@ -710,7 +710,7 @@ def export(case, out, gm):
     # Baked motion is exported at a tenth of a pixel's error here instead of the default
     # quarter: at 2x a 0.25 px bake error moves whole edges by half a pixel, which alone puts
     # thin shapes over the 0.5% bar though the motion is right. The matrix judges what the
-    # motion means; the error bound itself is checked geometrically in tests/lottie.rs.
+    # motion means; the error bound itself is checked geometrically in exporters/lottie/tests/lottie.rs.
     rc, err = run(base + ["-o", lj, "-o", sj, "--tolerance", TOLERANCE])
     expect = expected_error(case)
     if expect is not None:
@@ -933,8 +933,8 @@ KNOWN_NOTE = "known ("
 # frames by 0.5-0.65%: resvg, Skia and lottie-web's canvas quantise an edge's vertical
 # coverage to quarter pixels, so an edge moved by less than the bound but across a quarter
 # boundary changes whole rows by ~54/255 (gm-0189 frame 4 exported at 1e-4 matches lottie-web
-# to 12/255). That the bake stays within its bound is the Rust tests' job (tests/lottie.rs,
-# tests/smil.rs: max_error); the matrix judges whether players draw what was written.
+# to 12/255). That the bake stays within its bound is the Rust tests' job (exporters/lottie/tests/lottie.rs,
+# exporters/svg/tests/smil.rs: max_error); the matrix judges whether players draw what was written.
 TOLERANCE = "0.01"
 
 
