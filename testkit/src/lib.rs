@@ -1,6 +1,6 @@
 //! Helpers shared by the integration tests of gmotion's crates (a dev-dependency of each,
 //! never published): scenes and grammars in a line, case folders, bounded child processes,
-//! and with the `players` feature the real players as test oracles ([`players`]).
+//! and with the `players` feature the real players as test oracles (the `players` module).
 //!
 //! The crates' test binaries name it `support` (`use gmotion_testkit as support;` in their
 //! `main.rs`), as when these helpers were a module of one test binary.
