@@ -14,10 +14,10 @@ export CARGO_INCREMENTAL=0
 step() { local s=$SECONDS; "$@"; echo "[test.sh] $((SECONDS - s)) s: $*"; }
 step bash tests/conformance/install.sh
 step cargo fmt --all -- --check
-# The `players` feature compiles in the tests that play exports in the real players and
-# read the Lottie corpus (a plain `cargo test` leaves them out): always on here, so a
-# player that is missing fails its tests instead of going unnoticed.
-features=(--features gmotion-cli/players)
+# The `players` feature of each crate whose tests play exports in the real players or read
+# the Lottie corpus (a plain `cargo test` leaves them out): always on here, so a player that
+# is missing fails its tests instead of going unnoticed.
+features=(--features gmotion-cli/players,gmotion-export-lottie/players)
 step cargo clippy --profile quick --workspace --all-targets "${features[@]}" -- -D warnings
 # Without it too, so that a plain `cargo test` stays free of warnings: only the crates
 # the feature touches are checked again (a dozen seconds; `-p` would unify the
@@ -26,10 +26,11 @@ step cargo clippy --profile quick --workspace --all-targets -- -D warnings
 RUSTDOCFLAGS="-D warnings" step cargo doc --workspace --no-deps --quiet
 step cargo test --profile quick --workspace "${features[@]}"
 # Every example of the library's front door builds and runs (they write into target/);
-# with gmotion-output's side of the feature on, they reuse what the tests built.
+# with the same crates' features on as the tests, they reuse what the tests built.
 ex_start=$SECONDS
 for ex in examples/*.rs; do
-    cargo run --profile quick --quiet --features gmotion-output/players --example "$(basename "$ex" .rs)"
+    cargo run --profile quick --quiet --features gmotion-output/players,gmotion-export-lottie/players \
+        --example "$(basename "$ex" .rs)"
 done
 echo "[test.sh] $((SECONDS - ex_start)) s: examples"
 # The conformance run plays the binary the tests built: building it again with

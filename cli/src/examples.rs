@@ -1,5 +1,5 @@
 //! The bundled examples, inside the binary, so `gmotion demo` runs them wherever the binary
-//! is (a copied or installed binary has no source tree beside it). `tests/cli.rs` checks
+//! is (a copied or installed binary has no source tree beside it). `cli/tests/cli.rs` checks
 //! that every example of `grammars/` is here.
 
 /// What an example runs.

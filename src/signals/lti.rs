@@ -22,7 +22,7 @@ use super::vector::Vector;
 ///
 /// Measured against the closed-form spring at 60 fps, for `duration ∈ [0.2, 2] s` and
 /// `bounce ∈ [−0.5, 0.9]`, the largest error of the unit step response over its first
-/// five durations is (see `tests/signals.rs`, which enforces these bounds):
+/// five durations is (see `tests/engine/signals.rs`, which enforces these bounds):
 ///
 /// | method | error bound |
 /// |---|---|

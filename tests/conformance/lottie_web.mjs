@@ -5,7 +5,7 @@
 //   node lottie_web.mjs --serve   (one JSON job list per line on stdin, each answered by a
 //                                  line {"errors": [...]} on stdout once its PNGs are written;
 //                                  exits at the end of stdin. The Rust tests keep one running
-//                                  for the whole test binary: tests/support/players.rs.)
+//                                  for the whole test binary: testkit/src/players.rs.)
 //
 // JOBS.json: [{"json": "a.json", "width": 300, "frames": [0, 5], "out": ["a-0.png", "a-5.png"]}, …]
 // A job may add "renderer": "svg" (the default) or "canvas"; each uses lottie-web's own

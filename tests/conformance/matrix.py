@@ -56,7 +56,7 @@ sys.path.insert(0, here)
 import numpy as np  # noqa: E402
 from PIL import Image  # noqa: E402
 
-from conformance import OFF  # noqa: E402  (same rule as the example grammars)
+from conformance import OFF, off, rgba  # noqa: E402  (same rule and comparison as the example grammars)
 
 MAX_OFF = 0.005
 MIN_FRAMES = 12
@@ -710,7 +710,7 @@ def export(case, out, gm):
     # Baked motion is exported at a tenth of a pixel's error here instead of the default
     # quarter: at 2x a 0.25 px bake error moves whole edges by half a pixel, which alone puts
     # thin shapes over the 0.5% bar though the motion is right. The matrix judges what the
-    # motion means; the error bound itself is checked geometrically in tests/lottie.rs.
+    # motion means; the error bound itself is checked geometrically in exporters/lottie/tests/lottie.rs.
     rc, err = run(base + ["-o", lj, "-o", sj, "--tolerance", TOLERANCE])
     expect = expected_error(case)
     if expect is not None:
@@ -933,39 +933,9 @@ KNOWN_NOTE = "known ("
 # frames by 0.5-0.65%: resvg, Skia and lottie-web's canvas quantise an edge's vertical
 # coverage to quarter pixels, so an edge moved by less than the bound but across a quarter
 # boundary changes whole rows by ~54/255 (gm-0189 frame 4 exported at 1e-4 matches lottie-web
-# to 12/255). That the bake stays within its bound is the Rust tests' job (tests/lottie.rs,
-# tests/smil.rs: max_error); the matrix judges whether players draw what was written.
+# to 12/255). That the bake stays within its bound is the Rust tests' job (exporters/lottie/tests/lottie.rs,
+# exporters/svg/tests/smil.rs: max_error); the matrix judges whether players draw what was written.
 TOLERANCE = "0.01"
-
-
-def rgba(path):
-    """Straight RGBA bytes of a PNG, or None if it is missing."""
-    if not os.path.exists(path):
-        return None
-    return np.asarray(Image.open(path).convert("RGBA"))
-
-
-def off(ref, got_path):
-    """conformance.off_fraction with the reference already decoded (it is compared with
-    five players): the fraction of pixels whose premultiplied channels differ by more
-    than OFF, or None when the player wrote nothing or a picture of the wrong size.
-
-    Where both pixels are opaque, premultiplied is straight, so the bytes are compared
-    as they are; only the other pixels are premultiplied (conformance.load's rounding).
-    This keeps the report at seconds, not minutes, for the ~6000 frames of the matrix."""
-    if ref is None:
-        return None
-    got = rgba(got_path)
-    if got is None or got.shape != ref.shape:
-        return None
-    diff = np.abs(ref.astype(np.int16) - got.astype(np.int16)).max(axis=2)
-    clear = (ref[..., 3] < 255) | (got[..., 3] < 255)
-    if clear.any():
-        def premul(a):
-            x = a[clear].astype(np.int32)
-            return np.concatenate([(x[:, :3] * x[:, 3:4] + 127) // 255, x[:, 3:4]], axis=1)
-        diff[clear] = np.abs(premul(ref) - premul(got)).max(axis=1)
-    return float((diff > OFF).mean())
 
 
 def judge(c):

@@ -9,7 +9,7 @@
                                   answers one line {"errors": [...]} on stdout; it exits at
                                   the end of stdin. The Rust tests keep one such player
                                   running for the whole test binary, so that each test does
-                                  not pay the player's start-up (tests/support/players.rs).
+                                  not pay the player's start-up (testkit/src/players.rs).
 
 A job list is what lottie_web.mjs reads:
 [{"json": "a.json", "width": 300, "frames": [0, 5], "out": ["a-0.png", "a-5.png"]}, ...].

@@ -69,9 +69,12 @@ if [ "$main_run" = 1 ]; then
     phase "schema (lottie-specs)"
     python3 "$here/schema_check.py" --list "$out/gmotion_lottie_files.txt" || status=1
 
-    # `--workspace`, as scripts/test.sh builds the tests: the same features, nothing rebuilt.
-    phase "in-process conversion time (tests/lottie.rs)"
-    (cd "$root" && cargo test --profile "$profile" --quiet --workspace --test gmotion lottie::corpus_converts_in_process -- --nocapture 2>&1) \
+    # `--workspace` and the `players` features, as scripts/test.sh builds the tests (the
+    # players are installed above): the same features, so nothing is rebuilt.
+    phase "in-process conversion time (exporters/lottie/tests/lottie.rs)"
+    (cd "$root" && cargo test --profile "$profile" --quiet --workspace \
+        --features gmotion-cli/players,gmotion-export-lottie/players \
+        --test export_lottie lottie::corpus_converts_in_process -- --nocapture 2>&1) \
         | grep "lottie corpus conversion" > "$out/in_process.txt" || status=1
 
     # rlottie and ThorVG play beside lottie-web: Chromium leaves a core idle much of the

@@ -8,7 +8,7 @@
 //   node smil.mjs --serve
 //       reads one such job list per line on stdin and answers each with a line
 //       {"errors": [...]} once its PNGs are written; exits at the end of stdin. The Rust
-//       tests keep one running for the whole test binary (tests/support/players.rs), so
+//       tests keep one running for the whole test binary (testkit/src/players.rs), so
 //       that each shot does not pay Chromium's start.
 //
 // Each frame: the document is loaded, its animations paused, the clock set with

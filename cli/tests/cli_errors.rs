@@ -444,7 +444,7 @@ fn all_cases() -> Vec<Case> {
         // many levels (the lottie fuzz target's find) is copied within a bound.
         Case::new("Lottie precomposition used many times at many levels, recoloured", "animate {d}/anim.json {d}/g.gm -o {d}/out.json", &["out.json", "feudar_Précomp:0", "more than 20000 layers of precompositions to copy with colour changes"], "out.json")
             .files(vec![
-                ("anim.json", include_bytes!("../fuzz/regressions/lottie/precomp-used-many-times-at-many-levels-recoloured.json").to_vec()),
+                ("anim.json", include_bytes!("../../fuzz/regressions/lottie/precomp-used-many-times-at-many-levels-recoloured.json").to_vec()),
                 ("g.gm", b"fps 10\nanimate(fill, local, 0, #3366ff) : [all, all] -> [blue]\n".to_vec()),
             ])
             .succeeds(),
@@ -547,7 +547,7 @@ fn all_cases() -> Vec<Case> {
         // i_overlay's union of 300 rotated glyphs crossing one another took 44 s in the
         // measure; they are summed as drawn now.
         Case::new("text along a path folded on itself", "convert {d}/scene.svg -o {d}/out.json", &[], "out.json")
-            .file("scene.svg", include_bytes!("../fuzz/regressions/svg/text-on-a-path-of-4000-segments-folded-on-itself.svg").to_vec())
+            .file("scene.svg", include_bytes!("../../fuzz/regressions/svg/text-on-a-path-of-4000-segments-folded-on-itself.svg").to_vec())
             .succeeds(),
         Case::new("text-chars limit raised", "animate {d}/scene.svg {d}/g.gm -o {d}/out.png --limit text-chars=20000", &[], "out.png")
             .file("scene.svg", text_svg(1, 12_000))

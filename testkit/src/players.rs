@@ -89,7 +89,7 @@ pub fn frames_to_check(anim: &Animation) -> Vec<f64> {
 }
 
 fn conformance_dir() -> PathBuf {
-    crate::support::root().join("tests/conformance")
+    crate::root().join("tests/conformance")
 }
 
 /// A player kept running for the whole test binary (its script's `--serve` mode): each test
@@ -122,9 +122,7 @@ fn ask(
     // A test that failed while holding the lock leaves the player in a good state (it
     // answered before the test's assertions ran), so a poisoned lock is still usable.
     let mut guard = slot.lock().unwrap_or_else(PoisonError::into_inner);
-    let log = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("players")
-        .join(format!("{name}.log"));
+    let log = crate::tmp_dir().join("players").join(format!("{name}.log"));
     if guard.is_none() {
         std::fs::create_dir_all(log.parent().unwrap()).expect("create the players folder");
         let stderr = std::fs::File::create(&log).expect("create the player's log");
@@ -187,9 +185,7 @@ pub fn play_with_files(
     width: u32,
     players: &[Player],
 ) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join("players")
-        .join(case);
+    let dir = crate::tmp_dir().join("players").join(case);
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("create the case folder");
     for (name, bytes) in files {

@@ -1,4 +1,9 @@
-//! Helpers shared by the integration tests.
+//! Helpers shared by the integration tests of gmotion's crates (a dev-dependency of each,
+//! never published): scenes and grammars in a line, case folders, bounded child processes,
+//! and with the `players` feature the real players as test oracles (the `players` module).
+//!
+//! The crates' test binaries name it `support` (`use gmotion_testkit as support;` in their
+//! `main.rs`), as when these helpers were a module of one test binary.
 
 use std::path::{Path, PathBuf};
 
@@ -9,17 +14,26 @@ use gmotion::scene::{Fill, Scene, SceneBuilder, Stroke};
 use gmotion_import_svg::ImportOptions;
 use kurbo::{BezPath, Point, Rect, Shape as _};
 
-pub mod pictures;
-// The real players (node, Python, Chromium), compiled in by the `players` feature (see
-// cli/Cargo.toml), as is every test that uses them.
+// The real players (node, Python, Chromium), compiled in by the `players` feature, which
+// each crate whose tests use them forwards as its own `players` feature (see
+// CONTRIBUTING.md), as is every test that uses them.
 #[cfg(feature = "players")]
 pub mod players;
 
+/// The tests' temporary folder, `tmp/` in the target directory: where Cargo's
+/// `CARGO_TARGET_TMPDIR` points, which it gives to test binaries only, not to a library
+/// they use. A test binary runs as `TARGET/PROFILE/deps/NAME`.
+pub fn tmp_dir() -> PathBuf {
+    let exe = std::env::current_exe().expect("the test binary's path");
+    exe.ancestors()
+        .nth(3)
+        .expect("a test binary sits in TARGET/PROFILE/deps")
+        .join("tmp")
+}
+
 /// A fresh, empty folder `name` for the tests of `module` under the tests' temporary folder.
 pub fn case_dir(module: &str, name: &str) -> PathBuf {
-    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join(module)
-        .join(name);
+    let d = tmp_dir().join(module).join(name);
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).expect("create the test's folder");
     d
@@ -61,11 +75,11 @@ pub fn run_bounded(
     (status.and_then(|s| s.code()), text, elapsed)
 }
 
-/// The repository's root (the tests belong to the `cli` crate, one folder down).
+/// The repository's root (this crate is `testkit/`, one folder down).
 pub fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .parent()
-        .expect("the cli crate sits inside the repository")
+        .expect("the testkit crate sits inside the repository")
 }
 
 /// A file of `grammars/`.
@@ -73,7 +87,6 @@ pub fn grammar_file(name: &str) -> PathBuf {
     root().join("grammars").join(name)
 }
 
-/// A path's vertices: the end point of every element (a close adds none).
 /// The files of `dir` ending in `.ext`, sorted; a folder that cannot be read fails the
 /// test with `hint` (how to get it).
 pub fn files_with_extension(dir: &Path, ext: &str, hint: &str) -> Vec<PathBuf> {
@@ -87,6 +100,7 @@ pub fn files_with_extension(dir: &Path, ext: &str, hint: &str) -> Vec<PathBuf> {
     files
 }
 
+/// A path's vertices: the end point of every element (a close adds none).
 pub fn vertices(path: &BezPath) -> Vec<Point> {
     path.elements()
         .iter()

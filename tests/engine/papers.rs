@@ -160,8 +160,7 @@ fn fig_9_as_printed_draws_what_its_names_say() {
     );
     // The whole grammar runs on the leaf and applies every rule.
     let leaf =
-        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../grammars/leaf.svg"))
-            .unwrap();
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/grammars/leaf.svg")).unwrap();
     let scene = gmotion_import_svg::parse(&leaf, "leaf.svg", &Default::default())
         .unwrap()
         .scene;

@@ -109,7 +109,7 @@ fn sampler_matches_reference_on_every_example() {
         .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
         // Every shape's boundaries are instants for every shape, so the check grows with
         // the square of the shapes: intersections (8216 shapes, a delay per patch) took two
-        // CPU-minutes. Its rules are intersections_mini's (tests/gallery.rs), checked here,
+        // CPU-minutes. Its rules are intersections_mini's (tests/engine/gallery.rs), checked here,
         // and the 2600-shape case below covers sampling in several parts.
         .filter(|n| n != "intersections")
         .collect();

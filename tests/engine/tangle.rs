@@ -593,7 +593,7 @@ fn zero_area_input_is_warned_about_and_kept() {
 
 /// The "Spatial (group grammar) operators" section of docs/grammar.md.
 fn spatial_docs() -> String {
-    let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/grammar.md"))
+    let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/grammar.md"))
         .expect("docs/grammar.md reads");
     let start = doc
         .find("## Spatial (group grammar) operators")
@@ -631,7 +631,7 @@ fn documented_examples_parse_and_bind() {
 #[test]
 fn documented_pictures_have_their_sources() {
     let section = spatial_docs();
-    let dir = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../docs/img"));
+    let dir = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/img"));
     let pictures: Vec<&str> = section
         .split("](img/")
         .skip(1)
