@@ -1,5 +1,5 @@
 //! Motion layered onto a Lottie source: the document an animation's scene was imported
-//! from ([`gmotion_import_lottie::Source`]) written back as it was read, with gmotion's
+//! from ([`gmotion_lottie::Source`]) written back as it was read, with gmotion's
 //! motion on top.
 //!
 //! This writer lives in the Lottie exporter, which depends on the Lottie importer for the
@@ -37,9 +37,9 @@ use serde_json::Value as Json;
 
 use gmotion::Warning;
 use gmotion::motion::Animation;
-use gmotion_import_lottie::Source;
-use gmotion_import_lottie::eval;
-use gmotion_import_lottie::model::{ShapeItem, ShapeKind};
+use gmotion_lottie::Source;
+use gmotion_lottie::eval;
+use gmotion_lottie::model::{ShapeItem, ShapeKind};
 
 use crate::animate::{Bakes, UnitInfo, static_level, unit_motion};
 use crate::geometry::decompose;
@@ -494,7 +494,7 @@ fn multiply_opacity(
     // subtract the start time from both the time and the keyframes).
     let animated = matches!(
         model.ks.o.as_ref().map(|o| &o.value),
-        Some(gmotion_import_lottie::model::Prop::Animated(_))
+        Some(gmotion_lottie::model::Prop::Animated(_))
     );
     let prop = if animated {
         // Both animate: the product at every frame of the composition.

@@ -9,9 +9,9 @@ use serde_json::Value as Json;
 use gmotion::Warning;
 use gmotion::color::Color;
 use gmotion::motion::{ShapeState, Tint, Track};
-use gmotion_import_lottie::Source;
-use gmotion_import_lottie::eval;
-use gmotion_import_lottie::model::{Layer, LayerKind, Num, ShapeItem, ShapeKind};
+use gmotion_lottie::Source;
+use gmotion_lottie::eval;
+use gmotion_lottie::model::{Layer, LayerKind, Num, ShapeItem, ShapeKind};
 
 use crate::model::{Ease, Keyframe, N, Prop, Value};
 
@@ -128,12 +128,12 @@ impl Walk<'_> {
                 let (Some((asset, inner)), Some(original)) = (found, original) else {
                     return;
                 };
-                if depth >= gmotion_import_lottie::build::MAX_PRECOMP_DEPTH {
+                if depth >= gmotion_lottie::build::MAX_PRECOMP_DEPTH {
                     return;
                 }
                 let inner_clock: Vec<(f64, ShapeState)> = clock
                     .iter()
-                    .map(|(f, s)| (gmotion_import_lottie::build::inner_time(model, *f), *s))
+                    .map(|(f, s)| (gmotion_lottie::build::inner_time(model, *f), *s))
                     .collect();
                 let key = (
                     asset.id.clone(),
@@ -326,7 +326,7 @@ impl Walk<'_> {
     fn stops(
         &mut self,
         item: &mut Json,
-        g: &gmotion_import_lottie::model::Gradient,
+        g: &gmotion_lottie::model::Gradient,
         clock: &[(f64, ShapeState)],
         tint: impl Fn(&ShapeState) -> Tint,
     ) {
@@ -387,7 +387,7 @@ pub(crate) const MAX_SAMPLED_FRAMES: usize = 18_000;
 /// or [`MAX_SAMPLED_FRAMES`], with a warning under `label` (after them the last sampled
 /// value holds).
 pub(crate) fn sampled_frames(
-    doc: &gmotion_import_lottie::model::Document,
+    doc: &gmotion_lottie::model::Document,
     label: &str,
     warnings: &mut Vec<Warning>,
 ) -> usize {

@@ -1350,7 +1350,7 @@ fn star(sy: i64, c: Point, outer: f64, inner: f64, rotation: f64, points: f64) -
 pub type Picture = (Arc<[u8]>, ImageFormat);
 
 /// The picture of a `data:` URL (base64), if it is a PNG, JPEG, GIF or WebP image.
-pub(crate) fn embedded_image(p: &str) -> Option<Picture> {
+pub fn embedded_image(p: &str) -> Option<Picture> {
     use base64::Engine as _;
     let rest = p.strip_prefix("data:")?;
     let (head, body) = rest.split_once(',')?;

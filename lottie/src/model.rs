@@ -55,7 +55,8 @@ pub struct ModelError {
     pub message: String,
 }
 
-pub(crate) type Result<T> = std::result::Result<T, ModelError>;
+/// What reading (or drawing) the document gives, or where and why it cannot.
+pub type Result<T> = std::result::Result<T, ModelError>;
 
 pub(crate) fn error<T>(at: &Loc, message: impl Into<String>) -> Result<T> {
     Err(ModelError {
@@ -1179,7 +1180,7 @@ pub struct Asset {
     /// it could not.
     pub image: std::result::Result<Option<crate::build::Picture>, String>,
     /// The pixel size an embedded image declares when it is over the importer's limit
-    /// ([`crate::ImportOptions::max_image_pixels`]); such an image is not drawn.
+    /// (`gmotion-import-lottie`'s `ImportOptions::max_image_pixels`); such an image is not drawn.
     pub oversized: Option<(u64, u64)>,
 }
 
