@@ -6,6 +6,7 @@
 //! - [`model`]: the typed document, read from serde_json's tree with the JSON location of
 //!   every error (`$.layers[3].ks.p.k[1].s`); what it does not know stays in the tree,
 //!   which the [`Source`] keeps whole for verbatim pass-through.
+//! - [`number`]: a number as gmotion writes it into a document.
 //! - [`eval`]: a property's value at a frame (per-component Bézier easing, holds, legacy
 //!   end values, split positions, spatial tangents travelled by arc length) and a
 //!   transform's matrix.
@@ -35,6 +36,7 @@ pub mod effects;
 pub mod eval;
 pub mod fonts;
 pub mod model;
+pub mod number;
 pub mod offset;
 pub mod outline;
 mod player;

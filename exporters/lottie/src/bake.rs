@@ -292,6 +292,7 @@ impl BakedRigid {
                 s: Some(scale),
                 r: Some(phi),
                 o: None,
+                ..Transform::empty()
             }];
         }
         let theta = keys(3, &|c| Value::Scalar(N::coord(c[5].to_degrees())));
@@ -302,6 +303,7 @@ impl BakedRigid {
                 s: Some(scale),
                 r: Some(phi),
                 o: None,
+                ..Transform::empty()
             },
             Transform {
                 a: Some(a),
@@ -309,6 +311,7 @@ impl BakedRigid {
                 s: None,
                 r: Some(theta),
                 o: None,
+                ..Transform::empty()
             },
         ]
     }

@@ -219,13 +219,13 @@ fn stroke_style(
             };
             // lottie-web names each entry as a property: the names must be unique.
             d.push(Dash {
-                n,
+                n: n.to_string(),
                 nm: format!("{kind}{}", k / 2),
                 v: Prop::scalar(N::coord(*v)),
             });
         }
         d.push(Dash {
-            n: "o",
+            n: "o".to_string(),
             nm: "offset".to_string(),
             v: Prop::scalar(N::coord(s.dash_offset)),
         });

@@ -225,13 +225,14 @@ pub(crate) fn shift_prop(p: &mut Option<Prop>, by: Vec2) {
 
 /// A transform with every channel written (for layers).
 pub(crate) fn full_transform(t: Transform) -> Transform {
-    let d = Transform::layer_identity();
+    let d = crate::model::layer_identity();
     Transform {
         a: t.a.or(d.a),
         p: t.p.or(d.p),
         s: t.s.or(d.s),
         r: t.r.or(d.r),
         o: t.o.or(d.o),
+        ..Transform::empty()
     }
 }
 
