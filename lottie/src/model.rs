@@ -672,7 +672,7 @@ pub enum ShapeKind {
         style: StrokeStyle,
     },
     /// `gf` / `gs`: a gradient fill or stroke.
-    Gradient(Box<Gradient>),
+    Gradient(Box<GradientItem>),
     /// `tm`: trim paths, which cut every outline above it (in its group and nested ones).
     Trim {
         /// Start, percent.
@@ -795,28 +795,57 @@ impl StrokeStyle {
     }
 }
 
-/// A gradient fill (`gf`) or stroke (`gs`).
+/// A gradient's geometry and colours, the part gradient fills (`gf`) and strokes (`gs`)
+/// share: written as `t`, `s`, `e`, then `h` and `a` when set, then `g`. Its properties
+/// are of type `P` (see [`Dash`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct Gradient<P = Num> {
+    /// `t`: 1 linear, 2 radial (anything else is read as linear).
+    pub t: i64,
+    /// Start point (the centre of a radial gradient).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub s: Option<P>,
+    /// End point (on the end circle of a radial gradient).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub e: Option<P>,
+    /// Highlight length, percent of the radius (radial).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub h: Option<P>,
+    /// Highlight angle, degrees from the `s → e` direction (radial).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub a: Option<P>,
+    /// Colour (and opacity) stops.
+    pub g: GradientStops<P>,
+}
+
+impl<P> Gradient<P> {
+    /// Whether it is radial (`t` 2).
+    pub fn radial(&self) -> bool {
+        self.t == 2
+    }
+}
+
+/// A gradient's stops (`g`): `p` colour stops `[offset, r, g, b]…`, then any opacity stops
+/// `[offset, alpha]…`, as one flat list `k`.
+#[derive(Clone, Debug, Serialize)]
+pub struct GradientStops<P = Num> {
+    /// How many colour stops `k` starts with.
+    pub p: usize,
+    /// The flat stop list.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k: Option<P>,
+}
+
+/// A gradient fill (`gf`) or stroke (`gs`) item as read: its [`Gradient`] and how it
+/// paints. (The exporter writes the two kinds as items of their own.)
 #[derive(Clone, Debug)]
-pub struct Gradient {
+pub struct GradientItem {
     /// Whether it is a stroke (`gs`).
     pub stroke: bool,
     /// Opacity, percent.
     pub o: Option<Num>,
-    /// Stops: `count` colour stops `[offset, r, g, b, …]`, then any opacity stops
-    /// `[offset, alpha, …]`.
-    pub stops: Option<Num>,
-    /// How many colour stops `stops` starts with (`g.p`).
-    pub count: usize,
-    /// `t` 2: radial (else linear).
-    pub radial: bool,
-    /// Start point (the centre of a radial gradient).
-    pub start: Option<Num>,
-    /// End point (on the end circle of a radial gradient).
-    pub end: Option<Num>,
-    /// Highlight length, percent of the radius (radial).
-    pub highlight: Option<Num>,
-    /// Highlight angle, degrees (radial).
-    pub angle: Option<Num>,
+    /// The gradient.
+    pub gradient: Gradient,
     /// Stroke width (`gs`).
     pub w: Option<Num>,
     /// Fill rule (`gf`).
@@ -922,16 +951,22 @@ fn shape_item(v: &Value, at: &Loc) -> Result<ShapeItem> {
                 }
                 None => (None, 0),
             };
-            ShapeKind::Gradient(Box::new(Gradient {
+            // Read in the order the keys were always read, so that a document with
+            // several faults names the same first one.
+            let opacity = num("o")?;
+            let t = opt_int(o, "t", at)?.unwrap_or(1);
+            let gradient = Gradient {
+                t,
+                s: num("s")?,
+                e: num("e")?,
+                h: num("h")?,
+                a: num("a")?,
+                g: GradientStops { p: count, k: stops },
+            };
+            ShapeKind::Gradient(Box::new(GradientItem {
                 stroke: ty == "gs",
-                o: num("o")?,
-                stops,
-                count,
-                radial: opt_int(o, "t", at)? == Some(2),
-                start: num("s")?,
-                end: num("e")?,
-                highlight: num("h")?,
-                angle: num("a")?,
+                o: opacity,
+                gradient,
                 w: num("w")?,
                 rule: opt_int(o, "r", at)?.unwrap_or(1),
                 style: StrokeStyle::read(o, at)?,

@@ -516,33 +516,11 @@ pub struct Stroke {
     pub style: StrokeStyle,
 }
 
-/// Gradient geometry and colours shared by gradient fills and strokes.
-#[derive(Clone, Debug, Serialize)]
-pub struct Gradient {
-    /// 1 linear, 2 radial.
-    pub t: u8,
-    /// Start point (radial: centre).
-    pub s: Prop,
-    /// End point (radial: a point on the circle).
-    pub e: Prop,
-    /// Radial highlight length in percent of the radius.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub h: Option<Prop>,
-    /// Radial highlight angle in degrees from the `s → e` direction.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub a: Option<Prop>,
-    /// Colour (and opacity) stops.
-    pub g: GradientStops,
-}
+/// A gradient as the exporter writes it.
+pub type Gradient = gmotion_lottie::model::Gradient<Prop>;
 
-/// Gradient stops: `p` colour stops `[offset, r, g, b]…` then optional `[offset, alpha]…`.
-#[derive(Clone, Debug, Serialize)]
-pub struct GradientStops {
-    /// Number of colour stops.
-    pub p: usize,
-    /// The flat stop list (static or keyframed).
-    pub k: Prop,
-}
+/// A gradient's stops as the exporter writes them.
+pub type GradientStops = gmotion_lottie::model::GradientStops<Prop>;
 
 /// A gradient fill.
 #[derive(Clone, Debug, Serialize)]

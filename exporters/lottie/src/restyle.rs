@@ -326,24 +326,25 @@ impl Walk<'_> {
     fn stops(
         &mut self,
         item: &mut Json,
-        g: &gmotion_lottie::model::Gradient,
+        g: &gmotion_lottie::model::GradientItem,
         clock: &[(f64, ShapeState)],
         tint: impl Fn(&ShapeState) -> Tint,
     ) {
         if clock.iter().all(|(_, s)| tint(s) == Tint::NONE) {
             return;
         }
-        if g.stops.as_ref().is_some_and(|c| c.expression) {
+        let stops = &g.gradient.g;
+        if stops.k.as_ref().is_some_and(|c| c.expression) {
             return self.warn(
                 "an expression drives gradient colours; gmotion's colour motion is left out there",
             );
         }
-        let own = |f: f64| eval::num(g.stops.as_ref(), f, &[]);
+        let own = |f: f64| eval::num(stops.k.as_ref(), f, &[]);
         let samples: Vec<(f64, Vec<f64>)> = clock
             .iter()
             .map(|(f, s)| {
                 let mut v = own(*f);
-                for k in 0..g.count.min(v.len() / 4) {
+                for k in 0..stops.p.min(v.len() / 4) {
                     let rgb = [v[4 * k + 1], v[4 * k + 2], v[4 * k + 3]];
                     let [r, gg, b] = tinted(tint(s), rgb, 1.0);
                     v[4 * k + 1..4 * k + 4].copy_from_slice(&[r, gg, b]);
