@@ -1023,7 +1023,8 @@ fn shape_item(v: &Value, at: &Loc) -> Result<ShapeItem> {
     })
 }
 
-/// The layer types of the format.
+/// The layer types of the format; written as its number `ty` (the exporter writes
+/// precompositions, images, nulls and shapes).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LayerKind {
     /// `ty` 0: a precomposition.
@@ -1042,6 +1043,12 @@ pub enum LayerKind {
     Other(i64),
 }
 
+impl Serialize for LayerKind {
+    fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_i64(self.ty())
+    }
+}
+
 impl LayerKind {
     fn of(ty: i64) -> LayerKind {
         match ty {
@@ -1052,6 +1059,19 @@ impl LayerKind {
             4 => LayerKind::Shape,
             5 => LayerKind::Text,
             other => LayerKind::Other(other),
+        }
+    }
+
+    /// Its number, `ty`.
+    pub fn ty(self) -> i64 {
+        match self {
+            LayerKind::Precomp => 0,
+            LayerKind::Solid => 1,
+            LayerKind::Image => 2,
+            LayerKind::Null => 3,
+            LayerKind::Shape => 4,
+            LayerKind::Text => 5,
+            LayerKind::Other(ty) => ty,
         }
     }
 

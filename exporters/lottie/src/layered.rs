@@ -45,7 +45,7 @@ use crate::animate::{Bakes, UnitInfo, static_level, unit_motion};
 use crate::geometry::decompose;
 use crate::keys::{to_keyframes, within_range};
 use crate::layers::{conjugate, full_transform};
-use crate::model::{Layer, LayerType, N, Prop, Transform, Value};
+use crate::model::{Layer, LayerKind, N, Prop, Transform, Value};
 use crate::{LottieError, LottieOptions, LottieOutput};
 
 /// The source document as it was read (JSON-equal to the file, apart from key order).
@@ -182,7 +182,7 @@ pub fn over_source(
                         0 => format!("gmotion {} {}{role}", shape.tag, shape.id),
                         n => format!("gmotion {} {}{role}/{n}", shape.tag, shape.id),
                     };
-                    let mut null = Layer::new(LayerType::Null, nm, 0, ip, op);
+                    let mut null = Layer::new(LayerKind::Null, nm, 0, ip, op);
                     null.ks = full_transform(level);
                     retime(&mut null.ks, |t| ip + t);
                     nulls.push(null_json(&null, next_ind, parent.take()));

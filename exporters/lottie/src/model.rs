@@ -10,7 +10,7 @@ use serde::ser::{SerializeMap, SerializeSeq};
 use serde::{Serialize, Serializer};
 
 use crate::LottieText;
-pub use gmotion_lottie::model::{Bezier, Dash};
+pub use gmotion_lottie::model::{Bezier, Dash, LayerKind};
 pub use gmotion_lottie::number::N;
 
 /// The top-level animation.
@@ -172,35 +172,11 @@ impl Asset {
     }
 }
 
-/// Layer types gmotion writes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum LayerType {
-    /// A precomposition layer (`ty: 0`).
-    Precomp,
-    /// An image layer (`ty: 2`), drawing an image asset.
-    Image,
-    /// A null layer (`ty: 3`), a transform others parent to.
-    Null,
-    /// A shape layer (`ty: 4`).
-    Shape,
-}
-
-impl Serialize for LayerType {
-    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        s.serialize_u8(match self {
-            LayerType::Precomp => 0,
-            LayerType::Image => 2,
-            LayerType::Null => 3,
-            LayerType::Shape => 4,
-        })
-    }
-}
-
 /// A layer.
 #[derive(Clone, Debug)]
 pub struct Layer {
     /// Layer type.
-    pub ty: LayerType,
+    pub ty: LayerKind,
     /// Name (an animated shape's tag and number, a named group's id).
     pub nm: String,
     /// Index, unique within the composition.
@@ -244,7 +220,7 @@ pub struct Layer {
 
 impl Layer {
     /// A layer of type `ty` visible from `ip` to `op`, untransformed.
-    pub fn new(ty: LayerType, nm: String, ind: u32, ip: f64, op: f64) -> Layer {
+    pub fn new(ty: LayerKind, nm: String, ind: u32, ip: f64, op: f64) -> Layer {
         Layer {
             ty,
             nm,
@@ -301,7 +277,7 @@ impl Layer {
         // rlottie ignores a layer's rotation unless `ddd` precedes the transform (measured:
         // a skewed image placed by a rotated null and a rotated image drew unrotated).
         // Image and null layers are the ones placed by a rotating `ks`.
-        if matches!(self.ty, LayerType::Image | LayerType::Null) {
+        if matches!(self.ty, LayerKind::Image | LayerKind::Null) {
             out.extend_from_slice(b"{\"ddd\":0,\"ty\":");
         } else {
             out.extend_from_slice(b"{\"ty\":");
@@ -773,7 +749,7 @@ mod tests {
     fn document(n: u32) -> Animation {
         let layers = (0..n)
             .map(|i| {
-                let mut l = Layer::new(LayerType::Shape, format!("layer {i}"), i + 1, 0.0, 30.0);
+                let mut l = Layer::new(LayerKind::Shape, format!("layer {i}"), i + 1, 0.0, 30.0);
                 l.parent = (i % 3 == 2).then_some(1);
                 l.shapes = Some(vec![Shape::Transform(Transform::empty()); i as usize % 4]);
                 l

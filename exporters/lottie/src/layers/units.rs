@@ -124,7 +124,7 @@ impl Builder<'_> {
                     })];
                 }
             }
-            let mut l = comp.layer(LayerType::Shape, name.clone(), self.src.op);
+            let mut l = comp.layer(LayerKind::Shape, name.clone(), self.src.op);
             if painting_groups(&it) > 1 {
                 // ThorVG applies a group's opacity to each path in it (so a path over
                 // another shows the one beneath, and a stroke baked to an outline shows
@@ -152,7 +152,7 @@ impl Builder<'_> {
             } else {
                 format!("{name}/{k}")
             };
-            let mut n = sub.layer(LayerType::Null, nm, self.src.op);
+            let mut n = sub.layer(LayerKind::Null, nm, self.src.op);
             n.ks = full_transform(level);
             n.parent = nulls.last().map(|p: &Layer| p.ind);
             nulls.push(n);
