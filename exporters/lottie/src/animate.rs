@@ -462,6 +462,7 @@ fn exact_levels(seg: &MotionSeg, end: f64, fps: f64) -> Option<Vec<Transform>> {
             r: l.rot
                 .and_then(|a| channel(&|p| [a * p, 0.0], [0.0, 0.0], &|v| scalar(v[0]))),
             o: None,
+            ..Transform::empty()
         });
     }
     if p0 != 0.0 {
@@ -495,7 +496,7 @@ fn prop_or_default<V: Same + Clone>(
 
 /// A fixed level, rounded as written.
 pub fn static_level(l: &Trs) -> Transform {
-    exact_static_level(l).rounded()
+    crate::model::rounded(exact_static_level(l))
 }
 
 /// A fixed level at full precision.
@@ -506,6 +507,7 @@ fn exact_static_level(l: &Trs) -> Transform {
         s: (l.s != Vec2::new(1.0, 1.0)).then(|| Prop::fixed(v2([l.s.x * 100.0, l.s.y * 100.0]))),
         r: (l.r != 0.0).then(|| Prop::scalar(N(l.r))),
         o: None,
+        ..Transform::empty()
     }
 }
 
@@ -542,6 +544,7 @@ fn hold_levels(m: Affine, frame: f64) -> Vec<Transform> {
             s: Some(held(v2([100.0, 100.0]), v2([l.s.x * 100.0, l.s.y * 100.0]))),
             r: Some(held(scalar(0.0), scalar(l.r))),
             o: None,
+            ..Transform::empty()
         })
         .collect()
 }

@@ -293,6 +293,7 @@ impl BakedRigid {
                 s: Some(scale),
                 r: Some(phi),
                 o: None,
+                ..Transform::empty()
             }];
         }
         let theta = keys(3, &|c| Value::Scalar(N::coord(c[5].to_degrees())));
@@ -303,6 +304,7 @@ impl BakedRigid {
                 s: Some(scale),
                 r: Some(phi),
                 o: None,
+                ..Transform::empty()
             },
             Transform {
                 a: Some(a),
@@ -310,6 +312,7 @@ impl BakedRigid {
                 s: None,
                 r: Some(theta),
                 o: None,
+                ..Transform::empty()
             },
         ]
     }

@@ -29,7 +29,7 @@ pub fn fold(levels: Vec<Transform>) -> Vec<Transform> {
     // and its neighbours fold around it.
     let mut items: Vec<Item> = levels
         .into_iter()
-        .map(|t| Level::read(&t).map_or(Item::Kept(t), Item::Folds))
+        .map(|t| Level::read(&t).map_or_else(|| Item::Kept(Box::new(t)), Item::Folds))
         .collect();
     items.retain(|i| !matches!(i, Item::Folds(l) if l.is_identity()));
     // The rules in order of preference: a merge that leaves keys spanning less time leaves
@@ -47,15 +47,16 @@ pub fn fold(levels: Vec<Transform>) -> Vec<Transform> {
         .into_iter()
         .map(|i| match i {
             Item::Folds(l) => l.write(),
-            Item::Kept(t) => t.rounded(),
+            Item::Kept(t) => crate::model::rounded(*t),
         })
         .collect()
 }
 
-/// A level as this module reads it, or one it leaves as it is.
+/// A level as this module reads it, or one it leaves as it is (boxed: a transform has a
+/// slot for every channel Lottie has, most of them empty here).
 enum Item {
     Folds(Level),
-    Kept(Transform),
+    Kept(Box<Transform>),
 }
 
 /// Composes an outer level and the level inside it into one, or says it cannot.
@@ -300,6 +301,7 @@ impl Level {
             s: self.s.write(FULL, false),
             r: self.r.write(ZERO, true),
             o: None,
+            ..Transform::empty()
         }
     }
 
@@ -629,6 +631,7 @@ mod tests {
             s: Some(keyed(t0, t1, FULL, k, EASE_IN_OUT, false)),
             r: None,
             o: None,
+            ..Transform::empty()
         }
     }
 
@@ -640,6 +643,7 @@ mod tests {
             s: None,
             r: Some(keyed(t0, t1, ZERO, [deg, 0.0], [0.3, 0.1, 0.7, 1.2], true)),
             o: None,
+            ..Transform::empty()
         }
     }
 
@@ -652,6 +656,7 @@ mod tests {
             s: None,
             r: None,
             o: None,
+            ..Transform::empty()
         }
     }
 
@@ -663,6 +668,7 @@ mod tests {
             s: fixed(s),
             r: Some(Prop::scalar(N(r))),
             o: None,
+            ..Transform::empty()
         }
     }
 

@@ -46,8 +46,8 @@ impl Contour {
     /// at its far end (gm-0075: skewed pieces' outlines, 0.56% of pixels). At the thirds the
     /// cubic is the same line, evenly parametrised, and every player draws it alike.
     pub fn to_bezier(&self) -> Bezier {
-        let pt = |p: Point| [N::coord(p.x), N::coord(p.y)];
-        let rel = |c: Point, v: Point| [N::coord(c.x - v.x), N::coord(c.y - v.y)];
+        let pt = |p: Point| [N::coord(p.x).0, N::coord(p.y).0];
+        let rel = |c: Point, v: Point| [N::coord(c.x - v.x).0, N::coord(c.y - v.y).0];
         let n = self.v.len();
         let (mut i, mut o) = (self.i.clone(), self.o.clone());
         let segments = if self.closed { n } else { n.saturating_sub(1) };
@@ -60,7 +60,7 @@ impl Contour {
             }
         }
         Bezier {
-            c: self.closed,
+            closed: Some(self.closed),
             v: self.v.iter().map(|p| pt(*p)).collect(),
             i: i.iter().zip(&self.v).map(|(c, v)| rel(*c, *v)).collect(),
             o: o.iter().zip(&self.v).map(|(c, v)| rel(*c, *v)).collect(),

@@ -1,5 +1,5 @@
 //! Motion layered onto a Lottie source: the document an animation's scene was imported
-//! from ([`gmotion_import_lottie::Source`]) written back as it was read, with gmotion's
+//! from ([`gmotion_lottie::Source`]) written back as it was read, with gmotion's
 //! motion on top.
 //!
 //! This writer lives in the Lottie exporter, which depends on the Lottie importer for the
@@ -38,15 +38,15 @@ use serde_json::Value as Json;
 use gmotion::Warning;
 use gmotion::motion::Animation;
 use gmotion::tolerance::Tolerance;
-use gmotion_import_lottie::Source;
-use gmotion_import_lottie::eval;
-use gmotion_import_lottie::model::{ShapeItem, ShapeKind};
+use gmotion_lottie::Source;
+use gmotion_lottie::eval;
+use gmotion_lottie::model::{ShapeItem, ShapeKind};
 
 use crate::animate::{Bakes, UnitInfo, static_level, unit_motion};
 use crate::geometry::decompose;
 use crate::keys::{to_keyframes, within_range};
 use crate::layers::{conjugate, full_transform};
-use crate::model::{Layer, LayerType, N, Prop, Transform, Value};
+use crate::model::{Layer, LayerKind, N, Prop, Transform, Value};
 use crate::{LottieError, LottieOptions, LottieOutput};
 
 /// The source document as it was read (JSON-equal to the file, apart from key order).
@@ -183,7 +183,7 @@ pub fn over_source(
                         0 => format!("gmotion {} {}{role}", shape.tag, shape.id),
                         n => format!("gmotion {} {}{role}/{n}", shape.tag, shape.id),
                     };
-                    let mut null = Layer::new(LayerType::Null, nm, 0, ip, op);
+                    let mut null = Layer::new(LayerKind::Null, nm, 0, ip, op);
                     null.ks = full_transform(level);
                     retime(&mut null.ks, |t| ip + t);
                     nulls.push(null_json(&null, next_ind, parent.take()));
@@ -493,7 +493,7 @@ fn multiply_opacity(
     // subtract the start time from both the time and the keyframes).
     let animated = matches!(
         model.ks.o.as_ref().map(|o| &o.value),
-        Some(gmotion_import_lottie::model::Prop::Animated(_))
+        Some(gmotion_lottie::model::Prop::Animated(_))
     );
     let prop = if animated {
         // Both animate: the product at every frame of the composition.

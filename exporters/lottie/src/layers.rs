@@ -44,7 +44,7 @@ use super::bake::bake_paths;
 use super::geometry::{Contour, contours, decompose, max_stretch};
 use super::keys::{to_keyframes, within_range};
 use super::model::{
-    Asset, Bezier, Group as LGroup, Layer, LayerType, Mask as LMask, N, PathShape, Prop, Shape,
+    Asset, Bezier, Group as LGroup, Layer, LayerKind, Mask as LMask, N, PathShape, Prop, Shape,
     Transform, Value,
 };
 use super::paint::{self, PaintAnim, Styled};
@@ -94,7 +94,7 @@ impl Comp {
         }
     }
 
-    fn layer(&mut self, ty: LayerType, nm: String, op: f64) -> Layer {
+    fn layer(&mut self, ty: LayerKind, nm: String, op: f64) -> Layer {
         self.next_ind += 1;
         Layer::new(ty, nm, self.next_ind, 0.0, op)
     }
@@ -148,7 +148,7 @@ impl Comp {
             [Shape::Group(g)] if !g.nm.is_empty() => g.nm.clone(),
             _ => "shapes".to_string(),
         };
-        let mut l = self.layer(LayerType::Shape, name, op);
+        let mut l = self.layer(LayerKind::Shape, name, op);
         l.shapes = Some(run.drain(..).rev().collect());
         out.push(l);
     }
@@ -227,7 +227,7 @@ impl<'a> Builder<'a> {
             for l in layers.iter_mut().filter(|l| l.parent.is_none()) {
                 l.parent = Some(ind);
             }
-            let mut null = Layer::new(LayerType::Null, "canvas".to_string(), ind, 0.0, self.src.op);
+            let mut null = Layer::new(LayerKind::Null, "canvas".to_string(), ind, 0.0, self.src.op);
             null.ks.s = Some(Prop::vec(vec![
                 N::fine(scale.x * 100.0),
                 N::fine(scale.y * 100.0),
@@ -395,7 +395,7 @@ impl<'a> Builder<'a> {
         let repeats_name =
             matches!(layers.as_slice(), [l] if l.nm.split(' ').next() == Some(g.id.as_str()));
         if !repeats_name {
-            let null = sub.layer(LayerType::Null, g.id.clone(), self.src.op);
+            let null = sub.layer(LayerKind::Null, g.id.clone(), self.src.op);
             for l in layers.iter_mut().filter(|l| l.parent.is_none()) {
                 l.parent = Some(null.ind);
             }
@@ -510,7 +510,7 @@ impl<'a> Builder<'a> {
             let mut sub = Comp::new(comp.next_ind);
             draw(self, env, Affine::IDENTITY, &mut sub);
             comp.next_ind = sub.next_ind;
-            let mut l = comp.layer(LayerType::Shape, name.to_string(), self.src.op);
+            let mut l = comp.layer(LayerKind::Shape, name.to_string(), self.src.op);
             l.shapes = Some(sub.into_shapes());
             return (l, Affine::IDENTITY);
         }
@@ -532,7 +532,7 @@ impl<'a> Builder<'a> {
             layers,
             image: None,
         });
-        let mut l = comp.layer(LayerType::Precomp, name.to_string(), self.src.op);
+        let mut l = comp.layer(LayerKind::Precomp, name.to_string(), self.src.op);
         l.ref_id = Some(id);
         l.w = Some(size.0);
         l.h = Some(size.1);
@@ -558,7 +558,7 @@ impl<'a> Builder<'a> {
         if let Some(asset) = asset {
             let ind = asset.layers.iter().map(|l| l.ind).max().unwrap_or(0) + 1;
             let mut l = Layer::new(
-                LayerType::Shape,
+                LayerKind::Shape,
                 "filter region".to_string(),
                 ind,
                 0.0,
@@ -604,7 +604,7 @@ impl<'a> Builder<'a> {
         let needs_matte = g.mask.is_some() || matches!(clip, Some(ClipKind::Matte));
         if matches!(clip, Some(ClipKind::Empty)) {
             // Nothing shows: an empty shape layer.
-            let mut l = comp.layer(LayerType::Shape, g.id.clone(), self.src.op);
+            let mut l = comp.layer(LayerKind::Shape, g.id.clone(), self.src.op);
             l.shapes = Some(Vec::new());
             return l;
         }

@@ -3,49 +3,15 @@
 //! Field names follow the format (two-letter keys); the official schema
 //! (`lottie_specs/data/lottie.schema.json`) is what the conformance run validates against.
 //! Numbers are rounded where they are made ([`N::coord`], [`N::fine`]) and written without
-//! a fraction when integral, so output is compact and identical from run to run.
+//! a fraction when integral, so output is compact and identical from run to run; the
+//! number and the Bézier outline are `gmotion-lottie`'s, shared with the importer.
 
 use serde::ser::{SerializeMap, SerializeSeq};
 use serde::{Serialize, Serializer};
 
 use crate::LottieText;
-
-/// A number as written: rounded by its constructor, integral values without `.0`.
-#[derive(Clone, Copy, Debug, PartialEq, PartialOrd, Default)]
-pub struct N(pub f64);
-
-impl N {
-    /// A coordinate, angle, percentage or frame time: three decimals.
-    pub fn coord(x: f64) -> N {
-        N(round_to(x, 1e3))
-    }
-
-    /// A colour component, opacity fraction, gradient offset or easing handle: five decimals.
-    pub fn fine(x: f64) -> N {
-        N(round_to(x, 1e5))
-    }
-}
-
-fn round_to(x: f64, scale: f64) -> f64 {
-    let r = (x * scale).round() / scale;
-    // Avoid writing `-0`.
-    if r == 0.0 { 0.0 } else { r }
-}
-
-impl Serialize for N {
-    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        let x = self.0;
-        if x.fract() == 0.0 && x.abs() < 1e15 {
-            s.serialize_i64(x as i64)
-        } else if x.is_finite() {
-            s.serialize_f64(x)
-        } else {
-            // Non-finite values never reach the model (callers check), but JSON has no
-            // spelling for them, so write a neutral number rather than invalid JSON.
-            s.serialize_i64(0)
-        }
-    }
-}
+pub use gmotion_lottie::model::{Bezier, Dash, LayerKind};
+pub use gmotion_lottie::number::N;
 
 /// The top-level animation.
 #[derive(Clone, Debug)]
@@ -206,35 +172,11 @@ impl Asset {
     }
 }
 
-/// Layer types gmotion writes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum LayerType {
-    /// A precomposition layer (`ty: 0`).
-    Precomp,
-    /// An image layer (`ty: 2`), drawing an image asset.
-    Image,
-    /// A null layer (`ty: 3`), a transform others parent to.
-    Null,
-    /// A shape layer (`ty: 4`).
-    Shape,
-}
-
-impl Serialize for LayerType {
-    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        s.serialize_u8(match self {
-            LayerType::Precomp => 0,
-            LayerType::Image => 2,
-            LayerType::Null => 3,
-            LayerType::Shape => 4,
-        })
-    }
-}
-
 /// A layer.
 #[derive(Clone, Debug)]
 pub struct Layer {
     /// Layer type.
-    pub ty: LayerType,
+    pub ty: LayerKind,
     /// Name (an animated shape's tag and number, a named group's id).
     pub nm: String,
     /// Index, unique within the composition.
@@ -278,7 +220,7 @@ pub struct Layer {
 
 impl Layer {
     /// A layer of type `ty` visible from `ip` to `op`, untransformed.
-    pub fn new(ty: LayerType, nm: String, ind: u32, ip: f64, op: f64) -> Layer {
+    pub fn new(ty: LayerKind, nm: String, ind: u32, ip: f64, op: f64) -> Layer {
         Layer {
             ty,
             nm,
@@ -292,7 +234,7 @@ impl Layer {
             tp: None,
             has_mask: None,
             masks: Vec::new(),
-            ks: Transform::layer_identity(),
+            ks: layer_identity(),
             ef: Vec::new(),
             shapes: None,
             ip: N::coord(ip),
@@ -335,7 +277,7 @@ impl Layer {
         // rlottie ignores a layer's rotation unless `ddd` precedes the transform (measured:
         // a skewed image placed by a rotated null and a rotated image drew unrotated).
         // Image and null layers are the ones placed by a rotating `ks`.
-        if matches!(self.ty, LayerType::Image | LayerType::Null) {
+        if matches!(self.ty, LayerKind::Image | LayerKind::Null) {
             out.extend_from_slice(b"{\"ddd\":0,\"ty\":");
         } else {
             out.extend_from_slice(b"{\"ty\":");
@@ -432,69 +374,35 @@ pub struct Mask {
     pub inv: bool,
 }
 
-/// A transform: `T(p)·R(r)·S(s)·T(-a)` with opacity `o` (never skew: rlottie cannot draw it).
-#[derive(Clone, Debug, Serialize)]
-pub struct Transform {
-    /// Anchor point.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub a: Option<Prop>,
-    /// Position.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub p: Option<Prop>,
-    /// Scale in percent.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub s: Option<Prop>,
-    /// Rotation in degrees, clockwise.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub r: Option<Prop>,
-    /// Opacity in percent; written as 100 when unset (lottie-web needs it on groups).
-    #[serde(serialize_with = "opacity_or_opaque")]
-    pub o: Option<Prop>,
-}
+/// A transform as the exporter writes it: `T(p)·R(r)·S(s)·T(-a)` with opacity `o`, every
+/// channel (the position too) a [`Prop`]; never skew (rlottie cannot draw it).
+pub type Transform = gmotion_lottie::model::Transform<Prop, Prop>;
 
-fn opacity_or_opaque<S: Serializer>(o: &Option<Prop>, s: S) -> Result<S::Ok, S::Error> {
-    match o {
-        Some(p) => p.serialize(s),
-        None => Prop::scalar(N(100.0)).serialize(s),
+/// An identity layer transform with every channel written (some players have no defaults
+/// for layer transforms).
+pub fn layer_identity() -> Transform {
+    Transform {
+        a: Some(Prop::fixed(Value::Vec(vec![N(0.0), N(0.0)]))),
+        p: Some(Prop::fixed(Value::Vec(vec![N(0.0), N(0.0)]))),
+        s: Some(Prop::fixed(Value::Vec(vec![N(100.0), N(100.0)]))),
+        r: Some(Prop::fixed(Value::Scalar(N(0.0)))),
+        o: Some(Prop::fixed(Value::Scalar(N(100.0)))),
+        ..Transform::empty()
     }
 }
 
-impl Transform {
-    /// An identity transform with nothing written.
-    pub fn empty() -> Transform {
-        Transform {
-            a: None,
-            p: None,
-            s: None,
-            r: None,
-            o: None,
-        }
-    }
-
-    /// An identity layer transform with every channel written (some players have no
-    /// defaults for layer transforms).
-    pub fn layer_identity() -> Transform {
-        Transform {
-            a: Some(Prop::fixed(Value::Vec(vec![N(0.0), N(0.0)]))),
-            p: Some(Prop::fixed(Value::Vec(vec![N(0.0), N(0.0)]))),
-            s: Some(Prop::fixed(Value::Vec(vec![N(100.0), N(100.0)]))),
-            r: Some(Prop::fixed(Value::Scalar(N(0.0)))),
-            o: Some(Prop::fixed(Value::Scalar(N(100.0)))),
-        }
-    }
-
-    /// Every value rounded as a coordinate ([`N::coord`]); a channel whose keys then all
-    /// hold one value becomes fixed. For levels computed at full precision, so that
-    /// composing them does not compound the rounding.
-    pub fn rounded(self) -> Transform {
-        let round = |p: Option<Prop>| p.map(Prop::rounded);
-        Transform {
-            a: round(self.a),
-            p: round(self.p),
-            s: round(self.s),
-            r: round(self.r),
-            o: round(self.o),
-        }
+/// `t` with every value rounded as a coordinate ([`N::coord`]); a channel whose keys then
+/// all hold one value becomes fixed. For levels computed at full precision, so that
+/// composing them does not compound the rounding.
+pub fn rounded(t: Transform) -> Transform {
+    let round = |p: Option<Prop>| p.map(Prop::rounded);
+    Transform {
+        a: round(t.a),
+        p: round(t.p),
+        s: round(t.s),
+        r: round(t.r),
+        o: round(t.o),
+        ..Transform::empty()
     }
 }
 
@@ -569,7 +477,7 @@ pub struct StrokeStyle {
     pub ml: Option<N>,
     /// Dashes.
     #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub d: Vec<Dash>,
+    pub d: Vec<Dash<Prop>>,
 }
 
 /// A solid stroke.
@@ -584,44 +492,11 @@ pub struct Stroke {
     pub style: StrokeStyle,
 }
 
-/// One entry of a dash pattern.
-#[derive(Clone, Debug, Serialize)]
-pub struct Dash {
-    /// `d` dash, `g` gap, `o` offset.
-    pub n: &'static str,
-    /// Name, unique within the pattern.
-    pub nm: String,
-    /// Length.
-    pub v: Prop,
-}
+/// A gradient as the exporter writes it.
+pub type Gradient = gmotion_lottie::model::Gradient<Prop>;
 
-/// Gradient geometry and colours shared by gradient fills and strokes.
-#[derive(Clone, Debug, Serialize)]
-pub struct Gradient {
-    /// 1 linear, 2 radial.
-    pub t: u8,
-    /// Start point (radial: centre).
-    pub s: Prop,
-    /// End point (radial: a point on the circle).
-    pub e: Prop,
-    /// Radial highlight length in percent of the radius.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub h: Option<Prop>,
-    /// Radial highlight angle in degrees from the `s → e` direction.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub a: Option<Prop>,
-    /// Colour (and opacity) stops.
-    pub g: GradientStops,
-}
-
-/// Gradient stops: `p` colour stops `[offset, r, g, b]…` then optional `[offset, alpha]…`.
-#[derive(Clone, Debug, Serialize)]
-pub struct GradientStops {
-    /// Number of colour stops.
-    pub p: usize,
-    /// The flat stop list (static or keyframed).
-    pub k: Prop,
-}
+/// A gradient's stops as the exporter writes them.
+pub type GradientStops = gmotion_lottie::model::GradientStops<Prop>;
 
 /// A gradient fill.
 #[derive(Clone, Debug, Serialize)]
@@ -646,19 +521,6 @@ pub struct GradientStroke {
     /// Width, caps, joins, dashes.
     #[serde(flatten)]
     pub style: StrokeStyle,
-}
-
-/// A Bézier outline: vertices with in and out tangents relative to them.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Bezier {
-    /// Closed.
-    pub c: bool,
-    /// Vertices.
-    pub v: Vec<[N; 2]>,
-    /// In tangents (relative).
-    pub i: Vec<[N; 2]>,
-    /// Out tangents (relative).
-    pub o: Vec<[N; 2]>,
 }
 
 /// A property value.
@@ -780,6 +642,13 @@ pub enum Prop {
     // group's transform holds one, and every animated transform here is a shape group's.
 }
 
+impl From<N> for Prop {
+    /// A fixed number.
+    fn from(x: N) -> Prop {
+        Prop::scalar(x)
+    }
+}
+
 impl Prop {
     /// Every value rounded as a coordinate; keys that then all hold one value become a
     /// fixed value.
@@ -854,18 +723,6 @@ mod tests {
     use super::*;
 
     #[test]
-    fn numbers_are_compact() {
-        let v = serde_json::to_string(&vec![
-            N::coord(1.0),
-            N::coord(2.50004),
-            N::coord(-0.0001),
-            N::fine(1.0 / 3.0),
-        ])
-        .unwrap();
-        assert_eq!(v, "[1,2.5,0,0.33333]");
-    }
-
-    #[test]
     fn scalar_keyframes_are_arrays() {
         let k = Keyframe {
             t: N(0.0),
@@ -892,7 +749,7 @@ mod tests {
     fn document(n: u32) -> Animation {
         let layers = (0..n)
             .map(|i| {
-                let mut l = Layer::new(LayerType::Shape, format!("layer {i}"), i + 1, 0.0, 30.0);
+                let mut l = Layer::new(LayerKind::Shape, format!("layer {i}"), i + 1, 0.0, 30.0);
                 l.parent = (i % 3 == 2).then_some(1);
                 l.shapes = Some(vec![Shape::Transform(Transform::empty()); i as usize % 4]);
                 l

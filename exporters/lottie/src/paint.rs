@@ -220,13 +220,13 @@ fn stroke_style(
             };
             // lottie-web names each entry as a property: the names must be unique.
             d.push(Dash {
-                n,
+                n: n.to_string(),
                 nm: format!("{kind}{}", k / 2),
                 v: Prop::scalar(N::coord(*v)),
             });
         }
         d.push(Dash {
-            n: "o",
+            n: "o".to_string(),
             nm: "offset".to_string(),
             v: Prop::scalar(N::coord(s.dash_offset)),
         });
@@ -302,7 +302,10 @@ fn stops_prop(stops: &[Stop], tint: &[Key<Tint>]) -> GradientStops {
     } else {
         Prop::keyed(to_keyframes(tint, |t| flat(*t)))
     };
-    GradientStops { p: stops.len(), k }
+    GradientStops {
+        p: stops.len(),
+        k: Some(k),
+    }
 }
 
 fn point(p: Point) -> Prop {
@@ -379,8 +382,8 @@ fn linear(
     }
     let grad = Gradient {
         t: 1,
-        s: point(at(t0)),
-        e: point(at(t1)),
+        s: Some(point(at(t0))),
+        e: Some(point(at(t1))),
         h: None,
         a: None,
         g: stops_prop(&stops, tint),
@@ -489,8 +492,8 @@ fn radial(
     };
     let grad = Gradient {
         t: 2,
-        s: point(s),
-        e: point(e),
+        s: Some(point(s)),
+        e: Some(point(e)),
         h,
         a,
         g: stops_prop(&stops, tint),
@@ -591,8 +594,8 @@ mod tests {
         ) else {
             panic!()
         };
-        let pt = |p: &Prop| match p {
-            Prop::Fixed(Value::Vec(v)) => Point::new(v[0].0, v[1].0),
+        let pt = |p: &Option<Prop>| match p {
+            Some(Prop::Fixed(Value::Vec(v))) => Point::new(v[0].0, v[1].0),
             _ => panic!(),
         };
         let (s, e) = (pt(&grad.s), pt(&grad.e));

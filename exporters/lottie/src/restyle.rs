@@ -9,9 +9,9 @@ use serde_json::Value as Json;
 use gmotion::Warning;
 use gmotion::color::Color;
 use gmotion::motion::{ShapeState, Tint, Track};
-use gmotion_import_lottie::Source;
-use gmotion_import_lottie::eval;
-use gmotion_import_lottie::model::{Layer, LayerKind, Num, ShapeItem, ShapeKind};
+use gmotion_lottie::Source;
+use gmotion_lottie::eval;
+use gmotion_lottie::model::{Layer, LayerKind, Num, ShapeItem, ShapeKind};
 
 use crate::model::{Ease, Keyframe, N, Prop, Value};
 
@@ -138,12 +138,12 @@ impl Walk<'_> {
                 let (Some((asset, inner)), Some(original)) = (found, original) else {
                     return;
                 };
-                if depth >= gmotion_import_lottie::build::MAX_PRECOMP_DEPTH {
+                if depth >= gmotion_lottie::build::MAX_PRECOMP_DEPTH {
                     return;
                 }
                 let inner_clock: Vec<(f64, ShapeState)> = clock
                     .iter()
-                    .map(|(f, s)| (gmotion_import_lottie::build::inner_time(model, *f), *s))
+                    .map(|(f, s)| (gmotion_lottie::build::inner_time(model, *f), *s))
                     .collect();
                 let key = (
                     asset.id.clone(),
@@ -336,24 +336,25 @@ impl Walk<'_> {
     fn stops(
         &mut self,
         item: &mut Json,
-        g: &gmotion_import_lottie::model::Gradient,
+        g: &gmotion_lottie::model::GradientItem,
         clock: &[(f64, ShapeState)],
         tint: impl Fn(&ShapeState) -> Tint,
     ) {
         if clock.iter().all(|(_, s)| tint(s) == Tint::NONE) {
             return;
         }
-        if g.stops.as_ref().is_some_and(|c| c.expression) {
+        let stops = &g.gradient.g;
+        if stops.k.as_ref().is_some_and(|c| c.expression) {
             return self.warn(
                 "an expression drives gradient colours; gmotion's colour motion is left out there",
             );
         }
-        let own = |f: f64| eval::num(g.stops.as_ref(), f, &[]);
+        let own = |f: f64| eval::num(stops.k.as_ref(), f, &[]);
         let samples: Vec<(f64, Vec<f64>)> = clock
             .iter()
             .map(|(f, s)| {
                 let mut v = own(*f);
-                for k in 0..g.count.min(v.len() / 4) {
+                for k in 0..stops.p.min(v.len() / 4) {
                     let rgb = [v[4 * k + 1], v[4 * k + 2], v[4 * k + 3]];
                     let [r, gg, b] = tinted(tint(s), rgb, 1.0);
                     v[4 * k + 1..4 * k + 4].copy_from_slice(&[r, gg, b]);
@@ -397,7 +398,7 @@ pub(crate) const MAX_SAMPLED_FRAMES: usize = 18_000;
 /// or [`MAX_SAMPLED_FRAMES`], with a warning under `label` (after them the last sampled
 /// value holds).
 pub(crate) fn sampled_frames(
-    doc: &gmotion_import_lottie::model::Document,
+    doc: &gmotion_lottie::model::Document,
     label: &str,
     warnings: &mut Vec<Warning>,
 ) -> usize {

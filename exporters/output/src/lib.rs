@@ -38,7 +38,7 @@ use rayon::prelude::*;
 /// The source document of a scene imported from Lottie: a `.json` output of such a scene
 /// is that document written back, with the animation's motion layered on top
 /// ([`gmotion_export_lottie::layered`]).
-pub use gmotion_import_lottie::Source as LottieSource;
+pub use gmotion_lottie::Source as LottieSource;
 
 /// What an output path asks for, by its extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

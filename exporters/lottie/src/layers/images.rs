@@ -49,14 +49,14 @@ impl Builder<'_> {
         let mut levels = decompose(m, Point::ORIGIN);
         let inner = levels.pop().expect("decompose gives at least one level");
         let mut layers = Vec::with_capacity(2);
-        let mut l = comp.layer(LayerType::Image, name(i), self.src.op);
+        let mut l = comp.layer(LayerKind::Image, name(i), self.src.op);
         l.ref_id = Some(id);
         l.ks = full_transform(static_level(&inner));
         if env.alpha < 1.0 {
             l.ks.o = Some(Prop::scalar(N::coord(env.alpha * 100.0)));
         }
         if let Some(outer) = levels.pop() {
-            let mut null = comp.layer(LayerType::Null, format!("{}/place", l.nm), self.src.op);
+            let mut null = comp.layer(LayerKind::Null, format!("{}/place", l.nm), self.src.op);
             null.ks = full_transform(static_level(&outer));
             l.parent = Some(null.ind);
             layers.push(l);

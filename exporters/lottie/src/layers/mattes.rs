@@ -68,7 +68,7 @@ pub(super) fn collect_clip(g: &Group, ts: Affine, out: &mut Vec<Contour>) -> boo
 /// A layer mask (mode add) of a contour.
 pub(super) fn mask(c: &Contour) -> LMask {
     let mut b: Bezier = c.to_bezier();
-    b.c = true;
+    b.closed = Some(true);
     LMask {
         mode: "a",
         pt: Prop::fixed(Value::Bezier(Box::new(b))),

@@ -124,7 +124,7 @@ impl Builder<'_> {
                     })];
                 }
             }
-            let mut l = comp.layer(LayerType::Shape, name.clone(), self.src.op);
+            let mut l = comp.layer(LayerKind::Shape, name.clone(), self.src.op);
             if painting_groups(&it) > 1 {
                 // ThorVG applies a group's opacity to each path in it (so a path over
                 // another shows the one beneath, and a stroke baked to an outline shows
@@ -152,7 +152,7 @@ impl Builder<'_> {
             } else {
                 format!("{name}/{k}")
             };
-            let mut n = sub.layer(LayerType::Null, nm, self.src.op);
+            let mut n = sub.layer(LayerKind::Null, nm, self.src.op);
             n.ks = full_transform(level);
             n.parent = nulls.last().map(|p: &Layer| p.ind);
             nulls.push(n);
@@ -225,13 +225,14 @@ pub(crate) fn shift_prop(p: &mut Option<Prop>, by: Vec2) {
 
 /// A transform with every channel written (for layers).
 pub(crate) fn full_transform(t: Transform) -> Transform {
-    let d = Transform::layer_identity();
+    let d = crate::model::layer_identity();
     Transform {
         a: t.a.or(d.a),
         p: t.p.or(d.p),
         s: t.s.or(d.s),
         r: t.r.or(d.r),
         o: t.o.or(d.o),
+        ..Transform::empty()
     }
 }
 

@@ -36,8 +36,8 @@ pub fn is_default_name(name: &str) -> bool {
 /// The tag of a layer named `name` of kind `kind`.
 ///
 /// ```
-/// use gmotion_import_lottie::model::LayerKind;
-/// use gmotion_import_lottie::tags::layer_tag;
+/// use gmotion_lottie::model::LayerKind;
+/// use gmotion_lottie::tags::layer_tag;
 /// assert_eq!(layer_tag("Wheel 2 Outlines", LayerKind::Shape), "Wheel");
 /// assert_eq!(layer_tag("Left arm", LayerKind::Shape), "Left_arm");
 /// assert_eq!(layer_tag("Shape Layer 3", LayerKind::Shape), "shape");
@@ -74,8 +74,8 @@ const DEFAULT_PART_NAMES: [&str; 8] = [
 /// the item's kind (`group`, `path`, `rect`, `ellipse`, `star`).
 ///
 /// ```
-/// use gmotion_import_lottie::model::ShapeKind;
-/// use gmotion_import_lottie::tags::part_tag;
+/// use gmotion_lottie::model::ShapeKind;
+/// use gmotion_lottie::tags::part_tag;
 /// assert_eq!(part_tag("Left wheel 2", &ShapeKind::Group(vec![])), "Left_wheel");
 /// assert_eq!(part_tag("Group 3", &ShapeKind::Group(vec![])), "group");
 /// ```

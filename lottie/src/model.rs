@@ -5,12 +5,18 @@
 //! error then names its JSON location (`$.layers[3].ks.p.k[1].s`), which a derived model
 //! cannot do without another crate, and whatever the model does not know (masks, effects,
 //! text documents, match names, unknown keys) simply stays in the source tree, which the
-//! importer keeps whole for verbatim pass-through ([`crate::Source`]). Nothing here is
-//! written back: the exporter edits the source tree itself.
+//! importer keeps whole for verbatim pass-through ([`crate::Source`]). A source document
+//! is never written from the model: the exporter edits the source tree itself. The types
+//! the exporter also writes into documents of its own implement serde's `Serialize`, in
+//! the key order players need ([`Bezier`]).
 
 use std::fmt;
 
+use serde::Serialize;
+use serde::ser::{SerializeStruct, Serializer};
 use serde_json::{Map, Value};
+
+use crate::number::N;
 
 use crate::text::{Fonts, TextData};
 
@@ -55,7 +61,8 @@ pub struct ModelError {
     pub message: String,
 }
 
-pub(crate) type Result<T> = std::result::Result<T, ModelError>;
+/// What reading (or drawing) the document gives, or where and why it cannot.
+pub type Result<T> = std::result::Result<T, ModelError>;
 
 pub(crate) fn error<T>(at: &Loc, message: impl Into<String>) -> Result<T> {
     Err(ModelError {
@@ -174,10 +181,12 @@ impl PropValue for Vec<f64> {
 }
 
 /// A Bézier outline as Lottie writes it: vertices with in and out tangents relative to
-/// them.
+/// them. Read from a document, and written (`{"c", "v", "i", "o"}`, each number as
+/// [`N`] spells it) by the exporter, which rounds the points where it makes them.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct Bezier {
-    /// Whether the outline is closed (`None` when the file leaves it out).
+    /// Whether the outline is closed (`c`; `None` when the file leaves it out, and then
+    /// not written).
     pub closed: Option<bool>,
     /// Vertices.
     pub v: Vec<[f64; 2]>,
@@ -185,6 +194,27 @@ pub struct Bezier {
     pub i: Vec<[f64; 2]>,
     /// Out tangents, relative to their vertex.
     pub o: Vec<[f64; 2]>,
+}
+
+impl Serialize for Bezier {
+    fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        /// Points as `[[x, y], …]`.
+        struct Points<'a>(&'a [[f64; 2]]);
+        impl Serialize for Points<'_> {
+            fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+                s.collect_seq(self.0.iter().map(|&[x, y]| [N(x), N(y)]))
+            }
+        }
+        let mut m = s.serialize_struct("Bezier", 4)?;
+        match self.closed {
+            Some(c) => m.serialize_field("c", &c)?,
+            None => m.skip_field("c")?,
+        }
+        m.serialize_field("v", &Points(&self.v))?;
+        m.serialize_field("i", &Points(&self.i))?;
+        m.serialize_field("o", &Points(&self.o))?;
+        m.end()
+    }
 }
 
 fn points(o: &Map<String, Value>, key: &str, at: &Loc) -> Result<Vec<[f64; 2]>> {
@@ -414,30 +444,87 @@ pub enum Position {
 
 /// A transform (a layer's `ks`, or a shape group's `tr`):
 /// `T(p)·R(r)·Skew(sk, sa)·S(s)·T(-a)`, with opacity `o`.
-#[derive(Clone, Debug, Default)]
-pub struct Transform {
+///
+/// Its channels are properties of type `P` and its position of type `Q`: as read from a
+/// document, [`Num`]s and a [`Position`] (joined or split); in the documents the exporter
+/// writes, its own property type for both (it never writes a split position: lottie-web
+/// draws nothing when a shape group's transform holds one). Written as `a`, `p`, `s`, `r`,
+/// `o`, then whichever of `sk`, `sa`, `rx`, `ry`, `or` are set; a missing opacity is
+/// written as 100, its default here as in [`crate::eval::opacity`] (lottie-web needs it on
+/// groups).
+#[derive(Clone, Debug, Serialize)]
+#[serde(bound(serialize = "P: Serialize + From<N> + Clone, Q: Serialize"))]
+pub struct Transform<P = Num, Q = Position> {
     /// Anchor point.
-    pub a: Option<Num>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub a: Option<P>,
     /// Position.
-    pub p: Option<Position>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub p: Option<Q>,
     /// Scale, in percent.
-    pub s: Option<Num>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub s: Option<P>,
     /// Rotation in degrees, clockwise (`rz` on 3D layers).
-    pub r: Option<Num>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub r: Option<P>,
     /// Opacity, in percent.
-    pub o: Option<Num>,
+    #[serde(serialize_with = "opacity_or_opaque")]
+    pub o: Option<P>,
     /// Skew angle in degrees.
-    pub sk: Option<Num>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sk: Option<P>,
     /// Skew axis in degrees.
-    pub sa: Option<Num>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sa: Option<P>,
     /// Rotation about x in degrees (3D layers).
-    pub rx: Option<Num>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rx: Option<P>,
     /// Rotation about y in degrees (3D layers).
-    pub ry: Option<Num>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ry: Option<P>,
     /// Orientation `[x, y, z]` in degrees (3D layers).
-    pub or: Option<Num>,
-    /// The layer's `ao`: it turns to face along its motion path.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub or: Option<P>,
+    /// The layer's `ao`: it turns to face along its motion path (a key of the layer, not
+    /// of the transform: not written here).
+    #[serde(skip)]
     pub auto_orient: bool,
+}
+
+/// Opacity as written: a missing one is opaque.
+fn opacity_or_opaque<P: Serialize + From<N> + Clone, S: Serializer>(
+    o: &Option<P>,
+    s: S,
+) -> std::result::Result<S::Ok, S::Error> {
+    match o {
+        Some(p) => p.serialize(s),
+        None => P::from(N(100.0)).serialize(s),
+    }
+}
+
+impl<P, Q> Transform<P, Q> {
+    /// The identity: no channel set.
+    pub fn empty() -> Transform<P, Q> {
+        Transform {
+            a: None,
+            p: None,
+            s: None,
+            r: None,
+            o: None,
+            sk: None,
+            sa: None,
+            rx: None,
+            ry: None,
+            or: None,
+            auto_orient: false,
+        }
+    }
+}
+
+impl<P, Q> Default for Transform<P, Q> {
+    fn default() -> Transform<P, Q> {
+        Transform::empty()
+    }
 }
 
 impl Transform {
@@ -501,13 +588,18 @@ impl Transform {
     }
 }
 
-/// A dash entry of a stroke: `d` (dash), `g` (gap) or `o` (offset).
-#[derive(Clone, Debug)]
-pub struct Dash {
+/// A dash entry of a stroke: `d` (dash), `g` (gap) or `o` (offset). Its length is a
+/// property of type `P`: a [`Num`] as read from a document, the exporter's own property
+/// type in the documents it writes (`{"n", "nm", "v"}`).
+#[derive(Clone, Debug, Serialize)]
+pub struct Dash<P = Num> {
     /// `d`, `g` or `o`.
     pub n: String,
+    /// Its name: lottie-web names each entry as a property, so the names of one pattern
+    /// must be unique (empty when a document leaves it out).
+    pub nm: String,
     /// Its length.
-    pub v: Num,
+    pub v: P,
 }
 
 /// What a shape item is.
@@ -580,7 +672,7 @@ pub enum ShapeKind {
         style: StrokeStyle,
     },
     /// `gf` / `gs`: a gradient fill or stroke.
-    Gradient(Box<Gradient>),
+    Gradient(Box<GradientItem>),
     /// `tm`: trim paths, which cut every outline above it (in its group and nested ones).
     Trim {
         /// Start, percent.
@@ -682,8 +774,15 @@ impl StrokeStyle {
                 let e_at = d_at.idx(i);
                 let eo = object(e, &e_at)?;
                 let n = opt_string(eo, "n", &e_at)?.unwrap_or_default();
+                // Nothing gmotion draws depends on the name: read as it comes, never an
+                // error.
+                let nm = eo.get("nm").and_then(Value::as_str).unwrap_or_default();
                 if let Some(v) = opt_property(eo, "v", &e_at)? {
-                    dashes.push(Dash { n, v });
+                    dashes.push(Dash {
+                        n,
+                        nm: nm.to_string(),
+                        v,
+                    });
                 }
             }
         }
@@ -696,28 +795,57 @@ impl StrokeStyle {
     }
 }
 
-/// A gradient fill (`gf`) or stroke (`gs`).
+/// A gradient's geometry and colours, the part gradient fills (`gf`) and strokes (`gs`)
+/// share: written as `t`, `s`, `e`, then `h` and `a` when set, then `g`. Its properties
+/// are of type `P` (see [`Dash`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct Gradient<P = Num> {
+    /// `t`: 1 linear, 2 radial (anything else is read as linear).
+    pub t: i64,
+    /// Start point (the centre of a radial gradient).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub s: Option<P>,
+    /// End point (on the end circle of a radial gradient).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub e: Option<P>,
+    /// Highlight length, percent of the radius (radial).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub h: Option<P>,
+    /// Highlight angle, degrees from the `s → e` direction (radial).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub a: Option<P>,
+    /// Colour (and opacity) stops.
+    pub g: GradientStops<P>,
+}
+
+impl<P> Gradient<P> {
+    /// Whether it is radial (`t` 2).
+    pub fn radial(&self) -> bool {
+        self.t == 2
+    }
+}
+
+/// A gradient's stops (`g`): `p` colour stops `[offset, r, g, b]…`, then any opacity stops
+/// `[offset, alpha]…`, as one flat list `k`.
+#[derive(Clone, Debug, Serialize)]
+pub struct GradientStops<P = Num> {
+    /// How many colour stops `k` starts with.
+    pub p: usize,
+    /// The flat stop list.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub k: Option<P>,
+}
+
+/// A gradient fill (`gf`) or stroke (`gs`) item as read: its [`Gradient`] and how it
+/// paints. (The exporter writes the two kinds as items of their own.)
 #[derive(Clone, Debug)]
-pub struct Gradient {
+pub struct GradientItem {
     /// Whether it is a stroke (`gs`).
     pub stroke: bool,
     /// Opacity, percent.
     pub o: Option<Num>,
-    /// Stops: `count` colour stops `[offset, r, g, b, …]`, then any opacity stops
-    /// `[offset, alpha, …]`.
-    pub stops: Option<Num>,
-    /// How many colour stops `stops` starts with (`g.p`).
-    pub count: usize,
-    /// `t` 2: radial (else linear).
-    pub radial: bool,
-    /// Start point (the centre of a radial gradient).
-    pub start: Option<Num>,
-    /// End point (on the end circle of a radial gradient).
-    pub end: Option<Num>,
-    /// Highlight length, percent of the radius (radial).
-    pub highlight: Option<Num>,
-    /// Highlight angle, degrees (radial).
-    pub angle: Option<Num>,
+    /// The gradient.
+    pub gradient: Gradient,
     /// Stroke width (`gs`).
     pub w: Option<Num>,
     /// Fill rule (`gf`).
@@ -823,16 +951,22 @@ fn shape_item(v: &Value, at: &Loc) -> Result<ShapeItem> {
                 }
                 None => (None, 0),
             };
-            ShapeKind::Gradient(Box::new(Gradient {
+            // Read in the order the keys were always read, so that a document with
+            // several faults names the same first one.
+            let opacity = num("o")?;
+            let t = opt_int(o, "t", at)?.unwrap_or(1);
+            let gradient = Gradient {
+                t,
+                s: num("s")?,
+                e: num("e")?,
+                h: num("h")?,
+                a: num("a")?,
+                g: GradientStops { p: count, k: stops },
+            };
+            ShapeKind::Gradient(Box::new(GradientItem {
                 stroke: ty == "gs",
-                o: num("o")?,
-                stops,
-                count,
-                radial: opt_int(o, "t", at)? == Some(2),
-                start: num("s")?,
-                end: num("e")?,
-                highlight: num("h")?,
-                angle: num("a")?,
+                o: opacity,
+                gradient,
                 w: num("w")?,
                 rule: opt_int(o, "r", at)?.unwrap_or(1),
                 style: StrokeStyle::read(o, at)?,
@@ -889,7 +1023,8 @@ fn shape_item(v: &Value, at: &Loc) -> Result<ShapeItem> {
     })
 }
 
-/// The layer types of the format.
+/// The layer types of the format; written as its number `ty` (the exporter writes
+/// precompositions, images, nulls and shapes).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LayerKind {
     /// `ty` 0: a precomposition.
@@ -908,6 +1043,12 @@ pub enum LayerKind {
     Other(i64),
 }
 
+impl Serialize for LayerKind {
+    fn serialize<S: Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_i64(self.ty())
+    }
+}
+
 impl LayerKind {
     fn of(ty: i64) -> LayerKind {
         match ty {
@@ -918,6 +1059,19 @@ impl LayerKind {
             4 => LayerKind::Shape,
             5 => LayerKind::Text,
             other => LayerKind::Other(other),
+        }
+    }
+
+    /// Its number, `ty`.
+    pub fn ty(self) -> i64 {
+        match self {
+            LayerKind::Precomp => 0,
+            LayerKind::Solid => 1,
+            LayerKind::Image => 2,
+            LayerKind::Null => 3,
+            LayerKind::Shape => 4,
+            LayerKind::Text => 5,
+            LayerKind::Other(ty) => ty,
         }
     }
 
@@ -1179,7 +1333,7 @@ pub struct Asset {
     /// it could not.
     pub image: std::result::Result<Option<crate::build::Picture>, String>,
     /// The pixel size an embedded image declares when it is over the importer's limit
-    /// ([`crate::ImportOptions::max_image_pixels`]); such an image is not drawn.
+    /// (`gmotion-import-lottie`'s `ImportOptions::max_image_pixels`); such an image is not drawn.
     pub oversized: Option<(u64, u64)>,
 }
 

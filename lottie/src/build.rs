@@ -639,7 +639,7 @@ impl<'a> Builder<'a> {
                     scope.paint(None, Some(stroke));
                 }
                 ShapeKind::Gradient(g) => {
-                    let paint = gradient(g, t);
+                    let paint = gradient(&g.gradient, t);
                     let opacity = percent(g.o.as_ref(), t);
                     if g.stroke {
                         let width = eval::scalar(g.w.as_ref(), t, 1.0).max(0.0);
@@ -1224,17 +1224,15 @@ impl Outlines {
 /// gradient's focus placed by its highlight as lottie-web places it.
 fn gradient(g: &Gradient, t: f64) -> Paint {
     let Gradient {
-        stops,
-        count,
-        radial,
-        start,
-        end,
-        highlight,
-        angle,
+        s: start,
+        e: end,
+        h: highlight,
+        a: angle,
+        g: stops,
         ..
     } = g;
-    let v = eval::num(stops.as_ref(), t, &[]);
-    let n = (*count).min(v.len() / 4);
+    let v = eval::num(stops.k.as_ref(), t, &[]);
+    let n = stops.p.min(v.len() / 4);
     let colors: Vec<(f64, Color)> = (0..n)
         .map(|i| {
             let c = |k: usize| v[4 * i + k].clamp(0.0, 1.0) as f32;
@@ -1272,7 +1270,7 @@ fn gradient(g: &Gradient, t: f64) -> Paint {
     };
     let s = eval::vec2(start.as_ref(), t, Vec2::ZERO).to_point();
     let e = eval::vec2(end.as_ref(), t, Vec2::ZERO).to_point();
-    if *radial {
+    if g.radial() {
         let radius = (e - s).hypot();
         let h = (eval::scalar(highlight.as_ref(), t, 0.0) / 100.0).clamp(-0.99, 0.99);
         let a = (e - s).atan2() + eval::scalar(angle.as_ref(), t, 0.0).to_radians();
@@ -1350,7 +1348,7 @@ fn star(sy: i64, c: Point, outer: f64, inner: f64, rotation: f64, points: f64) -
 pub type Picture = (Arc<[u8]>, ImageFormat);
 
 /// The picture of a `data:` URL (base64), if it is a PNG, JPEG, GIF or WebP image.
-pub(crate) fn embedded_image(p: &str) -> Option<Picture> {
+pub fn embedded_image(p: &str) -> Option<Picture> {
     use base64::Engine as _;
     let rest = p.strip_prefix("data:")?;
     let (head, body) = rest.split_once(',')?;
