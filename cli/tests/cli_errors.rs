@@ -31,6 +31,9 @@ const TARGETS: &str = r#"{"fps": 30, "duration": 1, "targets": [{"time": 0, "tag
 const LOTTIE: &str = r#"{"v": "5.7.0", "fr": 30, "ip": 0, "op": 60, "w": 100, "h": 100, "layers": [{"ddd": 0, "ty": 4, "nm": "sq", "ind": 1, "ip": 0, "op": 60, "st": 0, "ks": {}, "shapes": [{"ty": "rc", "d": 1, "p": {"a": 0, "k": [50, 50]}, "s": {"a": 0, "k": [20, 20]}, "r": {"a": 0, "k": 0}}, {"ty": "fl", "c": {"a": 0, "k": [1, 0, 0, 1]}, "o": {"a": 0, "k": 100}}]}]}"#;
 
 /// The command line most cases run: animate the case's scene and grammar to a PNG.
+/// One 800 px square `s`: large enough that a runaway split has room to run away.
+const LARGE_SQUARE: &str = r#"<svg xmlns="http://www.w3.org/2000/svg" width="800" height="800"><rect data-tag="s" width="800" height="800"/></svg>"#;
+
 const ANIMATE_PNG: &str = "animate {d}/scene.svg {d}/g.gm -o {d}/out.png";
 
 /// One run of the binary and what must follow from it.
@@ -629,10 +632,7 @@ fn cases() -> Vec<Case> {
             &["g.gm: warning: 2:1:", "repeats 204003 times", "more than 1000000"],
         )
         // Copies of a 0.004-unit period across an 800 px square asked for 6 GB and a minute.
-        .file(
-            "scene.svg",
-            r#"<svg xmlns="http://www.w3.org/2000/svg" width="800" height="800"><rect data-tag="s" width="800" height="800"/></svg>"#,
-        )
+        .file("scene.svg", LARGE_SQUARE)
         .succeeds(),
         case(
             "a flood of errors",
@@ -646,10 +646,7 @@ fn cases() -> Vec<Case> {
         )
         // A large square: its halves stay splittable for long enough that the work, not the
         // steps, is what runs away (over a minute before the limit on the pieces made).
-        .file(
-            "scene.svg",
-            r#"<svg xmlns="http://www.w3.org/2000/svg" width="800" height="800"><rect data-tag="s" width="800" height="800"/></svg>"#,
-        ),
+        .file("scene.svg", LARGE_SQUARE),
         case(
             "bad value before a cycle",
             "duration 1s\nanimate(opacity, local, 0, 2) : [all, s] -> [x]\nanimate(opacity, local, 0, 0.5) : [x, s] -> [x]\n",

@@ -134,7 +134,18 @@ pub fn shapes_json(scene: &Scene) -> Value {
 /// `text` parsed, with its settings: every syntax error, else every error of meaning
 /// found without a scene (as `gmotion check` reports them).
 fn parse(text: &str) -> Result<(Grammar, Settings), Vec<Diagnostic>> {
-    let grammar = grammar::parse(text).map_err(|ds| ds.items)?;
+    let grammar = grammar::parse(text).map_err(|ds| {
+        let mut items = ds.items;
+        // Past the first hundred, errors are counted (as `gmotion check` prints them).
+        if ds.omitted > 0 {
+            items.push(Diagnostic::general(format!(
+                "… {} more errors not shown (the first {} are)",
+                ds.omitted,
+                grammar::diagnostics::MAX_SHOWN
+            )));
+        }
+        items
+    })?;
     let settings =
         engine::settings::from_grammar(&grammar).map_err(|e| vec![Diagnostic::from(&e)])?;
     let errors = engine::check::static_errors(&grammar);
@@ -458,6 +469,23 @@ mod tests {
         assert_eq!(at, vec![(2, 1), (3, 28), (4, 9)], "{d:?}");
         assert_eq!(d[2]["help"], "did you mean `affine`?", "{d:?}");
         assert!(d[2]["end"].as_u64() > d[2]["start"].as_u64(), "{d:?}");
+    }
+
+    #[test]
+    fn a_flood_of_errors_shows_the_first_hundred_and_counts_the_rest() {
+        let text: String = (0..250).map(|i| format!("zzz @@ {i}\n")).collect();
+        let d = page(&text);
+        assert_eq!(d.len(), 101, "{:?}", &d[..3]);
+        assert_eq!(d[99]["line"], 100);
+        assert_eq!(d[100]["line"], 0);
+        assert!(
+            d[100]["message"]
+                .as_str()
+                .unwrap()
+                .contains("150 more errors"),
+            "{:?}",
+            d[100]
+        );
     }
 
     #[test]
