@@ -512,7 +512,8 @@ fn all_cases() -> Vec<Case> {
         }),
         // 4. Limits: each names itself and how to raise it.
         Case::new("--fps 1e9", "animate {d}/scene.svg {d}/g.gm -o {d}/out.gif --fps 1e9", &["g.gm", "1e9 frames", "--limit frames=N"], "out.gif"),
-        case("duration 1e308", "duration 1e308s\nanimate(affine, world, 0, translate(10, 0)) : [all, s] -> [m]\n", &["g.gm", "frames", "--limit frames=N"]),
+        case("duration 1e308", "duration 1e308s\nanimate(affine, world, 0, translate(10, 0)) : [all, s] -> [m]\n", &["g.gm:1:1: error: duration", "frames", "--limit frames=N"]),
+        case("fps 1e9 in the grammar", "duration 1s\nfps 1e9\nanimate(affine, world, 0, translate(10, 0)) : [all, s] -> [m]\n", &["g.gm:2:1: error: duration 1s at 1e9 fps", "--limit frames=N"]),
         Case::new("frames limit lowered", "animate {d}/scene.svg {d}/g.gm -o {d}/out.json --limit frames=5", &["30 frames", "limit of 5"], "out.json"),
         Case::new("--width 16384 gif", "animate {d}/scene.svg {d}/g.gm -o {d}/out.gif --width 16384", &["out.gif", "--limit animation-pixels=N"], "out.gif"),
         Case::new("pixels limit", "convert {d}/scene.svg -o {d}/out.png --width 10000", &["out.png", "--limit pixels=N"], "out.png"),
@@ -525,7 +526,7 @@ fn all_cases() -> Vec<Case> {
         case(
             "max_steps directive past the limit",
             "duration 1s\nmax_steps 1000000000\nanimate(affine, world, 0, translate(10, 0)) : [all, s] -> [m]\n",
-            &["g.gm", "max_steps", "--limit steps=N"],
+            &["g.gm:2:1: error: max_steps", "--limit steps=N"],
         ),
         Case::new("unknown limit", "convert {d}/scene.svg -o {d}/out.png --limit wombats=3", &["unknown limit `wombats`", "frames"], "out.png"),
         Case::new("input-bytes limit", "convert {d}/scene.svg -o {d}/out.png --limit input-bytes=100", &["scene.svg", "limit of 100 bytes", "input-bytes"], "out.png"),

@@ -116,12 +116,20 @@ impl GrammarFile {
         limits: &Limits,
     ) -> Result<()> {
         let s = &self.settings;
+        let fps_flag = fps.is_some();
         let fps = fps.unwrap_or(s.fps);
+        // The directive to point at: the frame rate when the grammar sets an unusually high
+        // one, else the duration (a `--fps` flag has no place in the file).
+        let culprit = if !fps_flag && fps > 240.0 {
+            "fps"
+        } else {
+            "duration"
+        };
         limits.check_frames(
             s.duration * fps,
             &format!(
                 "{}: error: duration {}s at {} fps",
-                self.path.display(),
+                self.at(culprit),
                 short(s.duration),
                 short(fps)
             ),
@@ -130,11 +138,27 @@ impl GrammarFile {
         if !max_steps_given && s.max_steps as u64 > steps {
             return Err(Error::msg(format!(
                 "{}: error: max_steps {} is more than the limit of {steps} (raise it with --limit steps=N)",
-                self.path.display(),
+                self.at("max_steps"),
                 s.max_steps
             )));
         }
         Ok(())
+    }
+
+    /// `path:line:col` of the directive `name` (its last occurrence, the one that counts),
+    /// or the path alone when the grammar does not write it.
+    fn at(&self, name: &str) -> String {
+        let path = self.path.display();
+        match self
+            .grammar
+            .directives
+            .iter()
+            .rev()
+            .find(|d| d.name == name)
+        {
+            Some(d) => format!("{path}:{}:{}", d.span.line, d.span.col),
+            None => path.to_string(),
+        }
     }
 
     /// The size of every output: `width`/`height` if either is given, else the grammar's
