@@ -534,6 +534,15 @@ fn all_cases() -> Vec<Case> {
         Case::new("path-segments limit", "convert {d}/scene.svg -o {d}/out.png --limit path-segments=1000", &["scene.svg", "3:3:", "limit of 1000 segments", "--limit path-segments=N"], "out.png")
             .file("scene.svg", format!("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"100\" height=\"100\">\n  <path d=\"M0 0{}\"/>\n  <path d=\"M0 0{}\"/>\n</svg>", " L1 1".repeat(600), " 2 2".repeat(600))),
         scene_case("<use> of <use> seven levels deep (10^7 rects)", &use_bomb(7), &["scene.svg", "more than 1 000 000 elements", "`<use>`"]),
+        // A million and one plain rects: usvg's own element limit, named as such (the message
+        // used to blame `<use>` references the file does not have).
+        Case::new(
+            "a million and one rects",
+            "convert {d}/scene.svg -o {d}/out.png --limit xml-nodes=3000000",
+            &["scene.svg", "more than 1 000 000 elements (it holds that many", "usvg's fixed limit, which no `--limit` raises"],
+            "out.png",
+        )
+        .file("scene.svg", format!(r#"<svg xmlns="http://www.w3.org/2000/svg" width="9" height="9">{}</svg>"#, "<rect width=\"1\" height=\"1\"/>".repeat(1_000_001))),
         Case::new("perturb(1, 1e-300): a lattice without end", "animate {d}/scene.svg {d}/g.gm -o {d}/out.png", &["g.gm", "2:1", "scale 1e-300 is too small for a shape this size"], "out.png")
             .file("g.gm", "duration 1s\nperturb(1, 1e-300) : s -> [p]\n")
             .succeeds(),

@@ -369,13 +369,19 @@ fn parse_in(
         usvg::Error::InvalidSize => ImportError::Size {
             source_name: source_name.to_string(),
         },
-        // The document passed `xml-nodes`, so this is `<use>` multiplying what it references
-        // (ten `<use>`s of a group of ten `<use>`s …): usvg refuses past a fixed million.
+        // The document passed `xml-nodes`; usvg refuses past a fixed million elements, which
+        // `<use>` reaches by multiplying what it references (ten `<use>`s of a group of ten
+        // `<use>`s …) and a plain document by having that many.
         usvg::Error::ElementsLimitReached
         | usvg::Error::ParsingFailed(usvg::roxmltree::Error::NodesLimitReached) => {
+            let why = if src.prepared.contains("<use") {
+                "once its `<use>` references are copied out"
+            } else {
+                "(it holds that many shapes and groups)"
+            };
             ImportError::Svg {
                 source_name: source_name.to_string(),
-                message: "the document expands to more than 1 000 000 elements once its `<use>` references are copied out (usvg's fixed limit)".into(),
+                message: format!("the document has more than 1 000 000 elements {why}: usvg's fixed limit, which no `--limit` raises"),
             }
         }
         e => ImportError::Svg {
