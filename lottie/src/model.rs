@@ -279,29 +279,36 @@ impl PropValue for Bezier {
     }
 }
 
-/// A keyframe's easing handle: one `x`, `y` per component (or one for all).
-#[derive(Clone, Debug, PartialEq, Default)]
-pub struct Ease {
+/// A keyframe's easing handle, in the unit square of (time, value) fractions: as read, one
+/// `x`, `y` per component (or one for all); as the exporter writes it
+/// ([`crate::written`]), one number each.
+#[derive(Clone, Copy, Debug, PartialEq, Default, Serialize)]
+pub struct Ease<C = Vec<f64>> {
     /// Time coordinates.
-    pub x: Vec<f64>,
+    pub x: C,
     /// Value coordinates.
-    pub y: Vec<f64>,
+    pub y: C,
 }
 
 /// One keyframe. Files before Bodymovin 5.5 give each keyframe its end value `e` and end
 /// with a keyframe that has only a time.
-#[derive(Clone, Debug)]
-pub struct Keyframe<T> {
+///
+/// Generic over how a number is held, like [`Transform`]: as read, a frame `F` and
+/// handle coordinates `C` are `f64`s (per component); in the documents the exporter
+/// writes ([`crate::written::Keyframe`]), [`N`]s, with always a start value and never an
+/// end value or spatial tangents.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Keyframe<T, F = f64, C = Vec<f64>> {
     /// Frame (in the layer's time).
-    pub t: f64,
+    pub t: F,
     /// Start value.
     pub s: Option<T>,
     /// End value (legacy).
     pub e: Option<T>,
     /// Out handle (easing from this keyframe).
-    pub o: Option<Ease>,
+    pub o: Option<Ease<C>>,
     /// In handle (easing into the next keyframe).
-    pub i: Option<Ease>,
+    pub i: Option<Ease<C>>,
     /// Hold until the next keyframe.
     pub hold: bool,
     /// Spatial out tangent (positions).
@@ -310,13 +317,13 @@ pub struct Keyframe<T> {
     pub ti: Option<Vec<f64>>,
 }
 
-/// A property: a static value or keyframes.
-#[derive(Clone, Debug)]
-pub enum Prop<T> {
+/// A property: a static value or keyframes (of the kind [`Keyframe`]'s `F` and `C` say).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Prop<T, F = f64, C = Vec<f64>> {
     /// Not animated.
     Static(T),
     /// Keyframed.
-    Animated(Vec<Keyframe<T>>),
+    Animated(Vec<Keyframe<T, F, C>>),
 }
 
 /// A property with where it is and whether an expression drives it.

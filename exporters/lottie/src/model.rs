@@ -4,14 +4,15 @@
 //! (`lottie_specs/data/lottie.schema.json`) is what the conformance run validates against.
 //! Numbers are rounded where they are made ([`N::coord`], [`N::fine`]) and written without
 //! a fraction when integral, so output is compact and identical from run to run; the
-//! number and the Bézier outline are `gmotion-lottie`'s, shared with the importer.
+//! number, the Bézier outline and the properties and keyframes ([`gmotion_lottie::written`])
+//! are `gmotion-lottie`'s, shared with the importer.
 
-use serde::ser::{SerializeMap, SerializeSeq};
-use serde::{Serialize, Serializer};
+use serde::Serialize;
 
 use crate::LottieText;
 pub use gmotion_lottie::model::{Bezier, Dash, LayerKind};
 pub use gmotion_lottie::number::N;
+pub use gmotion_lottie::written::{Easing, Keyframe, LINEAR, Prop, Value, from_css};
 
 /// The top-level animation.
 #[derive(Clone, Debug)]
@@ -523,227 +524,9 @@ pub struct GradientStroke {
     pub style: StrokeStyle,
 }
 
-/// A property value.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Value {
-    /// A number (written bare when static, as `[x]` in keyframes).
-    Scalar(N),
-    /// A vector: point, scale, colour or flat gradient list.
-    Vec(Vec<N>),
-    /// A Bézier outline (written as `[bezier]` in keyframes); boxed, since every
-    /// property holds a value and most are a number or a pair.
-    Bezier(Box<Bezier>),
-}
-
-impl Value {
-    /// A number or vector rounded as a coordinate ([`N::coord`]); an outline as it is
-    /// (transforms, the values rounded this way, hold none).
-    fn rounded(mut self) -> Value {
-        match &mut self {
-            Value::Scalar(x) => *x = N::coord(x.0),
-            Value::Vec(xs) => xs.iter_mut().for_each(|x| *x = N::coord(x.0)),
-            Value::Bezier(_) => {}
-        }
-        self
-    }
-
-    fn write_keyframe_value<S: SerializeMap>(&self, m: &mut S) -> Result<(), S::Error> {
-        match self {
-            Value::Scalar(x) => m.serialize_entry("s", &[x]),
-            Value::Vec(v) => m.serialize_entry("s", v),
-            Value::Bezier(b) => m.serialize_entry("s", std::slice::from_ref(&**b)),
-        }
-    }
-}
-
-impl Serialize for Value {
-    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        match self {
-            Value::Scalar(x) => x.serialize(s),
-            Value::Vec(v) => v.serialize(s),
-            Value::Bezier(b) => b.serialize(s),
-        }
-    }
-}
-
-/// Keyframe easing: the cubic-bezier handle leaving a keyframe (`o`) and entering the next
-/// (`i`), in the unit square of (time, value) fractions.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Ease {
-    /// Out handle of this keyframe.
-    pub out: [N; 2],
-    /// In handle of the next keyframe.
-    pub inn: [N; 2],
-}
-
-impl Ease {
-    /// Linear interpolation.
-    pub const LINEAR: Ease = Ease {
-        out: [N(0.0), N(0.0)],
-        inn: [N(1.0), N(1.0)],
-    };
-
-    /// From CSS `cubic-bezier(x1, y1, x2, y2)` control points.
-    pub fn from_css([x1, y1, x2, y2]: [f64; 4]) -> Ease {
-        Ease {
-            out: [N::fine(x1.clamp(0.0, 1.0)), N::fine(y1)],
-            inn: [N::fine(x2.clamp(0.0, 1.0)), N::fine(y2)],
-        }
-    }
-}
-
-struct Handle([N; 2]);
-
-impl Serialize for Handle {
-    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        let mut m = s.serialize_map(Some(2))?;
-        m.serialize_entry("x", &self.0[0])?;
-        m.serialize_entry("y", &self.0[1])?;
-        m.end()
-    }
-}
-
-/// A keyframe: the value at frame `t` and how it moves on to the next keyframe.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Keyframe {
-    /// Frame.
-    pub t: N,
-    /// Value.
-    pub s: Value,
-    /// Easing to the next keyframe (`None` on the last one and on holds).
-    pub ease: Option<Ease>,
-    /// Hold this value until the next keyframe.
-    pub hold: bool,
-}
-
-impl Serialize for Keyframe {
-    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        let mut m = s.serialize_map(None)?;
-        m.serialize_entry("t", &self.t)?;
-        self.s.write_keyframe_value(&mut m)?;
-        if self.hold {
-            m.serialize_entry("h", &1)?;
-        } else if let Some(e) = self.ease {
-            m.serialize_entry("o", &Handle(e.out))?;
-            m.serialize_entry("i", &Handle(e.inn))?;
-        }
-        m.end()
-    }
-}
-
-/// An animatable property: `{"a":0,"k":value}` or `{"a":1,"k":[keyframes]}`.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Prop {
-    /// A fixed value.
-    Fixed(Value),
-    /// Keyframes in time order (at least two).
-    Animated(Vec<Keyframe>),
-    // No split position (`{"s":true,"x":…,"y":…}`): lottie-web draws nothing when a shape
-    // group's transform holds one, and every animated transform here is a shape group's.
-}
-
-impl From<N> for Prop {
-    /// A fixed number.
-    fn from(x: N) -> Prop {
-        Prop::scalar(x)
-    }
-}
-
-impl Prop {
-    /// Every value rounded as a coordinate; keys that then all hold one value become a
-    /// fixed value.
-    fn rounded(self) -> Prop {
-        match self {
-            Prop::Fixed(v) => Prop::Fixed(v.rounded()),
-            Prop::Animated(mut keys) => {
-                for k in &mut keys {
-                    k.s = std::mem::replace(&mut k.s, Value::Scalar(N(0.0))).rounded();
-                }
-                Prop::keyed(keys)
-            }
-        }
-    }
-
-    /// A fixed value.
-    pub fn fixed(v: Value) -> Prop {
-        Prop::Fixed(v)
-    }
-
-    /// A fixed number.
-    pub fn scalar(x: N) -> Prop {
-        Prop::Fixed(Value::Scalar(x))
-    }
-
-    /// A fixed vector.
-    pub fn vec(v: Vec<N>) -> Prop {
-        Prop::Fixed(Value::Vec(v))
-    }
-
-    /// Keyframes, collapsed to a fixed value when every keyframe holds the same value.
-    pub fn keyed(keys: Vec<Keyframe>) -> Prop {
-        match keys.first() {
-            None => Prop::scalar(N(0.0)),
-            Some(first) if keys.iter().all(|k| k.s == first.s) => Prop::Fixed(first.s.clone()),
-            Some(_) => Prop::Animated(keys),
-        }
-    }
-}
-
-impl Serialize for Prop {
-    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        let mut m = s.serialize_map(Some(2))?;
-        match self {
-            Prop::Fixed(v) => {
-                m.serialize_entry("a", &0)?;
-                m.serialize_entry("k", v)?;
-            }
-            Prop::Animated(keys) => {
-                m.serialize_entry("a", &1)?;
-                m.serialize_entry("k", &KeyList(keys))?;
-            }
-        }
-        m.end()
-    }
-}
-
-struct KeyList<'a>(&'a [Keyframe]);
-
-impl Serialize for KeyList<'_> {
-    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        let mut seq = s.serialize_seq(Some(self.0.len()))?;
-        for k in self.0 {
-            seq.serialize_element(k)?;
-        }
-        seq.end()
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn scalar_keyframes_are_arrays() {
-        let k = Keyframe {
-            t: N(0.0),
-            s: Value::Scalar(N(5.0)),
-            ease: Some(Ease::LINEAR),
-            hold: false,
-        };
-        let j = serde_json::to_string(&Prop::Animated(vec![
-            k.clone(),
-            Keyframe {
-                t: N(10.0),
-                ease: None,
-                ..k
-            },
-        ]))
-        .unwrap();
-        assert_eq!(
-            j,
-            r#"{"a":1,"k":[{"t":0,"s":[5],"o":{"x":0,"y":0},"i":{"x":1,"y":1}},{"t":10,"s":[5]}]}"#
-        );
-    }
 
     /// A document of `n` shape layers holding 0–3 transform shapes, some with a parent.
     fn document(n: u32) -> Animation {

@@ -595,7 +595,7 @@ mod tests {
             panic!()
         };
         let pt = |p: &Option<Prop>| match p {
-            Some(Prop::Fixed(Value::Vec(v))) => Point::new(v[0].0, v[1].0),
+            Some(Prop::Static(Value::Vec(v))) => Point::new(v[0].0, v[1].0),
             _ => panic!(),
         };
         let (s, e) = (pt(&grad.s), pt(&grad.e));
