@@ -1101,37 +1101,94 @@ impl LayerKind {
     }
 }
 
-/// A layer.
+/// How a [`Layer`] holds what differs between a layer read ([`Read`]) and a layer the
+/// exporter writes (its own marker, with its shapes, masks and effects).
+pub trait LayerParts {
+    /// The layer's own index (`ind`): optional as read, always set as written.
+    type Ind: Clone + fmt::Debug;
+    /// Another layer's index (`parent`, `tp`).
+    type Index: Clone + fmt::Debug;
+    /// A time (`ip`, `op`, `st`).
+    type Time: Clone + fmt::Debug;
+    /// A size (`w`, `h`).
+    type Size: Clone + fmt::Debug;
+    /// The transform's channels ([`Transform`]'s `P`).
+    type Prop: Clone + fmt::Debug;
+    /// The transform's position ([`Transform`]'s `Q`).
+    type Position: Clone + fmt::Debug;
+    /// The shapes.
+    type Shapes: Clone + fmt::Debug;
+    /// A layer mask.
+    type Mask: Clone + fmt::Debug;
+    /// An effect.
+    type Effect: Clone + fmt::Debug;
+    /// What only a written layer holds (its blend mode, its text written early): nothing
+    /// as read.
+    type Written: Clone + fmt::Debug;
+}
+
+/// A layer as read from a document.
+#[derive(Clone, Copy, Debug)]
+pub struct Read;
+
+impl LayerParts for Read {
+    type Ind = Option<i64>;
+    type Index = i64;
+    type Time = f64;
+    type Size = f64;
+    type Prop = Num;
+    type Position = Position;
+    type Shapes = Vec<ShapeItem>;
+    type Mask = LayerMask;
+    type Effect = LayerEffect;
+    type Written = ();
+}
+
+/// A layer: as read ([`Read`], the default) or as the exporter writes it, generic like
+/// [`Transform`]. The fields after `effects` are only read: a written layer leaves them
+/// empty (its `Layer::new` sets them so), as a read layer has no [`LayerParts::Written`].
 #[derive(Clone, Debug)]
-pub struct Layer {
-    /// Where it is.
-    pub at: Loc,
+pub struct Layer<P: LayerParts = Read> {
     /// Its type.
     pub kind: LayerKind,
     /// Name.
     pub nm: String,
     /// Index (`ind`), which `parent` and `tp` refer to.
-    pub ind: Option<i64>,
+    pub ind: P::Ind,
     /// The parent layer's `ind`.
-    pub parent: Option<i64>,
+    pub parent: Option<P::Index>,
     /// In point (composition frames).
-    pub ip: f64,
+    pub ip: P::Time,
     /// Out point (composition frames).
-    pub op: f64,
+    pub op: P::Time,
     /// Start time (composition frames).
-    pub st: f64,
-    /// Time stretch.
-    pub sr: f64,
+    pub st: P::Time,
     /// Transform.
-    pub ks: Transform,
+    pub ks: Transform<P::Prop, P::Position>,
     /// Shapes (shape layers), topmost first.
-    pub shapes: Vec<ShapeItem>,
+    pub shapes: P::Shapes,
     /// Asset id (precomp and image layers).
     pub ref_id: Option<String>,
     /// Width (precomp layers' clip rectangle).
-    pub w: Option<f64>,
+    pub w: Option<P::Size>,
     /// Height.
-    pub h: Option<f64>,
+    pub h: Option<P::Size>,
+    /// `td`: this layer is the track matte of another.
+    pub td: bool,
+    /// `tt`: the track matte mode (1 alpha, 2 inverted alpha, 3 luma, 4 inverted luma).
+    pub tt: Option<i64>,
+    /// `tp`: the matte layer's `ind` (newer files; older ones use the layer above).
+    pub tp: Option<P::Index>,
+    /// Layer masks (`masksProperties`), in order.
+    pub masks: Vec<P::Mask>,
+    /// Effects (`ef`), in order.
+    pub effects: Vec<P::Effect>,
+    /// What only a written layer holds.
+    pub written: P::Written,
+    /// Where it is.
+    pub at: Loc,
+    /// Time stretch.
+    pub sr: f64,
     /// Solid colour (`sc`, `#rrggbb`).
     pub solid_color: Option<String>,
     /// Solid width.
@@ -1140,18 +1197,8 @@ pub struct Layer {
     pub sh: Option<f64>,
     /// Time remap (precomp layers), in seconds.
     pub tm: Option<Num>,
-    /// `td`: this layer is the track matte of another.
-    pub td: bool,
-    /// `tt`: the track matte mode (1 alpha, 2 inverted alpha, 3 luma, 4 inverted luma).
-    pub tt: Option<i64>,
-    /// `tp`: the matte layer's `ind` (newer files; older ones use the layer above).
-    pub tp: Option<i64>,
     /// `hd`: hidden.
     pub hidden: bool,
-    /// Layer masks (`masksProperties`), in order.
-    pub masks: Vec<LayerMask>,
-    /// Effects (`ef`), in order.
-    pub effects: Vec<LayerEffect>,
     /// Text layers' text (`t`).
     pub text: Option<TextData>,
 }
@@ -1308,6 +1355,7 @@ fn layer(v: &Value, at: &Loc) -> Result<Layer> {
             }
             _ => Vec::new(),
         },
+        written: (),
     })
 }
 

@@ -10,6 +10,7 @@
 use serde::Serialize;
 
 use crate::LottieText;
+use gmotion_lottie::model::LayerParts;
 pub use gmotion_lottie::model::{Bezier, Dash, LayerKind};
 pub use gmotion_lottie::number::N;
 pub use gmotion_lottie::written::{Easing, Keyframe, LINEAR, Prop, Value, from_css};
@@ -50,14 +51,14 @@ impl Animation {
             .map(|(k, mut l)| {
                 // A sealed tail is most of the layer's text: it becomes a piece of its own
                 // rather than being copied after the few fields before it.
-                let tail = l.sealed.take();
+                let tail = l.written.sealed.take();
                 let head = exact(|out| {
                     if k > 0 {
                         out.push(b',');
                     }
-                    l.write_head(out);
+                    write_head(&l, out);
                     if tail.is_none() {
-                        l.write_tail(out);
+                        write_tail(&l, out);
                     }
                 });
                 [head, tail.map_or_else(Vec::new, Vec::from)]
@@ -173,156 +174,163 @@ impl Asset {
     }
 }
 
-/// A layer.
-#[derive(Clone, Debug)]
-pub struct Layer {
-    /// Layer type.
-    pub ty: LayerKind,
-    /// Name (an animated shape's tag and number, a named group's id).
-    pub nm: String,
-    /// Index, unique within the composition.
-    pub ind: u32,
-    /// Index of the parent layer whose transform this one inherits.
-    pub parent: Option<u32>,
-    /// Asset id (precomposition and image layers).
-    pub ref_id: Option<String>,
-    /// Precomposition clip width.
-    pub w: Option<u32>,
-    /// Precomposition clip height.
-    pub h: Option<u32>,
-    /// Set on a layer that serves as the track matte of the layer below it.
-    pub td: Option<u8>,
-    /// Track matte mode (1 alpha, 3 luma) taken from the layer above.
-    pub tt: Option<u8>,
-    /// Index of the matte layer (the newer spelling of "the layer above").
-    pub tp: Option<u32>,
+/// A layer as the exporter writes it: `gmotion-lottie`'s, holding the exporter's numbers,
+/// properties, shapes, masks and effects ([`Export`]).
+pub type Layer = gmotion_lottie::model::Layer<Export>;
+
+/// How the exporter holds a [`Layer`]: indices and sizes as whole numbers, times as
+/// written numbers, its own shapes (`None`: not a shape layer), masks and effects.
+#[derive(Clone, Copy, Debug)]
+pub struct Export;
+
+impl LayerParts for Export {
+    type Ind = u32;
+    type Index = u32;
+    type Time = N;
+    type Size = u32;
+    type Prop = Prop;
+    type Position = Prop;
+    type Shapes = Option<Vec<Shape>>;
+    type Mask = Mask;
+    type Effect = LayerEffect;
+    type Written = Written;
+}
+
+/// What only a written layer holds.
+#[derive(Clone, Debug, Default)]
+pub struct Written {
     /// Whether `masksProperties` is set (lottie-web reads this flag).
     pub has_mask: Option<bool>,
-    /// Layer masks (clip paths).
-    pub masks: Vec<Mask>,
-    /// Layer transform.
-    pub ks: Transform,
-    /// Effects, applied in order to what the layer draws.
-    pub ef: Vec<LayerEffect>,
-    /// Shapes (shape layers), topmost first.
-    pub shapes: Option<Vec<Shape>>,
-    /// In point.
-    pub ip: N,
-    /// Out point.
-    pub op: N,
-    /// Start time.
-    pub st: N,
-    /// Blend mode (normal).
-    pub bm: u8,
     /// The JSON of the fields from `masksProperties` on, when written early by
-    /// [`Layer::seal`]; those fields are then empty and no longer read.
+    /// [`WriteLayer::seal`]; those fields are then empty and no longer read.
     pub sealed: Option<Box<[u8]>>,
 }
 
-impl Layer {
-    /// A layer of type `ty` visible from `ip` to `op`, untransformed.
-    pub fn new(ty: LayerKind, nm: String, ind: u32, ip: f64, op: f64) -> Layer {
-        Layer {
-            ty,
-            nm,
-            ind,
-            parent: None,
-            ref_id: None,
-            w: None,
-            h: None,
-            td: None,
-            tt: None,
-            tp: None,
-            has_mask: None,
-            masks: Vec::new(),
-            ks: layer_identity(),
-            ef: Vec::new(),
-            shapes: None,
-            ip: N::coord(ip),
-            op: N::coord(op),
-            st: N(0.0),
-            bm: 0,
-            sealed: None,
-        }
-    }
+/// Making and writing a [`Layer`] (a trait, the layer being `gmotion-lottie`'s).
+pub trait WriteLayer {
+    /// A layer of type `kind` visible from `ip` to `op`, untransformed.
+    fn new(kind: LayerKind, nm: String, ind: u32, ip: f64, op: f64) -> Self;
 
     /// Writes the fields from `masksProperties` on (the masks, transform and shapes: all
     /// but the few that numbering and parenting change later) and frees them. Built in
     /// parallel and sealed on the thread that built it, a layer's shape tree is freed while
     /// that thread's memory is warm, instead of living on until the whole document is
     /// written: at the intersections scale that tree was ~200 MB of fresh pages.
-    pub fn seal(&mut self) {
-        if self.sealed.is_some() {
-            return;
-        }
-        let tail = exact(|out| self.write_tail(out)).into_boxed_slice();
-        self.masks = Vec::new();
-        self.ks = Transform::empty();
-        self.ef = Vec::new();
-        self.shapes = None;
-        self.sealed = Some(tail);
-    }
+    fn seal(&mut self);
 
     /// Writes the layer as a JSON object, keys in the format's usual order, absent
     /// options left out.
-    pub fn write_json(&self, out: &mut Vec<u8>) {
-        self.write_head(out);
-        match &self.sealed {
+    fn write_json(&self, out: &mut Vec<u8>);
+}
+
+impl WriteLayer for Layer {
+    fn new(kind: LayerKind, nm: String, ind: u32, ip: f64, op: f64) -> Layer {
+        Layer {
+            kind,
+            nm,
+            ind,
+            parent: None,
+            ip: N::coord(ip),
+            op: N::coord(op),
+            st: N(0.0),
+            ks: layer_identity(),
+            shapes: None,
+            ref_id: None,
+            w: None,
+            h: None,
+            td: false,
+            tt: None,
+            tp: None,
+            masks: Vec::new(),
+            effects: Vec::new(),
+            written: Written::default(),
+            // Read from documents only.
+            at: Default::default(),
+            sr: 1.0,
+            solid_color: None,
+            sw: None,
+            sh: None,
+            tm: None,
+            hidden: false,
+            text: None,
+        }
+    }
+
+    fn seal(&mut self) {
+        if self.written.sealed.is_some() {
+            return;
+        }
+        let tail = exact(|out| write_tail(self, out)).into_boxed_slice();
+        self.masks = Vec::new();
+        self.ks = Transform::empty();
+        self.effects = Vec::new();
+        self.shapes = None;
+        self.written.sealed = Some(tail);
+    }
+
+    fn write_json(&self, out: &mut Vec<u8>) {
+        write_head(self, out);
+        match &self.written.sealed {
             Some(tail) => out.extend_from_slice(tail),
-            None => self.write_tail(out),
+            None => write_tail(self, out),
         }
     }
+}
 
-    /// The fields before `masksProperties`, from the opening brace.
-    fn write_head(&self, out: &mut Vec<u8>) {
-        // rlottie ignores a layer's rotation unless `ddd` precedes the transform (measured:
-        // a skewed image placed by a rotated null and a rotated image drew unrotated).
-        // Image and null layers are the ones placed by a rotating `ks`.
-        if matches!(self.ty, LayerKind::Image | LayerKind::Null) {
-            out.extend_from_slice(b"{\"ddd\":0,\"ty\":");
-        } else {
-            out.extend_from_slice(b"{\"ty\":");
-        }
-        json(out, &self.ty);
-        field(out, "nm", &self.nm);
-        field(out, "ind", &self.ind);
-        let number = |out: &mut Vec<u8>, key: &str, v: Option<u32>| {
-            if let Some(v) = v {
-                field(out, key, &v);
-            }
-        };
-        number(out, "parent", self.parent);
-        if let Some(id) = &self.ref_id {
-            field(out, "refId", id);
-        }
-        number(out, "w", self.w);
-        number(out, "h", self.h);
-        number(out, "td", self.td.map(u32::from));
-        number(out, "tt", self.tt.map(u32::from));
-        number(out, "tp", self.tp);
-        if let Some(m) = self.has_mask {
-            field(out, "hasMask", &m);
-        }
+/// A layer's fields before `masksProperties`, from the opening brace.
+fn write_head(l: &Layer, out: &mut Vec<u8>) {
+    // rlottie ignores a layer's rotation unless `ddd` precedes the transform (measured:
+    // a skewed image placed by a rotated null and a rotated image drew unrotated).
+    // Image and null layers are the ones placed by a rotating `ks`.
+    if matches!(l.kind, LayerKind::Image | LayerKind::Null) {
+        out.extend_from_slice(b"{\"ddd\":0,\"ty\":");
+    } else {
+        out.extend_from_slice(b"{\"ty\":");
     }
+    json(out, &l.kind);
+    field(out, "nm", &l.nm);
+    field(out, "ind", &l.ind);
+    let number = |out: &mut Vec<u8>, key: &str, v: Option<u32>| {
+        if let Some(v) = v {
+            field(out, key, &v);
+        }
+    };
+    number(out, "parent", l.parent);
+    if let Some(id) = &l.ref_id {
+        field(out, "refId", id);
+    }
+    number(out, "w", l.w);
+    number(out, "h", l.h);
+    if l.td {
+        field(out, "td", &1);
+    }
+    if let Some(tt) = l.tt {
+        field(out, "tt", &tt);
+    }
+    number(out, "tp", l.tp);
+    if let Some(m) = l.written.has_mask {
+        field(out, "hasMask", &m);
+    }
+}
 
-    /// The fields from `masksProperties` to the closing brace.
-    fn write_tail(&self, out: &mut Vec<u8>) {
-        if !self.masks.is_empty() {
-            field(out, "masksProperties", &self.masks);
-        }
-        field(out, "ks", &self.ks);
-        if !self.ef.is_empty() {
-            field(out, "ef", &self.ef);
-        }
-        if let Some(shapes) = &self.shapes {
-            field(out, "shapes", shapes);
-        }
-        for (key, n) in [("ip", self.ip), ("op", self.op), ("st", self.st)] {
-            field(out, key, &n);
-        }
-        field(out, "bm", &self.bm);
-        out.push(b'}');
+/// A layer's fields from `masksProperties` to the closing brace.
+fn write_tail(l: &Layer, out: &mut Vec<u8>) {
+    if !l.masks.is_empty() {
+        field(out, "masksProperties", &l.masks);
     }
+    field(out, "ks", &l.ks);
+    if !l.effects.is_empty() {
+        field(out, "ef", &l.effects);
+    }
+    if let Some(shapes) = &l.shapes {
+        field(out, "shapes", shapes);
+    }
+    for (key, n) in [("ip", l.ip), ("op", l.op), ("st", l.st)] {
+        field(out, key, &n);
+    }
+    // Blend mode: always normal.
+    field(out, "bm", &0);
+    out.push(b'}');
 }
 
 /// An After Effects effect on a layer (`ty` 25 drop shadow, 29 Gaussian blur): its
@@ -562,7 +570,7 @@ mod tests {
         for every in [1, 2, 5] {
             let mut doc = document(40);
             doc.layers.iter_mut().step_by(every).for_each(Layer::seal);
-            assert!(doc.layers[0].sealed.is_some());
+            assert!(doc.layers[0].written.sealed.is_some());
             assert_eq!(
                 doc.into_json().into_string(),
                 whole,

@@ -176,7 +176,7 @@ impl Builder<'_> {
             if l.parent.is_none() {
                 l.parent = innermost;
             }
-            if l.td.is_none() {
+            if !l.td {
                 let base = match &l.ks.o {
                     Some(Prop::Static(Value::Scalar(x))) => x.0 / 100.0,
                     _ => 1.0,
