@@ -759,17 +759,22 @@ impl ShapeKind {
     }
 }
 
-/// How a stroke (`st` or `gs`) draws its line.
-#[derive(Clone, Debug)]
-pub struct StrokeStyle {
+/// How a stroke (`st` or `gs`) draws its line: generic like [`Dash`], whose property it
+/// holds, and over how a number is held (as written, the exporter's number). Written as
+/// `lc`, `lj`, then `ml` and `d` when set.
+#[derive(Clone, Debug, Serialize)]
+#[serde(bound(serialize = "P: Serialize, F: Serialize"))]
+pub struct StrokeStyle<P = Num, F = f64> {
     /// Line cap: 1 butt, 2 round, 3 square.
     pub lc: i64,
     /// Line join: 1 miter, 2 round, 3 bevel.
     pub lj: i64,
-    /// Miter limit.
-    pub ml: f64,
+    /// Miter limit (4 when left out).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ml: Option<F>,
     /// Dashes.
-    pub dashes: Vec<Dash>,
+    #[serde(rename = "d", skip_serializing_if = "Vec::is_empty")]
+    pub dashes: Vec<Dash<P>>,
 }
 
 impl StrokeStyle {
@@ -796,7 +801,7 @@ impl StrokeStyle {
         Ok(StrokeStyle {
             lc: opt_int(o, "lc", at)?.unwrap_or(2),
             lj: opt_int(o, "lj", at)?.unwrap_or(2),
-            ml: opt_number(o, "ml", at)?.unwrap_or(4.0),
+            ml: opt_number(o, "ml", at)?,
             dashes,
         })
     }

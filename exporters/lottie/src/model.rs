@@ -472,22 +472,8 @@ pub struct Fill {
     pub r: u8,
 }
 
-/// Stroke properties shared by solid and gradient strokes.
-#[derive(Clone, Debug, Serialize)]
-pub struct StrokeStyle {
-    /// Width.
-    pub w: Prop,
-    /// Line cap: 1 butt, 2 round, 3 square.
-    pub lc: u8,
-    /// Line join: 1 miter, 2 round, 3 bevel.
-    pub lj: u8,
-    /// Miter limit.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub ml: Option<N>,
-    /// Dashes.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub d: Vec<Dash<Prop>>,
-}
+/// Caps, joins, miter limit and dashes of a solid or gradient stroke, as written.
+pub type StrokeStyle = gmotion_lottie::model::StrokeStyle<Prop, N>;
 
 /// A solid stroke.
 #[derive(Clone, Debug, Serialize)]
@@ -496,7 +482,9 @@ pub struct Stroke {
     pub o: Prop,
     /// Colour.
     pub c: Prop,
-    /// Width, caps, joins, dashes.
+    /// Width.
+    pub w: Prop,
+    /// Caps, joins, dashes.
     #[serde(flatten)]
     pub style: StrokeStyle,
 }
@@ -527,7 +515,9 @@ pub struct GradientStroke {
     /// The gradient.
     #[serde(flatten)]
     pub grad: Gradient,
-    /// Width, caps, joins, dashes.
+    /// Width.
+    pub w: Prop,
+    /// Caps, joins, dashes.
     #[serde(flatten)]
     pub style: StrokeStyle,
 }
