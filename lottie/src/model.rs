@@ -1256,21 +1256,29 @@ impl LayerEffect {
 }
 
 /// A layer mask: an outline in the layer's space that adds to, subtracts from or
-/// intersects with what the layer shows.
-#[derive(Clone, Debug)]
-pub struct LayerMask {
-    /// Where it is.
+/// intersects with what the layer shows. Generic like [`Transform`] over how its numbers
+/// (`P`) and its outline (`S`) are held (as written, the exporter's property for both);
+/// written as `mode`, `pt`, `o`, `x`, `inv`.
+#[derive(Clone, Debug, Serialize)]
+#[serde(bound(serialize = "P: Serialize, S: Serialize"))]
+pub struct LayerMask<P = Num, S = Property<Bezier>> {
+    /// Where it is (read masks only).
+    #[serde(skip)]
     pub at: Loc,
     /// `mode`: `a` add, `s` subtract, `i` intersect, `l` lighten, `d` darken, `f`
     /// difference, `n` none.
     pub mode: String,
     /// The outline (`pt`).
-    pub pt: Option<Property<Bezier>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pt: Option<S>,
     /// Opacity, percent.
-    pub o: Option<Num>,
-    /// Expansion (`x`), in pixels.
-    pub x: Option<Num>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub o: Option<P>,
+    /// Expansion (`x`), in pixels (lottie-web requires the property).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub x: Option<P>,
     /// `inv`: the outline's outside counts.
+    #[serde(rename = "inv")]
     pub inverted: bool,
 }
 

@@ -368,20 +368,8 @@ pub struct EffectValue {
     pub v: Prop,
 }
 
-/// A layer mask.
-#[derive(Clone, Debug, Serialize)]
-pub struct Mask {
-    /// Mode: `a` add, `i` intersect.
-    pub mode: &'static str,
-    /// The mask outline.
-    pub pt: Prop,
-    /// Opacity in percent.
-    pub o: Prop,
-    /// Expansion (lottie-web requires the property).
-    pub x: Prop,
-    /// Inverted.
-    pub inv: bool,
-}
+/// A layer mask as written (mode `a`, add): outline, opacity and expansion properties.
+pub type Mask = gmotion_lottie::model::LayerMask<Prop, Prop>;
 
 /// A transform as the exporter writes it: `T(p)·R(r)·S(s)·T(-a)` with opacity `o`, every
 /// channel (the position too) a [`Prop`]; never skew (rlottie cannot draw it).
