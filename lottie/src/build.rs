@@ -902,7 +902,8 @@ fn styled(stroke: &mut Stroke, style: &StrokeStyle, t: f64) {
         3 => LineJoin::Bevel,
         _ => LineJoin::Round,
     };
-    stroke.miter_limit = style.ml.max(1.0);
+    // 4 is the format's default miter limit.
+    stroke.miter_limit = style.ml.unwrap_or(4.0).max(1.0);
     let mut dash = Vec::new();
     for d in &style.dashes {
         let v = eval::scalar(Some(&d.v), t, 0.0).max(0.0);

@@ -6,7 +6,8 @@
 //! - [`model`]: the typed document, read from serde_json's tree with the JSON location of
 //!   every error (`$.layers[3].ks.p.k[1].s`); what it does not know stays in the tree,
 //!   which the [`Source`] keeps whole for verbatim pass-through.
-//! - [`number`]: a number as gmotion writes it into a document.
+//! - [`number`]: a number as gmotion writes it into a document; [`written`]: properties
+//!   and keyframes as the exporter writes them (the model's, holding written values).
 //! - [`eval`]: a property's value at a frame (per-component Bézier easing, holds, legacy
 //!   end values, split positions, spatial tangents travelled by arc length) and a
 //!   transform's matrix.
@@ -43,6 +44,7 @@ mod player;
 pub mod tags;
 pub mod text;
 pub mod units;
+pub mod written;
 
 pub use player::{FrameError, Source};
 pub use units::{UnitLayers, Units};

@@ -279,29 +279,36 @@ impl PropValue for Bezier {
     }
 }
 
-/// A keyframe's easing handle: one `x`, `y` per component (or one for all).
-#[derive(Clone, Debug, PartialEq, Default)]
-pub struct Ease {
+/// A keyframe's easing handle, in the unit square of (time, value) fractions: as read, one
+/// `x`, `y` per component (or one for all); as the exporter writes it
+/// ([`crate::written`]), one number each.
+#[derive(Clone, Copy, Debug, PartialEq, Default, Serialize)]
+pub struct Ease<C = Vec<f64>> {
     /// Time coordinates.
-    pub x: Vec<f64>,
+    pub x: C,
     /// Value coordinates.
-    pub y: Vec<f64>,
+    pub y: C,
 }
 
 /// One keyframe. Files before Bodymovin 5.5 give each keyframe its end value `e` and end
 /// with a keyframe that has only a time.
-#[derive(Clone, Debug)]
-pub struct Keyframe<T> {
+///
+/// Generic over how a number is held, like [`Transform`]: as read, a frame `F` and
+/// handle coordinates `C` are `f64`s (per component); in the documents the exporter
+/// writes ([`crate::written::Keyframe`]), [`N`]s, with always a start value and never an
+/// end value or spatial tangents.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Keyframe<T, F = f64, C = Vec<f64>> {
     /// Frame (in the layer's time).
-    pub t: f64,
+    pub t: F,
     /// Start value.
     pub s: Option<T>,
     /// End value (legacy).
     pub e: Option<T>,
     /// Out handle (easing from this keyframe).
-    pub o: Option<Ease>,
+    pub o: Option<Ease<C>>,
     /// In handle (easing into the next keyframe).
-    pub i: Option<Ease>,
+    pub i: Option<Ease<C>>,
     /// Hold until the next keyframe.
     pub hold: bool,
     /// Spatial out tangent (positions).
@@ -310,13 +317,13 @@ pub struct Keyframe<T> {
     pub ti: Option<Vec<f64>>,
 }
 
-/// A property: a static value or keyframes.
-#[derive(Clone, Debug)]
-pub enum Prop<T> {
+/// A property: a static value or keyframes (of the kind [`Keyframe`]'s `F` and `C` say).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Prop<T, F = f64, C = Vec<f64>> {
     /// Not animated.
     Static(T),
     /// Keyframed.
-    Animated(Vec<Keyframe<T>>),
+    Animated(Vec<Keyframe<T, F, C>>),
 }
 
 /// A property with where it is and whether an expression drives it.
@@ -752,17 +759,22 @@ impl ShapeKind {
     }
 }
 
-/// How a stroke (`st` or `gs`) draws its line.
-#[derive(Clone, Debug)]
-pub struct StrokeStyle {
+/// How a stroke (`st` or `gs`) draws its line: generic like [`Dash`], whose property it
+/// holds, and over how a number is held (as written, the exporter's number). Written as
+/// `lc`, `lj`, then `ml` and `d` when set.
+#[derive(Clone, Debug, Serialize)]
+#[serde(bound(serialize = "P: Serialize, F: Serialize"))]
+pub struct StrokeStyle<P = Num, F = f64> {
     /// Line cap: 1 butt, 2 round, 3 square.
     pub lc: i64,
     /// Line join: 1 miter, 2 round, 3 bevel.
     pub lj: i64,
-    /// Miter limit.
-    pub ml: f64,
+    /// Miter limit (4 when left out).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ml: Option<F>,
     /// Dashes.
-    pub dashes: Vec<Dash>,
+    #[serde(rename = "d", skip_serializing_if = "Vec::is_empty")]
+    pub dashes: Vec<Dash<P>>,
 }
 
 impl StrokeStyle {
@@ -789,7 +801,7 @@ impl StrokeStyle {
         Ok(StrokeStyle {
             lc: opt_int(o, "lc", at)?.unwrap_or(2),
             lj: opt_int(o, "lj", at)?.unwrap_or(2),
-            ml: opt_number(o, "ml", at)?.unwrap_or(4.0),
+            ml: opt_number(o, "ml", at)?,
             dashes,
         })
     }
@@ -1094,37 +1106,94 @@ impl LayerKind {
     }
 }
 
-/// A layer.
+/// How a [`Layer`] holds what differs between a layer read ([`Read`]) and a layer the
+/// exporter writes (its own marker, with its shapes, masks and effects).
+pub trait LayerParts {
+    /// The layer's own index (`ind`): optional as read, always set as written.
+    type Ind: Clone + fmt::Debug;
+    /// Another layer's index (`parent`, `tp`).
+    type Index: Clone + fmt::Debug;
+    /// A time (`ip`, `op`, `st`).
+    type Time: Clone + fmt::Debug;
+    /// A size (`w`, `h`).
+    type Size: Clone + fmt::Debug;
+    /// The transform's channels ([`Transform`]'s `P`).
+    type Prop: Clone + fmt::Debug;
+    /// The transform's position ([`Transform`]'s `Q`).
+    type Position: Clone + fmt::Debug;
+    /// The shapes.
+    type Shapes: Clone + fmt::Debug;
+    /// A layer mask.
+    type Mask: Clone + fmt::Debug;
+    /// An effect.
+    type Effect: Clone + fmt::Debug;
+    /// What only a written layer holds (its blend mode, its text written early): nothing
+    /// as read.
+    type Written: Clone + fmt::Debug;
+}
+
+/// A layer as read from a document.
+#[derive(Clone, Copy, Debug)]
+pub struct Read;
+
+impl LayerParts for Read {
+    type Ind = Option<i64>;
+    type Index = i64;
+    type Time = f64;
+    type Size = f64;
+    type Prop = Num;
+    type Position = Position;
+    type Shapes = Vec<ShapeItem>;
+    type Mask = LayerMask;
+    type Effect = LayerEffect;
+    type Written = ();
+}
+
+/// A layer: as read ([`Read`], the default) or as the exporter writes it, generic like
+/// [`Transform`]. The fields after `effects` are only read: a written layer leaves them
+/// empty (its `Layer::new` sets them so), as a read layer has no [`LayerParts::Written`].
 #[derive(Clone, Debug)]
-pub struct Layer {
-    /// Where it is.
-    pub at: Loc,
+pub struct Layer<P: LayerParts = Read> {
     /// Its type.
     pub kind: LayerKind,
     /// Name.
     pub nm: String,
     /// Index (`ind`), which `parent` and `tp` refer to.
-    pub ind: Option<i64>,
+    pub ind: P::Ind,
     /// The parent layer's `ind`.
-    pub parent: Option<i64>,
+    pub parent: Option<P::Index>,
     /// In point (composition frames).
-    pub ip: f64,
+    pub ip: P::Time,
     /// Out point (composition frames).
-    pub op: f64,
+    pub op: P::Time,
     /// Start time (composition frames).
-    pub st: f64,
-    /// Time stretch.
-    pub sr: f64,
+    pub st: P::Time,
     /// Transform.
-    pub ks: Transform,
+    pub ks: Transform<P::Prop, P::Position>,
     /// Shapes (shape layers), topmost first.
-    pub shapes: Vec<ShapeItem>,
+    pub shapes: P::Shapes,
     /// Asset id (precomp and image layers).
     pub ref_id: Option<String>,
     /// Width (precomp layers' clip rectangle).
-    pub w: Option<f64>,
+    pub w: Option<P::Size>,
     /// Height.
-    pub h: Option<f64>,
+    pub h: Option<P::Size>,
+    /// `td`: this layer is the track matte of another.
+    pub td: bool,
+    /// `tt`: the track matte mode (1 alpha, 2 inverted alpha, 3 luma, 4 inverted luma).
+    pub tt: Option<i64>,
+    /// `tp`: the matte layer's `ind` (newer files; older ones use the layer above).
+    pub tp: Option<P::Index>,
+    /// Layer masks (`masksProperties`), in order.
+    pub masks: Vec<P::Mask>,
+    /// Effects (`ef`), in order.
+    pub effects: Vec<P::Effect>,
+    /// What only a written layer holds.
+    pub written: P::Written,
+    /// Where it is.
+    pub at: Loc,
+    /// Time stretch.
+    pub sr: f64,
     /// Solid colour (`sc`, `#rrggbb`).
     pub solid_color: Option<String>,
     /// Solid width.
@@ -1133,18 +1202,8 @@ pub struct Layer {
     pub sh: Option<f64>,
     /// Time remap (precomp layers), in seconds.
     pub tm: Option<Num>,
-    /// `td`: this layer is the track matte of another.
-    pub td: bool,
-    /// `tt`: the track matte mode (1 alpha, 2 inverted alpha, 3 luma, 4 inverted luma).
-    pub tt: Option<i64>,
-    /// `tp`: the matte layer's `ind` (newer files; older ones use the layer above).
-    pub tp: Option<i64>,
     /// `hd`: hidden.
     pub hidden: bool,
-    /// Layer masks (`masksProperties`), in order.
-    pub masks: Vec<LayerMask>,
-    /// Effects (`ef`), in order.
-    pub effects: Vec<LayerEffect>,
     /// Text layers' text (`t`).
     pub text: Option<TextData>,
 }
@@ -1197,21 +1256,29 @@ impl LayerEffect {
 }
 
 /// A layer mask: an outline in the layer's space that adds to, subtracts from or
-/// intersects with what the layer shows.
-#[derive(Clone, Debug)]
-pub struct LayerMask {
-    /// Where it is.
+/// intersects with what the layer shows. Generic like [`Transform`] over how its numbers
+/// (`P`) and its outline (`S`) are held (as written, the exporter's property for both);
+/// written as `mode`, `pt`, `o`, `x`, `inv`.
+#[derive(Clone, Debug, Serialize)]
+#[serde(bound(serialize = "P: Serialize, S: Serialize"))]
+pub struct LayerMask<P = Num, S = Property<Bezier>> {
+    /// Where it is (read masks only).
+    #[serde(skip)]
     pub at: Loc,
     /// `mode`: `a` add, `s` subtract, `i` intersect, `l` lighten, `d` darken, `f`
     /// difference, `n` none.
     pub mode: String,
     /// The outline (`pt`).
-    pub pt: Option<Property<Bezier>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pt: Option<S>,
     /// Opacity, percent.
-    pub o: Option<Num>,
-    /// Expansion (`x`), in pixels.
-    pub x: Option<Num>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub o: Option<P>,
+    /// Expansion (`x`), in pixels (lottie-web requires the property).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub x: Option<P>,
     /// `inv`: the outline's outside counts.
+    #[serde(rename = "inv")]
     pub inverted: bool,
 }
 
@@ -1301,6 +1368,7 @@ fn layer(v: &Value, at: &Loc) -> Result<Layer> {
             }
             _ => Vec::new(),
         },
+        written: (),
     })
 }
 

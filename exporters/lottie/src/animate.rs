@@ -522,18 +522,8 @@ fn hold_levels(m: Affine, frame: f64) -> Vec<Transform> {
     }
     let held = |from: Value, to: Value| {
         Prop::Animated(vec![
-            Keyframe {
-                t: N(0.0),
-                s: from,
-                ease: None,
-                hold: true,
-            },
-            Keyframe {
-                t: N::coord(frame),
-                s: to,
-                ease: None,
-                hold: false,
-            },
+            Keyframe::written(N(0.0), from, None, true),
+            Keyframe::written(N::coord(frame), to, None, false),
         ])
     };
     levels

@@ -7,7 +7,7 @@ use gmotion::tolerance::UNIFORM;
 use kurbo::{Affine, Point, Vec2};
 
 use super::geometry::{Contour, svd};
-use super::model::{Ease, Keyframe, N, Prop, Transform, Value};
+use super::model::{Keyframe, LINEAR, N, Prop, Transform, Value, from_css};
 
 /// The parameters a skew-free two-level transform interpolates:
 /// `T(p)·R(phi)·S(s)·R(theta)·T(-anchor)`, angles in radians.
@@ -265,14 +265,16 @@ impl BakedRigid {
             Prop::keyed(
                 (frames.iter().zip(ps))
                     .enumerate()
-                    .map(|(n, (&t, p))| Keyframe {
-                        t: N::coord(t),
-                        s: f(p),
-                        ease: eases.get(n).map(|e| {
-                            let (y1, y2) = e[group];
-                            Ease::from_css([1.0 / 3.0, y1, 2.0 / 3.0, y2])
-                        }),
-                        hold: false,
+                    .map(|(n, (&t, p))| {
+                        Keyframe::written(
+                            N::coord(t),
+                            f(p),
+                            eases.get(n).map(|e| {
+                                let (y1, y2) = e[group];
+                                from_css([1.0 / 3.0, y1, 2.0 / 3.0, y2])
+                            }),
+                            false,
+                        )
                     })
                     .collect(),
             )
@@ -342,11 +344,13 @@ pub fn bake_paths(frames: &[f64], shapes: &[Vec<Contour>], gain: f64, tolerance:
             let keys: Vec<Keyframe> = kept
                 .iter()
                 .enumerate()
-                .map(|(n, &i)| Keyframe {
-                    t: N::coord(frames[i]),
-                    s: Value::Bezier(Box::new(shapes[i][c].to_bezier())),
-                    ease: (n + 1 < kept.len()).then_some(Ease::LINEAR),
-                    hold: false,
+                .map(|(n, &i)| {
+                    Keyframe::written(
+                        N::coord(frames[i]),
+                        Value::Bezier(Box::new(shapes[i][c].to_bezier())),
+                        (n + 1 < kept.len()).then_some(LINEAR),
+                        false,
+                    )
                 })
                 .collect();
             Prop::keyed(keys)

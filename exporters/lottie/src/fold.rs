@@ -19,7 +19,7 @@
 
 use kurbo::{Affine, Vec2};
 
-use crate::model::{Ease, Keyframe, N, Prop, Transform, Value};
+use crate::model::{Easing, Keyframe, N, Prop, Transform, Value};
 use gmotion::tolerance::{UNIFORM, WRITTEN};
 
 /// The levels, outermost first, with adjacent levels composed where that is exact, then
@@ -103,7 +103,7 @@ enum Chan {
 struct Key {
     t: N,
     v: [f64; 2],
-    ease: Option<Ease>,
+    ease: Option<Easing>,
     hold: bool,
 }
 
@@ -131,15 +131,15 @@ impl Chan {
     fn read(p: &Option<Prop>, default: [f64; 2]) -> Option<Chan> {
         Some(match p {
             None => Chan::Fixed(default),
-            Some(Prop::Fixed(v)) => Chan::Fixed(pair(v)?),
+            Some(Prop::Static(v)) => Chan::Fixed(pair(v)?),
             Some(Prop::Animated(keys)) if keys.is_empty() => return None,
             Some(Prop::Animated(keys)) => Chan::Keyed(
                 keys.iter()
                     .map(|k| {
                         Some(Key {
                             t: k.t,
-                            v: pair(&k.s)?,
-                            ease: k.ease,
+                            v: pair(k.value())?,
+                            ease: k.easing(),
                             hold: k.hold,
                         })
                     })
@@ -237,12 +237,7 @@ impl Chan {
             Chan::Fixed(v) => Some(Prop::fixed(value(v, scalar))),
             Chan::Keyed(keys) => Some(Prop::keyed(
                 keys.into_iter()
-                    .map(|k| Keyframe {
-                        t: k.t,
-                        s: value(k.v, scalar),
-                        ease: k.ease,
-                        hold: k.hold,
-                    })
+                    .map(|k| Keyframe::written(k.t, value(k.v, scalar), k.ease, k.hold))
                     .collect(),
             )),
         }
@@ -550,6 +545,7 @@ fn linear(m: Affine, v: Vec2) -> Vec2 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::from_css;
     use gmotion::signals::easing::Easing;
     use kurbo::Point;
 
@@ -558,24 +554,24 @@ mod tests {
     fn value_at(p: &Option<Prop>, default: [f64; 2], frame: f64) -> [f64; 2] {
         let keys = match p {
             None => return default,
-            Some(Prop::Fixed(v)) => return pair(v).unwrap(),
+            Some(Prop::Static(v)) => return pair(v).unwrap(),
             Some(Prop::Animated(keys)) => keys,
         };
         let (first, last) = (&keys[0], &keys[keys.len() - 1]);
         if frame <= first.t.0 {
-            return pair(&first.s).unwrap();
+            return pair(first.value()).unwrap();
         }
         if frame >= last.t.0 {
-            return pair(&last.s).unwrap();
+            return pair(last.value()).unwrap();
         }
         let i = keys.iter().rposition(|k| k.t.0 <= frame).unwrap();
         let (a, b) = (&keys[i], &keys[i + 1]);
-        let (va, vb) = (pair(&a.s).unwrap(), pair(&b.s).unwrap());
+        let (va, vb) = (pair(a.value()).unwrap(), pair(b.value()).unwrap());
         if a.hold {
             return va;
         }
-        let e = a.ease.unwrap();
-        let curve = Easing::CubicBezier([e.out[0].0, e.out[1].0, e.inn[0].0, e.inn[1].0]);
+        let [o, i] = a.easing().unwrap();
+        let curve = Easing::CubicBezier([o.x.0, o.y.0, i.x.0, i.y.0]);
         let u = curve.apply((frame - a.t.0) / (b.t.0 - a.t.0));
         [va[0] + (vb[0] - va[0]) * u, va[1] + (vb[1] - va[1]) * u]
     }
@@ -606,18 +602,8 @@ mod tests {
             false => Value::Vec(vec![N(x[0]), N(x[1])]),
         };
         Prop::Animated(vec![
-            Keyframe {
-                t: N(t0),
-                s: v(from),
-                ease: Some(Ease::from_css(ease)),
-                hold: false,
-            },
-            Keyframe {
-                t: N(t1),
-                s: v(to),
-                ease: None,
-                hold: false,
-            },
+            Keyframe::written(N(t0), v(from), Some(from_css(ease)), false),
+            Keyframe::written(N(t1), v(to), None, false),
         ])
     }
 

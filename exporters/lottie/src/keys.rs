@@ -2,7 +2,7 @@
 //! each key's easing and hold written on the keyframe before it, and eased stretches that
 //! would carry a value out of its range sampled for rlottie.
 
-use super::model::{Ease as LottieEase, Keyframe, N, Value};
+use super::model::{Keyframe, LINEAR, N, Value, from_css};
 use gmotion::keyframe::{Ease, Key, Same};
 use gmotion::signals::Easing;
 
@@ -15,15 +15,15 @@ pub fn to_keyframes<V: Same>(keys: &[Key<V>], to_value: impl Fn(&V) -> Value) ->
         .map(|(i, k)| {
             let next = keys.get(i + 1);
             let hold = next.is_some_and(|n| n.ease == Ease::Hold || n.v.same(&k.v));
-            Keyframe {
-                t: N::coord(k.t),
-                s: to_value(&k.v),
-                ease: next.filter(|_| !hold).map(|n| match n.ease {
-                    Ease::Bezier(css) => LottieEase::from_css(css),
-                    Ease::Linear | Ease::Hold => LottieEase::LINEAR,
+            Keyframe::written(
+                N::coord(k.t),
+                to_value(&k.v),
+                next.filter(|_| !hold).map(|n| match n.ease {
+                    Ease::Bezier(css) => from_css(css),
+                    Ease::Linear | Ease::Hold => LINEAR,
                 }),
                 hold,
-            }
+            )
         })
         .collect()
 }

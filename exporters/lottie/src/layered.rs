@@ -46,7 +46,7 @@ use crate::animate::{Bakes, UnitInfo, static_level, unit_motion};
 use crate::geometry::decompose;
 use crate::keys::{to_keyframes, within_range};
 use crate::layers::{conjugate, full_transform};
-use crate::model::{Layer, LayerKind, N, Prop, Transform, Value};
+use crate::model::{Layer, LayerKind, N, Prop, Transform, Value, WriteLayer};
 use crate::{LottieError, LottieOptions, LottieOutput};
 
 /// The source document as it was read (JSON-equal to the file, apart from key order).

@@ -45,7 +45,7 @@ use super::geometry::{Contour, contours, decompose, max_stretch};
 use super::keys::{to_keyframes, within_range};
 use super::model::{
     Asset, Bezier, Group as LGroup, Layer, LayerKind, Mask as LMask, N, PathShape, Prop, Shape,
-    Transform, Value,
+    Transform, Value, WriteLayer,
 };
 use super::paint::{self, PaintAnim, Styled};
 use gmotion::color::Color;
@@ -461,7 +461,7 @@ impl<'a> Builder<'a> {
                     .iter()
                     .map(|c| mask(&c.transformed(local * inner)))
                     .collect();
-                content.has_mask = Some(true);
+                content.written.has_mask = Some(true);
             }
             Some(ClipKind::Matte) => {
                 let c = g.clip_path.as_ref().expect("a matte clip has a clip path");
@@ -485,9 +485,9 @@ impl<'a> Builder<'a> {
                 ..env
             };
             let mut matte = self.one_layer(&mg, inner, matte_env, comp);
-            matte.td = Some(1);
+            matte.td = true;
             let content = &mut out[0];
-            content.tt = Some(mode);
+            content.tt = Some(mode.into());
             content.tp = Some(matte.ind);
             out.push(matte);
         }
@@ -544,7 +544,7 @@ impl<'a> Builder<'a> {
     /// `to_layer`, with `region` (in the group's coordinates, see [`Group::filter_region`])
     /// as an invisible shape at its bottom (see [`effects`]).
     fn add_effects(&mut self, layer: &mut Layer, f: &Filter, region: Rect, to_layer: Affine) {
-        layer.ef = effects::effects(f, to_layer);
+        layer.effects = effects::effects(f, to_layer);
         self.warnings.push(effects::PLAYERS.to_string());
         let extent = effects::extent(to_layer.transform_rect_bbox(region));
         if let Some(shapes) = layer.shapes.as_mut() {

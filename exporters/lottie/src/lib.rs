@@ -256,7 +256,7 @@ fn write(src: Source, opts: &LottieOptions) -> Result<(LottieText, Vec<Warning>)
 /// `fit` puts the canvas: through a null parent that scales and moves them (exact for
 /// every layer whatever its own transform, as the builder's own canvas null is).
 fn fit_layers(layers: &mut Vec<model::Layer>, fit: &Fit, built: (f64, f64), op: f64) {
-    use model::{Layer, LayerKind, N, Prop};
+    use model::{Layer, LayerKind, N, Prop, WriteLayer};
     let ind = layers.iter().map(|l| l.ind).max().unwrap_or(0) + 1;
     for l in layers.iter_mut().filter(|l| l.parent.is_none()) {
         l.parent = Some(ind);

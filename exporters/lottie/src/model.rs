@@ -4,14 +4,16 @@
 //! (`lottie_specs/data/lottie.schema.json`) is what the conformance run validates against.
 //! Numbers are rounded where they are made ([`N::coord`], [`N::fine`]) and written without
 //! a fraction when integral, so output is compact and identical from run to run; the
-//! number and the Bézier outline are `gmotion-lottie`'s, shared with the importer.
+//! number, the Bézier outline and the properties and keyframes ([`gmotion_lottie::written`])
+//! are `gmotion-lottie`'s, shared with the importer.
 
-use serde::ser::{SerializeMap, SerializeSeq};
-use serde::{Serialize, Serializer};
+use serde::Serialize;
 
 use crate::LottieText;
+use gmotion_lottie::model::LayerParts;
 pub use gmotion_lottie::model::{Bezier, Dash, LayerKind};
 pub use gmotion_lottie::number::N;
+pub use gmotion_lottie::written::{Easing, Keyframe, LINEAR, Prop, Value, from_css};
 
 /// The top-level animation.
 #[derive(Clone, Debug)]
@@ -49,14 +51,14 @@ impl Animation {
             .map(|(k, mut l)| {
                 // A sealed tail is most of the layer's text: it becomes a piece of its own
                 // rather than being copied after the few fields before it.
-                let tail = l.sealed.take();
+                let tail = l.written.sealed.take();
                 let head = exact(|out| {
                     if k > 0 {
                         out.push(b',');
                     }
-                    l.write_head(out);
+                    write_head(&l, out);
                     if tail.is_none() {
-                        l.write_tail(out);
+                        write_tail(&l, out);
                     }
                 });
                 [head, tail.map_or_else(Vec::new, Vec::from)]
@@ -172,156 +174,163 @@ impl Asset {
     }
 }
 
-/// A layer.
-#[derive(Clone, Debug)]
-pub struct Layer {
-    /// Layer type.
-    pub ty: LayerKind,
-    /// Name (an animated shape's tag and number, a named group's id).
-    pub nm: String,
-    /// Index, unique within the composition.
-    pub ind: u32,
-    /// Index of the parent layer whose transform this one inherits.
-    pub parent: Option<u32>,
-    /// Asset id (precomposition and image layers).
-    pub ref_id: Option<String>,
-    /// Precomposition clip width.
-    pub w: Option<u32>,
-    /// Precomposition clip height.
-    pub h: Option<u32>,
-    /// Set on a layer that serves as the track matte of the layer below it.
-    pub td: Option<u8>,
-    /// Track matte mode (1 alpha, 3 luma) taken from the layer above.
-    pub tt: Option<u8>,
-    /// Index of the matte layer (the newer spelling of "the layer above").
-    pub tp: Option<u32>,
+/// A layer as the exporter writes it: `gmotion-lottie`'s, holding the exporter's numbers,
+/// properties, shapes, masks and effects ([`Export`]).
+pub type Layer = gmotion_lottie::model::Layer<Export>;
+
+/// How the exporter holds a [`Layer`]: indices and sizes as whole numbers, times as
+/// written numbers, its own shapes (`None`: not a shape layer), masks and effects.
+#[derive(Clone, Copy, Debug)]
+pub struct Export;
+
+impl LayerParts for Export {
+    type Ind = u32;
+    type Index = u32;
+    type Time = N;
+    type Size = u32;
+    type Prop = Prop;
+    type Position = Prop;
+    type Shapes = Option<Vec<Shape>>;
+    type Mask = Mask;
+    type Effect = LayerEffect;
+    type Written = Written;
+}
+
+/// What only a written layer holds.
+#[derive(Clone, Debug, Default)]
+pub struct Written {
     /// Whether `masksProperties` is set (lottie-web reads this flag).
     pub has_mask: Option<bool>,
-    /// Layer masks (clip paths).
-    pub masks: Vec<Mask>,
-    /// Layer transform.
-    pub ks: Transform,
-    /// Effects, applied in order to what the layer draws.
-    pub ef: Vec<LayerEffect>,
-    /// Shapes (shape layers), topmost first.
-    pub shapes: Option<Vec<Shape>>,
-    /// In point.
-    pub ip: N,
-    /// Out point.
-    pub op: N,
-    /// Start time.
-    pub st: N,
-    /// Blend mode (normal).
-    pub bm: u8,
     /// The JSON of the fields from `masksProperties` on, when written early by
-    /// [`Layer::seal`]; those fields are then empty and no longer read.
+    /// [`WriteLayer::seal`]; those fields are then empty and no longer read.
     pub sealed: Option<Box<[u8]>>,
 }
 
-impl Layer {
-    /// A layer of type `ty` visible from `ip` to `op`, untransformed.
-    pub fn new(ty: LayerKind, nm: String, ind: u32, ip: f64, op: f64) -> Layer {
-        Layer {
-            ty,
-            nm,
-            ind,
-            parent: None,
-            ref_id: None,
-            w: None,
-            h: None,
-            td: None,
-            tt: None,
-            tp: None,
-            has_mask: None,
-            masks: Vec::new(),
-            ks: layer_identity(),
-            ef: Vec::new(),
-            shapes: None,
-            ip: N::coord(ip),
-            op: N::coord(op),
-            st: N(0.0),
-            bm: 0,
-            sealed: None,
-        }
-    }
+/// Making and writing a [`Layer`] (a trait, the layer being `gmotion-lottie`'s).
+pub trait WriteLayer {
+    /// A layer of type `kind` visible from `ip` to `op`, untransformed.
+    fn new(kind: LayerKind, nm: String, ind: u32, ip: f64, op: f64) -> Self;
 
     /// Writes the fields from `masksProperties` on (the masks, transform and shapes: all
     /// but the few that numbering and parenting change later) and frees them. Built in
     /// parallel and sealed on the thread that built it, a layer's shape tree is freed while
     /// that thread's memory is warm, instead of living on until the whole document is
     /// written: at the intersections scale that tree was ~200 MB of fresh pages.
-    pub fn seal(&mut self) {
-        if self.sealed.is_some() {
-            return;
-        }
-        let tail = exact(|out| self.write_tail(out)).into_boxed_slice();
-        self.masks = Vec::new();
-        self.ks = Transform::empty();
-        self.ef = Vec::new();
-        self.shapes = None;
-        self.sealed = Some(tail);
-    }
+    fn seal(&mut self);
 
     /// Writes the layer as a JSON object, keys in the format's usual order, absent
     /// options left out.
-    pub fn write_json(&self, out: &mut Vec<u8>) {
-        self.write_head(out);
-        match &self.sealed {
+    fn write_json(&self, out: &mut Vec<u8>);
+}
+
+impl WriteLayer for Layer {
+    fn new(kind: LayerKind, nm: String, ind: u32, ip: f64, op: f64) -> Layer {
+        Layer {
+            kind,
+            nm,
+            ind,
+            parent: None,
+            ip: N::coord(ip),
+            op: N::coord(op),
+            st: N(0.0),
+            ks: layer_identity(),
+            shapes: None,
+            ref_id: None,
+            w: None,
+            h: None,
+            td: false,
+            tt: None,
+            tp: None,
+            masks: Vec::new(),
+            effects: Vec::new(),
+            written: Written::default(),
+            // Read from documents only.
+            at: Default::default(),
+            sr: 1.0,
+            solid_color: None,
+            sw: None,
+            sh: None,
+            tm: None,
+            hidden: false,
+            text: None,
+        }
+    }
+
+    fn seal(&mut self) {
+        if self.written.sealed.is_some() {
+            return;
+        }
+        let tail = exact(|out| write_tail(self, out)).into_boxed_slice();
+        self.masks = Vec::new();
+        self.ks = Transform::empty();
+        self.effects = Vec::new();
+        self.shapes = None;
+        self.written.sealed = Some(tail);
+    }
+
+    fn write_json(&self, out: &mut Vec<u8>) {
+        write_head(self, out);
+        match &self.written.sealed {
             Some(tail) => out.extend_from_slice(tail),
-            None => self.write_tail(out),
+            None => write_tail(self, out),
         }
     }
+}
 
-    /// The fields before `masksProperties`, from the opening brace.
-    fn write_head(&self, out: &mut Vec<u8>) {
-        // rlottie ignores a layer's rotation unless `ddd` precedes the transform (measured:
-        // a skewed image placed by a rotated null and a rotated image drew unrotated).
-        // Image and null layers are the ones placed by a rotating `ks`.
-        if matches!(self.ty, LayerKind::Image | LayerKind::Null) {
-            out.extend_from_slice(b"{\"ddd\":0,\"ty\":");
-        } else {
-            out.extend_from_slice(b"{\"ty\":");
-        }
-        json(out, &self.ty);
-        field(out, "nm", &self.nm);
-        field(out, "ind", &self.ind);
-        let number = |out: &mut Vec<u8>, key: &str, v: Option<u32>| {
-            if let Some(v) = v {
-                field(out, key, &v);
-            }
-        };
-        number(out, "parent", self.parent);
-        if let Some(id) = &self.ref_id {
-            field(out, "refId", id);
-        }
-        number(out, "w", self.w);
-        number(out, "h", self.h);
-        number(out, "td", self.td.map(u32::from));
-        number(out, "tt", self.tt.map(u32::from));
-        number(out, "tp", self.tp);
-        if let Some(m) = self.has_mask {
-            field(out, "hasMask", &m);
-        }
+/// A layer's fields before `masksProperties`, from the opening brace.
+fn write_head(l: &Layer, out: &mut Vec<u8>) {
+    // rlottie ignores a layer's rotation unless `ddd` precedes the transform (measured:
+    // a skewed image placed by a rotated null and a rotated image drew unrotated).
+    // Image and null layers are the ones placed by a rotating `ks`.
+    if matches!(l.kind, LayerKind::Image | LayerKind::Null) {
+        out.extend_from_slice(b"{\"ddd\":0,\"ty\":");
+    } else {
+        out.extend_from_slice(b"{\"ty\":");
     }
+    json(out, &l.kind);
+    field(out, "nm", &l.nm);
+    field(out, "ind", &l.ind);
+    let number = |out: &mut Vec<u8>, key: &str, v: Option<u32>| {
+        if let Some(v) = v {
+            field(out, key, &v);
+        }
+    };
+    number(out, "parent", l.parent);
+    if let Some(id) = &l.ref_id {
+        field(out, "refId", id);
+    }
+    number(out, "w", l.w);
+    number(out, "h", l.h);
+    if l.td {
+        field(out, "td", &1);
+    }
+    if let Some(tt) = l.tt {
+        field(out, "tt", &tt);
+    }
+    number(out, "tp", l.tp);
+    if let Some(m) = l.written.has_mask {
+        field(out, "hasMask", &m);
+    }
+}
 
-    /// The fields from `masksProperties` to the closing brace.
-    fn write_tail(&self, out: &mut Vec<u8>) {
-        if !self.masks.is_empty() {
-            field(out, "masksProperties", &self.masks);
-        }
-        field(out, "ks", &self.ks);
-        if !self.ef.is_empty() {
-            field(out, "ef", &self.ef);
-        }
-        if let Some(shapes) = &self.shapes {
-            field(out, "shapes", shapes);
-        }
-        for (key, n) in [("ip", self.ip), ("op", self.op), ("st", self.st)] {
-            field(out, key, &n);
-        }
-        field(out, "bm", &self.bm);
-        out.push(b'}');
+/// A layer's fields from `masksProperties` to the closing brace.
+fn write_tail(l: &Layer, out: &mut Vec<u8>) {
+    if !l.masks.is_empty() {
+        field(out, "masksProperties", &l.masks);
     }
+    field(out, "ks", &l.ks);
+    if !l.effects.is_empty() {
+        field(out, "ef", &l.effects);
+    }
+    if let Some(shapes) = &l.shapes {
+        field(out, "shapes", shapes);
+    }
+    for (key, n) in [("ip", l.ip), ("op", l.op), ("st", l.st)] {
+        field(out, key, &n);
+    }
+    // Blend mode: always normal.
+    field(out, "bm", &0);
+    out.push(b'}');
 }
 
 /// An After Effects effect on a layer (`ty` 25 drop shadow, 29 Gaussian blur): its
@@ -359,20 +368,8 @@ pub struct EffectValue {
     pub v: Prop,
 }
 
-/// A layer mask.
-#[derive(Clone, Debug, Serialize)]
-pub struct Mask {
-    /// Mode: `a` add, `i` intersect.
-    pub mode: &'static str,
-    /// The mask outline.
-    pub pt: Prop,
-    /// Opacity in percent.
-    pub o: Prop,
-    /// Expansion (lottie-web requires the property).
-    pub x: Prop,
-    /// Inverted.
-    pub inv: bool,
-}
+/// A layer mask as written (mode `a`, add): outline, opacity and expansion properties.
+pub type Mask = gmotion_lottie::model::LayerMask<Prop, Prop>;
 
 /// A transform as the exporter writes it: `T(p)·R(r)·S(s)·T(-a)` with opacity `o`, every
 /// channel (the position too) a [`Prop`]; never skew (rlottie cannot draw it).
@@ -463,22 +460,8 @@ pub struct Fill {
     pub r: u8,
 }
 
-/// Stroke properties shared by solid and gradient strokes.
-#[derive(Clone, Debug, Serialize)]
-pub struct StrokeStyle {
-    /// Width.
-    pub w: Prop,
-    /// Line cap: 1 butt, 2 round, 3 square.
-    pub lc: u8,
-    /// Line join: 1 miter, 2 round, 3 bevel.
-    pub lj: u8,
-    /// Miter limit.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub ml: Option<N>,
-    /// Dashes.
-    #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub d: Vec<Dash<Prop>>,
-}
+/// Caps, joins, miter limit and dashes of a solid or gradient stroke, as written.
+pub type StrokeStyle = gmotion_lottie::model::StrokeStyle<Prop, N>;
 
 /// A solid stroke.
 #[derive(Clone, Debug, Serialize)]
@@ -487,7 +470,9 @@ pub struct Stroke {
     pub o: Prop,
     /// Colour.
     pub c: Prop,
-    /// Width, caps, joins, dashes.
+    /// Width.
+    pub w: Prop,
+    /// Caps, joins, dashes.
     #[serde(flatten)]
     pub style: StrokeStyle,
 }
@@ -518,232 +503,16 @@ pub struct GradientStroke {
     /// The gradient.
     #[serde(flatten)]
     pub grad: Gradient,
-    /// Width, caps, joins, dashes.
+    /// Width.
+    pub w: Prop,
+    /// Caps, joins, dashes.
     #[serde(flatten)]
     pub style: StrokeStyle,
-}
-
-/// A property value.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Value {
-    /// A number (written bare when static, as `[x]` in keyframes).
-    Scalar(N),
-    /// A vector: point, scale, colour or flat gradient list.
-    Vec(Vec<N>),
-    /// A Bézier outline (written as `[bezier]` in keyframes); boxed, since every
-    /// property holds a value and most are a number or a pair.
-    Bezier(Box<Bezier>),
-}
-
-impl Value {
-    /// A number or vector rounded as a coordinate ([`N::coord`]); an outline as it is
-    /// (transforms, the values rounded this way, hold none).
-    fn rounded(mut self) -> Value {
-        match &mut self {
-            Value::Scalar(x) => *x = N::coord(x.0),
-            Value::Vec(xs) => xs.iter_mut().for_each(|x| *x = N::coord(x.0)),
-            Value::Bezier(_) => {}
-        }
-        self
-    }
-
-    fn write_keyframe_value<S: SerializeMap>(&self, m: &mut S) -> Result<(), S::Error> {
-        match self {
-            Value::Scalar(x) => m.serialize_entry("s", &[x]),
-            Value::Vec(v) => m.serialize_entry("s", v),
-            Value::Bezier(b) => m.serialize_entry("s", std::slice::from_ref(&**b)),
-        }
-    }
-}
-
-impl Serialize for Value {
-    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        match self {
-            Value::Scalar(x) => x.serialize(s),
-            Value::Vec(v) => v.serialize(s),
-            Value::Bezier(b) => b.serialize(s),
-        }
-    }
-}
-
-/// Keyframe easing: the cubic-bezier handle leaving a keyframe (`o`) and entering the next
-/// (`i`), in the unit square of (time, value) fractions.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Ease {
-    /// Out handle of this keyframe.
-    pub out: [N; 2],
-    /// In handle of the next keyframe.
-    pub inn: [N; 2],
-}
-
-impl Ease {
-    /// Linear interpolation.
-    pub const LINEAR: Ease = Ease {
-        out: [N(0.0), N(0.0)],
-        inn: [N(1.0), N(1.0)],
-    };
-
-    /// From CSS `cubic-bezier(x1, y1, x2, y2)` control points.
-    pub fn from_css([x1, y1, x2, y2]: [f64; 4]) -> Ease {
-        Ease {
-            out: [N::fine(x1.clamp(0.0, 1.0)), N::fine(y1)],
-            inn: [N::fine(x2.clamp(0.0, 1.0)), N::fine(y2)],
-        }
-    }
-}
-
-struct Handle([N; 2]);
-
-impl Serialize for Handle {
-    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        let mut m = s.serialize_map(Some(2))?;
-        m.serialize_entry("x", &self.0[0])?;
-        m.serialize_entry("y", &self.0[1])?;
-        m.end()
-    }
-}
-
-/// A keyframe: the value at frame `t` and how it moves on to the next keyframe.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Keyframe {
-    /// Frame.
-    pub t: N,
-    /// Value.
-    pub s: Value,
-    /// Easing to the next keyframe (`None` on the last one and on holds).
-    pub ease: Option<Ease>,
-    /// Hold this value until the next keyframe.
-    pub hold: bool,
-}
-
-impl Serialize for Keyframe {
-    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        let mut m = s.serialize_map(None)?;
-        m.serialize_entry("t", &self.t)?;
-        self.s.write_keyframe_value(&mut m)?;
-        if self.hold {
-            m.serialize_entry("h", &1)?;
-        } else if let Some(e) = self.ease {
-            m.serialize_entry("o", &Handle(e.out))?;
-            m.serialize_entry("i", &Handle(e.inn))?;
-        }
-        m.end()
-    }
-}
-
-/// An animatable property: `{"a":0,"k":value}` or `{"a":1,"k":[keyframes]}`.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Prop {
-    /// A fixed value.
-    Fixed(Value),
-    /// Keyframes in time order (at least two).
-    Animated(Vec<Keyframe>),
-    // No split position (`{"s":true,"x":…,"y":…}`): lottie-web draws nothing when a shape
-    // group's transform holds one, and every animated transform here is a shape group's.
-}
-
-impl From<N> for Prop {
-    /// A fixed number.
-    fn from(x: N) -> Prop {
-        Prop::scalar(x)
-    }
-}
-
-impl Prop {
-    /// Every value rounded as a coordinate; keys that then all hold one value become a
-    /// fixed value.
-    fn rounded(self) -> Prop {
-        match self {
-            Prop::Fixed(v) => Prop::Fixed(v.rounded()),
-            Prop::Animated(mut keys) => {
-                for k in &mut keys {
-                    k.s = std::mem::replace(&mut k.s, Value::Scalar(N(0.0))).rounded();
-                }
-                Prop::keyed(keys)
-            }
-        }
-    }
-
-    /// A fixed value.
-    pub fn fixed(v: Value) -> Prop {
-        Prop::Fixed(v)
-    }
-
-    /// A fixed number.
-    pub fn scalar(x: N) -> Prop {
-        Prop::Fixed(Value::Scalar(x))
-    }
-
-    /// A fixed vector.
-    pub fn vec(v: Vec<N>) -> Prop {
-        Prop::Fixed(Value::Vec(v))
-    }
-
-    /// Keyframes, collapsed to a fixed value when every keyframe holds the same value.
-    pub fn keyed(keys: Vec<Keyframe>) -> Prop {
-        match keys.first() {
-            None => Prop::scalar(N(0.0)),
-            Some(first) if keys.iter().all(|k| k.s == first.s) => Prop::Fixed(first.s.clone()),
-            Some(_) => Prop::Animated(keys),
-        }
-    }
-}
-
-impl Serialize for Prop {
-    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        let mut m = s.serialize_map(Some(2))?;
-        match self {
-            Prop::Fixed(v) => {
-                m.serialize_entry("a", &0)?;
-                m.serialize_entry("k", v)?;
-            }
-            Prop::Animated(keys) => {
-                m.serialize_entry("a", &1)?;
-                m.serialize_entry("k", &KeyList(keys))?;
-            }
-        }
-        m.end()
-    }
-}
-
-struct KeyList<'a>(&'a [Keyframe]);
-
-impl Serialize for KeyList<'_> {
-    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        let mut seq = s.serialize_seq(Some(self.0.len()))?;
-        for k in self.0 {
-            seq.serialize_element(k)?;
-        }
-        seq.end()
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn scalar_keyframes_are_arrays() {
-        let k = Keyframe {
-            t: N(0.0),
-            s: Value::Scalar(N(5.0)),
-            ease: Some(Ease::LINEAR),
-            hold: false,
-        };
-        let j = serde_json::to_string(&Prop::Animated(vec![
-            k.clone(),
-            Keyframe {
-                t: N(10.0),
-                ease: None,
-                ..k
-            },
-        ]))
-        .unwrap();
-        assert_eq!(
-            j,
-            r#"{"a":1,"k":[{"t":0,"s":[5],"o":{"x":0,"y":0},"i":{"x":1,"y":1}},{"t":10,"s":[5]}]}"#
-        );
-    }
 
     /// A document of `n` shape layers holding 0–3 transform shapes, some with a parent.
     fn document(n: u32) -> Animation {
@@ -779,7 +548,7 @@ mod tests {
         for every in [1, 2, 5] {
             let mut doc = document(40);
             doc.layers.iter_mut().step_by(every).for_each(Layer::seal);
-            assert!(doc.layers[0].sealed.is_some());
+            assert!(doc.layers[0].written.sealed.is_some());
             assert_eq!(
                 doc.into_json().into_string(),
                 whole,

@@ -140,7 +140,7 @@ pub fn stroke(
     warn: &mut Vec<String>,
 ) -> Option<Styled> {
     let o = percent(s.opacity as f64);
-    let style = stroke_style(s, anim.stroke_width, element, warn);
+    let (w, style) = stroke_style(s, anim.stroke_width, element, warn);
     // The stroke covers half its width beyond the outline.
     let area = bbox.inflate(s.width / 2.0, s.width / 2.0);
     Some(
@@ -148,6 +148,7 @@ pub fn stroke(
             Resolved::Solid(c) => Styled::Item(Shape::Stroke(LStroke {
                 o,
                 c: color_prop(c, anim.stroke),
+                w,
                 style,
             })),
             Resolved::Pattern(p) => Styled::Pattern(p, s.opacity),
@@ -155,6 +156,7 @@ pub fn stroke(
                 Styled::Item(Shape::GradientStroke(Box::new(GradientStroke {
                     o,
                     grad: *grad,
+                    w,
                     style,
                 })))
             }
@@ -185,7 +187,7 @@ fn stroke_style(
     width_keys: &[Key<f64>],
     element: &str,
     warn: &mut Vec<String>,
-) -> StrokeStyle {
+) -> (Prop, StrokeStyle) {
     let w = if width_keys.is_empty() {
         Prop::scalar(N::coord(s.width))
     } else {
@@ -231,13 +233,13 @@ fn stroke_style(
             v: Prop::scalar(N::coord(s.dash_offset)),
         });
     }
-    StrokeStyle {
-        w,
+    let style = StrokeStyle {
         lc,
         lj,
         ml: (lj == 1).then(|| N::coord(s.miter_limit)),
-        d,
-    }
+        dashes: d,
+    };
+    (w, style)
 }
 
 /// A paint as Lottie takes it ([`resolve`]). A gradient comes to `Solid` or `Grad`.
@@ -595,7 +597,7 @@ mod tests {
             panic!()
         };
         let pt = |p: &Option<Prop>| match p {
-            Some(Prop::Fixed(Value::Vec(v))) => Point::new(v[0].0, v[1].0),
+            Some(Prop::Static(Value::Vec(v))) => Point::new(v[0].0, v[1].0),
             _ => panic!(),
         };
         let (s, e) = (pt(&grad.s), pt(&grad.e));

@@ -13,7 +13,7 @@ use gmotion_lottie::Source;
 use gmotion_lottie::eval;
 use gmotion_lottie::model::{Layer, LayerKind, Num, ShapeItem, ShapeKind};
 
-use crate::model::{Ease, Keyframe, N, Prop, Value};
+use crate::model::{Keyframe, LINEAR, N, Prop, Value};
 
 /// How far (in the property's own unit: 0–1 colour, pixels of width, percent of
 /// opacity) a sample may stray from the line through its neighbours to be dropped.
@@ -487,15 +487,17 @@ pub(crate) fn resampled(samples: Vec<(f64, Vec<f64>)>, eps: f64) -> Prop {
     }
     let mut kept: Vec<Keyframe> = keep
         .into_iter()
-        .map(|i| Keyframe {
-            t: N::coord(samples[i].0),
-            s: value(&samples[i].1),
-            ease: Some(Ease::LINEAR),
-            hold: false,
+        .map(|i| {
+            Keyframe::written(
+                N::coord(samples[i].0),
+                value(&samples[i].1),
+                Some(LINEAR),
+                false,
+            )
         })
         .collect();
     if let Some(last) = kept.last_mut() {
-        last.ease = None;
+        last.set_easing(None);
     }
     Prop::keyed(kept)
 }
@@ -510,7 +512,7 @@ mod tests {
             panic!("animated");
         };
         ks.iter()
-            .map(|k| match &k.s {
+            .map(|k| match k.value() {
                 Value::Scalar(x) => (k.t.0, vec![x.0]),
                 Value::Vec(v) => (k.t.0, v.iter().map(|x| x.0).collect()),
                 _ => panic!("a number or a vector"),

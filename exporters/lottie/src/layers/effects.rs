@@ -127,7 +127,7 @@ pub(super) fn extent(region: Rect) -> Shape {
     let outline = contours(&region.to_path(0.1))
         .into_iter()
         .next()
-        .map(|c| mask(&c).pt)
+        .and_then(|c| mask(&c).pt)
         .unwrap_or_else(|| Prop::fixed(Value::Scalar(N(0.0))));
     Shape::Group(LGroup {
         nm: "filter region".to_string(),

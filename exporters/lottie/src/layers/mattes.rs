@@ -70,11 +70,12 @@ pub(super) fn mask(c: &Contour) -> LMask {
     let mut b: Bezier = c.to_bezier();
     b.closed = Some(true);
     LMask {
-        mode: "a",
-        pt: Prop::fixed(Value::Bezier(Box::new(b))),
-        o: Prop::scalar(N(100.0)),
-        x: Prop::scalar(N(0.0)),
-        inv: false,
+        at: Default::default(),
+        mode: "a".to_string(),
+        pt: Some(Prop::fixed(Value::Bezier(Box::new(b)))),
+        o: Some(Prop::scalar(N(100.0))),
+        x: Some(Prop::scalar(N(0.0))),
+        inverted: false,
     }
 }
 

@@ -176,9 +176,9 @@ impl Builder<'_> {
             if l.parent.is_none() {
                 l.parent = innermost;
             }
-            if l.td.is_none() {
+            if !l.td {
                 let base = match &l.ks.o {
-                    Some(Prop::Fixed(Value::Scalar(x))) => x.0 / 100.0,
+                    Some(Prop::Static(Value::Scalar(x))) => x.0 / 100.0,
                     _ => 1.0,
                 };
                 l.ks.o = Some(opacity(base * env.alpha));
@@ -218,8 +218,8 @@ pub(crate) fn shift_prop(p: &mut Option<Prop>, by: Vec2) {
     };
     match p {
         None => *p = Some(Prop::vec(vec![N::coord(by.x), N::coord(by.y)])),
-        Some(Prop::Fixed(v)) => add(v),
-        Some(Prop::Animated(keys)) => keys.iter_mut().for_each(|k| add(&mut k.s)),
+        Some(Prop::Static(v)) => add(v),
+        Some(Prop::Animated(keys)) => keys.iter_mut().filter_map(|k| k.s.as_mut()).for_each(add),
     }
 }
 

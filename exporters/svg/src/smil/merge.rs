@@ -19,12 +19,12 @@
 
 use kurbo::Affine;
 
-use super::transform::{Kind, Layer, TransformAnim};
+use super::transform::{Kind, Nested, TransformAnim};
 use gmotion::keyframe::Key;
 use gmotion::tolerance::Tolerance;
 
 /// The groups, outermost first, and the innermost group's transform, merged where exact.
-pub fn merge(mut layers: Vec<Layer>, mut inner: Affine) -> (Vec<Layer>, Affine) {
+pub fn merge(mut layers: Vec<Nested>, mut inner: Affine) -> (Vec<Nested>, Affine) {
     let mut i = 0;
     while i + 1 < layers.len() {
         if layers[i]
@@ -207,13 +207,13 @@ mod tests {
         }
     }
 
-    fn matrix(layers: &[Layer], inner: Affine, t: f64) -> Affine {
+    fn matrix(layers: &[Nested], inner: Affine, t: f64) -> Affine {
         layers.iter().fold(Affine::IDENTITY, |m, l| {
             l.anims.iter().fold(m * l.base, |m, a| m * at(a, t))
         }) * inner
     }
 
-    fn assert_same(before: &(Vec<Layer>, Affine), after: &(Vec<Layer>, Affine)) {
+    fn assert_same(before: &(Vec<Nested>, Affine), after: &(Vec<Nested>, Affine)) {
         let corners = [(80.0, 40.0), (120.0, 40.0), (80.0, 70.0), (120.0, 70.0)].map(Point::from);
         for n in 0..=800 {
             let t = f64::from(n) / 100.0;
@@ -231,15 +231,15 @@ mod tests {
         // group undoing where the slice before it started.
         let c = Affine::translate((100.0, 55.0));
         let layers = vec![
-            Layer {
+            Nested {
                 base: c,
                 anims: vec![anim(Kind::Scale, 5.0, 7.0, [1.0, 1.0], [0.5, 0.5])],
             },
-            Layer {
+            Nested {
                 base: Affine::IDENTITY,
                 anims: vec![anim(Kind::Rotate, 2.0, 4.0, [0.0, 0.0], [90.0, 0.0])],
             },
-            Layer {
+            Nested {
                 base: Affine::scale(1.25),
                 anims: vec![anim(Kind::Scale, 0.0, 2.0, [0.8, 0.8], [1.6, 1.6])],
             },
@@ -256,11 +256,11 @@ mod tests {
         // An uneven scale outside a turn, a translation outside a scale: both skew or move
         // differently when swapped.
         let layers = vec![
-            Layer {
+            Nested {
                 base: Affine::translate((100.0, 55.0)),
                 anims: vec![anim(Kind::Scale, 5.0, 7.0, [1.0, 1.0], [2.0, 0.5])],
             },
-            Layer {
+            Nested {
                 base: Affine::rotate(0.3),
                 anims: vec![
                     anim(Kind::Rotate, 2.0, 4.0, [0.0, 0.0], [90.0, 0.0]),
@@ -303,12 +303,12 @@ mod tests {
                         _ => anim(Kind::Translate, t0, t1, [0.0, 0.0], [k * 9.0, -4.0]),
                     });
                 }
-                layers.push(Layer { base, anims: list });
+                layers.push(Nested { base, anims: list });
             }
             let before = (layers.clone(), Affine::translate((-50.0, 0.0)));
             let after = merge(layers, before.1);
             assert_same(&before, &after);
-            let count = |l: &[Layer]| l.iter().map(|l| l.anims.len()).sum::<usize>();
+            let count = |l: &[Nested]| l.iter().map(|l| l.anims.len()).sum::<usize>();
             groups = (groups.0 + before.0.len(), groups.1 + after.0.len());
             anims = (anims.0 + count(&before.0), anims.1 + count(&after.0));
         }

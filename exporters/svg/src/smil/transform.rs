@@ -67,7 +67,7 @@ pub struct TransformAnim {
 
 /// One nested group: a static transform and the animations multiplied onto it.
 #[derive(Clone, Debug)]
-pub struct Layer {
+pub struct Nested {
     /// The group's `transform` attribute.
     pub base: Affine,
     /// Animations in application order (the first is outermost).
@@ -79,7 +79,7 @@ pub struct Layer {
 #[derive(Clone, Debug)]
 pub struct Plan {
     /// Animated groups.
-    pub layers: Vec<Layer>,
+    pub layers: Vec<Nested>,
     /// The innermost group's transform.
     pub inner: Affine,
     /// Segments written exactly.
@@ -269,7 +269,7 @@ fn fold(
     raw: impl Iterator<Item = RawLayer>,
     outer: Affine,
     parent: Affine,
-) -> (Vec<Layer>, Affine) {
+) -> (Vec<Nested>, Affine) {
     let mut pre = outer;
     let mut layers = Vec::new();
     for l in raw {
@@ -277,7 +277,7 @@ fn fold(
             pre = pre * l.prefix * l.suffix;
             continue;
         }
-        layers.push(Layer {
+        layers.push(Nested {
             base: pre * l.prefix,
             anims: l.anims,
         });
