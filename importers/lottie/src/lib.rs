@@ -25,9 +25,10 @@
 //!
 //! **Not drawn** (with a warning naming the first place and how many): images that cannot
 //! be read (their rectangle is measured), text without embedded glyphs when no fonts are
-//! given (measured as a point), merge paths and the other shape modifiers (offset paths, zig-zags, pucker and
-//! bloat, twists), other effects, expressions (the property's own value is
-//! used).
+//! given (measured as a point), merge paths and twists (lottie-web applies neither), effects
+//! other than Gaussian Blur and Drop Shadow, expressions (the property's own value is used).
+//! Offset paths, zig-zags, pucker and bloat, round corners and repeaters are drawn, as
+//! lottie-web's modifiers make them.
 //!
 //! **Errors.** Nothing in the input can make the import panic: every value is checked as it
 //! is read, and every error names its JSON location (`$.layers[3].ks.p.k[1].s`); the
