@@ -58,6 +58,7 @@ fn put_then_lottie(c: &mut Criterion) {
             imported: Imported {
                 scene,
                 source: None,
+                package: None,
             },
             rescene: None,
             run: RunOptions::default(),

@@ -218,7 +218,8 @@ enum Command {
         /// The first seed.
         #[arg(long, default_value_t = 0)]
         seed_start: u64,
-        /// A `.png` contact sheet, or a folder (one PNG per seed).
+        /// A `.png` contact sheet, a `.lottie` package (one animation `seed_S` per seed),
+        /// or a folder (one PNG per seed).
         #[arg(short, long)]
         output: PathBuf,
         /// The instant shown, in seconds (default: half the duration).
@@ -404,6 +405,10 @@ struct ImportArgs {
     /// are measured (default 0, the first frame).
     #[arg(long, value_name = "SECONDS")]
     reference_time: Option<f64>,
+    /// dotLottie scenes (.lottie): the id of the animation to read (default: the
+    /// package's initial animation, else its first; `check` lists them).
+    #[arg(long, value_name = "ID")]
+    animation: Option<String>,
 }
 
 #[derive(ValueEnum, Clone, Copy, Debug)]

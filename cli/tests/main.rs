@@ -19,6 +19,7 @@ mod support;
 mod cli;
 mod cli_errors;
 mod designer;
+mod dotlottie;
 mod filters;
 mod fuzz;
 // Every test here plays exports or reads the Lottie corpus.

@@ -33,6 +33,7 @@
 #![forbid(unsafe_code)]
 
 pub mod build;
+pub mod dotlottie;
 pub mod effects;
 pub mod eval;
 pub mod fonts;

@@ -34,6 +34,7 @@ pub mod transitions;
 pub mod write;
 
 pub use env::{Env, LIMITS, Limits, short};
+pub use gmotion_output::dotlottie::{self, Picked};
 pub use gmotion_output::{Format, LottieSource, OutputError};
 pub use grammar::{GrammarFile, Overrides};
 pub use project::{Project, Rescene};

@@ -116,6 +116,7 @@ impl Project {
         Ok(Rendered {
             anim,
             source: imported.source,
+            package: imported.package,
             timelines,
         })
     }

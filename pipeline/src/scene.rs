@@ -10,6 +10,7 @@ use gmotion::{TagFrom, Units};
 use gmotion_import_lottie as lottie_import;
 use gmotion_import_svg::{self as svg_import, ImportOptions};
 use gmotion_output::LottieSource;
+use gmotion_output::dotlottie::{Package, Picked};
 
 use crate::env::Env;
 use crate::grammar::GrammarFile;
@@ -30,6 +31,9 @@ pub struct ImportChoices {
     pub tags: Option<PathBuf>,
     /// Lottie scenes: the time, in seconds, at which units are measured.
     pub reference_time: Option<f64>,
+    /// dotLottie scenes: the id of the animation to read (default: the package's initial
+    /// animation, else its first).
+    pub animation: Option<String>,
 }
 
 /// How to import a scene: as SVG, or as Lottie.
@@ -42,6 +46,8 @@ pub struct SceneOptions {
     /// The grammar whose `reference_time` the Lottie import uses (its path, text and the
     /// directive's place), to blame for a time outside the composition.
     reference_from: Option<(PathBuf, String, gmotion::grammar::ast::Span)>,
+    /// dotLottie scenes: the animation to read ([`ImportChoices::animation`]).
+    animation: Option<String>,
 }
 
 impl SceneOptions {
@@ -109,6 +115,7 @@ impl SceneOptions {
                 (None, Some(g), Some((_, span))) => Some((g.path.clone(), g.src.clone(), *span)),
                 _ => None,
             },
+            animation: choices.animation.clone(),
         })
     }
 }
@@ -135,11 +142,38 @@ pub struct Imported {
     pub scene: Scene,
     /// Its Lottie document.
     pub source: Option<Arc<LottieSource>>,
+    /// The dotLottie package the document was read from, if it was, and which of its
+    /// animations it is: a `.lottie` output keeps the others.
+    pub package: Option<Arc<Picked>>,
 }
 
-/// Whether a scene file is Lottie JSON: by its `.json` extension, else by starting with
-/// `{` (an SVG starts with `<`).
+/// Whether a scene file is a dotLottie package: by its `.lottie` extension, else by
+/// starting as a zip archive does.
+pub fn is_dotlottie(path: &Path) -> bool {
+    if let Some(ext) = path.extension().and_then(|e| e.to_str()) {
+        if ext.eq_ignore_ascii_case("lottie") {
+            return true;
+        }
+        if ext.eq_ignore_ascii_case("json") || ext.eq_ignore_ascii_case("svg") {
+            return false;
+        }
+    }
+    if !matches!(gmotion::input::irregular_kind(path), Ok(None)) {
+        return false;
+    }
+    let mut head = [0u8; 4];
+    let n = std::fs::File::open(path)
+        .and_then(|mut f| std::io::Read::read(&mut f, &mut head))
+        .unwrap_or(0);
+    Package::sniff(&head[..n])
+}
+
+/// Whether a scene file is Lottie: JSON by its `.json` extension or by starting with `{`
+/// (an SVG starts with `<`), or a dotLottie package ([`is_dotlottie`]).
 pub fn is_lottie(path: &Path) -> bool {
+    if is_dotlottie(path) {
+        return true;
+    }
     if let Some(ext) = path.extension().and_then(|e| e.to_str()) {
         if ext.eq_ignore_ascii_case("json") {
             return true;
@@ -173,9 +207,16 @@ impl Imported {
         for w in &imported.warnings {
             (env.warn)(path, w);
         }
+        if options.animation.is_some() {
+            return Err(Error::msg(format!(
+                "{}: error: --animation picks an animation of a dotLottie (.lottie) package; this scene is SVG",
+                path.display()
+            )));
+        }
         Ok(Imported {
             scene: imported.scene,
             source: None,
+            package: None,
         })
     }
 
@@ -200,13 +241,22 @@ impl Imported {
                 path.display()
             )));
         }
-        let imported = lottie_import::load(path, &options.lottie).map_err(|e| {
-            match (&e, &options.reference_from) {
-                (lottie_import::ImportError::ReferenceTime { .. }, Some((grammar, src, span))) => {
-                    crate::grammar::located(grammar, src, &EngineError::at(*span, e.to_string()))
-                }
-                _ => Error::msg(e.to_string()),
+        let (imported, package) = if is_dotlottie(path) {
+            let (imported, picked) = Imported::read_package(path, options, env)?;
+            (imported, Some(Arc::new(picked)))
+        } else if options.animation.is_some() {
+            return Err(Error::msg(format!(
+                "{}: error: --animation picks an animation of a dotLottie (.lottie) package; this is a plain Lottie file with one",
+                path.display()
+            )));
+        } else {
+            (lottie_import::load(path, &options.lottie), None)
+        };
+        let imported = imported.map_err(|e| match (&e, &options.reference_from) {
+            (lottie_import::ImportError::ReferenceTime { .. }, Some((grammar, src, span))) => {
+                crate::grammar::located(grammar, src, &EngineError::at(*span, e.to_string()))
             }
+            _ => Error::msg(e.to_string()),
         })?;
         for w in &imported.warnings {
             (env.warn)(path, w);
@@ -214,7 +264,38 @@ impl Imported {
         Ok(Imported {
             scene: imported.scene,
             source: Some(Arc::new(imported.source)),
+            package,
         })
+    }
+
+    /// Reads the dotLottie package at `path` and imports the animation
+    /// [`ImportChoices::animation`] names (else the package's initial one): the import's
+    /// result, and the package with the id picked. The images the animation links from
+    /// the package are put inline first, so it draws them.
+    fn read_package(
+        path: &Path,
+        options: &SceneOptions,
+        env: &Env,
+    ) -> Result<(
+        std::result::Result<lottie_import::Imported, lottie_import::ImportError>,
+        Picked,
+    )> {
+        let name = path.display().to_string();
+        let limit = env.limits.get("input-bytes");
+        let bytes = gmotion::input::read_regular(path, limit)
+            .map_err(|e| Error::msg(format!("{name}: error: cannot read the scene: {e}")))?;
+        let package =
+            Package::read(&bytes, &name, limit).map_err(|e| Error::msg(format!("error: {e}")))?;
+        let entry = package
+            .pick(options.animation.as_deref(), &name)
+            .map_err(|e| Error::msg(format!("error: {e}")))?;
+        let json = package
+            .resolved(entry, &name)
+            .map_err(|e| Error::msg(format!("error: {e}")))?;
+        let source_name = format!("{name} (animation `{}`)", entry.id);
+        let imported = lottie_import::from_json(json, &source_name, &options.lottie);
+        let id = entry.id.clone();
+        Ok((imported, Picked { package, id }))
     }
 
     /// Which `--tag-from` would name an SVG scene's shapes better, when most of its tags

@@ -78,6 +78,7 @@ impl Transitions {
         Ok(Rendered {
             anim,
             source: None,
+            package: None,
             timelines: None,
         })
     }

@@ -8,6 +8,7 @@ use gmotion::Warning;
 use gmotion::canvas::OutputSize;
 use gmotion::engine::expand::Expansion;
 use gmotion::motion::Animation;
+use gmotion_output::dotlottie::Picked;
 use gmotion_output::{self as output, LottieSource};
 
 use crate::Result;
@@ -23,11 +24,14 @@ pub struct Rendered {
     pub anim: Animation,
     /// The Lottie document the scene came from, if it came from one.
     pub source: Option<Arc<LottieSource>>,
+    /// The dotLottie package that document came from, if it did: a `.lottie` output is
+    /// that package with the animation replaced.
+    pub package: Option<Arc<Picked>>,
     /// Every shape's final slices, when the run kept them ([`crate::Project::run`]).
     pub timelines: Option<Expansion>,
 }
 
-/// Writes by extension: `.json` Lottie, `.svg` SMIL, `.png` the frame at
+/// Writes by extension: `.json` Lottie, `.lottie` dotLottie, `.svg` SMIL, `.png` the frame at
 /// [`output::Options::time`], `.gif`, `.apng`, `.html` (the page, [`html`]), and a path
 /// without extension (or an existing folder, or a `%04d` pattern) a PNG per frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -76,6 +80,7 @@ impl Writer {
         Ok(output::write_over_source(
             &r.anim,
             r.source.as_deref(),
+            r.package.as_deref(),
             path,
             &self.options,
             tick,
@@ -93,19 +98,22 @@ impl Writer {
         Ok(output::bytes_over_source(
             &r.anim,
             r.source.as_deref(),
+            r.package.as_deref(),
             path,
             &self.options,
         )?)
     }
 
     /// Writes a still scene to `path`: `.png` rendered, `.json` a still Lottie (a Lottie
-    /// source written back as it was read), `.svg` a clean SVG; a Lottie source, which
+    /// source written back as it was read), `.lottie` that packaged (in the package it
+    /// came from, the other animations and themes kept), `.svg` a clean SVG; a Lottie source, which
     /// moves by itself, is also played to `.gif`, `.apng` or a folder of frames, and to
     /// `.svg` when [`output::Options::play_svg`].
     pub fn write_still(&self, still: &Imported, path: &Path) -> Result<Vec<Warning>> {
         Ok(output::write_still_over_source(
             &still.scene,
             still.source.as_deref(),
+            still.package.as_deref(),
             path,
             &self.options,
         )?)

@@ -214,6 +214,9 @@ fn route(ctx: &Ctx, request: &mut Request) -> Reply {
         (Method::Get, "/export/lottie") => {
             export(live, &live.good(), "json", 0.0, Some("animation.json"))
         }
+        (Method::Get, "/export/dotlottie") => {
+            export(live, &live.good(), "lottie", 0.0, Some("animation.lottie"))
+        }
         (Method::Get, "/export/smil") => {
             export(live, &live.good(), "svg", 0.0, Some("animation.svg"))
         }
@@ -244,6 +247,7 @@ fn export(
             status: 200,
             kind: match ext {
                 "json" => "application/json",
+                "lottie" => "application/zip",
                 "svg" => "image/svg+xml",
                 "png" => "image/png",
                 "gif" => "image/gif",

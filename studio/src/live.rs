@@ -14,7 +14,7 @@ use gmotion::engine::{self, RunOptions};
 use gmotion::grammar::ast::{Grammar, Span};
 use gmotion::grammar::{self, diagnostics::Diagnostic};
 use gmotion::tagging::{TagFrom, Units};
-use gmotion_pipeline::{LottieSource, Rendered, Rescene, Writer};
+use gmotion_pipeline::{LottieSource, Picked, Rendered, Rescene, Writer};
 use serde_json::{Value, json};
 
 use crate::Config;
@@ -52,6 +52,8 @@ pub(crate) struct Built {
 pub(crate) struct Imported {
     pub scene: Scene,
     pub source: Option<Arc<LottieSource>>,
+    /// The dotLottie package the source came from, if it did.
+    pub package: Option<Arc<Picked>>,
     /// The grammar settings it was imported under ([`ImportKey`]).
     key: ImportKey,
 }
@@ -167,6 +169,7 @@ fn build(
         rendered: Rendered {
             anim,
             source: imported.source.clone(),
+            package: imported.package.clone(),
             timelines: None,
         },
         grammar,
@@ -194,6 +197,7 @@ impl Live {
         let imported = Arc::new(Imported {
             scene: config.imported.scene,
             source: config.imported.source,
+            package: config.imported.package,
             // The scene was imported under the grammar as it was at start.
             key: match &parsed {
                 Ok((_, settings)) => ImportKey::of(settings),
@@ -282,8 +286,13 @@ impl Live {
                 format!("the scene could not be imported under these settings: {why}"),
             )]
         })?;
-        let (scene, source) = (again.scene, again.source);
-        *current = Arc::new(Imported { scene, source, key });
+        let (scene, source, package) = (again.scene, again.source, again.package);
+        *current = Arc::new(Imported {
+            scene,
+            source,
+            package,
+            key,
+        });
         Ok(Arc::clone(&current))
     }
 
@@ -333,6 +342,7 @@ impl Live {
             rendered: Rendered {
                 anim,
                 source: good.scene.source.clone(),
+                package: good.scene.package.clone(),
                 timelines: None,
             },
             grammar: good.grammar.clone(),

@@ -126,7 +126,8 @@ pub fn hint_tags(path: &Path, options: &SceneOptions, loaded: &Imported, env: &E
 }
 
 /// The units of a scene, one line each: tag and id, bounding box, centroid, the other tags
-/// the unit answers to (ids, a tag map's), and for a Lottie scene the layers it moves.
+/// the unit answers to (ids, a tag map's), and for a Lottie scene the layers it moves (and
+/// the animations of the dotLottie package it was read from).
 /// With `json`, the units as the studio lists them instead, on one line.
 fn shape_list(path: &Path, loaded: &Imported, json: bool) -> String {
     use std::fmt::Write as _;
@@ -152,6 +153,30 @@ fn shape_list(path: &Path, loaded: &Imported, json: bool) -> String {
             "  measured at frame {} ({:.3}s from the start; `reference_time` sets another)",
             short(src.frame),
             (src.frame - src.document.ip) / src.document.fr
+        );
+    }
+    if let Some(picked) = &loaded.package {
+        let names = |ids: Vec<String>| {
+            ids.iter()
+                .map(|id| match id == &picked.id {
+                    true => format!("`{id}` (read)"),
+                    false => format!("`{id}`"),
+                })
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let pkg = &picked.package;
+        let _ = writeln!(
+            out,
+            "  dotLottie package: animations {}{} (`--animation ID` reads another)",
+            names(pkg.ids()),
+            match pkg.themes.len() {
+                0 => String::new(),
+                _ => format!(
+                    "; themes {}",
+                    names(pkg.themes.iter().map(|t| t.id.clone()).collect())
+                ),
+            }
         );
     }
     for (i, s) in scene.shapes.iter().enumerate() {

@@ -161,6 +161,7 @@ impl ImportArgs {
             unit_depth: self.unit_depth,
             tags: self.tags.clone(),
             reference_time: self.reference_time,
+            animation: self.animation.clone(),
         }
     }
 }
@@ -185,9 +186,9 @@ enum Kind {
     Unknown,
 }
 
-/// A file's kind by its extension (`.gm`; `.svg`, `.json`), else by its first character:
-/// SVG starts with `<` and Lottie JSON with `{` (after a byte-order mark and blanks), a
-/// grammar never does.
+/// A file's kind by its extension (`.gm`; `.svg`, `.json`, `.lottie`), else by its first
+/// bytes: SVG starts with `<` and Lottie JSON with `{` (after a byte-order mark and blanks),
+/// a dotLottie package as a zip does (`PK`), a grammar never does.
 fn kind_of(path: &Path) -> Kind {
     let ext = path
         .extension()
@@ -195,7 +196,7 @@ fn kind_of(path: &Path) -> Kind {
         .map(str::to_ascii_lowercase);
     match ext.as_deref() {
         Some("gm") => return Kind::Grammar,
-        Some("svg" | "json") => return Kind::Scene,
+        Some("svg" | "json" | "lottie") => return Kind::Scene,
         _ => {}
     }
     // A FIFO or device is not opened (it could block or never end); reading it later
@@ -209,6 +210,9 @@ fn kind_of(path: &Path) -> Kind {
         Ok(n) => n,
         Err(_) => return Kind::Unknown,
     };
+    if gmotion_pipeline::dotlottie::Package::sniff(&head[..n]) {
+        return Kind::Scene;
+    }
     let text = String::from_utf8_lossy(&head[..n]);
     match text
         .trim_start_matches('\u{feff}')

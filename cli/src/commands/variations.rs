@@ -1,12 +1,14 @@
 //! `gmotion variations`: the grammar run once per seed, each run's frame at one instant,
-//! as a labelled contact sheet or a folder of `seed_S.png`.
+//! as a labelled contact sheet or a folder of `seed_S.png`; or each run whole, as the
+//! animations `seed_S` of one dotLottie package.
 
 use std::path::{Path, PathBuf};
 
 use gmotion::canvas::OutputSize;
 use gmotion::engine::RunOptions;
 use gmotion_export_raster as raster;
-use gmotion_pipeline::{ImportChoices, Project, short};
+use gmotion_pipeline::dotlottie::Package;
+use gmotion_pipeline::{ImportChoices, Project, Rendered, Writer, short};
 
 use super::{Ctx, Files, create_dir, write_all};
 use crate::guard;
@@ -18,7 +20,7 @@ pub struct Variations {
     pub files: Files,
     /// The seeds, in order.
     pub seeds: Vec<u64>,
-    /// A `.png` contact sheet, or a folder.
+    /// A `.png` contact sheet, a `.lottie` package, or a folder.
     pub output: PathBuf,
     /// The instant shown (default: half the duration).
     pub time: Option<f64>,
@@ -36,13 +38,15 @@ impl Variations {
         if self.seeds.is_empty() || width == 0 {
             return Err(CliError::msg("--count and --width must be at least 1"));
         }
-        let sheet = out
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+        let extension = |ext: &str| out.extension().is_some_and(|e| e.eq_ignore_ascii_case(ext));
+        let sheet = extension("png");
         guard::check_not_input(&[out], &[&self.files.grammar])?;
         let env = &ctx.env;
         let project = Project::load(self.files.scene(), &self.files.grammar, &self.choices, env)?;
         project.imported.check_drawable(&project.scene_path)?;
+        if extension("lottie") {
+            return self.package(&project, ctx);
+        }
         let duration = project.grammar.settings.duration;
         let t = self.time.unwrap_or(duration / 2.0);
         if !(t.is_finite() && (0.0..=duration).contains(&t)) {
@@ -97,6 +101,55 @@ impl Variations {
             frames.len(),
             frames[0].0,
             short(t)
+        ));
+        Ok(())
+    }
+
+    /// Runs every seed and writes the animations into one dotLottie package, `seed_S`
+    /// each, in seed order (the first the one a player shows).
+    fn package(&self, project: &Project, ctx: &Ctx) -> Result<()> {
+        use rayon::prelude::*;
+        let out = self.output.as_path();
+        let writer = Writer::new(OutputSize::default(), &ctx.env.limits);
+        let texts = self
+            .seeds
+            .par_iter()
+            .map(|&seed| {
+                let opts = RunOptions {
+                    seed: Some(seed),
+                    ..RunOptions::default()
+                };
+                let rendered = Rendered {
+                    anim: project.animate(&opts)?,
+                    source: project.imported.source.clone(),
+                    package: None,
+                    timelines: None,
+                };
+                let name = format!("seed_{seed}");
+                let (bytes, warnings) =
+                    writer.bytes(&rendered, Path::new(&name).with_extension("json").as_path())?;
+                for w in &warnings {
+                    crate::report::warn(out, w);
+                }
+                Ok((name, String::from_utf8_lossy(&bytes).into_owned()))
+            })
+            .collect::<Result<Vec<_>>>()?;
+        let mut package = Package::new();
+        let error = |e: gmotion_pipeline::dotlottie::PackageError| {
+            CliError::msg(format!("{}: {e}", out.display()))
+        };
+        for (id, text) in &texts {
+            package.put_animation(id, text).map_err(error)?;
+        }
+        let bytes = package.to_bytes().map_err(error)?;
+        gmotion::atomic::write_bytes(out, &bytes)
+            .map_err(|e| CliError::msg(format!("{}: cannot write output: {e}", out.display())))?;
+        crate::report::note(&format!(
+            "wrote {} ({} animations, seeds {} to {})",
+            out.display(),
+            texts.len(),
+            self.seeds[0],
+            self.seeds[self.seeds.len() - 1]
         ));
         Ok(())
     }

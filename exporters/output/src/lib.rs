@@ -39,6 +39,8 @@ use rayon::prelude::*;
 /// is that document written back, with the animation's motion layered on top
 /// ([`gmotion_export_lottie::layered`]).
 pub use gmotion_lottie::Source as LottieSource;
+pub use gmotion_lottie::dotlottie;
+use gmotion_lottie::dotlottie::{Package, Picked};
 
 /// What an output path asks for, by its extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -47,6 +49,9 @@ pub enum Format {
     Png,
     /// Lottie JSON.
     Lottie,
+    /// dotLottie: the Lottie JSON in a `.lottie` package ([`dotlottie`]), with the other
+    /// animations and the themes of the package the scene was read from, if it was.
+    DotLottie,
     /// SVG (animated SMIL, or a clean still).
     Svg,
     /// Animated GIF preview.
@@ -73,6 +78,7 @@ impl Format {
         {
             Some("png") => Ok(Format::Png),
             Some("json") => Ok(Format::Lottie),
+            Some("lottie") => Ok(Format::DotLottie),
             Some("svg") => Ok(Format::Svg),
             Some("gif") => Ok(Format::Gif),
             Some("apng") => Ok(Format::Apng),
@@ -86,7 +92,15 @@ impl Format {
 
     /// Whether the format holds one still picture (what `convert` writes).
     pub fn is_still(self) -> bool {
-        matches!(self, Format::Png | Format::Lottie | Format::Svg)
+        matches!(
+            self,
+            Format::Png | Format::Lottie | Format::DotLottie | Format::Svg
+        )
+    }
+
+    /// Whether the format is a Lottie document, plain or packaged.
+    pub fn is_lottie(self) -> bool {
+        matches!(self, Format::Lottie | Format::DotLottie)
     }
 }
 
@@ -132,7 +146,7 @@ impl Default for Options {
 pub enum OutputError {
     /// The extension names no format gmotion writes.
     #[error(
-        "{}: unknown output format `.{extension}`; use .png, .json (Lottie), .svg, .gif, .apng or a directory",
+        "{}: unknown output format `.{extension}`; use .png, .json (Lottie), .lottie (dotLottie), .svg, .gif, .apng or a directory",
         path.display()
     )]
     UnknownFormat {
@@ -142,7 +156,7 @@ pub enum OutputError {
         extension: String,
     },
     /// A still scene cannot be written as an animation format.
-    #[error("{}: a still picture is written as .png, .json or .svg, not {format:?}", path.display())]
+    #[error("{}: a still picture is written as .png, .json, .lottie or .svg, not {format:?}", path.display())]
     NotStill {
         /// The output.
         path: PathBuf,
@@ -250,6 +264,15 @@ pub enum OutputError {
         /// Why.
         #[source]
         source: lottie::LottieError,
+    },
+    /// The dotLottie package could not be written.
+    #[error("{}: {source}", path.display())]
+    Package {
+        /// The output.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        source: dotlottie::PackageError,
     },
     /// The SMIL exporter refused the animation.
     #[error("{}: {source}", path.display())]
@@ -573,11 +596,12 @@ fn write_staged(
                 }
             }
         }
-        Format::Lottie => {
+        Format::Lottie | Format::DotLottie => {
             return write_lottie(
                 path,
                 lottie::to_lottie_text(anim, &lottie_options(opts)),
                 target,
+                None,
             );
         }
         Format::Svg => {
@@ -591,16 +615,26 @@ fn write_staged(
     Ok(Vec::new())
 }
 
-/// [`write_with_progress`] for a scene imported from `source`: a `.json` output is the
-/// source document with the motion layered on top; other formats render the scene.
+/// [`write_with_progress`] for a scene imported from `source`: a `.json` or `.lottie`
+/// output is the source document with the motion layered on top; other formats render the
+/// scene. A `.lottie` output over the `package` the source was read from is that package
+/// with the animation replaced (the others, the themes and the images kept).
 pub fn write_over_source(
     anim: &Animation,
     source: Option<&LottieSource>,
+    package: Option<&Picked>,
     path: &Path,
     opts: &Options,
     tick: &(dyn Fn() + Sync),
 ) -> Result<Vec<Warning>, OutputError> {
-    staged_over_source(Stage { anim, source }, path, opts, tick, Target::File)
+    staged_over_source(
+        Stage { anim, source },
+        package,
+        path,
+        opts,
+        tick,
+        Target::File,
+    )
 }
 
 /// The bytes [`write_over_source`] would write to `path` (which names the format and is
@@ -610,18 +644,21 @@ pub fn write_over_source(
 pub fn bytes_over_source(
     anim: &Animation,
     source: Option<&LottieSource>,
+    package: Option<&Picked>,
     path: &Path,
     opts: &Options,
 ) -> Result<(Vec<u8>, Vec<Warning>), OutputError> {
     let mut bytes = Vec::new();
     let stage = Stage { anim, source };
-    let warnings = staged_over_source(stage, path, opts, &|| {}, Target::Memory(&mut bytes))?;
+    let target = Target::Memory(&mut bytes);
+    let warnings = staged_over_source(stage, package, path, opts, &|| {}, target)?;
     Ok((bytes, warnings))
 }
 
 /// [`write_over_source`] to `target`.
 fn staged_over_source(
     stage: Stage,
+    package: Option<&Picked>,
     path: &Path,
     opts: &Options,
     tick: &(dyn Fn() + Sync),
@@ -631,10 +668,11 @@ fn staged_over_source(
     let (source, said) = lasting(anim, stage.source);
     let source = source.as_deref();
     let mut warnings = match source {
-        Some(src) if Format::of(path)? == Format::Lottie => write_lottie(
+        Some(src) if Format::of(path)?.is_lottie() => write_lottie(
             path,
             lottie::layered::over_source(anim, src, &lottie_options(opts)),
             target,
+            package,
         ),
         _ => write_staged(Stage { anim, source }, path, opts, tick, target),
     }?;
@@ -721,22 +759,28 @@ fn smil_pieces(
 }
 
 /// [`write_still`] for a scene imported from `source`: a `.json` output is the source
-/// document as it was read (the identity); other formats render the scene.
+/// document as it was read (the identity), a `.lottie` output that document packaged (in
+/// the `package` it came from, if it came from one); other formats render the scene.
 pub fn write_still_over_source(
     scene: &Scene,
     source: Option<&LottieSource>,
+    package: Option<&Picked>,
     path: &Path,
     opts: &Options,
 ) -> Result<Vec<Warning>, OutputError> {
     match source {
-        Some(src) if Format::of(path)? == Format::Lottie => {
+        Some(src) if Format::of(path)?.is_lottie() => {
             let mut warnings = Vec::new();
             if opts.size.fit(scene.width, scene.height).is_some() {
                 warnings.push(Warning::new(
                     "--width/--height do not resize a Lottie source; its composition size is kept",
                 ));
             }
-            write_file(path, lottie::layered::source_verbatim(src).as_bytes())?;
+            let text = lottie::layered::source_verbatim(src);
+            match Format::of(path)? {
+                Format::DotLottie => write_file(path, &packaged(path, &text, package)?)?,
+                _ => write_file(path, text.as_bytes())?,
+            }
             Ok(warnings)
         }
         // A Lottie source moves by itself: it is played, each frame evaluated from the
@@ -823,10 +867,11 @@ pub fn write_still(
             })?;
             Ok(Vec::new())
         }
-        Format::Lottie => write_lottie(
+        Format::Lottie | Format::DotLottie => write_lottie(
             path,
             lottie::still_to_lottie(scene, &lottie_options(opts)),
             Target::File,
+            None,
         ),
         Format::Svg => {
             let svg = frame::scene_svg(scene);
@@ -852,17 +897,33 @@ fn lottie_options(opts: &Options) -> LottieOptions {
     }
 }
 
-/// Writes an exporter's Lottie (or says why it refused) and passes its warnings on.
+/// Writes an exporter's Lottie (or says why it refused) and passes its warnings on: the
+/// JSON itself, or for a `.lottie` path the JSON packaged ([`packaged`], over `package`).
 fn write_lottie<T: Into<lottie::LottieText>>(
     path: &Path,
     exported: Result<(T, Vec<Warning>), lottie::LottieError>,
     target: Target,
+    package: Option<&Picked>,
 ) -> Result<Vec<Warning>, OutputError> {
     let (json, warnings) = exported.map_err(|source| OutputError::Lottie {
         path: path.to_path_buf(),
         source,
     })?;
     let json: lottie::LottieText = json.into();
+    if Format::of(path)? == Format::DotLottie {
+        let mut text = Vec::new();
+        json.write_to(&mut text).map_err(|source| OutputError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        // The exporter writes JSON text, so UTF-8; lossy only to stay total.
+        let bytes = packaged(path, &String::from_utf8_lossy(&text), package)?;
+        match target {
+            Target::File => write_file(path, &bytes)?,
+            Target::Memory(out) => *out = bytes,
+        }
+        return Ok(warnings);
+    }
     let many = json.pieces() >= BACKGROUND_FREE_PIECES;
     write_text(path, json, many, |t, mut out| t.write_to(&mut out), target)?;
     Ok(warnings)
@@ -893,6 +954,25 @@ fn write_text<T: Send + 'static>(
         Ok(())
     })
     .map_err(io_error)
+}
+
+/// The dotLottie package a `.lottie` output at `path` holds: the Lottie `text` put into
+/// `package` in place of the animation the scene was read from, or alone in a new package
+/// under an id made from the file name.
+fn packaged(path: &Path, text: &str, package: Option<&Picked>) -> Result<Vec<u8>, OutputError> {
+    let (mut pkg, id) = match package {
+        Some(p) => (p.package.clone(), p.id.clone()),
+        None => {
+            let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("");
+            (Package::new(), dotlottie::id_for(stem))
+        }
+    };
+    let error = |source| OutputError::Package {
+        path: path.to_path_buf(),
+        source,
+    };
+    pkg.put_animation(&id, text).map_err(error)?;
+    pkg.to_bytes().map_err(error)
 }
 
 /// From this many pieces a written Lottie or SVG text is freed on the thread pool.

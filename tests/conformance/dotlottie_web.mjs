@@ -1,0 +1,94 @@
+// Plays dotLottie packages (.lottie) in @lottiefiles/dotlottie-web (LottieFiles' player, ThorVG
+// compiled to wasm) inside headless Chromium and writes the requested frames as transparent
+// PNGs. The player's module and its wasm are served from node_modules: nothing is fetched
+// from the network (the player's CDN fallback is turned off by setWasmUrl).
+//
+//   node dotlottie_web.mjs JOBS.json
+//
+// JOBS.json: [{"lottie": "a.lottie", "animation": "id" (optional: the package's initial one),
+//              "width": 300, "height": 200, "frames": [0, 5], "out": ["a-0.png", "a-5.png"]}, …]
+// Also prints, per job, a line {"lottie": …, "manifest": …, "totalFrames": …, "markers": [...]}
+// on stdout: what the player read from the package. A job that fails is
+// reported on stderr with its file and the run goes on; the exit status is 1 if any failed.
+import { readFileSync } from 'node:fs';
+import { join, dirname } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+
+const here = dirname(fileURLToPath(import.meta.url));
+const dist = join(here, 'node_modules/@lottiefiles/dotlottie-web/dist');
+const origin = 'http://dotlottie.test';
+
+const browser = await chromium.launch({
+  executablePath: '/usr/bin/chromium',
+  args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+    '--disable-background-networking', '--disable-component-update', '--disable-sync'],
+});
+const page = await browser.newPage({ deviceScaleFactor: 1 });
+// The page, the player's module and its wasm from the package; anything else is refused.
+await page.route('**/*', (route) => {
+  const url = new URL(route.request().url());
+  if (url.origin !== origin) return route.abort();
+  if (url.pathname === '/') {
+    return route.fulfill({ contentType: 'text/html', body: '<!doctype html><html><body style="margin:0;background:transparent"><canvas id="c"></canvas></body></html>' });
+  }
+  if (url.pathname === '/index.js') {
+    return route.fulfill({ contentType: 'text/javascript', body: readFileSync(join(dist, 'index.js')) });
+  }
+  if (url.pathname === '/dotlottie-player.wasm') {
+    return route.fulfill({ contentType: 'application/wasm', body: readFileSync(join(dist, 'dotlottie-player.wasm')) });
+  }
+  return route.fulfill({ status: 404, body: '' });
+});
+await page.goto(origin + '/');
+await page.evaluate(async (origin) => {
+  const { DotLottie } = await import(origin + '/index.js');
+  DotLottie.setWasmUrl(origin + '/dotlottie-player.wasm');
+  window.DotLottie = DotLottie;
+}, origin);
+
+let failed = false;
+for (const job of JSON.parse(readFileSync(process.argv[2], 'utf8'))) {
+  try {
+    const data = [...readFileSync(job.lottie)];
+    await page.setViewportSize({ width: job.width, height: job.height });
+    const info = await page.evaluate(async ({ data, job }) => {
+      if (window.player) window.player.destroy();
+      const canvas = document.getElementById('c');
+      canvas.style.width = job.width + 'px';
+      canvas.style.height = job.height + 'px';
+      canvas.width = job.width;
+      canvas.height = job.height;
+      const player = new window.DotLottie({
+        canvas, data: new Uint8Array(data).buffer, autoplay: false, loop: false,
+        renderConfig: { devicePixelRatio: 1, autoResize: false, freezeOnOffscreen: false },
+        ...(job.animation ? { animationId: job.animation } : {}),
+      });
+      window.player = player;
+      const loaded = () => new Promise((resolve, reject) => {
+        player.addEventListener('load', resolve);
+        player.addEventListener('loadError', (e) => reject(new Error(String(e.error || 'loadError'))));
+      });
+      await loaded();
+      // The config's animationId loses to a manifest's initial animation: ask by name.
+      if (job.animation) {
+        const again = loaded();
+        player.loadAnimation(job.animation);
+        await again;
+      }
+      return {
+        manifest: player.manifest, totalFrames: player.totalFrames, markers: player.markers(),
+      };
+    }, { data, job });
+    console.log(JSON.stringify({ lottie: job.lottie, ...info }));
+    for (let i = 0; i < job.frames.length; i++) {
+      await page.evaluate((f) => window.player.setFrame(f), job.frames[i]);
+      await page.screenshot({ path: job.out[i], omitBackground: true });
+    }
+  } catch (e) {
+    failed = true;
+    console.error(`dotlottie-web: ${job.lottie}: ${String(e.message || e).split('\n')[0]}`);
+  }
+}
+await browser.close();
+process.exit(failed ? 1 : 0);
