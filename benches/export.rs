@@ -111,7 +111,7 @@ fn export(anim: &Animation, path: &str) -> String {
     let path = PathBuf::from(path);
     let opts = Options::default();
     let text = if path.extension().is_some_and(|e| e == "json") {
-        gmotion_output::lottie_text(anim, None, &path, &opts)
+        gmotion_output::lottie_text(anim, None, &[], &path, &opts)
     } else {
         gmotion_output::smil_text(anim, None, &path, &opts)
     };

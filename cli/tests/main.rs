@@ -27,6 +27,7 @@ mod fuzz;
 mod hierarchy;
 mod images;
 mod lottie_import;
+mod markers;
 // Every test here plays exports or reads the Lottie corpus.
 #[cfg(feature = "players")]
 mod lottie_time;

@@ -71,7 +71,7 @@ fuzz_target!(|data: &[u8]| {
         max_pixels: 1 << 16,
         ..gmotion_output::Options::default()
     };
-    let _ = gmotion_output::lottie_text(&anim, None, Path::new("x.json"), &out);
+    let _ = gmotion_output::lottie_text(&anim, None, &[], Path::new("x.json"), &out);
     let _ = gmotion_output::smil_text(&anim, None, Path::new("x.svg"), &out);
     let frame = gmotion_export_svg::frame::frame_svg(&anim, out.time);
     let _ = gmotion_export_raster::render_limited(&frame, SIZE, out.max_pixels);

@@ -53,5 +53,5 @@ fuzz_target!(|data: &[u8]| {
         return;
     };
     let opts = gmotion_output::Options::default();
-    let _ = gmotion_output::lottie_text(&anim, Some(src), Path::new("out.json"), &opts);
+    let _ = gmotion_output::lottie_text(&anim, Some(src), &[], Path::new("out.json"), &opts);
 });

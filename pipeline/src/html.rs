@@ -133,14 +133,26 @@ body {{ font: 14px system-ui, sans-serif; margin: 1em; background: #f4f4f4; }}
 <body>
 <h1>{title}</h1>
 <div class="panes">
-<div class="pane"><h2>Lottie (lottie-web)</h2><div id="lottie"></div></div>
+<div class="pane"><h2>Lottie (lottie-web)</h2><div id="lottie"></div><p id="markers"></p></div>
 <div class="pane"><h2>Animated SVG (SMIL)</h2><div id="smil">{smil}</div></div>
 </div>
 {timeline}
 <script>{player}</script>
 <script>
 const data = {data};
-lottie.loadAnimation({{ container: document.getElementById('lottie'), renderer: 'svg', loop: true, autoplay: true, animationData: data }});
+const anim = lottie.loadAnimation({{ container: document.getElementById('lottie'), renderer: 'svg', loop: true, autoplay: true, animationData: data }});
+// A button per marker (the grammar's `markers`, or a Lottie scene's own) loops its span.
+const buttons = document.getElementById('markers');
+const button = (label, play) => {{
+  const b = document.createElement('button');
+  b.textContent = label;
+  b.onclick = play;
+  buttons.appendChild(b);
+}};
+if ((data.markers || []).length) {{
+  button('all', () => {{ anim.resetSegments(true); anim.goToAndPlay(0, true); }});
+  for (const m of data.markers) button(m.cm, () => anim.playSegments([m.tm, m.tm + m.dr], true));
+}}
 </script>
 </body></html>
 "#,
@@ -165,7 +177,7 @@ pub fn page(
     opts: &Options,
 ) -> Result<(String, Vec<Warning>), OutputError> {
     let (anim, source) = (&r.anim, r.source.as_deref());
-    let (lottie, mut warnings) = gmotion_output::lottie_text(anim, source, path, opts)?;
+    let (lottie, mut warnings) = gmotion_output::lottie_text(anim, source, &r.markers, path, opts)?;
     let (smil, more) = gmotion_output::smil_text(anim, source, path, opts)?;
     warnings.extend(more);
     let title = path

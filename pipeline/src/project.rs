@@ -95,6 +95,21 @@ impl Project {
             .map_err(|e| self.grammar.error(&e))
     }
 
+    /// The grammar run on the scene with `opts` (the project kept for more runs), as what
+    /// the writer writes: the animation, the Lottie source and package it moves, its
+    /// markers.
+    pub fn rendered(&self, opts: &RunOptions) -> Result<Rendered> {
+        let (anim, stats) = engine::run(self.imported.scene.clone(), &self.grammar.grammar, opts)
+            .map_err(|e| self.grammar.error(&e))?;
+        Ok(Rendered {
+            anim,
+            source: self.imported.source.clone(),
+            package: self.imported.package.clone(),
+            markers: stats.markers,
+            timelines: None,
+        })
+    }
+
     /// The grammar run on the scene with `opts`, its warnings told to [`Env::warn`]; with
     /// `timelines`, every shape's final slices too (what the HTML page draws, and the run
     /// does not keep).
@@ -108,7 +123,7 @@ impl Project {
         let timelines = timelines
             .then(|| engine::timelines(&imported.scene, &grammar.grammar, opts).ok())
             .flatten();
-        let (anim, stats) =
+        let (anim, mut stats) =
             engine::run(imported.scene, &grammar.grammar, opts).map_err(|e| grammar.error(&e))?;
         for w in &stats.warnings {
             (env.warn)(&grammar.path, w);
@@ -117,6 +132,7 @@ impl Project {
             anim,
             source: imported.source,
             package: imported.package,
+            markers: std::mem::take(&mut stats.markers),
             timelines,
         })
     }

@@ -79,6 +79,7 @@ impl Transitions {
             anim,
             source: None,
             package: None,
+            markers: Vec::new(),
             timelines: None,
         })
     }

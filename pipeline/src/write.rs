@@ -7,6 +7,7 @@ use std::sync::Arc;
 use gmotion::Warning;
 use gmotion::canvas::OutputSize;
 use gmotion::engine::expand::Expansion;
+use gmotion::engine::markers::Marker;
 use gmotion::motion::Animation;
 use gmotion_output::dotlottie::Picked;
 use gmotion_output::{self as output, LottieSource};
@@ -27,6 +28,8 @@ pub struct Rendered {
     /// The dotLottie package that document came from, if it did: a `.lottie` output is
     /// that package with the animation replaced.
     pub package: Option<Arc<Picked>>,
+    /// The markers the grammar asks for (`markers`), written into Lottie outputs.
+    pub markers: Vec<Marker>,
     /// Every shape's final slices, when the run kept them ([`crate::Project::run`]).
     pub timelines: Option<Expansion>,
 }
@@ -81,6 +84,7 @@ impl Writer {
             &r.anim,
             r.source.as_deref(),
             r.package.as_deref(),
+            &r.markers,
             path,
             &self.options,
             tick,
@@ -99,6 +103,7 @@ impl Writer {
             &r.anim,
             r.source.as_deref(),
             r.package.as_deref(),
+            &r.markers,
             path,
             &self.options,
         )?)

@@ -7,6 +7,7 @@
 pub mod check;
 pub mod compile;
 pub mod expand;
+pub mod markers;
 mod plan;
 pub mod random;
 pub mod rules;
@@ -140,6 +141,8 @@ pub struct RunStats {
     pub slices: usize,
     /// Number of shapes animated.
     pub shapes: usize,
+    /// The markers the grammar's `markers` directive asks for, in its order.
+    pub markers: Vec<markers::Marker>,
 }
 
 /// Runs `grammar` on `scene`: expansion, then compilation into tracks.
@@ -284,16 +287,34 @@ fn run_here(
     // Each timeline is compiled into its track as soon as it is expanded, by the thread
     // that expanded it (and freed there).
     let slices = AtomicUsize::new(0);
+    let want_markers = !settings.markers.is_empty();
     let (
-        mut tracks,
+        compiled,
         expand::ExpandStats {
-            steps, rule_uses, ..
+            steps,
+            rule_uses,
+            slice_tags,
         },
     ) = expand::expand_each(&scene, &program, &settings, |si, timeline| {
         slices.fetch_add(timeline.len(), Ordering::Relaxed);
-        compile::track(&scene.shapes[si], &timeline)
+        // Each shape's slice spans by tag, only when markers are asked for.
+        let spans = match want_markers {
+            true => markers::spans_of(&timeline),
+            false => Vec::new(),
+        };
+        (compile::track(&scene.shapes[si], &timeline), spans)
     })?;
     let slices = slices.into_inner();
+    let (mut tracks, spans): (Vec<_>, Vec<_>) = compiled.into_iter().unzip();
+    let markers = match want_markers {
+        true => markers::collect(
+            &settings.markers,
+            &slice_tags,
+            &program,
+            spans.into_iter().flatten(),
+        )?,
+        false => Vec::new(),
+    };
     if let Some((value, span)) = &settings.smoothing {
         let spec = smooth::spec_from_value(value).map_err(|m| EngineError::at(*span, m))?;
         smooth::smooth_tracks(
@@ -327,6 +348,7 @@ fn run_here(
         rule_uses,
         slices,
         shapes: anim.scene.shapes.len(),
+        markers,
     };
     Ok((anim, stats))
 }

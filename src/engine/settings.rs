@@ -67,6 +67,8 @@ pub struct Settings {
     pub tags: Option<(String, Span)>,
     /// The `smoothing` directive's value, if any.
     pub smoothing: Option<(Value, Span)>,
+    /// The slice tags written as markers (`markers`), each with where it is written.
+    pub markers: Vec<(String, Span)>,
 }
 
 impl Default for Settings {
@@ -92,6 +94,7 @@ impl Default for Settings {
             unit_depth: None,
             tags: None,
             smoothing: None,
+            markers: Vec::new(),
         }
     }
 }
@@ -226,6 +229,15 @@ pub fn from_grammar(grammar: &Grammar) -> Result<Settings, EngineError> {
             "grid" => s.grid = grid_size(d)?,
             "scene" => s.scene = Some((word(d)?, one(d)?.span)),
             "tags" => s.tags = Some((word(d)?, one(d)?.span)),
+            "markers" => {
+                for v in &d.values {
+                    if let ExprKind::Ident(name) = &v.kind
+                        && !s.markers.iter().any(|(m, _)| m == name)
+                    {
+                        s.markers.push((name.clone(), v.span));
+                    }
+                }
+            }
             "unit_depth" => s.unit_depth = Some(positive(d)?.round() as usize),
             "width" => s.width = Some(pixels(d)?),
             "height" => s.height = Some(pixels(d)?),

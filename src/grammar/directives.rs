@@ -27,6 +27,8 @@ pub enum DirectiveKind {
     OneOf(&'static [&'static str]),
     /// Any expression (an easing or filter call such as `spring(0.3, 0.1)`).
     Expr,
+    /// One or more names (slice tags), separated by spaces or commas.
+    Names,
 }
 
 /// A known directive.
@@ -34,7 +36,7 @@ pub enum DirectiveKind {
 pub struct DirectiveSpec {
     /// Its name.
     pub name: &'static str,
-    /// The form of its single value.
+    /// The form of its value (a single one, but for [`DirectiveKind::Names`]).
     pub kind: DirectiveKind,
     /// The value used when the directive is absent, as documented.
     pub default: &'static str,
@@ -145,6 +147,12 @@ pub const DIRECTIVES: &[DirectiveSpec] = &[
         kind: DirectiveKind::Path,
         default: "none",
         summary: "tag map giving SVG elements tags and units by selector, relative to the grammar file (as the CLI's --tags)",
+    },
+    DirectiveSpec {
+        name: "markers",
+        kind: DirectiveKind::Names,
+        default: "none",
+        summary: "slice tags written as named markers (Lottie `markers`), each spanning the slices that carry the tag or came from one that did",
     },
     DirectiveSpec {
         name: "smoothing",

@@ -986,7 +986,24 @@ fn check_directive(spec: &DirectiveSpec, values: &[Expr], span: Span) -> PResult
         DirectiveKind::Path => "a file path".to_string(),
         DirectiveKind::OneOf(words) => format!("one of {}", quoted(words).join(", ")),
         DirectiveKind::Expr => "an expression".to_string(),
+        DirectiveKind::Names => "one or more slice tags, such as `in hold out`".to_string(),
     };
+    if spec.kind == DirectiveKind::Names {
+        if values.is_empty() {
+            return Err(
+                Diagnostic::new(span, format!("`{name}` needs a value")).with_expected([what])
+            );
+        }
+        for v in values {
+            if !matches!(&v.kind, ExprKind::Ident(_)) {
+                return Err(
+                    Diagnostic::new(v.span, format!("`{name}` takes slice tags"))
+                        .with_expected([what]),
+                );
+            }
+        }
+        return Ok(());
+    }
     let [value] = values else {
         let at = values.get(1).map_or(span, |v| v.span);
         let message = if values.is_empty() {

@@ -163,13 +163,14 @@ fn build(
     run: &RunOptions,
     (grammar, settings): (Grammar, Settings),
 ) -> Result<Built, Vec<Diagnostic>> {
-    let (anim, _) = engine::run(imported.scene.clone(), &grammar, run)
+    let (anim, stats) = engine::run(imported.scene.clone(), &grammar, run)
         .map_err(|e| vec![Diagnostic::from(&e)])?;
     Ok(Built {
         rendered: Rendered {
             anim,
             source: imported.source.clone(),
             package: imported.package.clone(),
+            markers: stats.markers,
             timelines: None,
         },
         grammar,
@@ -336,13 +337,14 @@ impl Live {
             seed: Some(seed),
             ..self.run.clone()
         };
-        let (anim, _) = engine::run(good.scene.scene.clone(), &good.grammar, &run)
+        let (anim, stats) = engine::run(good.scene.scene.clone(), &good.grammar, &run)
             .map_err(|e| e.to_string())?;
         let built = Arc::new(Built {
             rendered: Rendered {
                 anim,
                 source: good.scene.source.clone(),
                 package: good.scene.package.clone(),
+                markers: stats.markers,
                 timelines: None,
             },
             grammar: good.grammar.clone(),

@@ -120,10 +120,8 @@ impl Variations {
                     ..RunOptions::default()
                 };
                 let rendered = Rendered {
-                    anim: project.animate(&opts)?,
-                    source: project.imported.source.clone(),
                     package: None,
-                    timelines: None,
+                    ..project.rendered(&opts)?
                 };
                 let name = format!("seed_{seed}");
                 let (bytes, warnings) =

@@ -36,6 +36,7 @@ use kurbo::{Affine, Point};
 use serde_json::Value as Json;
 
 use gmotion::Warning;
+use gmotion::engine::markers::Marker;
 use gmotion::motion::Animation;
 use gmotion::tolerance::Tolerance;
 use gmotion_lottie::Source;
@@ -271,6 +272,7 @@ pub fn over_source(
             wrap(item, levels, &nm);
         }
     }
+    with_markers(&mut json, &opts.markers, ip, fr);
     Ok((json.to_string(), warnings))
 }
 
@@ -525,4 +527,28 @@ fn multiply_opacity(
         "o".into(),
         serde_json::to_value(&prop).unwrap_or(Json::Null),
     );
+}
+
+/// Adds `markers` to the document's own (`ip`, `fr` its first frame and rate): one of the
+/// same name is replaced, the others are kept.
+fn with_markers(json: &mut Json, markers: &[Marker], ip: f64, fr: f64) {
+    if markers.is_empty() {
+        return;
+    }
+    let Some(doc) = json.as_object_mut() else {
+        return;
+    };
+    let list = doc
+        .entry("markers")
+        .or_insert_with(|| Json::Array(Vec::new()));
+    if !list.is_array() {
+        *list = Json::Array(Vec::new());
+    }
+    let Some(list) = list.as_array_mut() else {
+        return;
+    };
+    for m in markers {
+        list.retain(|old| old.get("cm").and_then(Json::as_str) != Some(m.name.as_str()));
+        list.push(serde_json::to_value(crate::model::MarkerOut::of(m, ip, fr)).unwrap_or_default());
+    }
 }

@@ -52,6 +52,7 @@ use rayon::prelude::*;
 use animate::{Bakes, UnitInfo, UnitMotion, may_stroke, unit_motion};
 use gmotion::Warning;
 use gmotion::canvas::{Fit, OutputSize};
+use gmotion::engine::markers::Marker;
 use gmotion::motion::{Animation, Track};
 use gmotion::scene::{Scene, Shape};
 use layers::Source;
@@ -68,6 +69,8 @@ pub struct LottieOptions {
     /// The composition's size `w` × `h`, the art scaled to fit (see [`OutputSize`]).
     /// Default: the scene's size.
     pub size: OutputSize,
+    /// Named spans written as the document's `markers` (the grammar's `markers`).
+    pub markers: Vec<Marker>,
 }
 
 impl Default for LottieOptions {
@@ -76,6 +79,7 @@ impl Default for LottieOptions {
             tolerance: 0.25,
             name: "gmotion".to_string(),
             size: OutputSize::default(),
+            markers: Vec::new(),
         }
     }
 }
@@ -238,6 +242,11 @@ fn write(src: Source, opts: &LottieOptions) -> Result<(LottieText, Vec<Warning>)
         w: size.0,
         h: size.1,
         nm: opts.name.clone(),
+        markers: opts
+            .markers
+            .iter()
+            .map(|m| model::MarkerOut::of(m, 0.0, fps))
+            .collect(),
         assets: std::mem::take(&mut builder.assets),
         layers,
     };

@@ -7,6 +7,7 @@
 //! number, the Bézier outline and the properties and keyframes ([`gmotion_lottie::written`])
 //! are `gmotion-lottie`'s, shared with the importer.
 
+use gmotion::engine::markers::Marker;
 use serde::Serialize;
 
 use crate::LottieText;
@@ -32,6 +33,8 @@ pub struct Animation {
     pub h: u32,
     /// Name.
     pub nm: String,
+    /// Named spans (not written when empty).
+    pub markers: Vec<MarkerOut>,
     /// Precompositions referenced by precomp layers (not written when empty).
     pub assets: Vec<Asset>,
     /// Layers, topmost first.
@@ -73,6 +76,9 @@ impl Animation {
         field(&mut head, "w", &self.w);
         field(&mut head, "h", &self.h);
         field(&mut head, "nm", &self.nm);
+        if !self.markers.is_empty() {
+            field(&mut head, "markers", &self.markers);
+        }
         if !self.assets.is_empty() {
             head.extend_from_slice(b",\"assets\":[");
             for (k, a) in self.assets.iter().enumerate() {
@@ -89,6 +95,29 @@ impl Animation {
         pieces.extend(layers.into_iter().flatten().filter(|p| !p.is_empty()));
         pieces.push(b"]}".to_vec());
         LottieText::new(pieces)
+    }
+}
+
+/// A marker as Lottie writes it: a named span in frames, its name in `cm` (what lottie-web's
+/// `goToAndPlay(name, true)` and dotlottie-web's `setMarker(name)` look up).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct MarkerOut {
+    /// The start frame.
+    pub tm: N,
+    /// The name.
+    pub cm: String,
+    /// The length in frames.
+    pub dr: N,
+}
+
+impl MarkerOut {
+    /// `m` in the frames of a composition starting at frame `ip`, `fps` frames a second.
+    pub fn of(m: &Marker, ip: f64, fps: f64) -> MarkerOut {
+        MarkerOut {
+            tm: N::coord(ip + m.start * fps),
+            cm: m.name.clone(),
+            dr: N::coord((m.end - m.start) * fps),
+        }
     }
 }
 
@@ -532,6 +561,7 @@ mod tests {
             w: 100,
             h: 80,
             nm: "doc".into(),
+            markers: Vec::new(),
             assets: Vec::new(),
             layers,
         }

@@ -27,6 +27,7 @@ use std::path::{Path, PathBuf};
 
 use gmotion::Warning;
 use gmotion::canvas::OutputSize;
+use gmotion::engine::markers::Marker;
 use gmotion::motion::{Animation, Sampler, ShapeState, Track};
 use gmotion::scene::Scene;
 use gmotion_export_lottie::{self as lottie, LottieOptions};
@@ -513,7 +514,8 @@ pub fn write_with_progress(
     opts: &Options,
     tick: &(dyn Fn() + Sync),
 ) -> Result<Vec<Warning>, OutputError> {
-    write_staged(Stage { anim, source: None }, path, opts, tick, Target::File)
+    let stage = Stage { anim, source: None };
+    write_staged(stage, &[], path, opts, tick, Target::File)
 }
 
 /// Where an output goes: its file, written whole or not at all, or memory (the bytes the
@@ -525,6 +527,7 @@ enum Target<'b> {
 
 fn write_staged(
     stage: Stage,
+    markers: &[Marker],
     path: &Path,
     opts: &Options,
     tick: &(dyn Fn() + Sync),
@@ -599,7 +602,7 @@ fn write_staged(
         Format::Lottie | Format::DotLottie => {
             return write_lottie(
                 path,
-                lottie::to_lottie_text(anim, &lottie_options(opts)),
+                lottie::to_lottie_text(anim, &lottie_options(opts, markers)),
                 target,
                 None,
             );
@@ -623,6 +626,7 @@ pub fn write_over_source(
     anim: &Animation,
     source: Option<&LottieSource>,
     package: Option<&Picked>,
+    markers: &[Marker],
     path: &Path,
     opts: &Options,
     tick: &(dyn Fn() + Sync),
@@ -630,6 +634,7 @@ pub fn write_over_source(
     staged_over_source(
         Stage { anim, source },
         package,
+        markers,
         path,
         opts,
         tick,
@@ -645,13 +650,14 @@ pub fn bytes_over_source(
     anim: &Animation,
     source: Option<&LottieSource>,
     package: Option<&Picked>,
+    markers: &[Marker],
     path: &Path,
     opts: &Options,
 ) -> Result<(Vec<u8>, Vec<Warning>), OutputError> {
     let mut bytes = Vec::new();
     let stage = Stage { anim, source };
     let target = Target::Memory(&mut bytes);
-    let warnings = staged_over_source(stage, package, path, opts, &|| {}, target)?;
+    let warnings = staged_over_source(stage, package, markers, path, opts, &|| {}, target)?;
     Ok((bytes, warnings))
 }
 
@@ -659,6 +665,7 @@ pub fn bytes_over_source(
 fn staged_over_source(
     stage: Stage,
     package: Option<&Picked>,
+    markers: &[Marker],
     path: &Path,
     opts: &Options,
     tick: &(dyn Fn() + Sync),
@@ -670,11 +677,11 @@ fn staged_over_source(
     let mut warnings = match source {
         Some(src) if Format::of(path)?.is_lottie() => write_lottie(
             path,
-            lottie::layered::over_source(anim, src, &lottie_options(opts)),
+            lottie::layered::over_source(anim, src, &lottie_options(opts, markers)),
             target,
             package,
         ),
-        _ => write_staged(Stage { anim, source }, path, opts, tick, target),
+        _ => write_staged(Stage { anim, source }, markers, path, opts, tick, target),
     }?;
     warnings.extend(said);
     Ok(warnings)
@@ -698,13 +705,14 @@ fn lasting<'s>(
 pub fn lottie_text(
     anim: &Animation,
     source: Option<&LottieSource>,
+    markers: &[Marker],
     path: &Path,
     opts: &Options,
 ) -> Result<(String, Vec<Warning>), OutputError> {
     let (source, said) = lasting(anim, source);
     let (text, mut warnings) = match source.as_deref() {
-        Some(src) => lottie::layered::over_source(anim, src, &lottie_options(opts)),
-        None => lottie::to_lottie(anim, &lottie_options(opts)),
+        Some(src) => lottie::layered::over_source(anim, src, &lottie_options(opts, markers)),
+        None => lottie::to_lottie(anim, &lottie_options(opts, markers)),
     }
     .map_err(|source| OutputError::Lottie {
         path: path.to_path_buf(),
@@ -823,6 +831,7 @@ pub fn write_still_over_source(
                     anim: &played,
                     source: Some(src),
                 },
+                &[],
                 path,
                 opts,
                 &|| {},
@@ -869,7 +878,7 @@ pub fn write_still(
         }
         Format::Lottie | Format::DotLottie => write_lottie(
             path,
-            lottie::still_to_lottie(scene, &lottie_options(opts)),
+            lottie::still_to_lottie(scene, &lottie_options(opts, &[])),
             Target::File,
             None,
         ),
@@ -889,10 +898,11 @@ pub fn write_still(
     }
 }
 
-fn lottie_options(opts: &Options) -> LottieOptions {
+fn lottie_options(opts: &Options, markers: &[Marker]) -> LottieOptions {
     LottieOptions {
         tolerance: opts.tolerance,
         size: opts.size,
+        markers: markers.to_vec(),
         ..Default::default()
     }
 }
