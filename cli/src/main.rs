@@ -339,6 +339,10 @@ struct RunArgs {
     /// Stop expansion after this many steps with an error (overrides `max_steps`).
     #[arg(long)]
     max_steps: Option<usize>,
+    /// Slice tags written as named Lottie markers, comma-separated, e.g. `in,hold,out`
+    /// (overrides the grammar's `markers`).
+    #[arg(long, value_delimiter = ',', value_name = "TAGS")]
+    markers: Option<Vec<String>>,
 }
 
 /// Options of rendered and exported output.

@@ -97,6 +97,44 @@ fn phases_become_markers_spanning_what_came_from_them() {
 }
 
 #[test]
+fn the_markers_option_replaces_the_directive() {
+    let dir = out_dir("option");
+    let gm = phases(&dir, "markers in hold out");
+    let out = dir.join("o.json");
+    run_ok(
+        bin()
+            .arg("animate")
+            .arg(&gm)
+            .args(["--markers", "out,inv_wave"])
+            .arg("-o")
+            .arg(&out),
+    );
+    assert_eq!(
+        markers_of(&out),
+        [
+            ("out".to_string(), 90.0, 30.0),
+            ("inv_wave".to_string(), 60.0, 30.0),
+        ]
+    );
+    // A tag no slice carries is refused naming the flag, and nothing is written.
+    let bad = dir.join("bad.json");
+    let res = bin()
+        .arg("animate")
+        .arg(&gm)
+        .args(["--markers", "nowhere"])
+        .arg("-o")
+        .arg(&bad)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&res.stderr);
+    assert!(
+        !res.status.success() && err.contains("--markers: marker `nowhere`"),
+        "{err}"
+    );
+    assert!(!bad.exists());
+}
+
+#[test]
 fn markers_join_a_lottie_scenes_own() {
     let dir = out_dir("over_source");
     // A Lottie scene (the toy example as gmotion writes it) with a marker of its own.

@@ -190,7 +190,7 @@ pub fn located(grammar_path: &Path, src: &str, e: &EngineError) -> Error {
 
 /// What a front end overrides of a grammar's header for the run (`--seed`, `--fps`,
 /// `--max-steps`).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Overrides {
     /// Random seed.
     pub seed: Option<u64>,
@@ -198,6 +198,8 @@ pub struct Overrides {
     pub fps: Option<f64>,
     /// Most expansion steps.
     pub max_steps: Option<usize>,
+    /// The slice tags written as markers, in place of the grammar's `markers`.
+    pub markers: Option<Vec<String>>,
 }
 
 impl Overrides {
@@ -223,6 +225,7 @@ impl Overrides {
             seed: self.seed,
             fps: self.fps,
             max_steps: self.max_steps,
+            markers: self.markers.clone(),
             max_pieces: Some(usize::try_from(limits.get("pieces")).unwrap_or(usize::MAX)),
         })
     }

@@ -53,9 +53,10 @@ pub fn spans_of(timeline: &[Slice]) -> Vec<SliceSpan> {
 
 /// The markers `names` asks for, from every shape's `spans` (slice tag ids index
 /// `slice_tags`) and the rules of `program`. A name that no slice counts as is an error at
-/// the directive, naming the slice tags there are.
+/// the directive (a name without a span came from the command line's `--markers`), naming
+/// the slice tags there are.
 pub fn collect(
-    names: &[(String, Span)],
+    names: &[(String, Option<Span>)],
     slice_tags: &[String],
     program: &Program,
     spans: impl IntoIterator<Item = SliceSpan>,
@@ -119,10 +120,12 @@ pub fn collect(
                 .collect();
             known.sort();
             known.dedup();
-            let mut e = EngineError::at(
-                *span,
-                format!("marker `{name}`: no slice carries this tag or comes from one that does"),
-            );
+            let what =
+                format!("marker `{name}`: no slice carries this tag or comes from one that does");
+            let mut e = match span {
+                Some(span) => EngineError::at(*span, what),
+                None => EngineError::general(format!("--markers: {what}")),
+            };
             e.notes.push(format!(
                 "the slices end up tagged {}",
                 known

@@ -121,6 +121,8 @@ pub struct RunOptions {
     pub fps: Option<f64>,
     /// Overrides `max_steps`.
     pub max_steps: Option<usize>,
+    /// Replaces the `markers` directive: the slice tags written as markers.
+    pub markers: Option<Vec<String>>,
     /// The most shapes a group grammar may make (default
     /// [`crate::tangle::DEFAULT_MAX_PIECES`]).
     pub max_pieces: Option<usize>,
@@ -287,7 +289,13 @@ fn run_here(
     // Each timeline is compiled into its track as soon as it is expanded, by the thread
     // that expanded it (and freed there).
     let slices = AtomicUsize::new(0);
-    let want_markers = !settings.markers.is_empty();
+    let marker_names: Vec<(String, Option<Span>)> = match &opts.markers {
+        Some(names) => names.iter().map(|n| (n.clone(), None)).collect(),
+        None => (settings.markers.iter())
+            .map(|(n, span)| (n.clone(), Some(*span)))
+            .collect(),
+    };
+    let want_markers = !marker_names.is_empty();
     let (
         compiled,
         expand::ExpandStats {
@@ -308,7 +316,7 @@ fn run_here(
     let (mut tracks, spans): (Vec<_>, Vec<_>) = compiled.into_iter().unzip();
     let markers = match want_markers {
         true => markers::collect(
-            &settings.markers,
+            &marker_names,
             &slice_tags,
             &program,
             spans.into_iter().flatten(),

@@ -173,6 +173,7 @@ impl RunArgs {
             seed: self.seed,
             fps: self.fps,
             max_steps: self.max_steps,
+            markers: self.markers.clone(),
         }
     }
 }
