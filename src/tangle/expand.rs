@@ -58,6 +58,9 @@ struct TShape {
     text: (usize, usize),
 }
 
+/// A piece and the drawing it keeps instead of its polygon, if any.
+type Kept = (Piece, Option<Drawing>);
+
 /// An operator bound for one shape, its pieces (or why it left the shape whole), and the
 /// drawing each piece keeps, if any.
 type Applied = (Op, Result<Vec<Piece>, String>, Vec<Option<Drawing>>);
@@ -413,7 +416,7 @@ pub fn expand(
             // (0 or 1 + the shape's place in the batch for `ungroup`, slot) → (id, key).
             let mut slot_group: HashMap<(usize, usize), (usize, u64)> = HashMap::new();
             let mut next_sid: HashMap<usize, usize> = HashMap::new();
-            let mut produced: Vec<(usize, Vec<(Piece, Option<Drawing>)>)> = Vec::with_capacity(n);
+            let mut produced: Vec<(usize, Vec<Kept>)> = Vec::with_capacity(n);
             let mut ungroup = false;
             for (&node, result) in batch.iter().zip(results) {
                 let (op, pieces, drawings) = result?;

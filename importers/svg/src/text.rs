@@ -268,7 +268,7 @@ fn lines(text: &usvg::Text, placed: &[Placed]) -> Vec<usize> {
     let mut line = 0;
     let mut prev: Option<(usize, Point)> = None;
     for (c, chunk) in chunks.iter().enumerate() {
-        let mine = placed.iter().filter(|p| p.chunk == c);
+        let mut mine = placed.iter().filter(|p| p.chunk == c);
         if let (Some(first), Some((pc, end))) = (mine.clone().next(), prev) {
             let on_path = matches!(chunk.text_flow(), usvg::TextFlow::Path(_))
                 || matches!(chunks[pc].text_flow(), usvg::TextFlow::Path(_));
@@ -277,7 +277,7 @@ fn lines(text: &usvg::Text, placed: &[Placed]) -> Vec<usize> {
             }
         }
         out[c] = line;
-        if let Some(last) = mine.last() {
+        if let Some(last) = mine.next_back() {
             prev = Some((c, last.origin));
         }
     }
