@@ -289,3 +289,28 @@ fn letters_on_a_shape_that_is_not_text_warn_and_leave_it() {
     };
     assert_eq!(p.path, before);
 }
+
+#[test]
+fn the_text_operators_take_no_arguments() {
+    let body = r#"<text id="t" x="20" y="80" font-family="Noto Sans" font-size="40">Hi</text>"#;
+    for op in ["letters", "words", "lines"] {
+        let src = format!("duration 1s\n{op}(2) : t -> [ch]\n");
+        let g = gmotion::grammar::parse(&src).unwrap();
+        let err = run(
+            text_scene_of("args", &svg(body)),
+            &g,
+            &RunOptions::default(),
+        )
+        .unwrap_err();
+        let span = err.span.expect("located");
+        assert_eq!(
+            (span.line, span.col),
+            (2, op.len() as u32 + 2),
+            "{op}: {err}"
+        );
+        assert!(
+            err.to_string().contains("takes no arguments"),
+            "{op}: {err}"
+        );
+    }
+}
