@@ -54,6 +54,7 @@ pub mod tagging;
 pub mod tangle;
 #[cfg(test)]
 mod testing;
+pub mod text;
 pub mod tolerance;
 pub mod transitions;
 pub mod warning;

@@ -80,6 +80,8 @@ pub struct Shape {
     pub stroke: Color,
     /// The unit's representative stroke width (first stroke's; 1 if none).
     pub stroke_width: f64,
+    /// Its text: the layout of a unit that came from text, a piece's line and word.
+    pub text: crate::text::TextPlace,
 }
 
 impl Shape {
@@ -743,6 +745,7 @@ impl SceneBuilder {
             fill: m.map_or(Color::BLACK, |m| m.fill),
             stroke: m.map_or(Color::BLACK, |m| m.stroke),
             stroke_width: m.map_or(1.0, |m| m.stroke_width),
+            text: crate::text::TextPlace::default(),
         });
         *id += 1;
         let node = match parent {

@@ -71,6 +71,7 @@ pub const EXAMPLES: &[Example] = &[
     grammar!("growing_tangle"),
     grammar!("intersections"),
     grammar!("intersections_mini"),
+    grammar!("kinetic"),
     grammar!("leaf"),
     grammar!("panel"),
     grammar!("priorities"),

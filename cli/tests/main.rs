@@ -35,3 +35,6 @@ mod lottie_time;
 #[cfg(feature = "players")]
 mod rigs;
 mod studio;
+// Every test here plays exports in the real players.
+#[cfg(feature = "players")]
+mod text;

@@ -130,6 +130,7 @@ pub fn scene_of(
                 fill: m.map_or(Color::BLACK, |m| m.fill),
                 stroke: m.map_or(Color::BLACK, |m| m.stroke),
                 stroke_width: m.map_or(1.0, |m| m.stroke_width),
+                text: gmotion::text::TextPlace::default(),
             });
             *id += 1;
             let mut members = vec![i];
@@ -359,6 +360,7 @@ fn rigs(
             fill: Color::BLACK,
             stroke: Color::BLACK,
             stroke_width: 1.0,
+            text: gmotion::text::TextPlace::default(),
         });
         *id += 1;
         let anchor = vec![parent_of(r)];

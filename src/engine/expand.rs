@@ -139,7 +139,7 @@ pub struct Expansion {
 /// `rand`) has one value for every shape of a step.
 const SHAPE_VARS: &[&str] = &[
     "id", "n", "k", "count", "cx", "cy", "w", "h", "x0", "y0", "z", "group", "t0", "d", "step",
-    "W", "H",
+    "W", "H", "line_id", "word_id",
 ];
 
 /// True when `e` evaluates the same for every shape and slice of a step.
@@ -190,6 +190,8 @@ impl Env for ShapeEnv<'_> {
             "t0" => self.t0,
             "d" => self.d,
             "step" => self.step as f64,
+            "line_id" => s.text.line as f64,
+            "word_id" => s.text.word as f64,
             "u" => return self.u,
             _ => return geometry_var(name, s.centroid, s.bbox, self.canvas),
         })

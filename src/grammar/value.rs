@@ -56,7 +56,7 @@ pub trait Env {
 /// (`u` only in a motion keyed in time; `k` and `count` only in the timeslice grammar), and the constant `pi`: a `let` cannot rename them.
 pub const VARIABLES: &[&str] = &[
     "id", "n", "k", "count", "cx", "cy", "w", "h", "x0", "y0", "z", "group", "t0", "d", "step",
-    "W", "H", "u", "pi",
+    "W", "H", "u", "pi", "line_id", "word_id",
 ];
 
 /// The variables every shape has from its geometry: `cx`, `cy` (centroid), `w`, `h`,

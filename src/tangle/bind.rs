@@ -9,6 +9,7 @@ use super::noise::{Rng, perlin};
 use super::ops::grouping::RegroupMode;
 use super::ops::regular_split::{Curve, SplitParams};
 use super::ops::stipple::{StippleKind, StippleParams};
+use super::ops::text::TextSplit;
 use super::ops::{Op, StreamKind};
 use super::place::{PlaceParams, PlaceShape};
 use super::polygon::{Grid, flatten_rings};
@@ -34,6 +35,9 @@ pub struct ShapeVars {
     /// How many rules made the shape (0 for imported shapes): its own step count, which
     /// rules for other tags do not change.
     pub step: usize,
+    /// Its line and word in the text it came from (`line_id`, `word_id`; 0 and 0 for a
+    /// shape that did not come from text).
+    pub text: (usize, usize),
 }
 
 /// The evaluation environment of one shape: its variables, its own random stream and the
@@ -72,6 +76,8 @@ impl Env for ShapeEnv {
             "n" => v.n as f64,
             "group" => v.group as f64,
             "step" => v.step as f64,
+            "line_id" => v.text.0 as f64,
+            "word_id" => v.text.1 as f64,
             _ => return geometry_var(name, v.centroid, v.bbox, v.canvas),
         })
     }
@@ -98,6 +104,7 @@ enum Kind {
     Stipple,
     Invert,
     Perturb,
+    Text(TextSplit),
 }
 
 impl Kind {
@@ -115,6 +122,9 @@ impl Kind {
             "stipple" | "stippling" | "stipling" => Kind::Stipple,
             "invert" => Kind::Invert,
             "perturb" => Kind::Perturb,
+            "letters" => Kind::Text(TextSplit::Letters),
+            "words" => Kind::Text(TextSplit::Words),
+            "lines" => Kind::Text(TextSplit::Lines),
             _ => return None,
         })
     }
@@ -122,7 +132,7 @@ impl Kind {
     /// Its parameters, positional order first.
     fn params(self) -> &'static [&'static str] {
         match self {
-            Kind::Ungroup | Kind::Invert => &[],
+            Kind::Ungroup | Kind::Invert | Kind::Text(_) => &[],
             Kind::Regroup => &["k", "mode"],
             Kind::RegularSplit => &["curve", "offsets", "dual", "angle"],
             Kind::Outline => &["d"],
@@ -136,7 +146,7 @@ impl Kind {
 }
 
 /// Every spatial operator name, for error messages.
-pub const OPERATORS: &str = "ungroup, regroup, regularSplit, outline, streamlineSplit, place, fill, stipple, invert, perturb";
+pub const OPERATORS: &str = "ungroup, regroup, regularSplit, outline, streamlineSplit, place, fill, stipple, invert, perturb, letters, words, lines";
 
 /// A rule's arguments matched to its operator's parameters.
 struct Args<'a> {
@@ -341,6 +351,7 @@ pub fn bind(rule: &Rule, env: &mut dyn Env) -> Result<Op, TangleError> {
     Ok(match kind {
         Kind::Ungroup => Op::Ungroup,
         Kind::Invert => Op::Invert,
+        Kind::Text(split) => Op::Text(split),
         Kind::Regroup => {
             let (k, span) = a.required("k", env)?;
             let k = k

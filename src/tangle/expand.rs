@@ -23,12 +23,14 @@ use super::bind::{ShapeEnv, ShapeVars, bind};
 use super::boolean::normalize;
 use super::noise::{key, unit};
 use super::ops::paint::Paint;
+use super::ops::text::{self, Drawing};
 use super::ops::{Context, Input, Op, Piece};
 use super::polygon::{Grid, Region, flatten_rings};
 use super::{TangleError, TangleOptions, TangleStats};
 use crate::color::Color;
 use crate::grammar::ast::Rule;
 use crate::scene::{FillRule, Group, Node, PathNode, Scene, Shape};
+use crate::text::TextPlace;
 use crate::warning::Warning;
 
 /// A shape during expansion.
@@ -50,10 +52,18 @@ struct TShape {
     group_key: u64,
     /// How many rules made it: 0 for imported shapes (the `step` of expressions).
     depth: usize,
+    /// The drawing it keeps instead of its polygon (a text's glyphs, see [`text`]).
+    drawing: Option<Drawing>,
+    /// Its line and word in the text it came from (`line_id`, `word_id`).
+    text: (usize, usize),
 }
 
-/// An operator bound for one shape, and its pieces (or why it left the shape whole).
-type Applied = (Op, Result<Vec<Piece>, String>);
+/// A piece and the drawing it keeps instead of its polygon, if any.
+type Kept = (Piece, Option<Drawing>);
+
+/// An operator bound for one shape, its pieces (or why it left the shape whole), and the
+/// drawing each piece keeps, if any.
+type Applied = (Op, Result<Vec<Piece>, String>, Vec<Option<Drawing>>);
 
 /// The derivation tree: a shape, replaced by its pieces once a rule is applied.
 struct Arena {
@@ -252,6 +262,14 @@ pub fn expand(
                 shape.tag, shape.id
             )));
         }
+        let drawing = shape.text.layout.as_ref().and_then(|layout| {
+            let node = scene.root.node_at(&shape.node_path)?;
+            Some(Drawing::Glyphs {
+                layout: layout.clone(),
+                glyphs: (0..layout.glyphs.len()).collect(),
+                to_canvas: inner_transform(node, shape),
+            })
+        });
         let node = arena.push(TShape {
             tag: shape.tag.clone(),
             aliases,
@@ -264,6 +282,8 @@ pub fn expand(
             imported: true,
             group_key: key(&[ROOT_GROUP, opts.seed, shape.group as u64]),
             depth: 0,
+            drawing,
+            text: (shape.text.line, shape.text.word),
         });
         roots.push((u, node));
         pending.entry(shape.group).or_default().push(node);
@@ -346,6 +366,7 @@ pub fn expand(
                         bbox: s.region.bbox(),
                         canvas: (scene.width, scene.height),
                         step: depth,
+                        text: s.text,
                     };
                     let mut env = ShapeEnv::new(vars, shape_key, opts.seed);
                     let op = bind(rule, &mut env)?;
@@ -358,8 +379,36 @@ pub fn expand(
                         key: shape_key,
                         group_key: noise_key,
                     };
+                    if let Op::Text(split) = op {
+                        let Some(Drawing::Glyphs {
+                            layout,
+                            glyphs,
+                            to_canvas,
+                        }) = &s.drawing
+                        else {
+                            let why = format!(
+                                "`{}()`: shape `{}` #{} did not come from text; left as it is",
+                                split.name(),
+                                s.tag,
+                                s.sid
+                            );
+                            return Ok((op, Err(why), Vec::new()));
+                        };
+                        let cut = text::cut(
+                            split, layout, glyphs, *to_canvas, s.dir, &ctx.grid, tolerance,
+                        );
+                        let (pieces, drawings) = cut.into_iter().map(|(p, d)| (p, Some(d))).unzip();
+                        return Ok((op, Ok(pieces), drawings));
+                    }
                     let pieces = op.apply(input, &ctx);
-                    Ok((op, pieces))
+                    // Grouping keeps the shape as it is, drawing and all.
+                    let keeps = matches!(op, Op::Ungroup | Op::Regroup { .. });
+                    let drawings = match &pieces {
+                        Ok(p) if keeps => vec![s.drawing.clone(); p.len()],
+                        Ok(p) => vec![None; p.len()],
+                        Err(_) => Vec::new(),
+                    };
+                    Ok((op, pieces, drawings))
                 })
                 .collect();
 
@@ -367,13 +416,13 @@ pub fn expand(
             // (0 or 1 + the shape's place in the batch for `ungroup`, slot) → (id, key).
             let mut slot_group: HashMap<(usize, usize), (usize, u64)> = HashMap::new();
             let mut next_sid: HashMap<usize, usize> = HashMap::new();
-            let mut produced: Vec<(usize, Vec<Piece>)> = Vec::with_capacity(n);
+            let mut produced: Vec<(usize, Vec<Kept>)> = Vec::with_capacity(n);
             let mut ungroup = false;
             for (&node, result) in batch.iter().zip(results) {
-                let (op, pieces) = result?;
+                let (op, pieces, drawings) = result?;
                 ungroup = op == Op::Ungroup;
                 let pieces = match pieces {
-                    Ok(p) => p,
+                    Ok(p) => p.into_iter().zip(drawings).collect(),
                     Err(message) => {
                         stats
                             .warnings
@@ -381,20 +430,31 @@ pub fn expand(
                         let s = arena.shapes[node]
                             .as_ref()
                             .expect("batch shapes are unexpanded");
-                        vec![Piece {
-                            region: s.region.clone(),
-                            slot: 0,
-                            cell: s.cell,
-                            dir: s.dir,
-                            paint: s.paint.clone(),
-                        }]
+                        // A text operator passes a shape that is not text through as it
+                        // was drawn; other operators leave its polygon.
+                        let drawing = match op {
+                            Op::Text(_) => {
+                                s.drawing.clone().or(s.imported.then_some(Drawing::Whole))
+                            }
+                            _ => None,
+                        };
+                        vec![(
+                            Piece {
+                                region: s.region.clone(),
+                                slot: 0,
+                                cell: s.cell,
+                                dir: s.dir,
+                                paint: s.paint.clone(),
+                            },
+                            drawing,
+                        )]
                     }
                 };
                 produced.push((node, pieces));
             }
             let mut slots: Vec<usize> = produced
                 .iter()
-                .flat_map(|(_, ps)| ps.iter().map(|p| p.slot))
+                .flat_map(|(_, ps)| ps.iter().map(|(p, _)| p.slot))
                 .collect();
             slots.sort_unstable();
             slots.dedup();
@@ -407,13 +467,14 @@ pub fn expand(
             }
             made += produced.iter().map(|(_, ps)| ps.len()).sum::<usize>();
             for (k, (node, pieces)) in produced.into_iter().enumerate() {
+                let parent_text = arena.shapes[node].as_ref().map_or((0, 0), |s| s.text);
                 arena.shapes[node] = None;
                 live -= 1;
                 // A shape that became one piece is replaced in its own node: the tree then
                 // does not deepen (nor grow) by a node for every step of a rule that
                 // rewrites its own output one piece at a time.
                 let in_place = pieces.len() == 1;
-                for piece in pieces {
+                for (piece, drawing) in pieces {
                     if rule.outputs.is_empty() {
                         continue;
                     }
@@ -441,6 +502,11 @@ pub fn expand(
                         imported: false,
                         group_key: g_key,
                         depth: depth + 1,
+                        text: drawing
+                            .as_ref()
+                            .and_then(Drawing::place)
+                            .unwrap_or(parent_text),
+                        drawing,
                     };
                     *sid += 1;
                     let child = if in_place {
@@ -490,6 +556,7 @@ struct PieceShape {
     parent_transform: Affine,
     region: Region,
     paint: Paint,
+    text: (usize, usize),
 }
 
 /// The scene with every expanded unit replaced by a group of its final pieces, and the
@@ -528,15 +595,22 @@ fn rebuild(
             let Some(s) = arena.shapes[leaf].as_ref() else {
                 continue;
             };
-            let path: BezPath = back * s.region.to_bezpath();
             let id = format!("{}-g{}-s{}", s.tag, s.group, s.sid);
-            children.push(Node::Path(s.paint.node(id, path, base + pieces.len())));
+            let unit = base + pieces.len();
+            children.push(match &s.drawing {
+                Some(d) => drawn(d, node, id, unit),
+                None => {
+                    let path: BezPath = back * s.region.to_bezpath();
+                    Node::Path(s.paint.node(id, path, unit))
+                }
+            });
             pieces.push(PieceShape {
                 tag: s.tag.clone(),
                 group: s.group,
                 parent_transform: to_canvas,
                 region: s.region.clone(),
                 paint: s.paint.clone(),
+                text: s.text,
             });
         }
         let wrapper = match node {
@@ -571,6 +645,43 @@ fn rebuild(
     );
     out.shapes = shapes;
     out
+}
+
+/// The node of a piece that keeps drawing `d` (`unit` its shape index), in the
+/// coordinates the unit node `unit_node` draws its children in.
+fn drawn(d: &Drawing, unit_node: &Node, id: String, unit: usize) -> Node {
+    match d {
+        Drawing::Glyphs { layout, glyphs, .. } => {
+            let mut paths = glyphs
+                .iter()
+                .map(|&i| Node::Path(layout.glyphs[i].path.clone()));
+            match (glyphs.len(), paths.next()) {
+                (1, Some(Node::Path(p))) => Node::Path(PathNode {
+                    id,
+                    unit: Some(unit),
+                    ..p
+                }),
+                (_, first) => Node::Group(Group {
+                    id,
+                    children: first.into_iter().chain(paths).collect(),
+                    unit: Some(unit),
+                    ..Group::new()
+                }),
+            }
+        }
+        Drawing::Whole => {
+            let mut node = match unit_node {
+                Node::Group(g) => Node::Group(Group {
+                    id,
+                    children: g.children.clone(),
+                    ..Group::new()
+                }),
+                other => other.clone(),
+            };
+            node.set_unit(Some(unit));
+            node
+        }
+    }
 }
 
 fn renumber(
@@ -613,6 +724,11 @@ fn renumber(
                     fill: solid(fill),
                     stroke: solid(stroke),
                     stroke_width: p.paint.stroke_width(),
+                    text: TextPlace {
+                        layout: None,
+                        line: p.text.0,
+                        word: p.text.1,
+                    },
                 }
             };
             let id = per_tag.entry(shape.tag.clone()).or_insert(0);

@@ -115,6 +115,35 @@ pub fn scene_of(svg: &str) -> Scene {
         .scene
 }
 
+/// The fonts vendored for the tests (`tests/fonts`: Noto Sans, Noto Sans Hebrew), so that
+/// what a text test counts does not depend on the machine's fonts.
+pub fn test_fonts() -> Vec<PathBuf> {
+    ["NotoSans-Regular.ttf", "NotoSansHebrew-Regular.ttf"]
+        .iter()
+        .map(|f| root().join("tests/fonts").join(f))
+        .collect()
+}
+
+/// The scene of the SVG text `svg`, imported with the default options, its text drawn
+/// with [`test_fonts`] (Noto Sans where a family is not found). `name` names the file
+/// written in the tests' temporary folder.
+pub fn text_scene_of(name: &str, svg: &str) -> Scene {
+    let file = tmp_dir().join(format!("{name}.svg"));
+    std::fs::create_dir_all(tmp_dir()).unwrap();
+    std::fs::write(&file, svg).unwrap();
+    let policy = gmotion_import_svg::Policy {
+        fonts: gmotion_import_svg::fonts::FontOptions {
+            dirs: Vec::new(),
+            files: test_fonts(),
+            default_family: Some("Noto Sans".into()),
+        },
+        ..gmotion_import_svg::Policy::default()
+    };
+    gmotion_import_svg::load_with(&file, &ImportOptions::default(), &policy)
+        .unwrap()
+        .scene
+}
+
 /// The animation `grammar` makes of `scene` with the default options; a grammar or run
 /// error panics with its message.
 pub fn run_grammar(scene: Scene, grammar: &str) -> Animation {

@@ -101,8 +101,8 @@ GM_DIMS = [
     Dim("inherit", ["none", "motion", "colour"]),
     Dim("scene", ["rects", "circles", "paths", "group", "strokes", "mixed", "filtered"]),
     Dim("spatial", ["none", "regularSplit", "dual-split", "outline", "regroup", "ungroup", "fill",
-                    "invert", "perturb", "streamline", "place", "stipple"],
-        pair=False, weights=[24] + [1] * 11),
+                    "invert", "perturb", "streamline", "place", "stipple", "letters", "words", "lines"],
+        pair=False, weights=[24] + [1] * 14),
     Dim("smoothing", ["none", "spring", "msd", "fir", "lowpass", "spline", "series", "simple",
                       "parallel", "tustin"], pair=False, weights=[18] + [1] * 9),
     Dim("where", ["header", "rule"], pair=False),
@@ -244,8 +244,22 @@ SCENES = {
 }
 
 
-def scene_svg(kind):
-    body = "\n".join(SCENES[kind])
+# Two lines of type tagged like the scene's shapes, added to the scene of the text operators'
+# cases: the text is cut, the scene's other `s` shapes pass through whole (with a warning).
+# Drawn with the fonts vendored in tests/fonts (given with --font-file), ligatures and all.
+TEXT = ('<text data-tag="s" font-family="Noto Sans" font-size="15" fill="#3a86ff" stroke="#1d3557" '
+        'stroke-width="0.4"><tspan x="10" y="122">Kinetic type</tspan><tspan x="10" dy="18">first flow</tspan></text>')
+TEXT_OPS = {"letters", "words", "lines"}
+FONTS = ["NotoSans-Regular.ttf", "NotoSansHebrew-Regular.ttf"]
+
+
+def font_args():
+    """The command-line arguments that give gmotion the vendored fonts."""
+    return [a for f in FONTS for a in ("--font-file", os.path.join(root(), "tests", "fonts", f))]
+
+
+def scene_svg(kind, text=False):
+    body = "\n".join(SCENES[kind] + ([TEXT] if text else []))
     return (f'<svg xmlns="http://www.w3.org/2000/svg" width="{W}" height="{H}" viewBox="0 0 {W} {H}">\n'
             f'<rect data-tag="bg" width="{W}" height="{H}" fill="#f4f1ea"/>\n{body}\n</svg>\n')
 
@@ -302,6 +316,9 @@ SPATIAL = {
     "streamline": (["streamlineSplit(strip, 8) : s -> [p]"], "p"),
     "place": (["place(circle, 8, 11) : s -> [p, q]"], "q, p"),
     "stipple": (["stipple(dots, 3, 1.5) : s -> [q, p]"], "q, p"),
+    "letters": (["letters() : s -> [p]"], "p"),
+    "words": (["words() : s -> [p]"], "p"),
+    "lines": (["lines() : s -> [p]"], "p"),
 }
 SMOOTHING = {"none": None, "spring": "spring(0.3, 0.1)", "msd": "msd(1, 150, 14)",
              "fir": "fir(bspline(3), 0.25)", "lowpass": "lowpass(2, 0.06)", "spline": "spline(0.25)",
@@ -685,11 +702,12 @@ def export(case, out, gm):
     if case["family"] == "gm":
         scene = os.path.join(d, "scene.svg")
         src = os.path.join(d, "case.gm")
+        text = dims["spatial"] in TEXT_OPS
         with open(scene, "w", encoding="utf-8") as f:
-            f.write(scene_svg(dims["scene"]))
+            f.write(scene_svg(dims["scene"], text))
         with open(src, "w", encoding="utf-8") as f:
             f.write(grammar(dims))
-        base = [gm, "animate", scene, src]
+        base = [gm] + (font_args() if text else []) + ["animate", scene, src]
     elif case["family"] == "tr":
         scene = os.path.join(d, "scene.svg")
         with open(scene, "w", encoding="utf-8") as f:
@@ -701,7 +719,10 @@ def export(case, out, gm):
         base = [gm, "transitions", scene, src] + args
     elif "example" in dims:
         scene, src = os.path.join(g, dims["example"] + ".svg"), os.path.join(g, dims["example"] + ".gm")
-        base = [gm, "animate", scene, src]
+        # An example drawn in the vendored fonts gets them, as its grammar says.
+        with open(scene, encoding="utf-8") as f:
+            vendored = "Noto Sans" in f.read()
+        base = [gm] + (font_args() if vendored else []) + ["animate", scene, src]
     else:
         name = dims["transitions example"]
         scene, src = os.path.join(g, name + ".svg"), os.path.join(g, name + ".targets.json")

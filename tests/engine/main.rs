@@ -17,4 +17,5 @@ mod papers;
 mod sampler;
 mod signals;
 mod tangle;
+mod text;
 mod transitions;

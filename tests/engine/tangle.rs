@@ -618,6 +618,7 @@ fn documented_examples_parse_and_bind() {
         bbox: Rect::new(0.0, 0.0, 100.0, 100.0),
         canvas: (100.0, 100.0),
         step: 0,
+        text: (0, 0),
     };
     for block in blocks {
         let g = gmotion::grammar::parse(block).unwrap_or_else(|e| panic!("{block}: {e:?}"));

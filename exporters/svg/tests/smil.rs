@@ -484,6 +484,7 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
         fill: red(),
         stroke: Color::BLACK,
         stroke_width: 3.0,
+        text: gmotion::text::TextPlace::default(),
     };
     let comps = [
         Component::Rotate(-70.0),
@@ -545,6 +546,7 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
         fill: red(),
         stroke: Color::BLACK,
         stroke_width: 3.0,
+        text: gmotion::text::TextPlace::default(),
     };
     let shapes = vec![
         shape(0, vec![0], Rect::new(20.0, 20.0, 160.0, 160.0)),

@@ -27,6 +27,8 @@ pub(super) struct Unit {
     pub aliases: Vec<String>,
     pub node_path: Vec<usize>,
     pub parent_transform: Affine,
+    /// A text unit's letters, words and lines.
+    pub text: Option<Arc<gmotion::text::TextLayout>>,
 }
 
 /// The converted tree with its units (in paint order) and warnings.
@@ -301,6 +303,7 @@ impl<'s, 'a> Converter<'s, 'a> {
             aliases,
             node_path,
             parent_transform,
+            text: None,
         });
         self.units.len() - 1
     }
@@ -330,7 +333,16 @@ impl<'s, 'a> Converter<'s, 'a> {
                         self.warn(near, "text dropped: no font to draw it with (no font is installed; give one with --font-file or --font-dir)");
                     } else {
                         self.warn(near, "text converted to outlines with the system fonts");
+                        let units = self.units.len();
                         self.group(t.flattened(), GroupKind::Text, dst, ctx);
+                        // The text became a unit of its own: keep its letters apart too.
+                        if matches!(dst.children.last(), Some(Node::Group(g)) if g.unit == Some(units))
+                        {
+                            let fonts = self.fonts;
+                            let layout =
+                                crate::text::layout(t, fonts, |span| self.span_paint(span, near));
+                            self.units[units].text = layout.map(Arc::new);
+                        }
                     }
                 }
                 usvg::Node::Image(i) => self.image(i, dst, ctx),
@@ -692,6 +704,22 @@ impl<'s, 'a> Converter<'s, 'a> {
             node.unit = Some(self.register(scope.tag("image"), elem, ctx.scope, ctx.abs, index));
         }
         dst.children.push(Node::Image(node));
+    }
+
+    /// The paint of a laid-out text span, as [`Converter::path`] converts a path's.
+    fn span_paint(
+        &mut self,
+        span: &usvg::layout::Span,
+        near: Option<NodeId>,
+    ) -> crate::text::SpanPaint {
+        let fill = span.fill.as_ref().map(|f| Fill {
+            paint: self.paint(f.paint(), near),
+            opacity: f.opacity().get(),
+            rule: FillRule::NonZero,
+        });
+        let stroke = span.stroke.as_ref().map(|s| self.stroke(s, near));
+        let stroke_first = span.paint_order == usvg::PaintOrder::StrokeAndFill;
+        (fill, stroke, stroke_first)
     }
 
     fn stroke(&mut self, s: &usvg::Stroke, near: Option<NodeId>) -> Stroke {

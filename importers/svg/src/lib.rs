@@ -31,6 +31,7 @@ pub mod fonts;
 mod source;
 pub mod tagmap;
 pub mod tags;
+mod text;
 
 use std::path::{Path, PathBuf};
 
@@ -452,6 +453,10 @@ fn parse_in(
             fill: m.fill,
             stroke: m.stroke,
             stroke_width: m.stroke_width,
+            text: gmotion::text::TextPlace {
+                layout: unit.text,
+                ..gmotion::text::TextPlace::default()
+            },
         });
         *count += 1;
     }

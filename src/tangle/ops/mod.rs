@@ -8,6 +8,7 @@ pub mod perturb;
 pub mod regular_split;
 pub mod stipple;
 pub mod streamline;
+pub mod text;
 
 use kurbo::{Point, Vec2};
 
@@ -20,6 +21,7 @@ use grouping::{RegroupMode, regroup_slot};
 use paint::Paint;
 use regular_split::SplitParams;
 use stipple::StippleParams;
+use text::TextSplit;
 
 /// The operators' unit-test case: the grid of a 100 × 100 canvas and a square region of
 /// side `side` in its top-left corner.
@@ -88,6 +90,8 @@ pub enum Op {
         /// Size of the wobbles.
         scale: f64,
     },
+    /// `letters()`, `words()`, `lines()`.
+    Text(TextSplit),
 }
 
 /// One shape handed to an operator.
@@ -151,6 +155,7 @@ impl Op {
             Op::Stipple(_) => "stipple",
             Op::Invert => "invert",
             Op::Perturb { .. } => "perturb",
+            Op::Text(split) => split.name(),
         }
     }
 
@@ -275,6 +280,14 @@ impl Op {
                     out.push(same(marks, 1, input.paint.ink()));
                 }
                 out
+            }
+            // The expansion cuts text with the layout it holds ([`text::cut`]); a shape
+            // that reaches here did not come from text, and stays whole.
+            Op::Text(split) => {
+                return Err(format!(
+                    "`{}()` cuts text; this shape did not come from text",
+                    split.name()
+                ));
             }
             Op::Perturb { amplitude, scale } => {
                 let r = perturb::perturb(input.region, *amplitude, *scale, input.group_key, grid)?;
