@@ -956,6 +956,15 @@ fn easing(e: &Expr, env: &mut dyn Env) -> Result<Easing, EngineError> {
             ));
         }
     };
+    // A bad number (`steps(0)`) is located at the argument, a bad name at the whole call.
+    let at = match &e.kind {
+        ExprKind::Call { args, .. }
+            if Easing::NAMES.contains(&name.as_str()) && args.len() == 1 =>
+        {
+            args[0].span
+        }
+        _ => e.span,
+    };
     Easing::from_call(&name, &args)
-        .map_err(|m| EngineError::at(e.span, m.to_string()).suggesting(Some(&name), Easing::NAMES))
+        .map_err(|m| EngineError::at(at, m.to_string()).suggesting(Some(&name), Easing::NAMES))
 }

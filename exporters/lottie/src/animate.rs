@@ -394,7 +394,9 @@ fn exact_components(seg: &MotionSeg) -> Option<(&[Component], Point)> {
     let [(_, comps)] = &blend[..] else {
         return None;
     };
-    seg.timing.ease.as_cubic_bezier()?;
+    if seg.timing.ease.as_cubic_bezier().is_none() && seg.timing.ease.steps().is_none() {
+        return None;
+    }
     if *interp == Interp::Alexa {
         // Alexa's power equals the component-wise blend for single translations,
         // rotations below a half turn and scales; check rather than enumerate.
@@ -659,6 +661,7 @@ fn bake_key(
             Easing::CubicBezier(p) => put(&[1.0, p[0], p[1], p[2], p[3]]),
             Easing::BSpline(k) => put(&[2.0, f64::from(*k)]),
             Easing::Poles { n, tau } => put(&[3.0, f64::from(*n), *tau]),
+            Easing::Steps(n) => put(&[4.0, f64::from(*n)]),
         }
         let p = *pivot - shift;
         put(&[p.x, p.y, f64::from(u8::from(*interp == Interp::Alexa))]);
