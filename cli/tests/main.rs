@@ -33,3 +33,6 @@ mod lottie_time;
 #[cfg(feature = "players")]
 mod rigs;
 mod studio;
+// Every test here plays exports.
+#[cfg(feature = "players")]
+mod trim;

@@ -109,9 +109,16 @@ impl Look {
         let on = |v: f64| (v / GRID).round() as i64;
         let level = |v: f64| (v / LEVEL).round() as i64;
         let (f, s) = (&state.fill, &state.stroke);
-        // A whole stroke looks the same however far it is shifted.
+        // A whole stroke looks the same however far it is shifted, and an empty one
+        // wherever it is empty.
         let trim = if state.trim.is_whole() {
             Trim::REST
+        } else if state.trim.is_empty() {
+            Trim {
+                start: 0.0,
+                end: 0.0,
+                shift: 0.0,
+            }
         } else {
             state.trim
         };

@@ -314,7 +314,12 @@ impl<'a> Writer<'a> {
             fill: compose(ctx.fill, state.fill),
             stroke: compose(ctx.stroke, state.stroke),
             width: ctx.width * state.stroke_width,
-            trim: state.trim,
+            // A unit that never trims keeps the trim of the unit around it.
+            trim: if track.trim.is_empty() {
+                ctx.trim
+            } else {
+                state.trim
+            },
         };
         if deforms {
             self.deform.push(track);
