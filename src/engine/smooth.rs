@@ -116,14 +116,17 @@ pub fn smooth_tracks(
             } else {
                 smooth_samples(spec, &raw, fps).map_err(|e| e.to_string())?
             };
-            *track = rebuild(&smoothed, time);
+            *track = rebuild(&smoothed, time, !track.trim.is_empty());
             Ok(())
         })
         .collect();
     results.into_iter().collect()
 }
 
-fn rebuild(v: &[[f64; N]], time: impl Fn(usize) -> f64) -> Track {
+/// The track of the smoothed samples `v`; `trims` when the track trims its strokes (else
+/// the trim, filtered from a constant, comes back within float noise of the rest and is
+/// left out).
+fn rebuild(v: &[[f64; N]], time: impl Fn(usize) -> f64, trims: bool) -> Track {
     let mut track = Track::default();
     let affine = |x: &[f64; N]| Affine::new([x[0], x[1], x[2], x[3], x[4], x[5]]);
     // A channel reads its neutral value (identity, no tint, 1) before its first window, so a
@@ -168,7 +171,7 @@ fn rebuild(v: &[[f64; N]], time: impl Fn(usize) -> f64) -> Track {
                 .push(AttrSeg::linear(t0, t1, a[15].max(0.0), b[15].max(0.0)));
         }
         let (ta, tb) = (trim(a), trim(b));
-        if ta != tb || (track.trim.is_empty() && ta != trim(&rest)) {
+        if trims && (ta != tb || (track.trim.is_empty() && ta != trim(&rest))) {
             track.trim.push(AttrSeg::linear(t0, t1, ta, tb));
         }
     }
