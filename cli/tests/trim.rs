@@ -262,3 +262,76 @@ fn chromium_plays_the_smil_trims_and_holds_as_the_model() {
         );
     }
 }
+
+#[test]
+fn bad_trims_and_steps_are_errors_at_the_number() {
+    let d = dir("errors");
+    std::fs::write(d.join("icon.svg"), ICON).unwrap();
+    let dashed = ICON.replace(
+        r#"stroke-linejoin="round"/>"#,
+        r#"stroke-linejoin="round" stroke-dasharray="4 2" id="tick_path"/>"#,
+    );
+    std::fs::write(d.join("dashed.svg"), dashed).unwrap();
+    for (scene, rule, at, says) in [
+        (
+            "icon.svg",
+            "animate(trim, local, 0, (0.2, 1.5)) : [all, tick] -> [t]",
+            ":3:31:",
+            "the trim's end is a fraction of the path's length in [0, 1], found 1.5",
+        ),
+        (
+            "icon.svg",
+            "animate(trim, local, 0, (-0.1, 0.5)) : [all, tick] -> [t]",
+            ":3:26:",
+            "the trim's start is a fraction",
+        ),
+        (
+            "icon.svg",
+            "animate(trim, local, 0, (0.7, 0.2)) : [all, tick] -> [t]",
+            ":3:26:",
+            "the trim's start 0.7 is past its end 0.2",
+        ),
+        (
+            "icon.svg",
+            "animate(trim, local, 0, 0.5) : [all, tick] -> [t]",
+            ":3:25:",
+            "a trim is `(start, end)`",
+        ),
+        (
+            "icon.svg",
+            "animate(opacity, local, 0, 0.5, ease=steps(0)) : [all, tick] -> [t]",
+            ":3:44:",
+            "number of steps",
+        ),
+        (
+            "icon.svg",
+            "animate(opacity, local, 0, 0.5, ease=steps(2.5)) : [all, tick] -> [t]",
+            ":3:44:",
+            "number of steps",
+        ),
+        (
+            "dashed.svg",
+            "animate(trim, local, 0, (0, 0.5)) : [all, tick] -> [t]",
+            ":3:25:",
+            "element `tick_path` of shape `tick` #0 has a dashed stroke",
+        ),
+    ] {
+        let g = d.join("bad.gm");
+        std::fs::write(&g, format!("scene {scene}\nduration 1s\n{rule}\n")).unwrap();
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_gmotion"))
+            .arg("check")
+            .arg(&g)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{rule}: {err}");
+        let line = err
+            .lines()
+            .position(|l| l.contains(&format!("bad.gm{at}")))
+            .unwrap_or_else(|| panic!("{rule}: no {at} in\n{err}"));
+        assert!(
+            err.lines().skip(line).take(6).any(|l| l.contains(says)),
+            "{rule}: {says}\n{err}"
+        );
+    }
+}

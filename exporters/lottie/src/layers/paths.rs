@@ -135,7 +135,7 @@ impl Builder<'_> {
                     _ => parts.push(Part::Plain(vec![s])),
                 },
                 Styled::InSpace(s, space) => {
-                    let tm = trim.clone().filter(|_| role == Role::Stroke);
+                    let tm = trim.clone().filter(|_| role == Role::Stroke).map(Box::new);
                     parts.push(Part::Space(s, space, tm))
                 }
                 Styled::Pattern(pat, opacity) => {
@@ -224,7 +224,7 @@ impl Builder<'_> {
                 }
                 Part::Space(style, space, tm) => {
                     let mut it = sh(geometry(self, space));
-                    it.extend(tm);
+                    it.extend(tm.map(|b| *b));
                     it.push(style);
                     let sub = decompose(space, Point::ORIGIN);
                     for (k, level) in sub.iter().enumerate().rev() {
@@ -349,7 +349,7 @@ pub(super) enum Part {
     /// A stroke drawn as the fill of its outline.
     Outline(Shape),
     /// A style item drawn on the geometry mapped into a space (a stroke with its trim).
-    Space(Shape, Affine, Option<Shape>),
+    Space(Shape, Affine, Option<Box<Shape>>),
     /// A stroke drawn on the path's own geometry cut by the path's trim, in a group of its
     /// own so that the trim leaves the fill whole.
     Trimmed(Shape),
