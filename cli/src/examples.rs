@@ -66,6 +66,7 @@ macro_rules! transitions {
 /// Every bundled example, by name.
 pub const EXAMPLES: &[Example] = &[
     grammar!("abstract"),
+    grammar!("checkmark"),
     grammar!("crack"),
     grammar!("cube"),
     grammar!("growing_tangle"),

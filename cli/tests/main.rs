@@ -38,3 +38,6 @@ mod studio;
 // Every test here plays exports in the real players.
 #[cfg(feature = "players")]
 mod text;
+// Every test here plays exports.
+#[cfg(feature = "players")]
+mod trim;

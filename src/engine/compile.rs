@@ -27,7 +27,7 @@ use std::sync::Arc;
 use kurbo::{Affine, Point, Vec2};
 
 use crate::motion::{
-    AttrSeg, Channel, Component, Interp, Lookup, MotionKind, MotionSeg, Timing, Tint, Track,
+    AttrSeg, Channel, Component, Interp, Lookup, MotionKind, MotionSeg, Timing, Tint, Track, Trim,
 };
 use crate::scene::Shape;
 
@@ -41,6 +41,7 @@ struct State {
     stroke: Tint,
     opacity: f64,
     width: f64,
+    trim: Trim,
 }
 
 const REST: State = State {
@@ -49,6 +50,7 @@ const REST: State = State {
     stroke: Tint::NONE,
     opacity: 1.0,
     width: 1.0,
+    trim: Trim::REST,
 };
 
 /// A map searched linearly: a shape has a handful of motions and changes, for which this
@@ -108,6 +110,7 @@ fn channel(spec: &AnimSpec) -> Channel {
         AnimSpec::Border(_) => Channel::Stroke,
         AnimSpec::Opacity(_) => Channel::Opacity,
         AnimSpec::StrokeWidth(_) => Channel::StrokeWidth,
+        AnimSpec::Trim(_) => Channel::Trim,
     }
 }
 
@@ -289,6 +292,7 @@ fn compile(shape: &Shape, slices: &[Slice], scratch: &mut Scratch) -> Track {
     track
         .stroke_width
         .reserve_exact(counts[Channel::StrokeWidth as usize]);
+    track.trim.reserve_exact(counts[Channel::Trim as usize]);
 
     let roles = Roles::new(shape, slices, firsts, forward_steps);
     let mut state = REST;
@@ -398,6 +402,7 @@ fn compile(shape: &Shape, slices: &[Slice], scratch: &mut Scratch) -> Track {
                         Channel::Stroke => Value::Tint(s.stroke),
                         Channel::Opacity => Value::Num(s.opacity),
                         Channel::StrokeWidth | Channel::Transform => Value::Num(s.width),
+                        Channel::Trim => Value::Trim(s.trim),
                     };
                     let target = target_of(shape, spec);
                     // Value at progress 0 and 1 (a reversed change starts at 1).
@@ -476,6 +481,9 @@ fn compile(shape: &Shape, slices: &[Slice], scratch: &mut Scratch) -> Track {
         if let Some(s) = track.stroke_width.last().filter(|s| s.t0 == t0) {
             state.width = s.value_at(t1);
         }
+        if let Some(s) = track.trim.last().filter(|s| s.t0 == t0) {
+            state.trim = s.value_at(t1);
+        }
     }
     track
 }
@@ -508,6 +516,7 @@ fn wrapping(layers: &[Layer], li: usize, window: &[usize], rels: &[Affine]) -> A
 enum Value {
     Tint(Tint),
     Num(f64),
+    Trim(Trim),
 }
 
 /// Pushes an attribute change onto its channel; a pre-applied change that opens its channel
@@ -555,6 +564,9 @@ fn push_attr(
         }
         (Channel::StrokeWidth, Value::Num(f), Value::Num(t)) => {
             push(&mut track.stroke_width, t0, t1, timing, f, t, pre_applied)
+        }
+        (Channel::Trim, Value::Trim(f), Value::Trim(t)) => {
+            push(&mut track.trim, t0, t1, timing, f, t, pre_applied)
         }
         // A channel's values are all of its kind, and motions are not attributes.
         _ => {}
@@ -681,6 +693,7 @@ fn target_of(shape: &Shape, spec: &AnimSpec) -> Value {
     match spec {
         AnimSpec::Fill(c) | AnimSpec::Border(c) => Value::Tint(Tint::full(*c)),
         AnimSpec::Opacity(x) => Value::Num(*x),
+        AnimSpec::Trim(x) => Value::Trim(*x),
         AnimSpec::StrokeWidth(w) if shape.stroke_width > 0.0 => Value::Num(w / shape.stroke_width),
         _ => Value::Num(1.0),
     }

@@ -16,8 +16,8 @@ use rayon::prelude::*;
 use crate::color::Color;
 use crate::grammar::ast::{Expr, ExprKind};
 use crate::grammar::value::{Env, Value, arithmetic, eval, geometry_var};
-use crate::motion::{Component, Field, Grid, Interp, Lookup};
-use crate::scene::{Scene, Shape};
+use crate::motion::{Component, Field, Grid, Interp, Lookup, Trim};
+use crate::scene::{Node, Scene, Shape};
 use crate::signals::Easing;
 
 use super::EngineError;
@@ -51,6 +51,8 @@ pub enum AnimSpec {
     Opacity(f64),
     /// Stroke width target (user units).
     StrokeWidth(f64),
+    /// The strokes' visible part to reach.
+    Trim(Trim),
 }
 
 /// One application of `animate` to one slice of one shape (or one keyframe interval of
@@ -640,6 +642,17 @@ fn apply(
                     shared
                 }
             };
+            if *kind == AnimType::Trim
+                && let Some(id) = dashed_stroke(ctx.scene, env.shape)
+            {
+                return Err(EngineError::at(
+                    value.span,
+                    format!(
+                        "element `{id}` of shape `{}` #{} has a dashed stroke, which a trim cannot compose with (exporters write a trim as the stroke's dash pattern); remove its `stroke-dasharray` or trim another shape",
+                        env.shape.tag, env.shape.id
+                    ),
+                ));
+            }
             let out_tag = &rule.outputs[0];
             let inverted = out_tag.inverted ^ slice.inverted;
             let parts = specs.len();
@@ -678,6 +691,37 @@ fn apply(
         }
     }
     Ok(())
+}
+
+/// The id (or `<path>`) of the first path of `shape`'s unit whose stroke has a dash
+/// pattern, if any.
+fn dashed_stroke(scene: &Scene, shape: &Shape) -> Option<String> {
+    fn find(node: &Node) -> Option<String> {
+        match node {
+            Node::Path(p) => p
+                .stroke
+                .as_ref()
+                .filter(|s| s.dash.as_ref().is_some_and(|d| !d.is_empty()))
+                .map(|_| {
+                    if p.id.is_empty() {
+                        "<path>".to_string()
+                    } else {
+                        p.id.clone()
+                    }
+                }),
+            Node::Group(g) => g.children.iter().find_map(find),
+            Node::Image(_) => None,
+        }
+    }
+    let (last, parents) = shape.node_path.split_last()?;
+    let mut group = &scene.root;
+    for &i in parents {
+        match group.children.get(i)? {
+            Node::Group(g) => group = g,
+            Node::Path(_) | Node::Image(_) => return None,
+        }
+    }
+    find(group.children.get(*last)?)
 }
 
 /// True when `e` names the keyframe variable `u`.
@@ -858,7 +902,11 @@ fn finish(
 /// Evaluates an `animate` rule's value (at the keyframe `env.u`, if any) into what it
 /// animates: a motion field with its pivot, or an attribute change.
 fn spec(kind: &AnimType, value: &Expr, env: &mut dyn Env) -> Result<Keyed, EngineError> {
-    let v = eval(value, env)?;
+    // A trim's 3-tuple is no value of its own: its numbers are read one by one.
+    let v = match kind {
+        AnimType::Trim => Value::Num(0.0),
+        _ => eval(value, env)?,
+    };
     let bad = |m: crate::grammar::value::TypeError| EngineError::from(m.at(value.span));
     let spec = match kind {
         AnimType::Affine | AnimType::Towards | AnimType::Path => {
@@ -915,8 +963,59 @@ fn spec(kind: &AnimType, value: &Expr, env: &mut dyn Env) -> Result<Keyed, Engin
             }
             AnimSpec::StrokeWidth(x)
         }
+        AnimType::Trim => AnimSpec::Trim(trim_value(value, env)?),
     };
     Ok(Keyed::Attribute(spec))
+}
+
+/// A trim's `(START, END[, SHIFT])`, each number checked where it is written: `START` and
+/// `END` in `0..=1` with `START ≤ END`, `SHIFT` any number of turns.
+fn trim_value(value: &Expr, env: &mut dyn Env) -> Result<Trim, EngineError> {
+    let ExprKind::Tuple(items) = &value.kind else {
+        return Err(EngineError::at(
+            value.span,
+            "a trim is `(start, end)` or `(start, end, shift)`: fractions of the path's length and a shift in turns",
+        ));
+    };
+    if !(2..=3).contains(&items.len()) {
+        return Err(EngineError::at(
+            value.span,
+            format!(
+                "a trim is `(start, end)` or `(start, end, shift)`, found {} numbers",
+                items.len()
+            ),
+        ));
+    }
+    let mut nums = [0.0; 3];
+    for (k, item) in items.iter().enumerate() {
+        let x = eval(item, env)?
+            .as_num()
+            .map_err(|m| EngineError::from(m.at(item.span)))?;
+        if k < 2 && !(0.0..=1.0).contains(&x) {
+            let which = if k == 0 { "start" } else { "end" };
+            return Err(EngineError::at(
+                item.span,
+                format!(
+                    "the trim's {which} is a fraction of the path's length in [0, 1], found {x}"
+                ),
+            ));
+        }
+        nums[k] = x;
+    }
+    if nums[0] > nums[1] {
+        return Err(EngineError::at(
+            items[0].span,
+            format!(
+                "the trim's start {} is past its end {}: write `(start, end)` with start ≤ end (an inverted slice plays it backwards)",
+                nums[0], nums[1]
+            ),
+        ));
+    }
+    Ok(Trim {
+        start: nums[0],
+        end: nums[1],
+        shift: nums[2],
+    })
 }
 
 /// Splits `translate(c) … translate(-c)` into the middle and the pivot `c`, so a transform
@@ -958,6 +1057,15 @@ fn easing(e: &Expr, env: &mut dyn Env) -> Result<Easing, EngineError> {
             ));
         }
     };
+    // A bad number (`steps(0)`) is located at the argument, a bad name at the whole call.
+    let at = match &e.kind {
+        ExprKind::Call { args, .. }
+            if Easing::NAMES.contains(&name.as_str()) && args.len() == 1 =>
+        {
+            args[0].span
+        }
+        _ => e.span,
+    };
     Easing::from_call(&name, &args)
-        .map_err(|m| EngineError::at(e.span, m.to_string()).suggesting(Some(&name), Easing::NAMES))
+        .map_err(|m| EngineError::at(at, m.to_string()).suggesting(Some(&name), Easing::NAMES))
 }

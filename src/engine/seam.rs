@@ -11,7 +11,7 @@ use std::collections::HashMap;
 use kurbo::{Point, Rect};
 use rayon::prelude::*;
 
-use crate::motion::{ShapeState, Track};
+use crate::motion::{ShapeState, Track, Trim};
 use crate::scene::Shape;
 use crate::warning::Warning;
 
@@ -91,11 +91,12 @@ pub fn loop_warning(
     )))
 }
 
-/// A shape's look at one instant, on grids: its box's corners, colours, opacity, width.
+/// A shape's look at one instant, on grids: its box's corners, colours, opacity, width,
+/// trim.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 struct Look {
     corners: [(i64, i64); 4],
-    paint: [i64; 10],
+    paint: [i64; 13],
     /// Whether any of it lies on the canvas.
     visible: bool,
 }
@@ -108,6 +109,19 @@ impl Look {
         let on = |v: f64| (v / GRID).round() as i64;
         let level = |v: f64| (v / LEVEL).round() as i64;
         let (f, s) = (&state.fill, &state.stroke);
+        // A whole stroke looks the same however far it is shifted, and an empty one
+        // wherever it is empty.
+        let trim = if state.trim.is_whole() {
+            Trim::REST
+        } else if state.trim.is_empty() {
+            Trim {
+                start: 0.0,
+                end: 0.0,
+                shift: 0.0,
+            }
+        } else {
+            state.trim
+        };
         let seen = points
             .iter()
             .fold(Rect::from_points(points[0], points[0]), |r, p| {
@@ -126,6 +140,9 @@ impl Look {
                 level(f64::from(s.sum[2])),
                 level(state.opacity),
                 level(state.stroke_width),
+                level(trim.start),
+                level(trim.end),
+                level(trim.shift.rem_euclid(1.0)),
             ],
             visible: state.opacity > 0.0 && seen.overlaps(canvas),
         }
@@ -149,6 +166,9 @@ impl Look {
                 self.paint[8] as f64 * LEVEL
             );
         }
-        "another stroke width".into()
+        if self.paint[9] != last.paint[9] {
+            return "another stroke width".into();
+        }
+        "another visible part of the stroke (trim)".into()
     }
 }

@@ -1,5 +1,5 @@
 //! The `smoothing` stage: every shape's channels — the six transform coefficients, both
-//! tints, opacity and stroke width — sampled once per frame and passed through a signal
+//! tints, opacity, stroke width and trim — sampled once per frame and passed through a signal
 //! system (FIR easing, spring, …; see [`crate::signals::smooth`]), so motion stays
 //! continuous in velocity across slice boundaries (Reach & North, sec. 5–6).
 //!
@@ -13,12 +13,12 @@ use kurbo::Affine;
 use rayon::prelude::*;
 
 use crate::grammar::value::Value;
-use crate::motion::{AttrSeg, Component, MotionSeg, Tint, Track};
+use crate::motion::{AttrSeg, Component, MotionSeg, Tint, Track, Trim};
 use crate::signals::smooth::{CallArg, SmoothSpec, smooth_samples};
 
 /// Channels per shape: 6 affine coefficients, fill tint (4), stroke tint (4), opacity,
-/// stroke width.
-const N: usize = 16;
+/// stroke width, trim (start, end, shift).
+const N: usize = 19;
 
 /// The system a `smoothing` directive names.
 pub fn spec_from_value(v: &Value) -> Result<SmoothSpec, String> {
@@ -64,6 +64,9 @@ fn pack(track: &Track, t: f64) -> [f64; N] {
         s.stroke.weight as f64,
         s.opacity,
         s.stroke_width,
+        s.trim.start,
+        s.trim.end,
+        s.trim.shift,
     ]
 }
 
@@ -71,6 +74,17 @@ fn tint(v: &[f64; N], at: usize) -> Tint {
     Tint {
         sum: [v[at] as f32, v[at + 1] as f32, v[at + 2] as f32],
         weight: v[at + 3].clamp(0.0, 1.0) as f32,
+    }
+}
+
+/// A smoothed trim, kept a trim: a filter that overshoots could carry its ends out of the
+/// path or past each other.
+fn trim(v: &[f64; N]) -> Trim {
+    let start = v[16].clamp(0.0, 1.0);
+    Trim {
+        start,
+        end: v[17].clamp(start, 1.0),
+        shift: v[18],
     }
 }
 
@@ -102,14 +116,17 @@ pub fn smooth_tracks(
             } else {
                 smooth_samples(spec, &raw, fps).map_err(|e| e.to_string())?
             };
-            *track = rebuild(&smoothed, time);
+            *track = rebuild(&smoothed, time, !track.trim.is_empty());
             Ok(())
         })
         .collect();
     results.into_iter().collect()
 }
 
-fn rebuild(v: &[[f64; N]], time: impl Fn(usize) -> f64) -> Track {
+/// The track of the smoothed samples `v`; `trims` when the track trims its strokes (else
+/// the trim, filtered from a constant, comes back within float noise of the rest and is
+/// left out).
+fn rebuild(v: &[[f64; N]], time: impl Fn(usize) -> f64, trims: bool) -> Track {
     let mut track = Track::default();
     let affine = |x: &[f64; N]| Affine::new([x[0], x[1], x[2], x[3], x[4], x[5]]);
     // A channel reads its neutral value (identity, no tint, 1) before its first window, so a
@@ -152,6 +169,10 @@ fn rebuild(v: &[[f64; N]], time: impl Fn(usize) -> f64) -> Track {
             track
                 .stroke_width
                 .push(AttrSeg::linear(t0, t1, a[15].max(0.0), b[15].max(0.0)));
+        }
+        let (ta, tb) = (trim(a), trim(b));
+        if trims && (ta != tb || (track.trim.is_empty() && ta != trim(&rest))) {
+            track.trim.push(AttrSeg::linear(t0, t1, ta, tb));
         }
     }
     track

@@ -14,6 +14,8 @@
 //!   value jump is a hold ([`Ease::Hold`]) arriving a thousandth of a frame before the next
 //!   key, and times are frames.
 //!
+//! A stepped easing (`steps(n)`, `hold`) is written as its jumps alone ([`steps`]).
+//!
 //! Motion neither format can say (an easing that is not a cubic Bézier, a deformation) is
 //! sampled and thinned: [`sample`] has the sample instants and the sampled progress,
 //! [`reduce`] the reductions that keep as few samples as stay within an error bound.
@@ -22,6 +24,7 @@
 pub mod reduce;
 pub mod sample;
 pub mod spaced;
+pub mod steps;
 pub mod unit_box;
 
 use crate::motion::{Timing, Tint};

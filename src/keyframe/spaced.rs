@@ -9,7 +9,7 @@
 use kurbo::{CubicBez, ParamCurve, Point};
 
 use super::sample::frame_progress;
-use super::{Ease, Key, Piece, Same};
+use super::{Ease, Key, Piece, Same, steps};
 use crate::signals::easing::solve_bezier_x;
 use crate::tolerance::KEY_TIME;
 
@@ -54,6 +54,11 @@ pub fn keys<V: Clone + Same>(
                     (local / span).clamp(0.0, 1.0)
                 };
                 match timing.ease.as_cubic_bezier() {
+                    None if timing.ease.steps().is_some() => {
+                        for j in steps::jumps(timing, a, b) {
+                            jump(&mut keys, j.t * fps, value(k, j.before), value(k, j.after));
+                        }
+                    }
                     Some(css) => eased(
                         &mut keys,
                         Stretch {

@@ -10,7 +10,7 @@
 
 use kurbo::{CubicBez, ParamCurve, Point};
 
-use super::{Ease, Key, Piece, Same};
+use super::{Ease, Key, Piece, Same, steps};
 use crate::motion::Timing;
 use crate::signals::easing::solve_bezier_x;
 use crate::tolerance::{PROGRESS, Tolerance};
@@ -89,6 +89,22 @@ fn window(timing: &Timing, a: f64, b: f64) -> Option<Vec<Key<f64>>> {
         };
         let u = |t: f64| ((t - base) / span).clamp(0.0, 1.0);
         let time = |x: f64| base + x * span;
+        if timing.ease.steps().is_some() {
+            // Holds and jumps: two keys at one time per jump. A forward jump is written
+            // `LATE` early: Chromium's SMIL time is not exact, and at a frame landing on a
+            // jump it showed some paths before it and some after.
+            for j in steps::jumps(timing, m0, m1) {
+                let t = if timing.reversed {
+                    j.t
+                } else {
+                    (j.t - steps::LATE).max(m0)
+                };
+                push_hold(&mut keys, t, j.before);
+                keys.push(Key::linear(t, j.after));
+            }
+            push_hold(&mut keys, b, timing.progress(b));
+            return Some(keys);
+        }
         let [x1, y1, x2, y2] = timing.ease.as_cubic_bezier()?;
         if !(0.0..=1.0).contains(&x1)
             || !(0.0..=1.0).contains(&x2)

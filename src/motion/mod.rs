@@ -19,6 +19,7 @@ pub mod alexa;
 pub mod component;
 pub mod grid;
 pub mod sampler;
+pub mod trim;
 
 use std::sync::Arc;
 
@@ -30,9 +31,10 @@ use crate::signals::Easing;
 pub use component::Component;
 pub use grid::{Blend, Field, Grid, Lookup};
 pub use sampler::{Playhead, Sampler};
+pub use trim::Trim;
 
-/// The five things a shape's track animates, each a list of its own in a [`Track`]: its
-/// transform ([`Track::motions`]), fill and stroke tints, opacity and stroke width. The
+/// The six things a shape's track animates, each a list of its own in a [`Track`]: its
+/// transform ([`Track::motions`]), fill and stroke tints, opacity, stroke width and trim. The
 /// discriminants index per-channel arrays, in this order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Channel {
@@ -46,11 +48,13 @@ pub enum Channel {
     Opacity = 3,
     /// The stroke-width factor.
     StrokeWidth = 4,
+    /// The visible part of the strokes ([`Trim`]).
+    Trim = 5,
 }
 
 impl Channel {
     /// How many channels there are.
-    pub const COUNT: usize = 5;
+    pub const COUNT: usize = 6;
 }
 
 /// How a motion's transform is interpolated between its neutral and full value.
@@ -333,7 +337,7 @@ impl<T: Blendable> AttrSeg<T> {
 
 /// Samples a list of attribute segments (sorted by `t0`) at `t`, holding the last value
 /// between segments and `default` before the first.
-fn attr_at<T: Blendable>(segs: &[AttrSeg<T>], t: f64, default: T) -> T {
+pub(crate) fn attr_at<T: Blendable>(segs: &[AttrSeg<T>], t: f64, default: T) -> T {
     let i = segs.partition_point(|s| s.t0 <= t);
     if i == 0 {
         return default;
@@ -354,6 +358,8 @@ pub struct Track {
     pub opacity: Vec<AttrSeg<f64>>,
     /// Stroke width multiplier changes.
     pub stroke_width: Vec<AttrSeg<f64>>,
+    /// Changes of the strokes' visible part.
+    pub trim: Vec<AttrSeg<Trim>>,
 }
 
 /// A shape's state at one instant.
@@ -369,6 +375,8 @@ pub struct ShapeState {
     pub opacity: f64,
     /// Stroke width multiplier.
     pub stroke_width: f64,
+    /// The strokes' visible part.
+    pub trim: Trim,
 }
 
 impl ShapeState {
@@ -379,6 +387,7 @@ impl ShapeState {
         stroke: Tint::NONE,
         opacity: 1.0,
         stroke_width: 1.0,
+        trim: Trim::REST,
     };
 }
 
@@ -390,6 +399,7 @@ impl Track {
             && self.stroke.is_empty()
             && self.opacity.is_empty()
             && self.stroke_width.is_empty()
+            && self.trim.is_empty()
     }
 
     /// The rigid transform at `t`.
@@ -421,6 +431,7 @@ impl Track {
             stroke: attr_at(&self.stroke, t, Tint::NONE),
             opacity: attr_at(&self.opacity, t, 1.0),
             stroke_width: attr_at(&self.stroke_width, t, 1.0),
+            trim: attr_at(&self.trim, t, Trim::REST),
         }
     }
 

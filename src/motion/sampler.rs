@@ -23,7 +23,7 @@ use rayon::prelude::*;
 
 use super::{
     Animation, AttrSeg, Blendable, Component, Interp, MotionKind, MotionSeg, ShapeState, Timing,
-    Tint, Track, component::product_at, grid,
+    Tint, Track, Trim, attr_at, component::product_at, grid,
 };
 use crate::signals::Easing;
 
@@ -378,6 +378,9 @@ struct Part<'a> {
     stroke: ChangeList<Tint>,
     opacity: ChangeList<f64>,
     width: ChangeList<f64>,
+    /// The shapes whose strokes are trimmed (part index, changes): few, so looked up as
+    /// the track does rather than compiled.
+    trims: Vec<(u32, &'a [AttrSeg<Trim>])>,
 }
 
 impl<'a> Sampler<'a> {
@@ -487,6 +490,12 @@ impl<'a> Part<'a> {
             stroke: ChangeList::with_capacity(count(|t| t.stroke.len())),
             opacity: ChangeList::with_capacity(count(|t| t.opacity.len())),
             width: ChangeList::with_capacity(count(|t| t.stroke_width.len())),
+            trims: tracks
+                .iter()
+                .enumerate()
+                .filter(|(_, t)| !t.trim.is_empty())
+                .map(|(i, t)| (i as u32, &t.trim[..]))
+                .collect(),
         };
         let mut slots = HashMap::new();
         for track in tracks {
@@ -710,6 +719,16 @@ impl<'a> Part<'a> {
             stroke: self.stroke.at(a.stroke, b.stroke, t, Tint::NONE, e),
             opacity: self.opacity.at(a.opacity, b.opacity, t, 1.0, e),
             stroke_width: self.width.at(a.width, b.width, t, 1.0, e),
+            trim: self.trim_at(i, t),
+        }
+    }
+
+    /// The part's shape `i`'s trim at `t`.
+    #[inline]
+    fn trim_at(&self, i: usize, t: f64) -> Trim {
+        match self.trims.iter().find(|(k, _)| *k as usize == i) {
+            Some((_, segs)) => attr_at(segs, t, Trim::REST),
+            None => Trim::REST,
         }
     }
 }

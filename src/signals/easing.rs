@@ -45,7 +45,22 @@ pub enum Easing {
         /// Time constant of each pole as a fraction of the duration (`> 0`).
         tau: f64,
     },
+    /// CSS `steps(n, jump-end)`: `n` equal jumps, the value `⌊u·n⌋/n` holding in between and
+    /// the last jump landing on 1 at the end of the change (`u = 1`). `hold` is `steps(1)`: the
+    /// value holds for the whole change and jumps at its end. Jumps are right-continuous in
+    /// `u` (at `u = k/n` the value is already `k/n`), so a reversed change — progress
+    /// `apply(1 − u)` — is the exact time reverse: it drops at the very start of its slice
+    /// and the value at each jump instant is the one before the jump.
+    Steps(u32),
 }
+
+/// Largest number of jumps accepted by [`Easing::Steps`].
+pub const MAX_STEPS: u32 = 1000;
+
+/// How close `u·n` must come to a whole number to count as on it: the jump instants are
+/// computed from times, and the rounding of `(t − start)/span` must not move a jump that
+/// falls on a frame to the next frame.
+const STEP_SNAP: f64 = 1e-9;
 
 impl Easing {
     /// Eased progress at linear progress `u` (clamped to `[0,1]`).
@@ -60,7 +75,26 @@ impl Easing {
             Easing::CubicBezier(p) => cubic_bezier(*p, u),
             Easing::BSpline(k) => bspline_cdf(*k, u),
             Easing::Poles { n, tau } => poles_easing(*n, *tau, u),
+            Easing::Steps(n) => {
+                let n = f64::from(*n);
+                (u * n + STEP_SNAP).floor().min(n) / n
+            }
         }
+    }
+
+    /// The number of jumps of a [`Easing::Steps`] curve (exporters write its jumps as hold
+    /// keys), `None` for continuous curves.
+    pub fn steps(&self) -> Option<u32> {
+        match self {
+            Easing::Steps(n) => Some(*n),
+            _ => None,
+        }
+    }
+
+    /// The stepped easing with `n` jumps (`1..=1000`).
+    pub fn stepped(n: u32) -> Result<Easing, SignalError> {
+        whole("number of steps", f64::from(n), 1, MAX_STEPS, "1..=1000")?;
+        Ok(Easing::Steps(n))
     }
 
     /// The CSS cubic-bezier control points, when the curve is one (exporters use them as
@@ -70,7 +104,7 @@ impl Easing {
         match self {
             Easing::Linear | Easing::BSpline(1) => Some([0.0, 0.0, 1.0, 1.0]),
             Easing::CubicBezier(p) => Some(*p),
-            Easing::BSpline(_) | Easing::Poles { .. } => None,
+            Easing::BSpline(_) | Easing::Poles { .. } | Easing::Steps(_) => None,
         }
     }
 
@@ -105,7 +139,7 @@ impl Easing {
     }
 
     /// Every name [`Easing::from_call`] knows, in its preferred spelling.
-    pub const NAMES: [&'static str; 8] = [
+    pub const NAMES: [&'static str; 10] = [
         "linear",
         "ease",
         "ease-in",
@@ -114,6 +148,8 @@ impl Easing {
         "cubic-bezier",
         "bspline",
         "poles",
+        "steps",
+        "hold",
     ];
 
     /// Builds an easing from its grammar spelling: a name and numeric arguments.
@@ -126,6 +162,8 @@ impl Easing {
     /// | `bspline(k)` | B-spline window of order `k ∈ 1..=32` (`bspline(3)`: quadratic B-spline, C²) |
     /// | `poles(n)` | `n` one-pole filters in series, `n ∈ 1..=16`, default time constant (0.1 % tail) |
     /// | `poles(n, tau)` | the same with time constant `tau` as a fraction of the duration |
+    /// | `steps(n)` | `n ∈ 1..=1000` equal jumps, CSS `steps(n, jump-end)`: the last lands at the end |
+    /// | `hold` | `steps(1)`: the value holds and jumps at the end of the change |
     pub fn from_call(name: &str, args: &[f64]) -> Result<Easing, String> {
         Easing::try_from_call(name, args).map_err(|e| e.to_string())
     }
@@ -148,6 +186,11 @@ impl Easing {
         let keyword = |e: Easing| arity(0, "no arguments").map(|_| e);
         match name {
             "linear" => keyword(Easing::Linear),
+            "hold" => keyword(Easing::Steps(1)),
+            "steps" => {
+                arity(1, "one number, the number of jumps n")?;
+                Easing::stepped(whole("number of steps", args[0], 1, MAX_STEPS, "1..=1000")?)
+            }
             "ease" => keyword(Easing::CubicBezier([0.25, 0.1, 0.25, 1.0])),
             "ease_in" | "ease-in" => keyword(Easing::CubicBezier([0.42, 0.0, 1.0, 1.0])),
             "ease_out" | "ease-out" => keyword(Easing::CubicBezier([0.0, 0.0, 0.58, 1.0])),
@@ -189,7 +232,7 @@ impl Easing {
             _ => Err(SignalError::Unknown {
                 kind: "easing",
                 name: name.to_string(),
-                expected: "linear, ease, ease-in, ease-out, ease-in-out, cubic, bspline, poles",
+                expected: "linear, ease, ease-in, ease-out, ease-in-out, cubic, bspline, poles, steps, hold",
             }),
         }
     }

@@ -499,6 +499,7 @@ impl fmt::Display for Easing {
             Easing::CubicBezier([a, b, c, d]) => write!(f, "cubic({a}, {b}, {c}, {d})"),
             Easing::BSpline(k) => write!(f, "bspline({k})"),
             Easing::Poles { n, tau } => write!(f, "poles({n}, {tau})"),
+            Easing::Steps(n) => write!(f, "steps({n})"),
         }
     }
 }

@@ -77,6 +77,7 @@ pub fn frames_to_check(anim: &Animation) -> Vec<f64> {
                 .chain(&t.stroke_width)
                 .flat_map(|a| [a.t0, a.t1]),
         );
+        bounds.extend(t.trim.iter().flat_map(|a| [a.t0, a.t1]));
     }
     for b in bounds {
         let f = b * anim.fps;

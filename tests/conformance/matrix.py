@@ -87,10 +87,10 @@ class Dim:
 GM_DIMS = [
     Dim("type", ["translate", "rotate", "scale", "skew", "matrix", "product", "about",
                  "towards", "path", "fill", "border", "opacity", "stroke-width",
-                 "keyed", "keyed-towards"]),
+                 "keyed", "keyed-towards", "trim"]),
     Dim("ref", ["local", "world"]),
     Dim("ease", ["linear", "ease", "ease-in", "ease-out", "ease-in-out", "cubic",
-                 "bspline", "poles", "poles-tau"]),
+                 "bspline", "poles", "poles-tau", "steps", "hold"]),
     Dim("lookup", ["nearest", "bilinear", "exact", "vertex"]),
     Dim("grid", ["1x1", "3x2", "4x4"]),
     Dim("interp", ["linear", "alexa"]),
@@ -268,7 +268,8 @@ def scene_svg(kind, text=False):
 
 EASES = {"linear": None, "ease": "ease", "ease-in": "ease-in", "ease-out": "ease-out",
          "ease-in-out": "ease-in-out", "cubic": "cubic(0.3, -0.3, 0.7, 1.3)",
-         "bspline": "bspline(3)", "poles": "poles(4)", "poles-tau": "poles(3, 0.15)"}
+         "bspline": "bspline(3)", "poles": "poles(4)", "poles-tau": "poles(3, 0.15)",
+         "steps": "steps(3)", "hold": "hold"}
 # (local value, world value) of each animate type; world transforms are about the canvas
 # origin, so they are kept small enough to leave the shapes on the canvas.
 VALUES = {
@@ -285,6 +286,8 @@ VALUES = {
     "border": ("steelblue",) * 2,
     "opacity": ("0.3",) * 2,
     "stroke-width": ("5",) * 2,
+    # The strokes' visible part: 10 % to 60 % of each path, moved a quarter turn.
+    "trim": ("(0.1, 0.6, 0.25)",) * 2,
     # n×m×p grids: the value at 5 keyframes in time (`u` = 0, 1/4, …, 1).
     "keyed": ("rotate(120 * u) scale(1 - 0.4 * sin(pi * u))",
               "translate(60 * u, -30 * sin(pi * u))"),
@@ -293,7 +296,8 @@ VALUES = {
 ANIM = {"translate": "affine", "rotate": "affine", "scale": "affine", "skew": "affine",
         "matrix": "affine", "product": "affine", "about": "affine", "towards": "towards",
         "path": "path", "fill": "fill", "border": "border", "opacity": "opacity",
-        "stroke-width": "stroke-width", "keyed": "affine", "keyed-towards": "towards"}
+        "stroke-width": "stroke-width", "keyed": "affine", "keyed-towards": "towards",
+        "trim": "trim"}
 OFFSETS = {"zero": "0", "inside": "0.25 * d", "stagger": "0.3 * d * id / n", "near-limit": "0.9 * d"}
 SECOND = {"fill": "fill, local, 0, #00798c", "opacity": "opacity, local, 0, 0.5",
           "stroke-width": "stroke-width, local, 0, 1", "border": "border, local, 0, #edae49",

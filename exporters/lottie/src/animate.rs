@@ -25,7 +25,7 @@ use super::keys::to_keyframes;
 use super::model::{Keyframe, N, Prop, Transform, Value};
 use gmotion::keyframe::{Format, Key, Piece, Same, progress_keys};
 use gmotion::motion::grid::blend_at;
-use gmotion::motion::{AttrSeg, Component, Interp, MotionKind, MotionSeg, Tint, Track};
+use gmotion::motion::{AttrSeg, Component, Interp, MotionKind, MotionSeg, Tint, Track, Trim};
 use gmotion::scene::{Node, Paint};
 use gmotion::signals::easing::Easing;
 use gmotion::tolerance::COMPOSED;
@@ -43,6 +43,8 @@ pub struct UnitMotion {
     pub stroke: Vec<Key<Tint>>,
     /// Stroke width multiplier keys.
     pub stroke_width: Vec<Key<f64>>,
+    /// Keys of the strokes' visible part.
+    pub trim: Vec<Key<Trim>>,
     /// Frames at which deformed outlines are sampled (per-vertex motion), else empty.
     pub deform_frames: Vec<f64>,
     /// Whether the transform ever scales unevenly (strokes then need outlining, since
@@ -58,6 +60,7 @@ impl UnitMotion {
             && self.fill.is_empty()
             && self.stroke.is_empty()
             && self.stroke_width.is_empty()
+            && self.trim.is_empty()
             && self.deform_frames.is_empty())
     }
 }
@@ -77,6 +80,10 @@ pub struct UnitInfo {
 
 /// How far apart two stroke width factors may be and still make one key value.
 pub const WIDTH_FACTOR_TOLERANCE: f64 = 1e-3;
+
+/// How far apart two trim fractions may be and still make one key value (a sampled
+/// easing's keys stay this close to the trim).
+pub const TRIM_TOLERANCE: f64 = 1e-4;
 
 /// Baked windows of one export, by everything their keys depend on. A window is baked
 /// about its anchor, in a frame where the anchor is the origin, so the shapes of a tag that
@@ -114,6 +121,7 @@ pub fn unit_motion(
         fill: attr_keys(&track.fill, fps, Tint::NONE, |t| t, 0.5 / 255.0),
         stroke: attr_keys(&track.stroke, fps, Tint::NONE, |t| t, 0.5 / 255.0),
         stroke_width: attr_keys(&track.stroke_width, fps, 1.0, |v| v, WIDTH_FACTOR_TOLERANCE),
+        trim: attr_keys(&track.trim, fps, Trim::REST, |v| v, TRIM_TOLERANCE),
         ..UnitMotion::default()
     };
     if track.motions.is_empty() {
@@ -394,7 +402,9 @@ fn exact_components(seg: &MotionSeg) -> Option<(&[Component], Point)> {
     let [(_, comps)] = &blend[..] else {
         return None;
     };
-    seg.timing.ease.as_cubic_bezier()?;
+    if seg.timing.ease.as_cubic_bezier().is_none() && seg.timing.ease.steps().is_none() {
+        return None;
+    }
     if *interp == Interp::Alexa {
         // Alexa's power equals the component-wise blend for single translations,
         // rotations below a half turn and scales; check rather than enumerate.
@@ -659,6 +669,7 @@ fn bake_key(
             Easing::CubicBezier(p) => put(&[1.0, p[0], p[1], p[2], p[3]]),
             Easing::BSpline(k) => put(&[2.0, f64::from(*k)]),
             Easing::Poles { n, tau } => put(&[3.0, f64::from(*n), *tau]),
+            Easing::Steps(n) => put(&[4.0, f64::from(*n)]),
         }
         let p = *pivot - shift;
         put(&[p.x, p.y, f64::from(u8::from(*interp == Interp::Alexa))]);

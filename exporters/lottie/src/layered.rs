@@ -116,6 +116,12 @@ pub fn over_source(
         }
         let unit = &source.units[u];
         let name = format!("{}:{}", shape.tag, shape.id);
+        if !motion.trim.is_empty() {
+            warnings.push(Warning::about(
+                name.clone(),
+                "a trim is not yet layered onto a Lottie source; left out",
+            ));
+        }
         if !motion.deform_frames.is_empty() {
             warnings.push(Warning::about(
                 name.clone(),

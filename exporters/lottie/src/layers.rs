@@ -45,12 +45,12 @@ use super::geometry::{Contour, contours, decompose, max_stretch};
 use super::keys::{to_keyframes, within_range};
 use super::model::{
     Asset, Bezier, Group as LGroup, Layer, LayerKind, Mask as LMask, N, PathShape, Prop, Shape,
-    Transform, Value, WriteLayer,
+    Transform, TrimPaths, Value, WriteLayer,
 };
 use super::paint::{self, PaintAnim, Styled};
 use gmotion::color::Color;
 use gmotion::keyframe::Key;
-use gmotion::motion::Track;
+use gmotion::motion::{Track, Trim};
 use gmotion::scene::{
     ClipPath, Fill, FillRule, Filter, Group, LineCap, LineJoin, Mask, MaskKind, Node, Paint,
     PathNode, Pattern, Scene, Stroke,

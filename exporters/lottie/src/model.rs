@@ -456,9 +456,26 @@ pub enum Shape {
     /// A gradient stroke.
     #[serde(rename = "gs")]
     GradientStroke(Box<GradientStroke>),
+    /// Trim paths: cuts the paths above it in its group to their visible part.
+    #[serde(rename = "tm")]
+    Trim(TrimPaths),
     /// The group's transform (last item of a group).
     #[serde(rename = "tr")]
     Transform(Transform),
+}
+
+/// A trim paths modifier.
+#[derive(Clone, Debug, Serialize)]
+pub struct TrimPaths {
+    /// Start of the visible part, percent of each path's length.
+    pub s: Prop,
+    /// End of the visible part, percent.
+    pub e: Prop,
+    /// Offset along the path, degrees (360 a whole turn).
+    pub o: Prop,
+    /// How several paths are trimmed: 1 simultaneously (each on its own length), 2
+    /// individually (one after another).
+    pub m: u8,
 }
 
 /// A group of shapes.

@@ -29,7 +29,7 @@ use kurbo::{Affine, BezPath, PathEl, Point, Rect};
 use gmotion::canvas::Fit;
 
 use defs::{Def, Defs, Names};
-use gmotion::motion::{Animation, Sampler, ShapeState, Tint, Track};
+use gmotion::motion::{Animation, Sampler, ShapeState, Tint, Track, Trim};
 use gmotion::scene::{FillRule, Group, ImageNode, LineCap, LineJoin, Node, Paint, PathNode, Scene};
 use number::{attr_num, attr_transform, escaped, hex, num, point};
 
@@ -184,6 +184,8 @@ struct Ctx {
     stroke: Tint,
     /// Stroke width factor.
     width: f64,
+    /// The strokes' visible part.
+    trim: Trim,
 }
 
 impl Ctx {
@@ -192,7 +194,16 @@ impl Ctx {
         fill: Tint::NONE,
         stroke: Tint::NONE,
         width: 1.0,
+        trim: Trim::REST,
     };
+}
+
+/// Which paints of a path an element draws: both, or one of a trimmed path's two.
+#[derive(Clone, Copy, PartialEq)]
+enum Paints {
+    Both,
+    Fill,
+    Stroke,
 }
 
 struct Writer<'a> {
@@ -303,6 +314,12 @@ impl<'a> Writer<'a> {
             fill: compose(ctx.fill, state.fill),
             stroke: compose(ctx.stroke, state.stroke),
             width: ctx.width * state.stroke_width,
+            // A unit that never trims keeps the trim of the unit around it.
+            trim: if track.trim.is_empty() {
+                ctx.trim
+            } else {
+                state.trim
+            },
         };
         if deforms {
             self.deform.push(track);
@@ -366,13 +383,75 @@ impl<'a> Writer<'a> {
     }
 
     fn path(&mut self, p: &'a PathNode, ctx: Ctx) {
-        self.out.push_str("<path");
-        self.id_attr(&p.id);
-        self.out.push_str(" d=\"");
         let deform = (!self.deform.is_empty()).then_some(ctx.abs);
-        self.path_data(&p.path, deform);
+        if p.stroke.is_none() || ctx.trim.is_whole() {
+            return self.painted(p, &p.path, deform, ctx, Paints::Both);
+        }
+        // A trimmed stroke: the fill whole, the stroke a second element drawn along the
+        // visible part of the (deformed) outline, in the path's paint order.
+        let cut = ctx.trim.apply(&self.deformed(&p.path, deform));
+        let fill = |w: &mut Self| {
+            if p.fill.is_some() {
+                w.painted(p, &p.path, deform, ctx, Paints::Fill);
+            }
+        };
+        if !p.stroke_first {
+            fill(self);
+        }
+        if !cut.is_empty() {
+            self.painted(p, &cut, None, ctx, Paints::Stroke);
+        }
+        if p.stroke_first {
+            fill(self);
+        }
+    }
+
+    /// `path` mapped by the running per-vertex motions (`deform` is the path's rest
+    /// transform to the canvas), or as it is.
+    fn deformed(&self, path: &BezPath, deform: Option<Affine>) -> BezPath {
+        let Some(abs) = deform else {
+            return path.clone();
+        };
+        let t = self.frame.as_ref().map_or(0.0, |f| f.t);
+        let back = inverse(abs);
+        let mut out = path.clone();
+        let map = |q: Point| {
+            let mut c = abs * q;
+            for track in self.deform.iter().rev() {
+                c = track.deform(c, t);
+            }
+            back * c
+        };
+        for el in out.elements_mut() {
+            *el = match *el {
+                PathEl::MoveTo(a) => PathEl::MoveTo(map(a)),
+                PathEl::LineTo(a) => PathEl::LineTo(map(a)),
+                PathEl::QuadTo(a, b) => PathEl::QuadTo(map(a), map(b)),
+                PathEl::CurveTo(a, b, c) => PathEl::CurveTo(map(a), map(b), map(c)),
+                PathEl::ClosePath => PathEl::ClosePath,
+            };
+        }
+        out
+    }
+
+    /// One `<path>` element of `p` drawn along `path`, with the paints `which` says.
+    fn painted(
+        &mut self,
+        p: &'a PathNode,
+        path: &BezPath,
+        deform: Option<Affine>,
+        ctx: Ctx,
+        which: Paints,
+    ) {
+        self.out.push_str("<path");
+        // A split path keeps its id on the fill (ids are unique).
+        if which != Paints::Stroke || p.fill.is_none() {
+            self.id_attr(&p.id);
+        }
+        self.out.push_str(" d=\"");
+        self.path_data(path, deform);
         self.out.push('"');
-        match &p.fill {
+        match p.fill.as_ref().filter(|_| which != Paints::Stroke) {
             None => self.out.push_str(" fill=\"none\""),
             Some(f) => {
                 self.paint("fill", &f.paint, ctx.fill);
@@ -384,7 +463,7 @@ impl<'a> Writer<'a> {
                 }
             }
         }
-        if let Some(s) = &p.stroke {
+        if let Some(s) = p.stroke.as_ref().filter(|_| which != Paints::Fill) {
             self.paint("stroke", &s.paint, ctx.stroke);
             if s.opacity != 1.0 {
                 attr_num(&mut self.out, "stroke-opacity", s.opacity as f64);

@@ -45,9 +45,9 @@ use attr::Bake;
 use gmotion::Warning;
 use gmotion::canvas::OutputSize;
 use gmotion::keyframe::Key;
-use gmotion::motion::{Animation, Tint, Track};
-use gmotion::scene::{Group, Node, Paint, PathNode, Pattern, Stop};
-use paint::{COLOR_TOL, Chain, OPACITY_TOL, WIDTH_TOL, tint_dist};
+use gmotion::motion::{Animation, Tint, Track, Trim};
+use gmotion::scene::{Group, LineCap, Node, Paint, PathNode, Pattern, Stop};
+use paint::{COLOR_TOL, Chain, OPACITY_TOL, TRIM_TOL, WIDTH_TOL, tint_dist};
 use splice::{Edits, Element, MarkedPath, attr as tag_attr};
 pub use text::SmilText;
 use transform::{Kind, Plan, TransformAnim};
@@ -352,6 +352,7 @@ fn changes(track: &Track, dur: f64) -> bool {
         || starts(track.stroke.first().map(|s| s.t0))
         || starts(track.opacity.first().map(|s| s.t0))
         || starts(track.stroke_width.first().map(|s| s.t0))
+        || starts(track.trim.first().map(|s| s.t0))
 }
 
 /// Below this many items a document is written on the calling thread.
@@ -639,6 +640,10 @@ impl Writer<'_> {
                 }
             }
         }
+        let mut trimmed = false;
+        if mp.path.stroke.is_some() {
+            trimmed = self.trim(mp, &tracks, unit, part, &mut children);
+        }
         let deforming: Vec<&Track> = tracks.iter().copied().filter(|t| t.deforms()).collect();
         if !deforming.is_empty() {
             match deform::d_keys(
@@ -670,8 +675,122 @@ impl Writer<'_> {
             }
         }
         if !children.is_empty() {
-            part.replace(el.tag.end - 2..el.tag.end, format!(">\n{children}</path>"));
+            // A trim is a dash pattern on a path whose length counts as 1.
+            let length = if trimmed { " pathLength=\"1\"" } else { "" };
+            part.replace(
+                el.tag.end - 2..el.tag.end,
+                format!("{length}>\n{children}</path>"),
+            );
         }
+    }
+
+    /// Writes the trim of the units `tracks` (outermost first) as `stroke-dasharray` and
+    /// `stroke-dashoffset` animations on a path whose `pathLength` is 1: the dash is the
+    /// visible part's length `L` followed by a gap `P − L` (the period `P` is 1 when a part
+    /// moves past the end and must wrap to the start, else 2), and the offset `−(start +
+    /// shift)` puts the dash where the visible part starts. Both are affine in the trim,
+    /// so the keys are the trim's own. True when written.
+    fn trim(
+        &self,
+        mp: &MarkedPath<'_>,
+        tracks: &[&Track],
+        unit: usize,
+        part: &mut Part,
+        children: &mut String,
+    ) -> bool {
+        let dur = self.clock.dur;
+        let chain = Chain::new(tracks.iter().copied(), |t| &t.trim, Trim::REST, dur);
+        let bake = self.bake(TRIM_TOL, &|a: Trim, b: Trim| {
+            (a.start - b.start)
+                .abs()
+                .max((a.end - b.end).abs())
+                .max((a.shift - b.shift).abs())
+        });
+        // The innermost unit that trims decides, as in the frame writer.
+        let inner = |a: Trim, b: Trim| if b == Trim::REST { a } else { b };
+        let Some((keys, baked)) = chain.keys(dur, &bake, inner) else {
+            return false;
+        };
+        part.baked += baked;
+        let subpaths = mp
+            .path
+            .path
+            .elements()
+            .iter()
+            .filter(|e| matches!(e, kurbo::PathEl::MoveTo(_)))
+            .count();
+        if subpaths > 1 {
+            part.warn(
+                unit,
+                format!(
+                    "a trimmed path of {subpaths} subpaths is dashed along its whole length in SMIL (each subpath is trimmed on its own in the model and Lottie)"
+                ),
+            );
+        }
+        // A pattern repeating once per length wraps a part moved past the end to the
+        // start, but its copies touch the ends of an open path (where round caps then draw
+        // dots); when no part wraps, the pattern repeats every two lengths instead.
+        let wraps = keys
+            .iter()
+            .any(|k| k.v.start + k.v.shift < -1e-12 || k.v.end + k.v.shift > 1.0 + 1e-12);
+        let period = if wraps { 1.0 } else { 2.0 };
+        let dashes = strings(&keys, |t| {
+            let l = t.end - t.start;
+            format!("{} {}", num(l, FACTOR), num(period - l, FACTOR))
+        });
+        let offsets = strings(&keys, |t| num(-(t.start + t.shift), FACTOR));
+        for (attr, values) in [
+            ("stroke-dasharray", &dashes),
+            ("stroke-dashoffset", &offsets),
+        ] {
+            if xml::animation(
+                children,
+                "animate",
+                &format!("attributeName=\"{attr}\""),
+                values,
+                false,
+                self.clock,
+            ) {
+                children.push('\n');
+            }
+        }
+        // A zero-length dash still draws its caps (a dot where the empty stroke would
+        // start), so while the trim is empty the caps are butt ones, which draw nothing.
+        let cap = match mp.path.stroke.as_ref().map(|s| s.cap) {
+            Some(LineCap::Round) => "round",
+            Some(LineCap::Square) => "square",
+            Some(LineCap::Butt) | None => return true,
+        };
+        let empty = |t: &Trim| t.is_empty();
+        if keys.iter().any(|k| empty(&k.v)) {
+            let mut caps: Vec<Key<String>> = Vec::new();
+            let mut put = |t: f64, v: &str| match caps.last() {
+                Some(k) if k.v == v => {}
+                _ => caps.push(Key::linear(t, v.to_string())),
+            };
+            for (i, k) in keys.iter().enumerate() {
+                if !empty(&k.v) {
+                    put(k.t, cap);
+                    continue;
+                }
+                put(k.t, "butt");
+                // Drawing on from empty: the caps come back right after the instant.
+                if keys.get(i + 1).is_some_and(|n| !empty(&n.v) && n.t > k.t) {
+                    put(k.t + gmotion::keyframe::steps::LATE, cap);
+                }
+            }
+            if xml::animation(
+                children,
+                "animate",
+                "attributeName=\"stroke-linecap\"",
+                &caps,
+                true,
+                self.clock,
+            ) {
+                children.push('\n');
+            }
+        }
+        true
     }
 
     /// Points the path's `attr` paint at a copy of its gradient whose stops animate `keys`.

@@ -16,7 +16,7 @@ use kurbo::{Affine, Point};
 
 use super::{
     Blendable, Component, EMPTY_SLOT, Mode, NO_INVERSE, PART, Pace, Part, Products, SLOW, Sampler,
-    ShapeState, Tint, remembered,
+    ShapeState, Tint, Trim, attr_at, remembered,
 };
 use crate::motion::{Channel, grid};
 use crate::signals::Easing;
@@ -30,7 +30,9 @@ const FILL: usize = Channel::Fill as usize;
 const STROKE: usize = Channel::Stroke as usize;
 const OPACITY: usize = Channel::Opacity as usize;
 const WIDTH: usize = Channel::StrokeWidth as usize;
-const CHANNELS: usize = Channel::COUNT;
+/// The channels a playhead follows; trims ([`Channel::Trim`], rare) are looked up every
+/// frame instead.
+const CHANNELS: usize = Channel::Trim as usize;
 
 /// A running transform window, as a frame evaluates it.
 // The list of these is read front to back every frame: boxing the large variant would
@@ -311,6 +313,9 @@ impl Head {
         }
         for (i, (change, width)) in &self.numbers.entries {
             *number_of(&mut states[*i as usize], *width) = change.at(t, e);
+        }
+        for (i, segs) in &part.trims {
+            states[*i as usize].trim = attr_at(segs, t, Trim::REST);
         }
     }
 }

@@ -42,12 +42,17 @@ impl Builder<'_> {
         // the canvas axes by the matrix's column lengths (ThorVG; wrong once the scaling
         // is rotated, as a skew's is), while an outline transforms exactly. Not when its
         // width animates or its outline moves per vertex.
+        // A trimmed stroke sits in a group of its own with the trim, the fill untouched.
+        let trim = motion.and_then(|m| trim_paths(&m.trim));
         let uneven = !is_even(acc) || motion.is_some_and(|m| m.anisotropic);
         let outline = p
             .stroke
             .as_ref()
             .filter(|s| {
-                uneven && deform.is_none() && matches!(s.paint, Paint::Solid(_) | Paint::Linear(_))
+                uneven
+                    && deform.is_none()
+                    && trim.is_none()
+                    && matches!(s.paint, Paint::Solid(_) | Paint::Linear(_))
             })
             .zip(held_factor(anim.stroke_width))
             .map(|(s, factor)| {
@@ -82,6 +87,11 @@ impl Builder<'_> {
             (None, _) => None,
         };
         let fill = fill.map(|f| (f, Role::Fill));
+        if trim.is_some() && matches!(stroke, Some((Styled::Pattern(..), _))) {
+            self.warnings.push(format!(
+                "element `{id}`: a stroke painted with a pattern is drawn whole, not trimmed"
+            ));
+        }
         // Paint order, bottom first.
         let mut paints: Vec<(Styled, Role)> = Vec::new();
         let (first, second) = if p.stroke_first {
@@ -117,11 +127,17 @@ impl Builder<'_> {
             let is_fill = role == Role::Fill;
             match styled {
                 Styled::Item(s) if role == Role::Outline => parts.push(Part::Outline(s)),
+                Styled::Item(s) if role == Role::Stroke && trim.is_some() => {
+                    parts.push(Part::Trimmed(s))
+                }
                 Styled::Item(s) => match parts.last_mut() {
                     Some(Part::Plain(v)) => v.push(s),
                     _ => parts.push(Part::Plain(vec![s])),
                 },
-                Styled::InSpace(s, space) => parts.push(Part::Space(s, space)),
+                Styled::InSpace(s, space) => {
+                    let tm = trim.clone().filter(|_| role == Role::Stroke).map(Box::new);
+                    parts.push(Part::Space(s, space, tm))
+                }
                 Styled::Pattern(pat, opacity) => {
                     let outline = if is_fill {
                         Outline::Fill(p.fill.clone().expect("fill"))
@@ -200,8 +216,15 @@ impl Builder<'_> {
                     it.push(style);
                     comp.items.push(Item::Shape(Box::new(wrap(it, true))));
                 }
-                Part::Space(style, space) => {
+                Part::Trimmed(style) => {
+                    let mut it = sh(geometry(self, Affine::IDENTITY));
+                    it.push(trim.clone().expect("a trimmed part has a trim"));
+                    it.push(style);
+                    comp.items.push(Item::Shape(Box::new(wrap(it, true))));
+                }
+                Part::Space(style, space, tm) => {
                     let mut it = sh(geometry(self, space));
+                    it.extend(tm.map(|b| *b));
                     it.push(style);
                     let sub = decompose(space, Point::ORIGIN);
                     for (k, level) in sub.iter().enumerate().rev() {
@@ -325,10 +348,34 @@ pub(super) enum Part {
     Plain(Vec<Shape>),
     /// A stroke drawn as the fill of its outline.
     Outline(Shape),
-    /// A style item drawn on the geometry mapped into a space.
-    Space(Shape, Affine),
+    /// A style item drawn on the geometry mapped into a space (a stroke with its trim).
+    Space(Shape, Affine, Option<Box<Shape>>),
+    /// A stroke drawn on the path's own geometry cut by the path's trim, in a group of its
+    /// own so that the trim leaves the fill whole.
+    Trimmed(Shape),
     /// A group standing for a pattern paint.
     Layered(Group),
+}
+
+/// The trim paths item (`tm`) for a unit's trim keys, `None` without keys. Each path
+/// (contour) is trimmed on its own length (`m: 1`, "simultaneously"), as the model trims
+/// each subpath; a property that does not change is written static.
+pub(super) fn trim_paths(keys: &[Key<Trim>]) -> Option<Shape> {
+    keys.first()?;
+    let prop = |f: fn(&Trim) -> f64| {
+        let first = f(&keys[0].v);
+        if keys.iter().all(|k| (f(&k.v) - first).abs() <= 1e-9) {
+            Prop::scalar(N::coord(first))
+        } else {
+            Prop::keyed(to_keyframes(keys, |t| Value::Scalar(N::coord(f(t)))))
+        }
+    };
+    Some(Shape::Trim(TrimPaths {
+        s: prop(|t| t.start * 100.0),
+        e: prop(|t| t.end * 100.0),
+        o: prop(|t| t.shift * 360.0),
+        m: 1,
+    }))
 }
 
 /// The stroke width factor that `keys` hold throughout (1 without keys), or `None` when

@@ -16,6 +16,8 @@ pub const COLOR_TOL: f64 = 0.5 / 255.0;
 pub const OPACITY_TOL: f64 = 0.5 / 255.0;
 /// Largest relative error of a baked stroke width factor.
 pub const WIDTH_TOL: f64 = 2e-3;
+/// Largest error of a baked trim fraction (or shift, in turns).
+pub const TRIM_TOL: f64 = 1e-4;
 
 /// `outer(inner(c))` for every colour `c`, as one tint.
 pub fn compose(outer: Tint, inner: Tint) -> Tint {
