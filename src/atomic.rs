@@ -186,17 +186,29 @@ where
     E: From<io::Error>,
     F: FnOnce(&mut BufWriter<File>) -> Result<(), E>,
 {
-    check_target(path)?;
-    let tmp = temp_path(path);
-    register(&tmp);
-    let result = (|| {
-        let mut out = BufWriter::new(File::create(&tmp)?);
+    write_via(path, |tmp| {
+        let mut out = BufWriter::new(File::create(tmp)?);
         write(&mut out)?;
         let file = out.into_inner().map_err(|e| e.into_error())?;
         file.sync_all()?;
-        drop(file);
         Ok(())
-    })();
+    })
+}
+
+/// Has `make` write the file `path` will hold (a writer of its own, or an encoder process
+/// that writes a file by name): `make` is given a registered temporary path beside `path`,
+/// which is renamed into place when `make` succeeds (or when the open [`Staging`] commits)
+/// and removed when it fails. `make` flushes what it wrote to the disk itself. A `path`
+/// that exists and is not a regular file is refused ([`check_target`]).
+pub fn write_via<E, F>(path: &Path, make: F) -> Result<(), E>
+where
+    E: From<io::Error>,
+    F: FnOnce(&Path) -> Result<(), E>,
+{
+    check_target(path)?;
+    let tmp = temp_path(path);
+    register(&tmp);
+    let result = make(&tmp);
     if result.is_err() {
         // The temporary file is ours and incomplete; failing to remove it changes nothing.
         discard(&tmp);

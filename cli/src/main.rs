@@ -359,6 +359,19 @@ struct RenderArgs {
     /// Error bound in canvas pixels when an exporter must bake motion into keyframes.
     #[arg(long, default_value_t = DEFAULT_TOLERANCE)]
     tolerance: f64,
+    #[command(flatten)]
+    video: VideoArgs,
+}
+
+/// Options of video outputs (`.mp4`, `.webm`, `.mov`).
+#[derive(Args, Debug, Clone, Default)]
+struct VideoArgs {
+    /// The colour video frames are drawn on, `#rrggbb` or a CSS name (default white).
+    #[arg(long, value_name = "COLOR")]
+    background: Option<String>,
+    /// Keep the transparency in `.webm` (VP9 with alpha) and `.mov` (ProRes 4444) video.
+    #[arg(long)]
+    transparent: bool,
 }
 
 /// The output size of `convert`, which has no grammar and bakes no motion (so neither
@@ -372,6 +385,8 @@ struct SizeArgs {
     /// Height in pixels of every output (see --width).
     #[arg(long)]
     height: Option<u32>,
+    #[command(flatten)]
+    video: VideoArgs,
 }
 
 impl SizeArgs {
@@ -381,6 +396,7 @@ impl SizeArgs {
             width: self.width,
             height: self.height,
             tolerance: DEFAULT_TOLERANCE,
+            video: self.video.clone(),
         }
     }
 }

@@ -4,11 +4,20 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 
+use gmotion_pipeline::{Format, OutputError, video};
+
 use super::report::{CliError, Result};
 
-/// Fails early when the output's directory does not exist or is not writable, before any
-/// expensive work.
+/// Fails early when the output's directory does not exist or is not writable, or it is a
+/// video and ffmpeg is not installed, before any expensive work.
 pub fn check_writable(path: &Path) -> Result<()> {
+    if Format::of(path).is_ok_and(Format::is_video) && video::ffmpeg().is_none() {
+        return Err(OutputError::NoFfmpeg {
+            path: path.to_path_buf(),
+            named: video::named(),
+        }
+        .into());
+    }
     let dir = parent_dir(path);
     if !dir.is_dir() {
         return Err(CliError::msg(format!(

@@ -41,3 +41,6 @@ mod text;
 // Every test here plays exports.
 #[cfg(feature = "players")]
 mod trim;
+// Every test here runs ffmpeg and ffprobe, which tests/conformance/install.sh installs.
+#[cfg(feature = "players")]
+mod video;

@@ -35,7 +35,7 @@ pub mod write;
 
 pub use env::{Env, LIMITS, Limits, short};
 pub use gmotion_output::dotlottie::{self, Picked};
-pub use gmotion_output::{Format, LottieSource, OutputError};
+pub use gmotion_output::{Format, LottieSource, OutputError, video};
 pub use grammar::{GrammarFile, Overrides};
 pub use project::{Project, Rescene};
 pub use scene::{ImportChoices, Imported, SceneOptions};

@@ -57,16 +57,18 @@ impl Writer {
         }
     }
 
-    /// Whether `path` is written one frame at a time (GIF, APNG, a folder of frames): what
-    /// a progress bar counts. A name no format is known by is an error.
+    /// Whether `path` is written one frame at a time (GIF, APNG, video, a folder of
+    /// frames): what a progress bar counts. A name no format is known by is an error.
     pub fn draws_every_frame(path: &Path) -> Result<bool> {
         if html::is_page(path) {
             return Ok(false);
         }
-        Ok(matches!(
-            output::Format::of(path)?,
-            output::Format::Frames | output::Format::Gif | output::Format::Apng
-        ))
+        let format = output::Format::of(path)?;
+        Ok(format.is_video()
+            || matches!(
+                format,
+                output::Format::Frames | output::Format::Gif | output::Format::Apng
+            ))
     }
 
     /// Writes `r` to `path` whole or not at all, calling `tick` once per frame rendered;

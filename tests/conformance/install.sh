@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs what the conformance run needs, idempotently: Debian chromium and fonts (Noto
+# Installs what the conformance run needs, idempotently: Debian chromium, ffmpeg (the video
+# tests) and fonts (Noto
 # Sans, which the corpus references use), npm
 # lottie-web, playwright-core, @lottiefiles/dotlottie-web and @dotlottie/dotlottie-js (into
 # tests/conformance/node_modules), PyPI rlottie-python,
@@ -10,10 +11,10 @@ set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 
 # Noto Sans is the font the resvg corpus references were drawn with (its text tests).
-if [ ! -x /usr/bin/chromium ] || ! fc-list 2>/dev/null | grep -q "Noto Sans"; then
+if [ ! -x /usr/bin/chromium ] || [ ! -x /usr/bin/ffmpeg ] || ! fc-list 2>/dev/null | grep -q "Noto Sans"; then
     export DEBIAN_FRONTEND=noninteractive
     apt-get update -qq
-    apt-get install -y -qq --no-install-recommends chromium fonts-dejavu-core fonts-liberation fonts-noto-core fontconfig >/dev/null
+    apt-get install -y -qq --no-install-recommends chromium ffmpeg fonts-dejavu-core fonts-liberation fonts-noto-core fontconfig >/dev/null
 fi
 
 if [ ! -d "$here/node_modules/lottie-web" ] || [ ! -d "$here/node_modules/playwright-core" ] \

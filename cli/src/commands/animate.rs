@@ -71,7 +71,7 @@ impl Animate {
         };
         let (rendered, settings) = build.run(ctx)?;
         let size = output_size(render.width, render.height, &settings);
-        let writer = animation_writer(&render, size, time, ctx);
+        let writer = animation_writer(&render, size, time, ctx)?;
         let written = write_all(&outputs, |o| write_animation(&writer, &rendered, o));
         // The process ends here, and the kernel takes its memory back at once: freeing the
         // scene and every track piece by piece first took milliseconds on a large animation.

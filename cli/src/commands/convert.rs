@@ -92,6 +92,7 @@ impl Convert {
         writer.options.tolerance = self.render.tolerance;
         writer.options.time = time.unwrap_or(0.0);
         writer.options.play_svg = time.is_none();
+        self.render.video.apply(&mut writer)?;
         let write = |out: &Path| {
             let warnings = writer.write_still(&loaded, out)?;
             print_warnings(out, &warnings);

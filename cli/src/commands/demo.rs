@@ -47,6 +47,7 @@ pub fn demo(out: &Path, example: &str, list: bool, ctx: &Ctx) -> Result<()> {
         width: None,
         height: None,
         tolerance: DEFAULT_TOLERANCE,
+        video: Default::default(),
     };
     let names = [
         "frames".to_string(),
@@ -85,7 +86,7 @@ pub fn demo(out: &Path, example: &str, list: bool, ctx: &Ctx) -> Result<()> {
     }
     .run(ctx)?;
     let size = output_size(render.width, render.height, &settings);
-    let writer = animation_writer(&render, size, 0.0, ctx);
+    let writer = animation_writer(&render, size, 0.0, ctx)?;
     for o in &outputs {
         write_animation(&writer, &rendered, o)?;
     }

@@ -313,11 +313,38 @@ fn animation_writer(
     size: gmotion::canvas::OutputSize,
     time: f64,
     ctx: &Ctx,
-) -> Writer {
+) -> Result<Writer> {
     let mut writer = Writer::new(size, &ctx.env.limits);
     writer.options.tolerance = render.tolerance;
     writer.options.time = time;
-    writer
+    render.video.apply(&mut writer)?;
+    Ok(writer)
+}
+
+impl crate::VideoArgs {
+    /// `--background` as 8-bit RGB, if given; one that is no colour is an error.
+    fn background(&self) -> Result<Option<[u8; 3]>> {
+        let Some(text) = &self.background else {
+            return Ok(None);
+        };
+        let [r, g, b, _] = gmotion::color::Color::parse(text)
+            .ok_or_else(|| {
+                CliError::msg(format!(
+                    "--background must be a colour (#rrggbb or a CSS name), found `{text}`"
+                ))
+            })?
+            .to_rgba8();
+        Ok(Some([r, g, b]))
+    }
+
+    /// Sets the video options of `writer`.
+    fn apply(&self, writer: &mut Writer) -> Result<()> {
+        if let Some(bg) = self.background()? {
+            writer.options.background = bg;
+        }
+        writer.options.transparent = self.transparent;
+        Ok(())
+    }
 }
 
 /// Writes `r` to `out` with `writer`, with a progress bar for outputs drawn frame by frame.
@@ -331,6 +358,7 @@ fn write_animation(writer: &Writer, r: &Rendered, out: &Path) -> Result<()> {
 }
 
 fn validate_render(render: &RenderArgs) -> Result<()> {
+    render.video.background()?;
     if !(render.tolerance.is_finite() && render.tolerance > 0.0) {
         return Err(CliError::msg(format!(
             "--tolerance must be a positive number of pixels, found {}",

@@ -46,7 +46,7 @@ impl TransitionsJob {
         check_outputs(&self.outputs, &[&spec.scene, &spec.targets])?;
         let rendered = spec.run(&self.choices, &ctx.env)?;
         let size = output_size(self.render.width, self.render.height, &Settings::default());
-        let writer = animation_writer(&self.render, size, self.time, ctx);
+        let writer = animation_writer(&self.render, size, self.time, ctx)?;
         write_all(&self.outputs, |o| write_animation(&writer, &rendered, o))
     }
 }

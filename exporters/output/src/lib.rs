@@ -1,6 +1,7 @@
-//! Every output gmotion writes, chosen by file name: `.json` Lottie, `.svg` SVG (SMIL when
-//! animated), `.png` one picture, `.gif` / `.apng` a preview of the whole animation, and a
-//! path without extension (or an existing folder) one PNG per frame.
+//! Every output gmotion writes, chosen by file name: `.json` Lottie, `.lottie` dotLottie,
+//! `.svg` SVG (SMIL when animated), `.png` one picture, `.gif` / `.apng` a preview of the
+//! whole animation, `.mp4` / `.webm` / `.mov` video (through ffmpeg, [`video`]), and a path
+//! without extension (or an existing folder) one PNG per frame.
 //!
 //! This is the layer the command line and embedders share, so that picking a format and
 //! rendering frames is not something every caller re-implements. Files are written whole or
@@ -21,6 +22,7 @@
 #![forbid(unsafe_code)]
 
 pub mod flipbook;
+pub mod video;
 
 use std::borrow::Cow;
 use std::path::{Path, PathBuf};
@@ -62,6 +64,12 @@ pub enum Format {
     /// PNG frames: a folder of `frame_00000.png` on, or files named by a pattern such as
     /// `walk_%04d.png`.
     Frames,
+    /// MP4 video (H.264), through ffmpeg ([`video`]).
+    Mp4,
+    /// WebM video (VP9), through ffmpeg.
+    Webm,
+    /// QuickTime video (ProRes 4444), through ffmpeg.
+    Mov,
 }
 
 impl Format {
@@ -83,6 +91,9 @@ impl Format {
             Some("svg") => Ok(Format::Svg),
             Some("gif") => Ok(Format::Gif),
             Some("apng") => Ok(Format::Apng),
+            Some("mp4") => Ok(Format::Mp4),
+            Some("webm") => Ok(Format::Webm),
+            Some("mov") => Ok(Format::Mov),
             None => Ok(Format::Frames),
             Some(other) => Err(OutputError::UnknownFormat {
                 path: path.to_path_buf(),
@@ -97,6 +108,11 @@ impl Format {
             self,
             Format::Png | Format::Lottie | Format::DotLottie | Format::Svg
         )
+    }
+
+    /// Whether the format is a video ffmpeg encodes.
+    pub fn is_video(self) -> bool {
+        matches!(self, Format::Mp4 | Format::Webm | Format::Mov)
     }
 
     /// Whether the format is a Lottie document, plain or packaged.
@@ -122,8 +138,13 @@ pub struct Options {
     pub max_pixels: u64,
     /// The most pixels all the frames of a GIF, APNG or frames folder may have together,
     /// since they are held in memory until written (`--limit animation-pixels=N`; default
-    /// [`DEFAULT_MAX_ANIMATION_PIXELS`]).
+    /// [`DEFAULT_MAX_ANIMATION_PIXELS`]). A video streams its frames and is not bound by it.
     pub max_animation_pixels: u64,
+    /// The colour a video is drawn over (8-bit RGB; default white): video has no
+    /// transparency unless [`transparent`](Self::transparent) keeps it.
+    pub background: [u8; 3],
+    /// Whether a WebM or MOV video keeps the animation's transparency (`--transparent`).
+    pub transparent: bool,
 }
 
 /// The default of [`Options::max_animation_pixels`]: 2²⁸ pixels, 1 GiB of RGBA frames.
@@ -138,6 +159,8 @@ impl Default for Options {
             play_svg: false,
             max_pixels: raster::DEFAULT_MAX_PIXELS,
             max_animation_pixels: DEFAULT_MAX_ANIMATION_PIXELS,
+            background: [255; 3],
+            transparent: false,
         }
     }
 }
@@ -147,7 +170,7 @@ impl Default for Options {
 pub enum OutputError {
     /// The extension names no format gmotion writes.
     #[error(
-        "{}: unknown output format `.{extension}`; use .png, .json (Lottie), .lottie (dotLottie), .svg, .gif, .apng or a directory",
+        "{}: unknown output format `.{extension}`; use .png, .json (Lottie), .lottie (dotLottie), .svg, .gif, .apng, .mp4, .webm, .mov or a directory",
         path.display()
     )]
     UnknownFormat {
@@ -289,6 +312,30 @@ pub enum OutputError {
     FramesInMemory {
         /// The output named.
         path: PathBuf,
+    },
+    /// A video was asked for and no ffmpeg is installed (or the one named is not there).
+    #[error(
+        "{}: writing video needs ffmpeg, {}: install it (Debian and Ubuntu: `apt install ffmpeg`; macOS: `brew install ffmpeg`; Windows: `winget install ffmpeg`) or name it with {}=PATH",
+        path.display(),
+        named.as_ref().map_or_else(
+            || "which is not on the PATH".to_string(),
+            |n| format!("and {} names {}, which is not a program", video::FFMPEG_VAR, n.display())
+        ),
+        video::FFMPEG_VAR
+    )]
+    NoFfmpeg {
+        /// The output.
+        path: PathBuf,
+        /// What [`video::FFMPEG_VAR`] named, when it named something.
+        named: Option<PathBuf>,
+    },
+    /// A video could not be written.
+    #[error("{}: {message}", path.display())]
+    Video {
+        /// The output.
+        path: PathBuf,
+        /// Why (ffmpeg's own words when it failed).
+        message: String,
     },
     /// Writing the file failed.
     #[error("{}: cannot write output: {source}", path.display())]
@@ -539,6 +586,11 @@ fn write_staged(
         source,
     };
     let format = Format::of(path)?;
+    if format.is_video() {
+        let (width, height) = raster_size(anim.scene.width, anim.scene.height, opts.size);
+        raster::check_pixels(width, height, opts.max_pixels)
+            .map_err(|e| frame_error(path, anim, 0, 0.0, e))?;
+    }
     if matches!(format, Format::Frames | Format::Gif | Format::Apng) {
         let (width, height) = raster_size(anim.scene.width, anim.scene.height, opts.size);
         let frames = anim.frame_count();
@@ -572,6 +624,15 @@ fn write_staged(
             }
             .map_err(raster_err)?;
             return Ok(Vec::new());
+        }
+        format @ (Format::Mp4 | Format::Webm | Format::Mov) => {
+            return match target {
+                Target::File => video::write(stage, path, format, opts, tick).map(|()| Vec::new()),
+                Target::Memory(_) => Err(OutputError::Video {
+                    path: path.to_path_buf(),
+                    message: "a video is written to a file, not returned as bytes".into(),
+                }),
+            };
         }
         Format::Frames => match target {
             Target::File => raster::write_frames(&stage.render_all(path, opts, tick)?, path),
