@@ -7,12 +7,14 @@
 pub mod check;
 pub mod compile;
 pub mod expand;
+pub mod follow;
 mod plan;
 pub mod random;
 pub mod rules;
 pub(crate) mod seam;
 pub mod settings;
 pub mod smooth;
+pub mod target;
 
 use crate::warning::Warning;
 use std::fmt;

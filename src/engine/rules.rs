@@ -26,6 +26,8 @@ pub enum AnimType {
     Opacity,
     /// Stroke width.
     StrokeWidth,
+    /// Travel along a path by arc length (see [`crate::motion::follow`]).
+    Follow,
 }
 
 impl AnimType {
@@ -50,7 +52,7 @@ impl AnimType {
     }
 
     /// Every type with its grammar spelling.
-    pub const ALL: [(&'static str, AnimType); 7] = [
+    pub const ALL: [(&'static str, AnimType); 8] = [
         ("affine", AnimType::Affine),
         ("towards", AnimType::Towards),
         ("path", AnimType::Path),
@@ -58,6 +60,7 @@ impl AnimType {
         ("border", AnimType::Border),
         ("opacity", AnimType::Opacity),
         ("stroke-width", AnimType::StrokeWidth),
+        ("follow", AnimType::Follow),
     ];
 }
 
@@ -92,6 +95,8 @@ pub struct Animate {
     pub lookup: Option<crate::motion::Lookup>,
     /// `interp = …`.
     pub interp: Option<crate::motion::Interp>,
+    /// `orient = auto` (true) or `none`: whether a `follow` turns with its path.
+    pub orient: bool,
 }
 
 /// A checked timeslice rule.
@@ -316,12 +321,12 @@ pub(crate) fn check_rule(index: usize, r: &Rule) -> Result<CRule, EngineError> {
             }
             for a in &r.args {
                 if let Some(n) = &a.name
-                    && !["ease", "grid", "lookup", "interp"].contains(&n.as_str())
+                    && !["ease", "grid", "lookup", "interp", "orient"].contains(&n.as_str())
                 {
                     return Err(EngineError::at(
                         a.span,
                         format!(
-                            "unknown argument `{n}`; `animate` accepts ease, grid, lookup, interp"
+                            "unknown argument `{n}`; `animate` accepts ease, grid, lookup, interp, orient"
                         ),
                     ));
                 }
@@ -356,8 +361,10 @@ pub(crate) fn check_rule(index: usize, r: &Rule) -> Result<CRule, EngineError> {
                 }),
                 None => None,
             };
+            let orient = super::follow::orient(kind, named(&r.args, "orient"))?;
             Op::Animate(Box::new(Animate {
                 kind,
+                orient,
                 world,
                 offset: pos[2].value.clone(),
                 value: pos[3].value.clone(),

@@ -17,6 +17,7 @@
 
 pub mod alexa;
 pub mod component;
+pub mod follow;
 pub mod grid;
 pub mod sampler;
 
@@ -150,6 +151,9 @@ pub enum MotionKind {
         /// `None` for world motions.
         pivot: Option<Point>,
     },
+    /// Motion along a path by arc length (`animate(follow, …)`): the progress is the
+    /// fraction of the path travelled.
+    Follow(Arc<follow::Follow>),
 }
 
 impl MotionKind {
@@ -167,6 +171,7 @@ impl MotionKind {
                 Interp::Alexa => alexa::power(grid::blend_at(blend, *pivot, 1.0), p),
             },
             MotionKind::Vertex { .. } => Affine::IDENTITY,
+            MotionKind::Follow(f) => f.at(p),
         }
     }
 }

@@ -226,6 +226,8 @@ fn always_even(track: &Track) -> bool {
                     })
                 }),
                 MotionKind::Vertex { .. } => false,
+                // A turn and a move, carried by its frame.
+                MotionKind::Follow(f) => is_even(f.frame),
             }
     })
 }
