@@ -88,8 +88,9 @@ impl Route {
         self.segs[0].start()
     }
 
-    /// The segment and its parameter at arc-length fraction `u`, clamped to the route.
-    fn locate(&self, u: f64) -> (usize, f64) {
+    /// The segment (index into [`Route::segments`]) and its parameter at arc-length
+    /// fraction `u`, clamped to the route; a segment's end is the next one's start.
+    pub fn locate(&self, u: f64) -> (usize, f64) {
         let s = u.clamp(0.0, 1.0) * self.length();
         let i = self
             .starts
