@@ -11,6 +11,7 @@
 use gmotion_testkit as support;
 
 mod engine;
+mod follow;
 mod gallery;
 mod grammar_parse;
 mod papers;

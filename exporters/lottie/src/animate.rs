@@ -648,8 +648,10 @@ fn baked_levels(
 /// `seg` with its pivot moved by `by` (the same motion in a frame moved by `by`).
 fn shifted(seg: &MotionSeg, by: Vec2) -> MotionSeg {
     let mut seg = seg.clone();
-    if let MotionKind::Rigid { pivot, .. } = &mut seg.kind {
-        *pivot += by;
+    match &mut seg.kind {
+        MotionKind::Rigid { pivot, .. } => *pivot += by,
+        MotionKind::Follow(f) => *f = Arc::new(f.carried(Affine::translate(by))),
+        MotionKind::Vertex { .. } => {}
     }
     seg
 }

@@ -9,10 +9,10 @@
 //! of it between two keys, scaled to the unit box, is again a cubic Bézier (the curve cut
 //! with de Casteljau), from time to the fraction of that interval: exact, not fitted.
 //!
-//! The heading is not linear in arc length along a curve, so a turning shape gets more
-//! keys: an interval is halved (at its arc-length middle, its spatial tangents cut
-//! exactly) until the rotation interpolated between its keys stays within the tolerance
-//! at the shape's farthest corner. Lottie's auto-orient (`ao`) is a layer's, and the
+//! The heading is not linear in arc length along a curve: the rotation's keyframes, at
+//! the same times, each get an easing of their own fitted to the heading (least squares),
+//! and an interval is halved (at its arc-length middle, its spatial tangents cut exactly)
+//! until that easing stays within the tolerance at the shape's farthest corner. Lottie's auto-orient (`ao`) is a layer's, and the
 //! exporter writes motion on shape groups (see [`crate::model`]), so it is not used.
 
 use kurbo::{CubicBez, ParamCurve, PathSeg, Point, Vec2};
@@ -70,36 +70,47 @@ pub fn level(
     }
     us.extend(inner);
     us.push(pb);
-    let mut keys: Vec<f64> = vec![us[0]];
-    for w in us.windows(2) {
-        split(f, w[0], w[1], radius, 0.5 * tolerance, 0, &mut keys);
-    }
     let span = seg.timing.end - seg.timing.start - seg.timing.delay;
     let begin = if seg.timing.reversed {
         seg.timing.start
     } else {
         seg.timing.start + seg.timing.delay
     };
-    let taus: Vec<f64> = keys
-        .iter()
-        .map(|&u| {
-            if u == pa {
-                (ta - begin) / span
-            } else if u == pb {
-                (tb - begin) / span
-            } else {
-                tau_at(&curve, u)
-            }
-        })
-        .collect();
+    let tau = |u: f64| {
+        if u == pa {
+            (ta - begin) / span
+        } else if u == pb {
+            (tb - begin) / span
+        } else {
+            tau_at(&curve, u)
+        }
+    };
+    // Keys (progress, time fraction), and the rotation's easing into each.
+    let fit = Fit {
+        f,
+        curve: &curve,
+        radius,
+        tolerance: 0.5 * tolerance,
+    };
+    let mut keys: Vec<(f64, f64)> = vec![(us[0], tau(us[0]))];
+    let mut turns: Vec<Easing> = Vec::new();
+    for w in us.windows(2) {
+        fit.split(
+            (w[0], tau(w[0])),
+            (w[1], tau(w[1])),
+            0,
+            &mut keys,
+            &mut turns,
+        );
+    }
     let mut p_keys = Vec::with_capacity(keys.len());
     let mut r_keys = Vec::with_capacity(keys.len());
-    for (k, &u) in keys.iter().enumerate() {
-        let frame = N::coord((begin + taus[k] * span) * fps);
+    for (k, &(u, t)) in keys.iter().enumerate() {
+        let frame = N::coord((begin + t * span) * fps);
         let next = keys.get(k + 1);
-        let ease = next.map(|_| interval_ease(&curve, taus[k], taus[k + 1]));
+        let ease = next.map(|&(_, t1)| interval_ease(&curve, t, t1));
         let mut key = Keyframe::written(frame, pos(f, c, u), ease, false);
-        if let Some(&v) = next {
+        if let Some(&(v, _)) = next {
             let (to, ti) = tangents(f, u, v);
             key.to = Some(vec![to.x, to.y]);
             key.ti = Some(vec![ti.x, ti.y]);
@@ -108,7 +119,7 @@ pub fn level(
         r_keys.push(Keyframe::written(
             frame,
             Value::Scalar(N(f.turn_at(u).to_degrees())),
-            ease,
+            next.map(|_| turns[k]),
             false,
         ));
     }
@@ -120,27 +131,90 @@ pub fn level(
     })
 }
 
+/// What fitting the rotation's easings reads.
+struct Fit<'a> {
+    f: &'a Follow,
+    curve: &'a CubicBez,
+    radius: f64,
+    tolerance: f64,
+}
+
+impl Fit<'_> {
+    /// Pushes the keys after `a` up to `b` (progress, time fraction) and the rotation's
+    /// easing into each, halving the interval (at its arc-length middle) while the
+    /// rotation its easing plays strays more than the tolerance at the shape's radius.
+    fn split(
+        &self,
+        a: (f64, f64),
+        b: (f64, f64),
+        depth: u32,
+        keys: &mut Vec<(f64, f64)>,
+        turns: &mut Vec<Easing>,
+    ) {
+        let (ease, off) = self.turn_ease(a, b);
+        if self.f.orient && depth < MAX_DEPTH && off > self.tolerance {
+            let m = 0.5 * (a.0 + b.0);
+            let mid = (m, tau_at(self.curve, m));
+            self.split(a, mid, depth + 1, keys, turns);
+            self.split(mid, b, depth + 1, keys, turns);
+            return;
+        }
+        keys.push(b);
+        turns.push(ease);
+    }
+
+    /// The easing of the rotation from key `a` to key `b` (progress, time fraction), fitted
+    /// by least squares with its handles' times at a third and two thirds (the time a
+    /// player reads is then the curve parameter), and its largest error in canvas units.
+    fn turn_ease(&self, (ua, ta): (f64, f64), (ub, tb): (f64, f64)) -> (Easing, f64) {
+        let f = self.f;
+        let (ra, rb) = (f.turn_at(ua), f.turn_at(ub));
+        let samples: Vec<(f64, f64)> = (1..16)
+            .map(|j| {
+                let x = j as f64 / 16.0;
+                let tau = ta + x * (tb - ta);
+                let u = self.curve.eval(param_at_x(self.curve, tau)).y;
+                (x, f.turn_at(u))
+            })
+            .collect();
+        let b1 = |x: f64| 3.0 * (1.0 - x) * (1.0 - x) * x;
+        let b2 = |x: f64| 3.0 * (1.0 - x) * x * x;
+        let (y1, y2) = if (rb - ra).abs() < 1e-12 {
+            (1.0 / 3.0, 2.0 / 3.0)
+        } else {
+            let (mut s11, mut s12, mut s22, mut r1, mut r2) = (0.0, 0.0, 0.0, 0.0, 0.0);
+            for &(x, r) in &samples {
+                let v = (r - ra) / (rb - ra) - x * x * x;
+                s11 += b1(x) * b1(x);
+                s12 += b1(x) * b2(x);
+                s22 += b2(x) * b2(x);
+                r1 += b1(x) * v;
+                r2 += b2(x) * v;
+            }
+            let det = s11 * s22 - s12 * s12;
+            ((r1 * s22 - r2 * s12) / det, (s11 * r2 - s12 * r1) / det)
+        };
+        let off = samples
+            .iter()
+            .map(|&(x, r)| {
+                let played = ra + (rb - ra) * (b1(x) * y1 + b2(x) * y2 + x * x * x);
+                (played - r).abs() * self.radius
+            })
+            .fold(0.0, f64::max);
+        let straight = (y1 - 1.0 / 3.0).abs() < 1e-9 && (y2 - 2.0 / 3.0).abs() < 1e-9;
+        let ease = if straight {
+            LINEAR
+        } else {
+            from_css([1.0 / 3.0, y1, 2.0 / 3.0, y2])
+        };
+        (ease, off)
+    }
+}
+
 /// Where the anchor is at progress `u`.
 fn pos(f: &Follow, c: Vec2, u: f64) -> Value {
     let p = c + f.offset_at(u);
     Value::Vec(vec![N(p.x), N(p.y)])
-}
-
-/// Pushes the keys after `a` up to `b`, halving the interval while the rotation
-/// interpolated between its ends strays more than `tolerance` at `radius`.
-fn split(f: &Follow, a: f64, b: f64, radius: f64, tolerance: f64, depth: u32, keys: &mut Vec<f64>) {
-    let straight = |y: f64| f.turn_at(a) + (f.turn_at(b) - f.turn_at(a)) * y;
-    let off = [0.25, 0.5, 0.75]
-        .iter()
-        .map(|&y| (f.turn_at(a + (b - a) * y) - straight(y)).abs() * radius)
-        .fold(0.0, f64::max);
-    if f.orient && depth < MAX_DEPTH && off > tolerance {
-        let m = 0.5 * (a + b);
-        split(f, a, m, radius, tolerance, depth + 1, keys);
-        split(f, m, b, radius, tolerance, depth + 1, keys);
-        return;
-    }
-    keys.push(b);
 }
 
 /// The spatial tangents of the route from fraction `a` to `b` (within one segment):
