@@ -68,6 +68,7 @@ pub const EXAMPLES: &[Example] = &[
     grammar!("abstract"),
     grammar!("crack"),
     grammar!("cube"),
+    grammar!("follow"),
     grammar!("growing_tangle"),
     grammar!("intersections"),
     grammar!("intersections_mini"),
