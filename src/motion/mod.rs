@@ -16,6 +16,7 @@
 //! exporter terms: one nested group per segment, earlier segments outside.
 
 pub mod alexa;
+pub mod bend;
 pub mod component;
 pub mod follow;
 pub mod grid;

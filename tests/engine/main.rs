@@ -10,6 +10,7 @@
 // The shared helpers, under the name the modules use.
 use gmotion_testkit as support;
 
+mod bend;
 mod engine;
 mod follow;
 mod gallery;
