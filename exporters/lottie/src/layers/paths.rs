@@ -9,16 +9,15 @@ impl Builder<'_> {
         // the frames its keyframes sample ([`gmotion::motion::bend`]).
         let bent = env
             .unit
-            .and_then(|u| Some(u).zip(self.motion(u)))
+            .and_then(|u| self.motion(u).map(|m| (u, m)))
             .filter(|(_, m)| !m.deform_frames.is_empty())
             .map(|(u, m)| {
                 let times: Vec<f64> = m.deform_frames.iter().map(|f| f / self.src.fps).collect();
                 let tracks = [&self.src.tracks[u]];
                 let abs = env.to_canvas * acc;
                 gmotion::motion::bend::refine(&p.path, abs, &tracks, &times, self.tolerance)
-                    .into_owned()
             });
-        let cs = contours(bent.as_ref().unwrap_or(&p.path));
+        let cs = contours(bent.as_deref().unwrap_or(&p.path));
         if cs.is_empty() || (p.fill.is_none() && p.stroke.is_none()) {
             return;
         }

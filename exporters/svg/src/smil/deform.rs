@@ -35,11 +35,13 @@ pub fn d_keys(
         let (x, y) = s.timing.active();
         extra.extend([s.t0, s.t1, x, y]);
     }
-    extra.extend(frame_times(0.0, dur, fps));
+    let at_frames = frame_times(0.0, dur, fps);
+    extra.extend(&at_frames);
     let ts = sample_times(0.0, dur, rate, 8, &extra);
-    // Cut where the field bends the outline at any sampled instant: every value then has
-    // the same commands.
-    let path = gmotion::motion::bend::refine(path, abs, tracks, &ts, tolerance);
+    // Cut where the field bends the outline at any frame (what players are judged at; the
+    // samples between are several times as many, and the field moves little between two
+    // frames): every value then has the same commands.
+    let path = gmotion::motion::bend::refine(path, abs, tracks, &at_frames, tolerance);
     let path = path.as_ref();
     let rest: Vec<Point> = points(path).into_iter().map(|q| abs * q).collect();
     let frames: Vec<Vec<Point>> = ts
