@@ -69,6 +69,7 @@ pub const EXAMPLES: &[Example] = &[
     grammar!("checkmark"),
     grammar!("crack"),
     grammar!("cube"),
+    grammar!("follow"),
     grammar!("growing_tangle"),
     grammar!("intersections"),
     grammar!("intersections_mini"),

@@ -16,6 +16,9 @@
 
 mod support;
 
+// Every test here plays exports.
+#[cfg(feature = "players")]
+mod bend;
 mod cli;
 mod cli_errors;
 mod designer;

@@ -296,7 +296,7 @@ pub struct Ease<C = Vec<f64>> {
 /// Generic over how a number is held, like [`Transform`]: as read, a frame `F` and
 /// handle coordinates `C` are `f64`s (per component); in the documents the exporter
 /// writes ([`crate::written::Keyframe`]), [`N`]s, with always a start value and never an
-/// end value or spatial tangents.
+/// end value; spatial tangents only on a position moving along a path.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Keyframe<T, F = f64, C = Vec<f64>> {
     /// Frame (in the layer's time).

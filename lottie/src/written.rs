@@ -132,6 +132,14 @@ impl Serialize for Keyframe {
             m.serialize_entry("o", &o)?;
             m.serialize_entry("i", &i)?;
         }
+        // Spatial tangents (a position moving along a curve), rounded as coordinates.
+        let coords = |v: &[f64]| v.iter().map(|x| N::coord(*x)).collect::<Vec<_>>();
+        if let Some(to) = &self.to {
+            m.serialize_entry("to", &coords(to))?;
+        }
+        if let Some(ti) = &self.ti {
+            m.serialize_entry("ti", &coords(ti))?;
+        }
         m.end()
     }
 }

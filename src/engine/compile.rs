@@ -105,7 +105,7 @@ enum Role {
 /// The channel an animation changes.
 fn channel(spec: &AnimSpec) -> Channel {
     match spec {
-        AnimSpec::Motion { .. } => Channel::Transform,
+        AnimSpec::Motion { .. } | AnimSpec::Follow { .. } => Channel::Transform,
         AnimSpec::Fill(_) => Channel::Fill,
         AnimSpec::Border(_) => Channel::Stroke,
         AnimSpec::Opacity(_) => Channel::Opacity,
@@ -144,7 +144,12 @@ impl Span {
     fn of(a: &Arc<AnimInst>) -> Span {
         Span {
             id: Arc::as_ptr(a),
-            world: matches!(a.spec, AnimSpec::Motion { world: true, .. }),
+            // A follow carries the shape as a world motion does: it wraps the local
+            // motions it plays with, so a local spin turns about the travelling centre.
+            world: matches!(
+                a.spec,
+                AnimSpec::Motion { world: true, .. } | AnimSpec::Follow { .. }
+            ),
             start: a.start,
             end: a.end,
             step: a.step,
@@ -357,7 +362,7 @@ fn compile(shape: &Shape, slices: &[Slice], scratch: &mut Scratch) -> Track {
             let tm = a.timing();
             let role = roles.of(a);
             match &a.spec {
-                AnimSpec::Motion { .. } => {
+                AnimSpec::Motion { .. } | AnimSpec::Follow { .. } => {
                     let id = Arc::as_ptr(a);
                     let li = match layers.iter().position(|l| l.inst.id == id) {
                         Some(li) => li,
@@ -492,7 +497,7 @@ fn has_motion(slice: &Slice) -> bool {
     slice
         .anims
         .iter()
-        .any(|a| matches!(a.spec, AnimSpec::Motion { .. }))
+        .any(|a| matches!(a.spec, AnimSpec::Motion { .. } | AnimSpec::Follow { .. }))
 }
 
 /// The product, outermost first, of the window's segments that wrap the awaiting motion
@@ -703,6 +708,15 @@ fn target_of(shape: &Shape, spec: &AnimSpec) -> Value {
 /// for world ones, plus the offset of a transform written about a point) and the grid cells
 /// it reads there.
 fn resolve(a: &AnimInst, centroid: Point) -> MotionKind {
+    if let AnimSpec::Follow {
+        route,
+        world,
+        orient,
+    } = &a.spec
+    {
+        let f = crate::motion::follow::Follow::new(route.clone(), centroid, *world, *orient);
+        return MotionKind::Follow(Arc::new(f));
+    }
     let AnimSpec::Motion {
         grid,
         world,
@@ -782,6 +796,7 @@ fn carried(kind: &MotionKind, g: Affine) -> MotionKind {
             grid: Arc::new(grid.framed(g)),
             pivot: *pivot,
         },
+        MotionKind::Follow(f) => MotionKind::Follow(Arc::new(f.carried(g))),
     }
 }
 
@@ -812,7 +827,12 @@ fn conjugate(c: Component, l: Affine, tol: f64) -> Component {
 /// rule), so it undoes the twin in place; pre-applied inverted slices lie innermost.
 /// Attribute changes do not compose and keep their order.
 fn outermost_first(anims: &[Arc<AnimInst>], roles: &Roles, out: &mut Vec<usize>) {
-    let is_motion = |k: &usize| matches!(anims[*k].spec, AnimSpec::Motion { .. });
+    let is_motion = |k: &usize| {
+        matches!(
+            anims[*k].spec,
+            AnimSpec::Motion { .. } | AnimSpec::Follow { .. }
+        )
+    };
     out.clear();
     out.extend((0..anims.len()).filter(is_motion));
     out.sort_by(|&x, &y| wraps(&Span::of(&anims[y]), &Span::of(&anims[x])));

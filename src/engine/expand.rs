@@ -53,6 +53,15 @@ pub enum AnimSpec {
     StrokeWidth(f64),
     /// The strokes' visible part to reach.
     Trim(Trim),
+    /// Travel along a path (`animate(follow, …)`).
+    Follow {
+        /// The path, measured.
+        route: Arc<crate::motion::follow::Route>,
+        /// `world`: the path where it is written; `local`: its start on the centroid.
+        world: bool,
+        /// Whether the shape turns with the path's tangent.
+        orient: bool,
+    },
 }
 
 /// One application of `animate` to one slice of one shape (or one keyframe interval of
@@ -535,9 +544,19 @@ pub(crate) fn constant_errors(rule: &CRule) -> Vec<EngineError> {
             {
                 errors.push(e);
             }
+            // A follow along another shape (`shape(TAG)`) needs the scene: checked when
+            // it runs. Path data is checked here on a scene with no shape.
+            let needs_scene =
+                a.kind == AnimType::Follow && matches!(a.value.kind, ExprKind::Call { .. });
             if shape_independent(&a.value)
                 && !uses_u(&a.value)
-                && let Err(e) = spec(&a.kind, &a.value, env)
+                && !needs_scene
+                && let Err(e) = spec(
+                    &a.kind,
+                    &a.value,
+                    env,
+                    &crate::scene::SceneBuilder::new(1.0, 1.0).build(),
+                )
             {
                 errors.push(e);
             }
@@ -604,6 +623,7 @@ fn apply(
                 grid,
                 lookup,
                 interp,
+                orient,
             } = &**a;
             let delay = num(offset, env)?;
             if delay < 0.0 {
@@ -634,7 +654,13 @@ fn apply(
                         None => Easing::Linear,
                         Some(e) => easing(e, env)?,
                     };
-                    let specs = keyed_specs(ctx, kind, *world, value, grid, lookup, interp, env)?;
+                    let options = Options {
+                        grid,
+                        lookup,
+                        interp,
+                        orient: *orient,
+                    };
+                    let specs = keyed_specs(ctx, kind, *world, value, &options, env)?;
                     let shared = SharedSpec { specs, ease };
                     if ctx.shareable {
                         ctx.cache.spec = Some(shared.clone());
@@ -662,7 +688,7 @@ fn apply(
             let shape = env.shape;
             let follows = shape.inherited > 0 && !rule.takes(shape.own_tags(), shape.rig);
             let keeps = |spec: &AnimSpec| match spec {
-                AnimSpec::Motion { .. } => !follows,
+                AnimSpec::Motion { .. } | AnimSpec::Follow { .. } => !follows,
                 _ => !shape.rig,
             };
             let insts = specs
@@ -760,17 +786,15 @@ pub(super) fn names_rank(rule: &CRule) -> bool {
 /// keyframe k + 1 (gMotion §3.1: a grid of transforms keyframed at p times, linear in
 /// time between them). A value without `u` is the same at every keyframe, so it gives
 /// the ordinary change whatever p is.
-#[allow(clippy::too_many_arguments)]
 fn keyed_specs(
     ctx: &mut Ctx,
     kind: &AnimType,
     world: bool,
     value: &Expr,
-    grid: &Option<(usize, usize, usize)>,
-    lookup: &Option<Lookup>,
-    interp: &Option<Interp>,
+    options: &Options,
     env: &mut ShapeEnv,
 ) -> Result<Arc<[AnimSpec]>, EngineError> {
+    let grid = options.grid;
     let (cols, rows, keys) = grid.unwrap_or(ctx.settings.grid);
     let motion = matches!(kind, AnimType::Affine | AnimType::Towards | AnimType::Path);
     if keys <= 2 && uses_u(value) {
@@ -781,14 +805,13 @@ fn keyed_specs(
     }
     if keys <= 2 || !uses_u(value) {
         env.u = None;
-        let field = spec(kind, value, env)?;
+        let field = spec(kind, value, env, ctx.scene)?;
         return Ok(Arc::from([finish(
             ctx,
             field,
             world,
             (cols, rows),
-            lookup,
-            interp,
+            options,
         )]));
     }
     if !motion {
@@ -800,7 +823,7 @@ fn keyed_specs(
     let mut fields = Vec::with_capacity(keys - 1);
     for k in 1..keys {
         env.u = Some(k as f64 / (keys - 1) as f64);
-        fields.push(spec(kind, value, env)?);
+        fields.push(spec(kind, value, env, ctx.scene)?);
     }
     env.u = None;
     let mut specs = Vec::with_capacity(keys - 1);
@@ -824,17 +847,27 @@ fn keyed_specs(
                 ));
             }
         };
-        specs.push(finish(ctx, step, world, (cols, rows), lookup, interp));
+        specs.push(finish(ctx, step, world, (cols, rows), options));
         before = Some(field);
     }
     Ok(specs.into())
 }
 
-/// A motion field with the pivot it turns about, or an attribute change.
+/// A motion field with the pivot it turns about, a path to travel, or an attribute change.
 #[derive(Clone)]
 enum Keyed {
     Field(Field, Vec2),
+    Route(Arc<crate::motion::follow::Route>),
     Attribute(AnimSpec),
+}
+
+/// An `animate` rule's named options.
+#[derive(Clone, Copy)]
+struct Options<'a> {
+    grid: &'a Option<(usize, usize, usize)>,
+    lookup: &'a Option<Lookup>,
+    interp: &'a Option<Interp>,
+    orient: bool,
 }
 
 /// The change from keyframe `a` (about pivot `pa`) to keyframe `b` (about `pb`): `b · a⁻¹`,
@@ -884,11 +917,21 @@ fn finish(
     keyed: Keyed,
     world: bool,
     (cols, rows): (usize, usize),
-    lookup: &Option<Lookup>,
-    interp: &Option<Interp>,
+    options: &Options,
 ) -> AnimSpec {
+    let Options {
+        lookup,
+        interp,
+        orient,
+        ..
+    } = *options;
     match keyed {
         Keyed::Attribute(spec) => spec,
+        Keyed::Route(route) => AnimSpec::Follow {
+            route,
+            world,
+            orient,
+        },
         Keyed::Field(field, pivot_offset) => AnimSpec::Motion {
             grid: ctx.cache.grids.get(cols, rows, ctx.scene.canvas(), field),
             world,
@@ -901,7 +944,12 @@ fn finish(
 
 /// Evaluates an `animate` rule's value (at the keyframe `env.u`, if any) into what it
 /// animates: a motion field with its pivot, or an attribute change.
-fn spec(kind: &AnimType, value: &Expr, env: &mut dyn Env) -> Result<Keyed, EngineError> {
+fn spec(
+    kind: &AnimType,
+    value: &Expr,
+    env: &mut dyn Env,
+    scene: &Scene,
+) -> Result<Keyed, EngineError> {
     // A trim's 3-tuple is no value of its own: its numbers are read one by one.
     let v = match kind {
         AnimType::Trim => Value::Num(0.0),
@@ -941,6 +989,7 @@ fn spec(kind: &AnimType, value: &Expr, env: &mut dyn Env) -> Result<Keyed, Engin
             };
             return Ok(Keyed::Field(field, pivot_offset));
         }
+        AnimType::Follow => return Ok(Keyed::Route(super::follow::route(scene, value, &v)?)),
         AnimType::Fill => AnimSpec::Fill(v.as_color().map_err(bad)?),
         AnimType::Border => AnimSpec::Border(v.as_color().map_err(bad)?),
         AnimType::Opacity => {

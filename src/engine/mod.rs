@@ -7,6 +7,7 @@
 pub mod check;
 pub mod compile;
 pub mod expand;
+pub mod follow;
 pub mod markers;
 mod plan;
 pub mod random;
@@ -14,6 +15,7 @@ pub mod rules;
 pub(crate) mod seam;
 pub mod settings;
 pub mod smooth;
+pub mod target;
 
 use crate::warning::Warning;
 use std::fmt;

@@ -28,6 +28,8 @@ pub enum AnimType {
     StrokeWidth,
     /// The strokes' visible part (trim paths).
     Trim,
+    /// Travel along a path by arc length (see [`crate::motion::follow`]).
+    Follow,
 }
 
 impl AnimType {
@@ -52,7 +54,7 @@ impl AnimType {
     }
 
     /// Every type with its grammar spelling.
-    pub const ALL: [(&'static str, AnimType); 8] = [
+    pub const ALL: [(&'static str, AnimType); 9] = [
         ("affine", AnimType::Affine),
         ("towards", AnimType::Towards),
         ("path", AnimType::Path),
@@ -61,6 +63,7 @@ impl AnimType {
         ("opacity", AnimType::Opacity),
         ("stroke-width", AnimType::StrokeWidth),
         ("trim", AnimType::Trim),
+        ("follow", AnimType::Follow),
     ];
 }
 
@@ -95,6 +98,8 @@ pub struct Animate {
     pub lookup: Option<crate::motion::Lookup>,
     /// `interp = …`.
     pub interp: Option<crate::motion::Interp>,
+    /// `orient = auto` (true) or `none`: whether a `follow` turns with its path.
+    pub orient: bool,
 }
 
 /// A checked timeslice rule.
@@ -319,12 +324,12 @@ pub(crate) fn check_rule(index: usize, r: &Rule) -> Result<CRule, EngineError> {
             }
             for a in &r.args {
                 if let Some(n) = &a.name
-                    && !["ease", "grid", "lookup", "interp"].contains(&n.as_str())
+                    && !["ease", "grid", "lookup", "interp", "orient"].contains(&n.as_str())
                 {
                     return Err(EngineError::at(
                         a.span,
                         format!(
-                            "unknown argument `{n}`; `animate` accepts ease, grid, lookup, interp"
+                            "unknown argument `{n}`; `animate` accepts ease, grid, lookup, interp, orient"
                         ),
                     ));
                 }
@@ -359,8 +364,10 @@ pub(crate) fn check_rule(index: usize, r: &Rule) -> Result<CRule, EngineError> {
                 }),
                 None => None,
             };
+            let orient = super::follow::orient(kind, named(&r.args, "orient"))?;
             Op::Animate(Box::new(Animate {
                 kind,
+                orient,
                 world,
                 offset: pos[2].value.clone(),
                 value: pos[3].value.clone(),

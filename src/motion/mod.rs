@@ -16,7 +16,9 @@
 //! exporter terms: one nested group per segment, earlier segments outside.
 
 pub mod alexa;
+pub mod bend;
 pub mod component;
+pub mod follow;
 pub mod grid;
 pub mod sampler;
 pub mod trim;
@@ -154,6 +156,9 @@ pub enum MotionKind {
         /// `None` for world motions.
         pivot: Option<Point>,
     },
+    /// Motion along a path by arc length (`animate(follow, …)`): the progress is the
+    /// fraction of the path travelled.
+    Follow(Arc<follow::Follow>),
 }
 
 impl MotionKind {
@@ -171,6 +176,7 @@ impl MotionKind {
                 Interp::Alexa => alexa::power(grid::blend_at(blend, *pivot, 1.0), p),
             },
             MotionKind::Vertex { .. } => Affine::IDENTITY,
+            MotionKind::Follow(f) => f.at(p),
         }
     }
 }

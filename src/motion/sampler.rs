@@ -569,7 +569,7 @@ impl<'a> Part<'a> {
                         };
                         (*pivot, lo, self.comps.len() as u32 - lo, slot)
                     }
-                    MotionKind::Rigid { .. } => {
+                    MotionKind::Rigid { .. } | MotionKind::Follow(_) => {
                         self.slow.push(seg);
                         (Point::ORIGIN, self.slow.len() as u32 - 1, SLOW, NO_SLOT)
                     }

@@ -87,7 +87,7 @@ class Dim:
 GM_DIMS = [
     Dim("type", ["translate", "rotate", "scale", "skew", "matrix", "product", "about",
                  "towards", "path", "fill", "border", "opacity", "stroke-width",
-                 "keyed", "keyed-towards", "trim"]),
+                 "keyed", "keyed-towards", "trim", "follow", "follow-orient"]),
     Dim("ref", ["local", "world"]),
     Dim("ease", ["linear", "ease", "ease-in", "ease-out", "ease-in-out", "cubic",
                  "bspline", "poles", "poles-tau", "steps", "hold"]),
@@ -292,12 +292,16 @@ VALUES = {
     "keyed": ("rotate(120 * u) scale(1 - 0.4 * sin(pi * u))",
               "translate(60 * u, -30 * sin(pi * u))"),
     "keyed-towards": ("(lerp(cx, W / 2, u), lerp(cy, H / 2, u) - 40 * sin(pi * u))",) * 2,
+    # Motion along a path: `local` from the centroid, `world` on the path as written.
+    "follow": ('"M 0 0 C 30 -60 90 -60 120 0 S 150 40 170 20"', '"M 30 120 C 60 20 140 20 170 110"'),
+    "follow-orient": ('"M 0 0 C 30 -60 90 -60 120 0 S 150 40 170 20"', '"M 30 120 C 60 20 140 20 170 110"'),
 }
 ANIM = {"translate": "affine", "rotate": "affine", "scale": "affine", "skew": "affine",
         "matrix": "affine", "product": "affine", "about": "affine", "towards": "towards",
         "path": "path", "fill": "fill", "border": "border", "opacity": "opacity",
         "stroke-width": "stroke-width", "keyed": "affine", "keyed-towards": "towards",
-        "trim": "trim"}
+        "trim": "trim",
+        "follow": "follow", "follow-orient": "follow"}
 OFFSETS = {"zero": "0", "inside": "0.25 * d", "stagger": "0.3 * d * id / n", "near-limit": "0.9 * d"}
 SECOND = {"fill": "fill, local, 0, #00798c", "opacity": "opacity, local, 0, 0.5",
           "stroke-width": "stroke-width, local, 0, 1", "border": "border, local, 0, #edae49",
@@ -368,6 +372,8 @@ def grammar(c):
     extra = ""
     if EASES[c["ease"]]:
         extra += f", ease={EASES[c['ease']]}"
+    if c["type"] == "follow-orient":
+        extra += ", orient=auto"
     if c["where"] == "rule":
         extra += f", grid={grid}, lookup={c['lookup']}, interp={c['interp']}"
     motion.append(f"animate({ANIM[c['type']]}, {c['ref']}, {OFFSETS[c['offset']]}, {value}{extra}) : [{m}, {shapes}] -> [m1]")

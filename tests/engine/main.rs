@@ -10,7 +10,9 @@
 // The shared helpers, under the name the modules use.
 use gmotion_testkit as support;
 
+mod bend;
 mod engine;
+mod follow;
 mod gallery;
 mod grammar_parse;
 mod papers;

@@ -148,7 +148,9 @@ pub fn unit_motion(
         let t1 = windows.get(k + 1).map_or(f64::INFINITY, |n| n.t0);
         for (s, seg) in w.segs.iter().enumerate() {
             let end = seg.t1.min(t1);
-            match exact_levels(seg, end, fps) {
+            let exact = exact_levels(seg, end, fps)
+                .or_else(|| follow_levels(seg, end, fps, info, tolerance));
+            match exact {
                 Some(mut l) => levels.append(&mut l),
                 None => levels.extend(baked_levels(w, s, end, info, fps, tolerance, bakes)),
             }
@@ -234,6 +236,8 @@ fn always_even(track: &Track) -> bool {
                     })
                 }),
                 MotionKind::Vertex { .. } => false,
+                // A turn and a move, carried by its frame.
+                MotionKind::Follow(f) => is_even(f.frame),
             }
     })
 }
@@ -428,6 +432,35 @@ fn v2(v: [f64; 2]) -> Value {
 
 fn scalar(x: f64) -> Value {
     Value::Scalar(N(x))
+}
+
+/// Levels writing a follow's `F(f(t))·F(f(t₀))⁻¹` for `t` in `[seg.t0, end]`: position
+/// keyframes with spatial tangents ([`super::follow`]), if exact.
+fn follow_levels(
+    seg: &MotionSeg,
+    end: f64,
+    fps: f64,
+    info: UnitInfo,
+    tolerance: f64,
+) -> Option<Vec<Transform>> {
+    let b = info.bbox;
+    let radius = [(b.x0, b.y0), (b.x1, b.y0), (b.x0, b.y1), (b.x1, b.y1)]
+        .iter()
+        .map(|&q| (Point::from(q) - info.centroid).hypot())
+        .fold(0.0, f64::max)
+        * max_stretch(seg.start);
+    let mut out = vec![super::follow::level(seg, end, fps, radius, tolerance)?];
+    let p0 = seg.timing.progress(seg.t0);
+    if p0 != 0.0 {
+        // Undo F(p0), innermost, so the window starts from where the shape is.
+        out.extend(
+            decompose(seg.full_at(p0).inverse(), Point::ORIGIN)
+                .iter()
+                .filter(|l| !l.is_identity())
+                .map(exact_static_level),
+        );
+    }
+    Some(out)
 }
 
 /// Levels writing `F(f(t))·F(f(t₀))⁻¹` for `t` in `[seg.t0, end]`, if exact.
@@ -625,8 +658,10 @@ fn baked_levels(
 /// `seg` with its pivot moved by `by` (the same motion in a frame moved by `by`).
 fn shifted(seg: &MotionSeg, by: Vec2) -> MotionSeg {
     let mut seg = seg.clone();
-    if let MotionKind::Rigid { pivot, .. } = &mut seg.kind {
-        *pivot += by;
+    match &mut seg.kind {
+        MotionKind::Rigid { pivot, .. } => *pivot += by,
+        MotionKind::Follow(f) => *f = Arc::new(f.carried(Affine::translate(by))),
+        MotionKind::Vertex { .. } => {}
     }
     seg
 }

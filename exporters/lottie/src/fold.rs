@@ -133,6 +133,9 @@ impl Chan {
             None => Chan::Fixed(default),
             Some(Prop::Static(v)) => Chan::Fixed(pair(v)?),
             Some(Prop::Animated(keys)) if keys.is_empty() => return None,
+            // Keys moving along a curve (spatial tangents) are written as they are: the
+            // rules here map key values, not the curves between them.
+            Some(Prop::Animated(keys)) if keys.iter().any(|k| k.to.is_some()) => return None,
             Some(Prop::Animated(keys)) => Chan::Keyed(
                 keys.iter()
                     .map(|k| {

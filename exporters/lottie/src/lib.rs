@@ -38,6 +38,7 @@
 mod animate;
 mod bake;
 mod fold;
+mod follow;
 mod geometry;
 mod keys;
 pub mod layered;

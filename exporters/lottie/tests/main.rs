@@ -8,4 +8,5 @@
 // The shared helpers, under the name the modules use.
 use gmotion_testkit as support;
 
+mod follow;
 mod lottie;

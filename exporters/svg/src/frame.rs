@@ -33,6 +33,11 @@ use gmotion::motion::{Animation, Sampler, ShapeState, Tint, Track, Trim};
 use gmotion::scene::{FillRule, Group, ImageNode, LineCap, LineJoin, Node, Paint, PathNode, Scene};
 use number::{attr_num, attr_transform, escaped, hex, num, point};
 
+/// How far (canvas units) a frame's outline bent by a per-vertex motion may stray from the
+/// field: finer than the exports' default `--tolerance` (0.25), as frames are what the
+/// players' drawings of those exports are compared with.
+const BEND_TOLERANCE: f64 = 0.05;
+
 /// The opening of every document this module writes, up to the canvas size.
 const ROOT: &str = "<svg xmlns=\"http://www.w3.org/2000/svg\"";
 
@@ -539,9 +544,17 @@ impl<'a> Writer<'a> {
     }
 
     /// Writes path data; with `deform` (the path's rest transform to the canvas) every
-    /// point goes through the deforming tracks, innermost first.
+    /// point goes through the deforming tracks, innermost first, the outline cut first
+    /// where they bend it ([`gmotion::motion::bend`]).
     fn path_data(&mut self, path: &BezPath, deform: Option<Affine>) {
         let t = self.frame.as_ref().map_or(0.0, |f| f.t);
+        // Cut where the field bends the outline, so the frame draws the field itself.
+        let path = match deform {
+            Some(abs) => {
+                gmotion::motion::bend::refine(path, abs, &self.deform, &[t], BEND_TOLERANCE)
+            }
+            None => std::borrow::Cow::Borrowed(path),
+        };
         let back = deform.map(inverse);
         let map = |q: Point| -> Point {
             match (deform, back) {

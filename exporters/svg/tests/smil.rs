@@ -1094,7 +1094,21 @@ fn deformation_plays_within_tolerance() {
         unreachable!()
     };
     let e = doc.by_id(&p.id);
-    let rest = vertices(&p.path);
+    // The outline is cut where the grid's clamped border bends it (`lookup=vertex`): the
+    // points played at the start (at rest) are the cut rectangle's, on its edges.
+    let start = doc.value(e, "d", 0.0).unwrap();
+    let rest: Vec<Point> = start.chunks(2).map(|c| Point::new(c[0], c[1])).collect();
+    let rect = p.path.bounding_box();
+    for q in &rest {
+        let on_edge = [q.x - rect.x0, rect.x1 - q.x, q.y - rect.y0, rect.y1 - q.y]
+            .iter()
+            .any(|d| d.abs() < 0.01);
+        assert!(
+            on_edge && rect.inflate(0.01, 0.01).contains(*q),
+            "{name}: {q:?}"
+        );
+    }
+    assert!(rest.len() > vertices(&p.path).len(), "{name}: not cut");
     for t in instants(&a)
         .into_iter()
         .chain((0..40).map(|i| i as f64 * 0.0497))

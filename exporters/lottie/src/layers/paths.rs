@@ -5,7 +5,19 @@ use super::*;
 
 impl Builder<'_> {
     pub(super) fn path(&mut self, p: &PathNode, acc: Affine, env: Env, comp: &mut Comp) {
-        let cs = contours(&p.path);
+        // An outline a per-vertex motion moves is cut where the field bends it, at any of
+        // the frames its keyframes sample ([`gmotion::motion::bend`]).
+        let bent = env
+            .unit
+            .and_then(|u| self.motion(u).map(|m| (u, m)))
+            .filter(|(_, m)| !m.deform_frames.is_empty())
+            .map(|(u, m)| {
+                let times: Vec<f64> = m.deform_frames.iter().map(|f| f / self.src.fps).collect();
+                let tracks = [&self.src.tracks[u]];
+                let abs = env.to_canvas * acc;
+                gmotion::motion::bend::refine(&p.path, abs, &tracks, &times, self.tolerance)
+            });
+        let cs = contours(bent.as_deref().unwrap_or(&p.path));
         if cs.is_empty() || (p.fill.is_none() && p.stroke.is_none()) {
             return;
         }

@@ -1,5 +1,6 @@
-//! Per-vertex deformation as `<animate attributeName="d">`: the path is sampled (every
-//! point through [`Track::deform`], as the frame writer does), and samples are kept where
+//! Per-vertex deformation as `<animate attributeName="d">`: the path, cut where the field
+//! bends it ([`gmotion::motion::bend`]), is sampled (every point through
+//! [`Track::deform`], as the frame writer does), and samples are kept where
 //! linear interpolation of the points would stray more than the tolerance on the canvas.
 //! Every value has the same commands, so browsers interpolate it point by point.
 
@@ -29,14 +30,20 @@ pub fn d_keys(
         return None;
     }
     let back = abs.inverse();
-    let rest: Vec<Point> = points(path).into_iter().map(|q| abs * q).collect();
     let mut extra = Vec::new();
     for s in tracks.iter().flat_map(|t| &t.motions) {
         let (x, y) = s.timing.active();
         extra.extend([s.t0, s.t1, x, y]);
     }
-    extra.extend(frame_times(0.0, dur, fps));
+    let at_frames = frame_times(0.0, dur, fps);
+    extra.extend(&at_frames);
     let ts = sample_times(0.0, dur, rate, 8, &extra);
+    // Cut where the field bends the outline at any frame (what players are judged at; the
+    // samples between are several times as many, and the field moves little between two
+    // frames): every value then has the same commands.
+    let path = gmotion::motion::bend::refine(path, abs, tracks, &at_frames, tolerance);
+    let path = path.as_ref();
+    let rest: Vec<Point> = points(path).into_iter().map(|q| abs * q).collect();
     let frames: Vec<Vec<Point>> = ts
         .iter()
         .map(|&t| {
