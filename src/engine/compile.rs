@@ -24,14 +24,16 @@
 use std::cell::Cell;
 use std::sync::Arc;
 
-use kurbo::{Affine, Point, Vec2};
+use kurbo::{Affine, BezPath, Point, Vec2};
 
 use crate::motion::{
-    AttrSeg, Channel, Component, Interp, Lookup, MotionKind, MotionSeg, Timing, Tint, Track,
+    AttrSeg, Channel, Component, Interp, Lookup, MorphSeg, MotionKind, MotionSeg, Timing, Tint,
+    Track,
 };
 use crate::scene::Shape;
 
 use super::expand::{AnimInst, AnimSpec, Slice};
+use super::morph::MorphSpec;
 
 /// A shape's state at a slice boundary.
 #[derive(Clone, Copy, Debug)]
@@ -100,14 +102,16 @@ enum Role {
     First,
 }
 
-/// The channel an animation changes.
-fn channel(spec: &AnimSpec) -> Channel {
+/// The channel an animation changes (`None` for a morph, which changes the outline: see
+/// [`Morphs`]).
+fn channel(spec: &AnimSpec) -> Option<Channel> {
     match spec {
-        AnimSpec::Motion { .. } => Channel::Transform,
-        AnimSpec::Fill(_) => Channel::Fill,
-        AnimSpec::Border(_) => Channel::Stroke,
-        AnimSpec::Opacity(_) => Channel::Opacity,
-        AnimSpec::StrokeWidth(_) => Channel::StrokeWidth,
+        AnimSpec::Motion { .. } => Some(Channel::Transform),
+        AnimSpec::Fill(_) => Some(Channel::Fill),
+        AnimSpec::Border(_) => Some(Channel::Stroke),
+        AnimSpec::Opacity(_) => Some(Channel::Opacity),
+        AnimSpec::StrokeWidth(_) => Some(Channel::StrokeWidth),
+        AnimSpec::Morph(_) => None,
     }
 }
 
@@ -276,7 +280,9 @@ fn compile(shape: &Shape, slices: &[Slice], scratch: &mut Scratch) -> Track {
     // Reserve each channel's segments up front: one per (slice, change) of that kind.
     let mut counts = [0usize; Channel::COUNT];
     for a in slices.iter().flat_map(|s| s.anims.iter()) {
-        counts[channel(&a.spec) as usize] += 1;
+        if let Some(ch) = channel(&a.spec) {
+            counts[ch as usize] += 1;
+        }
     }
     track
         .motions
@@ -319,6 +325,7 @@ fn compile(shape: &Shape, slices: &[Slice], scratch: &mut Scratch) -> Track {
     }
     // Per channel: the value under a run of pre-applied changes, while one is open.
     let mut run_base: [Option<State>; Channel::COUNT] = [None; Channel::COUNT];
+    let mut morphs = Morphs::default();
 
     for (i, slice) in slices.iter().enumerate() {
         history.push((slice.t0, state));
@@ -390,9 +397,12 @@ fn compile(shape: &Shape, slices: &[Slice], scratch: &mut Scratch) -> Track {
                     });
                     window.push(li);
                 }
+                AnimSpec::Morph(spec) => morphs.push(&mut track, a, spec, role, (t0, t1)),
                 spec => {
                     let begun = at_start(a.start);
-                    let ch = channel(spec);
+                    let Some(ch) = channel(spec) else {
+                        continue;
+                    };
                     let get = |s: &State| match ch {
                         Channel::Fill => Value::Tint(s.fill),
                         Channel::Stroke => Value::Tint(s.stroke),
@@ -485,6 +495,103 @@ fn has_motion(slice: &Slice) -> bool {
         .anims
         .iter()
         .any(|a| matches!(a.spec, AnimSpec::Motion { .. }))
+}
+
+/// The outline channel while a shape's timeline compiles: morphs replace the outline, as
+/// attributes replace their values (a chained morph starts from where the last one ended,
+/// an inverted twin plays its twin's outlines backwards, a pre-applied one holds its
+/// target from time 0).
+#[derive(Default)]
+struct Morphs {
+    /// The outlines now (each path in its own coordinates) and their centroid on the
+    /// canvas; `None` while the paths are as drawn.
+    current: Option<(Vec<BezPath>, Point)>,
+    /// Each morph's pair of matched outlines, by instance (the pieces of a split slice
+    /// share it), with the outlines it began from (what its inverted twin returns to).
+    pairs: VecMap<*const AnimInst, MorphPair>,
+    /// The latest forward morph set at each expansion step: its inverted twin plays it back.
+    at_step: VecMap<usize, *const AnimInst>,
+}
+
+#[derive(Clone)]
+struct MorphPair {
+    from: Arc<[BezPath]>,
+    to: Arc<[BezPath]>,
+    before: Option<(Vec<BezPath>, Point)>,
+    after: (Vec<BezPath>, Point),
+}
+
+impl Morphs {
+    fn push(
+        &mut self,
+        track: &mut Track,
+        a: &Arc<AnimInst>,
+        spec: &MorphSpec,
+        role: Role,
+        (t0, t1): (f64, f64),
+    ) {
+        let id = Arc::as_ptr(a);
+        let twin = match role {
+            Role::Paired => self
+                .at_step
+                .get(&a.step)
+                .and_then(|k| self.pairs.get(k))
+                .cloned(),
+            _ => None,
+        };
+        let pair = match (self.pairs.get(&id), twin) {
+            (Some(p), _) => p.clone(),
+            (None, Some(twin)) => twin,
+            (None, None) => {
+                let (current, centroid) = match &self.current {
+                    Some((paths, c)) => (paths.clone(), *c),
+                    None => (
+                        spec.art.iter().map(|(_, p)| p.clone()).collect(),
+                        spec.centroid,
+                    ),
+                };
+                let (from, to, placed) = super::morph::outlines(spec, &current, centroid);
+                let placed_centroid = super::morph::centroid_of(spec, &placed);
+                MorphPair {
+                    from,
+                    to,
+                    before: self.current.clone(),
+                    after: (placed, placed_centroid),
+                }
+            }
+        };
+        if self.pairs.get(&id).is_none() {
+            self.pairs.insert(id, pair.clone());
+            if role == Role::Forward {
+                self.at_step.insert(a.step, id);
+            }
+        }
+        let timing = a.timing();
+        if role == Role::First && track.morphs.is_empty() && t0 > 0.0 {
+            track.morphs.push(MorphSeg {
+                t0: 0.0,
+                t1: t0,
+                timing: Timing::linear(0.0, t0),
+                from: pair.to.clone(),
+                to: pair.to.clone(),
+            });
+        }
+        track.morphs.push(MorphSeg {
+            t0,
+            t1,
+            timing,
+            from: pair.from.clone(),
+            to: pair.to.clone(),
+        });
+        // Once the morph has played out, the next one starts from where it left the paths:
+        // its target after a forward morph, what it began from after a twin played it back.
+        if a.end <= t1 + 1e-9 && role != Role::First {
+            self.current = match role {
+                Role::Forward => Some(pair.after),
+                _ => pair.before,
+            };
+        }
+    }
 }
 
 /// The product, outermost first, of the window's segments that wrap the awaiting motion
@@ -617,8 +724,9 @@ impl<'a> Roles<'a> {
                 }
                 firsts.push(id);
                 match channel(&a.spec) {
-                    Channel::Transform => firsts_here.push(a),
-                    _ => first_attrs = true,
+                    Some(Channel::Transform) => firsts_here.push(a),
+                    Some(_) => first_attrs = true,
+                    None => {}
                 }
             }
             firsts_here.sort_by(|a, b| wraps(&Span::of(b), &Span::of(a)));
@@ -640,10 +748,9 @@ impl<'a> Roles<'a> {
     fn under_of(&self, shape: &Shape, slices: &[Slice]) -> VecMap<*const AnimInst, Value> {
         let mut channels: [Vec<(&Arc<AnimInst>, Role)>; Channel::COUNT] = Default::default();
         for a in slices.iter().flat_map(|s| s.anims.iter()) {
-            let ch = channel(&a.spec);
-            if ch == Channel::Transform {
+            let Some(ch) = channel(&a.spec).filter(|&c| c != Channel::Transform) else {
                 continue;
-            }
+            };
             let list = &mut channels[ch as usize];
             if list.iter().any(|(b, _)| Arc::ptr_eq(a, b)) {
                 continue;

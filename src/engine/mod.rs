@@ -7,6 +7,7 @@
 pub mod check;
 pub mod compile;
 pub mod expand;
+pub mod morph;
 mod plan;
 pub mod random;
 pub mod rules;

@@ -26,6 +26,8 @@ pub enum AnimType {
     Opacity,
     /// Stroke width.
     StrokeWidth,
+    /// The outline becomes another shape's (or SVG path data's).
+    Morph,
 }
 
 impl AnimType {
@@ -50,7 +52,7 @@ impl AnimType {
     }
 
     /// Every type with its grammar spelling.
-    pub const ALL: [(&'static str, AnimType); 7] = [
+    pub const ALL: [(&'static str, AnimType); 8] = [
         ("affine", AnimType::Affine),
         ("towards", AnimType::Towards),
         ("path", AnimType::Path),
@@ -58,6 +60,7 @@ impl AnimType {
         ("border", AnimType::Border),
         ("opacity", AnimType::Opacity),
         ("stroke-width", AnimType::StrokeWidth),
+        ("morph", AnimType::Morph),
     ];
 }
 

@@ -18,6 +18,7 @@
 pub mod alexa;
 pub mod component;
 pub mod grid;
+pub mod morph;
 pub mod sampler;
 
 use std::sync::Arc;
@@ -29,6 +30,7 @@ use crate::scene::Scene;
 use crate::signals::Easing;
 pub use component::Component;
 pub use grid::{Blend, Field, Grid, Lookup};
+pub use morph::MorphSeg;
 pub use sampler::{Playhead, Sampler};
 
 /// The five things a shape's track animates, each a list of its own in a [`Track`]: its
@@ -354,6 +356,8 @@ pub struct Track {
     pub opacity: Vec<AttrSeg<f64>>,
     /// Stroke width multiplier changes.
     pub stroke_width: Vec<AttrSeg<f64>>,
+    /// Outline changes (morphs), sorted and non-overlapping.
+    pub morphs: Vec<MorphSeg>,
 }
 
 /// A shape's state at one instant.
@@ -390,6 +394,13 @@ impl Track {
             && self.stroke.is_empty()
             && self.opacity.is_empty()
             && self.stroke_width.is_empty()
+            && self.morphs.is_empty()
+    }
+
+    /// The unit's paths at `t` (one per path, in document order, each in its own
+    /// coordinates): `None` while they are as drawn.
+    pub fn outlines_at(&self, t: f64) -> Option<Vec<kurbo::BezPath>> {
+        morph::outlines_at(&self.morphs, t)
     }
 
     /// The rigid transform at `t`.

@@ -75,6 +75,7 @@ pub fn scene_svg(scene: &Scene) -> String {
         out: String::with_capacity(4096),
         defs: Defs::with_names(Names::new(ids)),
         deform: Vec::new(),
+        morph: None,
         written_ids: Some(HashSet::new()),
     };
     writer.document()
@@ -124,6 +125,7 @@ pub fn frame_with_ids<'a>(
         out: String::with_capacity(4096),
         defs: Defs::numbered(ids),
         deform: Vec::new(),
+        morph: None,
         written_ids: None,
     };
     writer.document()
@@ -202,6 +204,9 @@ struct Writer<'a> {
     defs: Defs<'a>,
     /// Tracks deforming the unit being written, outermost first.
     deform: Vec<&'a Track>,
+    /// The outlines of the morphing unit being written (one per path, in document order)
+    /// and how many of its paths are written so far.
+    morph: Option<(Vec<BezPath>, usize)>,
     /// Node ids written so far (`None` when ids are not written: frames and defs).
     written_ids: Option<HashSet<&'a str>>,
 }
@@ -276,7 +281,8 @@ impl<'a> Writer<'a> {
             return self.plain(node, ctx);
         };
         let deforms = track.deforms();
-        if state == ShapeState::REST && !deforms {
+        let outlines = track.outlines_at(frame.t);
+        if state == ShapeState::REST && !deforms && outlines.is_none() {
             return self.plain(node, ctx);
         }
         let opacity = state.opacity.clamp(0.0, 1.0);
@@ -307,7 +313,12 @@ impl<'a> Writer<'a> {
         if deforms {
             self.deform.push(track);
         }
+        let outer = match outlines {
+            Some(o) => self.morph.replace((o, 0)),
+            None => self.morph.take(),
+        };
         self.plain(node, inner);
+        self.morph = outer;
         if deforms {
             self.deform.pop();
         }
@@ -370,7 +381,11 @@ impl<'a> Writer<'a> {
         self.id_attr(&p.id);
         self.out.push_str(" d=\"");
         let deform = (!self.deform.is_empty()).then_some(ctx.abs);
-        self.path_data(&p.path, deform);
+        let morphed = self.morph.as_mut().and_then(|(o, k)| {
+            *k += 1;
+            o.get(*k - 1).cloned()
+        });
+        self.path_data(morphed.as_ref().unwrap_or(&p.path), deform);
         self.out.push('"');
         match &p.fill {
             None => self.out.push_str(" fill=\"none\""),
