@@ -96,7 +96,9 @@ fn contours(path: &BezPath) -> Vec<Contour> {
             }
             PathEl::ClosePath => {
                 if !cur.segs.is_empty() {
-                    if last != start {
+                    // A closing gap of float noise (an outline this module cut) is no
+                    // segment: the structure must read back as it was written.
+                    if (last - start).hypot() > 1e-9 {
                         cur.segs.push(line(last, start));
                     }
                     cur.closed = true;
@@ -239,7 +241,7 @@ impl<'a> Measured<'a> {
     /// The pieces between consecutive `cuts` (fractions in `[0, 1)`, ascending, holding
     /// every segment start shifted by `-shift`), read from `shift` on: each lies within one
     /// segment, so it is an exact piece of it.
-    fn cut(&self, cuts: &[f64], shift: f64) -> Vec<CubicBez> {
+    fn cut(&self, cuts: &[f64], shift: f64) -> Vec<Piece> {
         let mut out = Vec::with_capacity(cuts.len());
         for (k, &u) in cuts.iter().enumerate() {
             let next = cuts.get(k + 1).copied().unwrap_or(1.0);
@@ -250,10 +252,24 @@ impl<'a> Measured<'a> {
             let s1 = s0 + (next - u);
             let i = self.segment((s0 + s1) / 2.0);
             let (t0, t1) = (self.param(i, s0), self.param(i, s1.min(1.0)));
-            out.push(self.c.segs[i].subsegment(t0..t1));
+            out.push(Piece { seg: i, t0, t1 });
         }
         out
     }
+}
+
+/// A piece of a contour's segment `seg`, between parameters `t0` and `t1`.
+#[derive(Clone, Copy, Debug)]
+struct Piece {
+    seg: usize,
+    t0: f64,
+    t1: f64,
+}
+
+fn pieces(c: &Contour, ps: &[Piece]) -> Vec<CubicBez> {
+    ps.iter()
+        .map(|p| c.segs[p.seg].subsegment(p.t0..p.t1))
+        .collect()
 }
 
 /// A point drawn as `n` segments of no length (a subpath that grows from it).
@@ -265,8 +281,9 @@ fn point_contour(p: Point, n: usize, closed: bool) -> Contour {
 }
 
 /// `a` and `b` (one subpath each) cut to the same number of segments, `b`'s start moved
-/// (closed pairs) or its direction chosen (open ones) to lie closest to `a`.
-fn match_pair(a: &Contour, b: &Contour) -> (Contour, Contour) {
+/// (closed pairs) or its direction chosen (open ones) to lie closest to `a`; also how `a`
+/// was cut.
+fn match_pair(a: &Contour, b: &Contour) -> (Contour, Contour, Vec<Piece>) {
     let closed = a.closed && b.closed;
     let ma = Measured::new(a);
     let mut b = b.clone();
@@ -321,15 +338,16 @@ fn match_pair(a: &Contour, b: &Contour) -> (Contour, Contour) {
     if cuts.first() != Some(&0.0) {
         cuts.insert(0, 0.0);
     }
+    let cut_a = ma.cut(&cuts, 0.0);
     let from = Contour {
-        segs: ma.cut(&cuts, 0.0),
+        segs: pieces(a, &cut_a),
         closed,
     };
     let to = Contour {
-        segs: mb.cut(&cuts, shift),
+        segs: pieces(&b, &mb.cut(&cuts, shift)),
         closed,
     };
-    (from, to)
+    (from, to, cut_a)
 }
 
 /// `from` and `to` brought to one structure: the same subpaths, each of the same number of
@@ -367,7 +385,10 @@ pub fn correspond(from: &BezPath, to: &BezPath) -> (BezPath, BezPath) {
             .min_by(|p, q| p.1.total_cmp(&q.1))
             .map(|(i, _)| i);
         match best.and_then(|i| free[i].take()) {
-            Some(y) => pairs.push(match_pair(&x, &y)),
+            Some(y) => {
+                let (f, t, _) = match_pair(&x, &y);
+                pairs.push((f, t));
+            }
             None => {
                 let p = point_contour(x.centroid(), x.segs.len(), x.closed);
                 pairs.push((x, p));
@@ -385,6 +406,104 @@ pub fn correspond(from: &BezPath, to: &BezPath) -> (BezPath, BezPath) {
         y.append_to(&mut pb);
     }
     (pa, pb)
+}
+
+/// How an outline of a morph chain is cut again when the next morph of the chain is
+/// matched ([`correspond_from`]): each of its subpaths cut into pieces of its segments,
+/// subpaths that grow from a point appended. Cutting a cubic is linear in its control
+/// points, so cutting both outlines of an earlier morph the same way leaves its in-between
+/// exactly as it was: every morph of a chain then has one structure, which Lottie and SMIL
+/// players need to interpolate one path property through all of them.
+#[derive(Clone, Debug)]
+pub struct Refine {
+    /// Per subpath: its pieces, and whether it is closed after.
+    cut: Vec<(Vec<Piece>, bool)>,
+    /// Subpaths appended: a point drawn as this many segments, closed or not.
+    grown: Vec<(Point, usize, bool)>,
+}
+
+impl Refine {
+    /// `path` (of the structure the chain had) cut to the new structure.
+    pub fn apply(&self, path: &BezPath) -> BezPath {
+        let cs = contours(path);
+        let mut out = BezPath::new();
+        for (c, (ps, closed)) in cs.iter().zip(&self.cut) {
+            Contour {
+                segs: pieces(c, ps),
+                closed: *closed,
+            }
+            .append_to(&mut out);
+        }
+        for &(p, n, closed) in &self.grown {
+            point_contour(p, n, closed).append_to(&mut out);
+        }
+        out
+    }
+}
+
+/// Like [`correspond`], for the next morph of a chain: `from` is the outline the chain
+/// has reached (of the chain's structure), kept in its order and direction, so that the
+/// chain's earlier outlines can be cut the same way ([`Refine`]).
+pub fn correspond_from(from: &BezPath, to: &BezPath) -> (BezPath, BezPath, Refine) {
+    let a = contours(from);
+    let mut b = contours(to);
+    let size = |c: &Contour| c.area().abs();
+    b.sort_by(|x, y| size(y).total_cmp(&size(x)));
+    let cost = |x: &Contour, y: &Contour| {
+        (x.centroid() - y.centroid()).hypot2() + (size(x).sqrt() - size(y).sqrt()).powi(2)
+    };
+    // The larger subpaths of `from` choose first; the output keeps `from`'s order.
+    let mut order: Vec<usize> = (0..a.len()).collect();
+    order.sort_by(|&i, &j| size(&a[j]).total_cmp(&size(&a[i])));
+    let mut free: Vec<Option<Contour>> = b.into_iter().map(Some).collect();
+    let mut partner: Vec<Option<Contour>> = vec![None; a.len()];
+    for &i in &order {
+        let best = free
+            .iter()
+            .enumerate()
+            .filter_map(|(k, y)| y.as_ref().map(|y| (k, cost(&a[i], y))))
+            .min_by(|p, q| p.1.total_cmp(&q.1))
+            .map(|(k, _)| k);
+        partner[i] = best.and_then(|k| free[k].take());
+    }
+    let mut pa = BezPath::new();
+    let mut pb = BezPath::new();
+    let mut refine = Refine {
+        cut: Vec::with_capacity(a.len()),
+        grown: Vec::new(),
+    };
+    for (x, y) in a.iter().zip(partner) {
+        match y {
+            Some(mut y) => {
+                if x.closed && y.closed && x.area() * y.area() < 0.0 {
+                    y.reverse();
+                }
+                let (f, t, cut) = match_pair(x, &y);
+                f.append_to(&mut pa);
+                t.append_to(&mut pb);
+                refine.cut.push((cut, f.closed));
+            }
+            None => {
+                x.append_to(&mut pa);
+                point_contour(x.centroid(), x.segs.len(), x.closed).append_to(&mut pb);
+                let whole = (0..x.segs.len())
+                    .map(|seg| Piece {
+                        seg,
+                        t0: 0.0,
+                        t1: 1.0,
+                    })
+                    .collect();
+                refine.cut.push((whole, x.closed));
+            }
+        }
+    }
+    for y in free.into_iter().flatten() {
+        let p = y.centroid();
+        point_contour(p, y.segs.len(), y.closed).append_to(&mut pa);
+        y.append_to(&mut pb);
+        refine.grown.push((p, y.segs.len(), y.closed));
+    }
+    (pa, pb, refine)
 }
 
 /// The outline between `a` and `b` (of one structure, from [`correspond`]) at `p`: every
@@ -407,6 +526,35 @@ pub fn lerp(a: &BezPath, b: &BezPath, p: f64) -> BezPath {
             (x, _) => x,
         });
     BezPath::from_vec(els.collect())
+}
+
+/// An outline as a keyframe value: two are the same when every point agrees up to
+/// rounding ([`crate::tolerance::KEY`]), so where one morph of a chain ends and the next
+/// begins (the same outline, of one structure) is no jump.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Outline(pub BezPath);
+
+impl crate::keyframe::Same for Outline {
+    fn same(&self, other: &Outline) -> bool {
+        let (a, b) = (self.0.elements(), other.0.elements());
+        a.len() == b.len()
+            && a.iter().zip(b).all(|(x, y)| {
+                let (px, py) = (points_of(*x), points_of(*y));
+                px.len() == py.len()
+                    && px.iter().zip(&py).all(|(p, q)| {
+                        crate::tolerance::KEY.same(p.x, q.x) && crate::tolerance::KEY.same(p.y, q.y)
+                    })
+            })
+    }
+}
+
+fn points_of(el: PathEl) -> Vec<Point> {
+    match el {
+        PathEl::MoveTo(p) | PathEl::LineTo(p) => vec![p],
+        PathEl::QuadTo(a, p) => vec![a, p],
+        PathEl::CurveTo(a, b, p) => vec![a, b, p],
+        PathEl::ClosePath => Vec::new(),
+    }
 }
 
 /// The area centroid of `paths` taken together (each subpath's signed area counted, so a

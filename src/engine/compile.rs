@@ -500,14 +500,16 @@ fn has_motion(slice: &Slice) -> bool {
 /// The outline channel while a shape's timeline compiles: morphs replace the outline, as
 /// attributes replace their values (a chained morph starts from where the last one ended,
 /// an inverted twin plays its twin's outlines backwards, a pre-applied one holds its
-/// target from time 0).
+/// target from time 0). Every morph of the track has one structure (each path the same
+/// subpaths of the same segment counts): a morph matched after others cuts theirs again
+/// ([`crate::morph::Refine`]), which leaves their in-betweens as they were.
 #[derive(Default)]
 struct Morphs {
-    /// The outlines now (each path in its own coordinates) and their centroid on the
-    /// canvas; `None` while the paths are as drawn.
-    current: Option<(Vec<BezPath>, Point)>,
+    /// The outlines now (each path in its own coordinates, of the track's structure) and
+    /// their centroid on the canvas; `None` while the paths are as drawn.
+    current: Option<(Arc<[BezPath]>, Point)>,
     /// Each morph's pair of matched outlines, by instance (the pieces of a split slice
-    /// share it), with the outlines it began from (what its inverted twin returns to).
+    /// share it).
     pairs: VecMap<*const AnimInst, MorphPair>,
     /// The latest forward morph set at each expansion step: its inverted twin plays it back.
     at_step: VecMap<usize, *const AnimInst>,
@@ -517,8 +519,8 @@ struct Morphs {
 struct MorphPair {
     from: Arc<[BezPath]>,
     to: Arc<[BezPath]>,
-    before: Option<(Vec<BezPath>, Point)>,
-    after: (Vec<BezPath>, Point),
+    /// The centroids of `from` and `to` on the canvas.
+    centroids: (Point, Point),
 }
 
 impl Morphs {
@@ -541,24 +543,16 @@ impl Morphs {
         };
         let pair = match (self.pairs.get(&id), twin) {
             (Some(p), _) => p.clone(),
-            (None, Some(twin)) => twin,
-            (None, None) => {
-                let (current, centroid) = match &self.current {
-                    Some((paths, c)) => (paths.clone(), *c),
-                    None => (
-                        spec.art.iter().map(|(_, p)| p.clone()).collect(),
-                        spec.centroid,
-                    ),
-                };
-                let (from, to, placed) = super::morph::outlines(spec, &current, centroid);
-                let placed_centroid = super::morph::centroid_of(spec, &placed);
-                MorphPair {
-                    from,
-                    to,
-                    before: self.current.clone(),
-                    after: (placed, placed_centroid),
-                }
-            }
+            // Back from where the paths are to where the twin began: the same structure.
+            (None, Some(twin)) => match &self.current {
+                Some((now, c)) => MorphPair {
+                    from: twin.from,
+                    to: now.clone(),
+                    centroids: (twin.centroids.0, *c),
+                },
+                None => twin,
+            },
+            (None, None) => self.matched(track, spec),
         };
         if self.pairs.get(&id).is_none() {
             self.pairs.insert(id, pair.clone());
@@ -566,7 +560,6 @@ impl Morphs {
                 self.at_step.insert(a.step, id);
             }
         }
-        let timing = a.timing();
         if role == Role::First && track.morphs.is_empty() && t0 > 0.0 {
             track.morphs.push(MorphSeg {
                 t0: 0.0,
@@ -579,17 +572,86 @@ impl Morphs {
         track.morphs.push(MorphSeg {
             t0,
             t1,
-            timing,
+            timing: a.timing(),
             from: pair.from.clone(),
             to: pair.to.clone(),
         });
         // Once the morph has played out, the next one starts from where it left the paths:
-        // its target after a forward morph, what it began from after a twin played it back.
-        if a.end <= t1 + 1e-9 && role != Role::First {
-            self.current = match role {
-                Role::Forward => Some(pair.after),
-                _ => pair.before,
+        // its target after a forward morph, where it began after one played backwards.
+        if a.end <= t1 + 1e-9 {
+            self.current = Some(match role {
+                Role::Forward => (pair.to, pair.centroids.1),
+                _ => (pair.from, pair.centroids.0),
+            });
+        }
+    }
+
+    /// A new morph matched from the current outlines to `spec`'s target; the outlines
+    /// already in the track are cut again to the structure it leaves.
+    fn matched(&mut self, track: &mut Track, spec: &MorphSpec) -> MorphPair {
+        let (current, centroid): (Vec<BezPath>, Point) = match &self.current {
+            Some((paths, c)) => (paths.to_vec(), *c),
+            None => (
+                spec.art.iter().map(|(_, p)| p.clone()).collect(),
+                spec.centroid,
+            ),
+        };
+        let placed = super::morph::placed(spec, centroid);
+        let placed_centroid = super::morph::centroid_of(spec, &placed);
+        let mut from = Vec::with_capacity(placed.len());
+        let mut to = Vec::with_capacity(placed.len());
+        for (leaf, (cur, target)) in current.iter().zip(&placed).enumerate() {
+            if self.current.is_none() {
+                let (a, b) = crate::morph::correspond(cur, target);
+                from.push(a);
+                to.push(b);
+                continue;
+            }
+            let (a, b, refine) = crate::morph::correspond_from(cur, target);
+            from.push(a);
+            to.push(b);
+            self.refine(track, leaf, &refine);
+        }
+        MorphPair {
+            from: from.into(),
+            to: to.into(),
+            centroids: (centroid, placed_centroid),
+        }
+    }
+
+    /// Cuts path `leaf` of every outline kept so far to a chain's new structure.
+    fn refine(&mut self, track: &mut Track, leaf: usize, refine: &crate::morph::Refine) {
+        let cut = |paths: &Arc<[BezPath]>| -> Arc<[BezPath]> {
+            let mut v = paths.to_vec();
+            if let Some(p) = v.get_mut(leaf) {
+                *p = refine.apply(p);
+            }
+            v.into()
+        };
+        // Outlines shared by several segments are cut once and shared again.
+        let mut done: Vec<(*const [BezPath], Arc<[BezPath]>)> = Vec::new();
+        let mut once = |paths: &mut Arc<[BezPath]>| {
+            let key = Arc::as_ptr(paths);
+            let new = match done.iter().find(|(k, _)| std::ptr::addr_eq(*k, key)) {
+                Some((_, n)) => n.clone(),
+                None => {
+                    let n = cut(paths);
+                    done.push((key, n.clone()));
+                    n
+                }
             };
+            *paths = new;
+        };
+        for seg in &mut track.morphs {
+            once(&mut seg.from);
+            once(&mut seg.to);
+        }
+        for (_, pair) in &mut self.pairs.0 {
+            once(&mut pair.from);
+            once(&mut pair.to);
+        }
+        if let Some((now, _)) = &mut self.current {
+            once(now);
         }
     }
 }

@@ -7,8 +7,6 @@
 //! own coordinates, where [`crate::morph::correspond`] matches it with the outline the shape
 //! has then.
 
-use std::sync::Arc;
-
 use kurbo::{Affine, BezPath, Point};
 
 use crate::grammar::ast::{Expr, ExprKind, Span};
@@ -257,38 +255,28 @@ enum Candidate<'a> {
     Key(&'a crate::scene::KeyShape),
 }
 
-/// The outlines a forward morph plays, each path in its own coordinates: from `current`
-/// (what the paths are at the slice start) to the target, placed by the spec's reference
-/// and matched point for point. Also returns the target as it was placed (what the next
-/// morph starts from).
-pub fn outlines(
-    spec: &MorphSpec,
-    current: &[BezPath],
-    current_centroid: Point,
-) -> (Arc<[BezPath]>, Arc<[BezPath]>, Vec<BezPath>) {
+/// The target placed by the spec's reference (`local`: its centroid on `centroid`, the
+/// shape's at the slice start) and carried into each path's own coordinates.
+pub fn placed(spec: &MorphSpec, centroid: Point) -> Vec<BezPath> {
     let shift = if spec.world {
         Affine::IDENTITY
     } else {
         let c =
             crate::morph::centroid(&spec.target).unwrap_or_else(|| bounds(&spec.target).center());
-        Affine::translate(current_centroid - c)
+        Affine::translate(centroid - c)
     };
-    let mut from = Vec::with_capacity(current.len());
-    let mut to = Vec::with_capacity(current.len());
-    let mut placed = Vec::with_capacity(current.len());
-    for ((abs, _), (cur, target)) in spec.art.iter().zip(current.iter().zip(&spec.target)) {
-        let back = if abs.determinant().abs() > 1e-12 {
-            abs.inverse()
-        } else {
-            Affine::IDENTITY
-        };
-        let local = (back * shift) * target.clone();
-        let (a, b) = crate::morph::correspond(cur, &local);
-        from.push(a);
-        to.push(b);
-        placed.push(local);
-    }
-    (from.into(), to.into(), placed)
+    spec.art
+        .iter()
+        .zip(&spec.target)
+        .map(|((abs, _), target)| {
+            let back = if abs.determinant().abs() > 1e-12 {
+                abs.inverse()
+            } else {
+                Affine::IDENTITY
+            };
+            (back * shift) * target.clone()
+        })
+        .collect()
 }
 
 /// The centroid of outlines given in their paths' own coordinates (carried to the canvas).

@@ -9,3 +9,4 @@
 use gmotion_testkit as support;
 
 mod lottie;
+mod morph;

@@ -29,6 +29,7 @@ mod attr;
 mod decompose;
 mod deform;
 mod merge;
+mod morph;
 mod paint;
 mod splice;
 mod text;
@@ -352,6 +353,7 @@ fn changes(track: &Track, dur: f64) -> bool {
         || starts(track.stroke.first().map(|s| s.t0))
         || starts(track.opacity.first().map(|s| s.t0))
         || starts(track.stroke_width.first().map(|s| s.t0))
+        || starts(track.morphs.first().map(|s| s.t0))
 }
 
 /// Below this many items a document is written on the calling thread.
@@ -667,6 +669,24 @@ impl Writer<'_> {
                     unit,
                     "a path under a singular transform is not deformed".into(),
                 ),
+            }
+        }
+        if let Some(keys) = mp
+            .units
+            .iter()
+            .rev()
+            .find_map(|&u| morph::d_keys(anim, u, mp.path, self.opts.bake_rate))
+        {
+            part.exact += 1;
+            if xml::animation(
+                &mut children,
+                "animate",
+                "attributeName=\"d\"",
+                &keys,
+                false,
+                self.clock,
+            ) {
+                children.push('\n');
             }
         }
         if !children.is_empty() {

@@ -511,6 +511,7 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
         root,
         shapes: vec![shape],
         time: None,
+        keys: Vec::new(),
     };
     out.push(("group-unit", true, anim(pair, 3.0, true, vec![t])));
 
@@ -575,6 +576,7 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
         root,
         shapes,
         time: None,
+        keys: Vec::new(),
     };
     out.push((
         "nested-units",

@@ -37,6 +37,7 @@ impl Builder<'_> {
         let deform = motion
             .filter(|m| !m.deform_frames.is_empty())
             .map(|m| (env.unit.expect("unit"), m.deform_frames.as_slice()));
+        let morph = env.unit.and_then(|u| self.morph_leaf(u, p));
         // A stroke under uneven scaling is drawn as its filled outline: players other than
         // lottie-web widen strokes by one averaged factor (rlottie) or scale the pen along
         // the canvas axes by the matrix's column lengths (ThorVG; wrong once the scaling
@@ -47,7 +48,10 @@ impl Builder<'_> {
             .stroke
             .as_ref()
             .filter(|s| {
-                uneven && deform.is_none() && matches!(s.paint, Paint::Solid(_) | Paint::Linear(_))
+                uneven
+                    && deform.is_none()
+                    && morph.is_none()
+                    && matches!(s.paint, Paint::Solid(_) | Paint::Linear(_))
             })
             .zip(held_factor(anim.stroke_width))
             .map(|(s, factor)| {
@@ -92,9 +96,12 @@ impl Builder<'_> {
         paints.extend(first);
         paints.extend(second);
         let geometry = |b: &Self, space: Affine| -> Vec<Prop> {
-            match &deform {
-                Some((u, frames)) => b.deformed(&cs, *u, frames, acc * space, env.to_canvas),
-                None => {
+            match (&deform, morph) {
+                (Some((u, frames)), _) => b.deformed(&cs, *u, frames, acc * space, env.to_canvas),
+                (None, Some((track, leaf))) => {
+                    b.morphed(track, leaf, space, max_stretch(env.to_canvas * acc * space))
+                }
+                (None, None) => {
                     let inv = space.inverse();
                     cs.iter()
                         .map(|c| {

@@ -61,7 +61,7 @@ pub fn d_keys(
 }
 
 /// Every point of a path in order (control points included).
-fn points(path: &BezPath) -> Vec<Point> {
+pub(super) fn points(path: &BezPath) -> Vec<Point> {
     let mut out = Vec::with_capacity(path.elements().len() * 3);
     for el in path.elements() {
         match *el {
@@ -75,7 +75,7 @@ fn points(path: &BezPath) -> Vec<Point> {
 }
 
 /// The path's commands with its points replaced, in order, by `pts`.
-fn path_data(path: &BezPath, mut pts: impl Iterator<Item = Point>) -> String {
+pub(super) fn path_data(path: &BezPath, mut pts: impl Iterator<Item = Point>) -> String {
     let mut out = String::new();
     let mut pt = |out: &mut String| {
         let q = pts.next().unwrap_or_default();

@@ -1,0 +1,78 @@
+//! Morphs as `<animate attributeName="d">`: every outline of a track's morphs has one
+//! structure ([`gmotion::morph`]), so every value has the same commands and browsers
+//! interpolate it point by point, along each key's `keySplines`: the model's in-between
+//! exactly. Keys sit at each morph's ends (and where its easing is no cubic Bézier SMIL
+//! can say, at sampled instants thinned to the progress error).
+
+use gmotion::keyframe::sample::sample_times;
+use gmotion::keyframe::{Format, Key, Piece, progress_keys};
+use gmotion::morph::Outline;
+use gmotion::motion::Animation;
+use gmotion::scene::{Node, PathNode};
+use kurbo::BezPath;
+
+use super::deform::{path_data, points};
+
+/// The keys of `path`'s `d` when it is one of unit `u`'s paths and the unit morphs.
+pub fn d_keys(anim: &Animation, u: usize, path: &PathNode, rate: f64) -> Option<Vec<Key<String>>> {
+    let segs = &anim.tracks.get(u)?.morphs;
+    if segs.is_empty() {
+        return None;
+    }
+    let mut paths = Vec::new();
+    leaves(anim.scene.unit_node(u)?, &mut paths);
+    let leaf = paths.iter().position(|q| std::ptr::eq(*q, path))?;
+    let outline = |k: usize, p: f64| -> BezPath {
+        let s = &segs[k];
+        match (s.from.get(leaf), s.to.get(leaf)) {
+            (Some(a), Some(b)) => gmotion::morph::lerp(a, b, p),
+            _ => BezPath::new(),
+        }
+    };
+    let d = |o: &BezPath| path_data(o, points(o).into_iter());
+    let pieces: Vec<Piece> = segs
+        .iter()
+        .enumerate()
+        .map(|(k, s)| Piece {
+            t0: s.t0,
+            t1: s.t1.min(segs.get(k + 1).map_or(f64::INFINITY, |n| n.t0)),
+            timing: &s.timing,
+        })
+        .collect();
+    // A key's value is the outline itself: where one morph ends and the next begins (an
+    // inverted twin, a chained morph) the outline is the same, so no jump.
+    let value = |k: usize, p: f64| Outline(outline(k, p));
+    let keys = match progress_keys(&pieces, value(0, 0.0), value, Format::UnitBox) {
+        Some(keys) => keys,
+        // An easing SMIL cannot say: the outline at sampled instants, linear between.
+        None => {
+            let end = segs.last().map_or(0.0, |s| s.t1);
+            let extra: Vec<f64> = segs.iter().flat_map(|s| [s.t0, s.t1]).collect();
+            sample_times(0.0, end, rate, 8, &extra)
+                .into_iter()
+                .map(|t| {
+                    let k = segs.partition_point(|s| s.t0 <= t).saturating_sub(1);
+                    Key::linear(t, value(k, segs[k].progress(t)))
+                })
+                .collect()
+        }
+    };
+    Some(
+        keys.into_iter()
+            .map(|k| Key {
+                t: k.t,
+                v: d(&k.v.0),
+                ease: k.ease,
+            })
+            .collect(),
+    )
+}
+
+/// The paths of a unit node in document order.
+fn leaves<'n>(node: &'n Node, out: &mut Vec<&'n PathNode>) {
+    match node {
+        Node::Path(p) => out.push(p),
+        Node::Group(g) => g.children.iter().for_each(|c| leaves(c, out)),
+        Node::Image(_) => {}
+    }
+}
