@@ -30,8 +30,10 @@ use kurbo::{BezPath, CubicBez, ParamCurve, ParamCurveArclen, PathEl, PathSeg, Po
 
 /// Arc-length accuracy, relative to the outline's size.
 const ACCURACY: f64 = 1e-6;
-/// Fractions closer than this are one cut.
-const SAME: f64 = 1e-9;
+/// Fractions closer than this (of a subpath's length) are one cut: a vertex of one outline
+/// that nearly meets a vertex of the other gives no sliver of a segment between them
+/// (whose stroke join would show).
+const SAME: f64 = 1e-6;
 /// Samples of the start outline when choosing the target's start point.
 const SAMPLES: usize = 64;
 /// Candidate start offsets along the target (a multiple of [`SAMPLES`]).
