@@ -72,6 +72,7 @@ pub const EXAMPLES: &[Example] = &[
     grammar!("intersections"),
     grammar!("intersections_mini"),
     grammar!("leaf"),
+    grammar!("logo_morph"),
     grammar!("panel"),
     grammar!("priorities"),
     grammar!("regroup"),
