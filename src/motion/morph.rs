@@ -50,3 +50,15 @@ pub fn outlines_at(segs: &[MorphSeg], t: f64) -> Option<Vec<BezPath>> {
     let i = segs.partition_point(|s| s.t0 <= t);
     (i > 0).then(|| segs[i - 1].outlines_at(t))
 }
+
+/// Path `leaf`'s outline at `t` in the one structure all of `segs` share (sorted by `t0`):
+/// before the first morph its start (the drawn path, cut as the morphs cut it), so an
+/// exporter sampling the outline through time (under per-vertex motion) gets the same
+/// points to interpolate at every instant. `None` without morphs or without that path.
+pub fn leaf_at(segs: &[MorphSeg], leaf: usize, t: f64) -> Option<BezPath> {
+    let (s, p) = match segs.partition_point(|s| s.t0 <= t).checked_sub(1) {
+        Some(k) => (&segs[k], segs[k].progress(t)),
+        None => (segs.first()?, 0.0),
+    };
+    Some(crate::morph::lerp(s.from.get(leaf)?, s.to.get(leaf)?, p))
+}

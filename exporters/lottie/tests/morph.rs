@@ -21,7 +21,8 @@ pub const SCENE: &str = r##"<svg xmlns="http://www.w3.org/2000/svg" width="200" 
 
 /// The grammars the cases run: a morph with its inverted twin, chained morphs, one under
 /// motion, colour and an offset, path data of another point count, smoothing, and a unit
-/// of two paths into a key of two paths.
+/// of two paths into a key of two paths, and per-vertex motion (`lookup vertex`, where the
+/// exporters bake the deformed in-between) around a delayed morph with its twin.
 pub const CASES: &[(&str, &str)] = &[
     (
         "twin",
@@ -46,6 +47,10 @@ pub const CASES: &[(&str, &str)] = &[
     (
         "unit",
         "duration 2s\nfps 30\ntimesplit(0.5, 0.5) : [all, pair] -> [a, inv_a]\nanimate(morph, world, 0, shape(twin)) : [a, pair] -> [m]\n",
+    ),
+    (
+        "vertex",
+        "duration 2.4s\nfps 25\ngrid 3x2\nlookup vertex\nanimate(affine, world, 0, translate(25, 10)) : [all, logo] -> [mv]\ntimesplit(0.5, 0.5) : [mv, logo] -> [a, inv_a]\nanimate(morph, local, 0.2, shape(star), ease=bspline(3)) : [a, logo] -> [m]\nanimate(affine, world, 0, translate(-20, 15)) : [m, logo] -> [m2]\n",
     ),
 ];
 
@@ -105,6 +110,44 @@ fn a_morph_writes_few_path_keyframes() {
         vec![4],
         "a, b (ease-out), then inv_a back: one key at each end"
     );
+}
+
+/// Under per-vertex motion a morphing path is baked once, its in-between deformed: one
+/// animated path whose keys have the morph's structure (the star's ten corners cut into
+/// the circle's outline, not the circle's four vertices), and one SMIL `d` animation, not
+/// a deformed rest outline beside a morph that would override it.
+#[test]
+fn a_morph_under_vertex_motion_is_baked_with_its_in_between() {
+    let anim = case("vertex");
+    let (_, doc) = lottie(&anim);
+    let mut counts = Vec::new();
+    path_key_counts(&doc, &mut counts);
+    assert_eq!(counts.len(), 1, "one animated path: {counts:?}");
+    let vertices = |key: &Value| key["s"][0]["v"].as_array().map_or(0, Vec::len);
+    let mut keys = Vec::new();
+    collect_path_keys(&doc, &mut keys);
+    assert!(
+        keys.iter().all(|k| vertices(k) >= 10),
+        "every key in the morph's structure: {:?}",
+        keys.iter().map(vertices).collect::<Vec<_>>()
+    );
+    let (svg, _) = gmotion_export_svg::smil::to_smil(&anim, &Default::default()).unwrap();
+    assert_eq!(svg.matches("attributeName=\"d\"").count(), 1);
+}
+
+/// The keyframes of every animated path shape.
+fn collect_path_keys(doc: &Value, out: &mut Vec<Value>) {
+    match doc {
+        Value::Object(m) => {
+            if m.get("ty").and_then(Value::as_str) == Some("sh") && m["ks"]["a"].as_i64() == Some(1)
+            {
+                out.extend(m["ks"]["k"].as_array().into_iter().flatten().cloned());
+            }
+            m.values().for_each(|v| collect_path_keys(v, out));
+        }
+        Value::Array(a) => a.iter().for_each(|v| collect_path_keys(v, out)),
+        _ => {}
+    }
 }
 
 #[cfg(feature = "players")]

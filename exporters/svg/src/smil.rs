@@ -36,6 +36,8 @@ mod text;
 mod transform;
 mod xml;
 
+use std::borrow::Cow;
+
 use foldhash::{HashMap, HashSet};
 
 use kurbo::Point;
@@ -641,10 +643,22 @@ impl Writer<'_> {
                 }
             }
         }
+        let morphing = mp
+            .units
+            .iter()
+            .rev()
+            .find_map(|&u| morph::leaf(anim, u, mp.path));
         let deforming: Vec<&Track> = tracks.iter().copied().filter(|t| t.deforms()).collect();
         if !deforming.is_empty() {
+            // A morphing path deforms its in-between (then its morph is in these keys).
+            let outline = |t: f64| match morphing {
+                Some((segs, leaf)) => {
+                    Cow::Owned(gmotion::motion::morph::leaf_at(segs, leaf, t).unwrap_or_default())
+                }
+                None => Cow::Borrowed(&mp.path.path),
+            };
             match deform::d_keys(
-                &mp.path.path,
+                outline,
                 mp.abs,
                 &deforming,
                 dur,
@@ -671,12 +685,9 @@ impl Writer<'_> {
                 ),
             }
         }
-        if let Some(keys) = mp
-            .units
-            .iter()
-            .rev()
-            .find_map(|&u| morph::d_keys(anim, u, mp.path, self.opts.bake_rate))
-        {
+        // Under per-vertex motion the deformed keys above carry the morph.
+        if let Some((segs, leaf)) = morphing.filter(|_| deforming.is_empty()) {
+            let keys = morph::d_keys(segs, leaf, self.opts.bake_rate);
             part.exact += 1;
             if xml::animation(
                 &mut children,

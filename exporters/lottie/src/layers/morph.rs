@@ -97,7 +97,7 @@ fn leaves<'n>(node: &'n Node, out: &mut Vec<&'n PathNode>) {
 /// The subpaths of a morph outline as Lottie contours, by its structure (a move, cubics,
 /// and a close when closed: the last cubic of a closed subpath returns to its start), not
 /// by comparing points, so every outline of one structure has the same vertex counts.
-fn subpaths(path: &BezPath) -> Vec<Contour> {
+pub(super) fn subpaths(path: &BezPath) -> Vec<Contour> {
     let mut out: Vec<Contour> = Vec::new();
     for el in path.elements() {
         match *el {

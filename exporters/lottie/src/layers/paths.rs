@@ -97,7 +97,9 @@ impl Builder<'_> {
         paints.extend(second);
         let geometry = |b: &Self, space: Affine| -> Vec<Prop> {
             match (&deform, morph) {
-                (Some((u, frames)), _) => b.deformed(&cs, *u, frames, acc * space, env.to_canvas),
+                (Some((u, frames)), morph) => {
+                    b.deformed(&cs, *u, frames, acc * space, env.to_canvas, morph)
+                }
                 (None, Some((track, leaf))) => {
                     b.morphed(track, leaf, space, max_stretch(env.to_canvas * acc * space))
                 }
@@ -248,6 +250,7 @@ impl Builder<'_> {
         frames: &[f64],
         acc: Affine,
         to_canvas: Affine,
+        morph: Option<(&Track, usize)>,
     ) -> Vec<Prop> {
         let to = to_canvas * acc;
         if !to.determinant().is_normal() {
@@ -262,7 +265,15 @@ impl Builder<'_> {
             .iter()
             .map(|f| {
                 let t = f / self.src.fps;
-                cs.iter()
+                // A morphing path deforms its in-between: the outline at each frame, in
+                // the one structure of its morphs, so consecutive frames interpolate.
+                let own = morph.map(|(m, leaf)| {
+                    let o = gmotion::motion::morph::leaf_at(&m.morphs, leaf, t);
+                    super::morph::subpaths(&o.unwrap_or_default())
+                });
+                own.as_deref()
+                    .unwrap_or(cs)
+                    .iter()
                     .map(|c| {
                         let m = |p: &Point| back * track.deform(to * *p, t);
                         Contour {

@@ -3,6 +3,7 @@
 //! linear interpolation of the points would stray more than the tolerance on the canvas.
 //! Every value has the same commands, so browsers interpolate it point by point.
 
+use std::borrow::Cow;
 use std::fmt::Write;
 
 use kurbo::{Affine, BezPath, PathEl, Point};
@@ -13,11 +14,12 @@ use gmotion::keyframe::reduce::ramer_douglas_peucker;
 use gmotion::keyframe::sample::{fraction, frame_times, sample_times};
 use gmotion::motion::Track;
 
-/// The keys of the path's `d` over `[0, dur]`, the path in its own coordinates `abs` away
-/// from the canvas and deformed by `tracks` (outermost first, applied innermost first).
-/// `None` when `abs` is singular.
-pub fn d_keys(
-    path: &BezPath,
+/// The keys of the path's `d` over `[0, dur]`, the path (`outline`, at each instant: a
+/// morph's in-between changes, in one structure) in its own coordinates `abs` away from
+/// the canvas and deformed by `tracks` (outermost first, applied innermost first). `None`
+/// when `abs` is singular.
+pub fn d_keys<'p>(
+    outline: impl Fn(f64) -> Cow<'p, BezPath>,
     abs: Affine,
     tracks: &[&Track],
     dur: f64,
@@ -29,7 +31,7 @@ pub fn d_keys(
         return None;
     }
     let back = abs.inverse();
-    let rest: Vec<Point> = points(path).into_iter().map(|q| abs * q).collect();
+    let path = outline(0.0);
     let mut extra = Vec::new();
     for s in tracks.iter().flat_map(|t| &t.motions) {
         let (x, y) = s.timing.active();
@@ -40,8 +42,9 @@ pub fn d_keys(
     let frames: Vec<Vec<Point>> = ts
         .iter()
         .map(|&t| {
-            rest.iter()
-                .map(|&q| tracks.iter().rev().fold(q, |c, tr| tr.deform(c, t)))
+            points(&outline(t))
+                .into_iter()
+                .map(|q| tracks.iter().rev().fold(abs * q, |c, tr| tr.deform(c, t)))
                 .collect()
         })
         .collect();
@@ -55,7 +58,7 @@ pub fn d_keys(
     });
     Some(
         keep.iter()
-            .map(|&k| Key::linear(ts[k], path_data(path, frames[k].iter().map(|&q| back * q))))
+            .map(|&k| Key::linear(ts[k], path_data(&path, frames[k].iter().map(|&q| back * q))))
             .collect(),
     )
 }

@@ -7,14 +7,15 @@
 use gmotion::keyframe::sample::sample_times;
 use gmotion::keyframe::{Format, Key, Piece, progress_keys};
 use gmotion::morph::Outline;
-use gmotion::motion::Animation;
+use gmotion::motion::{Animation, MorphSeg};
 use gmotion::scene::{Node, PathNode};
 use kurbo::BezPath;
 
 use super::deform::{path_data, points};
 
-/// The keys of `path`'s `d` when it is one of unit `u`'s paths and the unit morphs.
-pub fn d_keys(anim: &Animation, u: usize, path: &PathNode, rate: f64) -> Option<Vec<Key<String>>> {
+/// The morphs of unit `u` and where `path` is among the unit's paths (document order),
+/// when it is one of them and the unit morphs.
+pub fn leaf<'a>(anim: &'a Animation, u: usize, path: &PathNode) -> Option<(&'a [MorphSeg], usize)> {
     let segs = &anim.tracks.get(u)?.morphs;
     if segs.is_empty() {
         return None;
@@ -22,6 +23,11 @@ pub fn d_keys(anim: &Animation, u: usize, path: &PathNode, rate: f64) -> Option<
     let mut paths = Vec::new();
     leaves(anim.scene.unit_node(u)?, &mut paths);
     let leaf = paths.iter().position(|q| std::ptr::eq(*q, path))?;
+    Some((segs, leaf))
+}
+
+/// The keys of path `leaf`'s `d` through the morphs `segs` of its unit.
+pub fn d_keys(segs: &[MorphSeg], leaf: usize, rate: f64) -> Vec<Key<String>> {
     let outline = |k: usize, p: f64| -> BezPath {
         let s = &segs[k];
         match (s.from.get(leaf), s.to.get(leaf)) {
@@ -57,15 +63,13 @@ pub fn d_keys(anim: &Animation, u: usize, path: &PathNode, rate: f64) -> Option<
                 .collect()
         }
     };
-    Some(
-        keys.into_iter()
-            .map(|k| Key {
-                t: k.t,
-                v: d(&k.v.0),
-                ease: k.ease,
-            })
-            .collect(),
-    )
+    keys.into_iter()
+        .map(|k| Key {
+            t: k.t,
+            v: d(&k.v.0),
+            ease: k.ease,
+        })
+        .collect()
 }
 
 /// The paths of a unit node in document order.
