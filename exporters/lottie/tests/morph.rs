@@ -21,8 +21,9 @@ pub const SCENE: &str = r##"<svg xmlns="http://www.w3.org/2000/svg" width="200" 
 
 /// The grammars the cases run: a morph with its inverted twin, chained morphs, one under
 /// motion, colour and an offset, path data of another point count, smoothing, and a unit
-/// of two paths into a key of two paths, and per-vertex motion (`lookup vertex`, where the
-/// exporters bake the deformed in-between) around a delayed morph with its twin.
+/// of two paths into a key of two paths, per-vertex motion (`lookup vertex`, where the
+/// exporters bake the deformed in-between) around a delayed morph with its twin, a morph
+/// held between its twin, and an easing no player can say (sampled).
 pub const CASES: &[(&str, &str)] = &[
     (
         "twin",
@@ -47,6 +48,14 @@ pub const CASES: &[(&str, &str)] = &[
     (
         "unit",
         "duration 2s\nfps 30\ntimesplit(0.5, 0.5) : [all, pair] -> [a, inv_a]\nanimate(morph, world, 0, shape(twin)) : [a, pair] -> [m]\n",
+    ),
+    (
+        "held",
+        "duration 2.4s\nfps 25\ntimesplit(0.3, 0.4, 0.3) : [all, logo] -> [a, hold, inv_a]\nanimate(morph, world, 0.1, shape(star), ease=ease-in) : [a, logo] -> [m]\n",
+    ),
+    (
+        "sampled",
+        "duration 2s\nfps 30\ntimesplit(0.5, 0.5) : [all, logo] -> [a, inv_a]\nanimate(morph, local, 0.2, shape(heart), ease=poles(4)) : [a, logo] -> [m]\n",
     ),
     (
         "vertex",

@@ -687,7 +687,8 @@ impl Writer<'_> {
         }
         // Under per-vertex motion the deformed keys above carry the morph.
         if let Some((segs, leaf)) = morphing.filter(|_| deforming.is_empty()) {
-            let keys = morph::d_keys(segs, leaf, self.opts.bake_rate);
+            let (rate, tol) = (self.opts.bake_rate, self.opts.tolerance);
+            let keys = morph::d_keys(segs, leaf, mp.abs, rate, self.anim.fps, tol);
             part.exact += 1;
             if xml::animation(
                 &mut children,

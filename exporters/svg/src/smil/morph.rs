@@ -4,12 +4,13 @@
 //! exactly. Keys sit at each morph's ends (and where its easing is no cubic Bézier SMIL
 //! can say, at sampled instants thinned to the progress error).
 
-use gmotion::keyframe::sample::sample_times;
+use gmotion::keyframe::reduce::ramer_douglas_peucker;
+use gmotion::keyframe::sample::{fraction, frame_times, sample_times};
 use gmotion::keyframe::{Format, Key, Piece, progress_keys};
 use gmotion::morph::Outline;
 use gmotion::motion::{Animation, MorphSeg};
 use gmotion::scene::{Node, PathNode};
-use kurbo::BezPath;
+use kurbo::{Affine, BezPath, Point};
 
 use super::deform::{path_data, points};
 
@@ -26,8 +27,17 @@ pub fn leaf<'a>(anim: &'a Animation, u: usize, path: &PathNode) -> Option<(&'a [
     Some((segs, leaf))
 }
 
-/// The keys of path `leaf`'s `d` through the morphs `segs` of its unit.
-pub fn d_keys(segs: &[MorphSeg], leaf: usize, rate: f64) -> Vec<Key<String>> {
+/// The keys of path `leaf`'s `d` through the morphs `segs` of its unit; the path is `abs`
+/// away from the canvas, where a sampled easing's keys keep within `tolerance` (and hit
+/// every frame at `fps`).
+pub fn d_keys(
+    segs: &[MorphSeg],
+    leaf: usize,
+    abs: Affine,
+    rate: f64,
+    fps: f64,
+    tolerance: f64,
+) -> Vec<Key<String>> {
     let outline = |k: usize, p: f64| -> BezPath {
         let s = &segs[k];
         match (s.from.get(leaf), s.to.get(leaf)) {
@@ -50,16 +60,38 @@ pub fn d_keys(segs: &[MorphSeg], leaf: usize, rate: f64) -> Vec<Key<String>> {
     let value = |k: usize, p: f64| Outline(outline(k, p));
     let keys = match progress_keys(&pieces, value(0, 0.0), value, Format::UnitBox) {
         Some(keys) => keys,
-        // An easing SMIL cannot say: the outline at sampled instants, linear between.
+        // An easing SMIL cannot say: the outline at sampled instants (every frame among
+        // them), linear between, thinned where the points stray less than the tolerance.
         None => {
             let end = segs.last().map_or(0.0, |s| s.t1);
-            let extra: Vec<f64> = segs.iter().flat_map(|s| [s.t0, s.t1]).collect();
-            sample_times(0.0, end, rate, 8, &extra)
-                .into_iter()
-                .map(|t| {
+            let mut extra: Vec<f64> = Vec::new();
+            for s in segs {
+                let (x, y) = s.timing.active();
+                extra.extend([s.t0, s.t1, x, y]);
+            }
+            extra.extend(frame_times(0.0, end, fps));
+            let ts = sample_times(0.0, end, rate, 8, &extra);
+            let outlines: Vec<BezPath> = ts
+                .iter()
+                .map(|&t| {
                     let k = segs.partition_point(|s| s.t0 <= t).saturating_sub(1);
-                    Key::linear(t, value(k, segs[k].progress(t)))
+                    outline(k, segs[k].progress(t))
                 })
+                .collect();
+            let canvas: Vec<Vec<Point>> = outlines
+                .iter()
+                .map(|o| points(o).into_iter().map(|q| abs * q).collect())
+                .collect();
+            let keep = ramer_douglas_peucker(ts.len(), tolerance, |k, lo, hi| {
+                let s = fraction(&ts, k, lo, hi);
+                canvas[k]
+                    .iter()
+                    .zip(canvas[lo].iter().zip(&canvas[hi]))
+                    .map(|(q, (a, b))| (a.lerp(*b, s) - *q).hypot())
+                    .fold(0.0, f64::max)
+            });
+            keep.into_iter()
+                .map(|k| Key::linear(ts[k], Outline(outlines[k].clone())))
                 .collect()
         }
     };
