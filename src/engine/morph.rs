@@ -2,7 +2,7 @@
 //! drawn or kept out of the drawing, or SVG path data) and checked against the unit it
 //! morphs, and the outlines a morph plays from and to.
 //!
-//! The target is held in the canvas's rest frame; compilation ([`outlines`]) places it
+//! The target is held in the canvas's rest frame; compilation (`compile.rs`) places it
 //! (`local`: its centroid on the shape's at the slice start) and carries it into each path's
 //! own coordinates, where [`crate::morph::correspond`] matches it with the outline the shape
 //! has then.
