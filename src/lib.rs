@@ -47,6 +47,7 @@ pub mod grammar;
 pub mod input;
 pub mod keyframe;
 pub mod measure;
+pub mod morph;
 pub mod motion;
 pub mod scene;
 pub mod signals;

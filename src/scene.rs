@@ -28,6 +28,28 @@ pub struct Scene {
     pub shapes: Vec<Shape>,
     /// The scene's own time, when it moves by itself (a Lottie composition's).
     pub time: Option<SceneTime>,
+    /// Shapes kept out of the drawing and read for their outlines only (morph targets: an
+    /// SVG element with `display="none"`, or a path in `<defs>`), in document order.
+    pub keys: Vec<KeyShape>,
+}
+
+/// A shape that is not drawn but whose outline a grammar may name (`shape(TAG[, ID])` as
+/// the target of a morph): a key shape the designer drew and hid.
+#[derive(Clone, Debug)]
+pub struct KeyShape {
+    /// Its tag, found as a drawn shape's would be.
+    pub tag: String,
+    /// Other tags it answers to (its element's id and its groups', as grammar names).
+    pub aliases: Vec<String>,
+    /// Its paths in canvas coordinates, in document order.
+    pub paths: Vec<BezPath>,
+}
+
+impl KeyShape {
+    /// Every tag the key shape answers to: its tag, then its aliases.
+    pub fn tags(&self) -> impl Iterator<Item = &str> + Clone {
+        std::iter::once(self.tag.as_str()).chain(self.aliases.iter().map(String::as_str))
+    }
 }
 
 /// A scene's own timeline: a Lottie composition's length and frame rate. A grammar that
@@ -707,6 +729,7 @@ impl SceneBuilder {
                 root: Group::new(),
                 shapes: Vec::new(),
                 time: None,
+                keys: Vec::new(),
             },
             ids: HashMap::new(),
         }

@@ -75,6 +75,7 @@ pub const EXAMPLES: &[Example] = &[
     grammar!("intersections_mini"),
     grammar!("kinetic"),
     grammar!("leaf"),
+    grammar!("logo_morph"),
     grammar!("panel"),
     grammar!("priorities"),
     grammar!("regroup"),

@@ -184,6 +184,7 @@ impl Source {
                 duration: self.duration(),
                 fps: self.fps(),
             }),
+            keys: Vec::new(),
         };
         Ok((scene, moved))
     }

@@ -24,14 +24,16 @@
 use std::cell::Cell;
 use std::sync::Arc;
 
-use kurbo::{Affine, Point, Vec2};
+use kurbo::{Affine, BezPath, Point, Vec2};
 
 use crate::motion::{
-    AttrSeg, Channel, Component, Interp, Lookup, MotionKind, MotionSeg, Timing, Tint, Track, Trim,
+    AttrSeg, Channel, Component, Interp, Lookup, MorphSeg, MotionKind, MotionSeg, Timing, Tint,
+    Track, Trim,
 };
 use crate::scene::Shape;
 
 use super::expand::{AnimInst, AnimSpec, Slice};
+use super::morph::MorphSpec;
 
 /// A shape's state at a slice boundary.
 #[derive(Clone, Copy, Debug)]
@@ -102,15 +104,17 @@ enum Role {
     First,
 }
 
-/// The channel an animation changes.
-fn channel(spec: &AnimSpec) -> Channel {
+/// The channel an animation changes (`None` for a morph, which changes the outline: see
+/// [`Morphs`]).
+fn channel(spec: &AnimSpec) -> Option<Channel> {
     match spec {
-        AnimSpec::Motion { .. } | AnimSpec::Follow { .. } => Channel::Transform,
-        AnimSpec::Fill(_) => Channel::Fill,
-        AnimSpec::Border(_) => Channel::Stroke,
-        AnimSpec::Opacity(_) => Channel::Opacity,
-        AnimSpec::StrokeWidth(_) => Channel::StrokeWidth,
-        AnimSpec::Trim(_) => Channel::Trim,
+        AnimSpec::Motion { .. } | AnimSpec::Follow { .. } => Some(Channel::Transform),
+        AnimSpec::Fill(_) => Some(Channel::Fill),
+        AnimSpec::Border(_) => Some(Channel::Stroke),
+        AnimSpec::Opacity(_) => Some(Channel::Opacity),
+        AnimSpec::StrokeWidth(_) => Some(Channel::StrokeWidth),
+        AnimSpec::Trim(_) => Some(Channel::Trim),
+        AnimSpec::Morph(_) => None,
     }
 }
 
@@ -284,7 +288,9 @@ fn compile(shape: &Shape, slices: &[Slice], scratch: &mut Scratch) -> Track {
     // Reserve each channel's segments up front: one per (slice, change) of that kind.
     let mut counts = [0usize; Channel::COUNT];
     for a in slices.iter().flat_map(|s| s.anims.iter()) {
-        counts[channel(&a.spec) as usize] += 1;
+        if let Some(ch) = channel(&a.spec) {
+            counts[ch as usize] += 1;
+        }
     }
     track
         .motions
@@ -328,6 +334,7 @@ fn compile(shape: &Shape, slices: &[Slice], scratch: &mut Scratch) -> Track {
     }
     // Per channel: the value under a run of pre-applied changes, while one is open.
     let mut run_base: [Option<State>; Channel::COUNT] = [None; Channel::COUNT];
+    let mut morphs = Morphs::default();
 
     for (i, slice) in slices.iter().enumerate() {
         history.push((slice.t0, state));
@@ -399,9 +406,12 @@ fn compile(shape: &Shape, slices: &[Slice], scratch: &mut Scratch) -> Track {
                     });
                     window.push(li);
                 }
+                AnimSpec::Morph(spec) => morphs.push(&mut track, a, spec, role, (t0, t1)),
                 spec => {
                     let begun = at_start(a.start);
-                    let ch = channel(spec);
+                    let Some(ch) = channel(spec) else {
+                        continue;
+                    };
                     let get = |s: &State| match ch {
                         Channel::Fill => Value::Tint(s.fill),
                         Channel::Stroke => Value::Tint(s.stroke),
@@ -498,6 +508,165 @@ fn has_motion(slice: &Slice) -> bool {
         .anims
         .iter()
         .any(|a| matches!(a.spec, AnimSpec::Motion { .. } | AnimSpec::Follow { .. }))
+}
+
+/// The outline channel while a shape's timeline compiles: morphs replace the outline, as
+/// attributes replace their values (a chained morph starts from where the last one ended,
+/// an inverted twin plays its twin's outlines backwards, a pre-applied one holds its
+/// target from time 0). Every morph of the track has one structure (each path the same
+/// subpaths of the same segment counts): a morph matched after others cuts theirs again
+/// ([`crate::morph::Refine`]), which leaves their in-betweens as they were.
+#[derive(Default)]
+struct Morphs {
+    /// The outlines now (each path in its own coordinates, of the track's structure) and
+    /// their centroid on the canvas; `None` while the paths are as drawn.
+    current: Option<(Arc<[BezPath]>, Point)>,
+    /// Each morph's pair of matched outlines, by instance (the pieces of a split slice
+    /// share it).
+    pairs: VecMap<*const AnimInst, MorphPair>,
+    /// The latest forward morph set at each expansion step: its inverted twin plays it back.
+    at_step: VecMap<usize, *const AnimInst>,
+}
+
+#[derive(Clone)]
+struct MorphPair {
+    from: Arc<[BezPath]>,
+    to: Arc<[BezPath]>,
+    /// The centroids of `from` and `to` on the canvas.
+    centroids: (Point, Point),
+}
+
+impl Morphs {
+    fn push(
+        &mut self,
+        track: &mut Track,
+        a: &Arc<AnimInst>,
+        spec: &MorphSpec,
+        role: Role,
+        (t0, t1): (f64, f64),
+    ) {
+        let id = Arc::as_ptr(a);
+        let twin = match role {
+            Role::Paired => self
+                .at_step
+                .get(&a.step)
+                .and_then(|k| self.pairs.get(k))
+                .cloned(),
+            _ => None,
+        };
+        let pair = match (self.pairs.get(&id), twin) {
+            (Some(p), _) => p.clone(),
+            // Back from where the paths are to where the twin began: the same structure.
+            (None, Some(twin)) => match &self.current {
+                Some((now, c)) => MorphPair {
+                    from: twin.from,
+                    to: now.clone(),
+                    centroids: (twin.centroids.0, *c),
+                },
+                None => twin,
+            },
+            (None, None) => self.matched(track, spec),
+        };
+        if self.pairs.get(&id).is_none() {
+            self.pairs.insert(id, pair.clone());
+            if role == Role::Forward {
+                self.at_step.insert(a.step, id);
+            }
+        }
+        if role == Role::First && track.morphs.is_empty() && t0 > 0.0 {
+            track.morphs.push(MorphSeg {
+                t0: 0.0,
+                t1: t0,
+                timing: Timing::linear(0.0, t0),
+                from: pair.to.clone(),
+                to: pair.to.clone(),
+            });
+        }
+        track.morphs.push(MorphSeg {
+            t0,
+            t1,
+            timing: a.timing(),
+            from: pair.from.clone(),
+            to: pair.to.clone(),
+        });
+        // Once the morph has played out, the next one starts from where it left the paths:
+        // its target after a forward morph, where it began after one played backwards.
+        if a.end <= t1 + 1e-9 {
+            self.current = Some(match role {
+                Role::Forward => (pair.to, pair.centroids.1),
+                _ => (pair.from, pair.centroids.0),
+            });
+        }
+    }
+
+    /// A new morph matched from the current outlines to `spec`'s target; the outlines
+    /// already in the track are cut again to the structure it leaves.
+    fn matched(&mut self, track: &mut Track, spec: &MorphSpec) -> MorphPair {
+        let (current, centroid): (Vec<BezPath>, Point) = match &self.current {
+            Some((paths, c)) => (paths.to_vec(), *c),
+            None => (
+                spec.art.iter().map(|(_, p)| p.clone()).collect(),
+                spec.centroid,
+            ),
+        };
+        let placed = super::morph::placed(spec, centroid);
+        let placed_centroid = super::morph::centroid_of(spec, &placed);
+        let mut from = Vec::with_capacity(placed.len());
+        let mut to = Vec::with_capacity(placed.len());
+        for (leaf, (cur, target)) in current.iter().zip(&placed).enumerate() {
+            if self.current.is_none() {
+                let (a, b) = crate::morph::correspond(cur, target);
+                from.push(a);
+                to.push(b);
+                continue;
+            }
+            let (a, b, refine) = crate::morph::correspond_from(cur, target);
+            from.push(a);
+            to.push(b);
+            self.refine(track, leaf, &refine);
+        }
+        MorphPair {
+            from: from.into(),
+            to: to.into(),
+            centroids: (centroid, placed_centroid),
+        }
+    }
+
+    /// Cuts path `leaf` of every outline kept so far to a chain's new structure.
+    fn refine(&mut self, track: &mut Track, leaf: usize, refine: &crate::morph::Refine) {
+        let cut = |paths: &Arc<[BezPath]>| -> Arc<[BezPath]> {
+            let mut v = paths.to_vec();
+            if let Some(p) = v.get_mut(leaf) {
+                *p = refine.apply(p);
+            }
+            v.into()
+        };
+        // Outlines shared by several segments are cut once and shared again.
+        let mut done: Vec<(*const [BezPath], Arc<[BezPath]>)> = Vec::new();
+        let mut once = |paths: &mut Arc<[BezPath]>| {
+            let key = Arc::as_ptr(paths);
+            let new = match done.iter().find(|(k, _)| std::ptr::addr_eq(*k, key)) {
+                Some((_, n)) => n.clone(),
+                None => {
+                    let n = cut(paths);
+                    done.push((key, n.clone()));
+                    n
+                }
+            };
+            *paths = new;
+        };
+        for seg in &mut track.morphs {
+            once(&mut seg.from);
+            once(&mut seg.to);
+        }
+        for (_, pair) in &mut self.pairs.0 {
+            once(&mut pair.from);
+            once(&mut pair.to);
+        }
+        if let Some((now, _)) = &mut self.current {
+            once(now);
+        }
+    }
 }
 
 /// The product, outermost first, of the window's segments that wrap the awaiting motion
@@ -634,8 +803,9 @@ impl<'a> Roles<'a> {
                 }
                 firsts.push(id);
                 match channel(&a.spec) {
-                    Channel::Transform => firsts_here.push(a),
-                    _ => first_attrs = true,
+                    Some(Channel::Transform) => firsts_here.push(a),
+                    Some(_) => first_attrs = true,
+                    None => {}
                 }
             }
             firsts_here.sort_by(|a, b| wraps(&Span::of(b), &Span::of(a)));
@@ -657,10 +827,9 @@ impl<'a> Roles<'a> {
     fn under_of(&self, shape: &Shape, slices: &[Slice]) -> VecMap<*const AnimInst, Value> {
         let mut channels: [Vec<(&Arc<AnimInst>, Role)>; Channel::COUNT] = Default::default();
         for a in slices.iter().flat_map(|s| s.anims.iter()) {
-            let ch = channel(&a.spec);
-            if ch == Channel::Transform {
+            let Some(ch) = channel(&a.spec).filter(|&c| c != Channel::Transform) else {
                 continue;
-            }
+            };
             let list = &mut channels[ch as usize];
             if list.iter().any(|(b, _)| Arc::ptr_eq(a, b)) {
                 continue;

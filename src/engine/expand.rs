@@ -62,6 +62,8 @@ pub enum AnimSpec {
         /// Whether the shape turns with the path's tangent.
         orient: bool,
     },
+    /// An outline target (resolved for one shape: a morph's spec is never shared).
+    Morph(Arc<super::morph::MorphSpec>),
 }
 
 /// One application of `animate` to one slice of one shape (or one keyframe interval of
@@ -474,6 +476,8 @@ struct Ctx<'a> {
 /// are the same for every shape, so a step evaluates them once.
 fn spec_is_shareable(rule: &CRule) -> bool {
     match &rule.op {
+        // A morph's spec holds its shape's own paths.
+        Op::Animate(a) if a.kind == AnimType::Morph => false,
         Op::Animate(a) => {
             shape_independent(&a.value) && a.ease.as_ref().is_none_or(shape_independent)
         }
@@ -545,12 +549,14 @@ pub(crate) fn constant_errors(rule: &CRule) -> Vec<EngineError> {
                 errors.push(e);
             }
             // A follow along another shape (`shape(TAG)`) needs the scene: checked when
-            // it runs. Path data is checked here on a scene with no shape.
+            // it runs. Path data is checked here on a scene with no shape. A morph's
+            // target is resolved with the shape it morphs.
             let needs_scene =
                 a.kind == AnimType::Follow && matches!(a.value.kind, ExprKind::Call { .. });
             if shape_independent(&a.value)
                 && !uses_u(&a.value)
                 && !needs_scene
+                && a.kind != AnimType::Morph
                 && let Err(e) = spec(
                     &a.kind,
                     &a.value,
@@ -794,6 +800,18 @@ fn keyed_specs(
     options: &Options,
     env: &mut ShapeEnv,
 ) -> Result<Arc<[AnimSpec]>, EngineError> {
+    if *kind == AnimType::Morph {
+        if uses_u(value) {
+            return Err(EngineError::at(
+                value.span,
+                "a morph target cannot change with `u`: chain morphs on consecutive slices instead",
+            ));
+        }
+        env.u = None;
+        let shape = env.shape;
+        let spec = super::morph::spec(ctx.scene, shape, world, value, env)?;
+        return Ok(Arc::from([AnimSpec::Morph(Arc::new(spec))]));
+    }
     let grid = options.grid;
     let (cols, rows, keys) = grid.unwrap_or(ctx.settings.grid);
     let motion = matches!(kind, AnimType::Affine | AnimType::Towards | AnimType::Path);
@@ -1001,6 +1019,13 @@ fn spec(
                 ));
             }
             AnimSpec::Opacity(x)
+        }
+        // `keyed_specs` resolves a morph with its shape's paths before reading a value.
+        AnimType::Morph => {
+            return Err(EngineError::at(
+                value.span,
+                "a morph target is resolved with the shape it morphs",
+            ));
         }
         AnimType::StrokeWidth => {
             let x = v.as_num().map_err(bad)?;

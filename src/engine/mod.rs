@@ -9,6 +9,7 @@ pub mod compile;
 pub mod expand;
 pub mod follow;
 pub mod markers;
+pub mod morph;
 mod plan;
 pub mod random;
 pub mod rules;

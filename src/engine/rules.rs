@@ -30,6 +30,8 @@ pub enum AnimType {
     Trim,
     /// Travel along a path by arc length (see [`crate::motion::follow`]).
     Follow,
+    /// The outline becomes another shape's (or SVG path data's).
+    Morph,
 }
 
 impl AnimType {
@@ -54,7 +56,7 @@ impl AnimType {
     }
 
     /// Every type with its grammar spelling.
-    pub const ALL: [(&'static str, AnimType); 9] = [
+    pub const ALL: [(&'static str, AnimType); 10] = [
         ("affine", AnimType::Affine),
         ("towards", AnimType::Towards),
         ("path", AnimType::Path),
@@ -64,6 +66,7 @@ impl AnimType {
         ("stroke-width", AnimType::StrokeWidth),
         ("trim", AnimType::Trim),
         ("follow", AnimType::Follow),
+        ("morph", AnimType::Morph),
     ];
 }
 

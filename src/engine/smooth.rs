@@ -116,7 +116,12 @@ pub fn smooth_tracks(
             } else {
                 smooth_samples(spec, &raw, fps).map_err(|e| e.to_string())?
             };
+            // The outline channel is not filtered: a morph's in-between is the linear
+            // blend of matched points that every player draws, which a filter would
+            // turn into a bake of the outline at every frame.
+            let morphs = std::mem::take(&mut track.morphs);
             *track = rebuild(&smoothed, time, !track.trim.is_empty());
+            track.morphs = morphs;
             Ok(())
         })
         .collect();

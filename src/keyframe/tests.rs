@@ -218,3 +218,54 @@ fn jumps_are_held_as_each_format_expects() {
         );
     }
 }
+
+/// A piece that begins, after a gap, at the value the previous one ended in (a morph held
+/// until its inverted twin plays it back) holds through the gap, then runs its own easing.
+#[test]
+fn a_run_after_a_gap_from_the_same_value_holds_through_the_gap() {
+    let there = Timing::new(
+        0.0,
+        1.0,
+        0.0,
+        Easing::CubicBezier([0.42, 0.0, 1.0, 1.0]),
+        false,
+    );
+    let back = Timing::new(
+        3.0,
+        4.0,
+        0.0,
+        Easing::CubicBezier([0.0, 0.0, 0.58, 1.0]),
+        true,
+    );
+    let pieces = [
+        Piece {
+            t0: 0.0,
+            t1: 1.0,
+            timing: &there,
+        },
+        Piece {
+            t0: 3.0,
+            t1: 4.0,
+            timing: &back,
+        },
+    ];
+    let timings = [&there, &back];
+    let model = |t: f64| {
+        let k = usize::from(t >= 3.0);
+        timings[k].progress(t.clamp(pieces[k].t0, pieces[k].t1))
+    };
+    assert_eq!(
+        back.progress(3.0),
+        1.0,
+        "the twin starts where the run ended"
+    );
+    let keys = progress_keys(&pieces, 0.0, |_, p| p, Format::UnitBox).unwrap();
+    for i in 0..=400 {
+        let t = i as f64 * 0.01;
+        let (got, want) = (play(&keys, t), model(t));
+        assert!(
+            (got - want).abs() < 1e-6,
+            "at {t}: {got} for {want} ({keys:?})"
+        );
+    }
+}

@@ -51,6 +51,10 @@ pub fn keys<V: Clone + Same>(
                 keys.push(Key::linear(start.t, last.v));
             }
             keys.push(start);
+        } else if start.t - last.t > TIME_EPS {
+            // The same value after a gap (a morph held until its inverted twin): the piece's
+            // first key still begins its run, which would otherwise reach back over the gap.
+            keys.push(start);
         }
         keys.extend(ps);
     }

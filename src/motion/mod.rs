@@ -20,6 +20,7 @@ pub mod bend;
 pub mod component;
 pub mod follow;
 pub mod grid;
+pub mod morph;
 pub mod sampler;
 pub mod trim;
 
@@ -32,6 +33,7 @@ use crate::scene::Scene;
 use crate::signals::Easing;
 pub use component::Component;
 pub use grid::{Blend, Field, Grid, Lookup};
+pub use morph::MorphSeg;
 pub use sampler::{Playhead, Sampler};
 pub use trim::Trim;
 
@@ -366,6 +368,8 @@ pub struct Track {
     pub stroke_width: Vec<AttrSeg<f64>>,
     /// Changes of the strokes' visible part.
     pub trim: Vec<AttrSeg<Trim>>,
+    /// Outline changes (morphs), sorted and non-overlapping.
+    pub morphs: Vec<MorphSeg>,
 }
 
 /// A shape's state at one instant.
@@ -406,6 +410,13 @@ impl Track {
             && self.opacity.is_empty()
             && self.stroke_width.is_empty()
             && self.trim.is_empty()
+            && self.morphs.is_empty()
+    }
+
+    /// The unit's paths at `t` (one per path, in document order, each in its own
+    /// coordinates): `None` while they are as drawn.
+    pub fn outlines_at(&self, t: f64) -> Option<Vec<kurbo::BezPath>> {
+        morph::outlines_at(&self.morphs, t)
     }
 
     /// The rigid transform at `t`.

@@ -87,7 +87,8 @@ class Dim:
 GM_DIMS = [
     Dim("type", ["translate", "rotate", "scale", "skew", "matrix", "product", "about",
                  "towards", "path", "fill", "border", "opacity", "stroke-width",
-                 "keyed", "keyed-towards", "trim", "follow", "follow-orient"]),
+                 "keyed", "keyed-towards", "trim", "follow", "follow-orient",
+                 "morph"]),
     Dim("ref", ["local", "world"]),
     Dim("ease", ["linear", "ease", "ease-in", "ease-out", "ease-in-out", "cubic",
                  "bspline", "poles", "poles-tau", "steps", "hold"]),
@@ -295,13 +296,18 @@ VALUES = {
     # Motion along a path: `local` from the centroid, `world` on the path as written.
     "follow": ('"M 0 0 C 30 -60 90 -60 120 0 S 150 40 170 20"', '"M 30 120 C 60 20 140 20 170 110"'),
     "follow-orient": ('"M 0 0 C 30 -60 90 -60 120 0 S 150 40 170 20"', '"M 30 120 C 60 20 140 20 170 110"'),
+    # A five-pointed star (ten vertices: another point count than any scene's shape), as
+    # path data; `local` centres it on each shape, `world` takes it where it is drawn.
+    "morph": ('"M 0 -30 L 7 -10 L 29 -9 L 12 4 L 18 24 L 0 12 L -18 24 L -12 4 L -29 -9 L -7 -10 Z"',
+              '"M 100 45 L 107 65 L 129 66 L 112 79 L 118 99 L 100 87 L 82 99 L 88 79 L 71 66 L 93 65 Z"'),
 }
 ANIM = {"translate": "affine", "rotate": "affine", "scale": "affine", "skew": "affine",
         "matrix": "affine", "product": "affine", "about": "affine", "towards": "towards",
         "path": "path", "fill": "fill", "border": "border", "opacity": "opacity",
         "stroke-width": "stroke-width", "keyed": "affine", "keyed-towards": "towards",
         "trim": "trim",
-        "follow": "follow", "follow-orient": "follow"}
+        "follow": "follow", "follow-orient": "follow",
+        "morph": "morph"}
 OFFSETS = {"zero": "0", "inside": "0.25 * d", "stagger": "0.3 * d * id / n", "near-limit": "0.9 * d"}
 SECOND = {"fill": "fill, local, 0, #00798c", "opacity": "opacity, local, 0, 0.5",
           "stroke-width": "stroke-width, local, 0, 1", "border": "border, local, 0, #edae49",
@@ -376,9 +382,15 @@ def grammar(c):
         extra += ", orient=auto"
     if c["where"] == "rule":
         extra += f", grid={grid}, lookup={c['lookup']}, interp={c['interp']}"
-    motion.append(f"animate({ANIM[c['type']]}, {c['ref']}, {OFFSETS[c['offset']]}, {value}{extra}) : [{m}, {shapes}] -> [m1]")
+    # A morph's target is one path: units of several paths (the group scene's, and pieces
+    # a spatial rule makes) would be an error saying the counts, so only `c` (one path in
+    # every scene, never split) morphs there.
+    target = shapes
+    if c["type"] == "morph" and (c["scene"] == "group" or c["spatial"] != "none"):
+        target = "c"
+    motion.append(f"animate({ANIM[c['type']]}, {c['ref']}, {OFFSETS[c['offset']]}, {value}{extra}) : [{m}, {target}] -> [m1]")
     if c["second"] != "none":
-        motion.append(f"animate({SECOND[c['second']]}) : [m1, {shapes}] -> [m2]")
+        motion.append(f"animate({SECOND[c['second']]}) : [m1, {target}] -> [m2]")
     return "\n".join(motion) + "\n"
 
 

@@ -30,6 +30,7 @@
 mod effects;
 mod images;
 mod mattes;
+mod morph;
 mod paths;
 mod patterns;
 mod units;

@@ -1176,6 +1176,7 @@ fn still(root: Group) -> Scene {
         root,
         shapes: Vec::new(),
         time: None,
+        keys: Vec::new(),
     }
 }
 

@@ -10,3 +10,4 @@ use gmotion_testkit as support;
 
 mod follow;
 mod lottie;
+mod morph;

@@ -80,6 +80,7 @@ pub fn scene_svg(scene: &Scene) -> String {
         out: String::with_capacity(4096),
         defs: Defs::with_names(Names::new(ids)),
         deform: Vec::new(),
+        morph: None,
         written_ids: Some(HashSet::new()),
     };
     writer.document()
@@ -129,6 +130,7 @@ pub fn frame_with_ids<'a>(
         out: String::with_capacity(4096),
         defs: Defs::numbered(ids),
         deform: Vec::new(),
+        morph: None,
         written_ids: None,
     };
     writer.document()
@@ -218,6 +220,9 @@ struct Writer<'a> {
     defs: Defs<'a>,
     /// Tracks deforming the unit being written, outermost first.
     deform: Vec<&'a Track>,
+    /// The outlines of the morphing unit being written (one per path, in document order)
+    /// and how many of its paths are written so far.
+    morph: Option<(Vec<BezPath>, usize)>,
     /// Node ids written so far (`None` when ids are not written: frames and defs).
     written_ids: Option<HashSet<&'a str>>,
 }
@@ -292,7 +297,8 @@ impl<'a> Writer<'a> {
             return self.plain(node, ctx);
         };
         let deforms = track.deforms();
-        if state == ShapeState::REST && !deforms {
+        let outlines = track.outlines_at(frame.t);
+        if state == ShapeState::REST && !deforms && outlines.is_none() {
             return self.plain(node, ctx);
         }
         let opacity = state.opacity.clamp(0.0, 1.0);
@@ -329,7 +335,12 @@ impl<'a> Writer<'a> {
         if deforms {
             self.deform.push(track);
         }
+        let outer = match outlines {
+            Some(o) => self.morph.replace((o, 0)),
+            None => self.morph.take(),
+        };
         self.plain(node, inner);
+        self.morph = outer;
         if deforms {
             self.deform.pop();
         }
@@ -389,15 +400,21 @@ impl<'a> Writer<'a> {
 
     fn path(&mut self, p: &'a PathNode, ctx: Ctx) {
         let deform = (!self.deform.is_empty()).then_some(ctx.abs);
+        // A morph's in-between replaces the outline (one per path of the unit, in turn).
+        let morphed = self.morph.as_mut().and_then(|(o, k)| {
+            *k += 1;
+            o.get(*k - 1).cloned()
+        });
+        let outline = morphed.as_ref().unwrap_or(&p.path);
         if p.stroke.is_none() || ctx.trim.is_whole() {
-            return self.painted(p, &p.path, deform, ctx, Paints::Both);
+            return self.painted(p, outline, deform, ctx, Paints::Both);
         }
         // A trimmed stroke: the fill whole, the stroke a second element drawn along the
         // visible part of the (deformed) outline, in the path's paint order.
-        let cut = ctx.trim.apply(&self.deformed(&p.path, deform));
+        let cut = ctx.trim.apply(&self.deformed(outline, deform));
         let fill = |w: &mut Self| {
             if p.fill.is_some() {
-                w.painted(p, &p.path, deform, ctx, Paints::Fill);
+                w.painted(p, outline, deform, ctx, Paints::Fill);
             }
         };
         if !p.stroke_first {

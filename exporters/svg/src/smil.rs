@@ -29,11 +29,14 @@ mod attr;
 mod decompose;
 mod deform;
 mod merge;
+mod morph;
 mod paint;
 mod splice;
 mod text;
 mod transform;
 mod xml;
+
+use std::borrow::Cow;
 
 use foldhash::{HashMap, HashSet};
 
@@ -353,6 +356,7 @@ fn changes(track: &Track, dur: f64) -> bool {
         || starts(track.opacity.first().map(|s| s.t0))
         || starts(track.stroke_width.first().map(|s| s.t0))
         || starts(track.trim.first().map(|s| s.t0))
+        || starts(track.morphs.first().map(|s| s.t0))
 }
 
 /// Below this many items a document is written on the calling thread.
@@ -644,10 +648,22 @@ impl Writer<'_> {
         if mp.path.stroke.is_some() {
             trimmed = self.trim(mp, &tracks, unit, part, &mut children);
         }
+        let morphing = mp
+            .units
+            .iter()
+            .rev()
+            .find_map(|&u| morph::leaf(anim, u, mp.path));
         let deforming: Vec<&Track> = tracks.iter().copied().filter(|t| t.deforms()).collect();
         if !deforming.is_empty() {
+            // A morphing path deforms its in-between (then its morph is in these keys).
+            let outline = |t: f64| match morphing {
+                Some((segs, leaf)) => {
+                    Cow::Owned(gmotion::motion::morph::leaf_at(segs, leaf, t).unwrap_or_default())
+                }
+                None => Cow::Borrowed(&mp.path.path),
+            };
             match deform::d_keys(
-                &mp.path.path,
+                outline,
                 mp.abs,
                 &deforming,
                 dur,
@@ -672,6 +688,22 @@ impl Writer<'_> {
                     unit,
                     "a path under a singular transform is not deformed".into(),
                 ),
+            }
+        }
+        // Under per-vertex motion the deformed keys above carry the morph.
+        if let Some((segs, leaf)) = morphing.filter(|_| deforming.is_empty()) {
+            let (rate, tol) = (self.opts.bake_rate, self.opts.tolerance);
+            let keys = morph::d_keys(segs, leaf, mp.abs, rate, self.anim.fps, tol);
+            part.exact += 1;
+            if xml::animation(
+                &mut children,
+                "animate",
+                "attributeName=\"d\"",
+                &keys,
+                false,
+                self.clock,
+            ) {
+                children.push('\n');
             }
         }
         if !children.is_empty() {

@@ -9,4 +9,5 @@
 use gmotion_testkit as support;
 
 mod frame;
+mod morph;
 mod smil;

@@ -512,6 +512,7 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
         root,
         shapes: vec![shape],
         time: None,
+        keys: Vec::new(),
     };
     out.push(("group-unit", true, anim(pair, 3.0, true, vec![t])));
 
@@ -577,6 +578,7 @@ pub fn cases() -> Vec<(&'static str, bool, Animation)> {
         root,
         shapes,
         time: None,
+        keys: Vec::new(),
     };
     out.push((
         "nested-units",

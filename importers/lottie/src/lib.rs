@@ -264,6 +264,7 @@ fn import(
             duration: (document.op - document.ip) / document.fr,
             fps: document.fr,
         }),
+        keys: Vec::new(),
     };
     let warnings = font_warnings
         .into_iter()

@@ -197,7 +197,7 @@ fn rect(r: usvg::NonZeroRect) -> Rect {
     )
 }
 
-fn bez(path: &usvg::tiny_skia_path::Path) -> BezPath {
+pub(crate) fn bez(path: &usvg::tiny_skia_path::Path) -> BezPath {
     let pt = |p: usvg::tiny_skia_path::Point| Point::new(p.x as f64, p.y as f64);
     let mut out = BezPath::new();
     for seg in path.segments() {

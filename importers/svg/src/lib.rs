@@ -26,6 +26,7 @@
 mod access;
 mod convert;
 mod filters;
+mod keys;
 pub use filters::MAX_BAKED_PIXELS;
 pub mod fonts;
 mod source;
@@ -413,6 +414,7 @@ fn parse_in(
         root: converted.root,
         shapes: Vec::new(),
         time: None,
+        keys: keys::key_shapes(&src, &uopt, opts),
     };
     // The converter registers only units that hold a path, so a measure exists; the
     // fallback keeps `Node::unit` indices aligned should that ever change.

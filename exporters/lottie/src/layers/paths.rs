@@ -5,10 +5,13 @@ use super::*;
 
 impl Builder<'_> {
     pub(super) fn path(&mut self, p: &PathNode, acc: Affine, env: Env, comp: &mut Comp) {
+        let morph = env.unit.and_then(|u| self.morph_leaf(u, p));
         // An outline a per-vertex motion moves is cut where the field bends it, at any of
-        // the frames its keyframes sample ([`gmotion::motion::bend`]).
+        // the frames its keyframes sample ([`gmotion::motion::bend`]); a morphing one is
+        // baked from its in-betweens, which are not cut.
         let bent = env
             .unit
+            .filter(|_| morph.is_none())
             .and_then(|u| self.motion(u).map(|m| (u, m)))
             .filter(|(_, m)| !m.deform_frames.is_empty())
             .map(|(u, m)| {
@@ -64,6 +67,7 @@ impl Builder<'_> {
                 uneven
                     && deform.is_none()
                     && trim.is_none()
+                    && morph.is_none()
                     && matches!(s.paint, Paint::Solid(_) | Paint::Linear(_))
             })
             .zip(held_factor(anim.stroke_width))
@@ -114,9 +118,14 @@ impl Builder<'_> {
         paints.extend(first);
         paints.extend(second);
         let geometry = |b: &Self, space: Affine| -> Vec<Prop> {
-            match &deform {
-                Some((u, frames)) => b.deformed(&cs, *u, frames, acc * space, env.to_canvas),
-                None => {
+            match (&deform, morph) {
+                (Some((u, frames)), morph) => {
+                    b.deformed(&cs, *u, frames, acc * space, env.to_canvas, morph)
+                }
+                (None, Some((track, leaf))) => {
+                    b.morphed(track, leaf, space, max_stretch(env.to_canvas * acc * space))
+                }
+                (None, None) => {
                     let inv = space.inverse();
                     cs.iter()
                         .map(|c| {
@@ -276,6 +285,7 @@ impl Builder<'_> {
         frames: &[f64],
         acc: Affine,
         to_canvas: Affine,
+        morph: Option<(&Track, usize)>,
     ) -> Vec<Prop> {
         let to = to_canvas * acc;
         if !to.determinant().is_normal() {
@@ -290,7 +300,15 @@ impl Builder<'_> {
             .iter()
             .map(|f| {
                 let t = f / self.src.fps;
-                cs.iter()
+                // A morphing path deforms its in-between: the outline at each frame, in
+                // the one structure of its morphs, so consecutive frames interpolate.
+                let own = morph.map(|(m, leaf)| {
+                    let o = gmotion::motion::morph::leaf_at(&m.morphs, leaf, t);
+                    super::morph::subpaths(&o.unwrap_or_default())
+                });
+                own.as_deref()
+                    .unwrap_or(cs)
+                    .iter()
                     .map(|c| {
                         let m = |p: &Point| back * track.deform(to * *p, t);
                         Contour {

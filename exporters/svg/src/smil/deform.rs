@@ -4,6 +4,7 @@
 //! linear interpolation of the points would stray more than the tolerance on the canvas.
 //! Every value has the same commands, so browsers interpolate it point by point.
 
+use std::borrow::Cow;
 use std::fmt::Write;
 
 use kurbo::{Affine, BezPath, PathEl, Point};
@@ -14,11 +15,12 @@ use gmotion::keyframe::reduce::ramer_douglas_peucker;
 use gmotion::keyframe::sample::{fraction, frame_times, sample_times};
 use gmotion::motion::Track;
 
-/// The keys of the path's `d` over `[0, dur]`, the path in its own coordinates `abs` away
-/// from the canvas and deformed by `tracks` (outermost first, applied innermost first).
-/// `None` when `abs` is singular.
-pub fn d_keys(
-    path: &BezPath,
+/// The keys of the path's `d` over `[0, dur]`, the path (`outline`, at each instant: a
+/// morph's in-between changes, in one structure) in its own coordinates `abs` away from
+/// the canvas and deformed by `tracks` (outermost first, applied innermost first). `None`
+/// when `abs` is singular.
+pub fn d_keys<'p>(
+    outline: impl Fn(f64) -> Cow<'p, BezPath>,
     abs: Affine,
     tracks: &[&Track],
     dur: f64,
@@ -38,17 +40,28 @@ pub fn d_keys(
     let at_frames = frame_times(0.0, dur, fps);
     extra.extend(&at_frames);
     let ts = sample_times(0.0, dur, rate, 8, &extra);
-    // Cut where the field bends the outline at any frame (what players are judged at; the
-    // samples between are several times as many, and the field moves little between two
-    // frames): every value then has the same commands.
-    let path = gmotion::motion::bend::refine(path, abs, tracks, &at_frames, tolerance);
-    let path = path.as_ref();
-    let rest: Vec<Point> = points(path).into_iter().map(|q| abs * q).collect();
+    // The outline at every sample: a morph's in-between changes, a plain path does not.
+    let outlines: Vec<Cow<'p, BezPath>> = ts.iter().map(|&t| outline(t)).collect();
+    let first = outlines.first().cloned().unwrap_or_else(|| outline(0.0));
+    let morphing = outlines.iter().any(|o| o.as_ref() != first.as_ref());
+    // A plain path is cut where the field bends it at any frame (what players are judged
+    // at; the samples between are several times as many, and the field moves little
+    // between two frames): every value then has the same commands. A morphing outline is
+    // not cut, as its cuts would differ from one in-between to the next.
+    let path: Cow<BezPath> = match morphing {
+        true => first,
+        false => Cow::Owned(
+            gmotion::motion::bend::refine(&first, abs, tracks, &at_frames, tolerance).into_owned(),
+        ),
+    };
     let frames: Vec<Vec<Point>> = ts
         .iter()
-        .map(|&t| {
-            rest.iter()
-                .map(|&q| tracks.iter().rev().fold(q, |c, tr| tr.deform(c, t)))
+        .zip(&outlines)
+        .map(|(&t, o)| {
+            let drawn = if morphing { o.as_ref() } else { path.as_ref() };
+            points(drawn)
+                .into_iter()
+                .map(|q| tracks.iter().rev().fold(abs * q, |c, tr| tr.deform(c, t)))
                 .collect()
         })
         .collect();
@@ -62,13 +75,13 @@ pub fn d_keys(
     });
     Some(
         keep.iter()
-            .map(|&k| Key::linear(ts[k], path_data(path, frames[k].iter().map(|&q| back * q))))
+            .map(|&k| Key::linear(ts[k], path_data(&path, frames[k].iter().map(|&q| back * q))))
             .collect(),
     )
 }
 
 /// Every point of a path in order (control points included).
-fn points(path: &BezPath) -> Vec<Point> {
+pub(super) fn points(path: &BezPath) -> Vec<Point> {
     let mut out = Vec::with_capacity(path.elements().len() * 3);
     for el in path.elements() {
         match *el {
@@ -82,7 +95,7 @@ fn points(path: &BezPath) -> Vec<Point> {
 }
 
 /// The path's commands with its points replaced, in order, by `pts`.
-fn path_data(path: &BezPath, mut pts: impl Iterator<Item = Point>) -> String {
+pub(super) fn path_data(path: &BezPath, mut pts: impl Iterator<Item = Point>) -> String {
     let mut out = String::new();
     let mut pt = |out: &mut String| {
         let q = pts.next().unwrap_or_default();

@@ -69,6 +69,7 @@ pub fn mark<'a>(scene: &'a Scene, units: &HashSet<usize>) -> Marked<'a> {
         height: scene.height,
         shapes: Vec::new(),
         time: None,
+        keys: Vec::new(),
     };
     Marked {
         svg: scene_svg(&marked),
