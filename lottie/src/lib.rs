@@ -33,6 +33,7 @@
 #![forbid(unsafe_code)]
 
 pub mod build;
+mod cut;
 pub mod dotlottie;
 pub mod effects;
 pub mod eval;
@@ -47,5 +48,6 @@ pub mod text;
 pub mod units;
 pub mod written;
 
+pub use cut::Note;
 pub use player::{FrameError, Source};
 pub use units::{UnitLayers, Units};

@@ -1,0 +1,227 @@
+//! Kinetic type on Lottie text layers: `letters()`, `words()` and `lines()` cut a text layer
+//! drawn from the glyph outlines its file embeds (`chars`, After Effects' "glyphs" export)
+//! into pieces in reading order; the export writes the pieces as shape content in place of
+//! the text layer (its place in the stack, parent, timing and transform kept), and plays as
+//! gmotion draws it in lottie-web (svg and canvas), rlottie, ThorVG and Chromium's SMIL.
+//! A text layer set in fonts (no `chars`) and a layer that is not text pass through whole,
+//! with a warning naming them. The fixtures are in `tests/corpus/lottie-text`.
+
+use std::path::{Path, PathBuf};
+
+use serde_json::Value;
+
+use gmotion::scene::{Node, Paint};
+use gmotion_import_lottie::ImportOptions;
+
+use crate::support::pictures::gmotion;
+use crate::support::{case_dir, root, run_grammar};
+
+fn fixture(name: &str) -> PathBuf {
+    root().join("tests/corpus/lottie-text").join(name)
+}
+
+/// `name` copied into a fresh folder for `case`, with `grammar` beside it as `g.gm`.
+fn folder(case: &str, name: &str, grammar: &str) -> PathBuf {
+    let d = case_dir("lottie_text", case);
+    std::fs::copy(fixture(name), d.join(name)).unwrap();
+    std::fs::write(d.join("g.gm"), grammar).unwrap();
+    d
+}
+
+fn json(path: &Path) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// The text the fixture's `title` layer shows: its first document's `t`.
+fn title_text() -> String {
+    let doc = json(&fixture("glyphs.json"));
+    doc["layers"][0]["t"]["d"]["k"][0]["s"]["t"]
+        .as_str()
+        .unwrap()
+        .to_string()
+}
+
+#[test]
+fn letters_cut_a_glyph_text_layer_into_its_visible_glyphs_in_reading_order() {
+    let imported =
+        gmotion_import_lottie::load(&fixture("glyphs.json"), &ImportOptions::default()).unwrap();
+    let whole = imported
+        .scene
+        .shapes
+        .iter()
+        .find(|s| s.tag == "title")
+        .unwrap()
+        .bbox;
+    let text = title_text();
+    // Every letter but the spaces and the line break has a glyph with an outline.
+    let visible: Vec<char> = text.chars().filter(|c| !c.is_whitespace()).collect();
+    let anim = run_grammar(
+        imported.scene.clone(),
+        "duration 1s\nletters() : title -> [ch]\n",
+    );
+    let mut ch: Vec<_> = anim.scene.shapes.iter().filter(|s| s.tag == "ch").collect();
+    ch.sort_by_key(|s| s.id);
+    assert_eq!(
+        ch.len(),
+        visible.len(),
+        "one piece per visible glyph of {text:?}"
+    );
+    // Reading order: line by line, left to right on a line (the rig turns the text by
+    // only 4°); words and lines numbered from 0 as the text has them.
+    let lines: Vec<usize> = ch.iter().map(|s| s.text.line).collect();
+    let words: Vec<usize> = ch.iter().map(|s| s.text.word).collect();
+    assert_eq!(lines, [0, 0, 0, 0, 0, 1, 1, 1, 1]);
+    assert_eq!(words, [0, 0, 1, 1, 1, 2, 2, 2, 2]);
+    for w in ch.windows(2) {
+        if w[0].text.line == w[1].text.line {
+            assert!(
+                w[0].centroid.x < w[1].centroid.x,
+                "{:?}",
+                (w[0].id, w[1].id)
+            );
+        } else {
+            assert!(w[0].centroid.y < w[1].centroid.y);
+        }
+    }
+    for s in &ch {
+        let b = s.bbox;
+        assert!(
+            whole.inflate(0.01, 0.01).contains_rect(b),
+            "piece {} {b:?} outside the text {whole:?}",
+            s.id
+        );
+        // Each piece keeps its glyph's Bézier outline and the text's fill colour.
+        let Some(Node::Path(p)) = anim.scene.root.node_at(&s.node_path) else {
+            panic!("piece {} is not one glyph path", s.id);
+        };
+        assert!(!p.path.elements().is_empty());
+        let Some(Paint::Solid(c)) = p.fill.as_ref().map(|f| f.paint.clone()) else {
+            panic!("piece {} lost its fill", s.id);
+        };
+        assert!((c.r - 0.16).abs() < 1e-3 && (c.b - 0.36).abs() < 1e-3);
+    }
+    // The I of "HI" is narrower than the H, the L of "LOT" than the O.
+    assert!(ch[1].bbox.width() < ch[0].bbox.width());
+    assert!(ch[2].bbox.width() < ch[3].bbox.width());
+    let count = |op: &str| {
+        let anim = run_grammar(imported.scene.clone(), &format!("{op} : title -> [p]\n"));
+        anim.scene.shapes.iter().filter(|s| s.tag == "p").count()
+    };
+    assert_eq!(count("words()"), 3);
+    assert_eq!(count("lines()"), 2);
+}
+
+#[test]
+fn a_text_layer_without_glyphs_and_a_layer_that_is_not_text_pass_through_whole() {
+    let grammar = "duration 1s\nletters() : title -> [ch]\nletters() : bg -> [b]\n\
+                   animate(affine, local, 0.1 * id, rotate(20)) : [all, ch] -> [turn]\n";
+    let d = folder("pass-through", "fonts-only.json", grammar);
+    let err = gmotion(
+        &d,
+        &["animate", "fonts-only.json", "g.gm", "-o", "out.json"],
+    );
+    assert!(
+        err.contains("`letters()`: shape `title` #0 is the Lottie text layer `title` ($.layers[0]) without glyph outlines of its own (`chars`)"),
+        "{err}"
+    );
+    assert!(
+        err.contains("`letters()`: shape `bg` #0 did not come from text; left as it is"),
+        "{err}"
+    );
+    // Both layers are written back as they were: the text layer is still text.
+    let out = json(&d.join("out.json"));
+    let source = json(&fixture("fonts-only.json"));
+    let layer = |doc: &Value, nm: &str| {
+        doc["layers"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|l| l["nm"] == nm)
+            .cloned()
+            .unwrap()
+    };
+    assert_eq!(layer(&out, "title")["ty"], 5);
+    assert_eq!(layer(&out, "title")["t"], layer(&source, "title")["t"]);
+    assert_eq!(layer(&out, "bg")["shapes"], layer(&source, "bg")["shapes"]);
+}
+
+#[test]
+fn a_cut_text_layer_is_written_as_shapes_in_its_place() {
+    let grammar = "duration 2s\nletters() : title -> [ch]\n\
+                   animate(affine, local, 0.05 * id, scale(0.5)) : [all, ch] -> [pop]\n";
+    let d = folder("shapes", "glyphs.json", grammar);
+    gmotion(&d, &["animate", "glyphs.json", "g.gm", "-o", "out.json"]);
+    let out = json(&d.join("out.json"));
+    let source = json(&fixture("glyphs.json"));
+    let (was, now) = (&source["layers"][0], &out["layers"][0]);
+    assert_eq!(now["ty"], 4, "the text layer became a shape layer");
+    assert!(now.get("t").is_none());
+    for key in ["ind", "nm", "parent", "ip", "op", "st", "ks", "sr"] {
+        assert_eq!(now[key], was[key], "`{key}` kept");
+    }
+    // One group per visible glyph, the first piece drawn first (last in the list).
+    let groups = now["shapes"].as_array().unwrap();
+    let visible = title_text().chars().filter(|c| !c.is_whitespace()).count();
+    assert_eq!(groups.len(), visible);
+    assert_eq!(groups.last().unwrap()["nm"], "gmotion ch 0");
+    // The other layers keep their places.
+    assert_eq!(out["layers"][1]["nm"], "bg");
+    assert_eq!(out["layers"][2]["nm"], "rig");
+}
+
+/// A staggered per-letter pop on the glyph text layer, played in every player.
+#[cfg(feature = "players")]
+#[test]
+fn staggered_letters_of_a_glyph_text_layer_play_everywhere() {
+    use crate::support::pictures::{Judge, load};
+    use crate::support::players::{Player, chromium, frame_path, play};
+
+    let grammar = "duration 2s\n\
+                   letters() : title -> [ch]\n\
+                   timesplit(0.5, 0.5) : [all, ch] -> [a, inv_a]\n\
+                   animate(affine, local, 0.05 * id, translate(0, -30) scale(0.3) rotate(40)) : [a, ch] -> [pop]\n\
+                   animate(opacity, local, 0.05 * id, 0.3) : [pop, ch] -> [fade]\n";
+    let d = folder("players", "glyphs.json", grammar);
+    let width = 320;
+    gmotion(
+        &d,
+        &[
+            "animate",
+            "glyphs.json",
+            "g.gm",
+            "-o",
+            "anim.json",
+            "-o",
+            "anim.svg",
+            "-o",
+            "frames/",
+        ],
+    );
+    let fps = 30.0;
+    let frames = [0.0, 8.0, 15.0, 22.0, 30.0, 40.0, 52.0, 59.0];
+    let ours: Vec<_> = frames
+        .iter()
+        .map(|f| load(&d.join(format!("frames/frame_{:05}.png", *f as usize))))
+        .collect();
+    // The letters move: the frames differ from the first.
+    assert!(
+        ours[1..]
+            .iter()
+            .all(|f| gmotion_export_raster::compare(&ours[0], f, 32) > 0.005)
+    );
+    let lottie = std::fs::read_to_string(d.join("anim.json")).unwrap();
+    let played = play("lottie-text", &lottie, &frames, width, &Player::ALL);
+    // The SMIL of a Lottie that moves by itself is played frame by frame: sampled midway
+    // through each frame, as a discrete switch lands on the frame's start.
+    let times: Vec<f64> = frames.iter().map(|f| (f + 0.5) / fps).collect();
+    let smil = chromium(&d.join("anim.svg"), width, &times);
+    let mut judge = Judge::new(0.005);
+    for (k, f) in frames.iter().enumerate() {
+        for &p in &Player::ALL {
+            let got = load(&frame_path(&played, p, *f));
+            judge.close(&format!("{p:?} frame {f}"), &ours[k], &got);
+        }
+        judge.close(&format!("SMIL frame {f}"), &ours[k], &smil[k]);
+    }
+    judge.assert_all_close(&d);
+}
