@@ -169,19 +169,14 @@ fn a_cut_text_layer_is_written_as_shapes_in_its_place() {
     assert_eq!(out["layers"][2]["nm"], "rig");
 }
 
-/// A staggered per-letter pop on the glyph text layer, played in every player.
+/// Animates the glyph text layer with `grammar` to Lottie, SMIL and frames in a folder for
+/// `case`, and plays both in every player against gmotion's own frames, which move.
 #[cfg(feature = "players")]
-#[test]
-fn staggered_letters_of_a_glyph_text_layer_play_everywhere() {
+fn plays_everywhere(case: &str, grammar: &str) {
     use crate::support::pictures::{Judge, load};
     use crate::support::players::{Player, chromium, frame_path, play};
 
-    let grammar = "duration 2s\n\
-                   letters() : title -> [ch]\n\
-                   timesplit(0.5, 0.5) : [all, ch] -> [a, inv_a]\n\
-                   animate(affine, local, 0.05 * id, translate(0, -30) scale(0.3) rotate(40)) : [a, ch] -> [pop]\n\
-                   animate(opacity, local, 0.05 * id, 0.3) : [pop, ch] -> [fade]\n";
-    let d = folder("players", "glyphs.json", grammar);
+    let d = folder(case, "glyphs.json", grammar);
     let width = 320;
     gmotion(
         &d,
@@ -203,14 +198,21 @@ fn staggered_letters_of_a_glyph_text_layer_play_everywhere() {
         .iter()
         .map(|f| load(&d.join(format!("frames/frame_{:05}.png", *f as usize))))
         .collect();
-    // The letters move: the frames differ from the first.
+    // The pieces move: some frame differs from the first.
     assert!(
         ours[1..]
             .iter()
-            .all(|f| gmotion_export_raster::compare(&ours[0], f, 32) > 0.005)
+            .any(|f| gmotion_export_raster::compare(&ours[0], f, 32) > 0.005),
+        "{case}: nothing moves"
     );
     let lottie = std::fs::read_to_string(d.join("anim.json")).unwrap();
-    let played = play("lottie-text", &lottie, &frames, width, &Player::ALL);
+    let played = play(
+        &format!("lottie-text-{case}"),
+        &lottie,
+        &frames,
+        width,
+        &Player::ALL,
+    );
     // The SMIL of a Lottie that moves by itself is played frame by frame: sampled midway
     // through each frame, as a discrete switch lands on the frame's start.
     let times: Vec<f64> = frames.iter().map(|f| (f + 0.5) / fps).collect();
@@ -219,9 +221,37 @@ fn staggered_letters_of_a_glyph_text_layer_play_everywhere() {
     for (k, f) in frames.iter().enumerate() {
         for &p in &Player::ALL {
             let got = load(&frame_path(&played, p, *f));
-            judge.close(&format!("{p:?} frame {f}"), &ours[k], &got);
+            judge.close(&format!("{case}: {p:?} frame {f}"), &ours[k], &got);
         }
-        judge.close(&format!("SMIL frame {f}"), &ours[k], &smil[k]);
+        judge.close(&format!("{case}: SMIL frame {f}"), &ours[k], &smil[k]);
     }
     judge.assert_all_close(&d);
+}
+
+/// A staggered per-letter pop and fade on the text layer, under its rocking parent.
+#[cfg(feature = "players")]
+#[test]
+fn staggered_letters_of_a_glyph_text_layer_play_everywhere() {
+    plays_everywhere(
+        "letters",
+        "duration 2s\n\
+         letters() : title -> [ch]\n\
+         timesplit(0.5, 0.5) : [all, ch] -> [a, inv_a]\n\
+         animate(affine, local, 0.05 * id, translate(0, -30) scale(0.3) rotate(40)) : [a, ch] -> [pop]\n\
+         animate(opacity, local, 0.05 * id, 0.3) : [pop, ch] -> [fade]\n",
+    );
+}
+
+/// Words rising one after the other, line by line, and turning red.
+#[cfg(feature = "players")]
+#[test]
+fn staggered_words_of_a_glyph_text_layer_play_everywhere() {
+    plays_everywhere(
+        "words",
+        "duration 2s\n\
+         words() : title -> [w]\n\
+         timesplit(0.5, 0.5) : [all, w] -> [b, inv_b]\n\
+         animate(affine, world, 0.1 * word_id + 0.3 * line_id, translate(0, -20), ease=ease-out) : [b, w] -> [rise]\n\
+         animate(fill, local, 0.1 * word_id, #d1495b) : [rise, w] -> [red]\n",
+    );
 }
