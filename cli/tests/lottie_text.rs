@@ -147,10 +147,16 @@ fn a_text_layer_without_glyphs_and_a_layer_that_is_not_text_pass_through_whole()
 
 #[test]
 fn a_cut_text_layer_is_written_as_shapes_in_its_place() {
-    let grammar = "duration 2s\nletters() : title -> [ch]\n\
-                   animate(affine, local, 0.05 * id, scale(0.5)) : [all, ch] -> [pop]\n";
+    // The card is not text: it passes through `letters()` whole beside the cut text.
+    let grammar = "duration 2s\nletters() : title -> [ch]\nletters() : bg -> [card]\n\
+                   animate(affine, local, 0.05 * id, scale(0.5)) : [all, ch] -> [pop]\n\
+                   animate(affine, local, 0, rotate(5)) : [all, card] -> [tilt]\n";
     let d = folder("shapes", "glyphs.json", grammar);
-    gmotion(&d, &["animate", "glyphs.json", "g.gm", "-o", "out.json"]);
+    let err = gmotion(&d, &["animate", "glyphs.json", "g.gm", "-o", "out.json"]);
+    assert!(
+        err.contains("shape `bg` #0 did not come from text"),
+        "{err}"
+    );
     let out = json(&d.join("out.json"));
     let source = json(&fixture("glyphs.json"));
     let (was, now) = (&source["layers"][0], &out["layers"][0]);
@@ -164,8 +170,9 @@ fn a_cut_text_layer_is_written_as_shapes_in_its_place() {
     let visible = title_text().chars().filter(|c| !c.is_whitespace()).count();
     assert_eq!(groups.len(), visible);
     assert_eq!(groups.last().unwrap()["nm"], "gmotion ch 0");
-    // The other layers keep their places.
+    // The other layers keep their places, the card its drawing.
     assert_eq!(out["layers"][1]["nm"], "bg");
+    assert_eq!(out["layers"][1]["shapes"], source["layers"][1]["shapes"]);
     assert_eq!(out["layers"][2]["nm"], "rig");
 }
 

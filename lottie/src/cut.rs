@@ -76,13 +76,22 @@ pub(crate) fn text_place(
     }
     let to_inner = inner.inverse() * world;
     let mut glyphs: Vec<Glyph> = Vec::new();
+    // Each glyph's outline is built once, however many letters draw it.
+    let mut outlines: std::collections::HashMap<usize, BezPath> = Default::default();
     // Words and lines counted over the glyphs drawn, from 0.
     let (mut words, mut lines): (Vec<usize>, Vec<usize>) = (Vec::new(), Vec::new());
     for p in placed {
         if fonts.glyphs[p.glyph].ch.chars().all(char::is_whitespace) {
             continue;
         }
-        let outline = b.glyph_outline(p.glyph)?;
+        let outline = match outlines.get(&p.glyph) {
+            Some(o) => o.clone(),
+            None => {
+                let o = b.glyph_outline(p.glyph)?;
+                outlines.insert(p.glyph, o.clone());
+                o
+            }
+        };
         if outline.elements().is_empty() {
             continue;
         }
@@ -160,11 +169,9 @@ impl Source {
             while let Some(s) = shapes.next_if(|s| s.node_path.first() == Some(&r)) {
                 members.push(s);
             }
-            let whole = match members.as_slice() {
-                [s] => s.node_path.len() <= 1 + usize::from(unit.part.is_some()),
-                _ => false,
-            };
-            if whole {
+            // One shape is the unit itself: left as it was, or passed through a text
+            // operator whole (drawn one group deeper), or a text of one letter.
+            if members.len() == 1 {
                 measures.push(unit.measure);
                 continue;
             }
