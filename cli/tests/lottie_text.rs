@@ -176,14 +176,16 @@ fn a_cut_text_layer_is_written_as_shapes_in_its_place() {
     assert_eq!(out["layers"][2]["nm"], "rig");
 }
 
-/// Animates the glyph text layer with `grammar` to Lottie, SMIL and frames in a folder for
-/// `case`, and plays both in every player against gmotion's own frames, which move.
+/// Animates `doc` (the glyph text fixture, or a variation of it) with `grammar` to Lottie,
+/// SMIL and frames in a folder for `case`, and plays both in every player against
+/// gmotion's own frames, which move.
 #[cfg(feature = "players")]
-fn plays_everywhere(case: &str, grammar: &str) {
+fn plays_everywhere(case: &str, doc: &Value, grammar: &str) {
     use crate::support::pictures::{Judge, load};
     use crate::support::players::{Player, chromium, frame_path, play};
 
     let d = folder(case, "glyphs.json", grammar);
+    std::fs::write(d.join("glyphs.json"), doc.to_string()).unwrap();
     let width = 320;
     gmotion(
         &d,
@@ -241,6 +243,7 @@ fn plays_everywhere(case: &str, grammar: &str) {
 fn staggered_letters_of_a_glyph_text_layer_play_everywhere() {
     plays_everywhere(
         "letters",
+        &json(&fixture("glyphs.json")),
         "duration 2s\n\
          letters() : title -> [ch]\n\
          timesplit(0.5, 0.5) : [all, ch] -> [a, inv_a]\n\
@@ -255,10 +258,41 @@ fn staggered_letters_of_a_glyph_text_layer_play_everywhere() {
 fn staggered_words_of_a_glyph_text_layer_play_everywhere() {
     plays_everywhere(
         "words",
+        &json(&fixture("glyphs.json")),
         "duration 2s\n\
          words() : title -> [w]\n\
          timesplit(0.5, 0.5) : [all, w] -> [b, inv_b]\n\
          animate(affine, world, 0.1 * word_id + 0.3 * line_id, translate(0, -20), ease=ease-out) : [b, w] -> [rise]\n\
          animate(fill, local, 0.1 * word_id, #d1495b) : [rise, w] -> [red]\n",
+    );
+}
+
+/// A text layer under a mask: the shape layer written in its place keeps the mask, which
+/// clips the letters where they move.
+#[cfg(feature = "players")]
+#[test]
+fn staggered_letters_of_a_masked_text_layer_play_everywhere() {
+    let mut doc = json(&fixture("glyphs.json"));
+    doc["layers"][0]["hasMask"] = Value::Bool(true);
+    doc["layers"][0]["masksProperties"] = serde_json::json!([{
+        "inv": false, "mode": "a", "nm": "Mask 1",
+        "pt": {"a": 0, "k": {"c": true,
+            "v": [[0, -80], [120, -80], [120, 80], [0, 80]],
+            "i": [[0, 0], [0, 0], [0, 0], [0, 0]], "o": [[0, 0], [0, 0], [0, 0], [0, 0]]}},
+        "o": {"a": 0, "k": 100}, "x": {"a": 0, "k": 0}
+    }]);
+    plays_everywhere(
+        "masked",
+        &doc,
+        "duration 2s\n\
+         letters() : title -> [ch]\n\
+         timesplit(0.5, 0.5) : [all, ch] -> [a, inv_a]\n\
+         animate(affine, local, 0.05 * id, translate(0, -30) rotate(40)) : [a, ch] -> [pop]\n",
+    );
+    let out = json(&crate::support::tmp_dir().join("lottie_text/masked/anim.json"));
+    assert_eq!(out["layers"][0]["ty"], 4);
+    assert_eq!(
+        out["layers"][0]["masksProperties"],
+        doc["layers"][0]["masksProperties"]
     );
 }
