@@ -111,6 +111,66 @@ fn letters_cut_a_glyph_text_layer_into_its_visible_glyphs_in_reading_order() {
     assert_eq!(count("lines()"), 2);
 }
 
+/// The same property over many texts: random runs of the fixture's letters, spaces and line
+/// breaks (`\r`), leading, doubled and trailing ones included. The pieces are the visible
+/// letters, in the order they are written; words and lines are numbered from 0 over those
+/// that show a letter.
+#[test]
+fn letters_make_one_piece_per_visible_glyph_of_any_text() {
+    let source = json(&fixture("glyphs.json"));
+    let alphabet = ['H', 'I', 'L', 'O', 'T', ' ', ' ', '\r'];
+    let mut seed: u64 = 42;
+    let mut next = |n: usize| {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 33) as usize % n
+    };
+    for case in 0..24 {
+        let len = 1 + next(14);
+        let mut text: String = (0..len).map(|_| alphabet[next(alphabet.len())]).collect();
+        if text.chars().all(char::is_whitespace) {
+            text.push('H');
+        }
+        let mut doc = source.clone();
+        doc["layers"][0]["t"]["d"]["k"][0]["s"]["t"] = Value::String(text.clone());
+        let imported = gmotion_import_lottie::from_json(doc, "case", &ImportOptions::default())
+            .unwrap_or_else(|e| panic!("{text:?}: {e}"));
+        let anim = run_grammar(imported.scene, "duration 1s\nletters() : title -> [ch]\n");
+        let mut ch: Vec<_> = anim.scene.shapes.iter().filter(|s| s.tag == "ch").collect();
+        ch.sort_by_key(|s| s.id);
+        // What the text says: each visible letter's word and line, numbered densely.
+        let (mut want, mut word, mut line) = (Vec::new(), 0usize, 0usize);
+        let (mut in_word, mut line_shown, mut any) = (false, false, false);
+        for c in text.chars() {
+            if c == '\r' {
+                line += usize::from(line_shown);
+                line_shown = false;
+                in_word = false;
+            } else if c == ' ' {
+                in_word = false;
+            } else {
+                if !in_word && any {
+                    word += 1;
+                }
+                in_word = true;
+                line_shown = true;
+                any = true;
+                want.push((word, line));
+            }
+        }
+        let got: Vec<(usize, usize)> = ch.iter().map(|s| (s.text.word, s.text.line)).collect();
+        assert_eq!(got, want, "case {case}: {text:?}");
+        for w in ch.windows(2) {
+            if w[0].text.line == w[1].text.line {
+                assert!(w[0].centroid.x < w[1].centroid.x, "case {case}: {text:?}");
+            } else {
+                assert!(w[0].centroid.y < w[1].centroid.y, "case {case}: {text:?}");
+            }
+        }
+    }
+}
+
 #[test]
 fn a_text_layer_without_glyphs_and_a_layer_that_is_not_text_pass_through_whole() {
     let grammar = "duration 1s\nletters() : title -> [ch]\nletters() : bg -> [b]\n\
