@@ -56,4 +56,8 @@ pub struct TextPlace {
     /// that did not come from text, and for a whole text; a line's first word for the
     /// pieces `lines()` makes.
     pub word: usize,
+    /// Why a unit that came from text has no layout, when the importer knows (a Lottie
+    /// text layer drawn without glyph outlines of its own): the text operators say it when
+    /// they pass the unit through whole.
+    pub uncut: Option<String>,
 }

@@ -30,6 +30,7 @@ mod fuzz;
 mod hierarchy;
 mod images;
 mod lottie_import;
+mod lottie_text;
 mod markers;
 // Every test here plays exports or reads the Lottie corpus.
 #[cfg(feature = "players")]

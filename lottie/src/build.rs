@@ -403,11 +403,7 @@ impl<'a> Builder<'a> {
             let outline = match outlines.get(&letter.glyph) {
                 Some(o) => o.clone(),
                 None => {
-                    let glyph = &fonts.glyphs[letter.glyph];
-                    let o = match &glyph.outline {
-                        Some(o) => o.clone(),
-                        None => self.unstyled(&glyph.shapes)?,
-                    };
+                    let o = self.glyph_outline(letter.glyph)?;
                     outlines.insert(letter.glyph, o.clone());
                     o
                 }
@@ -437,6 +433,16 @@ impl<'a> Builder<'a> {
             }));
         }
         Ok(nodes)
+    }
+
+    /// The outline of glyph `glyph` (an index into the document's glyphs) at size 100: the
+    /// one made from a system font, else its shape items at their first frame.
+    pub(crate) fn glyph_outline(&mut self, glyph: usize) -> Result<BezPath> {
+        let glyph = &self.doc.fonts.glyphs[glyph];
+        match &glyph.outline {
+            Some(o) => Ok(o.clone()),
+            None => self.unstyled(&glyph.shapes),
+        }
     }
 
     /// Every outline of `items` at their first frame, with no style of their own (a glyph,

@@ -25,6 +25,10 @@
 //!   ([`fonts`]); Gaussian Blur and Drop Shadow are drawn as lottie-web draws them
 //!   ([`effects`]). The units of the scene (which layer is a unit, a part or a rig, their
 //!   tags and measures) are built the same way at every frame ([`units`], [`tags`]).
+//! - Kinetic type: a text layer drawn from embedded glyphs is imported with the layout of
+//!   its letters, words and lines, which `letters()`, `words()` and `lines()` cut; a text
+//!   layer cut so is written back as a shape layer of one group per piece
+//!   ([`Source::cut`]).
 //!
 //! **Errors.** Nothing in the input can make reading or playing panic: every value is
 //! checked as it is read. Parent cycles, precomposition cycles, precompositions nested
@@ -33,6 +37,7 @@
 #![forbid(unsafe_code)]
 
 pub mod build;
+mod cut;
 pub mod dotlottie;
 pub mod effects;
 pub mod eval;
@@ -47,5 +52,6 @@ pub mod text;
 pub mod units;
 pub mod written;
 
+pub use cut::Note;
 pub use player::{FrameError, Source};
 pub use units::{UnitLayers, Units};

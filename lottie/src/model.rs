@@ -1299,7 +1299,8 @@ impl LayerMask {
     }
 }
 
-fn layer(v: &Value, at: &Loc) -> Result<Layer> {
+/// Reads the layer `v`, which is at `at`.
+pub(crate) fn read_layer(v: &Value, at: &Loc) -> Result<Layer> {
     let o = object(v, at)?;
     let ty = match opt_int(o, "ty", at)? {
         Some(ty) => ty,
@@ -1376,7 +1377,7 @@ fn read_layers(v: &Value, at: &Loc) -> Result<Vec<Layer>> {
     array(v, at)?
         .iter()
         .enumerate()
-        .map(|(i, l)| layer(l, &at.idx(i)))
+        .map(|(i, l)| read_layer(l, &at.idx(i)))
         .collect()
 }
 
@@ -1426,6 +1427,9 @@ pub struct Document {
     pub assets: Vec<Asset>,
     /// Fonts and embedded glyphs, for text layers.
     pub fonts: Fonts,
+    /// Root layers split into one unit per top-level group whatever the units are: text
+    /// layers cut into pieces and written as shapes ([`crate::Source::cut`]).
+    pub split: Vec<usize>,
 }
 
 impl Document {
@@ -1492,6 +1496,7 @@ impl Document {
             layers,
             assets,
             fonts: Fonts::read(o, &at)?,
+            split: Vec::new(),
         })
     }
 

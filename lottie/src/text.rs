@@ -743,6 +743,11 @@ pub struct PlacedLetter {
     pub fill: Option<[f64; 3]>,
     /// Stroke colour and width, in the letter's space.
     pub stroke: Option<([f64; 3], f64)>,
+    /// The line it is on, from 0.
+    pub line: usize,
+    /// The word it is in (a run of letters between spaces and line breaks), counted over
+    /// the whole text from 0.
+    pub word: usize,
 }
 
 /// The letters of `data` at frame `t`, placed (`getMeasures` without a path).
@@ -813,7 +818,12 @@ pub fn letters(data: &TextData, fonts: &Fonts, t: f64) -> Vec<PlacedLetter> {
     };
     let (mut x, mut y, mut first_line) = (0.0, 0.0, true);
     let mut out = Vec::new();
+    // Words: a letter after a space or a line break starts one.
+    let (mut words, mut in_word) = (0, false);
     for letter in &lay.letters {
+        let starts_word = !(letter.newline || letter.space || in_word);
+        in_word = !(letter.newline || letter.space);
+        words += usize::from(starts_word);
         if letter.newline {
             x = 0.0;
             y += line_height + if first_line { 1.0 } else { 0.0 };
@@ -914,6 +924,8 @@ pub fn letters(data: &TextData, fonts: &Fonts, t: f64) -> Vec<PlacedLetter> {
                 opacity: opacity.clamp(0.0, 1.0),
                 fill,
                 stroke: stroke.map(|c| (c, stroke_width.max(0.0))),
+                line: letter.line,
+                word: words.saturating_sub(1),
             });
         }
     }

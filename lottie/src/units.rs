@@ -66,7 +66,10 @@ pub fn scene_of(
     let worlds = b.worlds(layers, frame)?;
     let parents = parent_indices(layers);
     let parent_of = |i: usize| parents[i];
-    let roles = roles(layers, mode, &parent_of);
+    let mut roles = roles(layers, mode, &parent_of);
+    for &i in &doc.split {
+        roles[i] = Role::Parts;
+    }
     let mut anchors: Anchors = Vec::new();
     let mut root = Group::new();
     let mut shapes = Vec::new();
@@ -98,6 +101,18 @@ pub fn scene_of(
                 }
                 _ => node.unit = Some(index),
             }
+            // A text layer's letters, laid out when it is imported.
+            let text = match (reference, part, l.kind) {
+                (None, None, model::LayerKind::Text) => crate::cut::text_place(
+                    &mut b,
+                    doc,
+                    l,
+                    matte.is_some(),
+                    frame,
+                    (node.transform, worlds[i]),
+                )?,
+                _ => gmotion::text::TextPlace::default(),
+            };
             let node = Node::Group(node);
             // Measuring resolves every overlap of the unit's outlines, which takes seconds
             // for a rich precomposition: done once, at the reference frame.
@@ -130,7 +145,7 @@ pub fn scene_of(
                 fill: m.map_or(Color::BLACK, |m| m.fill),
                 stroke: m.map_or(Color::BLACK, |m| m.stroke),
                 stroke_width: m.map_or(1.0, |m| m.stroke_width),
-                text: gmotion::text::TextPlace::default(),
+                text,
             });
             *id += 1;
             let mut members = vec![i];

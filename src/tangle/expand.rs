@@ -386,11 +386,19 @@ pub fn expand(
                             to_canvas,
                         }) = &s.drawing
                         else {
+                            // An imported text the importer could not lay out says why.
+                            let uncut = scene
+                                .shapes
+                                .iter()
+                                .filter(|_| s.imported)
+                                .find(|x| x.tag == s.tag && x.id == s.sid)
+                                .and_then(|x| x.text.uncut.as_deref());
                             let why = format!(
-                                "`{}()`: shape `{}` #{} did not come from text; left as it is",
+                                "`{}()`: shape `{}` #{} {}; left as it is",
                                 split.name(),
                                 s.tag,
-                                s.sid
+                                s.sid,
+                                uncut.unwrap_or("did not come from text")
                             );
                             return Ok((op, Err(why), Vec::new()));
                         };
@@ -728,6 +736,7 @@ fn renumber(
                         layout: None,
                         line: p.text.0,
                         word: p.text.1,
+                        uncut: None,
                     },
                 }
             };

@@ -748,16 +748,31 @@ fn staged_over_source(
     Ok(warnings)
 }
 
-/// `source` made to last as long as `anim` ([`LottieSource::lasting`]: its last frame held,
-/// or cut), and a warning saying so; `source` itself when it lasts as long already.
+/// `source` made to fit `anim`: its text layers that `anim`'s scene cut into pieces written
+/// as shapes ([`LottieSource::cut`]), and made to last as long as `anim`
+/// ([`LottieSource::lasting`]: its last frame held, or cut); with warnings saying so.
+/// `source` itself when it fits already.
 fn lasting<'s>(
     anim: &Animation,
     source: Option<&'s LottieSource>,
-) -> (Option<Cow<'s, LottieSource>>, Option<Warning>) {
-    match source.map(|s| (s, s.lasting(anim.duration))) {
-        None => (None, None),
-        Some((s, None)) => (Some(Cow::Borrowed(s)), None),
-        Some((_, Some((fitted, said)))) => (Some(Cow::Owned(fitted)), Some(Warning::new(said))),
+) -> (Option<Cow<'s, LottieSource>>, Vec<Warning>) {
+    let mut said = Vec::new();
+    let source = source.map(|s| match s.cut(&anim.scene) {
+        None => Cow::Borrowed(s),
+        Some((cut, notes)) => {
+            said.extend(notes.into_iter().map(|(at, what)| Warning::about(at, what)));
+            Cow::Owned(cut)
+        }
+    });
+    let Some(source) = source else {
+        return (None, said);
+    };
+    match source.lasting(anim.duration) {
+        None => (Some(source), said),
+        Some((fitted, what)) => {
+            said.push(Warning::new(what));
+            (Some(Cow::Owned(fitted)), said)
+        }
     }
 }
 

@@ -21,7 +21,9 @@
 //! linked (`u` + `p`, read from the file's folder by [`load`] under
 //! [`gmotion::input::References`]). A file without glyphs has its text set in the
 //! machine's fonts, as players set it ([`gmotion_lottie::fonts`], given
-//! [`ImportOptions::fonts`]).
+//! [`ImportOptions::fonts`]). A text layer drawn from the glyphs its file embeds (`chars`)
+//! keeps the layout of its letters, words and lines ([`gmotion::text::TextLayout`]), so
+//! the text operators can cut it; one set in fonts says why it cannot be cut.
 //!
 //! **Not drawn** (with a warning naming the first place and how many): images that cannot
 //! be read (their rectangle is measured), text without embedded glyphs when no fonts are
