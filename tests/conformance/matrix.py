@@ -63,7 +63,7 @@ MIN_FRAMES = 12
 MAX_FRAMES = 24
 W, H = 200, 150
 SCALE = 2
-GM_CASES = 200
+GM_CASES = 230
 TR_CASES = 140
 SAMPLE_GENERATED = 36
 # Examples in the sample: the grammar examples are played by the main run (conformance.py)
