@@ -8,7 +8,8 @@
 //! group's static transform. The follow is `F(p) = T(c − P(0))·T(P(p))·R(θ(p))·R(−θ(0))·T(−c)`
 //! about the centroid `c`, so the group's transform is `T(c − P(0))` and the next inner
 //! group's `R(−θ(0))·T(−c)·F(p₀)⁻¹`: the shape starts as drawn, turned relative to the
-//! start tangent.
+//! start tangent. The path is written [`MAGNIFY`] times larger, with the groups around
+//! the motion scaling it back (a uniform scale commutes with the turn).
 //!
 //! What SMIL cannot say this way is sampled like any other motion, as the Lottie exporter
 //! does: a follow carried by an enclosing motion, a `world` route starting away from the
@@ -20,6 +21,13 @@ use kurbo::{Affine, ParamCurve, PathSeg};
 
 use super::{Kind, RawLayer, SegLayer, TransformAnim, Window, invert};
 use crate::smil::xml::{COORD, push_num};
+
+/// How much larger the path is written than the route, the group around the motion
+/// scaling it back: Chromium measures a path's length to about half a unit (Skia's contour
+/// measure), which on the canvas puts a shape up to half a pixel off along quadratics; on a
+/// path this much larger the error shrinks by as much. A power of two, so the scale and
+/// its inverse are exact.
+const MAGNIFY: f64 = 16.0;
 use gmotion::keyframe::{Format, Key, Piece, progress_keys};
 use gmotion::motion::follow::Follow;
 use gmotion::tolerance::PROGRESS;
@@ -69,24 +77,24 @@ pub(super) fn layer(w: &Window<'_>, f: &Follow) -> Option<SegLayer> {
             })
             .collect(),
         discrete: false,
-        path: Some(path_data(segs)),
+        path: Some(path_data(segs, MAGNIFY)),
     };
     let layer = RawLayer {
-        prefix: Affine::translate(c - f.route.start().to_vec2()),
+        prefix: Affine::translate(c - f.route.start().to_vec2()) * Affine::scale(1.0 / MAGNIFY),
         anims: vec![anim],
-        suffix: turn_back * Affine::translate(-c) * held,
+        suffix: Affine::scale(MAGNIFY) * turn_back * Affine::translate(-c) * held,
     };
     Some(SegLayer::Exact(layer, false))
 }
 
-/// SVG path data for joined segments: one move, then each segment as it is.
-fn path_data(segs: &[PathSeg]) -> String {
+/// SVG path data for joined segments scaled by `k`: one move, then each segment as it is.
+fn path_data(segs: &[PathSeg], k: f64) -> String {
     let mut d = String::new();
     let point = |d: &mut String, cmd: &str, p: kurbo::Point| {
         d.push_str(cmd);
-        push_num(d, p.x, COORD);
+        push_num(d, k * p.x, COORD);
         d.push(' ');
-        push_num(d, p.y, COORD);
+        push_num(d, k * p.y, COORD);
     };
     point(&mut d, "M", segs[0].start());
     for s in segs {
