@@ -25,8 +25,8 @@ fn smil(a: &Animation) -> String {
 }
 
 /// The follows Chromium plays: a linear cubic; a turning, eased two-curve path in a slice
-/// with its inverted twin; a `world` path starting away from the centroid (sampled) under
-/// a rotation; a turning path cut by a later slice with a scale nested in the second part;
+/// with its inverted twin; a `world` path of quadratics starting on the box's centroid (so
+/// not a jump) with a rotation nested in it; a turning path cut by a later slice with a scale nested in the second part;
 /// a turning polyline with a linear easing.
 const PLAYED: [(&str, &str); 5] = [
     (
