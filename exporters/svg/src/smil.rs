@@ -501,6 +501,17 @@ impl Writer<'_> {
             open.push_str("<g");
             if let Some(v) = xml::transform_value(layer.base) {
                 open.push_str(&format!(" transform=\"{v}\""));
+                // An `animateMotion` goes on a group of its own without a `transform`:
+                // Chromium applies the motion outside the group's transform, the SVG 1.1
+                // text inside it, and with none there is no order to disagree on.
+                if layer
+                    .anims
+                    .iter()
+                    .any(|a| matches!(a.kind, Kind::Motion { .. }))
+                {
+                    open.push_str(">\n<g");
+                    depth += 1;
+                }
             }
             open.push_str(">\n");
             if i == 0 {
@@ -523,6 +534,17 @@ impl Writer<'_> {
     }
 
     fn transform_anim(&self, out: &mut String, a: &TransformAnim) {
+        if let (Kind::Motion { auto }, Some(path)) = (a.kind, &a.path) {
+            let head = format!(
+                "path=\"{path}\"{}",
+                if auto { " rotate=\"auto\"" } else { "" }
+            );
+            let keys = strings(&a.keys, |v| num(v[0], FACTOR));
+            if xml::motion(out, &head, &keys, self.clock) {
+                out.push('\n');
+            }
+            return;
+        }
         let head = format!(
             "attributeName=\"transform\" type=\"{}\" additive=\"sum\"",
             a.kind.name()
@@ -536,7 +558,7 @@ impl Writer<'_> {
         let keys = strings(&a.keys, |v| match a.kind {
             Kind::Translate => pair(v, COORD),
             Kind::Scale => pair(v, FACTOR),
-            Kind::Rotate | Kind::SkewX | Kind::SkewY => num(v[0], COORD),
+            Kind::Rotate | Kind::SkewX | Kind::SkewY | Kind::Motion { .. } => num(v[0], COORD),
         });
         if xml::animation(
             out,

@@ -27,10 +27,14 @@ use gmotion::tolerance::Tolerance;
 pub fn merge(mut layers: Vec<Nested>, mut inner: Affine) -> (Vec<Nested>, Affine) {
     let mut i = 0;
     while i + 1 < layers.len() {
-        if layers[i]
-            .anims
-            .iter()
-            .all(|a| commutes_with(layers[i + 1].base, a))
+        // An `animateMotion` keeps its group to itself: browsers apply it after the
+        // group's `animateTransform`s whatever the document order.
+        let alone = moves_along_path(&layers[i]) || moves_along_path(&layers[i + 1]);
+        if !alone
+            && layers[i]
+                .anims
+                .iter()
+                .all(|a| commutes_with(layers[i + 1].base, a))
         {
             let next = layers.remove(i + 1);
             layers[i].base *= next.base;
@@ -49,6 +53,14 @@ pub fn merge(mut layers: Vec<Nested>, mut inner: Affine) -> (Vec<Nested>, Affine
         merge_anims(&mut layer.anims);
     }
     (layers, inner)
+}
+
+/// Whether the group holds an `animateMotion`.
+fn moves_along_path(layer: &Nested) -> bool {
+    layer
+        .anims
+        .iter()
+        .any(|a| matches!(a.kind, Kind::Motion { .. }))
 }
 
 /// Merges animations of one type within a group, each into an earlier one it can reach by
@@ -150,7 +162,7 @@ fn commutes_with(m: Affine, a: &TransformAnim) -> bool {
         Kind::Translate => identity_part,
         Kind::Rotate => linear && close(p, s) && close(q, -r),
         Kind::Scale => linear && (diagonal || even(a)),
-        Kind::SkewX | Kind::SkewY => false,
+        Kind::SkewX | Kind::SkewY | Kind::Motion { .. } => false,
     }
 }
 
@@ -173,6 +185,7 @@ mod tests {
                 },
             ],
             discrete: false,
+            path: None,
         }
     }
 
@@ -204,6 +217,7 @@ mod tests {
             Kind::Scale => Affine::scale_non_uniform(v[0], v[1]),
             Kind::SkewX => Affine::skew(v[0].to_radians().tan(), 0.0),
             Kind::SkewY => Affine::skew(0.0, v[0].to_radians().tan()),
+            Kind::Motion { .. } => unreachable!("these tests merge no motion along a path"),
         }
     }
 

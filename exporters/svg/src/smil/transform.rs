@@ -16,6 +16,8 @@
 //! they differ (the state jumps), a group with discrete keys applies the difference. A track
 //! with more than [`MAX_GROUPS`] windows is sampled as a whole into one group.
 
+mod follow;
+
 use kurbo::{Affine, Point};
 
 use super::decompose::Decomposed;
@@ -39,6 +41,12 @@ pub enum Kind {
     SkewX,
     /// `skewY`: an angle in degrees.
     SkewY,
+    /// An `animateMotion` along [`TransformAnim::path`] (turning with its tangent when
+    /// `auto`): the arc-length fraction travelled, in the first number.
+    Motion {
+        /// `rotate="auto"`.
+        auto: bool,
+    },
 }
 
 impl Kind {
@@ -50,11 +58,13 @@ impl Kind {
             Kind::Scale => "scale",
             Kind::SkewX => "skewX",
             Kind::SkewY => "skewY",
+            Kind::Motion { .. } => "motion",
         }
     }
 }
 
-/// One `animateTransform` (additive, post-multiplied onto its group's transform).
+/// One `animateTransform` (additive, post-multiplied onto its group's transform), or an
+/// `animateMotion` (alone in its group, so its order among them never matters).
 #[derive(Clone, Debug)]
 pub struct TransformAnim {
     /// Which transform type.
@@ -63,6 +73,8 @@ pub struct TransformAnim {
     pub keys: Vec<Key<[f64; 2]>>,
     /// Jump from key to key instead of interpolating.
     pub discrete: bool,
+    /// The path data an `animateMotion` travels ([`Kind::Motion`] only).
+    pub path: Option<String>,
 }
 
 /// One nested group: a static transform and the animations multiplied onto it.
@@ -405,6 +417,9 @@ impl Samples {
 /// the segment needs baking as a whole.
 fn exact_layer(w: &Window<'_>) -> Option<SegLayer> {
     let seg = w.seg();
+    if let MotionKind::Follow(f) = &seg.kind {
+        return follow::layer(w, f);
+    }
     let MotionKind::Rigid {
         pivot,
         blend,
@@ -457,6 +472,7 @@ fn exact_layer(w: &Window<'_>) -> Option<SegLayer> {
                 })
                 .collect(),
             discrete: false,
+            path: None,
         })
         .collect();
     let to_pivot = Affine::translate(pivot.to_vec2());
@@ -519,6 +535,7 @@ fn decomposed_anims(keys: &[(f64, Decomposed)], discrete: bool) -> Vec<Transform
         kind,
         keys: keys.iter().map(|(t, d)| Key::linear(*t, get(d))).collect(),
         discrete,
+        path: None,
     };
     [
         channel(Kind::Translate, &|d| d.translate),

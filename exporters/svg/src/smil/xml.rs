@@ -188,6 +188,27 @@ pub fn animation(
     discrete: bool,
     clock: Clock,
 ) -> bool {
+    timed(out, element, head, "values", keys, discrete, clock)
+}
+
+/// Appends an `animateMotion` along the path its `head` names (with `rotate`), whose keys
+/// are the arc-length fractions travelled (`keyPoints`), timed like [`animation`]. Its
+/// `calcMode` is always written: an `animateMotion`'s default is `paced`, which would
+/// ignore the key times.
+pub fn motion(out: &mut String, head: &str, keys: &[Key<String>], clock: Clock) -> bool {
+    timed(out, "animateMotion", head, "keyPoints", keys, false, clock)
+}
+
+/// [`animation`] with its values in the attribute named `values` (`values`, `keyPoints`).
+fn timed(
+    out: &mut String,
+    element: &str,
+    head: &str,
+    values: &str,
+    keys: &[Key<String>],
+    discrete: bool,
+    clock: Clock,
+) -> bool {
     let Some(first) = keys.first() else {
         return false;
     };
@@ -229,7 +250,9 @@ pub fn animation(
         }
         push_num(out, u as f64 / TIME_UNITS, TIME);
     }
-    out.push_str("\" values=\"");
+    out.push_str("\" ");
+    out.push_str(values);
+    out.push_str("=\"");
     for (i, k) in keys.iter().enumerate() {
         if i > 0 {
             out.push(';');
@@ -259,6 +282,8 @@ pub fn animation(
             }
         }
         out.push('"');
+    } else if element == "animateMotion" {
+        out.push_str(" calcMode=\"linear\"");
     }
     out.push_str(if clock.looping {
         " repeatCount=\"indefinite\"/>"
