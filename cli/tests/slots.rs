@@ -1,0 +1,217 @@
+//! Slots (`slots fill stroke opacity`): each tag's colours given a Lottie slot `TAG.fill`,
+//! `TAG.stroke`, `TAG.opacity`. Setting a slot in the players recolours exactly that tag's
+//! shapes, at every frame, its animated colour included; a tag whose shapes differ gets no
+//! slot; the directive's words are checked where they are written.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use serde_json::Value;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_gmotion"))
+}
+
+fn out_dir(name: &str) -> PathBuf {
+    crate::support::case_dir("slots", name)
+}
+
+/// Two `leaf` rectangles (x 10–60 and 70–100, y 20–70: 4 000 pixels) whose fill a rule
+/// turns from green to yellow and back, and a `stem` circle with a stroke that turns.
+fn scene(dir: &Path, header: &str, second_leaf: &str) -> PathBuf {
+    std::fs::write(
+        dir.join("s.svg"),
+        format!(
+            r##"<svg xmlns="http://www.w3.org/2000/svg" width="200" height="100" viewBox="0 0 200 100">
+<rect data-tag="leaf" x="10" y="20" width="50" height="50" fill="#30a040"/>
+<rect data-tag="leaf" x="70" y="20" width="30" height="50" fill="{second_leaf}"/>
+<circle data-tag="stem" cx="150" cy="45" r="25" fill="#2040e0" stroke="#101010" stroke-width="3"/>
+</svg>"##
+        ),
+    )
+    .unwrap();
+    let gm = dir.join("s.gm");
+    std::fs::write(
+        &gm,
+        format!(
+            "scene s.svg\nduration 2s\nfps 30\n{header}\n\
+             timesplit(0.5, 0.5) : [all, (leaf, stem)] -> [a, inv_a]\n\
+             animate(fill, local, 0, #f0c040) : [a, leaf] -> [ripen]\n\
+             animate(affine, local, 0, rotate(30)) : [a, stem] -> [turn]\n\
+             animate(opacity, local, 0, 0.5) : [turn, stem] -> [fade]\n"
+        ),
+    )
+    .unwrap();
+    gm
+}
+
+fn animate(gm: &Path, out: &Path) -> String {
+    let o = bin()
+        .arg("animate")
+        .arg(gm)
+        .arg("-o")
+        .arg(out)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr).to_string();
+    assert!(o.status.success(), "{stderr}");
+    stderr
+}
+
+fn doc(path: &Path) -> Value {
+    serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap()
+}
+
+/// Every property carrying `sid` in `v`, with its id.
+fn slotted(v: &Value, out: &mut Vec<(String, Value)>) {
+    match v {
+        Value::Object(o) => {
+            if let Some(Value::String(id)) = o.get("sid") {
+                let mut p = v.clone();
+                p.as_object_mut().unwrap().remove("sid");
+                out.push((id.clone(), p));
+            }
+            o.values().for_each(|x| slotted(x, out));
+        }
+        Value::Array(a) => a.iter().for_each(|x| slotted(x, out)),
+        _ => {}
+    }
+}
+
+#[test]
+fn each_tag_gets_one_slot_per_kind_holding_its_property() {
+    let dir = out_dir("kinds");
+    let gm = scene(&dir, "slots fill stroke opacity", "#30a040");
+    let json = dir.join("s.json");
+    animate(&gm, &json);
+    let d = doc(&json);
+    let text = std::fs::read_to_string(&json).unwrap();
+    assert!(!text.contains("gmotion_sid"), "a mark was left in");
+    let slots = d["slots"].as_object().expect("slots");
+    let mut ids: Vec<&str> = slots.keys().map(String::as_str).collect();
+    ids.sort();
+    assert_eq!(
+        ids,
+        [
+            "leaf.fill",
+            "leaf.opacity",
+            "stem.fill",
+            "stem.opacity",
+            "stem.stroke"
+        ]
+    );
+    // The animated fill and opacity are slotted whole: their keyframes are the slots'.
+    assert_eq!(slots["leaf.fill"]["p"]["a"], 1);
+    assert_eq!(slots["stem.opacity"]["p"]["a"], 1);
+    assert_eq!(
+        slots["leaf.opacity"]["p"],
+        serde_json::json!({"a": 0, "k": 100})
+    );
+    let mut found = Vec::new();
+    slotted(&d["layers"], &mut found);
+    // Both leaves carry the slot, each property equal to the slot's value.
+    assert_eq!(found.iter().filter(|(id, _)| id == "leaf.fill").count(), 2);
+    for (id, p) in &found {
+        assert_eq!(&slots[id]["p"], p, "{id}");
+    }
+}
+
+#[test]
+fn a_tag_whose_shapes_differ_gets_no_slot_and_a_warning() {
+    let dir = out_dir("differ");
+    let gm = scene(&dir, "slots fill", "#3050a0");
+    let json = dir.join("s.json");
+    let stderr = animate(&gm, &json);
+    assert!(
+        stderr.contains("slot `leaf.fill` is not written"),
+        "{stderr}"
+    );
+    let d = doc(&json);
+    assert!(d["slots"].get("leaf.fill").is_none());
+    assert!(d["slots"].get("stem.fill").is_some());
+    assert!(
+        !std::fs::read_to_string(&json)
+            .unwrap()
+            .contains("\"sid\":\"leaf.fill\"")
+    );
+}
+
+#[test]
+fn an_unknown_or_repeated_kind_is_an_error_at_it() {
+    let dir = out_dir("bad");
+    for (header, col, says) in [
+        ("slots fill colour", 12, "unknown `slots` value"),
+        ("slots fill fill", 12, "`fill` is given twice"),
+    ] {
+        let gm = scene(&dir, header, "#30a040");
+        let o = bin()
+            .arg("animate")
+            .arg(&gm)
+            .arg("-o")
+            .arg(dir.join("x.json"))
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success());
+        assert!(stderr.contains(says), "{stderr}");
+        assert!(stderr.contains(&format!(":4:{col}")), "{stderr}");
+    }
+}
+
+/// Without the directive, no slot and no mark: the document is as before.
+#[test]
+fn no_directive_no_slots() {
+    let dir = out_dir("none");
+    let gm = scene(&dir, "", "#30a040");
+    let json = dir.join("s.json");
+    animate(&gm, &json);
+    let text = std::fs::read_to_string(&json).unwrap();
+    assert!(!text.contains("sid") && !text.contains("\"slots\""));
+}
+
+/// lottie-web (the document's slot replaced before loading) and dotlottie-web
+/// (`setColorSlot`) recolour exactly the two leaves, through the fill's animation: at
+/// every frame the changed pixels are the leaves' 4 000, all in their rectangles and all
+/// the slot's colour; the stem, which has slots of its own, is untouched.
+#[cfg(feature = "players")]
+#[test]
+fn setting_a_slot_recolours_exactly_that_tag_at_every_frame() {
+    let dir = out_dir("players");
+    let gm = scene(&dir, "slots fill stroke opacity", "#30a040");
+    let json = dir.join("s.json");
+    animate(&gm, &json);
+    let out = Command::new("node")
+        .arg(crate::support::root().join("tests/conformance/lottie_slots.mjs"))
+        .arg(&json)
+        .args(["leaf.fill", "1,0,1"])
+        .output()
+        .expect("run node");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let result: Value = serde_json::from_slice(&out.stdout).unwrap();
+    for player in ["lottie-web", "dotlottie-web"] {
+        let frames = result[player].as_array().expect(player);
+        assert_eq!(frames.len(), 60, "{player}");
+        for (f, r) in frames.iter().enumerate() {
+            let changed = r["changed"].as_u64().unwrap();
+            assert!(
+                (3900..=4100).contains(&changed),
+                "{player} frame {f}: {changed} pixels changed"
+            );
+            let b: Vec<u64> = r["box"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_u64().unwrap())
+                .collect();
+            assert!(
+                b[0] >= 9 && b[1] >= 19 && b[2] <= 100 && b[3] <= 70,
+                "{player} frame {f}: changed pixels in {b:?}, outside the leaves"
+            );
+            assert!(r["off"].as_u64().unwrap() <= 100, "{player} frame {f}: {r}");
+        }
+    }
+}
