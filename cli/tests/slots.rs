@@ -158,6 +158,81 @@ fn an_unknown_or_repeated_kind_is_an_error_at_it() {
     }
 }
 
+/// The theme file becomes `t/ID.json` in the package, listed in the manifest: a colour
+/// string a Color rule, an opacity a Scalar one in Lottie's percent; a slot the animation
+/// lacks is a warning naming it, and left out.
+#[test]
+fn a_theme_becomes_the_packages_rules() {
+    let dir = out_dir("theme");
+    let gm = scene(&dir, "slots fill stroke opacity", "#30a040");
+    let theme = dir.join("Dark Mode.json");
+    std::fs::write(
+        &theme,
+        r##"{"leaf.fill": "#ff0000", "stem.opacity": 0.25, "twig.fill": "#000"}"##,
+    )
+    .unwrap();
+    let lottie = dir.join("s.lottie");
+    let o = bin()
+        .arg("animate")
+        .arg(&gm)
+        .arg("-o")
+        .arg(&lottie)
+        .arg("--theme")
+        .arg(&theme)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{stderr}");
+    assert!(stderr.contains("no slot `twig.fill`"), "{stderr}");
+    let bytes = std::fs::read(&lottie).unwrap();
+    let package = gmotion_pipeline::dotlottie::Package::read(&bytes, "s.lottie", 1 << 30).unwrap();
+    assert_eq!(package.themes.len(), 1);
+    let t: Value = serde_json::from_str(&package.themes[0].text).unwrap();
+    assert_eq!(
+        t,
+        serde_json::json!({"rules": [
+            {"id": "leaf.fill", "type": "Color", "value": [1.0, 0.0, 0.0]},
+            {"id": "stem.opacity", "type": "Scalar", "value": 25.0},
+        ]})
+    );
+}
+
+/// A theme that is no JSON is an error at its line and column, one with a value of the
+/// wrong kind an error naming the slot; neither leaves an output behind.
+#[test]
+fn a_bad_theme_is_an_error_and_writes_nothing() {
+    let dir = out_dir("bad-theme");
+    let gm = scene(&dir, "slots fill", "#30a040");
+    for (text, says) in [
+        (
+            "{\"leaf.fill\": \"#ff0000\",\n  \"x\": }",
+            "t.json:2:8: error",
+        ),
+        (
+            "{\"leaf.fill\": 3}",
+            "slot `leaf.fill`: a colour slot takes",
+        ),
+        ("{\"leaf.opacity\": 2}", "opacity 2 is not between 0 and 1"),
+    ] {
+        let theme = dir.join("t.json");
+        std::fs::write(&theme, text).unwrap();
+        let lottie = dir.join("s.lottie");
+        let o = bin()
+            .arg("animate")
+            .arg(&gm)
+            .arg("-o")
+            .arg(&lottie)
+            .arg("--theme")
+            .arg(&theme)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success());
+        assert!(stderr.contains(says), "{stderr}");
+        assert!(!lottie.exists());
+    }
+}
+
 /// Without the directive, no slot and no mark: the document is as before.
 #[test]
 fn no_directive_no_slots() {
@@ -169,21 +244,16 @@ fn no_directive_no_slots() {
     assert!(!text.contains("sid") && !text.contains("\"slots\""));
 }
 
-/// lottie-web (the document's slot replaced before loading) and dotlottie-web
-/// (`setColorSlot`) recolour exactly the two leaves, through the fill's animation: at
-/// every frame the changed pixels are the leaves' 4 000, all in their rectangles and all
-/// the slot's colour; the stem, which has slots of its own, is untouched.
+/// Runs `lottie_slots.mjs` on `json` setting `leaf.fill` to magenta (`extra`: a package
+/// and its theme for dotlottie-web) and checks what both players changed: at every frame
+/// the leaves' 4 000 pixels, all in their rectangles and all magenta, nothing else.
 #[cfg(feature = "players")]
-#[test]
-fn setting_a_slot_recolours_exactly_that_tag_at_every_frame() {
-    let dir = out_dir("players");
-    let gm = scene(&dir, "slots fill stroke opacity", "#30a040");
-    let json = dir.join("s.json");
-    animate(&gm, &json);
+fn assert_only_the_leaves_change(json: &Path, extra: &[&std::ffi::OsStr]) {
     let out = Command::new("node")
         .arg(crate::support::root().join("tests/conformance/lottie_slots.mjs"))
-        .arg(&json)
+        .arg(json)
         .args(["leaf.fill", "1,0,1"])
+        .args(extra)
         .output()
         .expect("run node");
     assert!(
@@ -214,4 +284,53 @@ fn setting_a_slot_recolours_exactly_that_tag_at_every_frame() {
             assert!(r["off"].as_u64().unwrap() <= 100, "{player} frame {f}: {r}");
         }
     }
+}
+
+/// lottie-web (the document's slot replaced before loading) and dotlottie-web
+/// (`setColorSlot`) recolour exactly the two leaves, through the fill's animation; the
+/// stem, which has slots of its own, is untouched. The file validates against the
+/// official schema, `sid` and `slots` included.
+#[cfg(feature = "players")]
+#[test]
+fn setting_a_slot_recolours_exactly_that_tag_at_every_frame() {
+    let dir = out_dir("players");
+    let gm = scene(&dir, "slots fill stroke opacity", "#30a040");
+    let json = dir.join("s.json");
+    animate(&gm, &json);
+    let out = Command::new("python3")
+        .arg(crate::support::root().join("tests/conformance/schema_check.py"))
+        .arg(&json)
+        .output()
+        .expect("python3 runs (tests/conformance/install.sh)");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    assert_only_the_leaves_change(&json, &[]);
+}
+
+/// `--theme` writes a dotLottie theme into the `.lottie`: dotlottie-web's `setTheme`
+/// recolours exactly the leaves, as setting the slot does.
+#[cfg(feature = "players")]
+#[test]
+fn a_theme_in_the_package_recolours_exactly_that_tag() {
+    let dir = out_dir("theme-players");
+    let gm = scene(&dir, "slots fill stroke opacity", "#30a040");
+    let theme = dir.join("magenta.json");
+    std::fs::write(&theme, r##"{"leaf.fill": "#ff00ff"}"##).unwrap();
+    let (json, lottie) = (dir.join("s.json"), dir.join("s.lottie"));
+    let o = bin()
+        .arg("animate")
+        .arg(&gm)
+        .arg("-o")
+        .arg(&json)
+        .arg("-o")
+        .arg(&lottie)
+        .arg("--theme")
+        .arg(&theme)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_only_the_leaves_change(&json, &[lottie.as_os_str(), "magenta".as_ref()]);
 }

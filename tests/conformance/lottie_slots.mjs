@@ -6,7 +6,11 @@
 // that differ, "box": [x0, y0, x1, y1] of them (null if none), "off": changed pixels whose
 // new colour is not the slot's (antialiased edges)}.
 //
-//   node lottie_slots.mjs FILE.json SLOT_ID R,G,B      (R, G, B in 0..1)
+//   node lottie_slots.mjs FILE.json SLOT_ID R,G,B [PACKAGE.lottie THEME_ID]
+//
+// R, G, B in 0..1. With a package (the same animation, with a theme setting the slot to
+// that colour), dotlottie-web plays the package and applies the theme with setTheme
+// instead of setting the slot.
 import { readFileSync } from 'node:fs';
 import { join, dirname } from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -15,7 +19,8 @@ import { chromium } from 'playwright-core';
 const here = dirname(fileURLToPath(import.meta.url));
 const dist = join(here, 'node_modules/@lottiefiles/dotlottie-web/dist');
 const origin = 'http://dotlottie.test';
-const [file, slot, rgb] = process.argv.slice(2);
+const [file, slot, rgb, pkg, themeId] = process.argv.slice(2);
+const packageBytes = pkg ? [...readFileSync(pkg)] : null;
 const color = rgb.split(',').map(Number);
 const text = readFileSync(file, 'utf8');
 
@@ -38,7 +43,7 @@ await page.route('**/*', (route) => {
 });
 await page.goto(origin + '/');
 await page.addScriptTag({ url: origin + '/lottie.js' });
-const result = await page.evaluate(async ({ text, slot, color, origin }) => {
+const result = await page.evaluate(async ({ text, slot, color, origin, packageBytes, themeId }) => {
   const { DotLottie } = await import(origin + '/index.js');
   DotLottie.setWasmUrl(origin + '/dotlottie-player.wasm');
   const doc = JSON.parse(text);
@@ -83,7 +88,7 @@ const result = await page.evaluate(async ({ text, slot, color, origin }) => {
     canvas.width = w;
     canvas.height = h;
     const player = new DotLottie({
-      canvas, data: text, autoplay: false, loop: false,
+      canvas, data: packageBytes ? new Uint8Array(packageBytes).buffer : text, autoplay: false, loop: false,
       renderConfig: { devicePixelRatio: 1, autoResize: false, freezeOnOffscreen: false },
     });
     await new Promise((resolve, reject) => {
@@ -92,7 +97,11 @@ const result = await page.evaluate(async ({ text, slot, color, origin }) => {
     });
     // setColorSlot, not setSlots: dotlottie-web 0.80's setSlots left the slot as it was
     // for a bare colour and for a property alike (getSlot read back the old value).
-    if (value && !player.setColorSlot(slot, [...value, 1])) throw new Error(`setColorSlot(${slot}) failed`);
+    if (value && themeId) {
+      if (!player.setTheme(themeId)) throw new Error(`setTheme(${themeId}) failed`);
+    } else if (value && !player.setColorSlot(slot, [...value, 1])) {
+      throw new Error(`setColorSlot(${slot}) failed`);
+    }
     const out = [];
     for (let f = 0; f < frames; f++) {
       player.setFrame(f);
@@ -104,6 +113,6 @@ const result = await page.evaluate(async ({ text, slot, color, origin }) => {
   const [dplain, dset] = [await dotFrames(null), await dotFrames(color)];
   const dw = dplain.map((p, f) => compare(p, dset[f]));
   return { 'lottie-web': lw, 'dotlottie-web': dw };
-}, { text, slot, color, origin });
+}, { text, slot, color, origin, packageBytes, themeId });
 console.log(JSON.stringify(result));
 await browser.close();
