@@ -12,7 +12,7 @@
 //! that reads slots, so that slot is left out with a warning.
 //!
 //! The layer builder marks each property with its slot id ([`MARK`], on the fill or
-//! stroke item, or on the unit's layer for its opacity); [`write`] moves the marks into
+//! stroke item, or on the unit's layer for its opacity); [`write()`] moves the marks into
 //! the properties and writes `slots`. Nothing is marked without the directive, so other
 //! documents are written byte for byte as before.
 
