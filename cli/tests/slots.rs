@@ -334,3 +334,54 @@ fn a_theme_in_the_package_recolours_exactly_that_tag() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert_only_the_leaves_change(&json, &[lottie.as_os_str(), "magenta".as_ref()]);
 }
+
+/// rlottie and ThorVG draw a slotted file exactly as the same grammar without `slots`
+/// (the slots hold the values in place), frame for frame.
+#[cfg(feature = "players")]
+#[test]
+fn players_draw_a_slotted_file_as_the_plain_one() {
+    let dir = out_dir("same");
+    let (slotted, plain) = (dir.join("slotted.json"), dir.join("plain.json"));
+    animate(
+        &scene(&dir, "slots fill stroke opacity", "#30a040"),
+        &slotted,
+    );
+    animate(&scene(&dir, "", "#30a040"), &plain);
+    let frames = [0, 15, 40];
+    let png = |name: &str, player: &str, f: u32| dir.join(format!("{name}-{player}-{f}.png"));
+    for player in ["rlottie", "thorvg"] {
+        let jobs: Vec<Value> = [("slotted", &slotted), ("plain", &plain)]
+            .iter()
+            .map(|(name, json)| {
+                serde_json::json!({"json": json, "width": 200, "frames": frames,
+                    "out": frames.map(|f| png(name, player, f))})
+            })
+            .collect();
+        let list = dir.join(format!("jobs-{player}.json"));
+        std::fs::write(&list, Value::Array(jobs).to_string()).unwrap();
+        let out = Command::new("python3")
+            .arg(crate::support::root().join(format!("tests/conformance/{player}_render.py")))
+            .arg(&list)
+            .output()
+            .expect("python3 runs (tests/conformance/install.sh)");
+        assert!(
+            out.status.success(),
+            "{player}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        for f in frames {
+            let (a, b) = (
+                std::fs::read(png("slotted", player, f)).unwrap(),
+                std::fs::read(png("plain", player, f)).unwrap(),
+            );
+            let decode = |bytes: &[u8]| {
+                let d = png::Decoder::new(std::io::Cursor::new(bytes));
+                let mut r = d.read_info().unwrap();
+                let mut buf = vec![0; r.output_buffer_size().unwrap()];
+                r.next_frame(&mut buf).unwrap();
+                buf
+            };
+            assert_eq!(decode(&a), decode(&b), "{player} frame {f}");
+        }
+    }
+}
