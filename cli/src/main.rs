@@ -15,6 +15,7 @@ mod output;
 mod report;
 mod sheet;
 mod stdio;
+mod theme;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -135,6 +136,10 @@ enum Command {
         /// Time of the frame written to a .png output, in seconds.
         #[arg(long, default_value_t = 0.0)]
         time: f64,
+        /// A dotLottie theme written into the .lottie outputs: JSON, slot id → value
+        /// (`{"leaf.fill": "#e4572e", "leaf.opacity": 0.5}`), for the grammar's `slots`.
+        #[arg(long, value_name = "FILE")]
+        theme: Option<PathBuf>,
         #[command(flatten)]
         run: RunArgs,
         #[command(flatten)]

@@ -106,6 +106,7 @@ impl Project {
             source: self.imported.source.clone(),
             package: self.imported.package.clone(),
             markers: stats.markers,
+            slots: stats.slots,
             timelines: None,
         })
     }
@@ -133,6 +134,7 @@ impl Project {
             source: imported.source,
             package: imported.package,
             markers: std::mem::take(&mut stats.markers),
+            slots: stats.slots,
             timelines,
         })
     }

@@ -80,6 +80,7 @@ impl Transitions {
             source: None,
             package: None,
             markers: Vec::new(),
+            slots: Default::default(),
             timelines: None,
         })
     }

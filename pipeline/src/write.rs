@@ -8,6 +8,7 @@ use gmotion::Warning;
 use gmotion::canvas::OutputSize;
 use gmotion::engine::expand::Expansion;
 use gmotion::engine::markers::Marker;
+use gmotion::engine::slots::SlotKinds;
 use gmotion::motion::Animation;
 use gmotion_output::dotlottie::Picked;
 use gmotion_output::{self as output, LottieSource};
@@ -30,6 +31,8 @@ pub struct Rendered {
     pub package: Option<Arc<Picked>>,
     /// The markers the grammar asks for (`markers`), written into Lottie outputs.
     pub markers: Vec<Marker>,
+    /// The properties the grammar gives Lottie slots (`slots`).
+    pub slots: SlotKinds,
     /// Every shape's final slices, when the run kept them ([`crate::Project::run`]).
     pub timelines: Option<Expansion>,
 }
@@ -79,8 +82,9 @@ impl Writer {
         path: &Path,
         tick: &(dyn Fn() + Sync),
     ) -> Result<Vec<Warning>> {
+        let options = self.options_for(r);
         if html::is_page(path) {
-            return html::write_page(r, path, &self.options);
+            return html::write_page(r, path, &options);
         }
         Ok(output::write_over_source(
             &r.anim,
@@ -88,7 +92,7 @@ impl Writer {
             r.package.as_deref(),
             &r.markers,
             path,
-            &self.options,
+            &options,
             tick,
         )?)
     }
@@ -97,8 +101,9 @@ impl Writer {
     /// named in errors; nothing is written), and its warnings. A folder of frames has no
     /// single bytes.
     pub fn bytes(&self, r: &Rendered, path: &Path) -> Result<(Vec<u8>, Vec<Warning>)> {
+        let options = self.options_for(r);
         if html::is_page(path) {
-            let (page, warnings) = html::page(r, path, &self.options)?;
+            let (page, warnings) = html::page(r, path, &options)?;
             return Ok((page.into_bytes(), warnings));
         }
         Ok(output::bytes_over_source(
@@ -107,8 +112,16 @@ impl Writer {
             r.package.as_deref(),
             &r.markers,
             path,
-            &self.options,
+            &options,
         )?)
+    }
+
+    /// The options `r` is written with: this writer's, with the slots its grammar asks for.
+    fn options_for(&self, r: &Rendered) -> output::Options {
+        output::Options {
+            slots: r.slots,
+            ..self.options
+        }
     }
 
     /// Writes a still scene to `path`: `.png` rendered, `.json` a still Lottie (a Lottie

@@ -15,6 +15,7 @@ pub mod random;
 pub mod rules;
 pub(crate) mod seam;
 pub mod settings;
+pub mod slots;
 pub mod smooth;
 pub mod target;
 
@@ -148,6 +149,8 @@ pub struct RunStats {
     pub shapes: usize,
     /// The markers the grammar's `markers` directive asks for, in its order.
     pub markers: Vec<markers::Marker>,
+    /// The properties the grammar's `slots` directive gives Lottie slots.
+    pub slots: slots::SlotKinds,
 }
 
 /// Runs `grammar` on `scene`: expansion, then compilation into tracks.
@@ -360,6 +363,7 @@ fn run_here(
         slices,
         shapes: anim.scene.shapes.len(),
         markers,
+        slots: settings.slots,
     };
     Ok((anim, stats))
 }

@@ -69,6 +69,8 @@ pub struct Settings {
     pub smoothing: Option<(Value, Span)>,
     /// The slice tags written as markers (`markers`), each with where it is written.
     pub markers: Vec<(String, Span)>,
+    /// The properties given Lottie slots (`slots`).
+    pub slots: super::slots::SlotKinds,
 }
 
 impl Default for Settings {
@@ -95,6 +97,7 @@ impl Default for Settings {
             tags: None,
             smoothing: None,
             markers: Vec::new(),
+            slots: Default::default(),
         }
     }
 }
@@ -236,6 +239,19 @@ pub fn from_grammar(grammar: &Grammar) -> Result<Settings, EngineError> {
                     {
                         s.markers.push((name.clone(), v.span));
                     }
+                }
+            }
+            "slots" => {
+                for v in &d.values {
+                    let ExprKind::Ident(word) = &v.kind else {
+                        return Err(EngineError::at(
+                            v.span,
+                            "`slots` takes fill, stroke, opacity",
+                        ));
+                    };
+                    s.slots = s.slots.with(word).ok_or_else(|| {
+                        EngineError::at(v.span, "`slots` takes fill, stroke, opacity")
+                    })?;
                 }
             }
             "unit_depth" => s.unit_depth = Some(positive(d)?.round() as usize),

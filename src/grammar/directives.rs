@@ -29,6 +29,8 @@ pub enum DirectiveKind {
     Expr,
     /// One or more names (slice tags), separated by spaces or commas.
     Names,
+    /// One or more of these keywords, each at most once, separated by spaces or commas.
+    SomeOf(&'static [&'static str]),
 }
 
 /// A known directive.
@@ -153,6 +155,12 @@ pub const DIRECTIVES: &[DirectiveSpec] = &[
         kind: DirectiveKind::Names,
         default: "none",
         summary: "slice tags written as named markers (Lottie `markers`), each spanning the slices that carry the tag or came from one that did",
+    },
+    DirectiveSpec {
+        name: "slots",
+        kind: DirectiveKind::SomeOf(&["fill", "stroke", "opacity"]),
+        default: "none",
+        summary: "gives each tag's solid fill colour, stroke colour or opacity a Lottie slot (`sid`), id `TAG.fill`, `TAG.stroke`, `TAG.opacity`, that a theme can replace",
     },
     DirectiveSpec {
         name: "smoothing",

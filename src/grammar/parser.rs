@@ -987,7 +987,34 @@ fn check_directive(spec: &DirectiveSpec, values: &[Expr], span: Span) -> PResult
         DirectiveKind::OneOf(words) => format!("one of {}", quoted(words).join(", ")),
         DirectiveKind::Expr => "an expression".to_string(),
         DirectiveKind::Names => "one or more slice tags, such as `in hold out`".to_string(),
+        DirectiveKind::SomeOf(words) => format!("one or more of {}", quoted(words).join(", ")),
     };
+    if let DirectiveKind::SomeOf(words) = spec.kind {
+        if values.is_empty() {
+            return Err(
+                Diagnostic::new(span, format!("`{name}` needs a value")).with_expected([what])
+            );
+        }
+        for (k, v) in values.iter().enumerate() {
+            let word = match &v.kind {
+                ExprKind::Ident(w) if words.contains(&w.as_str()) => w,
+                _ => {
+                    return Err(Diagnostic::new(v.span, format!("unknown `{name}` value"))
+                        .with_expected([what]));
+                }
+            };
+            if values[..k]
+                .iter()
+                .any(|u| matches!(&u.kind, ExprKind::Ident(w) if w == word))
+            {
+                return Err(Diagnostic::new(
+                    v.span,
+                    format!("`{word}` is given twice in `{name}`"),
+                ));
+            }
+        }
+        return Ok(());
+    }
     if spec.kind == DirectiveKind::Names {
         if values.is_empty() {
             return Err(

@@ -9,6 +9,7 @@ use gmotion_pipeline::{GrammarFile, ImportChoices, Overrides, Project, Rendered,
 use super::write_animation;
 use super::{Ctx, Files, animation_writer, check_outputs, validate_render, write_all};
 use crate::report::{CliError, Result};
+use crate::theme::Theme;
 use crate::{RenderArgs, RunArgs};
 
 /// An `animate` command, its flags resolved.
@@ -20,6 +21,8 @@ pub struct Animate {
     run: Overrides,
     render: RenderArgs,
     choices: ImportChoices,
+    /// `--theme`: the theme file written into the `.lottie` outputs.
+    theme: Option<PathBuf>,
 }
 
 impl Animate {
@@ -39,7 +42,13 @@ impl Animate {
             run: run.overrides(),
             render,
             choices: import.choices(),
+            theme: None,
         }
+    }
+
+    /// This job with `--theme FILE`, if given.
+    pub fn with_theme(self, theme: Option<PathBuf>) -> Animate {
+        Animate { theme, ..self }
     }
 
     /// Checks the outputs, builds the animation and writes every output, all or none.
@@ -51,8 +60,19 @@ impl Animate {
             run,
             render,
             choices,
+            theme,
         } = self;
         validate_render(&render)?;
+        let theme = match &theme {
+            Some(path) => Some(Theme::read(path)?),
+            None => None,
+        };
+        let packaged = |o: &Path| o.extension().is_some_and(|e| e == "lottie");
+        if theme.is_some() && !outputs.iter().any(|o| packaged(o)) {
+            return Err(CliError::msg(
+                "--theme is written into .lottie outputs, and none is given (add -o NAME.lottie)",
+            ));
+        }
         // The tag map is read too: an output must not overwrite it.
         let inputs: Vec<&Path> = files
             .scene()
@@ -72,7 +92,23 @@ impl Animate {
         let (rendered, settings) = build.run(ctx)?;
         let size = output_size(render.width, render.height, &settings);
         let writer = animation_writer(&render, size, time, ctx)?;
-        let written = write_all(&outputs, |o| write_animation(&writer, &rendered, o));
+        let max_bytes = ctx.env.limits.get("input-bytes");
+        let written = write_all(&outputs, |o| match theme.as_ref().filter(|_| packaged(o)) {
+            // The package is made in memory, the theme added, then written once.
+            Some(theme) => {
+                let (bytes, mut warnings) = writer.bytes(&rendered, o)?;
+                let (bytes, said) = theme.add_to(&bytes, o, max_bytes)?;
+                warnings.extend(said);
+                gmotion::atomic::write_bytes(o, &bytes).map_err(|e| {
+                    CliError::msg(format!("{}: error: cannot write: {e}", o.display()))
+                })?;
+                for w in &warnings {
+                    crate::report::warn(o, w);
+                }
+                Ok(())
+            }
+            None => write_animation(&writer, &rendered, o),
+        });
         // The process ends here, and the kernel takes its memory back at once: freeing the
         // scene and every track piece by piece first took milliseconds on a large animation.
         std::mem::forget(rendered);

@@ -59,12 +59,15 @@ pub fn run(cmd: Command, ctx: &Ctx) -> Result<()> {
             files,
             output,
             time,
+            theme,
             run,
             render,
             import,
         } => {
             let files = Files::of(&files, Order::SceneFirst)?;
-            animate::Animate::new(files, output, time, &run, render, &import).run(ctx)
+            animate::Animate::new(files, output, time, &run, render, &import)
+                .with_theme(theme)
+                .run(ctx)
         }
         Command::Transitions {
             scene,

@@ -279,6 +279,15 @@ pub fn over_source(
         }
     }
     with_markers(&mut json, &opts.markers, ip, fr);
+    if opts.slots.any() {
+        // The source's paints are its own properties, shared and keyed as its author made
+        // them, not the units' colours this exporter writes: slots for them would need
+        // the tags mapped onto those properties, which is not done.
+        warnings.push(Warning::from(
+            "slots are not written on a Lottie source's shapes: export from the SVG, or add `sid`s in the source"
+                .to_string(),
+        ));
+    }
     Ok((json.to_string(), warnings))
 }
 

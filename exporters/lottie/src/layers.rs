@@ -50,6 +50,7 @@ use super::model::{
 };
 use super::paint::{self, PaintAnim, Styled};
 use gmotion::color::Color;
+use gmotion::engine::slots::SlotKinds;
 use gmotion::keyframe::Key;
 use gmotion::motion::{Track, Trim};
 use gmotion::scene::{
@@ -183,6 +184,8 @@ pub struct Builder<'a> {
     pub warnings: Vec<String>,
     /// Precompositions made so far.
     pub assets: Vec<Asset>,
+    /// The properties given slots (marked for [`crate::slots`] to write).
+    pub slots: SlotKinds,
 }
 
 impl<'a> Builder<'a> {
@@ -195,6 +198,7 @@ impl<'a> Builder<'a> {
             margin,
             warnings: Vec::new(),
             assets: Vec::new(),
+            slots: SlotKinds::default(),
         }
     }
 
@@ -282,7 +286,7 @@ impl<'a> Builder<'a> {
     /// shifted alike, and to assets (by `refId`) of its own, all renamed alike; warnings
     /// keep their order. So the document is the same on any number of threads (tested).
     fn children_in_parallel(&mut self, g: &Group, acc: Affine, env: Env, comp: &mut Comp) {
-        let (src, tolerance, margin) = (self.src, self.tolerance, self.margin);
+        let (src, tolerance, margin, slots) = (self.src, self.tolerance, self.margin, self.slots);
         let parts: Vec<Part> = g
             .children
             .par_iter()
@@ -293,6 +297,7 @@ impl<'a> Builder<'a> {
                     margin,
                     warnings: Vec::new(),
                     assets: Vec::new(),
+                    slots,
                 };
                 let mut sub = Comp::new(0);
                 b.node(child, acc, env, &mut sub);

@@ -46,6 +46,7 @@ mod layers;
 mod model;
 mod paint;
 mod restyle;
+pub mod slots;
 mod text;
 
 use rayon::prelude::*;
@@ -54,6 +55,7 @@ use animate::{Bakes, UnitInfo, UnitMotion, may_stroke, unit_motion};
 use gmotion::Warning;
 use gmotion::canvas::{Fit, OutputSize};
 use gmotion::engine::markers::Marker;
+use gmotion::engine::slots::SlotKinds;
 use gmotion::motion::{Animation, Track};
 use gmotion::scene::{Scene, Shape};
 use layers::Source;
@@ -72,6 +74,8 @@ pub struct LottieOptions {
     pub size: OutputSize,
     /// Named spans written as the document's `markers` (the grammar's `markers`).
     pub markers: Vec<Marker>,
+    /// The properties given Lottie slots (the grammar's `slots`; see [`slots`]).
+    pub slots: SlotKinds,
 }
 
 impl Default for LottieOptions {
@@ -81,6 +85,7 @@ impl Default for LottieOptions {
             name: "gmotion".to_string(),
             size: OutputSize::default(),
             markers: Vec::new(),
+            slots: SlotKinds::default(),
         }
     }
 }
@@ -222,6 +227,7 @@ fn write(src: Source, opts: &LottieOptions) -> Result<(LottieText, Vec<Warning>)
         0.25
     };
     let mut builder = layers::Builder::new(src, tolerance);
+    builder.slots = opts.slots;
     let mut layers = builder.layers(size);
     let size = match opts.size.fit(w, h) {
         Some(fit) => {
@@ -251,7 +257,10 @@ fn write(src: Source, opts: &LottieOptions) -> Result<(LottieText, Vec<Warning>)
         assets: std::mem::take(&mut builder.assets),
         layers,
     };
-    let json = doc.into_json();
+    let mut json = doc.into_json();
+    if opts.slots.any() {
+        json = with_slots(json, &mut builder.warnings);
+    }
     // Some warnings are about the document rather than one element (effects, for one):
     // each is said once.
     let mut seen = std::collections::HashSet::new();
@@ -260,6 +269,24 @@ fn write(src: Source, opts: &LottieOptions) -> Result<(LottieText, Vec<Warning>)
         json,
         builder.warnings.into_iter().map(Warning::from).collect(),
     ))
+}
+
+/// `json` with its slot marks written as slots ([`slots::write`]), what that leaves out
+/// added to `warnings`.
+fn with_slots(json: LottieText, warnings: &mut Vec<String>) -> LottieText {
+    let text = json.into_string();
+    // The builder writes JSON, so this parses; were it not to, the document is kept as
+    // written (its marks unknown keys players skip) and the slots are said to be missing.
+    match serde_json::from_str::<serde_json::Value>(&text) {
+        Ok(mut doc) => {
+            warnings.extend(slots::write(&mut doc));
+            LottieText::from(doc.to_string())
+        }
+        Err(e) => {
+            warnings.push(format!("slots are not written: {e}"));
+            LottieText::from(text)
+        }
+    }
 }
 
 /// Places the root layers, drawn on a composition `built` pixels per canvas unit, where

@@ -233,6 +233,9 @@ pub struct Written {
     /// The JSON of the fields from `masksProperties` on, when written early by
     /// [`WriteLayer::seal`]; those fields are then empty and no longer read.
     pub sealed: Option<Box<[u8]>>,
+    /// The opacity slot this layer's unit carries (see [`crate::slots`]): its id, and
+    /// whether it sits on the layer's first group's transform rather than the layer's.
+    pub slot: Option<(String, bool)>,
 }
 
 /// Making and writing a [`Layer`] (a trait, the layer being `gmotion-lottie`'s).
@@ -339,6 +342,9 @@ fn write_head(l: &Layer, out: &mut Vec<u8>) {
     number(out, "tp", l.tp);
     if let Some(m) = l.written.has_mask {
         field(out, "hasMask", &m);
+    }
+    if let Some(slot) = &l.written.slot {
+        field(out, crate::slots::MARK, slot);
     }
 }
 
@@ -504,6 +510,9 @@ pub struct Fill {
     pub c: Prop,
     /// Fill rule: 1 non-zero, 2 even-odd.
     pub r: u8,
+    /// The colour's slot id, written as a mark [`crate::slots`] moves into `c`.
+    #[serde(rename = "gmotion_sid", skip_serializing_if = "Option::is_none")]
+    pub slot: Option<String>,
 }
 
 /// Caps, joins, miter limit and dashes of a solid or gradient stroke, as written.
@@ -521,6 +530,9 @@ pub struct Stroke {
     /// Caps, joins, dashes.
     #[serde(flatten)]
     pub style: StrokeStyle,
+    /// The colour's slot id, written as a mark [`crate::slots`] moves into `c`.
+    #[serde(rename = "gmotion_sid", skip_serializing_if = "Option::is_none")]
+    pub slot: Option<String>,
 }
 
 /// A gradient as the exporter writes it.

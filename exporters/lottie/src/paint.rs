@@ -114,6 +114,7 @@ pub fn fill(
                 o,
                 c: color_prop(c, anim.fill),
                 r,
+                slot: None,
             })),
             Resolved::Pattern(p) => Styled::Pattern(p, f.opacity),
             Resolved::Grad(grad, None) => {
@@ -150,6 +151,7 @@ pub fn stroke(
                 c: color_prop(c, anim.stroke),
                 w,
                 style,
+                slot: None,
             })),
             Resolved::Pattern(p) => Styled::Pattern(p, s.opacity),
             Resolved::Grad(grad, _) => {

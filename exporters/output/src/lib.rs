@@ -30,6 +30,7 @@ use std::path::{Path, PathBuf};
 use gmotion::Warning;
 use gmotion::canvas::OutputSize;
 use gmotion::engine::markers::Marker;
+use gmotion::engine::slots::SlotKinds;
 use gmotion::motion::{Animation, Sampler, ShapeState, Track};
 use gmotion::scene::Scene;
 use gmotion_export_lottie::{self as lottie, LottieOptions};
@@ -145,6 +146,8 @@ pub struct Options {
     pub background: [u8; 3],
     /// Whether a WebM or MOV video keeps the animation's transparency (`--transparent`).
     pub transparent: bool,
+    /// The properties a Lottie output gives slots (the grammar's `slots`).
+    pub slots: SlotKinds,
 }
 
 /// The default of [`Options::max_animation_pixels`]: 2²⁸ pixels, 1 GiB of RGBA frames.
@@ -161,6 +164,7 @@ impl Default for Options {
             max_animation_pixels: DEFAULT_MAX_ANIMATION_PIXELS,
             background: [255; 3],
             transparent: false,
+            slots: SlotKinds::default(),
         }
     }
 }
@@ -979,6 +983,7 @@ fn lottie_options(opts: &Options, markers: &[Marker]) -> LottieOptions {
         tolerance: opts.tolerance,
         size: opts.size,
         markers: markers.to_vec(),
+        slots: opts.slots,
         ..Default::default()
     }
 }

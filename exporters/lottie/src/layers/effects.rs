@@ -137,6 +137,7 @@ pub(super) fn extent(region: Rect) -> Shape {
                 o: Prop::scalar(N(0.0)),
                 c: Prop::vec(vec![N(0.0), N(0.0), N(0.0)]),
                 r: 1,
+                slot: None,
             }),
             Shape::Transform(Transform::empty()),
         ],

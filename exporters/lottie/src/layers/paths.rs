@@ -117,6 +117,9 @@ impl Builder<'_> {
         };
         paints.extend(first);
         paints.extend(second);
+        if let Some(u) = env.unit {
+            self.mark_slots(u, &mut paints);
+        }
         let geometry = |b: &Self, space: Affine| -> Vec<Prop> {
             match (&deform, morph) {
                 (Some((u, frames)), morph) => {
@@ -322,6 +325,32 @@ impl Builder<'_> {
             })
             .collect();
         bake_paths(frames, &shapes, max_stretch(to), self.tolerance)
+    }
+
+    /// Marks the solid colours of unit `u`'s `paints` with their slot ids, `TAG.fill` or
+    /// `TAG.stroke` (a stroke drawn as its outline's fill is still the stroke), where the
+    /// `slots` directive asks. Gradients and patterns have no colour slot.
+    fn mark_slots(&self, u: usize, paints: &mut [(Styled, Role)]) {
+        let Some(tag) = self.src.scene.shapes.get(u).map(|s| &s.tag) else {
+            return;
+        };
+        for (styled, role) in paints {
+            let Styled::Item(item) = styled else {
+                continue;
+            };
+            match (item, role) {
+                (Shape::Fill(f), Role::Fill) if self.slots.fill => {
+                    f.slot = Some(format!("{tag}.fill"));
+                }
+                (Shape::Fill(f), Role::Outline) if self.slots.stroke => {
+                    f.slot = Some(format!("{tag}.stroke"));
+                }
+                (Shape::Stroke(s), Role::Stroke) if self.slots.stroke => {
+                    s.slot = Some(format!("{tag}.stroke"));
+                }
+                _ => {}
+            }
+        }
     }
 }
 

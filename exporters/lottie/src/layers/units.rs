@@ -125,11 +125,13 @@ impl Builder<'_> {
                 }
             }
             let mut l = comp.layer(LayerKind::Shape, name.clone(), self.src.op);
+            let slot = self.opacity_slot(u);
             if painting_groups(&it) > 1 {
                 // ThorVG applies a group's opacity to each path in it (so a path over
                 // another shows the one beneath, and a stroke baked to an outline shows
                 // the fill), but composites a layer's as a whole.
                 l.ks.o = Some(opacity(env.alpha));
+                l.written.slot = slot.map(|id| (id, false));
             } else if let Some(Shape::Transform(tr)) = it.last_mut() {
                 // One path: opacity on the outermost group rather than the layer. rlottie
                 // composites a translucent layer by dimming everything beneath it by about
@@ -139,6 +141,7 @@ impl Builder<'_> {
                 // draws over the path; rlottie and lottie-web's canvas apply it to fill and
                 // stroke separately (matrix.py, KNOWN).
                 tr.o = Some(opacity(env.alpha));
+                l.written.slot = slot.map(|id| (id, true));
             }
             l.shapes = Some(vec![Shape::Group(LGroup { nm: name, it })]);
             comp.items.push(Item::Layers(vec![l]));
@@ -182,6 +185,7 @@ impl Builder<'_> {
                     _ => 1.0,
                 };
                 l.ks.o = Some(opacity(base * env.alpha));
+                l.written.slot = self.opacity_slot(u).map(|id| (id, false));
             }
         }
         if let Some(first) = layers.first_mut()
@@ -191,6 +195,14 @@ impl Builder<'_> {
         }
         layers.extend(nulls);
         comp.items.push(Item::Layers(layers));
+    }
+}
+
+impl Builder<'_> {
+    /// Unit `u`'s opacity slot id, `TAG.opacity`, where the `slots` directive asks.
+    fn opacity_slot(&self, u: usize) -> Option<String> {
+        let tag = &self.src.scene.shapes.get(u)?.tag;
+        self.slots.opacity.then(|| format!("{tag}.opacity"))
     }
 }
 

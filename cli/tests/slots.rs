@@ -1,0 +1,387 @@
+//! Slots (`slots fill stroke opacity`): each tag's colours given a Lottie slot `TAG.fill`,
+//! `TAG.stroke`, `TAG.opacity`. Setting a slot in the players recolours exactly that tag's
+//! shapes, at every frame, its animated colour included; a tag whose shapes differ gets no
+//! slot; the directive's words are checked where they are written.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use serde_json::Value;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_gmotion"))
+}
+
+fn out_dir(name: &str) -> PathBuf {
+    crate::support::case_dir("slots", name)
+}
+
+/// Two `leaf` rectangles (x 10–60 and 70–100, y 20–70: 4 000 pixels) whose fill a rule
+/// turns from green to yellow and back, and a `stem` circle with a stroke that turns.
+fn scene(dir: &Path, header: &str, second_leaf: &str) -> PathBuf {
+    std::fs::write(
+        dir.join("s.svg"),
+        format!(
+            r##"<svg xmlns="http://www.w3.org/2000/svg" width="200" height="100" viewBox="0 0 200 100">
+<rect data-tag="leaf" x="10" y="20" width="50" height="50" fill="#30a040"/>
+<rect data-tag="leaf" x="70" y="20" width="30" height="50" fill="{second_leaf}"/>
+<circle data-tag="stem" cx="150" cy="45" r="25" fill="#2040e0" stroke="#101010" stroke-width="3"/>
+</svg>"##
+        ),
+    )
+    .unwrap();
+    let gm = dir.join("s.gm");
+    std::fs::write(
+        &gm,
+        format!(
+            "scene s.svg\nduration 2s\nfps 30\n{header}\n\
+             timesplit(0.5, 0.5) : [all, (leaf, stem)] -> [a, inv_a]\n\
+             animate(fill, local, 0, #f0c040) : [a, leaf] -> [ripen]\n\
+             animate(affine, local, 0, rotate(30)) : [a, stem] -> [turn]\n\
+             animate(opacity, local, 0, 0.5) : [turn, stem] -> [fade]\n"
+        ),
+    )
+    .unwrap();
+    gm
+}
+
+fn animate(gm: &Path, out: &Path) -> String {
+    let o = bin()
+        .arg("animate")
+        .arg(gm)
+        .arg("-o")
+        .arg(out)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr).to_string();
+    assert!(o.status.success(), "{stderr}");
+    stderr
+}
+
+fn doc(path: &Path) -> Value {
+    serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap()
+}
+
+/// Every property carrying `sid` in `v`, with its id.
+fn slotted(v: &Value, out: &mut Vec<(String, Value)>) {
+    match v {
+        Value::Object(o) => {
+            if let Some(Value::String(id)) = o.get("sid") {
+                let mut p = v.clone();
+                p.as_object_mut().unwrap().remove("sid");
+                out.push((id.clone(), p));
+            }
+            o.values().for_each(|x| slotted(x, out));
+        }
+        Value::Array(a) => a.iter().for_each(|x| slotted(x, out)),
+        _ => {}
+    }
+}
+
+#[test]
+fn each_tag_gets_one_slot_per_kind_holding_its_property() {
+    let dir = out_dir("kinds");
+    let gm = scene(&dir, "slots fill stroke opacity", "#30a040");
+    let json = dir.join("s.json");
+    animate(&gm, &json);
+    let d = doc(&json);
+    let text = std::fs::read_to_string(&json).unwrap();
+    assert!(!text.contains("gmotion_sid"), "a mark was left in");
+    let slots = d["slots"].as_object().expect("slots");
+    let mut ids: Vec<&str> = slots.keys().map(String::as_str).collect();
+    ids.sort();
+    assert_eq!(
+        ids,
+        [
+            "leaf.fill",
+            "leaf.opacity",
+            "stem.fill",
+            "stem.opacity",
+            "stem.stroke"
+        ]
+    );
+    // The animated fill and opacity are slotted whole: their keyframes are the slots'.
+    assert_eq!(slots["leaf.fill"]["p"]["a"], 1);
+    assert_eq!(slots["stem.opacity"]["p"]["a"], 1);
+    assert_eq!(
+        slots["leaf.opacity"]["p"],
+        serde_json::json!({"a": 0, "k": 100})
+    );
+    let mut found = Vec::new();
+    slotted(&d["layers"], &mut found);
+    // Both leaves carry the slot, each property equal to the slot's value.
+    assert_eq!(found.iter().filter(|(id, _)| id == "leaf.fill").count(), 2);
+    for (id, p) in &found {
+        assert_eq!(&slots[id]["p"], p, "{id}");
+    }
+}
+
+#[test]
+fn a_tag_whose_shapes_differ_gets_no_slot_and_a_warning() {
+    let dir = out_dir("differ");
+    let gm = scene(&dir, "slots fill", "#3050a0");
+    let json = dir.join("s.json");
+    let stderr = animate(&gm, &json);
+    assert!(
+        stderr.contains("slot `leaf.fill` is not written"),
+        "{stderr}"
+    );
+    let d = doc(&json);
+    assert!(d["slots"].get("leaf.fill").is_none());
+    assert!(d["slots"].get("stem.fill").is_some());
+    assert!(
+        !std::fs::read_to_string(&json)
+            .unwrap()
+            .contains("\"sid\":\"leaf.fill\"")
+    );
+}
+
+#[test]
+fn an_unknown_or_repeated_kind_is_an_error_at_it() {
+    let dir = out_dir("bad");
+    for (header, col, says) in [
+        ("slots fill colour", 12, "unknown `slots` value"),
+        ("slots fill fill", 12, "`fill` is given twice"),
+    ] {
+        let gm = scene(&dir, header, "#30a040");
+        let o = bin()
+            .arg("animate")
+            .arg(&gm)
+            .arg("-o")
+            .arg(dir.join("x.json"))
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success());
+        assert!(stderr.contains(says), "{stderr}");
+        assert!(stderr.contains(&format!(":4:{col}")), "{stderr}");
+    }
+}
+
+/// The theme file becomes `t/ID.json` in the package, listed in the manifest: a colour
+/// string a Color rule, an opacity a Scalar one in Lottie's percent; a slot the animation
+/// lacks is a warning naming it, and left out.
+#[test]
+fn a_theme_becomes_the_packages_rules() {
+    let dir = out_dir("theme");
+    let gm = scene(&dir, "slots fill stroke opacity", "#30a040");
+    let theme = dir.join("Dark Mode.json");
+    std::fs::write(
+        &theme,
+        r##"{"leaf.fill": "#ff0000", "stem.opacity": 0.25, "twig.fill": "#000"}"##,
+    )
+    .unwrap();
+    let lottie = dir.join("s.lottie");
+    let o = bin()
+        .arg("animate")
+        .arg(&gm)
+        .arg("-o")
+        .arg(&lottie)
+        .arg("--theme")
+        .arg(&theme)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{stderr}");
+    assert!(stderr.contains("no slot `twig.fill`"), "{stderr}");
+    let bytes = std::fs::read(&lottie).unwrap();
+    let package = gmotion_pipeline::dotlottie::Package::read(&bytes, "s.lottie", 1 << 30).unwrap();
+    assert_eq!(package.themes.len(), 1);
+    let t: Value = serde_json::from_str(&package.themes[0].text).unwrap();
+    assert_eq!(
+        t,
+        serde_json::json!({"rules": [
+            {"id": "leaf.fill", "type": "Color", "value": [1.0, 0.0, 0.0]},
+            {"id": "stem.opacity", "type": "Scalar", "value": 25.0},
+        ]})
+    );
+}
+
+/// A theme that is no JSON is an error at its line and column, one with a value of the
+/// wrong kind an error naming the slot; neither leaves an output behind.
+#[test]
+fn a_bad_theme_is_an_error_and_writes_nothing() {
+    let dir = out_dir("bad-theme");
+    let gm = scene(&dir, "slots fill", "#30a040");
+    for (text, says) in [
+        (
+            "{\"leaf.fill\": \"#ff0000\",\n  \"x\": }",
+            "t.json:2:8: error",
+        ),
+        (
+            "{\"leaf.fill\": 3}",
+            "slot `leaf.fill`: a colour slot takes",
+        ),
+        ("{\"leaf.opacity\": 2}", "opacity 2 is not between 0 and 1"),
+    ] {
+        let theme = dir.join("t.json");
+        std::fs::write(&theme, text).unwrap();
+        let lottie = dir.join("s.lottie");
+        let o = bin()
+            .arg("animate")
+            .arg(&gm)
+            .arg("-o")
+            .arg(&lottie)
+            .arg("--theme")
+            .arg(&theme)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success());
+        assert!(stderr.contains(says), "{stderr}");
+        assert!(!lottie.exists());
+    }
+}
+
+/// Without the directive, no slot and no mark: the document is as before.
+#[test]
+fn no_directive_no_slots() {
+    let dir = out_dir("none");
+    let gm = scene(&dir, "", "#30a040");
+    let json = dir.join("s.json");
+    animate(&gm, &json);
+    let text = std::fs::read_to_string(&json).unwrap();
+    assert!(!text.contains("sid") && !text.contains("\"slots\""));
+}
+
+/// Runs `lottie_slots.mjs` on `json` setting `leaf.fill` to magenta (`extra`: a package
+/// and its theme for dotlottie-web) and checks what both players changed: at every frame
+/// the leaves' 4 000 pixels, all in their rectangles and all magenta, nothing else.
+#[cfg(feature = "players")]
+fn assert_only_the_leaves_change(json: &Path, extra: &[&std::ffi::OsStr]) {
+    let out = Command::new("node")
+        .arg(crate::support::root().join("tests/conformance/lottie_slots.mjs"))
+        .arg(json)
+        .args(["leaf.fill", "1,0,1"])
+        .args(extra)
+        .output()
+        .expect("run node");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let result: Value = serde_json::from_slice(&out.stdout).unwrap();
+    for player in ["lottie-web", "dotlottie-web"] {
+        let frames = result[player].as_array().expect(player);
+        assert_eq!(frames.len(), 60, "{player}");
+        for (f, r) in frames.iter().enumerate() {
+            let changed = r["changed"].as_u64().unwrap();
+            assert!(
+                (3900..=4100).contains(&changed),
+                "{player} frame {f}: {changed} pixels changed"
+            );
+            let b: Vec<u64> = r["box"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_u64().unwrap())
+                .collect();
+            assert!(
+                b[0] >= 9 && b[1] >= 19 && b[2] <= 100 && b[3] <= 70,
+                "{player} frame {f}: changed pixels in {b:?}, outside the leaves"
+            );
+            assert!(r["off"].as_u64().unwrap() <= 100, "{player} frame {f}: {r}");
+        }
+    }
+}
+
+/// lottie-web (the document's slot replaced before loading) and dotlottie-web
+/// (`setColorSlot`) recolour exactly the two leaves, through the fill's animation; the
+/// stem, which has slots of its own, is untouched. The file validates against the
+/// official schema, `sid` and `slots` included.
+#[cfg(feature = "players")]
+#[test]
+fn setting_a_slot_recolours_exactly_that_tag_at_every_frame() {
+    let dir = out_dir("players");
+    let gm = scene(&dir, "slots fill stroke opacity", "#30a040");
+    let json = dir.join("s.json");
+    animate(&gm, &json);
+    let out = Command::new("python3")
+        .arg(crate::support::root().join("tests/conformance/schema_check.py"))
+        .arg(&json)
+        .output()
+        .expect("python3 runs (tests/conformance/install.sh)");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    assert_only_the_leaves_change(&json, &[]);
+}
+
+/// `--theme` writes a dotLottie theme into the `.lottie`: dotlottie-web's `setTheme`
+/// recolours exactly the leaves, as setting the slot does.
+#[cfg(feature = "players")]
+#[test]
+fn a_theme_in_the_package_recolours_exactly_that_tag() {
+    let dir = out_dir("theme-players");
+    let gm = scene(&dir, "slots fill stroke opacity", "#30a040");
+    let theme = dir.join("magenta.json");
+    std::fs::write(&theme, r##"{"leaf.fill": "#ff00ff"}"##).unwrap();
+    let (json, lottie) = (dir.join("s.json"), dir.join("s.lottie"));
+    let o = bin()
+        .arg("animate")
+        .arg(&gm)
+        .arg("-o")
+        .arg(&json)
+        .arg("-o")
+        .arg(&lottie)
+        .arg("--theme")
+        .arg(&theme)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_only_the_leaves_change(&json, &[lottie.as_os_str(), "magenta".as_ref()]);
+}
+
+/// rlottie and ThorVG draw a slotted file exactly as the same grammar without `slots`
+/// (the slots hold the values in place), frame for frame.
+#[cfg(feature = "players")]
+#[test]
+fn players_draw_a_slotted_file_as_the_plain_one() {
+    let dir = out_dir("same");
+    let (slotted, plain) = (dir.join("slotted.json"), dir.join("plain.json"));
+    animate(
+        &scene(&dir, "slots fill stroke opacity", "#30a040"),
+        &slotted,
+    );
+    animate(&scene(&dir, "", "#30a040"), &plain);
+    let frames = [0, 15, 40];
+    let png = |name: &str, player: &str, f: u32| dir.join(format!("{name}-{player}-{f}.png"));
+    for player in ["rlottie", "thorvg"] {
+        let jobs: Vec<Value> = [("slotted", &slotted), ("plain", &plain)]
+            .iter()
+            .map(|(name, json)| {
+                serde_json::json!({"json": json, "width": 200, "frames": frames,
+                    "out": frames.map(|f| png(name, player, f))})
+            })
+            .collect();
+        let list = dir.join(format!("jobs-{player}.json"));
+        std::fs::write(&list, Value::Array(jobs).to_string()).unwrap();
+        let out = Command::new("python3")
+            .arg(crate::support::root().join(format!("tests/conformance/{player}_render.py")))
+            .arg(&list)
+            .output()
+            .expect("python3 runs (tests/conformance/install.sh)");
+        assert!(
+            out.status.success(),
+            "{player}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        for f in frames {
+            let (a, b) = (
+                std::fs::read(png("slotted", player, f)).unwrap(),
+                std::fs::read(png("plain", player, f)).unwrap(),
+            );
+            let decode = |bytes: &[u8]| {
+                let d = png::Decoder::new(std::io::Cursor::new(bytes));
+                let mut r = d.read_info().unwrap();
+                let mut buf = vec![0; r.output_buffer_size().unwrap()];
+                r.next_frame(&mut buf).unwrap();
+                buf
+            };
+            assert_eq!(decode(&a), decode(&b), "{player} frame {f}");
+        }
+    }
+}
