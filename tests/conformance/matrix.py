@@ -7,10 +7,10 @@
         boundaries worked out by hand from docs/grammar.md.
     python3 matrix.py prepare OUT GMOTION [--matrix sample|full] [--only NAME,...]
         writes every case (scene, grammar or targets file) under OUT/cases/NAME/, exports it
-        with gmotion to Lottie (.json) and SMIL (.svg), renders gmotion's own reference
-        frames (resvg, `--time`), validates the Lottie against the schema and writes the
-        players' job lists (OUT/lottie_web_jobs.json with both renderers, rlottie_jobs.json,
-        thorvg_jobs.json, smil_jobs.json).
+        with gmotion to Lottie (.json), dotLottie (.lottie) and SMIL (.svg), renders gmotion's
+        own reference frames (resvg, `--time`), validates the Lottie against the schema and
+        writes the players' job lists (OUT/lottie_web_jobs.json with both renderers,
+        rlottie_jobs.json, thorvg_jobs.json, dotlottie_web_jobs.json, smil_jobs.json).
     python3 matrix.py report OUT
         compares every player frame with its reference (conformance.off_fraction: a frame
         passes with at most 0.5% of its pixels off by more than 32/255), writes
@@ -70,7 +70,7 @@ SAMPLE_GENERATED = 36
 # in every player but lottie-web's canvas renderer; the transitions examples only here.
 SAMPLE_EXAMPLES = {"ex-toy", "ex-histogram", "ex-permutation", "ex-revisions"}
 SEED = 20261202
-PLAYERS = ["lottie-web-svg", "lottie-web-canvas", "rlottie", "thorvg", "chromium-smil"]
+PLAYERS = ["lottie-web-svg", "lottie-web-canvas", "rlottie", "thorvg", "dotlottie-web", "chromium-smil"]
 CHECKS = ["export", "schema"] + PLAYERS
 
 
@@ -720,6 +720,9 @@ def export(case, out, gm):
     os.makedirs(d, exist_ok=True)
     g = os.path.join(root(), "grammars")
     lj, sj = os.path.join(d, "case.json"), os.path.join(d, "case.svg")
+    # The same export as a dotLottie package, for dotlottie-web (its animation is the JSON
+    # above, byte for byte: written by the same run).
+    dl = os.path.join(d, "case.lottie")
     dims = case["dims"]
     if case["family"] == "gm":
         scene = os.path.join(d, "scene.svg")
@@ -754,7 +757,7 @@ def export(case, out, gm):
     # quarter: at 2x a 0.25 px bake error moves whole edges by half a pixel, which alone puts
     # thin shapes over the 0.5% bar though the motion is right. The matrix judges what the
     # motion means; the error bound itself is checked geometrically in exporters/lottie/tests/lottie.rs.
-    rc, err = run(base + ["-o", lj, "-o", sj, "--tolerance", TOLERANCE])
+    rc, err = run(base + ["-o", lj, "-o", sj, "-o", dl, "--tolerance", TOLERANCE])
     expect = expected_error(case)
     if expect is not None:
         case["expected_error"] = expect
@@ -793,7 +796,10 @@ def export(case, out, gm):
         if rc != 0:
             case["error"] = "reference render: " + err[-600:]
             return case
-    case["lottie"], case["smil"] = lj, sj
+    # dotlottie-web draws into a canvas of the size it is given: the reference's own.
+    with Image.open(os.path.join(d, f"ref-{case['frames'][0]}.png")) as im:
+        case["height"] = im.size[1]
+    case["lottie"], case["smil"], case["dotlottie"] = lj, sj, dl
     return case
 
 
@@ -886,7 +892,7 @@ def prepare(argv):
         cases = list(pool.map(lambda c: export(c, out, gm), cases))
 
     valid = schema_validator()
-    lw, rl, tv, smil = [], [], [], []
+    lw, rl, tv, dlw, smil = [], [], [], [], []
     for c in cases:
         if "lottie" not in c:  # failed, or refused as it must be
             continue
@@ -901,6 +907,8 @@ def prepare(argv):
                    "out": [os.path.join(d, f"lwc-{i}.png") for i in fr]})
         rl.append({"json": c["lottie"], "width": c["width"], "frames": fr, "out": [os.path.join(d, f"rl-{i}.png") for i in fr]})
         tv.append({"json": c["lottie"], "width": c["width"], "frames": fr, "out": [os.path.join(d, f"tv-{i}.png") for i in fr]})
+        dlw.append({"lottie": c["dotlottie"], "width": c["width"], "height": c["height"], "frames": fr,
+                    "out": [os.path.join(d, f"dl-{i}.png") for i in fr]})
         if os.path.exists(c["smil"]):
             smil.append({"svg": c["smil"], "width": c["width"], "out_prefix": os.path.join(d, "smil"),
                          "times": [i / c["fps"] for i in fr]})
@@ -913,6 +921,7 @@ def prepare(argv):
     dump("lottie_web_jobs.json", lw)
     dump("rlottie_jobs.json", rl)
     dump("thorvg_jobs.json", tv)
+    dump("dotlottie_web_jobs.json", dlw)
     dump("smil_jobs.json", smil)
     failed = sum("error" in c for c in cases)
     refused = sum("expected_error" in c and "error" not in c for c in cases)
@@ -925,7 +934,8 @@ def prepare(argv):
 
 def player_pngs(c, player):
     d = os.path.dirname(c["lottie"])
-    prefix = {"lottie-web-svg": "lws", "lottie-web-canvas": "lwc", "rlottie": "rl", "thorvg": "tv"}
+    prefix = {"lottie-web-svg": "lws", "lottie-web-canvas": "lwc", "rlottie": "rl", "thorvg": "tv",
+              "dotlottie-web": "dl"}
     if player == "chromium-smil":
         return [os.path.join(d, f"smil-{k}.png") for k in range(len(c["frames"]))]
     return [os.path.join(d, f"{prefix[player]}-{i}.png") for i in c["frames"]]
