@@ -1060,8 +1060,9 @@ def report(argv):
               "", "`(+N known)`: frames of lottie-web's canvas renderer (a translucent group's or layer's "
               "opacity) and rlottie (a translucent group's) that differ only because they apply that opacity "
               "to each paint (a shape's stroke over its own fill draws darker), and rlottie's strokes under a "
-              "non-uniform scale (widened by one averaged factor), and the Lottie effects (blurs, drop shadows) neither of them draws; the other players judge "
-              "those cases in full. Baked motion is exported with "
+              "non-uniform scale (widened by one averaged factor), and the Lottie effects (blurs, drop shadows) neither of them draws; the other players "
+              "(lottie-web svg, ThorVG, dotlottie-web, Chromium SMIL) judge those cases in full. dotlottie-web (ThorVG in wasm) has no "
+              "known limitation: it plays each case's `.lottie` package, the same animation as the `.json`. Baked motion is exported with "
               f"`--tolerance {TOLERANCE}`.", ""]
     # Failures per dimension value.
     fail_rows = []
