@@ -11,8 +11,7 @@
 Pixels are compared premultiplied (what shows over black, alpha included): a pixel is off
 when some channel differs by more than 32/255. Thresholds: example frames at most 0.5%
 off in every player (lottie-web, rlottie, ThorVG, dotlottie-web, Chromium's SMIL); corpus
-files at most 1%
-off in lottie-web, but for the named known failures (CORPUS_KNOWN).
+files at most 1% off in lottie-web, but for the named known failures (CORPUS_KNOWN).
 """
 
 import glob

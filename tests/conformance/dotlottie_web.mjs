@@ -69,9 +69,12 @@ for (const job of JSON.parse(readFileSync(process.argv[2], 'utf8'))) {
         ...(job.animation ? { animationId: job.animation } : {}),
       });
       window.player = player;
+      // A package whose animation the player cannot read (`{"v": "x"}`) fires neither
+      // event: the job fails after a minute instead of holding up the run for ever.
       const loaded = () => new Promise((resolve, reject) => {
         player.addEventListener('load', resolve);
         player.addEventListener('loadError', (e) => reject(new Error(String(e.error || 'loadError'))));
+        setTimeout(() => reject(new Error('neither loaded nor refused within 60 s')), 60000);
       });
       await loaded();
       // The config's animationId loses to a manifest's initial animation: ask by name.

@@ -50,6 +50,7 @@ import random
 import re
 import subprocess
 import sys
+import zipfile
 
 here = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, here)
@@ -768,6 +769,15 @@ def export(case, out, gm):
         case["error"] = err[-600:] or f"exit status {rc}"
         return case
     case["warnings"] = [line for line in err.splitlines() if "warning" in line.lower()][:5]
+    # dotlottie-web plays the package, the other players the .json: the same animation, or
+    # the column would judge something else.
+    try:
+        with zipfile.ZipFile(dl) as z, open(lj, "rb") as f:
+            inside = [n for n in z.namelist() if n.startswith("a/")]
+            if len(inside) != 1 or z.read(inside[0]) != f.read():
+                case["dotlottie_error"] = f"the package's animations {inside} are not the .json"
+    except (OSError, zipfile.BadZipFile) as e:
+        case["dotlottie_error"] = f"no package: {e}"
     with open(lj, encoding="utf-8") as f:
         doc = json.load(f)
     case["per_paint_opacity"] = translucent_paint_overlap(doc, layers=True)
@@ -1017,6 +1027,8 @@ def judge(c):
                 f"{len(bad)}/{len(offs)} frames off, worst {worst[player] * 100:.2f}% ({shown})"
         else:
             res[player] = None
+        if player == "dotlottie-web" and c.get("dotlottie_error"):
+            res[player] = c["dotlottie_error"]
         why = [note for flag, note in KNOWN.get(player, []) if c.get(flag)]
         if res[player] is not None and why:
             res[player] = KNOWN_NOTE + "; ".join(why) + "): " + res[player]
