@@ -10,7 +10,7 @@
 // Also prints, per job, a line {"lottie": …, "manifest": …, "totalFrames": …, "markers": [...]}
 // on stdout: what the player read from the package. A job that fails is
 // reported on stderr with its file and the run goes on; the exit status is 1 if any failed.
-import { readFileSync } from 'node:fs';
+import { readFileSync, writeFileSync } from 'node:fs';
 import { join, dirname } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
@@ -50,24 +50,31 @@ await page.evaluate(async (origin) => {
 let failed = false;
 for (const job of JSON.parse(readFileSync(process.argv[2], 'utf8'))) {
   try {
-    const data = [...readFileSync(job.lottie)];
-    await page.setViewportSize({ width: job.width, height: job.height });
-    const info = await page.evaluate(async ({ data, job }) => {
+    // One round trip a job: the package goes in as base64 (a byte array as JSON costs ten
+    // times its size), each frame comes back as the canvas's own PNG. setFrame draws
+    // synchronously (the core renders, then putImageData), so the canvas holds the frame
+    // as soon as it returns: no screenshot, no wait for the compositor.
+    const data = readFileSync(job.lottie).toString('base64');
+    const got = await page.evaluate(async ({ data, job }) => {
       if (window.player) window.player.destroy();
       const canvas = document.getElementById('c');
       canvas.style.width = job.width + 'px';
       canvas.style.height = job.height + 'px';
       canvas.width = job.width;
       canvas.height = job.height;
+      const bytes = Uint8Array.from(atob(data), (c) => c.charCodeAt(0));
       const player = new window.DotLottie({
-        canvas, data: new Uint8Array(data).buffer, autoplay: false, loop: false,
+        canvas, data: bytes.buffer, autoplay: false, loop: false,
         renderConfig: { devicePixelRatio: 1, autoResize: false, freezeOnOffscreen: false },
         ...(job.animation ? { animationId: job.animation } : {}),
       });
       window.player = player;
+      // A package whose animation the player cannot read (`{"v": "x"}`) fires neither
+      // event: the job fails after a minute instead of holding up the run for ever.
       const loaded = () => new Promise((resolve, reject) => {
         player.addEventListener('load', resolve);
         player.addEventListener('loadError', (e) => reject(new Error(String(e.error || 'loadError'))));
+        setTimeout(() => reject(new Error('neither loaded nor refused within 60 s')), 60000);
       });
       await loaded();
       // The config's animationId loses to a manifest's initial animation: ask by name.
@@ -76,15 +83,18 @@ for (const job of JSON.parse(readFileSync(process.argv[2], 'utf8'))) {
         player.loadAnimation(job.animation);
         await again;
       }
+      const frames = [];
+      for (const f of job.frames) {
+        player.setFrame(f);
+        frames.push(canvas.toDataURL('image/png'));
+      }
       return {
-        manifest: player.manifest, totalFrames: player.totalFrames, markers: player.markers(),
+        info: { manifest: player.manifest, totalFrames: player.totalFrames, markers: player.markers() },
+        frames,
       };
     }, { data, job });
-    console.log(JSON.stringify({ lottie: job.lottie, ...info }));
-    for (let i = 0; i < job.frames.length; i++) {
-      await page.evaluate((f) => window.player.setFrame(f), job.frames[i]);
-      await page.screenshot({ path: job.out[i], omitBackground: true });
-    }
+    console.log(JSON.stringify({ lottie: job.lottie, ...got.info }));
+    got.frames.forEach((url, i) => writeFileSync(job.out[i], Buffer.from(url.slice(url.indexOf(',') + 1), 'base64')));
   } catch (e) {
     failed = true;
     console.error(`dotlottie-web: ${job.lottie}: ${String(e.message || e).split('\n')[0]}`);

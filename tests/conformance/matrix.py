@@ -7,11 +7,11 @@
         boundaries worked out by hand from docs/grammar.md.
     python3 matrix.py prepare OUT GMOTION [--matrix sample|full] [--only NAME,...]
         writes every case (scene, grammar or targets file) under OUT/cases/NAME/, exports it
-        with gmotion to Lottie (.json) and SMIL (.svg), renders gmotion's own reference
-        frames (resvg, `--time`) and its frames of the Lottie as written (`convert
-        --time`), validates the Lottie against the schema and writes the players' job
-        lists (OUT/lottie_web_jobs.json with both renderers, rlottie_jobs.json,
-        thorvg_jobs.json, smil_jobs.json).
+        with gmotion to Lottie (.json), dotLottie (.lottie) and SMIL (.svg), renders gmotion's
+        own reference frames (resvg, `--time`) and its frames of the Lottie as written
+        (`convert --time`), validates the Lottie against the schema and writes the players'
+        job lists (OUT/lottie_web_jobs.json with both renderers, rlottie_jobs.json,
+        thorvg_jobs.json, dotlottie_web_jobs.json, smil_jobs.json).
     python3 matrix.py report OUT
         compares every player frame with its reference (conformance.off: a frame passes
         with at most 0.5% of its pixels off by more than 32/255; a Lottie player's pixel is
@@ -53,6 +53,7 @@ import random
 import re
 import subprocess
 import sys
+import zipfile
 
 here = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, here)
@@ -73,7 +74,7 @@ SAMPLE_GENERATED = 36
 # in every player but lottie-web's canvas renderer; the transitions examples only here.
 SAMPLE_EXAMPLES = {"ex-toy", "ex-histogram", "ex-permutation", "ex-revisions"}
 SEED = 20261202
-PLAYERS = ["lottie-web-svg", "lottie-web-canvas", "rlottie", "thorvg", "chromium-smil"]
+PLAYERS = ["lottie-web-svg", "lottie-web-canvas", "rlottie", "thorvg", "dotlottie-web", "chromium-smil"]
 CHECKS = ["export", "schema"] + PLAYERS
 
 
@@ -723,6 +724,9 @@ def export(case, out, gm):
     os.makedirs(d, exist_ok=True)
     g = os.path.join(root(), "grammars")
     lj, sj = os.path.join(d, "case.json"), os.path.join(d, "case.svg")
+    # The same export as a dotLottie package, for dotlottie-web (its animation is the JSON
+    # above, byte for byte: written by the same run).
+    dl = os.path.join(d, "case.lottie")
     dims = case["dims"]
     if case["family"] == "gm":
         scene = os.path.join(d, "scene.svg")
@@ -761,7 +765,7 @@ def export(case, out, gm):
     # quarter: at 2x a 0.25 px bake error moves whole edges by half a pixel, which alone puts
     # thin shapes over the 0.5% bar though the motion is right. The matrix judges what the
     # motion means; the error bound itself is checked geometrically in exporters/lottie/tests/lottie.rs.
-    rc, err = run(base + ["-o", lj, "-o", sj, "--tolerance", TOLERANCE])
+    rc, err = run(base + ["-o", lj, "-o", sj, "-o", dl, "--tolerance", TOLERANCE])
     expect = expected_error(case)
     if expect is not None:
         case["expected_error"] = expect
@@ -772,6 +776,15 @@ def export(case, out, gm):
         case["error"] = err[-600:] or f"exit status {rc}"
         return case
     case["warnings"] = [line for line in err.splitlines() if "warning" in line.lower()][:5]
+    # dotlottie-web plays the package, the other players the .json: the same animation, or
+    # the column would judge something else.
+    try:
+        with zipfile.ZipFile(dl) as z, open(lj, "rb") as f:
+            inside = [n for n in z.namelist() if n.startswith("a/")]
+            if len(inside) != 1 or z.read(inside[0]) != f.read():
+                case["dotlottie_error"] = f"the package's animations {inside} are not the .json"
+    except (OSError, zipfile.BadZipFile) as e:
+        case["dotlottie_error"] = f"no package: {e}"
     with open(lj, encoding="utf-8") as f:
         doc = json.load(f)
     case["per_paint_opacity"] = translucent_paint_overlap(doc, layers=True)
@@ -807,7 +820,10 @@ def export(case, out, gm):
         if rc != 0:
             case["error"] = "reference render of the written Lottie: " + err[-600:]
             return case
-    case["lottie"], case["smil"] = lj, sj
+    # dotlottie-web draws into a canvas of the size it is given: the reference's own.
+    with Image.open(os.path.join(d, f"ref-{case['frames'][0]}.png")) as im:
+        case["height"] = im.size[1]
+    case["lottie"], case["smil"], case["dotlottie"] = lj, sj, dl
     return case
 
 
@@ -900,7 +916,7 @@ def prepare(argv):
         cases = list(pool.map(lambda c: export(c, out, gm), cases))
 
     valid = schema_validator()
-    lw, rl, tv, smil = [], [], [], []
+    lw, rl, tv, dlw, smil = [], [], [], [], []
     for c in cases:
         if "lottie" not in c:  # failed, or refused as it must be
             continue
@@ -915,6 +931,8 @@ def prepare(argv):
                    "out": [os.path.join(d, f"lwc-{i}.png") for i in fr]})
         rl.append({"json": c["lottie"], "width": c["width"], "frames": fr, "out": [os.path.join(d, f"rl-{i}.png") for i in fr]})
         tv.append({"json": c["lottie"], "width": c["width"], "frames": fr, "out": [os.path.join(d, f"tv-{i}.png") for i in fr]})
+        dlw.append({"lottie": c["dotlottie"], "width": c["width"], "height": c["height"], "frames": fr,
+                    "out": [os.path.join(d, f"dl-{i}.png") for i in fr]})
         if os.path.exists(c["smil"]):
             smil.append({"svg": c["smil"], "width": c["width"], "out_prefix": os.path.join(d, "smil"),
                          "times": [i / c["fps"] for i in fr]})
@@ -927,6 +945,7 @@ def prepare(argv):
     dump("lottie_web_jobs.json", lw)
     dump("rlottie_jobs.json", rl)
     dump("thorvg_jobs.json", tv)
+    dump("dotlottie_web_jobs.json", dlw)
     dump("smil_jobs.json", smil)
     failed = sum("error" in c for c in cases)
     refused = sum("expected_error" in c and "error" not in c for c in cases)
@@ -939,7 +958,8 @@ def prepare(argv):
 
 def player_pngs(c, player):
     d = os.path.dirname(c["lottie"])
-    prefix = {"lottie-web-svg": "lws", "lottie-web-canvas": "lwc", "rlottie": "rl", "thorvg": "tv"}
+    prefix = {"lottie-web-svg": "lws", "lottie-web-canvas": "lwc", "rlottie": "rl", "thorvg": "tv",
+              "dotlottie-web": "dl"}
     if player == "chromium-smil":
         return [os.path.join(d, f"smil-{k}.png") for k in range(len(c["frames"]))]
     return [os.path.join(d, f"{prefix[player]}-{i}.png") for i in c["frames"]]
@@ -1014,7 +1034,7 @@ TOLERANCE = "0.01"
 # is itself off (resvg redraws the blurred source's edges, see README), and its render of
 # the Lottie, blurred by another path, agrees with the players there (gm-0005, gm-0009,
 # gm-0015: 0.2-0.48% of pixels off at every frame, under the bar, would vanish).
-WRITTEN = ("lottie-web-svg", "lottie-web-canvas", "rlottie", "thorvg")
+WRITTEN = ("lottie-web-svg", "lottie-web-canvas", "rlottie", "thorvg", "dotlottie-web")
 
 
 # The second reference counts only while the Lottie as written is itself within twice the
@@ -1067,6 +1087,8 @@ def judge(c):
                 f"{len(bad)}/{len(offs)} frames off, worst {worst[player] * 100:.2f}% ({shown})"
         else:
             res[player] = None
+        if player == "dotlottie-web" and c.get("dotlottie_error"):
+            res[player] = c["dotlottie_error"]
         why = [note for flag, note in KNOWN.get(player, []) if c.get(flag)]
         if res[player] is not None and why:
             res[player] = KNOWN_NOTE + "; ".join(why) + "): " + res[player]
@@ -1110,8 +1132,9 @@ def report(argv):
               "", "`(+N known)`: frames of lottie-web's canvas renderer (a translucent group's or layer's "
               "opacity) and rlottie (a translucent group's) that differ only because they apply that opacity "
               "to each paint (a shape's stroke over its own fill draws darker), and rlottie's strokes under a "
-              "non-uniform scale (widened by one averaged factor), and the Lottie effects (blurs, drop shadows) neither of them draws; the other players judge "
-              "those cases in full. Baked motion is exported with "
+              "non-uniform scale (widened by one averaged factor), and the Lottie effects (blurs, drop shadows) neither of them draws; the other players "
+              "(lottie-web svg, ThorVG, dotlottie-web, Chromium SMIL) judge those cases in full. dotlottie-web (ThorVG in wasm) has no "
+              "known limitation: it plays each case's `.lottie` package, the same animation as the `.json`. Baked motion is exported with "
               f"`--tolerance {TOLERANCE}`.", ""]
     # Failures per dimension value.
     fail_rows = []

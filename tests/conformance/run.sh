@@ -14,9 +14,11 @@
 #
 # 1. installs the players (install.sh, idempotent) and builds gmotion (release);
 # 2. converts the resvg corpus with `gmotion convert` and with python-lottie, and exports
-#    every grammars/NAME.gm (with NAME.svg) to Lottie, SMIL and gmotion's own PNG frames;
+#    every grammars/NAME.gm (with NAME.svg) to Lottie, dotLottie, SMIL and gmotion's own PNG
+#    frames;
 # 3. validates every Lottie gmotion wrote against the official schema;
-# 4. plays the Lottie files in lottie-web (headless Chromium), rlottie and ThorVG, the SMIL
+# 4. plays the Lottie files in lottie-web (headless Chromium), rlottie and ThorVG, the
+#    dotLottie packages in dotlottie-web (dotlottie_web.mjs, headless Chromium), the SMIL
 #    files in Chromium (smil.mjs), and compares every frame (conformance.py report);
 #    then plays the Lottie corpus (install.sh fetches it) with gmotion's own renderer
 #    against lottie-web and rlottie (lottie_own_render.py), as it is and with a grammar
@@ -24,9 +26,9 @@
 #    SVGs from npm (icons.py) with gmotion and Chromium;
 # 5. the conformance matrix (matrix.py): generated scenes with grammars and transitions
 #    targets spanning the language, plus every example, played in lottie-web (svg and canvas
-#    renderers), rlottie, ThorVG and Chromium SMIL against gmotion's own render; by default
-#    a fixed sample that covers every dimension value, with --matrix full every case. Its
-#    table is written to $CONFORMANCE_OUT/matrix.md.
+#    renderers), rlottie, ThorVG, dotlottie-web and Chromium SMIL against gmotion's own
+#    render; by default a fixed sample that covers every dimension value, with --matrix
+#    full every case. Its table is written to $CONFORMANCE_OUT/matrix.md.
 # Work files go to $CONFORMANCE_OUT (default target/conformance).
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -87,11 +89,16 @@ if [ "$main_run" = 1 ]; then
     node "$here/lottie_web.mjs" "$out/lottie_web_jobs.json"
     wait $rl || true
     wait $tv || true
+    # dotlottie-web (the examples' .lottie packages, one page) beside Chromium's SMIL, which
+    # spends minutes on intersections' few frames with a core to spare.
+    phase "playing: SMIL in Chromium, with dotlottie-web beside it"
+    node "$here/dotlottie_web.mjs" "$out/dotlottie_web_jobs.json" >/dev/null &
+    dl=$!
     if [ -f "$here/smil.mjs" ]; then
-        phase "playing: SMIL in Chromium"
         node "$here/smil.mjs" --jobs "$out/smil_jobs.json" >/dev/null
         touch "$out/smil.ran"
-fi
+    fi
+    wait $dl || true
 
 python3 "$here/conformance.py" report "$out" || status=1
 
@@ -128,8 +135,15 @@ tv=$!
 node "$here/lottie_web.mjs" "$m/lottie_web_jobs.json" || crashed lottie-web
 wait $rl
 wait $tv
-phase "matrix: SMIL in Chromium"
+# dotlottie-web (one browser, one page, every case's .lottie in turn) beside Chromium's SMIL,
+# which loads a document for every frame and leaves a core idle much of the time.
+phase "matrix: SMIL in Chromium, with dotlottie-web beside it"
+(dl_start=$SECONDS
+ node "$here/dotlottie_web.mjs" "$m/dotlottie_web_jobs.json" >/dev/null || crashed dotlottie-web
+ echo "matrix: dotlottie-web took $((SECONDS - dl_start)) s") &
+dl=$!
 node "$here/smil.mjs" --jobs "$m/smil_jobs.json" >/dev/null || crashed "Chromium (SMIL)"
+wait $dl
 python3 "$here/matrix.py" report "$m" || status=1
 cp "$m/matrix.md" "$out/matrix.md"
 echo "matrix: $((SECONDS - mstart)) s"
