@@ -14,6 +14,16 @@
 //! and an interval is halved (at its arc-length middle, its spatial tangents cut exactly)
 //! until that easing stays within the tolerance at the shape's farthest corner. Lottie's auto-orient (`ao`) is a layer's, and the
 //! exporter writes motion on shape groups (see [`crate::model`]), so it is not used.
+//!
+//! rlottie and ThorVG (and so dotlottie-web) measure the length along a spatial Bézier
+//! with the octagonal norm `max(|dx|, |dy|) + 3/8·min(|dx|, |dy|)` (rlottie's
+//! `VLine::length`, ThorVG's `bezLengthApprox`), which overstates a chord by up to 6.8%
+//! depending on its direction, not with the Euclidean one lottie-web and the spec use: on
+//! a curve that turns, the same eased fraction lands elsewhere on it (0.8 px on the 120 px
+//! arch of the conformance matrix's gm-0035). An interval whose two measures put the
+//! shape more than half the tolerance apart ([`octagonal_gap`]) and holds a frame is
+//! halved too, when that closes the gap in fewer keys than a key at each frame inside it,
+//! and otherwise keyed at those frames, where every player then reads a key.
 
 use kurbo::{CubicBez, ParamCurve, PathSeg, Point, Vec2};
 
@@ -86,11 +96,16 @@ pub fn level(
         }
     };
     // Keys (progress, time fraction), and the rotation's easing into each.
+    // The frames strictly inside the window, as time fractions of the active span.
+    let frames: Vec<f64> = ((ta * fps).floor() as i64 + 1..=(tb * fps).ceil() as i64 - 1)
+        .map(|n| (n as f64 / fps - begin) / span)
+        .collect();
     let fit = Fit {
         f,
         curve: &curve,
         radius,
         tolerance: 0.5 * tolerance,
+        frames,
     };
     let mut keys: Vec<(f64, f64)> = vec![(us[0], tau(us[0]))];
     let mut turns: Vec<Easing> = Vec::new();
@@ -137,12 +152,16 @@ struct Fit<'a> {
     curve: &'a CubicBez,
     radius: f64,
     tolerance: f64,
+    /// The time fractions of the frames inside the window.
+    frames: Vec<f64>,
 }
 
 impl Fit<'_> {
     /// Pushes the keys after `a` up to `b` (progress, time fraction) and the rotation's
     /// easing into each, halving the interval (at its arc-length middle) while the
-    /// rotation its easing plays strays more than the tolerance at the shape's radius.
+    /// rotation its easing plays strays more than the tolerance at the shape's radius, and
+    /// while rlottie and ThorVG would play it more than the tolerance off at a frame
+    /// ([`octagonal_gap`]; keyed at its frames instead when that takes fewer keys).
     fn split(
         &self,
         a: (f64, f64),
@@ -152,15 +171,64 @@ impl Fit<'_> {
         turns: &mut Vec<Easing>,
     ) {
         let (ease, off) = self.turn_ease(a, b);
-        if self.f.orient && depth < MAX_DEPTH && off > self.tolerance {
+        let halve = |keys: &mut Vec<(f64, f64)>, turns: &mut Vec<Easing>| {
             let m = 0.5 * (a.0 + b.0);
             let mid = (m, tau_at(self.curve, m));
             self.split(a, mid, depth + 1, keys, turns);
             self.split(mid, b, depth + 1, keys, turns);
+        };
+        if self.f.orient && depth < MAX_DEPTH && off > self.tolerance {
+            halve(keys, turns);
+            return;
+        }
+        let inside = self.frames_inside(a, b);
+        if !inside.is_empty() && octagonal_gap(self.f, a.0, b.0) > self.tolerance {
+            // Halving, if it closes the gap in fewer keys than a key at each frame inside
+            // (where rlottie and ThorVG then read a key, exactly).
+            if self.halvings(a, b, depth, inside.len()).is_some() {
+                halve(keys, turns);
+                return;
+            }
+            let mut prev = a;
+            for t in inside {
+                let k = (self.curve.eval(param_at_x(self.curve, t)).y, t);
+                keys.push(k);
+                turns.push(self.turn_ease(prev, k).0);
+                prev = k;
+            }
+            keys.push(b);
+            turns.push(self.turn_ease(prev, b).0);
             return;
         }
         keys.push(b);
         turns.push(ease);
+    }
+
+    /// The time fractions of the frames strictly between keys `a` and `b`.
+    fn frames_inside(&self, a: (f64, f64), b: (f64, f64)) -> Vec<f64> {
+        self.frames
+            .iter()
+            .copied()
+            .filter(|&t| t > a.1 + 1e-9 && t < b.1 - 1e-9)
+            .collect()
+    }
+
+    /// How many intervals halving from key `a` to `b` (at arc-length middles) makes until
+    /// each one's [`octagonal_gap`] is within the tolerance or no frame falls inside it;
+    /// `None` beyond `budget` intervals or [`MAX_DEPTH`].
+    fn halvings(&self, a: (f64, f64), b: (f64, f64), depth: u32, budget: usize) -> Option<usize> {
+        if self.frames_inside(a, b).is_empty() || octagonal_gap(self.f, a.0, b.0) <= self.tolerance
+        {
+            return (budget >= 1).then_some(1);
+        }
+        if depth >= MAX_DEPTH || budget < 2 {
+            return None;
+        }
+        let m = 0.5 * (a.0 + b.0);
+        let mid = (m, tau_at(self.curve, m));
+        let left = self.halvings(a, mid, depth + 1, budget - 1)?;
+        let right = self.halvings(mid, b, depth + 1, budget - left)?;
+        Some(left + right)
     }
 
     /// The easing of the rotation from key `a` to key `b` (progress, time fraction), fitted
@@ -215,6 +283,38 @@ impl Fit<'_> {
 fn pos(f: &Follow, c: Vec2, u: f64) -> Value {
     let p = c + f.offset_at(u);
     Value::Vec(vec![N(p.x), N(p.y)])
+}
+
+/// How far apart (canvas units, at worst) the shape is, on the route from fraction `a` to
+/// `b` (within one segment), where lottie-web puts it and where rlottie and ThorVG do:
+/// they measure the Bézier's length with the octagonal norm `max(|dx|, |dy|) + 3/8·min(|dx|,
+/// |dy|)`, not the Euclidean one, so along a curve that turns the two fractions of its
+/// length differ. Zero on a straight piece.
+fn octagonal_gap(f: &Follow, a: f64, b: f64) -> f64 {
+    const K: usize = 64;
+    let (to, ti) = tangents(f, a, b);
+    if to == Vec2::ZERO && ti == Vec2::ZERO {
+        return 0.0;
+    }
+    let (p0, p3) = (f.offset_at(a).to_point(), f.offset_at(b).to_point());
+    let bez = CubicBez::new(p0, p0 + to, p3 + ti, p3);
+    let (mut euclid, mut octa) = ([0.0; K + 1], [0.0; K + 1]);
+    let mut prev = p0;
+    for j in 1..=K {
+        let p = bez.eval(j as f64 / K as f64);
+        let (dx, dy) = ((p.x - prev.x).abs(), (p.y - prev.y).abs());
+        euclid[j] = euclid[j - 1] + dx.hypot(dy);
+        octa[j] = octa[j - 1] + dx.max(dy) + 0.375 * dx.min(dy);
+        prev = p;
+    }
+    let (e, o) = (euclid[K], octa[K]);
+    if e <= 0.0 || o <= 0.0 {
+        return 0.0;
+    }
+    (0..=K)
+        .map(|j| (octa[j] / o - euclid[j] / e).abs())
+        .fold(0.0, f64::max)
+        * e
 }
 
 /// The spatial tangents of the route from fraction `a` to `b` (within one segment):
