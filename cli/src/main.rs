@@ -366,6 +366,17 @@ struct RenderArgs {
     tolerance: f64,
     #[command(flatten)]
     video: VideoArgs,
+    #[command(flatten)]
+    lottie: LottieArgs,
+}
+
+/// Options of Lottie outputs (`.json`, `.lottie`, and the `.html` page's Lottie).
+#[derive(Args, Debug, Clone, Default)]
+struct LottieArgs {
+    /// Write runs of plain shape layers as one layer of named groups: the same picture,
+    /// faster in web players, but one layer where After Effects would show many.
+    #[arg(long)]
+    pack: bool,
 }
 
 /// Options of video outputs (`.mp4`, `.webm`, `.mov`).
@@ -392,6 +403,8 @@ struct SizeArgs {
     height: Option<u32>,
     #[command(flatten)]
     video: VideoArgs,
+    #[command(flatten)]
+    lottie: LottieArgs,
 }
 
 impl SizeArgs {
@@ -402,6 +415,7 @@ impl SizeArgs {
             height: self.height,
             tolerance: DEFAULT_TOLERANCE,
             video: self.video.clone(),
+            lottie: self.lottie.clone(),
         }
     }
 }

@@ -32,6 +32,9 @@ mod images;
 mod lottie_import;
 mod lottie_text;
 mod markers;
+// Every test here plays exports or reads the Lottie corpus.
+#[cfg(feature = "players")]
+mod pack;
 mod slots;
 // Every test here plays exports or reads the Lottie corpus.
 #[cfg(feature = "players")]

@@ -93,6 +93,7 @@ impl Convert {
         writer.options.time = time.unwrap_or(0.0);
         writer.options.play_svg = time.is_none();
         self.render.video.apply(&mut writer)?;
+        writer.options.pack = self.render.lottie.pack;
         let write = |out: &Path| {
             let warnings = writer.write_still(&loaded, out)?;
             print_warnings(out, &warnings);

@@ -48,6 +48,7 @@ pub fn demo(out: &Path, example: &str, list: bool, ctx: &Ctx) -> Result<()> {
         height: None,
         tolerance: DEFAULT_TOLERANCE,
         video: Default::default(),
+        lottie: Default::default(),
     };
     let names = [
         "frames".to_string(),

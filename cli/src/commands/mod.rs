@@ -321,6 +321,7 @@ fn animation_writer(
     writer.options.tolerance = render.tolerance;
     writer.options.time = time;
     render.video.apply(&mut writer)?;
+    writer.options.pack = render.lottie.pack;
     Ok(writer)
 }
 

@@ -288,6 +288,9 @@ pub fn over_source(
                 .to_string(),
         ));
     }
+    if opts.pack {
+        crate::pack::pack(&mut json);
+    }
     Ok((json.to_string(), warnings))
 }
 

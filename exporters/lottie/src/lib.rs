@@ -44,6 +44,7 @@ mod keys;
 pub mod layered;
 mod layers;
 mod model;
+mod pack;
 mod paint;
 mod restyle;
 pub mod slots;
@@ -76,6 +77,10 @@ pub struct LottieOptions {
     pub markers: Vec<Marker>,
     /// The properties given Lottie slots (the grammar's `slots`; see [`slots`]).
     pub slots: SlotKinds,
+    /// Whether runs of plain shape layers are written as one layer of named groups
+    /// (`--pack`): faster to play, one layer where After Effects saw many (see the `pack`
+    /// module).
+    pub pack: bool,
 }
 
 impl Default for LottieOptions {
@@ -86,6 +91,7 @@ impl Default for LottieOptions {
             size: OutputSize::default(),
             markers: Vec::new(),
             slots: SlotKinds::default(),
+            pack: false,
         }
     }
 }
@@ -261,6 +267,9 @@ fn write(src: Source, opts: &LottieOptions) -> Result<(LottieText, Vec<Warning>)
     if opts.slots.any() {
         json = with_slots(json, &mut builder.warnings);
     }
+    if opts.pack {
+        json = packed(json);
+    }
     // Some warnings are about the document rather than one element (effects, for one):
     // each is said once.
     let mut seen = std::collections::HashSet::new();
@@ -286,6 +295,26 @@ fn with_slots(json: LottieText, warnings: &mut Vec<String>) -> LottieText {
             warnings.push(format!("slots are not written: {e}"));
             LottieText::from(text)
         }
+    }
+}
+
+/// `json` with runs of plain layers packed into one ([`pack_json`]).
+fn packed(json: LottieText) -> LottieText {
+    LottieText::from(pack_json(json.into_string()))
+}
+
+/// A Lottie document's text with runs of plain shape layers packed into one layer of
+/// named groups, in its own layer list and every precomposition's: what
+/// [`LottieOptions::pack`] asks of an export, for a document written elsewhere (an After
+/// Effects export converted with `--pack`). Text that is not JSON is returned as it is
+/// (a document that does not parse has no layers to pack).
+pub fn pack_json(text: String) -> String {
+    match serde_json::from_str::<serde_json::Value>(&text) {
+        Ok(mut doc) => {
+            pack::pack(&mut doc);
+            doc.to_string()
+        }
+        Err(_) => text,
     }
 }
 

@@ -148,6 +148,8 @@ pub struct Options {
     pub transparent: bool,
     /// The properties a Lottie output gives slots (the grammar's `slots`).
     pub slots: SlotKinds,
+    /// Whether Lottie outputs pack runs of plain shape layers into one (`--pack`).
+    pub pack: bool,
 }
 
 /// The default of [`Options::max_animation_pixels`]: 2²⁸ pixels, 1 GiB of RGBA frames.
@@ -165,6 +167,7 @@ impl Default for Options {
             background: [255; 3],
             transparent: false,
             slots: SlotKinds::default(),
+            pack: false,
         }
     }
 }
@@ -864,7 +867,10 @@ pub fn write_still_over_source(
                     "--width/--height do not resize a Lottie source; its composition size is kept",
                 ));
             }
-            let text = lottie::layered::source_verbatim(src);
+            let mut text = lottie::layered::source_verbatim(src);
+            if opts.pack {
+                text = lottie::pack_json(text);
+            }
             match Format::of(path)? {
                 Format::DotLottie => write_file(path, &packaged(path, &text, package)?)?,
                 _ => write_file(path, text.as_bytes())?,
@@ -984,6 +990,7 @@ fn lottie_options(opts: &Options, markers: &[Marker]) -> LottieOptions {
         size: opts.size,
         markers: markers.to_vec(),
         slots: opts.slots,
+        pack: opts.pack,
         ..Default::default()
     }
 }
