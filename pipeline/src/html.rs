@@ -29,97 +29,65 @@ fn escape(text: &str) -> String {
         .replace('>', "&gt;")
 }
 
-/// The most shape rows a timeline picture draws.
-const TIMELINE_ROWS: usize = 200;
-
-/// A picture of every shape's final slices (one row per shape, the first 200; bars
-/// coloured by slice tag and labelled with it, inverted slices hatched), with a playhead
-/// that runs with the animation (SMIL, looping when the animation loops).
-pub fn timeline_svg(anim: &Animation, x: &Expansion) -> String {
-    const LABEL: f64 = 80.0;
-    const WIDTH: f64 = 720.0;
-    const ROW: f64 = 14.0;
-    let d = anim.duration.max(1e-9);
-    let rows = x.timelines.len().min(TIMELINE_ROWS);
-    let height = rows as f64 * ROW;
-    let mut svg = format!(
-        r##"<svg xmlns="http://www.w3.org/2000/svg" width="{}" height="{height}" font-family="sans-serif" font-size="9"><defs><pattern id="inv" width="6" height="6" patternUnits="userSpaceOnUse" patternTransform="rotate(45)"><rect width="3" height="6" fill="#fff" fill-opacity="0.45"/></pattern></defs>"##,
-        LABEL + WIDTH
+/// Every shape's final slices as the page's timeline reads them: JSON
+/// `{"duration": seconds, "tags": [slice tag…], "rows": [[label, t0, dur, tag, …], …]}`,
+/// one row per shape in scene order, each slice four numbers (start and length in seconds,
+/// the index of its tag, negative-and-minus-one for an inverted slice: `-1 - index`).
+/// Compact on purpose: at the intersections scale (8217 shapes) it is what the page must
+/// carry for every shape, and the page draws only the rows in view.
+pub fn timeline_json(anim: &Animation, x: &Expansion) -> String {
+    let mut out = format!(
+        r#"{{"duration":{},"tags":{},"rows":["#,
+        short(anim.duration),
+        serde_json::Value::from(x.slice_tags.clone())
     );
-    for (i, (slices, shape)) in x
-        .timelines
-        .iter()
-        .zip(&anim.scene.shapes)
-        .take(rows)
-        .enumerate()
-    {
-        let y = i as f64 * ROW;
-        let _ = write!(
-            svg,
-            r#"<text x="2" y="{}">{}#{}</text>"#,
-            y + 10.0,
-            escape(&shape.tag),
-            shape.id
-        );
-        for sl in slices {
-            let tag = x
-                .slice_tags
-                .get(sl.tag as usize)
-                .map_or("?", String::as_str);
-            let hue = tag.bytes().fold(0u32, |h, b| (h * 31 + u32::from(b)) % 360);
-            let (bx, bw) = (LABEL + WIDTH * sl.t0 / d, (WIDTH * sl.dur / d).max(0.5));
-            let name = if sl.inverted {
-                format!("inv_{tag}")
-            } else {
-                tag.to_string()
-            };
-            let _ = write!(
-                svg,
-                r#"<g><title>{name} {:.3}–{:.3} s</title><rect x="{bx:.2}" y="{:.1}" width="{bw:.2}" height="{:.1}" fill="hsl({hue},55%,45%)"/>"#,
-                sl.t0,
-                sl.t0 + sl.dur,
-                y + 1.0,
-                ROW - 2.0
-            );
-            if sl.inverted {
-                let _ = write!(
-                    svg,
-                    r#"<rect x="{bx:.2}" y="{:.1}" width="{bw:.2}" height="{:.1}" fill="url(#inv)"/>"#,
-                    y + 1.0,
-                    ROW - 2.0
-                );
-            }
-            let _ = write!(
-                svg,
-                r##"<text x="{:.2}" y="{}" fill="#fff">{}</text></g>"##,
-                bx + 2.0,
-                y + 10.0,
-                escape(&name)
-            );
+    for (i, (slices, shape)) in x.timelines.iter().zip(&anim.scene.shapes).enumerate() {
+        if i > 0 {
+            out.push(',');
         }
+        let label = format!("{}#{}", shape.tag, shape.id);
+        let _ = write!(out, "[{}", serde_json::Value::from(label));
+        for sl in slices {
+            let tag = i64::from(sl.tag);
+            let tag = if sl.inverted { -1 - tag } else { tag };
+            let _ = write!(out, ",{},{},{tag}", short(sl.t0), short(sl.dur));
+        }
+        out.push(']');
     }
-    let repeat = if anim.looping { "indefinite" } else { "1" };
-    let _ = write!(
-        svg,
-        r##"<line x1="{LABEL}" x2="{LABEL}" y1="0" y2="{height}" stroke="#e03131" stroke-width="2"><animate attributeName="x1" from="{LABEL}" to="{e}" dur="{d}s" repeatCount="{repeat}" fill="freeze"/><animate attributeName="x2" from="{LABEL}" to="{e}" dur="{d}s" repeatCount="{repeat}" fill="freeze"/></line></svg>"##,
-        e = LABEL + WIDTH
-    );
-    svg
+    out.push_str("]}");
+    out
+}
+
+/// A time in seconds with at most five decimals (10 µs: far below a pixel of the timeline).
+fn short(t: f64) -> String {
+    let r = (t * 1e5).round() / 1e5;
+    if r == 0.0 {
+        "0".to_string()
+    } else {
+        r.to_string()
+    }
 }
 
 /// One HTML file showing the animation twice, side by side: lottie-web playing `lottie`
-/// (Lottie JSON) and the browser playing `smil` (an animated SVG), with `timeline` (an
-/// SVG picture, [`timeline_svg`]) under them when given. Everything is inline.
-pub fn preview_html(lottie: &str, smil: &str, timeline: Option<&str>, title: &str) -> String {
+/// (Lottie JSON) and the browser playing `smil` (an animated SVG), with the timeline of
+/// every shape's slices ([`timeline_json`]) under them when given: a scrolling list that
+/// draws only the rows in view, with a playhead that follows lottie-web. The Lottie player
+/// loops when `looping` (the grammar's `loop`), else stops on the last frame. Everything
+/// is inline.
+pub fn preview_html(
+    lottie: &str,
+    smil: &str,
+    timeline: Option<&str>,
+    title: &str,
+    looping: bool,
+) -> String {
     let smil = smil
         .trim_start()
         .strip_prefix("<?xml")
         .and_then(|s| s.split_once("?>").map(|(_, rest)| rest))
         .unwrap_or(smil);
     let title = escape(title);
-    let timeline = timeline.map_or(String::new(), |t| {
-        format!(r#"<div class="pane"><h2>Timeline</h2>{t}</div>"#)
-    });
+    let timeline = timeline.unwrap_or("null");
     format!(
         r#"<!doctype html>
 <html><head><meta charset="utf-8"><title>{title}</title>
@@ -129,6 +97,12 @@ body {{ font: 14px system-ui, sans-serif; margin: 1em; background: #f4f4f4; }}
 .pane {{ background: #fff; padding: .5em; border: 1px solid #ccc; }}
 .pane > div {{ width: 480px; max-width: 90vw; }}
 .pane svg {{ width: 100%; height: auto; }}
+#timeline {{ position: relative; width: 800px; max-width: 95vw; max-height: 420px; overflow-y: auto; font: 9px sans-serif; }}
+#timeline .row {{ position: absolute; left: 0; right: 0; height: 14px; }}
+#timeline .label {{ position: absolute; left: 2px; width: 76px; top: 2px; overflow: hidden; white-space: nowrap; }}
+#timeline .slice {{ position: absolute; top: 1px; height: 12px; color: #fff; overflow: hidden; white-space: nowrap; box-sizing: border-box; padding-left: 2px; }}
+#timeline .inv {{ background-image: repeating-linear-gradient(45deg, rgba(255,255,255,.45) 0 3px, transparent 3px 6px); }}
+#playhead {{ position: absolute; top: 0; width: 2px; background: #e03131; pointer-events: none; z-index: 1; }}
 </style></head>
 <body>
 <h1>{title}</h1>
@@ -136,11 +110,72 @@ body {{ font: 14px system-ui, sans-serif; margin: 1em; background: #f4f4f4; }}
 <div class="pane"><h2>Lottie (lottie-web)</h2><div id="lottie"></div><p id="markers"></p></div>
 <div class="pane"><h2>Animated SVG (SMIL)</h2><div id="smil">{smil}</div></div>
 </div>
-{timeline}
+<div class="pane" id="timeline-pane" hidden><h2>Timeline <small id="timeline-count"></small></h2><div id="timeline" role="list" aria-label="Timeline: every shape's slices"></div></div>
 <script>{player}</script>
 <script>
 const data = {data};
-const anim = lottie.loadAnimation({{ container: document.getElementById('lottie'), renderer: 'svg', loop: true, autoplay: true, animationData: data }});
+const anim = lottie.loadAnimation({{ container: document.getElementById('lottie'), renderer: 'svg', loop: {looping}, autoplay: true, animationData: data }});
+// The timeline: one row per shape, built only for the rows in view (and a few around), so
+// that a scene of thousands of shapes scrolls as lightly as one of ten.
+const timeline = {timeline};
+if (timeline) {{
+  const ROW = 14, LABEL = 80, WIDTH = 720, SPARE = 10;
+  const pane = document.getElementById('timeline-pane');
+  const view = document.getElementById('timeline');
+  pane.hidden = false;
+  document.getElementById('timeline-count').textContent = `(${{timeline.rows.length}} shapes)`;
+  const inner = document.createElement('div');
+  inner.style.height = `${{timeline.rows.length * ROW}}px`;
+  inner.style.position = 'relative';
+  view.appendChild(inner);
+  const head = document.createElement('div');
+  head.id = 'playhead';
+  head.style.height = `${{timeline.rows.length * ROW}}px`;
+  inner.appendChild(head);
+  const hue = (tag) => [...tag].reduce((h, c) => (h * 31 + c.charCodeAt(0)) % 360, 0);
+  const d = Math.max(timeline.duration, 1e-9);
+  const built = new Map();
+  const build = (i) => {{
+    const r = timeline.rows[i];
+    const row = document.createElement('div');
+    row.className = 'row';
+    row.setAttribute('role', 'listitem');
+    row.style.top = `${{i * ROW}}px`;
+    const label = document.createElement('span');
+    label.className = 'label';
+    label.textContent = r[0];
+    row.appendChild(label);
+    for (let k = 1; k + 2 < r.length; k += 3) {{
+      const [t0, dur, code] = [r[k], r[k + 1], r[k + 2]];
+      const inverted = code < 0;
+      const tag = timeline.tags[inverted ? -1 - code : code] ?? '?';
+      const name = inverted ? `inv_${{tag}}` : tag;
+      const bar = document.createElement('div');
+      bar.className = inverted ? 'slice inv' : 'slice';
+      bar.style.left = `${{LABEL + WIDTH * t0 / d}}px`;
+      bar.style.width = `${{Math.max(0.5, WIDTH * dur / d)}}px`;
+      bar.style.backgroundColor = `hsl(${{hue(tag)}},55%,45%)`;
+      bar.title = `${{name}} ${{t0.toFixed(3)}}–${{(t0 + dur).toFixed(3)}} s`;
+      bar.textContent = name;
+      row.appendChild(bar);
+    }}
+    return row;
+  }};
+  const show = () => {{
+    const first = Math.max(0, Math.floor(view.scrollTop / ROW) - SPARE);
+    const last = Math.min(timeline.rows.length, Math.ceil((view.scrollTop + view.clientHeight) / ROW) + SPARE);
+    for (const [i, row] of built) if (i < first || i >= last) {{ row.remove(); built.delete(i); }}
+    for (let i = first; i < last; i += 1) if (!built.has(i)) {{ const row = build(i); built.set(i, row); inner.appendChild(row); }}
+  }};
+  view.addEventListener('scroll', show, {{ passive: true }});
+  show();
+  const follow = () => {{
+    const t = anim.totalFrames > 0 ? anim.currentFrame / anim.frameRate : 0;
+    head.style.left = `${{LABEL + WIDTH * Math.min(t / d, 1)}}px`;
+    requestAnimationFrame(follow);
+  }};
+  follow();
+}}
 // A button per marker (the grammar's `markers`, or a Lottie scene's own) loops its span.
 const buttons = document.getElementById('markers');
 const button = (label, play) => {{
@@ -158,6 +193,7 @@ if ((data.markers || []).length) {{
 "#,
         player = in_script(LOTTIE_JS),
         data = in_script(lottie),
+        timeline = in_script(timeline),
     )
 }
 
@@ -189,9 +225,10 @@ pub fn page(
             &smil,
             r.timelines
                 .as_ref()
-                .map(|x| timeline_svg(anim, x))
+                .map(|x| timeline_json(anim, x))
                 .as_deref(),
             &format!("gmotion: {title}"),
+            anim.looping,
         ),
         warnings,
     ))

@@ -149,5 +149,7 @@ cp "$m/matrix.md" "$out/matrix.md"
 echo "matrix: $((SECONDS - mstart)) s"
 phase "studio: the page in Chromium (tests/conformance/studio.mjs)"
 node "$here/studio.mjs" "$gm" || status=1
+phase "preview: the page animate -o preview.html writes (tests/conformance/preview.mjs)"
+node "$here/preview.mjs" "$gm" || status=1
 echo "conformance: $((SECONDS - start)) s"
 exit $status
