@@ -39,7 +39,9 @@ pub fn timeline_svg(anim: &Animation, x: &Expansion) -> String {
     const LABEL: f64 = 80.0;
     const WIDTH: f64 = 720.0;
     const ROW: f64 = 14.0;
-    let d = anim.duration.max(1e-9);
+    // The playhead loops with the Lottie and the SVG beside it: over the duration rounded
+    // to whole frames.
+    let d = anim.length().max(1e-9);
     let rows = x.timelines.len().min(TIMELINE_ROWS);
     let height = rows as f64 * ROW;
     let mut svg = format!(
