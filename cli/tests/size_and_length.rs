@@ -454,3 +454,42 @@ fn players_and_video_play_the_fractional_scene_to_the_same_end() {
     );
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// A Lottie scene whose `op` After Effects wrote with float noise (60.0000024 at 29.97 fps)
+/// is 60 frames long: a grammar that sets no duration keeps the composition as it is (no
+/// cut, no warning), and the SVG lasts its 60 frames.
+#[test]
+fn a_lottie_length_with_float_noise_is_whole_frames() {
+    let d = out_dir("lottie-noise");
+    let (fr, op) = (29.970_001_220_703_1, 60.000_002_443_850_1);
+    std::fs::write(
+        d.join("src.json"),
+        format!(
+            r#"{{"v":"5.7.0","fr":{fr},"ip":0,"op":{op},"w":200,"h":100,"layers":[{{"ty":4,"nm":"box","ind":1,"ip":0,"op":{op},"st":0,"ks":{{"o":{{"a":0,"k":100}},"r":{{"a":0,"k":0}},"p":{{"a":0,"k":[100,50]}},"a":{{"a":0,"k":[0,0]}},"s":{{"a":0,"k":[100,100]}}}},"shapes":[{{"ty":"gr","nm":"g","it":[{{"ty":"rc","p":{{"a":0,"k":[0,0]}},"s":{{"a":0,"k":[80,40]}},"r":{{"a":0,"k":0}}}},{{"ty":"fl","c":{{"a":0,"k":[1,0,0,1]}},"o":{{"a":0,"k":100}}}},{{"ty":"tr","p":{{"a":0,"k":[0,0]}},"a":{{"a":0,"k":[0,0]}},"s":{{"a":0,"k":[100,100]}},"r":{{"a":0,"k":0}},"o":{{"a":0,"k":100}}}}]}}]}}]}}"#
+        ),
+    )
+    .unwrap();
+    std::fs::write(
+        d.join("turn.gm"),
+        "loop false\nanimate(affine, local, 0, rotate(30)) : [all, box] -> [turned]\n",
+    )
+    .unwrap();
+    let out = bin()
+        .current_dir(&d)
+        .args([
+            "animate", "src.json", "turn.gm", "-o", "a.json", "-o", "a.svg",
+        ])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(!err.contains("warning"), "{err}");
+    let doc = json(&std::fs::read(d.join("a.json")).unwrap());
+    assert_eq!(doc["op"].as_f64(), Some(op), "the composition kept");
+    let svg = std::fs::read_to_string(d.join("a.svg")).unwrap();
+    assert!(!durs(&svg).is_empty(), "the SVG animates");
+    for dur in durs(&svg) {
+        assert!((dur - 60.0 / fr).abs() < 1e-6, "SVG dur {dur} s");
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}
