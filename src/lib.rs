@@ -33,7 +33,7 @@
 //! [`grammar`] (the language), [`tangle`] (group grammars: spatial rules), [`engine`]
 //! (expansion and compilation), [`motion`] (the animation model and its sampling),
 //! [`keyframe`] (the keys exporters write), [`signals`] (easings, FIR and spring filters),
-//! [`transitions`] (data-driven motion); beside them [`color`], [`canvas`] (output sizes),
+//! [`transitions`] (data-driven motion); beside them [`color`], [`canvas`] (output sizes and lengths),
 //! [`tagging`] (import options the grammar sets), [`tolerance`] ("the same up to rounding"),
 //! [`warning`] and [`atomic`] (whole-or-nothing file writes).
 #![forbid(unsafe_code)]

@@ -42,6 +42,7 @@ mod lottie_time;
 // Every test here plays exports or reads the Lottie corpus.
 #[cfg(feature = "players")]
 mod rigs;
+mod size_and_length;
 mod smil_follow;
 mod studio;
 // Every test here plays exports in the real players.

@@ -30,7 +30,7 @@ fn escape(text: &str) -> String {
 }
 
 /// Every shape's final slices as the page's timeline reads them: JSON
-/// `{"duration": seconds, "tags": [slice tag…], "rows": [[label, t0, dur, tag, …], …]}`,
+/// `{"duration": seconds (the animation's length in whole frames), "tags": [slice tag…], "rows": [[label, t0, dur, tag, …], …]}`,
 /// one row per shape in scene order, each slice four numbers (start and length in seconds,
 /// the index of its tag, negative-and-minus-one for an inverted slice: `-1 - index`).
 /// Compact on purpose: at the intersections scale (8217 shapes) it is what the page must
@@ -38,7 +38,9 @@ fn escape(text: &str) -> String {
 pub fn timeline_json(anim: &Animation, x: &Expansion) -> String {
     let mut out = format!(
         r#"{{"duration":{},"tags":{},"rows":["#,
-        short(anim.duration),
+        // The span the Lottie and the SVG beside it play: the duration rounded to whole
+        // frames.
+        short(anim.length()),
         serde_json::Value::from(x.slice_tags.clone())
     );
     for (i, (slices, shape)) in x.timelines.iter().zip(&anim.scene.shapes).enumerate() {

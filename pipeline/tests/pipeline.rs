@@ -68,7 +68,9 @@ fn every_extension_to_bytes_is_what_the_file_gets() {
     }
     let html = String::from_utf8(writer.bytes(&rendered, &dir.join("p.html")).unwrap().0).unwrap();
     // The page carries the timeline's data: the toy's shapes, each a row.
-    assert!(html.contains("lottie.loadAnimation") && html.contains("const timeline = {\"duration\""));
+    assert!(
+        html.contains("lottie.loadAnimation") && html.contains("const timeline = {\"duration\"")
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -96,7 +96,7 @@ pub fn smooth_tracks(
     fps: f64,
     looping: bool,
 ) -> Result<(), String> {
-    let frames = ((duration * fps).round() as usize).max(1);
+    let frames = crate::canvas::frames(duration, fps);
     let time = |i: usize| (i as f64 / fps).min(duration);
     // Every track's result is kept so that the error reported is the first track's,
     // whichever thread met an error first.

@@ -574,9 +574,16 @@ impl Animation {
         out.extend(self.tracks.iter().map(|tr| tr.state_at(t)));
     }
 
-    /// Number of frames for sampled output (at least one).
+    /// Number of frames of every output (at least one): the duration in frames, rounded
+    /// to the nearest whole number ([`crate::canvas::frames`]).
     pub fn frame_count(&self) -> usize {
-        ((self.duration * self.fps).round() as usize).max(1)
+        crate::canvas::frames(self.duration, self.fps)
+    }
+
+    /// How long every output lasts, in seconds: [`Animation::frame_count`] frames, which is
+    /// the duration rounded to a whole frame ([`crate::canvas::length`]).
+    pub fn length(&self) -> f64 {
+        crate::canvas::length(self.duration, self.fps)
     }
 
     /// The time of frame `i`.

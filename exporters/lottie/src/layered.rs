@@ -77,7 +77,7 @@ pub fn over_source(
         });
     }
     let mut warnings = Vec::new();
-    if opts.size.fit(anim.scene.width, anim.scene.height).is_some() {
+    if opts.size.is_given() {
         warnings.push(Warning::new(
             "--width/--height do not resize a Lottie source; its composition size is kept",
         ));
@@ -85,7 +85,9 @@ pub fn over_source(
     let doc = &source.document;
     let fr = doc.fr;
     let (ip, op) = (doc.ip, doc.op);
-    let frames = (anim.duration * fr).ceil().max(1.0) as usize;
+    // The source's frames up to where every output ends (the duration rounded to whole
+    // frames at the animation's own rate, `gmotion::canvas`).
+    let frames = (anim.length() * fr).ceil().max(1.0) as usize;
     let mut json = source.json.clone();
     let Some(layers) = json.get_mut("layers").and_then(Json::as_array_mut) else {
         return Ok((json.to_string(), warnings));

@@ -219,27 +219,7 @@ impl<'a> Builder<'a> {
         } else {
             self.group(root, Affine::IDENTITY, env, &mut comp);
         }
-        let next = comp.next_ind;
-        let mut layers = comp.into_layers(self.src.op);
-        // Lottie sizes are whole pixels: stretch a fractional canvas onto them, through a
-        // null parent (exact for every layer whatever its own transform).
-        let scale = Vec2::new(
-            size.0 as f64 / self.src.scene.width,
-            size.1 as f64 / self.src.scene.height,
-        );
-        if (scale - Vec2::new(1.0, 1.0)).hypot() > 1e-9 {
-            let ind = layers.iter().map(|l| l.ind).max().unwrap_or(next) + 1;
-            for l in layers.iter_mut().filter(|l| l.parent.is_none()) {
-                l.parent = Some(ind);
-            }
-            let mut null = Layer::new(LayerKind::Null, "canvas".to_string(), ind, 0.0, self.src.op);
-            null.ks.s = Some(Prop::vec(vec![
-                N::fine(scale.x * 100.0),
-                N::fine(scale.y * 100.0),
-            ]));
-            layers.push(null);
-        }
-        layers
+        comp.into_layers(self.src.op)
     }
 
     /// The number of the next precomposition: one past the highest made so far (image

@@ -54,7 +54,7 @@ use rayon::prelude::*;
 
 use animate::{Bakes, UnitInfo, UnitMotion, may_stroke, unit_motion};
 use gmotion::Warning;
-use gmotion::canvas::{Fit, OutputSize};
+use gmotion::canvas::{Fit, OutputSize, pixels};
 use gmotion::engine::markers::Marker;
 use gmotion::engine::slots::SlotKinds;
 use gmotion::motion::{Animation, Track};
@@ -226,7 +226,14 @@ fn write(src: Source, opts: &LottieOptions) -> Result<(LottieText, Vec<Warning>)
             height: h,
         });
     }
-    let size = (w.round().max(1.0) as u32, h.round().max(1.0) as u32);
+    // The one rule every output follows (`gmotion::canvas`): whole pixels, rounded half
+    // up, and the art at exactly the asked scale, never stretched onto the rounded sides.
+    let Some(fit) = opts.size.fit(w, h) else {
+        return Err(LottieError::Size {
+            width: w,
+            height: h,
+        });
+    };
     let tolerance = if opts.tolerance.is_finite() && opts.tolerance > 0.0 {
         opts.tolerance
     } else {
@@ -234,19 +241,13 @@ fn write(src: Source, opts: &LottieOptions) -> Result<(LottieText, Vec<Warning>)
     };
     let mut builder = layers::Builder::new(src, tolerance);
     builder.slots = opts.slots;
-    let mut layers = builder.layers(size);
-    let size = match opts.size.fit(w, h) {
-        Some(fit) => {
-            fit_layers(
-                &mut layers,
-                &fit,
-                (size.0 as f64 / w, size.1 as f64 / h),
-                op,
-            );
-            (fit.width, fit.height)
-        }
-        None => size,
-    };
+    // Precompositions are as large as the canvas in whole pixels (and a margin): drawn at
+    // the canvas's own scale, inside the null that `fit_layers` adds.
+    let mut layers = builder.layers((pixels(w), pixels(h)));
+    if fit.scale != 1.0 || fit.offset != kurbo::Vec2::ZERO {
+        fit_layers(&mut layers, &fit, op);
+    }
+    let size = (fit.width, fit.height);
     let doc = model::Animation {
         v: "5.7.0",
         fr: model::N::coord(fps),
@@ -318,10 +319,10 @@ pub fn pack_json(text: String) -> String {
     }
 }
 
-/// Places the root layers, drawn on a composition `built` pixels per canvas unit, where
-/// `fit` puts the canvas: through a null parent that scales and moves them (exact for
-/// every layer whatever its own transform, as the builder's own canvas null is).
-fn fit_layers(layers: &mut Vec<model::Layer>, fit: &Fit, built: (f64, f64), op: f64) {
+/// Places the root layers, drawn at the canvas's own scale, where `fit` puts the canvas:
+/// through a null parent that scales and moves them (exact for every layer whatever its
+/// own transform).
+fn fit_layers(layers: &mut Vec<model::Layer>, fit: &Fit, op: f64) {
     use model::{Layer, LayerKind, N, Prop, WriteLayer};
     let ind = layers.iter().map(|l| l.ind).max().unwrap_or(0) + 1;
     for l in layers.iter_mut().filter(|l| l.parent.is_none()) {
@@ -329,8 +330,8 @@ fn fit_layers(layers: &mut Vec<model::Layer>, fit: &Fit, built: (f64, f64), op: 
     }
     let mut null = Layer::new(LayerKind::Null, "output".to_string(), ind, 0.0, op);
     null.ks.s = Some(Prop::vec(vec![
-        N::fine(fit.scale / built.0 * 100.0),
-        N::fine(fit.scale / built.1 * 100.0),
+        N::fine(fit.scale * 100.0),
+        N::fine(fit.scale * 100.0),
     ]));
     null.ks.p = Some(Prop::vec(vec![
         N::coord(fit.offset.x),

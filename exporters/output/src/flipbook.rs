@@ -165,8 +165,8 @@ pub(crate) fn smil(stage: Stage, path: &Path, opts: &Options) -> Result<String, 
     out.push_str(&body);
     out.push_str("</svg>\n");
     Ok(match opts.size.fit(width, height) {
-        Some(fit) => frame::with_output_size(&out, &fit),
-        None => out,
+        Some(fit) if !fit.is_canvas() => frame::with_output_size(&out, &fit),
+        _ => out,
     })
 }
 

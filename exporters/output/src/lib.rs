@@ -28,7 +28,7 @@ use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 
 use gmotion::Warning;
-use gmotion::canvas::OutputSize;
+use gmotion::canvas::{OutputSize, pixels};
 use gmotion::engine::markers::Marker;
 use gmotion::engine::slots::SlotKinds;
 use gmotion::motion::{Animation, Sampler, ShapeState, Track};
@@ -375,7 +375,8 @@ impl Stage<'_> {
         opts: &Options,
     ) -> Result<Pixmap, OutputError> {
         let svg = self.svg(sampler, path, (index, t), "d")?;
-        raster::render_limited(&svg, opts.size, opts.max_pixels)
+        let scene = &self.anim.scene;
+        render_sized(&svg, (scene.width, scene.height), opts)
             .map_err(|e| frame_error(path, self.anim, index, t, e))
     }
 
@@ -484,20 +485,22 @@ fn riding(src: &LottieSource, states: &mut [ShapeState], moved: &[Affine]) {
     }
 }
 
-/// The pixel size a raster output of a `width` × `height` canvas has at `size` (the
-/// canvas's own size, rounded, when none is asked for), as the renderer computes it.
+/// The pixel size a raster output of a `width` × `height` canvas has at `size`, as
+/// [`OutputSize::fit`] decides it for every output.
 fn raster_size(width: f64, height: f64, size: OutputSize) -> (u32, u32) {
-    let own = |v: f64| v.round().clamp(1.0, f64::from(u32::MAX)) as u32;
-    let size = if size == OutputSize::default() {
-        OutputSize {
-            width: Some(own(width)),
-            height: None,
-        }
-    } else {
-        size
-    };
     size.fit(width, height)
-        .map_or((own(width), own(height)), |f| (f.width, f.height))
+        .map_or((pixels(width), pixels(height)), |f| (f.width, f.height))
+}
+
+/// `svg`, a document of a `canvas` (width, height) scene, rendered at `opts.size` as
+/// [`OutputSize::fit`] places the scene's canvas (the scene's own numbers, not the
+/// document's `f32` ones, so the pixels match every other output's size exactly).
+fn render_sized(svg: &str, canvas: (f64, f64), opts: &Options) -> Result<Pixmap, RenderError> {
+    match opts.size.fit(canvas.0, canvas.1) {
+        Some(fit) => raster::render_fit(svg, &fit, opts.max_pixels),
+        // An empty or infinite canvas: the renderer says what is wrong with it.
+        None => raster::render_limited(svg, opts.size, opts.max_pixels),
+    }
 }
 
 /// The shape reaching farthest from the output's origin in `states` (rest geometry moved
@@ -774,7 +777,8 @@ fn lasting<'s>(
     let Some(source) = source else {
         return (None, said);
     };
-    match source.lasting(anim.duration) {
+    // As long as every other output: the duration rounded to whole frames.
+    match source.lasting(anim.length()) {
         None => (Some(source), said),
         Some((fitted, what)) => {
             said.push(Warning::new(what));
@@ -862,7 +866,7 @@ pub fn write_still_over_source(
     match source {
         Some(src) if Format::of(path)?.is_lottie() => {
             let mut warnings = Vec::new();
-            if opts.size.fit(scene.width, scene.height).is_some() {
+            if opts.size.is_given() {
                 warnings.push(Warning::new(
                     "--width/--height do not resize a Lottie source; its composition size is kept",
                 ));
@@ -937,25 +941,25 @@ pub fn write_still(
 ) -> Result<Vec<Warning>, OutputError> {
     match Format::of(path)? {
         Format::Png => {
-            let pm = raster::render_limited(&frame::scene_svg(scene), opts.size, opts.max_pixels)
+            let pm = render_sized(&frame::scene_svg(scene), (scene.width, scene.height), opts)
                 .map_err(|e| {
-                let shape = matches!(e, RenderError::OutOfRange { .. })
-                    .then(|| farthest_shape(scene, &[]))
-                    .flatten();
-                match e {
-                    RenderError::OutOfRange { .. } | RenderError::TooManyPixels { .. } => {
-                        OutputError::Still {
-                            path: path.to_path_buf(),
-                            shape,
-                            source: e,
+                    let shape = matches!(e, RenderError::OutOfRange { .. })
+                        .then(|| farthest_shape(scene, &[]))
+                        .flatten();
+                    match e {
+                        RenderError::OutOfRange { .. } | RenderError::TooManyPixels { .. } => {
+                            OutputError::Still {
+                                path: path.to_path_buf(),
+                                shape,
+                                source: e,
+                            }
                         }
+                        source => OutputError::Raster {
+                            path: path.to_path_buf(),
+                            source,
+                        },
                     }
-                    source => OutputError::Raster {
-                        path: path.to_path_buf(),
-                        source,
-                    },
-                }
-            })?;
+                })?;
             raster::save_png(&pm, path).map_err(|source| OutputError::Raster {
                 path: path.to_path_buf(),
                 source,
@@ -971,8 +975,8 @@ pub fn write_still(
         Format::Svg => {
             let svg = frame::scene_svg(scene);
             let svg = match opts.size.fit(scene.width, scene.height) {
-                Some(fit) => frame::with_output_size(&svg, &fit),
-                None => svg,
+                Some(fit) if !fit.is_canvas() => frame::with_output_size(&svg, &fit),
+                _ => svg,
             };
             write_file(path, svg.as_bytes())?;
             Ok(Vec::new())

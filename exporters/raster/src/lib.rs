@@ -9,7 +9,7 @@ pub use resvg::tiny_skia::Pixmap;
 use resvg::tiny_skia::Transform;
 
 use gmotion::atomic;
-use gmotion::canvas::OutputSize;
+use gmotion::canvas::{Fit, OutputSize};
 
 /// Why rendering or writing pixels failed.
 #[derive(Debug, thiserror::Error)]
@@ -120,8 +120,8 @@ pub fn render(svg: &str, width: u32) -> Result<Pixmap, RenderError> {
 }
 
 /// Renders SVG text at `size` (see [`OutputSize`]: one side keeps the aspect ratio, both
-/// fit the art inside and centre it; neither is the document's own size, rounded), on a
-/// transparent background, like [`render`].
+/// fit the art inside and centre it; neither is the document's own size, each side rounded
+/// half up), on a transparent background, like [`render`].
 pub fn render_sized(svg: &str, size: OutputSize) -> Result<Pixmap, RenderError> {
     render_limited(svg, size, DEFAULT_MAX_PIXELS)
 }
@@ -129,32 +129,41 @@ pub fn render_sized(svg: &str, size: OutputSize) -> Result<Pixmap, RenderError> 
 /// [`render_sized`] refusing an image of more than `max_pixels` pixels
 /// ([`RenderError::TooManyPixels`]) before allocating it.
 pub fn render_limited(svg: &str, size: OutputSize, max_pixels: u64) -> Result<Pixmap, RenderError> {
-    let tree = usvg::Tree::from_str(svg, &usvg::Options::default())
-        .map_err(|e| RenderError::Svg(e.to_string()))?;
-    let (w, h) = (
-        f64::from(tree.size().width()),
-        f64::from(tree.size().height()),
-    );
-    let size = if size == OutputSize::default() {
-        OutputSize {
-            width: Some(w.round().clamp(1.0, f64::from(u32::MAX)) as u32),
-            height: None,
-        }
-    } else {
-        size
-    };
-    let fit = size.fit(w, h).ok_or(RenderError::Size {
-        width: 0,
-        height: 0,
-    })?;
+    let tree = parse(svg)?;
+    let fit = size
+        .fit(
+            f64::from(tree.size().width()),
+            f64::from(tree.size().height()),
+        )
+        .ok_or(RenderError::Size {
+            width: 0,
+            height: 0,
+        })?;
+    draw(&tree, &fit, max_pixels)
+}
+
+/// Renders SVG text as `fit` places its canvas (`fit.canvas` the document's size, which
+/// the caller knows more exactly than the document's `f32` numbers say), refusing an image
+/// of more than `max_pixels` pixels: how every frame of an animation is drawn, sized by the
+/// one rule of [`gmotion::canvas`] that its Lottie and SVG outputs follow too.
+pub fn render_fit(svg: &str, fit: &Fit, max_pixels: u64) -> Result<Pixmap, RenderError> {
+    draw(&parse(svg)?, fit, max_pixels)
+}
+
+fn parse(svg: &str) -> Result<usvg::Tree, RenderError> {
+    usvg::Tree::from_str(svg, &usvg::Options::default())
+        .map_err(|e| RenderError::Svg(e.to_string()))
+}
+
+fn draw(tree: &usvg::Tree, fit: &Fit, max_pixels: u64) -> Result<Pixmap, RenderError> {
     let (width, height) = (fit.width, fit.height);
     check_pixels(width, height, max_pixels)?;
-    check_drawable(&tree, fit.scale, fit.offset.x, fit.offset.y)?;
+    check_drawable(tree, fit.scale, fit.offset.x, fit.offset.y)?;
     check_images(tree.root(), max_pixels)?;
     let mut pixmap = Pixmap::new(width, height).ok_or(RenderError::Size { width, height })?;
     let scale = fit.scale as f32;
     resvg::render(
-        &tree,
+        tree,
         Transform::from_row(
             scale,
             0.0,

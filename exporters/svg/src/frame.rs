@@ -42,9 +42,12 @@ const BEND_TOLERANCE: f64 = 0.05;
 const ROOT: &str = "<svg xmlns=\"http://www.w3.org/2000/svg\"";
 
 /// `svg`, a document written by this module (or spliced from one, as the SMIL exporter
-/// does), with its root's `width` and `height` set to `fit`'s output size. The `viewBox`
-/// keeps the canvas, so viewers scale the art to fit and centre it, as [`Fit`] says.
-/// Text that does not start as this module writes it is returned unchanged.
+/// does), sized as `fit` says: its root's `width` and `height` the output's pixels, and its
+/// `viewBox` the part of the canvas they show ([`Fit::view_box`]), so that every SVG viewer
+/// draws the art at `fit`'s scale and place, as the PNG and Lottie outputs do. Where the
+/// canvas's own `viewBox` already draws it so (SVG's default `xMidYMid meet`: always when
+/// both sides are given), it is kept. Text that does not start as this module writes it is
+/// returned unchanged.
 pub fn with_output_size(svg: &str, fit: &Fit) -> String {
     match output_size_edit(svg, fit) {
         Some((range, text)) => {
@@ -58,16 +61,28 @@ pub fn with_output_size(svg: &str, fit: &Fit) -> String {
     }
 }
 
-/// What [`with_output_size`] changes: the range of `svg` before the root's `viewBox` and
-/// the `width` and `height` attributes that replace it; `None` for text that does not
-/// start as this module writes it.
+/// What [`with_output_size`] changes: the range of `svg` holding the root's `width` and
+/// `height` (and its `viewBox`, where that changes too) and the attributes that replace
+/// it; `None` for text that does not start as this module writes it.
 pub fn output_size_edit(svg: &str, fit: &Fit) -> Option<(std::ops::Range<usize>, String)> {
+    const VIEW_BOX: &str = " viewBox=\"";
     let rest = svg.strip_prefix(ROOT)?;
-    let view_box = rest.find(" viewBox=")?;
-    let mut text = String::with_capacity(32);
+    let view_box = rest.find(VIEW_BOX)?;
+    let mut text = String::with_capacity(64);
     attr_num(&mut text, "width", f64::from(fit.width));
     attr_num(&mut text, "height", f64::from(fit.height));
-    Some((ROOT.len()..ROOT.len() + view_box, text))
+    if fit.is_meet() {
+        return Some((ROOT.len()..ROOT.len() + view_box, text));
+    }
+    let value = view_box + VIEW_BOX.len();
+    let end = value + rest[value..].find('"')? + 1;
+    let shown = fit.view_box();
+    text.push_str(VIEW_BOX);
+    point(&mut text, shown.origin());
+    text.push(' ');
+    point(&mut text, Point::new(shown.width(), shown.height()));
+    text.push('"');
+    Some((ROOT.len()..ROOT.len() + end, text))
 }
 
 /// The scene as a static SVG document, with its node ids.

@@ -136,8 +136,10 @@ pub fn smil_document(anim: &Animation, opts: &SmilOptions) -> Result<SmilDocumen
     validate(anim, opts)?;
     let w = Writer {
         anim,
+        // Every output lasts the duration rounded to whole frames (`gmotion::canvas`), the
+        // SVG too: it loops when the Lottie and the GIF do.
         clock: Clock {
-            dur: anim.duration,
+            dur: anim.length(),
             looping: anim.looping,
         },
         opts,
@@ -163,7 +165,7 @@ pub fn smil_document(anim: &Animation, opts: &SmilOptions) -> Result<SmilDocumen
             edits.replace(range, text);
         }
     };
-    let dur = anim.duration;
+    let dur = anim.length();
     let mut units: Vec<usize> = (0..anim.tracks.len())
         .filter(|&u| changes(&anim.tracks[u], dur))
         .collect();
@@ -269,6 +271,7 @@ pub fn smil_document(anim: &Animation, opts: &SmilOptions) -> Result<SmilDocumen
         }
     }
     if let Some(fit) = opts.size.fit(anim.scene.width, anim.scene.height)
+        && !fit.is_canvas()
         && let Some((range, text)) = output_size_edit(&marked.svg, &fit)
     {
         edits.replace(range, text);
