@@ -400,3 +400,153 @@ fn a_lottie_scene_works_too() {
     let lottie = s.call("GET", "/api/lottie", "").json();
     assert!(lottie["layers"].as_array().is_some_and(|l| !l.is_empty()));
 }
+
+/// Polls `/api/status` until `done` holds (10 s at most).
+fn wait_status(s: &Studio, what: &str, done: impl Fn(&Value) -> bool) -> Value {
+    let start = Instant::now();
+    loop {
+        let st = s.call("GET", "/api/status", "").json();
+        if done(&st) {
+            return st;
+        }
+        assert!(start.elapsed() < Duration::from_secs(10), "{what}: {st}");
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
+#[test]
+fn a_missing_grammar_is_created_empty_at_start() {
+    let dir = Studio::folder("new");
+    std::fs::remove_file(dir.join("toy.gm")).unwrap();
+    let scene = dir.join("toy.svg");
+    let s = Studio::start_on(dir, &scene);
+    assert_eq!(
+        std::fs::read_to_string(s.dir.join("toy.gm")).unwrap(),
+        "",
+        "the paper starts from a possibly empty grammar"
+    );
+    let st = s.state();
+    assert_eq!(st["diagnostics"], serde_json::json!([]), "{st}");
+    assert_eq!(st["shapes"].as_array().unwrap().len(), 6);
+}
+
+#[test]
+fn an_outside_edit_under_unsaved_edits_is_a_conflict_never_dropped() {
+    let s = Studio::start("conflict");
+    let path = s.dir.join("toy.gm");
+    let disk = std::fs::read_to_string(&path).unwrap();
+    let mine = disk.replace("translate(260, 0)", "translate(100, 0)");
+    let theirs = disk.replace("duration 6s", "duration 4s");
+    s.call("PUT", "/api/grammar", &mine);
+    assert_eq!(s.call("GET", "/api/status", "").json()["unsaved"], true);
+
+    // Changed on disk before the watcher has looked: Save refuses and shows the conflict.
+    std::fs::write(&path, &theirs).unwrap();
+    let r = s.call("POST", "/api/save", "");
+    assert_eq!(r.status, 409, "{}", String::from_utf8_lossy(&r.body));
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), theirs);
+    let st = wait_status(&s, "a conflict", |st| st["conflict"].is_string());
+    assert_eq!(st["conflict"], theirs.as_str());
+    assert_eq!(st["grammar"], mine.as_str(), "my text stays");
+    // The watcher's turn does not drop it either.
+    std::thread::sleep(Duration::from_millis(700));
+    let st = s.call("GET", "/api/status", "").json();
+    assert_eq!(
+        (st["grammar"].as_str(), st["conflict"].as_str()),
+        (Some(mine.as_str()), Some(theirs.as_str()))
+    );
+    assert_eq!(s.call("POST", "/api/save", "").status, 409);
+
+    // Keep mine: Save may now write over theirs.
+    assert_eq!(s.call("POST", "/api/resolve?take=nobody", "").status, 400);
+    let r = s.call("POST", "/api/resolve?take=mine", "").json();
+    assert_eq!(r["grammar"], mine.as_str());
+    assert_eq!(s.call("POST", "/api/resolve?take=mine", "").status, 409);
+    assert_eq!(s.call("POST", "/api/save", "").status, 200);
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), mine);
+
+    // Take theirs: the page's text becomes the file's, and the animation follows.
+    let other = mine.replace("duration 6s", "duration 3s");
+    s.call("PUT", "/api/grammar", &mine.replace("fps 30", "fps 24"));
+    std::fs::write(&path, &other).unwrap();
+    wait_status(&s, "a second conflict", |st| {
+        st["conflict"] == other.as_str()
+    });
+    let r = s.call("POST", "/api/resolve?take=theirs", "").json();
+    assert_eq!(r["grammar"], other.as_str());
+    let st = s.state();
+    assert_eq!(
+        (st["duration"].as_f64(), st["unsaved"].as_bool()),
+        (Some(3.0), Some(false))
+    );
+
+    // With no unsaved edits, an outside edit is simply taken.
+    let again = other.replace("duration 3s", "duration 2s");
+    std::fs::write(&path, &again).unwrap();
+    let st = wait_status(&s, "the outside edit", |st| st["grammar"] == again.as_str());
+    assert!(st["conflict"].is_null(), "{st}");
+}
+
+#[test]
+fn boxes_follow_the_frame_shown() {
+    let s = Studio::start("boxes");
+    let st = s.state();
+    let square = st["shapes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|x| x["tag"] == "s")
+        .unwrap();
+    let at = |t: f64| -> Vec<f64> {
+        let r = s.call("GET", &format!("/api/boxes?t={t}"), "").json();
+        r["boxes"][square]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect()
+    };
+    // The square slides 260 to the right over the first half (6 s), and back.
+    assert_eq!(at(0.0), vec![60.0, 120.0, 80.0, 80.0]);
+    let mid = at(3.0);
+    assert!((mid[0] - 320.0).abs() < 1e-6 && mid[1] == 120.0, "{mid:?}");
+    assert_eq!(s.call("GET", "/api/boxes?t=x", "").status, 400);
+}
+
+#[test]
+fn many_keep_alive_connections_are_all_answered() {
+    // Browsers keep a handful of connections open; a new one must not queue behind them.
+    let s = Studio::start("connections");
+    let request = format!(
+        "GET /api/status HTTP/1.1\r\nHost: 127.0.0.1:{}\r\nX-Gmotion-Token: {}\r\n\r\n",
+        s.port, s.token
+    );
+    let mut open: Vec<TcpStream> = (0..12)
+        .map(|_| TcpStream::connect(("127.0.0.1", s.port)).unwrap())
+        .collect();
+    for round in 0..3 {
+        for c in &mut open {
+            c.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+            c.write_all(request.as_bytes()).unwrap();
+        }
+        for (i, c) in open.iter_mut().enumerate() {
+            let mut head = Vec::new();
+            let mut byte = [0u8; 1];
+            while !head.ends_with(b"\r\n\r\n") {
+                c.read_exact(&mut byte)
+                    .unwrap_or_else(|e| panic!("connection {i}, round {round}: {e}"));
+                head.push(byte[0]);
+            }
+            let head = String::from_utf8(head).unwrap();
+            assert!(head.starts_with("HTTP/1.1 200"), "{head}");
+            let length: usize = head
+                .lines()
+                .find_map(|l| l.strip_prefix("Content-Length: "))
+                .unwrap()
+                .parse()
+                .unwrap();
+            let mut body = vec![0; length];
+            c.read_exact(&mut body).unwrap();
+        }
+    }
+}

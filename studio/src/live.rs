@@ -91,6 +91,31 @@ struct State {
     stamp: Option<(SystemTime, u64)>,
     /// Variations of the current version, by seed.
     seeds: HashMap<u64, Arc<Built>>,
+    /// The text last read from or written to the grammar file: the page's edits are
+    /// unsaved while `text` differs from it, and Save writes only over this text.
+    disk: String,
+    /// The file's text when it changed on disk while the page had unsaved edits: kept
+    /// beside them until the page chooses ([`Live::resolve`]), never applied over them.
+    conflict: Option<String>,
+}
+
+/// Why [`Live::save`] did not write.
+#[derive(Debug)]
+pub enum SaveError {
+    /// The file changed on disk since it was last read: writing would lose that change.
+    /// The new text on disk is now the pending conflict.
+    Changed,
+    /// The file could not be written.
+    Io(io::Error),
+}
+
+/// How the page settles a conflict between its unsaved text and the file's new text.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Resolution {
+    /// Keep the page's text (the next Save writes it over the file's).
+    Mine,
+    /// Replace the page's text with the file's.
+    Theirs,
 }
 
 /// The studio's live state, shared by the request threads and the file watcher.
@@ -194,6 +219,7 @@ impl Live {
     /// scene still, with the grammar's diagnostics.
     pub fn new(config: Config) -> io::Result<Live> {
         let text = std::fs::read_to_string(&config.grammar_path)?;
+        let text_on_disk = text.clone();
         let stamp = stamp(&config.grammar_path);
         let parsed = parse(&text);
         let imported = Arc::new(Imported {
@@ -230,6 +256,8 @@ impl Live {
                 version: 1,
                 stamp,
                 seeds: HashMap::new(),
+                disk: text_on_disk,
+                conflict: None,
             }),
             building: Mutex::new(()),
         })
@@ -426,18 +454,67 @@ impl Live {
         self.export(&self.good(), "json", 0.0)
     }
 
-    /// Writes the current text to the grammar file (atomically) and returns the path.
-    pub fn save(&self) -> io::Result<&Path> {
+    /// Whether the text differs from the file's (as last read or written).
+    pub fn unsaved(&self) -> bool {
+        let st = self.lock();
+        st.text != st.disk
+    }
+
+    /// The file's new text when it changed on disk under unsaved edits, until resolved.
+    pub fn conflict(&self) -> Option<String> {
+        self.lock().conflict.clone()
+    }
+
+    /// Settles the pending conflict: `Mine` keeps the text (the file's text counts as
+    /// read, so the next Save may write over it), `Theirs` takes the file's text. Returns
+    /// false when there was no conflict.
+    pub fn resolve(&self, how: Resolution) -> bool {
+        let theirs = {
+            let mut st = self.lock();
+            let Some(theirs) = st.conflict.take() else {
+                return false;
+            };
+            st.disk = theirs.clone();
+            theirs
+        };
+        if how == Resolution::Theirs {
+            self.set_text(theirs);
+        }
+        true
+    }
+
+    /// Writes the current text to the grammar file (atomically) and returns the path;
+    /// refuses ([`SaveError::Changed`]) when the file's text is no longer the text last
+    /// read from it, whether or not the watcher has seen the change yet, so an edit made
+    /// elsewhere is never overwritten without the page choosing to.
+    pub fn save(&self) -> Result<&Path, SaveError> {
         let mut st = self.lock();
-        gmotion::atomic::write_bytes(&self.grammar_path, st.text.as_bytes())?;
+        if let Some(now) = read_text(&self.grammar_path)
+            && now != st.disk
+        {
+            if now != st.text {
+                st.conflict = Some(now);
+                return Err(SaveError::Changed);
+            }
+            // The file already holds this text: nothing would be lost.
+            st.disk = now;
+        }
+        if st.conflict.is_some() {
+            return Err(SaveError::Changed);
+        }
+        gmotion::atomic::write_bytes(&self.grammar_path, st.text.as_bytes())
+            .map_err(SaveError::Io)?;
         st.stamp = stamp(&self.grammar_path);
+        st.disk = st.text.clone();
         Ok(&self.grammar_path)
     }
 
     /// Polls the grammar file every 300 ms and takes in its text when its modification
-    /// time or length changes. Polling rather than a file-watcher crate: one `stat` a
-    /// third of a second costs nothing, needs no dependency, and sees the atomic
-    /// rename-over that editors (and `save`) do, which inotify watches on the file lose.
+    /// time or length changes, unless the page has unsaved edits: then the file's text
+    /// becomes a conflict for the page to settle. Polling rather than a file-watcher
+    /// crate: one `stat` a third of a second costs nothing, needs no dependency, and sees
+    /// the atomic rename-over that editors (and `save`) do, which inotify watches on the
+    /// file lose.
     pub fn watch(&self) -> ! {
         loop {
             std::thread::sleep(Duration::from_millis(300));
@@ -445,13 +522,54 @@ impl Live {
             if now.is_none() || now == self.lock().stamp {
                 continue;
             }
-            let Ok(text) = std::fs::read_to_string(&self.grammar_path) else {
+            let Some(text) = read_text(&self.grammar_path) else {
                 continue;
             };
-            self.lock().stamp = now;
-            self.set_text(text);
+            let take = {
+                let mut st = self.lock();
+                st.stamp = now;
+                if text == st.disk || text == st.text {
+                    st.disk = text.clone();
+                    st.conflict = None;
+                    false
+                } else if st.text == st.disk {
+                    st.disk = text.clone();
+                    true
+                } else {
+                    st.conflict = Some(text.clone());
+                    false
+                }
+            };
+            if take {
+                self.set_text(text);
+            }
         }
     }
+
+    /// Every shape's bounding box at `t` (the frame shown, for hit-testing), `None` for a
+    /// shape that is invisible then: the rest box moved by the shape's transform at `t`.
+    pub(crate) fn boxes_at(built: &Built, t: f64) -> Value {
+        let anim = &built.rendered.anim;
+        anim.scene
+            .shapes
+            .iter()
+            .zip(&anim.tracks)
+            .map(|(shape, track)| {
+                let state = track.state_at(t);
+                if state.opacity <= 0.0 {
+                    return Value::Null;
+                }
+                let b = state.transform.transform_rect_bbox(shape.bbox);
+                json!([b.x0, b.y0, b.width(), b.height()])
+            })
+            .collect()
+    }
+}
+
+/// The grammar file's text, `None` when it cannot be read as UTF-8 (gone, or a partial
+/// write): the watcher tries again on the next change.
+fn read_text(path: &Path) -> Option<String> {
+    std::fs::read_to_string(path).ok()
 }
 
 #[cfg(test)]
