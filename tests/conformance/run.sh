@@ -149,5 +149,7 @@ cp "$m/matrix.md" "$out/matrix.md"
 echo "matrix: $((SECONDS - mstart)) s"
 phase "studio: the page in Chromium (tests/conformance/studio.mjs)"
 node "$here/studio.mjs" "$gm" || status=1
+phase "studio: the editor in Chromium (tests/conformance/studio_editor.mjs)"
+node "$here/studio_editor.mjs" "$gm" || status=1
 echo "conformance: $((SECONDS - start)) s"
 exit $status
