@@ -550,3 +550,71 @@ fn many_keep_alive_connections_are_all_answered() {
         }
     }
 }
+
+#[test]
+fn retime_rewrites_the_timesplit_fractions_keeping_their_sum() {
+    let s = Studio::start("retime");
+    let st = s.state();
+    let shapes = st["shapes"].as_array().unwrap();
+    let find = |tag: &str| shapes.iter().position(|x| x["tag"] == tag).unwrap();
+    let (square, circle) = (find("s"), find("c"));
+    let boundary = |st: &Value, shape: usize, k: usize| {
+        st["timelines"][shape][k + 1]["start"].as_f64().unwrap()
+    };
+    assert_eq!(boundary(&st, square, 0), 3.0);
+    let retime = |shape: usize, k: usize, time: f64| {
+        s.call(
+            "POST",
+            "/api/retime",
+            &format!(r#"{{"shape": {shape}, "boundary": {k}, "time": {time}}}"#),
+        )
+    };
+    // The square's turn (half of 6 s) moved to 2.4 s: the first split becomes 0.4, 0.6.
+    let r = retime(square, 0, 2.4).json();
+    assert_eq!(r["diagnostics"], serde_json::json!([]), "{r}");
+    assert_eq!(r["fractions"], serde_json::json!(["0.4", "0.6"]), "{r}");
+    let text = r["grammar"].as_str().unwrap();
+    assert!(
+        text.contains("timesplit(0.4, 0.6)                                    : [all, (s, c)]"),
+        "{text}"
+    );
+    let st = s.state();
+    assert!((boundary(&st, square, 0) - 2.4).abs() < 1e-9);
+    // The circles' first cut (0.4 of the first 2.4 s = 0.96 s) moved to 1.2 s: the second
+    // split becomes 0.5, 0.5, its sum kept at 1.
+    assert!(
+        (boundary(&st, circle, 0) - 0.96).abs() < 1e-9,
+        "{}",
+        st["timelines"][circle]
+    );
+    let r = retime(circle, 0, 1.2).json();
+    assert_eq!(r["fractions"], serde_json::json!(["0.5", "0.5"]), "{r}");
+    assert!((boundary(&s.state(), circle, 0) - 1.2).abs() < 1e-9);
+    // Past the end it clamps, never to a zero slice; here the staggered circles would no
+    // longer fit their slices, so the edit is refused and the text left as it was.
+    let before = s.call("GET", "/api/grammar", "").body;
+    let r = retime(square, 0, 99.0);
+    assert_eq!(r.status, 422);
+    assert!(
+        String::from_utf8_lossy(&r.body).contains("offset"),
+        "{}",
+        String::from_utf8_lossy(&r.body)
+    );
+    assert_eq!(s.call("GET", "/api/grammar", "").body, before);
+    // Bad input is a 4xx.
+    assert_eq!(retime(square, 7, 1.0).status, 422);
+    assert_eq!(s.call("POST", "/api/retime", "{}").status, 400);
+    assert_eq!(s.call("POST", "/api/retime", "nonsense").status, 400);
+    // What the API wrote, `gmotion check` accepts.
+    s.call("POST", "/api/save", "");
+    let out = Command::new(env!("CARGO_BIN_EXE_gmotion"))
+        .arg("check")
+        .arg(s.dir.join("toy.gm"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

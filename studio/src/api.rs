@@ -183,6 +183,33 @@ fn route(ctx: &Ctx, request: &Request) -> Reply {
             }
             Reply::json(&json!({"version": live.version(), "grammar": live.text()}))
         }
+        ("POST", "/retime") => {
+            let body: serde_json::Value = match serde_json::from_slice(&request.body) {
+                Ok(v) => v,
+                Err(e) => return Reply::error(400, &format!("the body must be JSON: {e}")),
+            };
+            let index = |k: &str| body[k].as_u64().and_then(|v| usize::try_from(v).ok());
+            let (Some(shape), Some(boundary), Some(time)) = (
+                index("shape"),
+                index("boundary"),
+                body["time"].as_f64().filter(|t| t.is_finite()),
+            ) else {
+                return Reply::error(
+                    400,
+                    "the body is {\"shape\": INDEX, \"boundary\": INDEX, \"time\": SECONDS}",
+                );
+            };
+            match live.retime(shape, boundary, time) {
+                Ok((done, version, diagnostics)) => Reply::json(&json!({
+                    "version": version,
+                    "grammar": done.text,
+                    "line": done.line,
+                    "fractions": done.fractions,
+                    "diagnostics": diagnostics.iter().map(crate::live::diagnostic_json).collect::<Vec<_>>(),
+                })),
+                Err(e) => Reply::error(422, &e),
+            }
+        }
         ("GET", "/boxes") => {
             let built = live.good();
             let t = match param(query, "t").map(str::parse::<f64>) {
@@ -227,8 +254,8 @@ fn route(ctx: &Ctx, request: &Request) -> Reply {
         ("GET", "/export/html") => export(live, &live.good(), "html", 0.0, Some("preview.html")),
         (
             _,
-            "/state" | "/status" | "/grammar" | "/save" | "/resolve" | "/boxes" | "/lottie"
-            | "/smil" | "/frame.png",
+            "/state" | "/status" | "/grammar" | "/save" | "/resolve" | "/retime" | "/boxes"
+            | "/lottie" | "/smil" | "/frame.png",
         ) => Reply::error(405, "method not allowed"),
         _ => Reply::error(404, "no such API route"),
     }

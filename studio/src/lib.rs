@@ -18,6 +18,7 @@
 mod api;
 mod http;
 mod live;
+mod retime;
 
 use std::io;
 use std::net::TcpListener;

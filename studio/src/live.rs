@@ -271,11 +271,26 @@ impl Live {
     /// when the text builds and differs from the current text. Returns the version and the
     /// text's diagnostics.
     pub fn set_text(&self, text: String) -> (u64, Vec<Diagnostic>) {
+        // With `keep_broken`, errors come back as the text's diagnostics.
+        match self.apply(text, true) {
+            Ok(done) => done,
+            Err(d) => (self.version(), d),
+        }
+    }
+
+    /// Applies `text` as [`Live::set_text`] does, or, unless `keep_broken`, leaves the
+    /// current text as it is when `text` has errors and returns them: the studio's own
+    /// edits (retime) never leave a grammar that does not build.
+    fn apply(
+        &self,
+        text: String,
+        keep_broken: bool,
+    ) -> Result<(u64, Vec<Diagnostic>), Vec<Diagnostic>> {
         let _b = self.building.lock().unwrap_or_else(|p| p.into_inner());
         {
             let st = self.lock();
             if st.text == text {
-                return (st.version, st.diagnostics.clone());
+                return Ok((st.version, st.diagnostics.clone()));
             }
         }
         let built = parse(&text).and_then(|(grammar, settings)| {
@@ -283,7 +298,6 @@ impl Live {
             build(imported, &self.run, (grammar, settings))
         });
         let mut st = self.lock();
-        st.text = text;
         match built {
             Ok(b) => {
                 st.good = Arc::new(b);
@@ -291,9 +305,11 @@ impl Live {
                 st.seeds.clear();
                 st.version += 1;
             }
+            Err(d) if !keep_broken => return Err(d),
             Err(d) => st.diagnostics = d,
         }
-        (st.version, st.diagnostics.clone())
+        st.text = text;
+        Ok((st.version, st.diagnostics.clone()))
     }
 
     /// The scene for a grammar with `settings`: the current one, or, when the settings
@@ -544,6 +560,36 @@ impl Live {
                 self.set_text(text);
             }
         }
+    }
+
+    /// Moves the boundary between slices `boundary` and `boundary + 1` of shape `shape`
+    /// to `time` seconds by rewriting the `timesplit` fractions that put it there (see
+    /// `retime`), and applies the new text as an edit: the text, its version and
+    /// diagnostics, the rule's line and its new fractions; or why not.
+    pub(crate) fn retime(
+        &self,
+        shape: usize,
+        boundary: usize,
+        time: f64,
+    ) -> Result<(crate::retime::Retimed, u64, Vec<Diagnostic>), String> {
+        let text = self.text();
+        let good = self.good();
+        if !self.lock().diagnostics.is_empty() {
+            return Err("the grammar has errors: fix them before retiming".into());
+        }
+        let (grammar, _) = parse(&text).map_err(|_| "the grammar has errors".to_string())?;
+        let done = crate::retime::retime(
+            &text,
+            &grammar,
+            &good.scene.scene,
+            &self.run,
+            (shape, boundary, time),
+        )?;
+        let (version, diagnostics) = self.apply(done.text.clone(), false).map_err(|d| {
+            let why = d.first().map_or("", |d| d.message.as_str());
+            format!("that time would break the grammar ({why}); the text is unchanged")
+        })?;
+        Ok((done, version, diagnostics))
     }
 
     /// Every shape's bounding box at `t` (the frame shown, for hit-testing), `None` for a
