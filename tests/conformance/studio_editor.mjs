@@ -1,7 +1,8 @@
 // The studio as an editor (issue 43), in real Chromium, driven by role and name:
 // `node studio_editor.mjs path/to/gmotion`.
 //
-// Checks: `studio SCENE NEW.gm` creates the empty grammar; rules written with the form
+// Checks: `studio SCENE NEW.gm` creates the empty grammar; the timeline (a ruler that
+// seeks, Space and the arrows, a boundary dragged to retime, every row of 1000 reachable); rules written with the form
 // alone (an inverted slice names its twin, a selected shape its unique alias) leave a
 // grammar `gmotion check` accepts; a click hits the shape where the frame shown draws it;
 // every independent error is listed with its help; an outside edit under unsaved edits is
@@ -29,6 +30,10 @@ const dir = mkdtempSync(join(tmpdir(), 'gmotion-studio-editor-'));
 // The toy scene, its first circle named `sun` (its tag `c` is shared by four circles).
 writeFileSync(join(dir, 'toy.svg'), readFileSync(join(root, 'grammars', 'toy.svg'), 'utf8')
   .replace('<circle data-tag="c" cx="220"', '<circle data-tag="c" id="sun" cx="220"'));
+writeFileSync(join(dir, 'toy.gm'), readFileSync(join(root, 'grammars', 'toy.gm'), 'utf8'));
+writeFileSync(join(dir, 'many.svg'), '<svg xmlns="http://www.w3.org/2000/svg" width="1000" height="100">'
+  + Array.from({ length: 1000 }, (_, i) => `<rect data-tag="r" x="${i}" y="${(i * 7) % 90}" width="1" height="10"/>`).join('') + '</svg>');
+writeFileSync(join(dir, 'many.gm'), 'duration 2s\ntimesplit(0.5, 0.5) : [all, r] -> [a, inv_a]\nanimate(opacity, local, 0.001 * id, 0) : [a, r] -> [fade]\n');
 writeFileSync(join(dir, 'big.svg'), '<svg xmlns="http://www.w3.org/2000/svg" width="800" height="800">'
   + '<rect data-tag="r" x="100" y="100" width="600" height="600" fill="#17bebb"/></svg>');
 
@@ -93,7 +98,7 @@ try {
   // Select the first circle in the preview: the form names `sun`, not the shared `c`.
   const stage = await page.locator('#overlay').boundingBox();
   const at = (x, y) => [stage.x + stage.width * x / 520, stage.y + stage.height * y / 320];
-  await page.getByRole('slider', { name: 'time' }).fill('0');
+  await page.getByRole('slider', { name: 'time', exact: true }).fill('0');
   await page.waitForTimeout(300);
   await page.mouse.click(...at(220, 160));
   await page.waitForTimeout(300);
@@ -103,7 +108,7 @@ try {
   // Hit-testing the frame shown: halfway through (the empty grammar's 5 s) the square is
   // 260 to the right (320–400 × 120–200; its corner at 395, 195 lies outside the circle
   // at 360, 160).
-  await page.getByRole('slider', { name: 'time' }).fill('500');
+  await page.getByRole('slider', { name: 'time', exact: true }).fill('500');
   await page.waitForTimeout(300);
   await page.mouse.click(...at(395, 195));
   await page.waitForTimeout(300);
@@ -174,6 +179,75 @@ try {
     if (!drawn) blank++;
   }
   check(blank === 0, `every variation cell is drawn on twenty reloads (${blank} loads with a blank cell)`);
+
+  // The timeline on the toy grammar: the ruler seeks, Space plays, arrows step.
+  const toy = await browser.newPage({ viewport: { width: 1280, height: 1000 }, deviceScaleFactor: 1 });
+  toy.on('pageerror', (e) => errors.push(String(e)));
+  const toyFile = join(dir, 'toy.gm');
+  await toy.goto(await studio(join(dir, 'toy.svg'), toyFile));
+  await toy.waitForFunction(() => /version 1 /.test(document.getElementById('status').textContent));
+  const ruler = toy.getByRole('slider', { name: 'timeline ruler' });
+  const rb = await ruler.boundingBox();
+  await toy.mouse.click(rb.x + rb.width * 0.5, rb.y + rb.height / 2);
+  const readout = () => toy.textContent('#readout');
+  const seeked = await readout();
+  check(/^3\.0\d\d \//.test(seeked) && await toy.getByRole('button', { name: 'play' }).textContent() === '▶',
+    `a click on the ruler pauses and seeks (${seeked})`);
+  await toy.mouse.move(rb.x + rb.width * 0.2, rb.y + rb.height / 2);
+  await toy.mouse.down();
+  await toy.mouse.move(rb.x + rb.width * 0.25, rb.y + rb.height / 2, { steps: 3 });
+  await toy.mouse.up();
+  check(/^1\.50\d \//.test(await readout()), `dragging on the ruler scrubs (${await readout()})`);
+  await toy.keyboard.press('ArrowRight');
+  await toy.keyboard.press('ArrowRight');
+  const stepped = await readout();
+  check(/frame 47$/.test(stepped), `→ steps a frame at a time (${stepped})`);
+  await toy.keyboard.press('Home');
+  check(/^0\.000 /.test(await readout()), 'Home goes to the start');
+  await toy.keyboard.press(' ');
+  await toy.waitForTimeout(400);
+  const playing = await readout();
+  await toy.keyboard.press(' ');
+  const paused = await readout();
+  await toy.waitForTimeout(300);
+  check(!/^0\.000 /.test(playing) && paused === await readout(), `Space plays and pauses (${playing} → ${paused})`);
+
+  // Drag the square's boundary from 3 s to 2.4 s: the first split's fractions follow.
+  const edgeBox = await toy.getByRole('slider', { name: 'boundary 0 of s#0' }).boundingBox();
+  const track = await toy.locator('#rows .row', { hasText: 's#0' }).locator('.track').boundingBox();
+  await toy.mouse.move(edgeBox.x + edgeBox.width / 2, edgeBox.y + edgeBox.height / 2);
+  await toy.mouse.down();
+  await toy.mouse.move(track.x + track.width * 2.4 / 6, edgeBox.y + edgeBox.height / 2, { steps: 6 });
+  await toy.mouse.up();
+  await toy.waitForFunction(() => /retimed/.test(document.getElementById('status').textContent));
+  const retimed = await toy.getByRole('textbox', { name: 'grammar' }).inputValue();
+  const fr = /timesplit\(([\d.]+), ([\d.]+)\)\s+: \[all, \(s, c\)\]/.exec(retimed);
+  check(fr && Math.abs(fr[1] - 0.4) < 0.01 && Math.abs(+fr[1] + +fr[2] - 1) < 1e-9,
+    `dragging a boundary rewrites the timesplit's fractions, their sum kept (${fr && fr.slice(1).join(', ')})`);
+  const dropped = await toy.getByRole('slider', { name: 'boundary 0 of s#0' }).getAttribute('aria-valuenow');
+  check(Math.abs(dropped - 2.4) < 0.07, `the boundary is drawn where it was dropped (${dropped} s)`);
+  if (shots) await toy.screenshot({ path: join(shots, 'studio-timeline.png') });
+  // A boundary stepped with the keyboard: one frame later.
+  await toy.getByRole('slider', { name: 'boundary 0 of s#0' }).press('ArrowRight');
+  await toy.waitForFunction((m) => {
+    const e = document.querySelector('[aria-label="boundary 0 of s#0"]');
+    return e && Math.abs(e.getAttribute('aria-valuenow') - m - 1 / 30) < 0.01;
+  }, +dropped, { timeout: 5000 }).then(() => check(true, 'a boundary moves a frame with →'), () => check(false, 'a boundary moves a frame with →'));
+  await toy.getByRole('button', { name: 'Save' }).click();
+  await toy.waitForFunction(() => /saved/.test(document.getElementById('status').textContent));
+  const toyChecked = checkFile(toyFile);
+  check(toyChecked.status === 0, `gmotion check accepts the retimed grammar ${toyChecked.stderr}`);
+
+  // A thousand shapes: every row is reachable, a few in the page at a time.
+  const many = await browser.newPage({ viewport: { width: 1280, height: 1000 }, deviceScaleFactor: 1 });
+  many.on('pageerror', (e) => errors.push(String(e)));
+  await many.goto(await studio(join(dir, 'many.svg'), join(dir, 'many.gm')));
+  await many.waitForFunction(() => /1000 shapes/.test(document.getElementById('status').textContent));
+  const inPage = await many.$$eval('#rows .row', (rs) => rs.length);
+  await many.$eval('#timeline', (tl) => { tl.scrollTop = tl.scrollHeight; });
+  await many.waitForTimeout(200);
+  const lastRow = await many.$$eval('#rows .row .name', (ns) => ns.map((n) => n.textContent));
+  check(lastRow.includes('r#999') && inPage < 60, `every row is reachable (${inPage} rows in the page; the last is ${lastRow[lastRow.length - 1]})`);
 
   // An 800 × 800 scene: the preview fits, the timeline stays in view.
   const big = await browser.newPage({ viewport: { width: 1280, height: 800 }, deviceScaleFactor: 1 });
