@@ -238,6 +238,51 @@ try {
   const toyChecked = checkFile(toyFile);
   check(toyChecked.status === 0, `gmotion check accepts the retimed grammar ${toyChecked.stderr}`);
 
+  // Undo and redo walk one history of visual and typed edits.
+  const toyText = () => toy.getByRole('textbox', { name: 'grammar' }).inputValue();
+  const stepped1 = await toyText();
+  const serverText = () => toy.evaluate(async () => (await (await fetch('/api/grammar', { headers: { 'X-Gmotion-Token': new URLSearchParams(location.search).get('token') } })).text()));
+  await toy.evaluate(() => document.activeElement && document.activeElement.blur());   // away from any field
+  await toy.keyboard.press('Control+z');
+  await toy.waitForTimeout(400);
+  const undone1 = await toyText();
+  await toy.keyboard.press('Control+z');
+  await toy.waitForTimeout(400);
+  const undone2 = await toyText();
+  const original = readFileSync(join(root, 'grammars', 'toy.gm'), 'utf8');
+  check(undone1 === retimed && undone2 === original && await serverText() === original,
+    'Ctrl+Z undoes the keyboard step, then the drag (the server follows)');
+  await toy.getByRole('button', { name: 'redo' }).click();
+  await toy.waitForTimeout(400);
+  await toy.keyboard.press('Control+y');
+  await toy.waitForTimeout(400);
+  check(await toyText() === stepped1 && await serverText() === stepped1, 'redo (button, then Ctrl+Y) brings both back');
+  await toy.getByRole('combobox', { name: 'rule', exact: true }).selectOption('animate');
+  await toy.getByRole('button', { name: 'Insert rule' }).click();
+  await toy.waitForTimeout(400);
+  const inserted = await toyText();
+  await toy.getByRole('button', { name: 'undo' }).click();
+  await toy.waitForTimeout(400);
+  check(inserted.includes('-> [moved]') && await toyText() === stepped1, 'undo takes back an inserted rule');
+
+  // A number's slider knows its parameter's domain: a spring's bounce stays in (−1, 1).
+  const springy = stepped1.replace('fps 30\n', 'fps 30\nsmoothing spring(0.3, 0.1)\n');
+  const box = toy.getByRole('textbox', { name: 'grammar' });
+  await box.fill(springy);
+  await toy.waitForSelector('#diagnostics .ok');
+  const at0 = springy.indexOf('0.1)');
+  await box.evaluate((g, p) => { g.focus(); g.setSelectionRange(p + 1, p + 1); }, at0);
+  await toy.keyboard.press('ArrowRight');
+  const bounce = toy.getByRole('slider', { name: 'bounce of spring' });
+  const [lo, hi] = [await bounce.getAttribute('min'), await bounce.getAttribute('max')];
+  await bounce.focus();
+  await toy.keyboard.press('End');
+  await toy.waitForTimeout(600);
+  const sprung = await toyText();
+  check(+lo > -1 && +hi < 1 && /spring\(0\.3, 0\.99\)/.test(sprung) && /no problems/.test(await toy.textContent('#diagnostics')),
+    `the bounce slider spans (−1, 1) open (${lo} … ${hi}; at its end the text says ${/spring\([^)]*\)/.exec(sprung)})`);
+  if (shots) await toy.screenshot({ path: join(shots, 'studio-slider.png') });
+
   // A thousand shapes: every row is reachable, a few in the page at a time.
   const many = await browser.newPage({ viewport: { width: 1280, height: 1000 }, deviceScaleFactor: 1 });
   many.on('pageerror', (e) => errors.push(String(e)));
