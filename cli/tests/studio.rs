@@ -618,3 +618,41 @@ fn retime_rewrites_the_timesplit_fractions_keeping_their_sum() {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+#[test]
+fn a_port_in_use_is_named_on_the_terminal() {
+    let held = std::net::TcpListener::bind(("127.0.0.1", 0)).unwrap();
+    let port = held.local_addr().unwrap().port();
+    let dir = Studio::folder("port");
+    let out = Command::new(env!("CARGO_BIN_EXE_gmotion"))
+        .args(["studio", "--no-open", "--port", &port.to_string()])
+        .arg(dir.join("toy.svg"))
+        .arg(dir.join("toy.gm"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        err.contains(&format!("cannot listen on 127.0.0.1:{port}")),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn frames_are_drawn_at_the_width_asked() {
+    let s = Studio::start("width");
+    let png = s.call("GET", "/api/frame.png?t=1&seed=4&w=130", "");
+    assert_eq!(png.status, 200);
+    let width = u32::from_be_bytes(png.body[16..20].try_into().unwrap());
+    let height = u32::from_be_bytes(png.body[20..24].try_into().unwrap());
+    // The toy scene is 520 × 320: a quarter of it.
+    assert_eq!((width, height), (130, 80));
+    for bad in ["0", "9000", "wide"] {
+        assert_eq!(
+            s.call("GET", &format!("/api/frame.png?w={bad}"), "").status,
+            400,
+            "{bad}"
+        );
+    }
+}

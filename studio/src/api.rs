@@ -3,6 +3,7 @@
 
 use std::sync::Arc;
 
+use gmotion::canvas::OutputSize;
 use serde_json::json;
 
 use crate::http::{Request, Response};
@@ -241,7 +242,20 @@ fn route(ctx: &Ctx, request: &Request) -> Reply {
                 Some(Err(_)) => return Reply::error(400, "seed must be a whole number"),
             };
             let t = t.clamp(0.0, built.rendered.anim.duration);
-            export(live, &built, "png", t, None)
+            // `w`: the width the page shows it at, so a thumbnail of a large scene is not
+            // decoded at full size on the page's main thread.
+            let size = match param(query, "w").map(str::parse::<u32>) {
+                None => built.size,
+                Some(Ok(w)) if (1..=8192).contains(&w) => OutputSize {
+                    width: Some(w),
+                    height: None,
+                },
+                Some(_) => return Reply::error(400, "w must be a width in pixels, 1 to 8192"),
+            };
+            match live.export_sized(&built, "png", t, size) {
+                Ok(body) => Reply::ok("image/png", body),
+                Err(e) => Reply::error(422, &e),
+            }
         }
         ("GET", "/export/lottie") => {
             export(live, &live.good(), "json", 0.0, Some("animation.json"))

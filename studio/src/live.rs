@@ -449,7 +449,18 @@ impl Live {
     /// `built` as `ext` (`json` Lottie, `svg` SMIL, `html` the page, `png` the frame at
     /// `time`, `gif`), straight from the pipeline's writer: the bytes, or why not.
     pub(crate) fn export(&self, built: &Built, ext: &str, time: f64) -> Result<Vec<u8>, String> {
-        let mut writer = Writer::new(built.size, &gmotion_pipeline::Limits::default());
+        self.export_sized(built, ext, time, built.size)
+    }
+
+    /// [`Live::export`] at `size` (a frame drawn at the size the page shows it).
+    pub(crate) fn export_sized(
+        &self,
+        built: &Built,
+        ext: &str,
+        time: f64,
+        size: OutputSize,
+    ) -> Result<Vec<u8>, String> {
+        let mut writer = Writer::new(size, &gmotion_pipeline::Limits::default());
         writer.options.time = time;
         let named = Path::new("studio").with_extension(ext);
         let bytes = if ext == "html" {
