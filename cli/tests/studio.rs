@@ -656,3 +656,72 @@ fn frames_are_drawn_at_the_width_asked() {
         );
     }
 }
+
+#[test]
+fn moving_a_change_rewrites_its_offset_as_a_whole() {
+    let s = Studio::start("offset");
+    let st = s.state();
+    let shapes = st["shapes"].as_array().unwrap();
+    let find = |tag: &str, id: u64| {
+        shapes
+            .iter()
+            .position(|x| x["tag"] == tag && x["id"] == id)
+            .unwrap()
+    };
+    let (c0, c1, square) = (find("c", 0), find("c", 1), find("s", 0));
+    // The circles' spin starts 0.15 s apart: c#1's at 1.2 + 0.15 s on its second slice.
+    let start = |st: &Value, shape: usize, slice: usize| {
+        st["timelines"][shape][slice]["changes"][0][0]
+            .as_f64()
+            .unwrap()
+    };
+    assert!(
+        (start(&st, c1, 1) - 1.35).abs() < 1e-9,
+        "{}",
+        st["timelines"][c1]
+    );
+    let offset = |shape: usize, slice: usize, from: f64, time: f64| {
+        s.call(
+            "POST",
+            "/api/offset",
+            &format!(r#"{{"shape": {shape}, "slice": {slice}, "from": {from}, "time": {time}}}"#),
+        )
+    };
+    // Another shape's drag scales the stagger …
+    let r = offset(c1, 1, 1.35, 1.5).json();
+    assert_eq!(r["offset"], "0.3 * id", "{r}");
+    let st = s.state();
+    assert!((start(&st, c1, 1) - 1.5).abs() < 1e-9);
+    // … the first shape's moves where it begins.
+    let r = offset(c0, 1, 1.2, 1.3).json();
+    assert_eq!(r["offset"], "0.1 + 0.3 * id", "{r}");
+    let st = s.state();
+    assert!((start(&st, c0, 1) - 1.3).abs() < 1e-9 && (start(&st, c1, 1) - 1.6).abs() < 1e-9);
+    // A plain number becomes the new delay.
+    let r = offset(square, 0, 0.0, 0.5).json();
+    assert_eq!(r["offset"], "0.5", "{r}");
+    assert!(
+        r["grammar"]
+            .as_str()
+            .unwrap()
+            .contains("animate(affine, world, 0.5, translate(260, 0)")
+    );
+    // No change starts there, a malformed body, a time breaking the grammar: refused.
+    assert_eq!(offset(square, 0, 2.0, 1.0).status, 422);
+    assert_eq!(s.call("POST", "/api/offset", "{}").status, 400);
+    let before = s.call("GET", "/api/grammar", "").body;
+    let far = offset(c1, 1, 1.6, 2.99);
+    assert_eq!(far.status, 422, "{}", String::from_utf8_lossy(&far.body));
+    assert_eq!(s.call("GET", "/api/grammar", "").body, before);
+    s.call("POST", "/api/save", "");
+    let out = Command::new(env!("CARGO_BIN_EXE_gmotion"))
+        .arg("check")
+        .arg(s.dir.join("toy.gm"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

@@ -211,6 +211,35 @@ fn route(ctx: &Ctx, request: &Request) -> Reply {
                 Err(e) => Reply::error(422, &e),
             }
         }
+        ("POST", "/offset") => {
+            let body: serde_json::Value = match serde_json::from_slice(&request.body) {
+                Ok(v) => v,
+                Err(e) => return Reply::error(400, &format!("the body must be JSON: {e}")),
+            };
+            let index = |k: &str| body[k].as_u64().and_then(|v| usize::try_from(v).ok());
+            let number = |k: &str| body[k].as_f64().filter(|t| t.is_finite());
+            let (Some(shape), Some(slice), Some(from), Some(time)) = (
+                index("shape"),
+                index("slice"),
+                number("from"),
+                number("time"),
+            ) else {
+                return Reply::error(
+                    400,
+                    "the body is {\"shape\": INDEX, \"slice\": INDEX, \"from\": SECONDS, \"time\": SECONDS}",
+                );
+            };
+            match live.move_offset((shape, slice, from, time)) {
+                Ok((done, version)) => Reply::json(&json!({
+                    "version": version,
+                    "grammar": done.text,
+                    "line": done.line,
+                    "offset": done.offset,
+                    "diagnostics": [],
+                })),
+                Err(e) => Reply::error(422, &e),
+            }
+        }
         ("GET", "/boxes") => {
             let built = live.good();
             let t = match param(query, "t").map(str::parse::<f64>) {
@@ -268,8 +297,8 @@ fn route(ctx: &Ctx, request: &Request) -> Reply {
         ("GET", "/export/html") => export(live, &live.good(), "html", 0.0, Some("preview.html")),
         (
             _,
-            "/state" | "/status" | "/grammar" | "/save" | "/resolve" | "/retime" | "/boxes"
-            | "/lottie" | "/smil" | "/frame.png",
+            "/state" | "/status" | "/grammar" | "/save" | "/resolve" | "/retime" | "/offset"
+            | "/boxes" | "/lottie" | "/smil" | "/frame.png",
         ) => Reply::error(405, "method not allowed"),
         _ => Reply::error(404, "no such API route"),
     }

@@ -18,6 +18,7 @@
 mod api;
 mod http;
 mod live;
+mod offset;
 mod retime;
 
 use std::io;

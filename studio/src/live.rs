@@ -158,6 +158,21 @@ pub fn shapes_json(scene: &Scene) -> Value {
         .collect()
 }
 
+/// The changes playing on slice `s` as `[[from, to], …]` seconds, clipped to the slice
+/// (keyframe ticks on the timeline; a forward change's `from` is what a drag moves).
+fn changes_json(s: &gmotion::engine::expand::Slice) -> Value {
+    let (t0, t1) = (s.t0, s.t0 + s.dur);
+    let mut out: Vec<(f64, f64)> = Vec::new();
+    for a in s.anims.iter() {
+        let (from, to) = a.timing().active();
+        let (from, to) = (from.max(t0), to.min(t1));
+        if from < to && !out.contains(&(from, to)) {
+            out.push((from, to));
+        }
+    }
+    out.into_iter().map(|(a, b)| json!([a, b])).collect()
+}
+
 /// `text` parsed, with its settings: every syntax error, else every error of meaning
 /// found without a scene (as `gmotion check` reports them).
 fn parse(text: &str) -> Result<(Grammar, Settings), Vec<Diagnostic>> {
@@ -426,6 +441,7 @@ impl Live {
                                         "start": s.t0,
                                         "end": s.t0 + s.dur,
                                         "inverted": s.inverted,
+                                        "changes": changes_json(s),
                                     })
                                 })
                                 .collect()
@@ -601,6 +617,29 @@ impl Live {
             format!("that time would break the grammar ({why}); the text is unchanged")
         })?;
         Ok((done, version, diagnostics))
+    }
+
+    /// Makes the forward change on slice `slice` of shape `shape` that starts at `from`
+    /// seconds start at `time` by rewriting its `animate` rule's offset (see `offset`),
+    /// applied as an edit only when the result builds: the text, the version and the
+    /// rule's line and new offset; or why not.
+    pub(crate) fn move_offset(
+        &self,
+        target: (usize, usize, f64, f64),
+    ) -> Result<(crate::offset::Moved, u64), String> {
+        let text = self.text();
+        let good = self.good();
+        if !self.lock().diagnostics.is_empty() {
+            return Err("the grammar has errors: fix them before moving a change".into());
+        }
+        let (grammar, _) = parse(&text).map_err(|_| "the grammar has errors".to_string())?;
+        let done =
+            crate::offset::move_offset(&text, &grammar, &good.scene.scene, &self.run, target)?;
+        let (version, _) = self.apply(done.text.clone(), false).map_err(|d| {
+            let why = d.first().map_or("", |d| d.message.as_str());
+            format!("that time would break the grammar ({why}); the text is unchanged")
+        })?;
+        Ok((done, version))
     }
 
     /// Every shape's bounding box at `t` (the frame shown, for hit-testing), `None` for a

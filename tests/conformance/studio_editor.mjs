@@ -283,6 +283,34 @@ try {
     `the bounce slider spans (−1, 1) open (${lo} … ${hi}; at its end the text says ${/spring\([^)]*\)/.exec(sprung)})`);
   if (shots) await toy.screenshot({ path: join(shots, 'studio-slider.png') });
 
+  // Drag a stagger: c#1's spin starts later; the offset `0.15 * id` is scaled as a whole.
+  const spin = toy.getByRole('slider', { name: 'change start 1 of c#1' });
+  const from = +(await spin.getAttribute('aria-valuenow'));
+  const sb = await spin.boundingBox();
+  const ctrack = await toy.locator('#rows .row', { hasText: 'c#1' }).locator('.track').boundingBox();
+  await toy.mouse.move(sb.x + sb.width / 2, sb.y + sb.height / 2);
+  await toy.mouse.down();
+  await toy.mouse.move(ctrack.x + ctrack.width * (from + 0.3) / 6, sb.y + sb.height / 2, { steps: 6 });
+  await toy.mouse.up();
+  await toy.waitForFunction(() => /moved line/.test(document.getElementById('status').textContent));
+  const staggered = await toyText();
+  const stag = /animate\(affine, local, ([^,]+), rotate/.exec(staggered);
+  const b = stag && /^([\d.]+) \* id$/.exec(stag[1]);
+  const after = +(await toy.getByRole('slider', { name: 'change start 1 of c#1' }).getAttribute('aria-valuenow'));
+  check(b && Math.abs(b[1] - 0.45) < 0.03 && Math.abs(after - from - 0.3) < 0.03,
+    `dragging a stagger scales it (${stag && stag[1]}; c#1's spin from ${from.toFixed(3)} to ${after.toFixed(3)} s)`);
+  if (shots) await toy.screenshot({ path: join(shots, 'studio-stagger.png') });
+  await toy.evaluate(() => document.activeElement && document.activeElement.blur());
+  await toy.keyboard.press('Control+z');
+  await toy.waitForTimeout(400);
+  check(/0\.15 \* id/.test(await toyText()), 'undo takes the stagger back');
+  await toy.keyboard.press('Control+y');
+  await toy.waitForTimeout(400);
+  await toy.getByRole('button', { name: 'Save' }).click();
+  await toy.waitForFunction(() => /saved/.test(document.getElementById('status').textContent));
+  const staggerChecked = checkFile(toyFile);
+  check(staggerChecked.status === 0 && readFileSync(toyFile, 'utf8') === staggered, `gmotion check accepts the staggered grammar ${staggerChecked.stderr.split('\n')[0]}`);
+
   // A thousand shapes: every row is reachable, a few in the page at a time.
   const many = await browser.newPage({ viewport: { width: 1280, height: 1000 }, deviceScaleFactor: 1 });
   many.on('pageerror', (e) => errors.push(String(e)));
