@@ -400,3 +400,328 @@ fn a_lottie_scene_works_too() {
     let lottie = s.call("GET", "/api/lottie", "").json();
     assert!(lottie["layers"].as_array().is_some_and(|l| !l.is_empty()));
 }
+
+/// Polls `/api/status` until `done` holds (10 s at most).
+fn wait_status(s: &Studio, what: &str, done: impl Fn(&Value) -> bool) -> Value {
+    let start = Instant::now();
+    loop {
+        let st = s.call("GET", "/api/status", "").json();
+        if done(&st) {
+            return st;
+        }
+        assert!(start.elapsed() < Duration::from_secs(10), "{what}: {st}");
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
+#[test]
+fn a_missing_grammar_is_created_empty_at_start() {
+    let dir = Studio::folder("new");
+    std::fs::remove_file(dir.join("toy.gm")).unwrap();
+    let scene = dir.join("toy.svg");
+    let s = Studio::start_on(dir, &scene);
+    assert_eq!(
+        std::fs::read_to_string(s.dir.join("toy.gm")).unwrap(),
+        "",
+        "the paper starts from a possibly empty grammar"
+    );
+    let st = s.state();
+    assert_eq!(st["diagnostics"], serde_json::json!([]), "{st}");
+    assert_eq!(st["shapes"].as_array().unwrap().len(), 6);
+}
+
+#[test]
+fn an_outside_edit_under_unsaved_edits_is_a_conflict_never_dropped() {
+    let s = Studio::start("conflict");
+    let path = s.dir.join("toy.gm");
+    let disk = std::fs::read_to_string(&path).unwrap();
+    let mine = disk.replace("translate(260, 0)", "translate(100, 0)");
+    let theirs = disk.replace("duration 6s", "duration 4s");
+    s.call("PUT", "/api/grammar", &mine);
+    assert_eq!(s.call("GET", "/api/status", "").json()["unsaved"], true);
+
+    // Changed on disk before the watcher has looked: Save refuses and shows the conflict.
+    std::fs::write(&path, &theirs).unwrap();
+    let r = s.call("POST", "/api/save", "");
+    assert_eq!(r.status, 409, "{}", String::from_utf8_lossy(&r.body));
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), theirs);
+    let st = wait_status(&s, "a conflict", |st| st["conflict"].is_string());
+    assert_eq!(st["conflict"], theirs.as_str());
+    assert_eq!(st["grammar"], mine.as_str(), "my text stays");
+    // The watcher's turn does not drop it either.
+    std::thread::sleep(Duration::from_millis(700));
+    let st = s.call("GET", "/api/status", "").json();
+    assert_eq!(
+        (st["grammar"].as_str(), st["conflict"].as_str()),
+        (Some(mine.as_str()), Some(theirs.as_str()))
+    );
+    assert_eq!(s.call("POST", "/api/save", "").status, 409);
+
+    // Keep mine: Save may now write over theirs.
+    assert_eq!(s.call("POST", "/api/resolve?take=nobody", "").status, 400);
+    let r = s.call("POST", "/api/resolve?take=mine", "").json();
+    assert_eq!(r["grammar"], mine.as_str());
+    assert_eq!(s.call("POST", "/api/resolve?take=mine", "").status, 409);
+    assert_eq!(s.call("POST", "/api/save", "").status, 200);
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), mine);
+
+    // Take theirs: the page's text becomes the file's, and the animation follows.
+    let other = mine.replace("duration 6s", "duration 3s");
+    s.call("PUT", "/api/grammar", &mine.replace("fps 30", "fps 24"));
+    std::fs::write(&path, &other).unwrap();
+    wait_status(&s, "a second conflict", |st| {
+        st["conflict"] == other.as_str()
+    });
+    let r = s.call("POST", "/api/resolve?take=theirs", "").json();
+    assert_eq!(r["grammar"], other.as_str());
+    let st = s.state();
+    assert_eq!(
+        (st["duration"].as_f64(), st["unsaved"].as_bool()),
+        (Some(3.0), Some(false))
+    );
+
+    // With no unsaved edits, an outside edit is simply taken.
+    let again = other.replace("duration 3s", "duration 2s");
+    std::fs::write(&path, &again).unwrap();
+    let st = wait_status(&s, "the outside edit", |st| st["grammar"] == again.as_str());
+    assert!(st["conflict"].is_null(), "{st}");
+}
+
+#[test]
+fn boxes_follow_the_frame_shown() {
+    let s = Studio::start("boxes");
+    let st = s.state();
+    let square = st["shapes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|x| x["tag"] == "s")
+        .unwrap();
+    let at = |t: f64| -> Vec<f64> {
+        let r = s.call("GET", &format!("/api/boxes?t={t}"), "").json();
+        r["boxes"][square]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| v.as_f64().unwrap())
+            .collect()
+    };
+    // The square slides 260 to the right over the first half (6 s), and back.
+    assert_eq!(at(0.0), vec![60.0, 120.0, 80.0, 80.0]);
+    let mid = at(3.0);
+    assert!((mid[0] - 320.0).abs() < 1e-6 && mid[1] == 120.0, "{mid:?}");
+    assert_eq!(s.call("GET", "/api/boxes?t=x", "").status, 400);
+}
+
+#[test]
+fn many_keep_alive_connections_are_all_answered() {
+    // Browsers keep a handful of connections open; a new one must not queue behind them.
+    let s = Studio::start("connections");
+    let request = format!(
+        "GET /api/status HTTP/1.1\r\nHost: 127.0.0.1:{}\r\nX-Gmotion-Token: {}\r\n\r\n",
+        s.port, s.token
+    );
+    let mut open: Vec<TcpStream> = (0..12)
+        .map(|_| TcpStream::connect(("127.0.0.1", s.port)).unwrap())
+        .collect();
+    for round in 0..3 {
+        for c in &mut open {
+            c.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+            c.write_all(request.as_bytes()).unwrap();
+        }
+        for (i, c) in open.iter_mut().enumerate() {
+            let mut head = Vec::new();
+            let mut byte = [0u8; 1];
+            while !head.ends_with(b"\r\n\r\n") {
+                c.read_exact(&mut byte)
+                    .unwrap_or_else(|e| panic!("connection {i}, round {round}: {e}"));
+                head.push(byte[0]);
+            }
+            let head = String::from_utf8(head).unwrap();
+            assert!(head.starts_with("HTTP/1.1 200"), "{head}");
+            let length: usize = head
+                .lines()
+                .find_map(|l| l.strip_prefix("Content-Length: "))
+                .unwrap()
+                .parse()
+                .unwrap();
+            let mut body = vec![0; length];
+            c.read_exact(&mut body).unwrap();
+        }
+    }
+}
+
+#[test]
+fn retime_rewrites_the_timesplit_fractions_keeping_their_sum() {
+    let s = Studio::start("retime");
+    let st = s.state();
+    let shapes = st["shapes"].as_array().unwrap();
+    let find = |tag: &str| shapes.iter().position(|x| x["tag"] == tag).unwrap();
+    let (square, circle) = (find("s"), find("c"));
+    let boundary = |st: &Value, shape: usize, k: usize| {
+        st["timelines"][shape][k + 1]["start"].as_f64().unwrap()
+    };
+    assert_eq!(boundary(&st, square, 0), 3.0);
+    let retime = |shape: usize, k: usize, time: f64| {
+        s.call(
+            "POST",
+            "/api/retime",
+            &format!(r#"{{"shape": {shape}, "boundary": {k}, "time": {time}}}"#),
+        )
+    };
+    // The square's turn (half of 6 s) moved to 2.4 s: the first split becomes 0.4, 0.6.
+    let r = retime(square, 0, 2.4).json();
+    assert_eq!(r["diagnostics"], serde_json::json!([]), "{r}");
+    assert_eq!(r["fractions"], serde_json::json!(["0.4", "0.6"]), "{r}");
+    let text = r["grammar"].as_str().unwrap();
+    assert!(
+        text.contains("timesplit(0.4, 0.6)                                    : [all, (s, c)]"),
+        "{text}"
+    );
+    let st = s.state();
+    assert!((boundary(&st, square, 0) - 2.4).abs() < 1e-9);
+    // The circles' first cut (0.4 of the first 2.4 s = 0.96 s) moved to 1.2 s: the second
+    // split becomes 0.5, 0.5, its sum kept at 1.
+    assert!(
+        (boundary(&st, circle, 0) - 0.96).abs() < 1e-9,
+        "{}",
+        st["timelines"][circle]
+    );
+    let r = retime(circle, 0, 1.2).json();
+    assert_eq!(r["fractions"], serde_json::json!(["0.5", "0.5"]), "{r}");
+    assert!((boundary(&s.state(), circle, 0) - 1.2).abs() < 1e-9);
+    // Past the end it clamps, never to a zero slice; here the staggered circles would no
+    // longer fit their slices, so the edit is refused and the text left as it was.
+    let before = s.call("GET", "/api/grammar", "").body;
+    let r = retime(square, 0, 99.0);
+    assert_eq!(r.status, 422);
+    assert!(
+        String::from_utf8_lossy(&r.body).contains("offset"),
+        "{}",
+        String::from_utf8_lossy(&r.body)
+    );
+    assert_eq!(s.call("GET", "/api/grammar", "").body, before);
+    // Bad input is a 4xx.
+    assert_eq!(retime(square, 7, 1.0).status, 422);
+    assert_eq!(s.call("POST", "/api/retime", "{}").status, 400);
+    assert_eq!(s.call("POST", "/api/retime", "nonsense").status, 400);
+    // What the API wrote, `gmotion check` accepts.
+    s.call("POST", "/api/save", "");
+    let out = Command::new(env!("CARGO_BIN_EXE_gmotion"))
+        .arg("check")
+        .arg(s.dir.join("toy.gm"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn a_port_in_use_is_named_on_the_terminal() {
+    let held = std::net::TcpListener::bind(("127.0.0.1", 0)).unwrap();
+    let port = held.local_addr().unwrap().port();
+    let dir = Studio::folder("port");
+    let out = Command::new(env!("CARGO_BIN_EXE_gmotion"))
+        .args(["studio", "--no-open", "--port", &port.to_string()])
+        .arg(dir.join("toy.svg"))
+        .arg(dir.join("toy.gm"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        err.contains(&format!("cannot listen on 127.0.0.1:{port}")),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn frames_are_drawn_at_the_width_asked() {
+    let s = Studio::start("width");
+    let png = s.call("GET", "/api/frame.png?t=1&seed=4&w=130", "");
+    assert_eq!(png.status, 200);
+    let width = u32::from_be_bytes(png.body[16..20].try_into().unwrap());
+    let height = u32::from_be_bytes(png.body[20..24].try_into().unwrap());
+    // The toy scene is 520 × 320: a quarter of it.
+    assert_eq!((width, height), (130, 80));
+    for bad in ["0", "9000", "wide"] {
+        assert_eq!(
+            s.call("GET", &format!("/api/frame.png?w={bad}"), "").status,
+            400,
+            "{bad}"
+        );
+    }
+}
+
+#[test]
+fn moving_a_change_rewrites_its_offset_as_a_whole() {
+    let s = Studio::start("offset");
+    let st = s.state();
+    let shapes = st["shapes"].as_array().unwrap();
+    let find = |tag: &str, id: u64| {
+        shapes
+            .iter()
+            .position(|x| x["tag"] == tag && x["id"] == id)
+            .unwrap()
+    };
+    let (c0, c1, square) = (find("c", 0), find("c", 1), find("s", 0));
+    // The circles' spin starts 0.15 s apart: c#1's at 1.2 + 0.15 s on its second slice.
+    let start = |st: &Value, shape: usize, slice: usize| {
+        st["timelines"][shape][slice]["changes"][0][0]
+            .as_f64()
+            .unwrap()
+    };
+    assert!(
+        (start(&st, c1, 1) - 1.35).abs() < 1e-9,
+        "{}",
+        st["timelines"][c1]
+    );
+    let offset = |shape: usize, slice: usize, from: f64, time: f64| {
+        s.call(
+            "POST",
+            "/api/offset",
+            &format!(r#"{{"shape": {shape}, "slice": {slice}, "from": {from}, "time": {time}}}"#),
+        )
+    };
+    // Another shape's drag scales the stagger …
+    let r = offset(c1, 1, 1.35, 1.5).json();
+    assert_eq!(r["offset"], "0.3 * id", "{r}");
+    let st = s.state();
+    assert!((start(&st, c1, 1) - 1.5).abs() < 1e-9);
+    // … the first shape's moves where it begins.
+    let r = offset(c0, 1, 1.2, 1.3).json();
+    assert_eq!(r["offset"], "0.1 + 0.3 * id", "{r}");
+    let st = s.state();
+    assert!((start(&st, c0, 1) - 1.3).abs() < 1e-9 && (start(&st, c1, 1) - 1.6).abs() < 1e-9);
+    // A plain number becomes the new delay.
+    let r = offset(square, 0, 0.0, 0.5).json();
+    assert_eq!(r["offset"], "0.5", "{r}");
+    assert!(
+        r["grammar"]
+            .as_str()
+            .unwrap()
+            .contains("animate(affine, world, 0.5, translate(260, 0)")
+    );
+    // No change starts there, a malformed body, a time breaking the grammar: refused.
+    assert_eq!(offset(square, 0, 2.0, 1.0).status, 422);
+    assert_eq!(s.call("POST", "/api/offset", "{}").status, 400);
+    let before = s.call("GET", "/api/grammar", "").body;
+    let far = offset(c1, 1, 1.6, 2.99);
+    assert_eq!(far.status, 422, "{}", String::from_utf8_lossy(&far.body));
+    assert_eq!(s.call("GET", "/api/grammar", "").body, before);
+    s.call("POST", "/api/save", "");
+    let out = Command::new(env!("CARGO_BIN_EXE_gmotion"))
+        .arg("check")
+        .arg(s.dir.join("toy.gm"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

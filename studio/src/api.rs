@@ -1,13 +1,13 @@
 //! The HTTP routes: the page, lottie-web, and the JSON API (see `docs/studio.md`). Bad
 //! input is answered 4xx, never a panic.
 
-use std::io::Read;
 use std::sync::Arc;
 
+use gmotion::canvas::OutputSize;
 use serde_json::json;
-use tiny_http::{Header, Method, Request, Response};
 
-use crate::live::{Built, Live};
+use crate::http::{Request, Response};
+use crate::live::{Built, Live, Resolution, SaveError};
 
 /// What every request thread shares.
 #[derive(Debug)]
@@ -16,9 +16,6 @@ pub(crate) struct Ctx {
     pub port: u16,
     pub token: String,
 }
-
-/// The most bytes of a request body read (a grammar).
-const MAX_BODY: u64 = 4 << 20;
 
 /// The page: one HTML file with its JS and CSS inline.
 const PAGE: &str = include_str!("../assets/studio.html");
@@ -65,23 +62,14 @@ fn param<'a>(query: &'a str, name: &str) -> Option<&'a str> {
         .map(|(_, v)| v)
 }
 
-fn header<'a>(request: &'a Request, name: &str) -> Option<&'a str> {
-    request
-        .headers()
-        .iter()
-        .find(|h| h.field.as_str().as_str().eq_ignore_ascii_case(name))
-        .map(|h| h.value.as_str())
-}
-
 /// Compares without stopping at the first difference.
 fn same(a: &str, b: &str) -> bool {
     a.len() == b.len() && a.bytes().zip(b.bytes()).fold(0u8, |d, (x, y)| d | (x ^ y)) == 0
 }
 
 /// Answers one request.
-pub(crate) fn handle(ctx: &Ctx, mut request: Request) {
-    let reply = route(ctx, &mut request);
-    let mut response = Response::from_data(reply.body).with_status_code(reply.status);
+pub(crate) fn handle(ctx: &Ctx, request: &Request) -> Response {
+    let reply = route(ctx, request);
     let mut headers = vec![
         ("Content-Type", reply.kind.to_string()),
         ("Cache-Control", "no-store".to_string()),
@@ -99,16 +87,15 @@ pub(crate) fn handle(ctx: &Ctx, mut request: Request) {
             format!("attachment; filename=\"{name}\""),
         ));
     }
-    for (k, v) in headers {
-        if let Ok(h) = Header::from_bytes(k.as_bytes(), v.as_bytes()) {
-            response.add_header(h);
-        }
+    Response {
+        status: reply.status,
+        headers,
+        body: reply.body,
     }
-    let _ = request.respond(response);
 }
 
-fn route(ctx: &Ctx, request: &mut Request) -> Reply {
-    let host_ok = header(request, "Host").is_some_and(|h| {
+fn route(ctx: &Ctx, request: &Request) -> Reply {
+    let host_ok = request.header("Host").is_some_and(|h| {
         h == format!("127.0.0.1:{}", ctx.port) || h == format!("localhost:{}", ctx.port)
     });
     if !host_ok {
@@ -117,12 +104,12 @@ fn route(ctx: &Ctx, request: &mut Request) -> Reply {
             "forbidden: the Host must be 127.0.0.1:PORT or localhost:PORT",
         );
     }
-    let url = request.url().to_string();
-    let (path, query) = url.split_once('?').unwrap_or((&url, ""));
-    let method = request.method().clone();
-    match (&method, path) {
-        (Method::Get, "/") => return Reply::ok("text/html; charset=utf-8", PAGE),
-        (Method::Get, "/lottie.min.js") => {
+    let url = request.target.as_str();
+    let (path, query) = url.split_once('?').unwrap_or((url, ""));
+    let method = request.method.as_str();
+    match (method, path) {
+        ("GET", "/") => return Reply::ok("text/html; charset=utf-8", PAGE),
+        ("GET", "/lottie.min.js") => {
             return Reply::ok(
                 "text/javascript; charset=utf-8",
                 gmotion_pipeline::html::LOTTIE_JS,
@@ -133,13 +120,13 @@ fn route(ctx: &Ctx, request: &mut Request) -> Reply {
     if !path.starts_with("/api/") {
         return Reply::error(404, "not found");
     }
-    let token = param(query, "token").or_else(|| header(request, "X-Gmotion-Token"));
+    let token = param(query, "token").or_else(|| request.header("X-Gmotion-Token"));
     if !token.is_some_and(|t| same(t, &ctx.token)) {
         return Reply::error(403, "forbidden: a valid token is needed");
     }
     let live = &ctx.live;
-    match (&method, &path["/api".len()..]) {
-        (Method::Get, "/state") => {
+    match (method, &path["/api".len()..]) {
+        ("GET", "/state") => {
             let good = live.good();
             let (shapes, timelines) = live.shapes_and_timelines(&good);
             let scene = &good.rendered.anim.scene;
@@ -153,28 +140,21 @@ fn route(ctx: &Ctx, request: &mut Request) -> Reply {
                 "timelines": timelines,
                 "diagnostics": live.diagnostics_json(),
                 "grammar": live.text(),
+                "unsaved": live.unsaved(),
+                "conflict": live.conflict(),
             }))
         }
-        (Method::Get, "/status") => Reply::json(&json!({
+        ("GET", "/status") => Reply::json(&json!({
             "version": live.version(),
             "diagnostics": live.diagnostics_json(),
             "grammar": live.text(),
+            "unsaved": live.unsaved(),
+            "conflict": live.conflict(),
         })),
-        (Method::Get, "/grammar") => Reply::ok("text/plain; charset=utf-8", live.text()),
-        (Method::Put, "/grammar") => {
-            let mut bytes = Vec::new();
-            if request
-                .as_reader()
-                .take(MAX_BODY + 1)
-                .read_to_end(&mut bytes)
-                .is_err()
-            {
-                return Reply::error(400, "the request body could not be read");
-            }
-            if bytes.len() as u64 > MAX_BODY {
-                return Reply::error(413, "the grammar is larger than 4 MiB");
-            }
-            let Ok(text) = String::from_utf8(bytes) else {
+        ("GET", "/grammar") => Reply::ok("text/plain; charset=utf-8", live.text()),
+        ("PUT", "/grammar") => {
+            // The server refuses bodies over `http::MAX_BODY` (4 MiB) before this.
+            let Ok(text) = String::from_utf8(request.body.clone()) else {
                 return Reply::error(400, "the grammar must be UTF-8 text");
             };
             let (version, diagnostics) = live.set_text(text);
@@ -183,18 +163,100 @@ fn route(ctx: &Ctx, request: &mut Request) -> Reply {
                 "diagnostics": diagnostics.iter().map(crate::live::diagnostic_json).collect::<Vec<_>>(),
             }))
         }
-        (Method::Post, "/save") => match live.save() {
+        ("POST", "/save") => match live.save() {
             Ok(p) => {
                 Reply::json(&json!({"saved": p.display().to_string(), "version": live.version()}))
             }
-            Err(e) => Reply::error(500, &format!("cannot save: {e}")),
+            Err(SaveError::Changed) => Reply::error(
+                409,
+                "the grammar file changed on disk since it was read: keep mine or take theirs first",
+            ),
+            Err(SaveError::Io(e)) => Reply::error(500, &format!("cannot save: {e}")),
         },
-        (Method::Get, "/lottie") => match live.lottie() {
+        ("POST", "/resolve") => {
+            let how = match param(query, "take") {
+                Some("mine") => Resolution::Mine,
+                Some("theirs") => Resolution::Theirs,
+                _ => return Reply::error(400, "take must be mine or theirs"),
+            };
+            if !live.resolve(how) {
+                return Reply::error(409, "there is no conflict to resolve");
+            }
+            Reply::json(&json!({"version": live.version(), "grammar": live.text()}))
+        }
+        ("POST", "/retime") => {
+            let body: serde_json::Value = match serde_json::from_slice(&request.body) {
+                Ok(v) => v,
+                Err(e) => return Reply::error(400, &format!("the body must be JSON: {e}")),
+            };
+            let index = |k: &str| body[k].as_u64().and_then(|v| usize::try_from(v).ok());
+            let (Some(shape), Some(boundary), Some(time)) = (
+                index("shape"),
+                index("boundary"),
+                body["time"].as_f64().filter(|t| t.is_finite()),
+            ) else {
+                return Reply::error(
+                    400,
+                    "the body is {\"shape\": INDEX, \"boundary\": INDEX, \"time\": SECONDS}",
+                );
+            };
+            match live.retime(shape, boundary, time) {
+                Ok((done, version, diagnostics)) => Reply::json(&json!({
+                    "version": version,
+                    "grammar": done.text,
+                    "line": done.line,
+                    "fractions": done.fractions,
+                    "diagnostics": diagnostics.iter().map(crate::live::diagnostic_json).collect::<Vec<_>>(),
+                })),
+                Err(e) => Reply::error(422, &e),
+            }
+        }
+        ("POST", "/offset") => {
+            let body: serde_json::Value = match serde_json::from_slice(&request.body) {
+                Ok(v) => v,
+                Err(e) => return Reply::error(400, &format!("the body must be JSON: {e}")),
+            };
+            let index = |k: &str| body[k].as_u64().and_then(|v| usize::try_from(v).ok());
+            let number = |k: &str| body[k].as_f64().filter(|t| t.is_finite());
+            let (Some(shape), Some(slice), Some(from), Some(time)) = (
+                index("shape"),
+                index("slice"),
+                number("from"),
+                number("time"),
+            ) else {
+                return Reply::error(
+                    400,
+                    "the body is {\"shape\": INDEX, \"slice\": INDEX, \"from\": SECONDS, \"time\": SECONDS}",
+                );
+            };
+            match live.move_offset((shape, slice, from, time)) {
+                Ok((done, version)) => Reply::json(&json!({
+                    "version": version,
+                    "grammar": done.text,
+                    "line": done.line,
+                    "offset": done.offset,
+                    "diagnostics": [],
+                })),
+                Err(e) => Reply::error(422, &e),
+            }
+        }
+        ("GET", "/boxes") => {
+            let built = live.good();
+            let t = match param(query, "t").map(str::parse::<f64>) {
+                None => 0.0,
+                Some(Ok(t)) if t.is_finite() => t.clamp(0.0, built.rendered.anim.duration),
+                Some(_) => return Reply::error(400, "t must be a number of seconds"),
+            };
+            Reply::json(
+                &json!({"version": live.version(), "t": t, "boxes": Live::boxes_at(&built, t)}),
+            )
+        }
+        ("GET", "/lottie") => match live.lottie() {
             Ok(body) => Reply::ok("application/json", body),
             Err(e) => Reply::error(422, &e),
         },
-        (Method::Get, "/smil") => export(live, &live.good(), "svg", 0.0, None),
-        (Method::Get, "/frame.png") => {
+        ("GET", "/smil") => export(live, &live.good(), "svg", 0.0, None),
+        ("GET", "/frame.png") => {
             let t = match param(query, "t").map(str::parse::<f64>) {
                 None => 0.0,
                 Some(Ok(t)) if t.is_finite() => t,
@@ -209,26 +271,35 @@ fn route(ctx: &Ctx, request: &mut Request) -> Reply {
                 Some(Err(_)) => return Reply::error(400, "seed must be a whole number"),
             };
             let t = t.clamp(0.0, built.rendered.anim.duration);
-            export(live, &built, "png", t, None)
+            // `w`: the width the page shows it at, so a thumbnail of a large scene is not
+            // decoded at full size on the page's main thread.
+            let size = match param(query, "w").map(str::parse::<u32>) {
+                None => built.size,
+                Some(Ok(w)) if (1..=8192).contains(&w) => OutputSize {
+                    width: Some(w),
+                    height: None,
+                },
+                Some(_) => return Reply::error(400, "w must be a width in pixels, 1 to 8192"),
+            };
+            match live.export_sized(&built, "png", t, size) {
+                Ok(body) => Reply::ok("image/png", body),
+                Err(e) => Reply::error(422, &e),
+            }
         }
-        (Method::Get, "/export/lottie") => {
+        ("GET", "/export/lottie") => {
             export(live, &live.good(), "json", 0.0, Some("animation.json"))
         }
-        (Method::Get, "/export/dotlottie") => {
+        ("GET", "/export/dotlottie") => {
             export(live, &live.good(), "lottie", 0.0, Some("animation.lottie"))
         }
-        (Method::Get, "/export/smil") => {
-            export(live, &live.good(), "svg", 0.0, Some("animation.svg"))
-        }
-        (Method::Get, "/export/gif") => {
-            export(live, &live.good(), "gif", 0.0, Some("animation.gif"))
-        }
-        (Method::Get, "/export/html") => {
-            export(live, &live.good(), "html", 0.0, Some("preview.html"))
-        }
-        (_, "/state" | "/status" | "/grammar" | "/save" | "/lottie" | "/smil" | "/frame.png") => {
-            Reply::error(405, "method not allowed")
-        }
+        ("GET", "/export/smil") => export(live, &live.good(), "svg", 0.0, Some("animation.svg")),
+        ("GET", "/export/gif") => export(live, &live.good(), "gif", 0.0, Some("animation.gif")),
+        ("GET", "/export/html") => export(live, &live.good(), "html", 0.0, Some("preview.html")),
+        (
+            _,
+            "/state" | "/status" | "/grammar" | "/save" | "/resolve" | "/retime" | "/offset"
+            | "/boxes" | "/lottie" | "/smil" | "/frame.png",
+        ) => Reply::error(405, "method not allowed"),
         _ => Reply::error(404, "no such API route"),
     }
 }

@@ -3,9 +3,9 @@
 //! itself uses, so scripts and tests can drive the studio too; the API is documented in
 //! `docs/studio.md`.
 //!
-//! The server is [`tiny_http`]: small and synchronous (no async runtime, a handful of
-//! dependencies), which keeps the build cheap on a two-core machine; the studio serves one
-//! local user, a few worker threads are plenty. Everything the page needs is embedded in
+//! The server is the crate's own small HTTP/1.1 server over `std::net` (`http`): a
+//! thread per connection, no async runtime and no dependency, which keeps the build cheap
+//! on a two-core machine; the studio serves one local user. Everything the page needs is embedded in
 //! the binary (lottie-web is vendored from npm with its MIT licence in `assets/`): the page
 //! makes no request outside its own server.
 //!
@@ -16,9 +16,13 @@
 #![forbid(unsafe_code)]
 
 mod api;
+mod http;
 mod live;
+mod offset;
+mod retime;
 
 use std::io;
+use std::net::TcpListener;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::thread;
@@ -26,7 +30,7 @@ use std::thread;
 use gmotion::engine::RunOptions;
 use gmotion_pipeline::{Imported, Rescene};
 
-pub use live::{Live, shapes_json};
+pub use live::{Live, Resolution, SaveError, shapes_json};
 
 /// What a studio session edits.
 #[derive(Debug)]
@@ -47,7 +51,7 @@ pub struct Config {
 
 /// A bound studio server, not yet serving.
 pub struct Studio {
-    server: Arc<tiny_http::Server>,
+    listener: TcpListener,
     live: Arc<Live>,
     port: u16,
     token: String,
@@ -64,16 +68,16 @@ impl Studio {
     /// with the scene still) and binds 127.0.0.1:`config.port`.
     pub fn bind(config: Config) -> io::Result<Studio> {
         let token = random_token()?;
-        let server =
-            tiny_http::Server::http(("127.0.0.1", config.port)).map_err(io::Error::other)?;
-        let port = server
-            .server_addr()
-            .to_ip()
-            .map(|a| a.port())
-            .ok_or_else(|| io::Error::other("the server has no IP address"))?;
+        let listener = TcpListener::bind(("127.0.0.1", config.port)).map_err(|e| {
+            io::Error::new(
+                e.kind(),
+                format!("cannot listen on 127.0.0.1:{}: {e}", config.port),
+            )
+        })?;
+        let port = listener.local_addr()?.port();
         let live = Arc::new(Live::new(config)?);
         Ok(Studio {
-            server: Arc::new(server),
+            listener,
             live,
             port,
             token,
@@ -90,36 +94,22 @@ impl Studio {
         format!("http://127.0.0.1:{}/?token={}", self.port, self.token)
     }
 
-    /// Serves until the process ends: a few request threads and a thread that polls the
-    /// grammar file.
+    /// Serves until the process ends: a thread per connection and a thread that polls
+    /// the grammar file.
     pub fn serve(self) -> io::Result<()> {
         let live = Arc::clone(&self.live);
         thread::Builder::new()
             .name("studio-watch".into())
             .spawn(move || live.watch())?;
-        let ctx = Arc::new(api::Ctx {
+        let ctx = api::Ctx {
             live: self.live,
             port: self.port,
             token: self.token,
-        });
-        let mut workers = Vec::new();
-        for i in 0..4 {
-            let server = Arc::clone(&self.server);
-            let ctx = Arc::clone(&ctx);
-            workers.push(
-                thread::Builder::new()
-                    .name(format!("studio-http-{i}"))
-                    .spawn(move || {
-                        for request in server.incoming_requests() {
-                            api::handle(&ctx, request);
-                        }
-                    })?,
-            );
-        }
-        for w in workers {
-            let _ = w.join();
-        }
-        Ok(())
+        };
+        http::serve(
+            self.listener,
+            Arc::new(move |request: &http::Request| api::handle(&ctx, request)),
+        )
     }
 }
 

@@ -91,6 +91,31 @@ struct State {
     stamp: Option<(SystemTime, u64)>,
     /// Variations of the current version, by seed.
     seeds: HashMap<u64, Arc<Built>>,
+    /// The text last read from or written to the grammar file: the page's edits are
+    /// unsaved while `text` differs from it, and Save writes only over this text.
+    disk: String,
+    /// The file's text when it changed on disk while the page had unsaved edits: kept
+    /// beside them until the page chooses ([`Live::resolve`]), never applied over them.
+    conflict: Option<String>,
+}
+
+/// Why [`Live::save`] did not write.
+#[derive(Debug)]
+pub enum SaveError {
+    /// The file changed on disk since it was last read: writing would lose that change.
+    /// The new text on disk is now the pending conflict.
+    Changed,
+    /// The file could not be written.
+    Io(io::Error),
+}
+
+/// How the page settles a conflict between its unsaved text and the file's new text.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Resolution {
+    /// Keep the page's text (the next Save writes it over the file's).
+    Mine,
+    /// Replace the page's text with the file's.
+    Theirs,
 }
 
 /// The studio's live state, shared by the request threads and the file watcher.
@@ -131,6 +156,21 @@ pub fn shapes_json(scene: &Scene) -> Value {
             })
         })
         .collect()
+}
+
+/// The changes playing on slice `s` as `[[from, to], …]` seconds, clipped to the slice
+/// (keyframe ticks on the timeline; a forward change's `from` is what a drag moves).
+fn changes_json(s: &gmotion::engine::expand::Slice) -> Value {
+    let (t0, t1) = (s.t0, s.t0 + s.dur);
+    let mut out: Vec<(f64, f64)> = Vec::new();
+    for a in s.anims.iter() {
+        let (from, to) = a.timing().active();
+        let (from, to) = (from.max(t0), to.min(t1));
+        if from < to && !out.contains(&(from, to)) {
+            out.push((from, to));
+        }
+    }
+    out.into_iter().map(|(a, b)| json!([a, b])).collect()
 }
 
 /// `text` parsed, with its settings: every syntax error, else every error of meaning
@@ -194,6 +234,7 @@ impl Live {
     /// scene still, with the grammar's diagnostics.
     pub fn new(config: Config) -> io::Result<Live> {
         let text = std::fs::read_to_string(&config.grammar_path)?;
+        let text_on_disk = text.clone();
         let stamp = stamp(&config.grammar_path);
         let parsed = parse(&text);
         let imported = Arc::new(Imported {
@@ -230,6 +271,8 @@ impl Live {
                 version: 1,
                 stamp,
                 seeds: HashMap::new(),
+                disk: text_on_disk,
+                conflict: None,
             }),
             building: Mutex::new(()),
         })
@@ -243,11 +286,26 @@ impl Live {
     /// when the text builds and differs from the current text. Returns the version and the
     /// text's diagnostics.
     pub fn set_text(&self, text: String) -> (u64, Vec<Diagnostic>) {
+        // With `keep_broken`, errors come back as the text's diagnostics.
+        match self.apply(text, true) {
+            Ok(done) => done,
+            Err(d) => (self.version(), d),
+        }
+    }
+
+    /// Applies `text` as [`Live::set_text`] does, or, unless `keep_broken`, leaves the
+    /// current text as it is when `text` has errors and returns them: the studio's own
+    /// edits (retime) never leave a grammar that does not build.
+    fn apply(
+        &self,
+        text: String,
+        keep_broken: bool,
+    ) -> Result<(u64, Vec<Diagnostic>), Vec<Diagnostic>> {
         let _b = self.building.lock().unwrap_or_else(|p| p.into_inner());
         {
             let st = self.lock();
             if st.text == text {
-                return (st.version, st.diagnostics.clone());
+                return Ok((st.version, st.diagnostics.clone()));
             }
         }
         let built = parse(&text).and_then(|(grammar, settings)| {
@@ -255,7 +313,6 @@ impl Live {
             build(imported, &self.run, (grammar, settings))
         });
         let mut st = self.lock();
-        st.text = text;
         match built {
             Ok(b) => {
                 st.good = Arc::new(b);
@@ -263,9 +320,11 @@ impl Live {
                 st.seeds.clear();
                 st.version += 1;
             }
+            Err(d) if !keep_broken => return Err(d),
             Err(d) => st.diagnostics = d,
         }
-        (st.version, st.diagnostics.clone())
+        st.text = text;
+        Ok((st.version, st.diagnostics.clone()))
     }
 
     /// The scene for a grammar with `settings`: the current one, or, when the settings
@@ -382,6 +441,7 @@ impl Live {
                                         "start": s.t0,
                                         "end": s.t0 + s.dur,
                                         "inverted": s.inverted,
+                                        "changes": changes_json(s),
                                     })
                                 })
                                 .collect()
@@ -405,7 +465,18 @@ impl Live {
     /// `built` as `ext` (`json` Lottie, `svg` SMIL, `html` the page, `png` the frame at
     /// `time`, `gif`), straight from the pipeline's writer: the bytes, or why not.
     pub(crate) fn export(&self, built: &Built, ext: &str, time: f64) -> Result<Vec<u8>, String> {
-        let mut writer = Writer::new(built.size, &gmotion_pipeline::Limits::default());
+        self.export_sized(built, ext, time, built.size)
+    }
+
+    /// [`Live::export`] at `size` (a frame drawn at the size the page shows it).
+    pub(crate) fn export_sized(
+        &self,
+        built: &Built,
+        ext: &str,
+        time: f64,
+        size: OutputSize,
+    ) -> Result<Vec<u8>, String> {
+        let mut writer = Writer::new(size, &gmotion_pipeline::Limits::default());
         writer.options.time = time;
         let named = Path::new("studio").with_extension(ext);
         let bytes = if ext == "html" {
@@ -426,18 +497,67 @@ impl Live {
         self.export(&self.good(), "json", 0.0)
     }
 
-    /// Writes the current text to the grammar file (atomically) and returns the path.
-    pub fn save(&self) -> io::Result<&Path> {
+    /// Whether the text differs from the file's (as last read or written).
+    pub fn unsaved(&self) -> bool {
+        let st = self.lock();
+        st.text != st.disk
+    }
+
+    /// The file's new text when it changed on disk under unsaved edits, until resolved.
+    pub fn conflict(&self) -> Option<String> {
+        self.lock().conflict.clone()
+    }
+
+    /// Settles the pending conflict: `Mine` keeps the text (the file's text counts as
+    /// read, so the next Save may write over it), `Theirs` takes the file's text. Returns
+    /// false when there was no conflict.
+    pub fn resolve(&self, how: Resolution) -> bool {
+        let theirs = {
+            let mut st = self.lock();
+            let Some(theirs) = st.conflict.take() else {
+                return false;
+            };
+            st.disk = theirs.clone();
+            theirs
+        };
+        if how == Resolution::Theirs {
+            self.set_text(theirs);
+        }
+        true
+    }
+
+    /// Writes the current text to the grammar file (atomically) and returns the path;
+    /// refuses ([`SaveError::Changed`]) when the file's text is no longer the text last
+    /// read from it, whether or not the watcher has seen the change yet, so an edit made
+    /// elsewhere is never overwritten without the page choosing to.
+    pub fn save(&self) -> Result<&Path, SaveError> {
         let mut st = self.lock();
-        gmotion::atomic::write_bytes(&self.grammar_path, st.text.as_bytes())?;
+        if let Some(now) = read_text(&self.grammar_path)
+            && now != st.disk
+        {
+            if now != st.text {
+                st.conflict = Some(now);
+                return Err(SaveError::Changed);
+            }
+            // The file already holds this text: nothing would be lost.
+            st.disk = now;
+        }
+        if st.conflict.is_some() {
+            return Err(SaveError::Changed);
+        }
+        gmotion::atomic::write_bytes(&self.grammar_path, st.text.as_bytes())
+            .map_err(SaveError::Io)?;
         st.stamp = stamp(&self.grammar_path);
+        st.disk = st.text.clone();
         Ok(&self.grammar_path)
     }
 
     /// Polls the grammar file every 300 ms and takes in its text when its modification
-    /// time or length changes. Polling rather than a file-watcher crate: one `stat` a
-    /// third of a second costs nothing, needs no dependency, and sees the atomic
-    /// rename-over that editors (and `save`) do, which inotify watches on the file lose.
+    /// time or length changes, unless the page has unsaved edits: then the file's text
+    /// becomes a conflict for the page to settle. Polling rather than a file-watcher
+    /// crate: one `stat` a third of a second costs nothing, needs no dependency, and sees
+    /// the atomic rename-over that editors (and `save`) do, which inotify watches on the
+    /// file lose.
     pub fn watch(&self) -> ! {
         loop {
             std::thread::sleep(Duration::from_millis(300));
@@ -445,13 +565,107 @@ impl Live {
             if now.is_none() || now == self.lock().stamp {
                 continue;
             }
-            let Ok(text) = std::fs::read_to_string(&self.grammar_path) else {
+            let Some(text) = read_text(&self.grammar_path) else {
                 continue;
             };
-            self.lock().stamp = now;
-            self.set_text(text);
+            let take = {
+                let mut st = self.lock();
+                st.stamp = now;
+                if text == st.disk || text == st.text {
+                    st.disk = text.clone();
+                    st.conflict = None;
+                    false
+                } else if st.text == st.disk {
+                    st.disk = text.clone();
+                    true
+                } else {
+                    st.conflict = Some(text.clone());
+                    false
+                }
+            };
+            if take {
+                self.set_text(text);
+            }
         }
     }
+
+    /// Moves the boundary between slices `boundary` and `boundary + 1` of shape `shape`
+    /// to `time` seconds by rewriting the `timesplit` fractions that put it there (see
+    /// `retime`), and applies the new text as an edit: the text, its version and
+    /// diagnostics, the rule's line and its new fractions; or why not.
+    pub(crate) fn retime(
+        &self,
+        shape: usize,
+        boundary: usize,
+        time: f64,
+    ) -> Result<(crate::retime::Retimed, u64, Vec<Diagnostic>), String> {
+        let text = self.text();
+        let good = self.good();
+        if !self.lock().diagnostics.is_empty() {
+            return Err("the grammar has errors: fix them before retiming".into());
+        }
+        let (grammar, _) = parse(&text).map_err(|_| "the grammar has errors".to_string())?;
+        let done = crate::retime::retime(
+            &text,
+            &grammar,
+            &good.scene.scene,
+            &self.run,
+            (shape, boundary, time),
+        )?;
+        let (version, diagnostics) = self.apply(done.text.clone(), false).map_err(|d| {
+            let why = d.first().map_or("", |d| d.message.as_str());
+            format!("that time would break the grammar ({why}); the text is unchanged")
+        })?;
+        Ok((done, version, diagnostics))
+    }
+
+    /// Makes the forward change on slice `slice` of shape `shape` that starts at `from`
+    /// seconds start at `time` by rewriting its `animate` rule's offset (see `offset`),
+    /// applied as an edit only when the result builds: the text, the version and the
+    /// rule's line and new offset; or why not.
+    pub(crate) fn move_offset(
+        &self,
+        target: (usize, usize, f64, f64),
+    ) -> Result<(crate::offset::Moved, u64), String> {
+        let text = self.text();
+        let good = self.good();
+        if !self.lock().diagnostics.is_empty() {
+            return Err("the grammar has errors: fix them before moving a change".into());
+        }
+        let (grammar, _) = parse(&text).map_err(|_| "the grammar has errors".to_string())?;
+        let done =
+            crate::offset::move_offset(&text, &grammar, &good.scene.scene, &self.run, target)?;
+        let (version, _) = self.apply(done.text.clone(), false).map_err(|d| {
+            let why = d.first().map_or("", |d| d.message.as_str());
+            format!("that time would break the grammar ({why}); the text is unchanged")
+        })?;
+        Ok((done, version))
+    }
+
+    /// Every shape's bounding box at `t` (the frame shown, for hit-testing), `None` for a
+    /// shape that is invisible then: the rest box moved by the shape's transform at `t`.
+    pub(crate) fn boxes_at(built: &Built, t: f64) -> Value {
+        let anim = &built.rendered.anim;
+        anim.scene
+            .shapes
+            .iter()
+            .zip(&anim.tracks)
+            .map(|(shape, track)| {
+                let state = track.state_at(t);
+                if state.opacity <= 0.0 {
+                    return Value::Null;
+                }
+                let b = state.transform.transform_rect_bbox(shape.bbox);
+                json!([b.x0, b.y0, b.width(), b.height()])
+            })
+            .collect()
+    }
+}
+
+/// The grammar file's text, `None` when it cannot be read as UTF-8 (gone, or a partial
+/// write): the watcher tries again on the next change.
+fn read_text(path: &Path) -> Option<String> {
+    std::fs::read_to_string(path).ok()
 }
 
 #[cfg(test)]

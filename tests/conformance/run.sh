@@ -151,5 +151,7 @@ phase "studio: the page in Chromium (tests/conformance/studio.mjs)"
 node "$here/studio.mjs" "$gm" || status=1
 phase "preview: the page animate -o preview.html writes (tests/conformance/preview.mjs)"
 node "$here/preview.mjs" "$gm" || status=1
+phase "studio: the editor in Chromium (tests/conformance/studio_editor.mjs)"
+node "$here/studio_editor.mjs" "$gm" || status=1
 echo "conformance: $((SECONDS - start)) s"
 exit $status

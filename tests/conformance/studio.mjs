@@ -114,9 +114,13 @@ try {
   await textarea.fill(good);
   await page.waitForSelector('#diagnostics .ok');
 
-  // Click the square (centroid 100, 160 in a 520 × 320 scene): its row is highlighted.
+  // Click the square (centroid 100, 160 in a 520 × 320 scene, at 0 s: hit-testing follows
+  // the frame shown): its row is highlighted.
+  await page.$eval('#scrub', (el) => { el.value = '0'; el.dispatchEvent(new Event('input')); });
+  await page.waitForTimeout(300);
   const box = await page.locator('#overlay').boundingBox();
   await page.mouse.click(box.x + box.width * 100 / 520, box.y + box.height * 160 / 320);
+  await page.waitForTimeout(300);
   const row = await page.$eval('#timeline .row.sel', (r) => r.querySelector('.name').textContent).catch(() => null);
   check(row === 's#0', `clicking a shape highlights its timeline row (${row})`);
   const listed = await page.$eval('#shape-rows tr.sel', (r) => r.firstChild.textContent).catch(() => null);

@@ -26,6 +26,9 @@ impl StudioJob {
     pub fn run(self, ctx: &Ctx) -> Result<()> {
         let env = &ctx.env;
         let (scene, grammar_path) = (self.files.scene(), &self.files.grammar);
+        if scene.is_some() {
+            create_empty(grammar_path)?;
+        }
         let imported = match (
             Project::load(scene, grammar_path, &self.choices, env),
             scene,
@@ -75,5 +78,25 @@ impl StudioJob {
         studio
             .serve()
             .map_err(|e| CliError::msg(format!("studio: {e}")))
+    }
+}
+
+/// Creates `path` empty when it does not exist, so a session can start from an empty
+/// grammar on a given scene (gMotion §4.3); an existing file is left as it is.
+fn create_empty(path: &std::path::Path) -> Result<()> {
+    match std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(path)
+    {
+        Ok(_) => {
+            eprintln!("studio: created the empty grammar {}", path.display());
+            Ok(())
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => Ok(()),
+        Err(e) => Err(CliError::msg(format!(
+            "studio: cannot create the grammar {}: {e}",
+            path.display()
+        ))),
     }
 }

@@ -1,0 +1,343 @@
+// The studio as an editor (issue 43), in real Chromium, driven by role and name:
+// `node studio_editor.mjs path/to/gmotion`.
+//
+// Checks: `studio SCENE NEW.gm` creates the empty grammar; the timeline (a ruler that
+// seeks, Space and the arrows, a boundary dragged to retime, every row of 1000 reachable); rules written with the form
+// alone (an inverted slice names its twin, a selected shape its unique alias) leave a
+// grammar `gmotion check` accepts; a click hits the shape where the frame shown draws it;
+// every independent error is listed with its help; an outside edit under unsaved edits is
+// a conflict (Save refuses, both texts kept, keep mine / take theirs); every variation
+// cell is drawn on twenty reloads; an 800 × 800 scene leaves the timeline in view. With
+// $STUDIO_SHOTS set to a folder, saves the screenshots docs/studio.md shows. Exits 1 on
+// the first failed check.
+import { spawn, spawnSync } from 'node:child_process';
+import { existsSync, mkdtempSync, readFileSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join, dirname } from 'node:path';
+import { createInterface } from 'node:readline';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+
+const here = dirname(fileURLToPath(import.meta.url));
+const root = join(here, '..', '..');
+const gm = process.argv[2];
+if (!gm) {
+  console.error('usage: node studio_editor.mjs path/to/gmotion');
+  process.exit(2);
+}
+const shots = process.env.STUDIO_SHOTS || null;
+const dir = mkdtempSync(join(tmpdir(), 'gmotion-studio-editor-'));
+// The toy scene, its first circle named `sun` (its tag `c` is shared by four circles).
+writeFileSync(join(dir, 'toy.svg'), readFileSync(join(root, 'grammars', 'toy.svg'), 'utf8')
+  .replace('<circle data-tag="c" cx="220"', '<circle data-tag="c" id="sun" cx="220"'));
+writeFileSync(join(dir, 'toy.gm'), readFileSync(join(root, 'grammars', 'toy.gm'), 'utf8'));
+writeFileSync(join(dir, 'many.svg'), '<svg xmlns="http://www.w3.org/2000/svg" width="1000" height="100">'
+  + Array.from({ length: 1000 }, (_, i) => `<rect data-tag="r" x="${i}" y="${(i * 7) % 90}" width="1" height="10"/>`).join('') + '</svg>');
+writeFileSync(join(dir, 'many.gm'), 'duration 2s\ntimesplit(0.5, 0.5) : [all, r] -> [a, inv_a]\nanimate(opacity, local, 0.001 * id, 0) : [a, r] -> [fade]\n');
+writeFileSync(join(dir, 'big.svg'), '<svg xmlns="http://www.w3.org/2000/svg" width="800" height="800">'
+  + '<rect data-tag="r" x="100" y="100" width="600" height="600" fill="#17bebb"/></svg>');
+
+const children = [];
+async function studio(scene, grammar) {
+  const child = spawn(gm, ['studio', '--no-open', '--port', '0', scene, grammar], { stdio: ['ignore', 'pipe', 'pipe'] });
+  children.push(child);
+  let err = '';
+  child.stderr.on('data', (d) => { err += d; });
+  const first = await new Promise((resolve, reject) => {
+    createInterface({ input: child.stdout }).once('line', resolve);
+    child.once('exit', (code) => reject(new Error(`gmotion studio exited (${code}): ${err}`)));
+  });
+  const m = /^studio: (http:\/\/127\.0\.0\.1:\d+\/\?token=[0-9a-f]+)$/.exec(first);
+  if (!m) throw new Error(`unexpected first line: ${first}`);
+  return m[1];
+}
+
+let failed = false;
+function check(ok, what) {
+  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`);
+  if (!ok) failed = true;
+}
+const checkFile = (file) => spawnSync(gm, ['check', file], { encoding: 'utf8' });
+
+const browser = await chromium.launch({
+  executablePath: '/usr/bin/chromium',
+  args: ['--headless', '--no-sandbox', '--disable-gpu', '--no-first-run',
+    '--disable-background-networking', '--disable-component-update', '--disable-sync'],
+});
+try {
+  const grammarFile = join(dir, 'new.gm');
+  const url = await studio(join(dir, 'toy.svg'), grammarFile);
+  check(existsSync(grammarFile) && readFileSync(grammarFile, 'utf8') === '', 'studio SCENE NEW.gm creates the empty grammar');
+  const page = await browser.newPage({ viewport: { width: 1280, height: 1000 }, deviceScaleFactor: 1 });
+  const errors = [];
+  page.on('pageerror', (e) => errors.push(String(e)));
+  await page.goto(url);
+  await page.waitForFunction(() => /version 1 /.test(document.getElementById('status').textContent));
+  const version = (v) => page.waitForFunction((v) => new RegExp('version ' + v + ' ').test(document.getElementById('status').textContent), v);
+  await page.getByRole('button', { name: 'play' }).click();   // pause
+
+  // A split of every timeline into a slice and its inverted twin, with the form.
+  const form = page.locator('#rule-form');
+  await form.getByLabel('fractions', { exact: true }).fill('0.5, 0.5');
+  await form.getByLabel('output tags', { exact: true }).fill('a, inv_a');
+  await form.getByRole('button', { name: 'Insert rule' }).click();
+  await version(2);
+  // Click the square's inverted slice: the form names its twin.
+  await page.locator('#timeline .row', { hasText: 's#0' }).locator('.slice.inv').click();
+  const slice = await form.getByLabel('slice', { exact: true }).inputValue();
+  check(slice === 'a', `an inverted slice names its twin in the form (${slice})`);
+  await form.getByRole('combobox', { name: 'rule', exact: true }).selectOption('animate');
+  await form.getByLabel('shapes', { exact: true }).fill('s');
+  await form.getByLabel('value', { exact: true }).fill('translate(260, 0)');
+  await form.getByLabel('output tag', { exact: true }).fill('tran');
+  await form.getByRole('button', { name: 'Insert rule' }).click();
+  await version(3);
+  const diag = await page.textContent('#diagnostics');
+  check(/no problems/.test(diag), `the rules the form wrote build (${diag.trim().split('\n')[0]})`);
+
+  // Select the first circle in the preview: the form names `sun`, not the shared `c`.
+  const stage = await page.locator('#overlay').boundingBox();
+  const at = (x, y) => [stage.x + stage.width * x / 520, stage.y + stage.height * y / 320];
+  await page.getByRole('slider', { name: 'time', exact: true }).fill('0');
+  await page.waitForTimeout(300);
+  await page.mouse.click(...at(220, 160));
+  await page.waitForTimeout(300);
+  const shape = await form.getByLabel('shapes', { exact: true }).inputValue();
+  check(shape === 'sun', `a selected shape is named by its unique alias (${shape})`);
+
+  // Hit-testing the frame shown: halfway through (the empty grammar's 5 s) the square is
+  // 260 to the right (320–400 × 120–200; its corner at 395, 195 lies outside the circle
+  // at 360, 160).
+  await page.getByRole('slider', { name: 'time', exact: true }).fill('500');
+  await page.waitForTimeout(300);
+  await page.mouse.click(...at(395, 195));
+  await page.waitForTimeout(300);
+  const moved = await page.$eval('#timeline .row.sel .name', (n) => n.textContent).catch(() => null);
+  await page.mouse.click(...at(135, 195));
+  await page.waitForTimeout(300);
+  const rest = await page.$eval('#timeline .row.sel .name', (n) => n.textContent).catch(() => null);
+  check(moved === 's#0' && rest !== 's#0', `a click hits the square where the frame shows it (${moved}; at its rest place ${rest})`);
+  if (shots) await page.screenshot({ path: join(shots, 'studio-editor.png') });
+
+  // Save, and `gmotion check` accepts what the form wrote.
+  await page.getByRole('button', { name: 'Save' }).click();
+  await page.waitForFunction(() => /saved/.test(document.getElementById('status').textContent));
+  const checked = checkFile(grammarFile);
+  check(checked.status === 0, `gmotion check accepts the grammar the form wrote ${checked.stderr}`);
+  const good = readFileSync(grammarFile, 'utf8');
+
+  // Every independent error with its help, as `gmotion check` gives them.
+  const broken = good + 'animate(opacity, local, 0, 2) : [a, s] -> [m]\nanimate(afine, world, 0, translate(1, 0)) : [a, s] -> [n]\ntimesplit(0.5, 0.6) : [all, s] -> [p, q]\n';
+  const editor = page.getByRole('textbox', { name: 'grammar' });
+  await editor.fill(broken);
+  await page.waitForFunction(() => document.querySelectorAll('#diagnostics .diagnostic').length > 0);
+  const shown = await page.$$eval('#diagnostics .diagnostic', (ds) => ds.map((d) => d.textContent));
+  writeFileSync(join(dir, 'broken.gm'), broken.replace('scene toy.svg', ''));
+  const cli = checkFile(join(dir, 'broken.gm'));
+  const cliCount = (cli.stderr.match(/: error: /g) || []).length;
+  check(shown.length === 3 && cliCount === 3 && shown.some((d) => /help: did you mean `affine`/.test(d)) && shown.every((d) => /^line \d+, column \d+/.test(d)),
+    `every error is shown with its place and help (${shown.length} in the page, ${cliCount} from check)`);
+  await editor.fill(good);
+  await page.waitForSelector('#diagnostics .ok');
+
+  // An outside edit while the page has unsaved edits: a conflict, both texts kept.
+  const mine = good.replace('translate(260, 0)', 'translate(200, 0)');
+  await editor.fill(mine);
+  await page.waitForTimeout(600);
+  const theirs = good.replace('0.5, 0.5', '0.4, 0.6');
+  writeFileSync(grammarFile, theirs);
+  const alert = page.getByRole('alert', { name: 'conflict with the file on disk' });
+  await alert.waitFor({ state: 'visible', timeout: 10000 });
+  const kept = await editor.inputValue();
+  const onDisk = await page.getByRole('textbox', { name: 'text on disk' }).inputValue();
+  check(kept === mine && onDisk === theirs, 'a conflict keeps my text and shows theirs');
+  await page.getByRole('button', { name: 'Save' }).click();
+  await page.waitForFunction(() => /not saved/.test(document.getElementById('status').textContent));
+  check(readFileSync(grammarFile, 'utf8') === theirs, 'Save refuses to overwrite the file changed on disk');
+  if (shots) await page.screenshot({ path: join(shots, 'studio-conflict.png') });
+  await alert.getByRole('button', { name: 'Take theirs' }).click();
+  await alert.waitFor({ state: 'hidden' });
+  check(await editor.inputValue() === theirs, 'take theirs puts the file\'s text in the editor');
+  await editor.fill(mine);
+  await page.waitForTimeout(600);
+  writeFileSync(grammarFile, good);
+  await alert.waitFor({ state: 'visible', timeout: 10000 });
+  await alert.getByRole('button', { name: 'Keep mine' }).click();
+  await alert.waitFor({ state: 'hidden' });
+  await page.getByRole('button', { name: 'Save' }).click();
+  await page.waitForFunction(() => /saved \//.test(document.getElementById('status').textContent));
+  check(readFileSync(grammarFile, 'utf8') === mine, 'keep mine, then Save writes my text');
+
+  // Variations: every cell drawn, twenty loads in a row.
+  let blank = 0;
+  for (let i = 0; i < 20; i++) {
+    await page.goto(url);
+    const drawn = await page.waitForFunction(() => {
+      const cells = document.querySelectorAll('#variations .cell');
+      return cells.length > 0 && [...cells].every((c) => c.dataset.drawn);
+    }, null, { timeout: 8000 }).then(() => true, () => false);
+    if (!drawn) blank++;
+  }
+  check(blank === 0, `every variation cell is drawn on twenty reloads (${blank} loads with a blank cell)`);
+
+  // The timeline on the toy grammar: the ruler seeks, Space plays, arrows step.
+  const toy = await browser.newPage({ viewport: { width: 1280, height: 1000 }, deviceScaleFactor: 1 });
+  toy.on('pageerror', (e) => errors.push(String(e)));
+  const toyFile = join(dir, 'toy.gm');
+  await toy.goto(await studio(join(dir, 'toy.svg'), toyFile));
+  await toy.waitForFunction(() => /version 1 /.test(document.getElementById('status').textContent));
+  const ruler = toy.getByRole('slider', { name: 'timeline ruler' });
+  const rb = await ruler.boundingBox();
+  await toy.mouse.click(rb.x + rb.width * 0.5, rb.y + rb.height / 2);
+  const readout = () => toy.textContent('#readout');
+  const seeked = await readout();
+  check(/^3\.0\d\d \//.test(seeked) && await toy.getByRole('button', { name: 'play' }).textContent() === '▶',
+    `a click on the ruler pauses and seeks (${seeked})`);
+  await toy.mouse.move(rb.x + rb.width * 0.2, rb.y + rb.height / 2);
+  await toy.mouse.down();
+  await toy.mouse.move(rb.x + rb.width * 0.25, rb.y + rb.height / 2, { steps: 3 });
+  await toy.mouse.up();
+  check(/^1\.50\d \//.test(await readout()), `dragging on the ruler scrubs (${await readout()})`);
+  await toy.keyboard.press('ArrowRight');
+  await toy.keyboard.press('ArrowRight');
+  const stepped = await readout();
+  check(/frame 47$/.test(stepped), `→ steps a frame at a time (${stepped})`);
+  await toy.keyboard.press('Home');
+  check(/^0\.000 /.test(await readout()), 'Home goes to the start');
+  await toy.keyboard.press(' ');
+  await toy.waitForTimeout(400);
+  const playing = await readout();
+  await toy.keyboard.press(' ');
+  const paused = await readout();
+  await toy.waitForTimeout(300);
+  check(!/^0\.000 /.test(playing) && paused === await readout(), `Space plays and pauses (${playing} → ${paused})`);
+
+  // Drag the square's boundary from 3 s to 2.4 s: the first split's fractions follow.
+  const edgeBox = await toy.getByRole('slider', { name: 'boundary 0 of s#0' }).boundingBox();
+  const track = await toy.locator('#rows .row', { hasText: 's#0' }).locator('.track').boundingBox();
+  await toy.mouse.move(edgeBox.x + edgeBox.width / 2, edgeBox.y + edgeBox.height / 2);
+  await toy.mouse.down();
+  await toy.mouse.move(track.x + track.width * 2.4 / 6, edgeBox.y + edgeBox.height / 2, { steps: 6 });
+  await toy.mouse.up();
+  await toy.waitForFunction(() => /retimed/.test(document.getElementById('status').textContent));
+  const retimed = await toy.getByRole('textbox', { name: 'grammar' }).inputValue();
+  const fr = /timesplit\(([\d.]+), ([\d.]+)\)\s+: \[all, \(s, c\)\]/.exec(retimed);
+  check(fr && Math.abs(fr[1] - 0.4) < 0.01 && Math.abs(+fr[1] + +fr[2] - 1) < 1e-9,
+    `dragging a boundary rewrites the timesplit's fractions, their sum kept (${fr && fr.slice(1).join(', ')})`);
+  const dropped = await toy.getByRole('slider', { name: 'boundary 0 of s#0' }).getAttribute('aria-valuenow');
+  check(Math.abs(dropped - 2.4) < 0.07, `the boundary is drawn where it was dropped (${dropped} s)`);
+  if (shots) await toy.screenshot({ path: join(shots, 'studio-timeline.png') });
+  // A boundary stepped with the keyboard: one frame later.
+  await toy.getByRole('slider', { name: 'boundary 0 of s#0' }).press('ArrowRight');
+  await toy.waitForFunction((m) => {
+    const e = document.querySelector('[aria-label="boundary 0 of s#0"]');
+    return e && Math.abs(e.getAttribute('aria-valuenow') - m - 1 / 30) < 0.01;
+  }, +dropped, { timeout: 5000 }).then(() => check(true, 'a boundary moves a frame with →'), () => check(false, 'a boundary moves a frame with →'));
+  await toy.getByRole('button', { name: 'Save' }).click();
+  await toy.waitForFunction(() => /saved/.test(document.getElementById('status').textContent));
+  const toyChecked = checkFile(toyFile);
+  check(toyChecked.status === 0, `gmotion check accepts the retimed grammar ${toyChecked.stderr}`);
+
+  // Undo and redo walk one history of visual and typed edits.
+  const toyText = () => toy.getByRole('textbox', { name: 'grammar' }).inputValue();
+  const stepped1 = await toyText();
+  const serverText = () => toy.evaluate(async () => (await (await fetch('/api/grammar', { headers: { 'X-Gmotion-Token': new URLSearchParams(location.search).get('token') } })).text()));
+  await toy.evaluate(() => document.activeElement && document.activeElement.blur());   // away from any field
+  await toy.keyboard.press('Control+z');
+  await toy.waitForTimeout(400);
+  const undone1 = await toyText();
+  await toy.keyboard.press('Control+z');
+  await toy.waitForTimeout(400);
+  const undone2 = await toyText();
+  const original = readFileSync(join(root, 'grammars', 'toy.gm'), 'utf8');
+  check(undone1 === retimed && undone2 === original && await serverText() === original,
+    'Ctrl+Z undoes the keyboard step, then the drag (the server follows)');
+  await toy.getByRole('button', { name: 'redo' }).click();
+  await toy.waitForTimeout(400);
+  await toy.keyboard.press('Control+y');
+  await toy.waitForTimeout(400);
+  check(await toyText() === stepped1 && await serverText() === stepped1, 'redo (button, then Ctrl+Y) brings both back');
+  await toy.getByRole('combobox', { name: 'rule', exact: true }).selectOption('animate');
+  await toy.getByRole('button', { name: 'Insert rule' }).click();
+  await toy.waitForTimeout(400);
+  const inserted = await toyText();
+  await toy.getByRole('button', { name: 'undo' }).click();
+  await toy.waitForTimeout(400);
+  check(inserted.includes('-> [moved]') && await toyText() === stepped1, 'undo takes back an inserted rule');
+
+  // A number's slider knows its parameter's domain: a spring's bounce stays in (−1, 1).
+  const springy = stepped1.replace('fps 30\n', 'fps 30\nsmoothing spring(0.3, 0.1)\n');
+  const box = toy.getByRole('textbox', { name: 'grammar' });
+  await box.fill(springy);
+  await toy.waitForSelector('#diagnostics .ok');
+  const at0 = springy.indexOf('0.1)');
+  await box.evaluate((g, p) => { g.focus(); g.setSelectionRange(p + 1, p + 1); }, at0);
+  await toy.keyboard.press('ArrowRight');
+  const bounce = toy.getByRole('slider', { name: 'bounce of spring' });
+  const [lo, hi] = [await bounce.getAttribute('min'), await bounce.getAttribute('max')];
+  await bounce.focus();
+  await toy.keyboard.press('End');
+  await toy.waitForTimeout(600);
+  const sprung = await toyText();
+  check(+lo > -1 && +hi < 1 && /spring\(0\.3, 0\.99\)/.test(sprung) && /no problems/.test(await toy.textContent('#diagnostics')),
+    `the bounce slider spans (−1, 1) open (${lo} … ${hi}; at its end the text says ${/spring\([^)]*\)/.exec(sprung)})`);
+  if (shots) await toy.screenshot({ path: join(shots, 'studio-slider.png') });
+
+  // Drag a stagger: c#1's spin starts later; the offset `0.15 * id` is scaled as a whole.
+  const spin = toy.getByRole('slider', { name: 'change start 1 of c#1' });
+  const from = +(await spin.getAttribute('aria-valuenow'));
+  const sb = await spin.boundingBox();
+  const ctrack = await toy.locator('#rows .row', { hasText: 'c#1' }).locator('.track').boundingBox();
+  await toy.mouse.move(sb.x + sb.width / 2, sb.y + sb.height / 2);
+  await toy.mouse.down();
+  await toy.mouse.move(ctrack.x + ctrack.width * (from + 0.3) / 6, sb.y + sb.height / 2, { steps: 6 });
+  await toy.mouse.up();
+  await toy.waitForFunction(() => /moved line/.test(document.getElementById('status').textContent));
+  const staggered = await toyText();
+  const stag = /animate\(affine, local, ([^,]+), rotate/.exec(staggered);
+  const b = stag && /^([\d.]+) \* id$/.exec(stag[1]);
+  const after = +(await toy.getByRole('slider', { name: 'change start 1 of c#1' }).getAttribute('aria-valuenow'));
+  check(b && Math.abs(b[1] - 0.45) < 0.03 && Math.abs(after - from - 0.3) < 0.03,
+    `dragging a stagger scales it (${stag && stag[1]}; c#1's spin from ${from.toFixed(3)} to ${after.toFixed(3)} s)`);
+  if (shots) await toy.screenshot({ path: join(shots, 'studio-stagger.png') });
+  await toy.evaluate(() => document.activeElement && document.activeElement.blur());
+  await toy.keyboard.press('Control+z');
+  await toy.waitForTimeout(400);
+  check(/0\.15 \* id/.test(await toyText()), 'undo takes the stagger back');
+  await toy.keyboard.press('Control+y');
+  await toy.waitForTimeout(400);
+  await toy.getByRole('button', { name: 'Save' }).click();
+  await toy.waitForFunction(() => /saved/.test(document.getElementById('status').textContent));
+  const staggerChecked = checkFile(toyFile);
+  check(staggerChecked.status === 0 && readFileSync(toyFile, 'utf8') === staggered, `gmotion check accepts the staggered grammar ${staggerChecked.stderr.split('\n')[0]}`);
+
+  // A thousand shapes: every row is reachable, a few in the page at a time.
+  const many = await browser.newPage({ viewport: { width: 1280, height: 1000 }, deviceScaleFactor: 1 });
+  many.on('pageerror', (e) => errors.push(String(e)));
+  await many.goto(await studio(join(dir, 'many.svg'), join(dir, 'many.gm')));
+  await many.waitForFunction(() => /1000 shapes/.test(document.getElementById('status').textContent));
+  const inPage = await many.$$eval('#rows .row', (rs) => rs.length);
+  await many.$eval('#timeline', (tl) => { tl.scrollTop = tl.scrollHeight; });
+  await many.waitForTimeout(200);
+  const lastRow = await many.$$eval('#rows .row .name', (ns) => ns.map((n) => n.textContent));
+  check(lastRow.includes('r#999') && inPage < 60, `every row is reachable (${inPage} rows in the page; the last is ${lastRow[lastRow.length - 1]})`);
+
+  // An 800 × 800 scene: the preview fits, the timeline stays in view.
+  const big = await browser.newPage({ viewport: { width: 1280, height: 800 }, deviceScaleFactor: 1 });
+  big.on('pageerror', (e) => errors.push(String(e)));
+  await big.goto(await studio(join(dir, 'big.svg'), join(dir, 'big.gm')));
+  await big.waitForFunction(() => /version 1 /.test(document.getElementById('status').textContent));
+  await big.waitForTimeout(300);
+  const stageBox = await big.locator('#stage').boundingBox();
+  const timeline = await big.locator('#timeline').boundingBox();
+  check(stageBox.height <= 0.45 * 800 + 1 && timeline.y < 800,
+    `an 800 × 800 scene fits (preview ${Math.round(stageBox.height)} px high, timeline at ${Math.round(timeline.y)} px in an 800 px window)`);
+  check(errors.length === 0, `no script errors ${errors.join('; ')}`);
+} catch (e) {
+  console.log(`FAIL ${e.stack || e}`);
+  failed = true;
+} finally {
+  await browser.close();
+  for (const c of children) c.kill();
+}
+process.exit(failed ? 1 : 0);
