@@ -316,8 +316,33 @@ fn animate_writes_a_self_contained_preview() {
     assert!(status.success());
     let html = std::fs::read_to_string(&out).unwrap();
     assert!(html.contains("lottie.loadAnimation") && html.contains("<animate"));
-    // The timeline picture: the square's slice and its inverted twin.
-    assert!(html.contains("<h2>Timeline</h2>") && html.contains(">inv_tran<"));
+    // The timeline's data: the square's slice and its inverted twin (tag index k written
+    // as -1 - k).
+    let timeline: serde_json::Value = html
+        .lines()
+        .find_map(|l| l.strip_prefix("const timeline = "))
+        .and_then(|l| serde_json::from_str(l.trim_end_matches(';')).ok())
+        .expect("the page's timeline data");
+    let tran = timeline["tags"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|t| t == "tran")
+        .expect("the tag tran") as i64;
+    let codes: Vec<i64> = timeline["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|r| {
+            r.as_array().unwrap()[1..]
+                .chunks(3)
+                .map(|s| s[2].as_i64().unwrap())
+        })
+        .collect();
+    assert!(
+        codes.contains(&tran) && codes.contains(&(-1 - tran)),
+        "{codes:?}"
+    );
     assert!(!html.contains("<script src") && !html.contains("https://"));
     let _ = std::fs::remove_dir_all(&dir);
 }
