@@ -233,6 +233,10 @@ enum Command {
         /// Width in pixels of each frame.
         #[arg(long, default_value_t = 240)]
         width: u32,
+        /// With a .lottie output: a dotLottie theme applying to every seed's animation
+        /// (JSON, slot id → value, as for `animate --theme`).
+        #[arg(long, value_name = "FILE")]
+        theme: Option<PathBuf>,
         #[command(flatten)]
         import: ImportArgs,
     },

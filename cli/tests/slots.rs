@@ -197,6 +197,69 @@ fn a_theme_becomes_the_packages_rules() {
     );
 }
 
+/// `variations --theme` puts the theme in the set's package, once, for every seed's
+/// animation (each has the grammar's slots); without a `.lottie` output it is an error.
+#[test]
+fn a_variations_set_carries_the_theme() {
+    let dir = out_dir("variations-theme");
+    let gm = scene(&dir, "slots fill stroke opacity", "#30a040");
+    let theme = dir.join("autumn.json");
+    std::fs::write(&theme, r##"{"leaf.fill": "#c0392b"}"##).unwrap();
+    let set = dir.join("set.lottie");
+    let run = |out: &Path| {
+        bin()
+            .arg("variations")
+            .arg(&gm)
+            .args(["--count", "3", "-o"])
+            .arg(out)
+            .arg("--theme")
+            .arg(&theme)
+            .output()
+            .unwrap()
+    };
+    let o = run(&set);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let bytes = std::fs::read(&set).unwrap();
+    let package =
+        gmotion_pipeline::dotlottie::Package::read(&bytes, "set.lottie", 1 << 30).unwrap();
+    assert_eq!(package.animations.len(), 3);
+    for a in &package.animations {
+        let doc: Value = serde_json::from_str(&a.text).unwrap();
+        assert!(
+            doc["slots"]["leaf.fill"].is_object(),
+            "{} has the slot",
+            a.id
+        );
+    }
+    assert_eq!(package.themes.len(), 1);
+    assert_eq!(package.themes[0].id, "autumn");
+    let t: Value = serde_json::from_str(&package.themes[0].text).unwrap();
+    let red = [
+        0xc0 as f64 / 255.0,
+        0x39 as f64 / 255.0,
+        0x2b as f64 / 255.0,
+    ];
+    let got: Vec<f64> = t["rules"][0]["value"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    assert_eq!(t["rules"][0]["id"], "leaf.fill");
+    assert!(
+        got.iter().zip(red).all(|(a, b)| (a - b).abs() < 1e-4),
+        "{got:?}"
+    );
+    let sheet = dir.join("sheet.png");
+    let o = run(&sheet);
+    assert!(!o.status.success() && !sheet.exists());
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("--theme is written into a .lottie output"),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
 /// A theme that is no JSON is an error at its line and column, one with a value of the
 /// wrong kind an error naming the slot; neither leaves an output behind.
 #[test]

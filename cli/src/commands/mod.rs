@@ -114,6 +114,7 @@ pub fn run(cmd: Command, ctx: &Ctx) -> Result<()> {
             output,
             time,
             width,
+            theme,
             import,
         } => variations::Variations {
             files: Files::of(&files, Order::SceneFirst)?,
@@ -123,6 +124,7 @@ pub fn run(cmd: Command, ctx: &Ctx) -> Result<()> {
             output,
             time,
             width,
+            theme,
             choices: import.choices(),
         }
         .run(ctx),

@@ -26,6 +26,8 @@ pub struct Variations {
     pub time: Option<f64>,
     /// Width in pixels of each frame.
     pub width: u32,
+    /// A dotLottie theme for a `.lottie` output (`--theme`).
+    pub theme: Option<PathBuf>,
     /// How to import the scene.
     pub choices: ImportChoices,
 }
@@ -40,12 +42,22 @@ impl Variations {
         }
         let extension = |ext: &str| out.extension().is_some_and(|e| e.eq_ignore_ascii_case(ext));
         let sheet = extension("png");
+        if self.theme.is_some() && !extension("lottie") {
+            return Err(CliError::msg(
+                "--theme is written into a .lottie output (-o set.lottie), and the output is not one",
+            ));
+        }
+        // Read (and checked) before any seed runs.
+        let theme = match &self.theme {
+            Some(path) => Some(crate::theme::Theme::read(path)?),
+            None => None,
+        };
         guard::check_not_input(&[out], &[&self.files.grammar])?;
         let env = &ctx.env;
         let project = Project::load(self.files.scene(), &self.files.grammar, &self.choices, env)?;
         project.imported.check_drawable(&project.scene_path)?;
         if extension("lottie") {
-            return self.package(&project, ctx);
+            return self.package(&project, theme.as_ref(), ctx);
         }
         let duration = project.grammar.settings.duration;
         let t = self.time.unwrap_or(duration / 2.0);
@@ -107,7 +119,12 @@ impl Variations {
 
     /// Runs every seed and writes the animations into one dotLottie package, `seed_S`
     /// each, in seed order (the first the one a player shows).
-    fn package(&self, project: &Project, ctx: &Ctx) -> Result<()> {
+    fn package(
+        &self,
+        project: &Project,
+        theme: Option<&crate::theme::Theme>,
+        ctx: &Ctx,
+    ) -> Result<()> {
         use rayon::prelude::*;
         let out = self.output.as_path();
         let writer = Writer::new(OutputSize::default(), &ctx.env.limits);
@@ -139,7 +156,17 @@ impl Variations {
         for (id, text) in &texts {
             package.put_animation(id, text).map_err(error)?;
         }
-        let bytes = package.to_bytes().map_err(error)?;
+        let mut bytes = package.to_bytes().map_err(error)?;
+        if let Some(theme) = theme {
+            // Every seed runs the same grammar, so the first animation's slots are all of
+            // theirs.
+            let (themed, warnings) =
+                theme.add_to(&bytes, out, ctx.env.limits.get("input-bytes"))?;
+            for w in &warnings {
+                crate::report::warn(out, w);
+            }
+            bytes = themed;
+        }
         gmotion::atomic::write_bytes(out, &bytes)
             .map_err(|e| CliError::msg(format!("{}: cannot write output: {e}", out.display())))?;
         crate::report::note(&format!(
