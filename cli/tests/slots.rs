@@ -312,10 +312,30 @@ fn no_directive_no_slots() {
 /// the leaves' 4 000 pixels, all in their rectangles and all magenta, nothing else.
 #[cfg(feature = "players")]
 fn assert_only_the_leaves_change(json: &Path, extra: &[&std::ffi::OsStr]) {
+    assert_only_changes(
+        json,
+        ("leaf.fill", "1,0,1"),
+        3900..=4100,
+        [9, 19, 100, 70],
+        extra,
+    );
+}
+
+/// Runs `lottie_slots.mjs` on `json` setting `slot` to `value` and checks, in lottie-web
+/// and dotlottie-web, that at every frame the pixels it changed number `count` and lie in
+/// `within` (x0, y0, x1, y1), nothing else; for a colour, that they took the colour.
+#[cfg(feature = "players")]
+fn assert_only_changes(
+    json: &Path,
+    (slot, value): (&str, &str),
+    count: std::ops::RangeInclusive<u64>,
+    within: [u64; 4],
+    extra: &[&std::ffi::OsStr],
+) {
     let out = Command::new("node")
         .arg(crate::support::root().join("tests/conformance/lottie_slots.mjs"))
         .arg(json)
-        .args(["leaf.fill", "1,0,1"])
+        .args([slot, value])
         .args(extra)
         .output()
         .expect("run node");
@@ -331,7 +351,7 @@ fn assert_only_the_leaves_change(json: &Path, extra: &[&std::ffi::OsStr]) {
         for (f, r) in frames.iter().enumerate() {
             let changed = r["changed"].as_u64().unwrap();
             assert!(
-                (3900..=4100).contains(&changed),
+                count.contains(&changed),
                 "{player} frame {f}: {changed} pixels changed"
             );
             let b: Vec<u64> = r["box"]
@@ -341,12 +361,31 @@ fn assert_only_the_leaves_change(json: &Path, extra: &[&std::ffi::OsStr]) {
                 .map(|x| x.as_u64().unwrap())
                 .collect();
             assert!(
-                b[0] >= 9 && b[1] >= 19 && b[2] <= 100 && b[3] <= 70,
-                "{player} frame {f}: changed pixels in {b:?}, outside the leaves"
+                b[0] >= within[0] && b[1] >= within[1] && b[2] <= within[2] && b[3] <= within[3],
+                "{player} frame {f}: changed pixels in {b:?}, outside {within:?}"
             );
             assert!(r["off"].as_u64().unwrap() <= 100, "{player} frame {f}: {r}");
         }
     }
+}
+
+/// An opacity slot: `stem.opacity` set to 0 in lottie-web and (`setScalarSlot`) in
+/// dotlottie-web hides exactly the stem at every frame, through its fading animation (the
+/// circle, 26.5 px in radius with its stroke: about 2 200 pixels), and nothing of the leaves.
+#[cfg(feature = "players")]
+#[test]
+fn setting_an_opacity_slot_fades_exactly_that_tag_at_every_frame() {
+    let dir = out_dir("opacity-players");
+    let gm = scene(&dir, "slots fill stroke opacity", "#30a040");
+    let json = dir.join("s.json");
+    animate(&gm, &json);
+    assert_only_changes(
+        &json,
+        ("stem.opacity", "0"),
+        2100..=2400,
+        [121, 16, 179, 74],
+        &[],
+    );
 }
 
 /// lottie-web (the document's slot replaced before loading) and dotlottie-web

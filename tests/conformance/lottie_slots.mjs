@@ -7,8 +7,11 @@
 // new colour is not the slot's (antialiased edges)}.
 //
 //   node lottie_slots.mjs FILE.json SLOT_ID R,G,B [PACKAGE.lottie THEME_ID]
+//   node lottie_slots.mjs FILE.json SLOT_ID OPACITY
 //
-// R, G, B in 0..1. With a package (the same animation, with a theme setting the slot to
+// R, G, B in 0..1; an opacity slot takes one number, in Lottie's percent (0..100), and
+// dotlottie-web sets it with setScalarSlot ("off" then counts nothing: there is no one
+// colour to expect). With a package (the same animation, with a theme setting the slot to
 // that colour), dotlottie-web plays the package and applies the theme with setTheme
 // instead of setting the slot.
 import { readFileSync } from 'node:fs';
@@ -22,6 +25,8 @@ const origin = 'http://dotlottie.test';
 const [file, slot, rgb, pkg, themeId] = process.argv.slice(2);
 const packageBytes = pkg ? [...readFileSync(pkg)] : null;
 const color = rgb.split(',').map(Number);
+// One number: a scalar (opacity) slot.
+const scalar = color.length === 1 ? color[0] : null;
 const text = readFileSync(file, 'utf8');
 
 const browser = await chromium.launch({
@@ -43,7 +48,7 @@ await page.route('**/*', (route) => {
 });
 await page.goto(origin + '/');
 await page.addScriptTag({ url: origin + '/lottie.js' });
-const result = await page.evaluate(async ({ text, slot, color, origin, packageBytes, themeId }) => {
+const result = await page.evaluate(async ({ text, slot, color, scalar, origin, packageBytes, themeId }) => {
   const { DotLottie } = await import(origin + '/index.js');
   DotLottie.setWasmUrl(origin + '/dotlottie-player.wasm');
   const doc = JSON.parse(text);
@@ -56,7 +61,7 @@ const result = await page.evaluate(async ({ text, slot, color, origin, packageBy
       changed++;
       const [x, y] = [(i / 4) % w, Math.floor(i / 4 / w)];
       box = box ? [Math.min(box[0], x), Math.min(box[1], y), Math.max(box[2], x), Math.max(box[3], y)] : [x, y, x, y];
-      if ([0, 1, 2].some((c) => Math.abs(b[i + c] - color[c] * 255) > 24) || b[i + 3] < 230) off++;
+      if (scalar === null && ([0, 1, 2].some((c) => Math.abs(b[i + c] - color[c] * 255) > 24) || b[i + 3] < 230)) off++;
     }
     return { changed, box, off };
   };
@@ -79,7 +84,7 @@ const result = await page.evaluate(async ({ text, slot, color, origin, packageBy
     return out;
   };
   const slotted = JSON.parse(text);
-  slotted.slots[slot] = { p: { a: 0, k: color } };
+  slotted.slots[slot] = { p: { a: 0, k: scalar ?? color } };
   const [plain, set] = [lottieFrames(JSON.parse(text)), lottieFrames(slotted)];
   const lw = plain.map((p, f) => compare(p, set[f]));
   // dotlottie-web: the same document, the slot set with setSlots.
@@ -99,6 +104,8 @@ const result = await page.evaluate(async ({ text, slot, color, origin, packageBy
     // for a bare colour and for a property alike (getSlot read back the old value).
     if (value && themeId) {
       if (!player.setTheme(themeId)) throw new Error(`setTheme(${themeId}) failed`);
+    } else if (value && scalar !== null) {
+      if (!player.setScalarSlot(slot, scalar)) throw new Error(`setScalarSlot(${slot}) failed`);
     } else if (value && !player.setColorSlot(slot, [...value, 1])) {
       throw new Error(`setColorSlot(${slot}) failed`);
     }
@@ -113,6 +120,6 @@ const result = await page.evaluate(async ({ text, slot, color, origin, packageBy
   const [dplain, dset] = [await dotFrames(null), await dotFrames(color)];
   const dw = dplain.map((p, f) => compare(p, dset[f]));
   return { 'lottie-web': lw, 'dotlottie-web': dw };
-}, { text, slot, color, origin, packageBytes, themeId });
+}, { text, slot, color, scalar, origin, packageBytes, themeId });
 console.log(JSON.stringify(result));
 await browser.close();
