@@ -110,6 +110,16 @@ fn scene_case(name: &'static str, svg: &[u8], expect: &[&'static str]) -> Case {
     Case::new(name, ANIMATE_PNG, expect, "out.png").file("scene.svg", svg)
 }
 
+/// A scene whose rect (on line 2) sits inside `groups` nested groups, `<svg>` counted as
+/// depth 0.
+fn nested_groups(groups: usize) -> String {
+    format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"100\" height=\"100\">\n{}<rect data-tag=\"s\" width=\"9\" height=\"9\"/>{}\n</svg>\n",
+        "<g>".repeat(groups),
+        "</g>".repeat(groups)
+    )
+}
+
 /// A scene whose one `<text>` (on line 2) holds `spans` `<tspan>`s of `chars` characters.
 fn text_svg(spans: usize, chars: usize) -> String {
     let span = format!(
@@ -533,6 +543,11 @@ fn all_cases() -> Vec<Case> {
         scene_case("200 000 CSS rules", &css_bomb(), &["scene.svg", "2:1:", "10000 CSS rules", "css-rules"]),
         Case::new("path-segments limit", "convert {d}/scene.svg -o {d}/out.png --limit path-segments=1000", &["scene.svg", "3:3:", "limit of 1000 segments", "--limit path-segments=N"], "out.png")
             .file("scene.svg", format!("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"100\" height=\"100\">\n  <path d=\"M0 0{}\"/>\n  <path d=\"M0 0{}\"/>\n</svg>", " L1 1".repeat(600), " 2 2".repeat(600))),
+        // usvg refuses elements nested past 1 024 with its million-elements error; the
+        // message blamed a million elements the file does not hold and named no place.
+        scene_case("100 000 nested groups", nested_groups(100_000).as_bytes(), &["scene.svg: 2:3073:", "elements nest more than 1024 deep here (`<g>`)"]),
+        // The deepest nesting usvg follows still converts.
+        Case::new("groups nested 1 024 deep", "convert {d}/scene.svg -o {d}/out.png", &["wrote"], "out.png").file("scene.svg", nested_groups(1023)).succeeds(),
         scene_case("<use> of <use> seven levels deep (10^7 rects)", &use_bomb(7), &["scene.svg", "more than 1 000 000 elements", "`<use>`"]),
         // A million and one plain rects: usvg's own element limit, named as such (the message
         // used to blame `<use>` references the file does not have).
