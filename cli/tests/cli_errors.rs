@@ -110,6 +110,24 @@ fn scene_case(name: &'static str, svg: &[u8], expect: &[&'static str]) -> Case {
     Case::new(name, ANIMATE_PNG, expect, "out.png").file("scene.svg", svg)
 }
 
+/// An 800 px scene of one polygon of `vertices` vertices on a circle.
+fn round_polygon(vertices: usize) -> String {
+    let points: Vec<String> = (0..vertices)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / vertices as f64;
+            format!(
+                "{:.3},{:.3}",
+                400.0 + 390.0 * a.cos(),
+                400.0 + 390.0 * a.sin()
+            )
+        })
+        .collect();
+    format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"800\" height=\"800\"><polygon data-tag=\"s\" points=\"{}\"/></svg>",
+        points.join(" ")
+    )
+}
+
 /// A scene whose rect (on line 2) sits inside `groups` nested groups, `<svg>` counted as
 /// depth 0.
 fn nested_groups(groups: usize) -> String {
@@ -673,6 +691,16 @@ fn cases() -> Vec<Case> {
         // A large square: its halves stay splittable for long enough that the work, not the
         // steps, is what runs away (over a minute before the limit on the pieces made).
         .file("scene.svg", LARGE_SQUARE),
+        // Outlines of outlines of a 20 000-vertex polygon: few pieces, each costly to cut, so
+        // neither the pieces nor the steps bound it (over a minute before); time does.
+        Case::new(
+            "a spatial rule feeding itself on costly shapes",
+            "animate {d}/scene.svg {d}/g.gm -o {d}/out.json --limit spatial-seconds=1",
+            &["g.gm: error: spatial expansion ran past the limit of 1 s", "`outline` at 2:1", "--limit spatial-seconds=N"],
+            "out.json",
+        )
+        .file("g.gm", "duration 1s\noutline(5) : s -> [s, s]\n")
+        .file("scene.svg", round_polygon(20_000)),
         case(
             "bad value before a cycle",
             "duration 1s\nanimate(opacity, local, 0, 2) : [all, s] -> [x]\nanimate(opacity, local, 0, 0.5) : [x, s] -> [x]\n",
