@@ -52,8 +52,8 @@ struct Cli {
     format: Option<FormatArg>,
     /// Raise or lower a limit, `NAME=N` (repeatable): input-bytes, svgz-bytes,
     /// xml-entity-bytes, xml-nodes, css-rules, path-segments, text-chars, text-spans,
-    /// filter-pixels, image-pixels, frames, pixels, animation-pixels, steps, pieces (see the
-    /// README's "Limits").
+    /// filter-pixels, image-pixels, frames, pixels, animation-pixels, steps, pieces,
+    /// spatial-seconds (see the README's "Limits").
     #[arg(long = "limit", value_name = "NAME=N", global = true)]
     limits: Vec<String>,
     /// A folder whose files an SVG (`<image href>`) or a Lottie file (linked image

@@ -112,6 +112,11 @@ pub const LIMITS: &[(&str, u64, &str)] = &[
         gmotion::tangle::DEFAULT_MAX_PIECES as u64,
         "shapes a group grammar may make (about 4 KB each; four times as many over all its steps), and pieces one `place` may scatter",
     ),
+    (
+        "spatial-seconds",
+        60,
+        "seconds a group grammar's expansion may run (a rule feeding itself on shapes costly to cut)",
+    ),
 ];
 
 /// The limits in force.

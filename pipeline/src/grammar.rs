@@ -227,6 +227,9 @@ impl Overrides {
             max_steps: self.max_steps,
             markers: self.markers.clone(),
             max_pieces: Some(usize::try_from(limits.get("pieces")).unwrap_or(usize::MAX)),
+            max_spatial_time: Some(std::time::Duration::from_secs(
+                limits.get("spatial-seconds"),
+            )),
         })
     }
 }

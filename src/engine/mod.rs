@@ -130,6 +130,8 @@ pub struct RunOptions {
     /// The most shapes a group grammar may make (default
     /// [`crate::tangle::DEFAULT_MAX_PIECES`]).
     pub max_pieces: Option<usize>,
+    /// The longest a group grammar's expansion may run (default: no bound).
+    pub max_spatial_time: Option<std::time::Duration>,
 }
 
 /// Statistics of one run, for `gmotion check` and benchmarks.
@@ -205,6 +207,7 @@ pub(crate) fn spatial_stage(
     if let Some(m) = opts.max_pieces {
         topts.max_shapes = m;
     }
+    topts.max_time = opts.max_spatial_time;
     let (expanded, tstats) =
         crate::tangle::expand(scene, &spatial, &topts).map_err(|e| match &e {
             crate::tangle::TangleError::Arg { span, message } => {

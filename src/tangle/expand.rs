@@ -293,6 +293,26 @@ pub fn expand(
     // Pieces made over all steps: the work done, which the `pieces` limit also bounds.
     let mut made = 0usize;
     let mut recent: Vec<usize> = Vec::new();
+    // The time budget, checked before each step and before each shape a step cuts (one
+    // step may cut thousands of shapes).
+    let started = std::time::Instant::now();
+    let over_time = |steps: usize, made: usize, recent: &[usize]| {
+        let limit = opts.max_time?;
+        (started.elapsed() > limit).then(|| {
+            let mut rules = recent.to_vec();
+            rules.sort_unstable();
+            rules.dedup();
+            TangleError::MaxTime {
+                seconds: limit.as_secs(),
+                steps,
+                made,
+                rules: rules
+                    .iter()
+                    .map(|&i| (spatial[i].op.clone(), spatial[i].span))
+                    .collect(),
+            }
+        })
+    };
 
     while let Some((_, nodes)) = pending.pop_first() {
         // One batch per tag, in order of first appearance (a group normally has one tag).
@@ -342,18 +362,25 @@ pub fn expand(
                     rules: names,
                 });
             }
+            if let Some(e) = over_time(step, made, &recent) {
+                return Err(e);
+            }
             stats.steps += 1;
             stats.rule_uses[rule_index] += 1;
             if recent.len() >= 64 {
                 recent.remove(0);
             }
             recent.push(rule_index);
+            let steps = stats.steps;
 
             let n = batch.len();
             let noise_key = key(&[group_key, NOISE]);
             let results: Vec<Result<Applied, TangleError>> = batch
                 .par_iter()
                 .map(|&node| {
+                    if let Some(e) = over_time(steps, made, &recent) {
+                        return Err(e);
+                    }
                     let s = arena.shapes[node]
                         .as_ref()
                         .expect("batch shapes are unexpanded");

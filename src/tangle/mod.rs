@@ -28,6 +28,8 @@ pub mod polygon;
 pub use expand::expand;
 pub use graph::{GraphStats, graph_dot, graph_stats, graph_svg};
 
+use std::time::Duration;
+
 use crate::grammar::ast::Span;
 use crate::warning::Warning;
 
@@ -46,6 +48,10 @@ pub struct TangleOptions {
     /// Working resolution in user units (gTangle's "polyline sample resolution"):
     /// streamlines are traced in steps of it, placement rasters are twice as fine.
     pub resolution: f64,
+    /// Expansion stops with an error once it has run this long (`None`: no bound). Pieces
+    /// and steps bound the count of operations, not their cost: a rule feeding itself on
+    /// shapes that are costly to cut stays under both for minutes.
+    pub max_time: Option<Duration>,
 }
 
 impl TangleOptions {
@@ -78,6 +84,7 @@ impl Default for TangleOptions {
             max_shapes: DEFAULT_MAX_PIECES,
             tolerance: 0.1,
             resolution: 1.0,
+            max_time: None,
         }
     }
 }
@@ -128,6 +135,20 @@ pub enum TangleError {
         steps: usize,
         /// The limit.
         limit: usize,
+        /// The rules applied in the last steps, with their places.
+        rules: Vec<(String, Span)>,
+    },
+    /// Expansion ran past its time budget ([`TangleOptions::max_time`]): `outline(5) : s
+    /// -> [s, s]` on a polygon of 20 000 vertices cuts ever more rings of that many vertices,
+    /// under the pieces limit for minutes.
+    #[error("spatial expansion ran past the limit of {seconds} s ({steps} steps, {made} pieces made; `--limit spatial-seconds=N` raises it); still rewriting: {}", rules.iter().map(|(op, s)| format!("`{op}` at {}:{}", s.line, s.col)).collect::<Vec<_>>().join(", "))]
+    MaxTime {
+        /// The limit, in seconds.
+        seconds: u64,
+        /// Steps taken.
+        steps: usize,
+        /// Pieces made, all steps together.
+        made: usize,
         /// The rules applied in the last steps, with their places.
         rules: Vec<(String, Span)>,
     },

@@ -177,6 +177,11 @@ fn key<T>(arc: &T) -> usize {
     arc as *const T as usize
 }
 
+/// How far from the origin, in px, the raster exporter draws (`gmotion_export_raster`'s
+/// `MAX_DRAWN_COORD`, which this crate does not depend on): tiny-skia's 32-bit fixed point
+/// panics near 5·10⁸ px.
+const MAX_DRAWN: f64 = 1e8;
+
 pub(crate) fn affine(t: usvg::Transform) -> Affine {
     Affine::new([
         t.sx as f64,
@@ -610,6 +615,7 @@ impl<'s, 'a> Converter<'s, 'a> {
             },
         });
         let stroke = p.stroke().map(|s| self.stroke(s, near));
+        self.check_reach(p, stroke.as_ref().map_or(0.0, |s| s.width), near);
         let mut node = PathNode {
             id: self.keep_id(p.id()),
             path: bez(p.data()),
@@ -720,6 +726,42 @@ impl<'s, 'a> Converter<'s, 'a> {
         let stroke = span.stroke.as_ref().map(|s| self.stroke(s, near));
         let stroke_first = span.paint_order == usvg::PaintOrder::StrokeAndFill;
         (fill, stroke, stroke_first)
+    }
+
+    /// Warns, at the element, about a path that reaches past what a picture of it can draw
+    /// (its geometry, widened by half its stroke, farther than [`MAX_DRAWN`] canvas px from
+    /// the origin: `stroke-width="1e10"`). The refusal of a PNG, GIF or video comes later
+    /// from the renderer, which knows the output's scale but not the source: this says
+    /// where in the file the shape is. Vector outputs are still written.
+    fn check_reach(&mut self, p: &usvg::Path, stroke_width: f64, near: Option<NodeId>) {
+        let ts = affine(p.abs_transform());
+        let b = p.data().bounds();
+        let half = 0.5 * stroke_width * ts.determinant().abs().sqrt();
+        let reach = [
+            (b.left(), b.top()),
+            (b.right(), b.top()),
+            (b.left(), b.bottom()),
+            (b.right(), b.bottom()),
+        ]
+        .into_iter()
+        .map(|(x, y)| {
+            let q = ts * Point::new(f64::from(x), f64::from(y));
+            q.x.abs().max(q.y.abs()) + half
+        })
+        .fold(0.0, f64::max);
+        if reach > MAX_DRAWN {
+            let what = if half > MAX_DRAWN / 2.0 {
+                format!("its stroke, {stroke_width:.3e} wide,")
+            } else {
+                "its outline".to_string()
+            };
+            self.warn(
+                near,
+                &format!(
+                    "{what} reaches {reach:.3e} px from the canvas's origin, past the ±{MAX_DRAWN:.0e} px a picture at the canvas's size can draw (a PNG, GIF, APNG or video of it is refused)"
+                ),
+            );
+        }
     }
 
     fn stroke(&mut self, s: &usvg::Stroke, near: Option<NodeId>) -> Stroke {

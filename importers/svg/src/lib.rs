@@ -371,11 +371,15 @@ fn parse_in(
         usvg::Error::InvalidSize => ImportError::Size {
             source_name: source_name.to_string(),
         },
-        // The document passed `xml-nodes`; usvg refuses past a fixed million elements, which
+        // The document passed `xml-nodes`; usvg refuses elements nested past a fixed depth
+        // (located by `too_deep`) and past a fixed million elements, which
         // `<use>` reaches by multiplying what it references (ten `<use>`s of a group of ten
         // `<use>`s …) and a plain document by having that many.
         usvg::Error::ElementsLimitReached
         | usvg::Error::ParsingFailed(usvg::roxmltree::Error::NodesLimitReached) => {
+            if let Some(deep) = src.too_deep(source_name) {
+                return deep;
+            }
             let why = if src.prepared.contains("<use") {
                 "once its `<use>` references are copied out"
             } else {

@@ -201,6 +201,10 @@ fn xml_error(e: roxmltree::Error, source_name: &str) -> ImportError {
     }
 }
 
+/// How deep usvg follows nested elements: it refuses an element below more than this many
+/// (`usvg::parser::svgtree::parse`, a fixed bound against its recursion overflowing).
+const USVG_MAX_DEPTH: usize = 1024;
+
 /// A document refused at `node`: `why`, after the node's line and column.
 fn refused_at(doc: &Document, node: roxmltree::Node, source_name: &str, why: &str) -> ImportError {
     let pos = doc.text_pos_at(node.range().start);
@@ -726,6 +730,33 @@ impl<'a> Source<'a> {
     /// How deep `node` sits: 1 for a child of the root `<svg>`, 2 inside that, and so on.
     pub fn depth(node: Node) -> usize {
         node.ancestors().skip(1).filter(|n| n.is_element()).count()
+    }
+
+    /// The refusal of a document whose elements nest deeper than usvg follows, located at
+    /// the first element past that depth, or `None` when none does. usvg refuses such a
+    /// document with the same error as one past its million elements, naming no place, so
+    /// this is asked only after usvg refused one: 100 000 nested `<g>`s are then reported
+    /// at the group where usvg stopped, not as a million elements the file does not hold.
+    pub fn too_deep(&self, source_name: &str) -> Option<ImportError> {
+        // The `<svg>` sits at depth 0 (usvg starts below the document's root node), here
+        // counted 1. Each element's depth is its parent's plus one, in document order:
+        // linear, where `ancestors()` for every element would be quadratic in the depth.
+        let mut depths = vec![0usize; self.doc.descendants().len()];
+        let deep = self.doc.descendants().find(|n| {
+            let depth = n.parent().map_or(0, |p| depths[p.id().get() as usize])
+                + usize::from(n.is_element());
+            depths[n.id().get() as usize] = depth;
+            depth > USVG_MAX_DEPTH + 1
+        })?;
+        Some(refused_at(
+            &self.doc,
+            deep,
+            source_name,
+            &format!(
+                "elements nest more than {USVG_MAX_DEPTH} deep here (`<{}>`): usvg's fixed limit, which no `--limit` raises",
+                deep.tag_name().name()
+            ),
+        ))
     }
 
     /// Whether a usvg id is one this module invented.
