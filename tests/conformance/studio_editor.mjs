@@ -346,6 +346,14 @@ try {
   await toy.waitForTimeout(400);
   check(undoneMove === tinted && await toyText() === dragged && await serverText() === dragged, 'undo and redo take the drag back and bring it again');
 
+  // The selected square's rules at the frame shown, listed in the panel; one chosen.
+  const ruleButtons = toy.getByRole('button', { name: /^rule on line \d+$/ });
+  await ruleButtons.nth(1).waitFor({ timeout: 5000 }).catch(() => {});
+  const listed = await ruleButtons.allTextContents();
+  await ruleButtons.nth(1).click().catch(() => {});
+  const shownColour = await toy.getByLabel('colour', { exact: true }).inputValue();
+  check(listed.length === 2 && /^affine/.test(listed[0]) && /^fill/.test(listed[1]) && shownColour === '#e4572e',
+    `the selected square's rules are listed, its fill's colour shown (${listed.join(', ')}; ${shownColour})`);
   // A circle in its spin: the rotate handle's → turns it 5° at the frame shown.
   const c0 = await toy.evaluate(() => S.shapes.findIndex((s) => s.tag === 'c' && s.id === 0));
   await toy.getByRole('slider', { name: 'time', exact: true }).fill('333');   // 2.0 s
