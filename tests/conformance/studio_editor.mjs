@@ -7,7 +7,10 @@
 // grammar `gmotion check` accepts; a click hits the shape where the frame shown draws it;
 // every independent error is listed with its help; an outside edit under unsaved edits is
 // a conflict (Save refuses, both texts kept, keep mine / take theirs); every variation
-// cell is drawn on twenty reloads; an 800 × 800 scene leaves the timeline in view. With
+// cell is drawn on twenty reloads; handles on the canvas (a drag rewriting the square's
+// translate so the frame shown follows, a rotate and a scale handle), the colour picker
+// and the easing curve editor, each undone and redone, and a rule proposed for a shape no
+// rule moves; an 800 × 800 scene leaves the timeline in view. With
 // $STUDIO_SHOTS set to a folder, saves the screenshots docs/studio.md shows. Exits 1 on
 // the first failed check.
 import { spawn, spawnSync } from 'node:child_process';
