@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use serde_json::Value;
+use serde_json::{Value, json};
 
 use crate::support::root;
 
@@ -738,6 +738,107 @@ fn moving_a_change_rewrites_its_offset_as_a_whole() {
     let far = offset(c1, 1, 1.6, 2.99);
     assert_eq!(far.status, 422, "{}", String::from_utf8_lossy(&far.body));
     assert_eq!(s.call("GET", "/api/grammar", "").body, before);
+    s.call("POST", "/api/save", "");
+    let out = Command::new(env!("CARGO_BIN_EXE_gmotion"))
+        .arg("check")
+        .arg(s.dir.join("toy.gm"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn a_rule_value_is_set_in_place_or_refused() {
+    let s = Studio::start("value");
+    let st = s.state();
+    let shapes = st["shapes"].as_array().unwrap();
+    let find = |tag: &str| shapes.iter().position(|x| x["tag"] == tag).unwrap();
+    let (square, circle) = (find("s"), find("c"));
+    // Which rules change a shape in the slice under the playhead, and how far along.
+    let rules = |shape: usize, t: f64| {
+        s.call("GET", &format!("/api/rules?shape={shape}&t={t}"), "")
+            .json()["rules"]
+            .clone()
+    };
+    let moving = rules(square, 1.5);
+    assert_eq!(moving.as_array().unwrap().len(), 1, "{moving}");
+    let m = &moving[0];
+    assert_eq!(
+        (&m["type"], &m["value"], &m["ease"]),
+        (
+            &json!("affine"),
+            &json!("translate(260, 0)"),
+            &json!("ease-in-out")
+        )
+    );
+    // Half-way through an ease-in-out change, half-way along.
+    assert!((m["progress"].as_f64().unwrap() - 0.5).abs() < 1e-9, "{m}");
+    let line = m["line"].as_u64().unwrap();
+    // The circles: shrinking on their first slice, then the spin on the next one.
+    assert_eq!(rules(circle, 1.0)[0]["value"], "scale(0.5)");
+    let spin = rules(circle, 2.9);
+    assert_eq!(spin[0]["value"], "rotate(90) scale(1.6)", "{spin}");
+    assert_eq!(spin[0]["ease"], Value::Null);
+    let spin_line = spin[0]["line"].as_u64().unwrap();
+    assert_eq!(s.call("GET", "/api/rules?shape=x&t=1", "").status, 400);
+
+    let box_at =
+        |t: f64| s.call("GET", &format!("/api/boxes?t={t}"), "").json()["boxes"][square].clone();
+    assert_eq!(box_at(1.5), json!([190.0, 120.0, 80.0, 80.0]));
+    let set = |line: u64, arg: &str, value: &str| {
+        s.call(
+            "POST",
+            "/api/value",
+            &json!({"line": line, "arg": arg, "value": value}).to_string(),
+        )
+    };
+    // The value is rewritten in place, and the frame at 1.5 s moves by half the change.
+    let r = set(line, "value", "translate(300, 20)").json();
+    assert_eq!(r["value"], "translate(300, 20)", "{r}");
+    let text = r["grammar"].as_str().unwrap();
+    assert!(text.contains("animate(affine, world, 0, translate(300, 20), ease=ease-in-out) :"));
+    assert_eq!(box_at(1.5), json!([210.0, 130.0, 80.0, 80.0]));
+    // An easing replaced, and one added to a rule that had none.
+    let r = set(line, "ease", "cubic(0.1, 0.2, 0.3, 1)").json();
+    assert!(
+        r["grammar"]
+            .as_str()
+            .unwrap()
+            .contains("ease=cubic(0.1, 0.2, 0.3, 1)) :")
+    );
+    let r = set(spin_line, "ease", "ease-out").json();
+    assert!(
+        r["grammar"]
+            .as_str()
+            .unwrap()
+            .contains("rotate(90) scale(1.6), ease=ease-out) :"),
+        "{r}"
+    );
+    // Refused, the text unchanged: a value that is not one value, an unknown easing, a
+    // line without an animate rule; a malformed body.
+    let before = s.call("GET", "/api/grammar", "").body;
+    for (l, arg, value) in [
+        (line, "value", "translate(1,"),
+        (line, "value", "translate(1, 0)) : [a, s] -> [x]"),
+        (line, "value", "translate(1, 0), 2"),
+        (line, "ease", "bogus"),
+        (1, "value", "1"),
+    ] {
+        let r = set(l, arg, value);
+        assert_eq!(
+            r.status,
+            422,
+            "{value}: {}",
+            String::from_utf8_lossy(&r.body)
+        );
+    }
+    assert_eq!(s.call("GET", "/api/grammar", "").body, before);
+    assert_eq!(set(line, "speed", "1").status, 400);
+    assert_eq!(s.call("POST", "/api/value", "{}").status, 400);
     s.call("POST", "/api/save", "");
     let out = Command::new(env!("CARGO_BIN_EXE_gmotion"))
         .arg("check")

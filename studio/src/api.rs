@@ -240,6 +240,45 @@ fn route(ctx: &Ctx, request: &Request) -> Reply {
                 Err(e) => Reply::error(422, &e),
             }
         }
+        ("POST", "/value") => {
+            let body: serde_json::Value = match serde_json::from_slice(&request.body) {
+                Ok(v) => v,
+                Err(e) => return Reply::error(400, &format!("the body must be JSON: {e}")),
+            };
+            let line = body["line"].as_u64().and_then(|v| u32::try_from(v).ok());
+            let arg = body.get("arg").map_or(Some(crate::value::Arg::Value), |a| {
+                a.as_str().and_then(crate::value::Arg::named)
+            });
+            let (Some(line), Some(arg), Some(value)) = (line, arg, body["value"].as_str()) else {
+                return Reply::error(
+                    400,
+                    "the body is {\"line\": LINE, \"arg\": \"value\" or \"ease\", \"value\": TEXT}",
+                );
+            };
+            match live.set_value((line, arg, value)) {
+                Ok((done, version)) => Reply::json(&json!({
+                    "version": version,
+                    "grammar": done.text,
+                    "line": done.line,
+                    "value": done.value,
+                    "diagnostics": [],
+                })),
+                Err(e) => Reply::error(422, &e),
+            }
+        }
+        ("GET", "/rules") => {
+            let shape = param(query, "shape").and_then(|v| v.parse::<usize>().ok());
+            let t = param(query, "t")
+                .and_then(|v| v.parse::<f64>().ok())
+                .filter(|t| t.is_finite());
+            let (Some(shape), Some(t)) = (shape, t) else {
+                return Reply::error(400, "shape must be an index and t a number of seconds");
+            };
+            match live.rules_at(shape, t) {
+                Ok(rules) => Reply::json(&json!({"version": live.version(), "rules": rules})),
+                Err(e) => Reply::error(422, &e),
+            }
+        }
         ("GET", "/boxes") => {
             let built = live.good();
             let t = match param(query, "t").map(str::parse::<f64>) {
@@ -298,7 +337,7 @@ fn route(ctx: &Ctx, request: &Request) -> Reply {
         (
             _,
             "/state" | "/status" | "/grammar" | "/save" | "/resolve" | "/retime" | "/offset"
-            | "/boxes" | "/lottie" | "/smil" | "/frame.png",
+            | "/value" | "/rules" | "/boxes" | "/lottie" | "/smil" | "/frame.png",
         ) => Reply::error(405, "method not allowed"),
         _ => Reply::error(404, "no such API route"),
     }

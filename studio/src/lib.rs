@@ -20,6 +20,7 @@ mod http;
 mod live;
 mod offset;
 mod retime;
+mod value;
 
 use std::io;
 use std::net::TcpListener;

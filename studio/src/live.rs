@@ -642,6 +642,41 @@ impl Live {
         Ok((done, version))
     }
 
+    /// The `animate` rules that change shape `shape` in the slice under time `t` (see
+    /// `value::rules_at`): what a drag on the canvas rewrites; or why not.
+    pub(crate) fn rules_at(&self, shape: usize, t: f64) -> Result<Value, String> {
+        let text = self.text();
+        let good = self.good();
+        if !self.lock().diagnostics.is_empty() {
+            return Err("the grammar has errors: fix them before editing on the canvas".into());
+        }
+        let (grammar, _) = parse(&text).map_err(|_| "the grammar has errors".to_string())?;
+        crate::value::rules_at(&text, &grammar, &good.scene.scene, &self.run, (shape, t))
+    }
+
+    /// Replaces argument `arg` of the `animate` rule on line `line` by `new` (see
+    /// `value::set_value`), applied as an edit only when the result builds: the text, the
+    /// version, the rule's line and the value written; or why not.
+    pub(crate) fn set_value(
+        &self,
+        (line, arg, new): (u32, crate::value::Arg, &str),
+    ) -> Result<(crate::value::Set, u64), String> {
+        let text = self.text();
+        if !self.lock().diagnostics.is_empty() {
+            return Err("the grammar has errors: fix them before setting a value".into());
+        }
+        let (grammar, _) = parse(&text).map_err(|_| "the grammar has errors".to_string())?;
+        let done = crate::value::set_value(&text, &grammar, (line, arg, new))?;
+        let (version, _) = self.apply(done.text.clone(), false).map_err(|d| {
+            let why = d.first().map_or("", |d| d.message.as_str());
+            format!(
+                "`{}` would break the grammar ({why}); the text is unchanged",
+                done.value
+            )
+        })?;
+        Ok((done, version))
+    }
+
     /// Every shape's bounding box at `t` (the frame shown, for hit-testing), `None` for a
     /// shape that is invisible then: the rest box moved by the shape's transform at `t`.
     pub(crate) fn boxes_at(built: &Built, t: f64) -> Value {

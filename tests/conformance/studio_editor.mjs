@@ -7,7 +7,10 @@
 // grammar `gmotion check` accepts; a click hits the shape where the frame shown draws it;
 // every independent error is listed with its help; an outside edit under unsaved edits is
 // a conflict (Save refuses, both texts kept, keep mine / take theirs); every variation
-// cell is drawn on twenty reloads; an 800 × 800 scene leaves the timeline in view. With
+// cell is drawn on twenty reloads; handles on the canvas (a drag rewriting the square's
+// translate so the frame shown follows, a rotate and a scale handle), the colour picker
+// and the easing curve editor, each undone and redone, and a rule proposed for a shape no
+// rule moves; an 800 × 800 scene leaves the timeline in view. With
 // $STUDIO_SHOTS set to a folder, saves the screenshots docs/studio.md shows. Exits 1 on
 // the first failed check.
 import { spawn, spawnSync } from 'node:child_process';
@@ -312,6 +315,135 @@ try {
   check(staggerChecked.status === 0 && readFileSync(toyFile, 'utf8') === staggered, `gmotion check accepts the staggered grammar ${staggerChecked.stderr.split('\n')[0]}`);
 
   // A thousand shapes: every row is reachable, a few in the page at a time.
+  // Handles on the canvas: the square dragged at 0.8 s moves its rule's translate so that
+  // the frame at 0.8 s follows the mouse (the spring smoothing taken out
+  // first, so the frame shows the rule's own progress); a circle turned with its rotate handle's keys
+  // and scaled with its scale handle; a colour picked; an easing control point dragged
+  // (x clamped to [0, 1]) and a named easing chosen; each undone and redone.
+  const tinted = staggered.replace('smoothing spring(0.3, 0.99)\n', '').replace(/\n*$/, '\n') + 'animate(fill, local, 0, #e4572e) : [tran, s] -> [tinted]\n';
+  await box.fill(tinted);
+  await toy.waitForFunction(() => S && S.grammar.includes('tinted') && /no problems/.test(document.getElementById('diagnostics').textContent));
+  const boxesAt = (t) => toy.evaluate(async (t) => (await (await fetch(api('boxes?t=' + t))).json()).boxes, t);
+  const tstage = await toy.locator('#overlay').boundingBox();
+  const onStage = ([x, y]) => [tstage.x + tstage.width * x / 520, tstage.y + tstage.height * y / 320];
+  const sq = await toy.evaluate(() => S.shapes.findIndex((s) => s.tag === 's'));
+  // 0.8 s: the square on its way, clear of the circles (drawn above it).
+  await toy.getByRole('slider', { name: 'time', exact: true }).fill('133');
+  const b0 = (await boxesAt(0.8))[sq];
+  const grab = onStage([b0[0] + b0[2] / 2, b0[1] + b0[3] / 2]);
+  await toy.mouse.move(...grab);
+  await toy.mouse.down();
+  await toy.mouse.move(grab[0] + tstage.width * 40 / 520, grab[1] + tstage.height * 20 / 320, { steps: 6 });
+  if (shots) await toy.screenshot({ path: join(shots, 'studio-handles.png') });
+  await toy.mouse.up();
+  await toy.waitForFunction(() => /set line \d+'s value/.test(document.getElementById('status').textContent));
+  const dragged = await toyText();
+  const tr = /animate\(affine, world, 0, translate\(([-\d.]+), ([-\d.]+)\), ease=ease-in-out\)/.exec(dragged);
+  const b1 = (await boxesAt(0.8))[sq];
+  check(tr && tr[1] !== '260' && Math.abs(b1[0] - b0[0] - 40) < 2.5 && Math.abs(b1[1] - b0[1] - 20) < 2.5,
+    `dragging the square rewrites its translate and the frame at 0.8 s follows (${tr && tr.slice(1).join(', ')}; moved ${(b1[0] - b0[0]).toFixed(1)}, ${(b1[1] - b0[1]).toFixed(1)})`);
+  await toy.getByRole('button', { name: 'undo' }).click();
+  await toy.waitForTimeout(400);
+  const undoneMove = await toyText();
+  await toy.getByRole('button', { name: 'redo' }).click();
+  await toy.waitForTimeout(400);
+  check(undoneMove === tinted && await toyText() === dragged && await serverText() === dragged, 'undo and redo take the drag back and bring it again');
+
+  // The selected square's rules at the frame shown, listed in the panel; one chosen.
+  const ruleButtons = toy.getByRole('button', { name: /^rule on line \d+$/ });
+  await ruleButtons.nth(1).waitFor({ timeout: 5000 }).catch(() => {});
+  const listed = await ruleButtons.allTextContents();
+  await ruleButtons.nth(1).click().catch(() => {});
+  const shownColour = await toy.getByLabel('colour', { exact: true }).inputValue();
+  check(listed.length === 2 && /^affine/.test(listed[0]) && /^fill/.test(listed[1]) && shownColour === '#e4572e',
+    `the selected square's rules are listed, its fill's colour shown (${listed.join(', ')}; ${shownColour})`);
+  // A circle in its spin: the rotate handle's → turns it 5° at the frame shown.
+  const c0 = await toy.evaluate(() => S.shapes.findIndex((s) => s.tag === 'c' && s.id === 0));
+  await toy.getByRole('slider', { name: 'time', exact: true }).fill('333');   // 2.0 s
+  const cb = (await boxesAt(2.0))[c0];
+  await toy.mouse.click(...onStage([cb[0] + cb[2] / 2, cb[1] + cb[3] / 2]));
+  await toy.getByRole('button', { name: 'rotate c#0' }).press('ArrowRight');
+  await toy.waitForFunction(() => /set line \d+'s value to rotate/.test(document.getElementById('status').textContent));
+  const turned = /rotate\(([-\d.]+)\) scale\(1\.6\)/.exec(await toyText());
+  check(turned && +turned[1] > 95, `the rotate handle turns the spin's rotate (${turned && turned[0]})`);
+  // The boxes are drawn again once the new frame's arrive: wait for the handle to settle.
+  await toy.waitForTimeout(300);
+  const handle = await toy.getByRole('button', { name: 'scale c#0' }).boundingBox({ timeout: 5000 });
+  const hc = [handle.x + handle.width / 2, handle.y + handle.height / 2];
+  await toy.mouse.move(...hc);
+  await toy.mouse.down();
+  const ccx = onStage([cb[0] + cb[2] / 2, cb[1] + cb[3] / 2]);
+  await toy.mouse.move(ccx[0] + (hc[0] - ccx[0]) * 1.3, ccx[1] + (hc[1] - ccx[1]) * 1.3, { steps: 5 });
+  await toy.mouse.up();
+  await toy.waitForFunction(() => /set line \d+'s value to rotate\([^)]*\) scale\((?!1\.6\))/.test(document.getElementById('status').textContent));
+  const scaled = /rotate\([-\d.]+\) scale\(([\d.]+)\)/.exec(await toyText());
+  check(scaled && +scaled[1] > 1.8, `the scale handle scales the spin's scale (${scaled && scaled[0]})`);
+
+  // The colour of the fill rule at the caret.
+  const caretOn = async (needle) => {
+    const at = (await toyText()).indexOf(needle);
+    await box.evaluate((g, p) => { g.focus(); g.setSelectionRange(p, p); g.dispatchEvent(new Event('click')); }, at);
+  };
+  await caretOn('animate(fill');
+  const colour = toy.getByLabel('colour', { exact: true });
+  check(await colour.inputValue() === '#e4572e', `the colour picker shows the rule's colour (${await colour.inputValue()})`);
+  await colour.fill('#3355ff');
+  await toy.waitForFunction(() => /set line \d+'s value to #3355ff/.test(document.getElementById('status').textContent));
+  const picked = await toyText();
+  check(picked.includes('animate(fill, local, 0, #3355ff) : [tran, s]'), 'picking a colour rewrites the rule\'s colour');
+  await toy.getByRole('button', { name: 'undo' }).click();
+  await toy.waitForTimeout(400);
+  const colourBack = await colour.inputValue();
+  const unpicked = await toyText();
+  await toy.getByRole('button', { name: 'redo' }).click();
+  await toy.waitForTimeout(400);
+  check(unpicked.includes('0, #e4572e)') && colourBack === '#e4572e' && await toyText() === picked && await serverText() === picked,
+    `undo and redo take the colour back (the picker showing ${colourBack}) and bring it again`);
+
+  // The easing curve of the move.
+  await caretOn('animate(affine, world');
+  const easing = toy.getByRole('combobox', { name: 'easing' });
+  check(await easing.inputValue() === 'ease-in-out', `the easing editor shows the rule's easing (${await easing.inputValue()})`);
+  const cp = await toy.getByRole('slider', { name: 'easing control point 1' }).boundingBox();
+  const curveBox = await toy.getByRole('group', { name: 'easing curve' }).boundingBox();
+  await toy.mouse.move(cp.x + cp.width / 2, cp.y + cp.height / 2);
+  await toy.mouse.down();
+  await toy.mouse.move(curveBox.x - 40, cp.y - curveBox.height * 0.2, { steps: 5 });   // left of the box
+  await toy.mouse.up();
+  await toy.waitForFunction(() => /set line \d+'s ease to cubic/.test(document.getElementById('status').textContent));
+  const curved = await toyText();
+  const cu = /ease=cubic\(([-\d.]+), ([-\d.]+), ([-\d.]+), ([-\d.]+)\)/.exec(curved);
+  check(cu && +cu[1] === 0 && +cu[2] > 0 && cu[3] === '0.58' && cu[4] === '1' && cu.slice(1).every((v) => v === String(+(+v).toFixed(2))),
+    `dragging a control point writes cubic(…), x clamped to [0, 1], two decimals (${cu && cu[0]})`);
+  if (shots) await toy.screenshot({ path: join(shots, 'studio-easing.png') });
+  await toy.getByRole('button', { name: 'undo' }).click();
+  await toy.waitForTimeout(400);
+  const uneased = await toyText();
+  const easeBack = await easing.inputValue();
+  await toy.getByRole('button', { name: 'redo' }).click();
+  await toy.waitForTimeout(400);
+  check(uneased.includes('ease=ease-in-out)') && easeBack === 'ease-in-out' && await toyText() === curved && await serverText() === curved,
+    `undo and redo take the curve back (the editor showing ${easeBack}) and bring it again`);
+  await easing.selectOption('ease-out');
+  await toy.waitForFunction(() => /set line \d+'s ease to ease-out/.test(document.getElementById('status').textContent));
+  check((await toyText()).includes('ease=ease-out) : [a, s]'), 'choosing a named easing writes its name');
+  // The background: no rule moves it, so a drag proposes one in the form, adding nothing.
+  const unproposed = await toyText();
+  const bg = onStage([480, 40]);
+  await toy.mouse.move(...bg);
+  await toy.mouse.down();
+  await toy.mouse.move(bg[0] - tstage.width * 30 / 520, bg[1], { steps: 4 });
+  await toy.mouse.up();
+  await toy.waitForFunction(() => /a new rule is proposed/.test(document.getElementById('status').textContent));
+  const toyForm = toy.locator('#rule-form');
+  const proposed = await toyForm.getByLabel('value', { exact: true }).inputValue();
+  check(/^translate\(-3\d(\.\d)?, 0\)$/.test(proposed) && await toyForm.getByLabel('shapes', { exact: true }).inputValue() === 'background'
+    && await toyText() === unproposed, `a drag on a shape no rule moves proposes a rule in the form (${proposed}), the text unchanged`);
+  await toy.getByRole('button', { name: 'Save' }).click();
+  await toy.waitForFunction(() => /saved/.test(document.getElementById('status').textContent));
+  const handled = checkFile(toyFile);
+  check(handled.status === 0, `gmotion check accepts the grammar the handles, picker and curve wrote ${handled.stderr.split('\n')[0]}`);
+
   const many = await browser.newPage({ viewport: { width: 1280, height: 1000 }, deviceScaleFactor: 1 });
   many.on('pageerror', (e) => errors.push(String(e)));
   await many.goto(await studio(join(dir, 'many.svg'), join(dir, 'many.gm')));
