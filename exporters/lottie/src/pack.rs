@@ -5,7 +5,8 @@
 //! canvas renderer saves and restores the context, sets its transform and alpha and walks
 //! its shape tree layer by layer. Measured with the playback benchmark
 //! (`benches/playback/playback.mjs`, docs/performance.md): the gallery's statue, 960 one-unit
-//! layers, draws a frame in about two thirds of the time once packed, with the same pixels.
+//! layers, draws a frame in lottie-web's canvas renderer in four fifths of the time once packed (30 → 24 ms),
+//! with the same pixels.
 //! The price is the layer tree: After Effects (and gmotion, reading the file back) sees one
 //! layer where there were many, so packing is asked for, never the default.
 //!
