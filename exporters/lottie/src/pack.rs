@@ -5,9 +5,8 @@
 //! canvas renderer saves and restores the context, sets its transform and alpha and walks
 //! its shape tree layer by layer. Measured with the playback benchmark
 //! (`benches/playback/playback.mjs`, docs/performance.md): the gallery's statue, 960 one-unit
-//! layers, draws a frame in lottie-web's canvas renderer in four fifths of the time once packed (30 → 24 ms),
-//! with the same pixels.
-//! The price is the layer tree: After Effects (and gmotion, reading the file back) sees one
+//! layers, draws a frame in lottie-web's canvas renderer in four fifths of the time once
+//! packed (30 → 24 ms), with the same pixels. The price is the layer tree: After Effects (and gmotion, reading the file back) sees one
 //! layer where there were many, so packing is asked for, never the default.
 //!
 //! A layer is plain when it is a shape layer with nothing of its own a group cannot hold:
