@@ -576,6 +576,74 @@ fn many_keep_alive_connections_are_all_answered() {
     }
 }
 
+/// Issue 46: 200 clients holding connections open (half sending nothing, half stalled in
+/// the middle of their headers) leave the page served, each answer within a second; a
+/// client trickling its headers a byte at a time is answered 408 and cut off once the
+/// request has taken 10 s, instead of holding its connection for ever.
+#[test]
+fn slow_and_stalled_clients_do_not_lock_the_page_out() {
+    let s = Studio::start("slow-clients");
+    let mut held: Vec<TcpStream> = (0..200)
+        .map(|_| TcpStream::connect(("127.0.0.1", s.port)).unwrap())
+        .collect();
+    for c in held.iter_mut().step_by(2) {
+        c.write_all(b"GET /api/status HTTP/1.1\r\nHost: 127.0")
+            .unwrap();
+    }
+    let request = format!(
+        "GET /api/status HTTP/1.1\r\nHost: 127.0.0.1:{}\r\nX-Gmotion-Token: {}\r\nConnection: close\r\n\r\n",
+        s.port, s.token
+    );
+    for _ in 0..5 {
+        let started = std::time::Instant::now();
+        let mut c = TcpStream::connect(("127.0.0.1", s.port)).unwrap();
+        c.set_read_timeout(Some(Duration::from_secs(5))).unwrap();
+        c.write_all(request.as_bytes()).unwrap();
+        let mut answer = String::new();
+        c.read_to_string(&mut answer).unwrap();
+        assert!(answer.starts_with("HTTP/1.1 200"), "{answer}");
+        assert!(
+            started.elapsed() < Duration::from_secs(1),
+            "answered in {:?} beside 200 held connections",
+            started.elapsed()
+        );
+    }
+    // A byte every half second: each restarts a plain idle timeout, not the request's.
+    let mut trickle = TcpStream::connect(("127.0.0.1", s.port)).unwrap();
+    trickle
+        .set_read_timeout(Some(Duration::from_millis(100)))
+        .unwrap();
+    let started = std::time::Instant::now();
+    let mut answer = Vec::new();
+    for b in b"GET /api/status HTTP/1.1\r\nX-Long-Header: "
+        .iter()
+        .cycle()
+    {
+        if trickle.write_all(&[*b]).is_err() {
+            break;
+        }
+        let mut buf = [0u8; 512];
+        match trickle.read(&mut buf) {
+            Ok(0) => break,
+            Ok(n) => answer.extend_from_slice(&buf[..n]),
+            Err(_) => {}
+        }
+        assert!(
+            started.elapsed() < Duration::from_secs(20),
+            "still connected after 20 s"
+        );
+        std::thread::sleep(Duration::from_millis(400));
+    }
+    let answer = String::from_utf8_lossy(&answer);
+    assert!(answer.starts_with("HTTP/1.1 408"), "{answer}");
+    assert!(
+        started.elapsed() >= Duration::from_secs(9),
+        "{:?}",
+        started.elapsed()
+    );
+    drop(held);
+}
+
 #[test]
 fn retime_rewrites_the_timesplit_fractions_keeping_their_sum() {
     let s = Studio::start("retime");

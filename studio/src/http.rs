@@ -13,7 +13,7 @@ use std::net::{TcpListener, TcpStream};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::thread;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// The most bytes of a request body read (a pasted grammar).
 pub(crate) const MAX_BODY: usize = 4 << 20;
@@ -21,11 +21,18 @@ pub(crate) const MAX_BODY: usize = 4 << 20;
 /// The most bytes of a request line and its headers.
 const MAX_HEAD: usize = 64 << 10;
 
-/// The most connections served at once; more are answered 503 and closed.
-const MAX_CONNECTIONS: usize = 64;
+/// The most connections served at once; more are answered 503 and closed. A thread each,
+/// mostly asleep: enough that 200 clients holding connections open (slow or stalled) leave
+/// room for the page.
+const MAX_CONNECTIONS: usize = 512;
 
 /// How long an idle keep-alive connection is kept.
 const IDLE: Duration = Duration::from_secs(30);
+
+/// How long a request may take to arrive once its first byte has: a client trickling its
+/// headers or body a byte at a time would otherwise hold its connection for ever, each
+/// byte restarting the idle timeout.
+const REQUEST_TIME: Duration = Duration::from_secs(10);
 
 /// A request as read: method, target (path and query), headers and body.
 #[derive(Debug)]
@@ -104,8 +111,12 @@ pub(crate) fn serve(listener: TcpListener, handler: Arc<Handler>) -> io::Result<
 fn connection(stream: TcpStream, handler: &Handler) -> io::Result<()> {
     stream.set_read_timeout(Some(IDLE))?;
     let mut writer = stream.try_clone()?;
-    let mut reader = BufReader::new(stream);
+    let mut reader = BufReader::new(Timed {
+        stream,
+        deadline: None,
+    });
     loop {
+        reader.get_mut().deadline = None;
         let request = match read_request(&mut reader) {
             Ok(Some(r)) => r,
             Ok(None) => return Ok(()),
@@ -128,16 +139,50 @@ fn connection(stream: TcpStream, handler: &Handler) -> io::Result<()> {
 /// A request that cannot be served: the status and why.
 struct Refused(u16, &'static str);
 
+/// A connection's stream, read under a deadline once a request has begun: before its first
+/// byte a read waits up to [`IDLE`], after it the rest must come within [`REQUEST_TIME`].
+struct Timed {
+    stream: TcpStream,
+    /// When the request being read must be in, once its first byte has come.
+    deadline: Option<Instant>,
+}
+
+impl Read for Timed {
+    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        let wait = match self.deadline {
+            None => IDLE,
+            Some(deadline) => deadline
+                .checked_duration_since(Instant::now())
+                .filter(|left| !left.is_zero())
+                .ok_or_else(|| io::Error::new(io::ErrorKind::TimedOut, "the request is late"))?,
+        };
+        self.stream.set_read_timeout(Some(wait))?;
+        let n = self.stream.read(buf)?;
+        if n > 0 && self.deadline.is_none() {
+            self.deadline = Some(Instant::now() + REQUEST_TIME);
+        }
+        Ok(n)
+    }
+}
+
 /// The next request, `None` at a clean end of the connection (or an idle timeout).
-fn read_request(reader: &mut BufReader<TcpStream>) -> Result<Option<Request>, Refused> {
+fn read_request(reader: &mut BufReader<Timed>) -> Result<Option<Request>, Refused> {
     let mut head = Vec::new();
     loop {
         let before = head.len();
-        let n = reader
+        let read = reader
             .by_ref()
             .take((MAX_HEAD - head.len()) as u64)
-            .read_until(b'\n', &mut head)
-            .map_err(|_| Refused(400, "the request could not be read"))?;
+            .read_until(b'\n', &mut head);
+        let n = match read {
+            Ok(n) => n,
+            // Idle between requests: the connection just ends.
+            Err(e) if timed_out(&e) && head.is_empty() => return Ok(None),
+            Err(e) if timed_out(&e) => {
+                return Err(Refused(408, "the request took too long to arrive"));
+            }
+            Err(_) => return Err(Refused(400, "the request could not be read")),
+        };
         if n == 0 {
             if head.is_empty() {
                 return Ok(None);
@@ -185,10 +230,22 @@ fn read_request(reader: &mut BufReader<TcpStream>) -> Result<Option<Request>, Re
         Some(Err(_)) => return Err(Refused(400, "Content-Length is not a number")),
     };
     request.body.resize(length, 0);
-    reader
-        .read_exact(&mut request.body)
-        .map_err(|_| Refused(400, "the body ended early"))?;
+    reader.read_exact(&mut request.body).map_err(|e| {
+        if timed_out(&e) {
+            Refused(408, "the body took too long to arrive")
+        } else {
+            Refused(400, "the body ended early")
+        }
+    })?;
     Ok(Some(request))
+}
+
+/// Whether a read failed by waiting too long (a socket timeout reads as either kind).
+fn timed_out(e: &io::Error) -> bool {
+    matches!(
+        e.kind(),
+        io::ErrorKind::TimedOut | io::ErrorKind::WouldBlock
+    )
 }
 
 /// Writes `response` with its length, and `Connection: close` when the connection ends.
@@ -220,6 +277,7 @@ fn reason(status: u16) -> &'static str {
         403 => "Forbidden",
         404 => "Not Found",
         405 => "Method Not Allowed",
+        408 => "Request Timeout",
         409 => "Conflict",
         411 => "Length Required",
         413 => "Content Too Large",
