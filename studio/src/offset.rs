@@ -11,11 +11,11 @@
 
 use gmotion::Scene;
 use gmotion::engine::{self, RunOptions};
-use gmotion::grammar::ast::{BinOp, Expr, ExprKind, Grammar, Span};
+use gmotion::grammar::ast::{BinOp, Expr, ExprKind, Grammar, Rule, Span};
 use gmotion::grammar::parse;
 
 /// How far a nudge moves an offset (seconds).
-const NUDGE: f64 = 0.001;
+pub(crate) const NUDGE: f64 = 0.001;
 
 /// What a move changed: the new text, the rule's line, its offset as written now.
 #[derive(Debug)]
@@ -86,12 +86,9 @@ pub(crate) fn move_offset(
             continue;
         };
         let span = offset.value.span;
-        let nudged = format!(
-            "{}({}) + {NUDGE}{}",
-            &text[..span.start],
-            &text[span.start..span.end],
-            &text[span.end..]
-        );
+        let Some(nudged) = with_offset_nudged(text, rule) else {
+            continue;
+        };
         let Ok(g) = parse(&nudged) else { continue };
         let Some(after) = changes(scene, &g, run, shape, slice) else {
             continue;
@@ -195,6 +192,25 @@ fn decimal(v: f64) -> String {
     } else {
         text.into()
     }
+}
+
+/// The grammar `text` with `rule`'s offset (its third positional argument) delayed by
+/// [`NUDGE`] seconds: expanding it shows which changes that rule starts. `None` for a rule
+/// without an offset.
+pub(crate) fn with_offset_nudged(text: &str, rule: &Rule) -> Option<String> {
+    let span = rule
+        .args
+        .iter()
+        .filter(|a| a.name.is_none())
+        .nth(2)?
+        .value
+        .span;
+    Some(format!(
+        "{}({}) + {NUDGE}{}",
+        &text[..span.start],
+        &text[span.start..span.end],
+        &text[span.end..]
+    ))
 }
 
 #[cfg(test)]

@@ -17,8 +17,7 @@ use gmotion::grammar::ast::{Grammar, Rule};
 use gmotion::grammar::parse;
 use serde_json::{Value, json};
 
-/// How far a nudge moves an offset (seconds).
-const NUDGE: f64 = 0.001;
+use crate::offset::{NUDGE, with_offset_nudged};
 
 /// The argument of an `animate` rule an edit replaces.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -110,16 +109,9 @@ pub(crate) fn rules_at(
         .ok_or_else(|| format!("there is no shape {shape}"))?;
     let mut out = Vec::new();
     for (i, rule) in animate_rules(grammar) {
-        let Some(offset) = rule.args.iter().filter(|a| a.name.is_none()).nth(2) else {
+        let Some(nudged) = with_offset_nudged(text, rule) else {
             continue;
         };
-        let span = offset.value.span;
-        let nudged = format!(
-            "{}({}) + {NUDGE}{}",
-            &text[..span.start],
-            &text[span.start..span.end],
-            &text[span.end..]
-        );
         let Ok(g) = parse(&nudged) else { continue };
         let Some(after) = changes_at(scene, &g, run, shape, t) else {
             continue;
