@@ -42,10 +42,23 @@ const idle = { svg: [], canvas: [] };
 async function pageWith(renderer) {
   const kept = idle[renderer].pop();
   if (kept && !kept.isClosed()) return kept;
-  const page = await browser.newPage({ deviceScaleFactor: 1 });
-  await page.setContent('<!doctype html><html><body style="margin:0;background:transparent"><div id="c"></div></body></html>');
-  await page.addScriptTag({ path: players[renderer] });
-  return page;
+  // A page's first load waits for Chromium's renderer process: on a machine busy with
+  // other jobs that start once took past playwright's 30 s default, failing a whole run
+  // that had nothing wrong with it. Two tries of two minutes each before giving up.
+  for (let attempt = 1; ; attempt++) {
+    const page = await browser.newPage({ deviceScaleFactor: 1 });
+    try {
+      await page.setContent(
+        '<!doctype html><html><body style="margin:0;background:transparent"><div id="c"></div></body></html>',
+        { timeout: 120000 });
+      await page.addScriptTag({ path: players[renderer] });
+      return page;
+    } catch (err) {
+      await page.close().catch(() => {});
+      if (attempt >= 2) throw err;
+      console.error(`lottie_web: a ${renderer} page did not load (${err.message.split('\n')[0]}); trying again`);
+    }
+  }
 }
 
 async function worker(renderer, queue, errors) {

@@ -402,7 +402,7 @@ try {
 
   // The easing curve of the move.
   await caretOn('animate(affine, world');
-  const easing = toy.getByRole('combobox', { name: 'easing' });
+  const easing = toy.getByRole('combobox', { name: 'easing', exact: true });
   check(await easing.inputValue() === 'ease-in-out', `the easing editor shows the rule's easing (${await easing.inputValue()})`);
   const cp = await toy.getByRole('slider', { name: 'easing control point 1' }).boundingBox();
   const curveBox = await toy.getByRole('group', { name: 'easing curve' }).boundingBox();
