@@ -183,6 +183,29 @@ try {
   }
   check(blank === 0, `every variation cell is drawn on twenty reloads (${blank} loads with a blank cell)`);
 
+  // Variations that play (Fig. 8): while the main clock runs every cell moves through the
+  // frames with it, and paused each settles on the frame shown.
+  await page.waitForFunction(() => /version \d+ /.test(document.getElementById('status').textContent));
+  const play = page.getByRole('button', { name: 'play' });
+  if (await play.textContent() === '▶') await play.click();
+  const seen = new Map();
+  for (let i = 0; i < 40; i++) {
+    await page.waitForTimeout(50);
+    for (const [seed, frame] of await page.$$eval('#variations .cell', (cs) => cs.map((c) => [c.dataset.seed, c.dataset.frame])))
+      (seen.get(seed) || seen.set(seed, new Set()).get(seed)).add(frame);
+  }
+  const fewest = Math.min(...[...seen.values()].map((f) => f.size));
+  // At the toy's size a thumbnail is drawn in milliseconds: a cell that shows fewer than
+  // 12 frames in 2 s is stepping (as the cells once did, four times a second), not playing.
+  check(seen.size >= 6 && fewest >= 12, `every variation plays with the clock (${seen.size} cells, the slowest showed ${fewest} frames in 2 s)`);
+  await play.click();
+  const settled = await page.waitForFunction(() => {
+    const frame = String(Math.round(t * S.fps));
+    const cells = [...document.querySelectorAll('#variations .cell')];
+    return cells.every((c) => c.dataset.frame === frame) && frame;
+  }, null, { timeout: 5000 }).then((h) => h.jsonValue(), () => null);
+  check(settled !== null, `paused, every variation shows the frame the preview shows (frame ${settled})`);
+
   // The timeline on the toy grammar: the ruler seeks, Space plays, arrows step.
   const toy = await browser.newPage({ viewport: { width: 1280, height: 1000 }, deviceScaleFactor: 1 });
   toy.on('pageerror', (e) => errors.push(String(e)));
