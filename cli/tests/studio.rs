@@ -513,6 +513,55 @@ fn an_outside_edit_under_unsaved_edits_is_a_conflict_never_dropped() {
 }
 
 #[test]
+fn a_conflict_merges_both_sides_changes_or_stays_pending() {
+    let s = Studio::start("merge");
+    let path = s.dir.join("toy.gm");
+    let disk = std::fs::read_to_string(&path).unwrap();
+    assert_eq!(s.call("POST", "/api/resolve?take=merge", "").status, 409);
+
+    // The page moved the square, the file's other editor changed the duration: both kept.
+    let mine = disk.replace("translate(260, 0)", "translate(100, 0)");
+    let theirs = disk.replace("duration 6s", "duration 4s");
+    s.call("PUT", "/api/grammar", &mine);
+    std::fs::write(&path, &theirs).unwrap();
+    wait_status(&s, "a conflict", |st| st["conflict"].is_string());
+    let r = s.call("POST", "/api/resolve?take=merge", "");
+    assert_eq!(r.status, 200, "{}", String::from_utf8_lossy(&r.body));
+    let both = disk
+        .replace("translate(260, 0)", "translate(100, 0)")
+        .replace("duration 6s", "duration 4s");
+    assert_eq!(r.json()["grammar"], both.as_str());
+    let st = s.state();
+    assert_eq!(
+        (st["duration"].as_f64(), st["unsaved"].as_bool()),
+        (Some(4.0), Some(true)),
+        "the merge is built, and unsaved"
+    );
+    // The file's text counts as read: Save writes the merge over it.
+    assert_eq!(s.call("POST", "/api/save", "").status, 200);
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), both);
+
+    // Both changed the same line: nothing changes, no markers, the conflict stays open.
+    let mine = both.replace("duration 4s", "duration 5s");
+    let theirs = both.replace("duration 4s", "duration 3s");
+    s.call("PUT", "/api/grammar", &mine);
+    std::fs::write(&path, &theirs).unwrap();
+    wait_status(&s, "a second conflict", |st| {
+        st["conflict"] == theirs.as_str()
+    });
+    let r = s.call("POST", "/api/resolve?take=merge", "");
+    assert_eq!(r.status, 409);
+    let message = r.json()["error"].as_str().unwrap().to_owned();
+    assert!(message.contains("same lines (1 place)"), "{message}");
+    let st = s.call("GET", "/api/status", "").json();
+    assert_eq!(
+        (st["grammar"].as_str(), st["conflict"].as_str()),
+        (Some(mine.as_str()), Some(theirs.as_str()))
+    );
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), theirs);
+}
+
+#[test]
 fn boxes_follow_the_frame_shown() {
     let s = Studio::start("boxes");
     let st = s.state();

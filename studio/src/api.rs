@@ -7,7 +7,7 @@ use gmotion::canvas::OutputSize;
 use serde_json::json;
 
 use crate::http::{Request, Response};
-use crate::live::{Built, Live, Resolution, SaveError};
+use crate::live::{Built, Live, MAX_MERGE_LINES, MergeError, Resolution, SaveError};
 
 /// What every request thread shares.
 #[derive(Debug)]
@@ -177,7 +177,32 @@ fn route(ctx: &Ctx, request: &Request) -> Reply {
             let how = match param(query, "take") {
                 Some("mine") => Resolution::Mine,
                 Some("theirs") => Resolution::Theirs,
-                _ => return Reply::error(400, "take must be mine or theirs"),
+                Some("merge") => {
+                    return match live.merge() {
+                        Ok(()) => {
+                            Reply::json(&json!({"version": live.version(), "grammar": live.text()}))
+                        }
+                        Err(MergeError::NoConflict) => {
+                            Reply::error(409, "there is no conflict to resolve")
+                        }
+                        Err(MergeError::TooLarge) => Reply::error(
+                            422,
+                            &format!(
+                                "a text is longer than {MAX_MERGE_LINES} lines, too long to \
+                                 merge: keep mine or take theirs"
+                            ),
+                        ),
+                        Err(MergeError::Overlap(n)) => Reply::error(
+                            409,
+                            &format!(
+                                "both texts changed the same lines ({n} {}): keep mine or \
+                                 take theirs",
+                                if n == 1 { "place" } else { "places" }
+                            ),
+                        ),
+                    };
+                }
+                _ => return Reply::error(400, "take must be mine, theirs or merge"),
             };
             if !live.resolve(how) {
                 return Reply::error(409, "there is no conflict to resolve");

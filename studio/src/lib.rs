@@ -31,7 +31,7 @@ use std::thread;
 use gmotion::engine::RunOptions;
 use gmotion_pipeline::{Imported, Rescene};
 
-pub use live::{Live, Resolution, SaveError, shapes_json};
+pub use live::{Live, MAX_MERGE_LINES, MergeError, Resolution, SaveError, shapes_json};
 
 /// What a studio session edits.
 #[derive(Debug)]

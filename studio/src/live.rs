@@ -118,6 +118,22 @@ pub enum Resolution {
     Theirs,
 }
 
+/// Why [`Live::merge`] left the page's text as it was.
+#[derive(Debug, PartialEq, Eq)]
+pub enum MergeError {
+    /// There was no conflict to settle.
+    NoConflict,
+    /// A text is longer than [`MAX_MERGE_LINES`]: a line diff of two large, unrelated texts
+    /// takes time quadratic in their length, which the page's request must not wait for.
+    TooLarge,
+    /// Both sides changed the same lines, at this many places; the conflict stays pending
+    /// (no conflict markers are ever written into the text).
+    Overlap(usize),
+}
+
+/// The most lines a text may have for [`Live::merge`] to merge it.
+pub const MAX_MERGE_LINES: usize = 20_000;
+
 /// The studio's live state, shared by the request threads and the file watcher.
 #[derive(Debug)]
 pub struct Live {
@@ -524,6 +540,31 @@ impl Live {
             self.set_text(theirs);
         }
         true
+    }
+
+    /// Settles the pending conflict by a three-way merge: the changes the page made to the
+    /// text last read from the file, and those the file's new text made to it, both kept
+    /// (line by line). When they touch the same lines nothing changes and the conflict
+    /// stays pending for keep mine or take theirs. On success the file's new text counts
+    /// as read, and the merged text is the page's, unsaved.
+    pub fn merge(&self) -> Result<(), MergeError> {
+        let merged = {
+            let mut st = self.lock();
+            let Some(theirs) = st.conflict.as_deref() else {
+                return Err(MergeError::NoConflict);
+            };
+            let texts = [st.disk.as_str(), st.text.as_str(), theirs];
+            if texts.iter().any(|t| t.lines().count() > MAX_MERGE_LINES) {
+                return Err(MergeError::TooLarge);
+            }
+            let merged = diffy::merge(texts[0], texts[1], texts[2]).map_err(|marked| {
+                MergeError::Overlap(marked.lines().filter(|l| l.starts_with("<<<<<<<")).count())
+            })?;
+            st.disk = st.conflict.take().unwrap_or_default();
+            merged
+        };
+        self.set_text(merged);
+        Ok(())
     }
 
     /// Writes the current text to the grammar file (atomically) and returns the path;

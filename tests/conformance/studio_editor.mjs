@@ -170,6 +170,19 @@ try {
   await page.getByRole('button', { name: 'Save' }).click();
   await page.waitForFunction(() => /saved \//.test(document.getElementById('status').textContent));
   check(readFileSync(grammarFile, 'utf8') === mine, 'keep mine, then Save writes my text');
+  // Merge: my change and the file's on different lines both kept, no markers written.
+  const mineToo = mine.replace('translate(200, 0)', 'translate(220, 0)');
+  await editor.fill(mineToo);
+  await page.waitForTimeout(600);
+  writeFileSync(grammarFile, '# tuned elsewhere\n' + mine);
+  await alert.waitFor({ state: 'visible', timeout: 10000 });
+  await alert.getByRole('button', { name: 'Merge' }).click();
+  await alert.waitFor({ state: 'hidden' });
+  const merged = await editor.inputValue();
+  check(merged === '# tuned elsewhere\n' + mineToo && !/<<<<<<<|>>>>>>>/.test(readFileSync(grammarFile, 'utf8')),
+    'merge keeps my change and the file\'s, and writes no conflict markers');
+  await page.getByRole('button', { name: 'Save' }).click();
+  await page.waitForFunction(() => /saved \//.test(document.getElementById('status').textContent));
 
   // Variations: every cell drawn, twenty loads in a row.
   let blank = 0;
