@@ -562,6 +562,111 @@ fn a_conflict_merges_both_sides_changes_or_stays_pending() {
 }
 
 #[test]
+fn the_scene_saved_again_shows_and_a_broken_one_keeps_the_last_animation() {
+    let s = Studio::start("rescene");
+    let scene = s.dir.join("toy.svg");
+    let art = std::fs::read_to_string(&scene).unwrap();
+    let square_x = |st: &Value| st["shapes"][1]["centroid"][0].as_f64().unwrap();
+    let before = s.state();
+    assert_eq!(square_x(&before), 100.0);
+    let version = before["version"].as_u64().unwrap();
+
+    // The art saved again in its design tool: the square now starts 40 to the right.
+    std::fs::write(
+        &scene,
+        art.replace(r#"x="60" y="120""#, r#"x="100" y="120""#),
+    )
+    .unwrap();
+    let st = wait_status(&s, "the scene imported again", |st| {
+        st["version"].as_u64() > Some(version)
+    });
+    assert!(st["diagnostics"].as_array().unwrap().is_empty(), "{st}");
+    assert_eq!(square_x(&s.state()), 140.0);
+    let version = st["version"].as_u64().unwrap();
+
+    // Broken, then deleted: said at 1:1, the last animation served all along.
+    for (what, broken) in [("broken", Some("<svg><rect")), ("deleted", None)] {
+        match broken {
+            Some(text) => std::fs::write(&scene, text).unwrap(),
+            None => std::fs::remove_file(&scene).unwrap(),
+        }
+        let st = wait_status(&s, what, |st| {
+            st["diagnostics"].as_array().is_some_and(|d| !d.is_empty())
+        });
+        let message = st["diagnostics"][0]["message"].as_str().unwrap();
+        assert!(
+            message.starts_with("the scene file changed and could not be imported"),
+            "{what}: {message}"
+        );
+        assert_eq!(st["version"].as_u64(), Some(version), "{what}");
+        assert_eq!(s.call("GET", "/api/lottie", "").status, 200, "{what}");
+        assert_eq!(square_x(&s.state()), 140.0, "{what}");
+    }
+
+    // Back: imported again, the diagnostic gone.
+    std::fs::write(&scene, &art).unwrap();
+    let st = wait_status(&s, "the scene back", |st| {
+        st["version"].as_u64() > Some(version)
+    });
+    assert!(st["diagnostics"].as_array().unwrap().is_empty(), "{st}");
+    assert_eq!(square_x(&s.state()), 100.0);
+}
+
+#[test]
+fn a_pasted_binary_or_huge_grammar_is_answered_clearly() {
+    let s = Studio::start("paste");
+    let toy = std::fs::read_to_string(s.dir.join("toy.gm")).unwrap();
+    // Invalid UTF-8 on line 3: refused, saying where, the text as it was.
+    let body = b"duration 6s\nfps 30\nseed \xff\xfe\n".to_vec();
+    let mut c = TcpStream::connect(("127.0.0.1", s.port)).unwrap();
+    write!(
+        c,
+        "PUT /api/grammar HTTP/1.1\r\nHost: 127.0.0.1:{}\r\nX-Gmotion-Token: {}\r\n\
+         Connection: close\r\nContent-Length: {}\r\n\r\n",
+        s.port,
+        s.token,
+        body.len()
+    )
+    .unwrap();
+    c.write_all(&body).unwrap();
+    let mut answer = String::new();
+    c.read_to_string(&mut answer).unwrap();
+    assert!(answer.starts_with("HTTP/1.1 400"), "{answer}");
+    assert!(
+        answer.contains("not UTF-8 text: line 3, column 6 holds the byte 0xff"),
+        "{answer}"
+    );
+    assert_eq!(s.call("GET", "/api/grammar", "").body, toy.as_bytes());
+
+    // A 4 MiB paste (the toy and a long comment) builds; one byte more is refused, 413.
+    let limit = 4 << 20;
+    let mut big = toy.clone();
+    big.push('#');
+    big.push_str(&"x".repeat(limit - big.len() - 1));
+    big.push('\n');
+    assert_eq!(big.len(), limit);
+    let r = s.call("PUT", "/api/grammar", &big);
+    assert_eq!(r.status, 200);
+    assert!(r.json()["diagnostics"].as_array().unwrap().is_empty());
+    assert_eq!(s.call("GET", "/api/grammar", "").body.len(), limit);
+    // Refused from its header, before the body is sent (the server does not read it).
+    let mut c = TcpStream::connect(("127.0.0.1", s.port)).unwrap();
+    write!(
+        c,
+        "PUT /api/grammar HTTP/1.1\r\nHost: 127.0.0.1:{}\r\nX-Gmotion-Token: {}\r\n\
+         Content-Length: {}\r\n\r\n",
+        s.port,
+        s.token,
+        limit + 1
+    )
+    .unwrap();
+    let mut answer = String::new();
+    c.read_to_string(&mut answer).unwrap();
+    assert!(answer.starts_with("HTTP/1.1 413"), "{answer}");
+    assert_eq!(s.call("GET", "/api/grammar", "").body.len(), limit);
+}
+
+#[test]
 fn boxes_follow_the_frame_shown() {
     let s = Studio::start("boxes");
     let st = s.state();

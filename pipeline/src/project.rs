@@ -165,4 +165,13 @@ impl Rescene {
         let options = SceneOptions::new(&self.choices, Some(&g), &self.env)?;
         Imported::load(&path, &options, &self.env)
     }
+
+    /// The scene file a grammar with `settings` runs on (the one given, else the grammar's
+    /// `scene`), if any: what a front end watches to import it again when it changes.
+    pub fn scene_path(&self, settings: &Settings) -> Option<PathBuf> {
+        GrammarFile::of_settings(&self.grammar_path, settings.clone())
+            .scene_path(self.given.as_deref())
+            .ok()
+            .flatten()
+    }
 }

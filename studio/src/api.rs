@@ -154,8 +154,9 @@ fn route(ctx: &Ctx, request: &Request) -> Reply {
         ("GET", "/grammar") => Reply::ok("text/plain; charset=utf-8", live.text()),
         ("PUT", "/grammar") => {
             // The server refuses bodies over `http::MAX_BODY` (4 MiB) before this.
-            let Ok(text) = String::from_utf8(request.body.clone()) else {
-                return Reply::error(400, "the grammar must be UTF-8 text");
+            let text = match String::from_utf8(request.body.clone()) {
+                Ok(text) => text,
+                Err(e) => return Reply::error(400, &not_utf8(e.utf8_error(), &request.body)),
             };
             let (version, diagnostics) = live.set_text(text);
             Reply::json(&json!({
@@ -366,6 +367,19 @@ fn route(ctx: &Ctx, request: &Request) -> Reply {
         ) => Reply::error(405, "method not allowed"),
         _ => Reply::error(404, "no such API route"),
     }
+}
+
+/// Where a body that should be UTF-8 text stops being it, as line and column (of
+/// characters), and the byte found there.
+fn not_utf8(e: std::str::Utf8Error, body: &[u8]) -> String {
+    let good = &body[..e.valid_up_to()];
+    let line = good.iter().filter(|&&b| b == b'\n').count() + 1;
+    let start = good.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+    let col = String::from_utf8_lossy(&good[start..]).chars().count() + 1;
+    format!(
+        "the grammar is not UTF-8 text: line {line}, column {col} holds the byte {:#04x}",
+        body[e.valid_up_to()]
+    )
 }
 
 /// `built` written as `ext`, answered inline or as a download.

@@ -141,10 +141,22 @@ pub struct Live {
     /// The scene new builds run on.
     imported: Mutex<Arc<Imported>>,
     rescene: Option<Rescene>,
+    /// The scene file as last imported, watched so that an edit to it (the art saved
+    /// again in its design tool) is imported again; `None` without a `rescene`.
+    scene_file: Mutex<SceneFile>,
     run: RunOptions,
     state: Mutex<State>,
     /// Serialises builds, so edits apply in the order they arrive.
     building: Mutex<()>,
+}
+
+/// The scene file a studio runs on and its modification stamp when last looked at.
+#[derive(Debug, Default)]
+struct SceneFile {
+    path: Option<PathBuf>,
+    stamp: Option<(SystemTime, u64)>,
+    /// The file changed since it was last imported: the next build imports it again.
+    stale: bool,
 }
 
 /// The most variations kept built at once.
@@ -253,6 +265,17 @@ impl Live {
         let text_on_disk = text.clone();
         let stamp = stamp(&config.grammar_path);
         let parsed = parse(&text);
+        let scene_path = config.rescene.as_ref().and_then(|r| {
+            let settings = parsed
+                .as_ref()
+                .map_or_else(|_| Settings::default(), |p| p.1.clone());
+            r.scene_path(&settings)
+        });
+        let scene_file = SceneFile {
+            stamp: scene_path.as_deref().and_then(self::stamp),
+            path: scene_path,
+            stale: false,
+        };
         let imported = Arc::new(Imported {
             scene: config.imported.scene,
             source: config.imported.source,
@@ -279,6 +302,7 @@ impl Live {
             grammar_path: config.grammar_path,
             imported: Mutex::new(imported),
             rescene: config.rescene,
+            scene_file: Mutex::new(scene_file),
             run: config.run,
             state: Mutex::new(State {
                 text,
@@ -324,6 +348,22 @@ impl Live {
                 return Ok((st.version, st.diagnostics.clone()));
             }
         }
+        self.build_text(text, keep_broken)
+    }
+
+    /// Builds `text` as [`Live::set_text`] does even when it is the current text (the
+    /// scene changed under it).
+    fn apply_forced(&self, text: String) -> Result<(u64, Vec<Diagnostic>), Vec<Diagnostic>> {
+        let _b = self.building.lock().unwrap_or_else(|p| p.into_inner());
+        self.build_text(text, true)
+    }
+
+    /// The build behind [`Live::apply`], run under the `building` lock.
+    fn build_text(
+        &self,
+        text: String,
+        keep_broken: bool,
+    ) -> Result<(u64, Vec<Diagnostic>), Vec<Diagnostic>> {
         let built = parse(&text).and_then(|(grammar, settings)| {
             let imported = self.imported_for(&settings)?;
             build(imported, &self.run, (grammar, settings))
@@ -349,20 +389,38 @@ impl Live {
     fn imported_for(&self, settings: &Settings) -> Result<Arc<Imported>, Vec<Diagnostic>> {
         let mut current = self.imported.lock().unwrap_or_else(|p| p.into_inner());
         let key = ImportKey::of(settings);
-        let Some(rescene) = self.rescene.as_ref().filter(|_| current.key != key) else {
+        let stale = self.scene_file().stale;
+        let Some(rescene) = self
+            .rescene
+            .as_ref()
+            .filter(|_| stale || current.key != key)
+        else {
             return Ok(Arc::clone(&current));
         };
+        let path = rescene.scene_path(settings);
+        // Stamped before reading: a save landing while the import runs is seen next time.
+        let seen = path.as_deref().and_then(stamp);
         let again = rescene.import(settings).map_err(|why| {
             let first = Span {
                 line: 1,
                 col: 1,
                 ..Span::default()
             };
-            vec![Diagnostic::new(
-                first,
-                format!("the scene could not be imported under these settings: {why}"),
-            )]
+            let message = if stale {
+                format!(
+                    "the scene file changed and could not be imported: {why}; the last \
+                     animation that built stays until it can"
+                )
+            } else {
+                format!("the scene could not be imported under these settings: {why}")
+            };
+            vec![Diagnostic::new(first, message)]
         })?;
+        *self.scene_file() = SceneFile {
+            path,
+            stamp: seen,
+            stale: false,
+        };
         let (scene, source, package) = (again.scene, again.source, again.package);
         *current = Arc::new(Imported {
             scene,
@@ -371,6 +429,32 @@ impl Live {
             key,
         });
         Ok(Arc::clone(&current))
+    }
+
+    fn scene_file(&self) -> MutexGuard<'_, SceneFile> {
+        self.scene_file.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// Imports the scene again when its file changed since it was last imported (or
+    /// since the last look, while it cannot be), and builds the current text on it: the
+    /// art saved again in its design tool shows in the page. A scene deleted or broken
+    /// meanwhile leaves the last animation that built, with a diagnostic saying why.
+    fn follow_scene(&self) {
+        {
+            let mut file = self.scene_file();
+            let Some(path) = file.path.as_deref() else {
+                return;
+            };
+            let now = stamp(path);
+            if now == file.stamp {
+                return;
+            }
+            file.stamp = now;
+            file.stale = true;
+        }
+        let text = self.text();
+        // Through `apply` with the text it already has: forced, as only the scene changed.
+        let _ = self.apply_forced(text);
     }
 
     /// The current version.
@@ -602,6 +686,7 @@ impl Live {
     pub fn watch(&self) -> ! {
         loop {
             std::thread::sleep(Duration::from_millis(300));
+            self.follow_scene();
             let now = stamp(&self.grammar_path);
             if now.is_none() || now == self.lock().stamp {
                 continue;
