@@ -184,6 +184,34 @@ try {
   await page.getByRole('button', { name: 'Save' }).click();
   await page.waitForFunction(() => /saved \//.test(document.getElementById('status').textContent));
 
+  // A dropped connection: an edit made while the studio does not answer stays in the page
+  // and reaches the server once it answers; a paste past 4 MiB is refused, said, and kept.
+  const pageServerText = async () => (await page.request.get(url.replace('/?', '/api/grammar?'))).text();
+  const pageServerHas = async (text) => {
+    for (let i = 0; i < 50 && await pageServerText() !== text; i++) await page.waitForTimeout(100);
+    return await pageServerText() === text;
+  };
+  const statusSays = (re) => page.waitForFunction((re) => new RegExp(re).test(document.getElementById('status').textContent), re.source, { timeout: 8000 })
+    .then(() => true, () => false);
+  const online = await editor.inputValue();
+  await page.route('**/api/**', (route) => route.abort());
+  const offline = online + '# written while the studio did not answer\n';
+  await editor.fill(offline);
+  const said = await statusSays(/not answering/);
+  await page.waitForTimeout(1500);
+  const keptOffline = await editor.inputValue() === offline;
+  await page.unroute('**/api/**');
+  check(said && keptOffline && await pageServerHas(offline),
+    `an edit made while the studio did not answer is said, kept and sent once it answers (said ${said}, kept ${keptOffline})`);
+  const huge = offline + '#' + 'x'.repeat(4 << 20) + '\n';
+  await editor.fill(huge);
+  const refused = await statusSays(/not applied: .*4 MiB/);
+  await page.waitForTimeout(1500);
+  check(refused && (await editor.inputValue()).length === huge.length && await pageServerText() === offline,
+    `a paste past 4 MiB is refused with a message and stays in the page (said ${refused})`);
+  await editor.fill(offline);
+  check(await pageServerHas(offline), 'the text made small again is taken');
+
   // Variations: every cell drawn, twenty loads in a row.
   let blank = 0;
   for (let i = 0; i < 20; i++) {
