@@ -279,6 +279,37 @@ try {
   await toy.waitForTimeout(300);
   check(!/^0\.000 /.test(playing) && paused === await readout(), `Space plays and pauses (${playing} → ${paused})`);
 
+  // Zoom: twice in by the buttons, the tracks 4× as wide about the middle (the boundary
+  // at 3 s of 6 stays put), a click on the zoomed ruler seeking the time under it,
+  // Ctrl+wheel keeping the time under the mouse, fit going back.
+  const edgeX = async () => {
+    const b = await toy.getByRole('slider', { name: 'boundary 0 of s#0' }).boundingBox();
+    return b.x + b.width / 2;
+  };
+  const fitX = await edgeX();
+  await toy.getByRole('button', { name: 'zoom in' }).click();
+  await toy.getByRole('button', { name: 'zoom in' }).click();
+  const rbz = await ruler.boundingBox();
+  check(Math.abs(rbz.width / rb.width - 4) < 0.02, `zoom in twice draws the tracks 4× as wide (${(rbz.width / rb.width).toFixed(3)}×)`);
+  const zoomedX = await edgeX();
+  if (shots) await toy.locator('#timeline').screenshot({ path: join(shots, 'studio-zoom.png') });
+  check(Math.abs(zoomedX - fitX) < 1.5, `zooming about the middle keeps the time there in place (boundary at ${fitX.toFixed(1)} → ${zoomedX.toFixed(1)} px)`);
+  await toy.mouse.click(zoomedX + 100, rb.y + rb.height / 2);
+  const wanted = 3 + 100 / rbz.width * 6;
+  const got = parseFloat(await readout());
+  check(Math.abs(got - wanted) < 0.01, `a click on the zoomed ruler seeks the time under it (${got} s, ${wanted.toFixed(3)} s wanted)`);
+  const rowsTop = (await toy.locator('#rows').boundingBox()).y;
+  await toy.mouse.move(zoomedX, rowsTop + 5);
+  await toy.keyboard.down('Control');
+  await toy.mouse.wheel(0, -300);
+  await toy.keyboard.up('Control');
+  await toy.waitForTimeout(200);
+  const wheelX = await edgeX();
+  const level = await toy.textContent('#zoom-level');
+  check(Math.abs(wheelX - zoomedX) < 1.5 && parseFloat(level) > 4, `Ctrl+wheel zooms about the mouse (${level}; boundary ${zoomedX.toFixed(1)} → ${wheelX.toFixed(1)} px)`);
+  await toy.getByRole('button', { name: 'fit the timeline' }).click();
+  check(Math.abs(await edgeX() - fitX) < 1 && await toy.textContent('#zoom-level') === '1×', 'fit shows the whole duration again');
+
   // Drag the square's boundary from 3 s to 2.4 s: the first split's fractions follow.
   const edgeBox = await toy.getByRole('slider', { name: 'boundary 0 of s#0' }).boundingBox();
   const track = await toy.locator('#rows .row', { hasText: 's#0' }).locator('.track').boundingBox();
