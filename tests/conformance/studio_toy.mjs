@@ -6,8 +6,9 @@
 // form's fields: the duration, the split into a slice and its inverted twin, the eased move,
 // the second split, the scale and the staggered rotate-and-scale. The saved grammar must
 // pass `gmotion check`, and its frames at five times must be the very pixels of
-// grammars/toy.gm's (both drawn by `gmotion animate … --time T`). Exits 1 on the first
-// failed check.
+// grammars/toy.gm's (both drawn by `gmotion animate … --time T`). Then a spatial rule
+// written with the form cuts the background into two pieces. Exits 1 on the first failed
+// check.
 import { spawn, spawnSync } from 'node:child_process';
 import { mkdtempSync, readFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
@@ -59,7 +60,9 @@ try {
   // grammar it refuses (the form must write only what it accepts).
   const built = async (what) => {
     version += 1;
-    await page.waitForFunction((v) => new RegExp('version ' + v + ' ').test(document.getElementById('status').textContent), version);
+    // Built (the version moves) or refused (its diagnostics shown): either ends the wait.
+    await page.waitForFunction((v) => new RegExp('version ' + v + ' ').test(document.getElementById('status').textContent)
+      || document.querySelector('#diagnostics .diagnostic'), version);
     const diag = (await page.textContent('#diagnostics')).trim();
     check(/no problems/.test(diag), `${what} builds (${diag.split('\n')[0]})`);
   };
@@ -157,6 +160,22 @@ try {
     const same = a.status === 0 && b.status === 0 && readFileSync(ours).equals(readFileSync(theirs));
     check(same, `the frame at ${t} s is grammars/toy.gm's ${a.stderr.trim()} ${b.stderr.trim()}`);
   }
+  // A spatial rule with the form: the background outlined into an inside and a ring, each
+  // operator's example arguments filled in when it is chosen.
+  const shapesBefore = await page.evaluate(() => S.shapes.length);
+  await kind.selectOption('spatial');
+  check(await field('slice').isDisabled(), 'a spatial rule has no slice to fill');
+  await form.getByRole('combobox', { name: 'operator', exact: true }).selectOption('outline');
+  check(await field('arguments').inputValue() === '25' && await field("pieces' tags").inputValue() === 'inside, ring',
+    'choosing an operator fills in its example arguments and output tags');
+  await field('shapes').fill('background');
+  await field('arguments').fill('10');
+  await insert.click();
+  await built('the spatial rule');
+  const shapesAfter = await page.evaluate(() => S.shapes.length);
+  const text = await page.getByRole('textbox', { name: 'grammar' }).inputValue();
+  check(/^outline\(10\) : background -> \[inside, ring\]$/m.test(text) && +shapesAfter === +shapesBefore + 1,
+    `the form wrote the spatial rule and the background became two pieces (${shapesBefore} → ${shapesAfter} shapes)`);
   check(errors.length === 0, `no script errors ${errors.join('; ')}`);
 } finally {
   await browser.close();
