@@ -118,22 +118,26 @@ impl GrammarFile {
         let s = &self.settings;
         let fps_flag = fps.is_some();
         let fps = fps.unwrap_or(s.fps);
-        // The directive to point at: the frame rate when the grammar sets an unusually high
-        // one, else the duration (a `--fps` flag has no place in the file).
-        let culprit = if !fps_flag && fps > 240.0 {
-            "fps"
+        // What to blame: an unusually high frame rate where it was set (the `--fps` flag,
+        // which has no place in the file, or the grammar's `fps`), else the duration.
+        let what = if fps_flag && fps > 240.0 {
+            let written = self.grammar.directives.iter().any(|d| d.name == "duration");
+            let duration = if written {
+                format!("the duration {}s ({})", short(s.duration), self.at("duration"))
+            } else {
+                format!("the default duration {}s", short(s.duration))
+            };
+            format!("--fps {} with {duration}", short(fps))
         } else {
-            "duration"
-        };
-        limits.check_frames(
-            s.duration * fps,
-            &format!(
+            let culprit = if fps > 240.0 { "fps" } else { "duration" };
+            format!(
                 "{}: error: duration {}s at {} fps",
                 self.at(culprit),
                 short(s.duration),
                 short(fps)
-            ),
-        )?;
+            )
+        };
+        limits.check_frames(s.duration * fps, &what)?;
         let steps = limits.get("steps");
         if !max_steps_given && s.max_steps as u64 > steps {
             return Err(Error::msg(format!(
