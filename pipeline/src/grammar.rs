@@ -123,7 +123,11 @@ impl GrammarFile {
         let what = if fps_flag && fps > 240.0 {
             let written = self.grammar.directives.iter().any(|d| d.name == "duration");
             let duration = if written {
-                format!("the duration {}s ({})", short(s.duration), self.at("duration"))
+                format!(
+                    "the duration {}s ({})",
+                    short(s.duration),
+                    self.at("duration")
+                )
             } else {
                 format!("the default duration {}s", short(s.duration))
             };
