@@ -282,18 +282,85 @@ pub fn over_source(
     }
     with_markers(&mut json, &opts.markers, ip, fr);
     if opts.slots.any() {
-        // The source's paints are its own properties, shared and keyed as its author made
-        // them, not the units' colours this exporter writes: slots for them would need
-        // the tags mapped onto those properties, which is not done.
-        warnings.push(Warning::from(
-            "slots are not written on a Lottie source's shapes: export from the SVG, or add `sid`s in the source"
-                .to_string(),
-        ));
+        for (u, shape) in anim.scene.shapes.iter().enumerate() {
+            let unit = &source.units[u];
+            let part = unit
+                .part
+                .and_then(|k| unit.layers.first().map(|&li| moved(li, k)));
+            mark_slots(
+                &mut json,
+                unit.layers.first().copied(),
+                part,
+                &shape.tag,
+                opts.slots,
+            );
+        }
+        warnings.extend(
+            crate::slots::write(&mut json)
+                .into_iter()
+                .map(Warning::from),
+        );
     }
     if opts.pack {
         crate::pack::pack(&mut json);
     }
     Ok((json.to_string(), warnings))
+}
+
+/// Marks the paints of one unit of a Lottie source for [`crate::slots::write`]: the solid
+/// fills and strokes of its layer `li` (of its top-level item `part` alone for a part),
+/// however deep in groups, and its layer's opacity (a whole layer only: a part's opacity
+/// is no property of its own). A precomposition's content is shared by every layer that
+/// shows it, so only its layer's opacity is marked. Tags whose units' properties differ
+/// are then refused by `slots::write`, with a warning, as for an SVG scene.
+fn mark_slots(
+    json: &mut Json,
+    li: Option<usize>,
+    part: Option<usize>,
+    tag: &str,
+    kinds: gmotion::engine::slots::SlotKinds,
+) {
+    let Some(layer) = li
+        .and_then(|li| json.get_mut("layers")?.get_mut(li))
+        .and_then(Json::as_object_mut)
+    else {
+        return;
+    };
+    if kinds.opacity && part.is_none() {
+        layer.insert(
+            crate::slots::MARK.into(),
+            serde_json::json!([format!("{tag}.opacity"), false]),
+        );
+    }
+    let Some(shapes) = layer.get_mut("shapes").and_then(Json::as_array_mut) else {
+        return;
+    };
+    let items: &mut [Json] = match part {
+        Some(k) => shapes.get_mut(k..=k).unwrap_or_default(),
+        None => shapes,
+    };
+    fn paint(item: &mut Json, tag: &str, kinds: gmotion::engine::slots::SlotKinds) {
+        let Some(o) = item.as_object_mut() else {
+            return;
+        };
+        let kind = match o.get("ty").and_then(Json::as_str) {
+            Some("fl") if kinds.fill => Some("fill"),
+            Some("st") if kinds.stroke => Some("stroke"),
+            _ => None,
+        };
+        if let Some(kind) = kind
+            && o.contains_key("c")
+        {
+            o.insert(
+                crate::slots::MARK.into(),
+                Json::String(format!("{tag}.{kind}")),
+            );
+        }
+        if let Some(it) = o.get_mut("it").and_then(Json::as_array_mut) {
+            it.iter_mut().for_each(|i| paint(i, tag, kinds));
+        }
+    }
+    items.iter_mut().for_each(|i| paint(i, tag, kinds));
 }
 
 /// A shape layer's top-level styles (fills, strokes, gradients) moved into copies inside
