@@ -641,6 +641,10 @@ def all_cases():
     tr, tr_left = cover(TR_DIMS, TR_CASES, SEED + 1)
     cases = []
     for i, c in enumerate(gm):
+        # One case in four is exported with `--pack` (runs of plain shape layers as one
+        # layer of groups), so that the players judge that path across the language too.
+        # Set after the covering design, which it leaves as it was.
+        c["pack"] = "yes" if i % 4 == 3 else "no"
         cases.append({"name": f"gm-{i:04d}", "family": "gm", "dims": c})
     for i, c in enumerate(tr):
         cases.append({"name": f"tr-{i:04d}", "family": "tr", "dims": c})
@@ -737,7 +741,7 @@ def export(case, out, gm):
         with open(src, "w", encoding="utf-8") as f:
             f.write(grammar(dims))
         pre = [gm] + (font_args() if text else [])
-        base = pre + ["animate", scene, src]
+        base = pre + ["animate", scene, src] + (["--pack"] if dims.get("pack") == "yes" else [])
     elif case["family"] == "tr":
         scene = os.path.join(d, "scene.svg")
         with open(scene, "w", encoding="utf-8") as f:
