@@ -562,6 +562,8 @@ fn all_cases() -> Vec<Case> {
         ),
         Case::new("unknown limit", "convert {d}/scene.svg -o {d}/out.png --limit wombats=3", &["unknown limit `wombats`", "frames"], "out.png"),
         Case::new("input-bytes limit", "convert {d}/scene.svg -o {d}/out.png --limit input-bytes=100", &["scene.svg", "limit of 100 bytes", "input-bytes"], "out.png"),
+        // The picture's size comes from the file: the import says where, the renderer refuses.
+        scene_case("canvas of 1e9 px", br#"<svg xmlns="http://www.w3.org/2000/svg" width="1e9" height="100"><rect data-tag="s" width="10" height="10"/></svg>"#, &["scene.svg: warning: <svg> (line 1): its canvas, 1000000000 × 100 px, has 100000000000 pixels", "--limit pixels=N"]),
         scene_case("200 000 CSS rules", &css_bomb(), &["scene.svg", "2:1:", "10000 CSS rules", "css-rules"]),
         Case::new("path-segments limit", "convert {d}/scene.svg -o {d}/out.png --limit path-segments=1000", &["scene.svg", "3:3:", "limit of 1000 segments", "--limit path-segments=N"], "out.png")
             .file("scene.svg", format!("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"100\" height=\"100\">\n  <path d=\"M0 0{}\"/>\n  <path d=\"M0 0{}\"/>\n</svg>", " L1 1".repeat(600), " 2 2".repeat(600))),

@@ -183,6 +183,7 @@ impl Limits {
             max_text_spans: self.get("text-spans"),
             max_baked_pixels: self.get("filter-pixels"),
             max_image_pixels: self.get("image-pixels"),
+            max_canvas_pixels: self.get("pixels"),
         }
     }
 

@@ -91,6 +91,21 @@ pub(super) fn convert<'s>(
         }
         _ => c.children(top, &mut root, ctx),
     }
+    // Sides as every output rounds them (`gmotion::canvas::pixels`).
+    let (w, h) = (
+        gmotion::canvas::pixels(f64::from(tree.size().width())),
+        gmotion::canvas::pixels(f64::from(tree.size().height())),
+    );
+    let canvas_pixels = u64::from(w) * u64::from(h);
+    if canvas_pixels > policy.max_canvas_pixels {
+        c.warn(
+            Some(root_elem.id()),
+            &format!(
+                "its canvas, {w} × {h} px, has {canvas_pixels} pixels, more than the limit of {}: a PNG, GIF, APNG or video at the canvas's size is refused (give --width or --height, or raise --limit pixels=N)",
+                policy.max_canvas_pixels
+            ),
+        );
+    }
     for e in filters::unread_css_filters(&src.doc) {
         c.warn(
             Some(e.id()),

@@ -115,6 +115,11 @@ pub struct Policy {
     /// `--limit image-pixels=N`): decoding allocates them all, so a few hundred bytes of
     /// PNG can ask for a hundred gigabytes. A larger image is dropped with a warning.
     pub max_image_pixels: u64,
+    /// Most pixels a picture of the canvas at its own size may have (the `pixels` limit,
+    /// `--limit pixels=N`): a larger canvas is warned about at its `<svg>` element, where
+    /// the file sets the size, since a PNG, GIF or video at that size is refused later by
+    /// the renderer, which knows the output but not the file.
+    pub max_canvas_pixels: u64,
     /// Fonts besides the system's, and the family a text in a missing font is drawn in
     /// (`--font-dir`, `--font-file`, `--font-family`).
     pub fonts: fonts::FontOptions,
@@ -134,6 +139,7 @@ impl Default for Policy {
             max_text_spans: MAX_TEXT_SPANS,
             max_baked_pixels: MAX_BAKED_PIXELS,
             max_image_pixels: gmotion::scene::DEFAULT_MAX_IMAGE_PIXELS,
+            max_canvas_pixels: gmotion::scene::DEFAULT_MAX_IMAGE_PIXELS,
             fonts: fonts::FontOptions::default(),
         }
     }
