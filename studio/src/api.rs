@@ -151,6 +151,13 @@ fn route(ctx: &Ctx, request: &Request) -> Reply {
             "unsaved": live.unsaved(),
             "conflict": live.conflict(),
         })),
+        ("GET", "/layers") => {
+            let good = live.good();
+            Reply::json(&json!({
+                "version": live.version(),
+                "layers": crate::layers::layers_json(&good.rendered.anim.scene),
+            }))
+        }
         ("GET", "/grammar") => Reply::ok("text/plain; charset=utf-8", live.text()),
         ("PUT", "/grammar") => {
             // The server refuses bodies over `http::MAX_BODY` (4 MiB) before this.
@@ -336,7 +343,7 @@ fn route(ctx: &Ctx, request: &Request) -> Reply {
         ("GET", "/export/html") => export(live, &live.good(), "html", 0.0, Some("preview.html")),
         (
             _,
-            "/state" | "/status" | "/grammar" | "/save" | "/resolve" | "/retime" | "/offset"
+            "/state" | "/status" | "/layers" | "/grammar" | "/save" | "/resolve" | "/retime" | "/offset"
             | "/value" | "/rules" | "/boxes" | "/lottie" | "/smil" | "/frame.png",
         ) => Reply::error(405, "method not allowed"),
         _ => Reply::error(404, "no such API route"),
