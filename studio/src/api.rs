@@ -376,3 +376,27 @@ fn export(
         Err(e) => Reply::error(422, &e),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::PAGE;
+
+    /// The page highlights the directives by name; its list is the grammar's.
+    #[test]
+    fn the_page_highlights_the_grammars_directives() {
+        let start = PAGE
+            .find("const DIRECTIVES = [")
+            .expect("the page lists the directives");
+        let list = &PAGE[start + "const DIRECTIVES = [".len()..];
+        let list = &list[..list.find(']').expect("the list ends")];
+        let page: Vec<&str> = list
+            .split(',')
+            .map(|name| name.trim().trim_matches('"'))
+            .collect();
+        let grammar: Vec<&str> = gmotion::grammar::DIRECTIVES
+            .iter()
+            .map(|d| d.name)
+            .collect();
+        assert_eq!(page, grammar);
+    }
+}

@@ -153,5 +153,7 @@ phase "preview: the page animate -o preview.html writes (tests/conformance/previ
 node "$here/preview.mjs" "$gm" || status=1
 phase "studio: the editor in Chromium (tests/conformance/studio_editor.mjs)"
 node "$here/studio_editor.mjs" "$gm" || status=1
+phase "studio: the code editor and layer tree (tests/conformance/studio_code.mjs)"
+node "$here/studio_code.mjs" "$gm" || status=1
 echo "conformance: $((SECONDS - start)) s"
 exit $status
