@@ -343,8 +343,8 @@ fn route(ctx: &Ctx, request: &Request) -> Reply {
         ("GET", "/export/html") => export(live, &live.good(), "html", 0.0, Some("preview.html")),
         (
             _,
-            "/state" | "/status" | "/layers" | "/grammar" | "/save" | "/resolve" | "/retime" | "/offset"
-            | "/value" | "/rules" | "/boxes" | "/lottie" | "/smil" | "/frame.png",
+            "/state" | "/status" | "/layers" | "/grammar" | "/save" | "/resolve" | "/retime"
+            | "/offset" | "/value" | "/rules" | "/boxes" | "/lottie" | "/smil" | "/frame.png",
         ) => Reply::error(405, "method not allowed"),
         _ => Reply::error(404, "no such API route"),
     }
