@@ -138,8 +138,12 @@ fn flatten(item: &Item, depth: usize, out: &mut Vec<Value>) -> Vec<usize> {
         shapes.extend(flatten(child, depth + 1, out));
     }
     shapes.sort_unstable();
+    // Illustrator escapes a layer's name into its id (`Layer_x0020_1`): the name as the
+    // designer wrote it goes beside the id.
+    let label = item.name.as_deref().and_then(gmotion::tagging::unescape_id);
     out[at] = json!({
         "name": item.name,
+        "label": label,
         "shape": item.shape,
         "depth": depth,
         "end": out.len(),
@@ -148,8 +152,9 @@ fn flatten(item: &Item, depth: usize, out: &mut Vec<Value>) -> Vec<usize> {
     shapes
 }
 
-/// `scene`'s layer tree as `[{name, shape, depth, end, shapes}]` in pre-order (see
-/// `docs/studio.md`, "The API"): `name` a group's id (`null` for a unit), `shape` the
+/// `scene`'s layer tree as `[{name, label, shape, depth, end, shapes}]` in pre-order (see
+/// `docs/studio.md`, "The API"): `name` a group's id (`null` for a unit), `label` the
+/// name an escaped id spells (`null` without an escape), `shape` the
 /// unit's index in `/api/state`'s `shapes` (`null` for a group), `end` the index after
 /// the entry's subtree, `shapes` every unit the entry selects (`null` for a leaf).
 pub(crate) fn layers_json(scene: &Scene) -> Value {
@@ -221,8 +226,20 @@ mod tests {
             ]
         );
         assert_eq!(layers[0]["shapes"], json!([0, 1, 2]));
+        assert!(layers[0]["label"].is_null());
         assert_eq!(layers[3]["shapes"], json!([2]));
         assert!(layers[1]["shapes"].is_null());
+    }
+
+    #[test]
+    fn an_escaped_id_gives_the_name_it_spells() {
+        let s = scene(
+            r#"<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100">
+              <g id="Layer_x0020_1"><rect x="1" y="1" width="5" height="5"/></g></svg>"#,
+        );
+        let layers = layers_json(&s);
+        assert_eq!(layers[0]["name"], "Layer_x0020_1");
+        assert_eq!(layers[0]["label"], "Layer 1");
     }
 
     #[test]
