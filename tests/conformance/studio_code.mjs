@@ -38,7 +38,8 @@ writeFileSync(join(dir, 'face.svg'), `<svg xmlns="http://www.w3.org/2000/svg" wi
 const header = 'scene face.svg\nduration 2s  # two seconds\n'
   + Array.from({ length: 120 }, (_, i) => `# note ${i + 1}: the rules come after the notes`).join('\n') + '\n';
 const rules = 'timesplit(0.5, 0.5) : [all, all] -> [a, inv_a]\n'
-  + 'animate(fill, local, 0, #ff0000, ease=ease-out) : [a, eyes] -> [red]  // the eyes go red\n';
+  + 'animate(fill, local, 0, #ff0000, ease=ease-out) : [a, eyes] -> [red]  // the eyes go red\n'
+  + 'animate(affine, local, 0.1 * id, rotate(90) scale(1.2), ease=cubic(0.3, 0, 0.2, 1)) : [a, (mouth, sky)] -> [spin]\n';
 const good = header + rules;
 writeFileSync(join(dir, 'face.gm'), good);
 const GROUPS = 8, PER = 1000;
@@ -121,7 +122,7 @@ try {
   };
   // Both drawn in black, without underlines, so only where the glyphs fall differs.
   await editor.evaluate((g) => { g.scrollTop = 0; g.scrollLeft = 0; g.blur(); });
-  const plain = await page.addStyleTag({ content: '#highlight, #highlight span { color: #000 !important; text-decoration: none !important; box-shadow: none !important; }' });
+  const plain = await page.addStyleTag({ content: '#highlight, #highlight span { color: #000 !important; text-decoration: none !important; background: none !important; }' });
   await page.waitForTimeout(150);
   const layer = await ink();
   const own = await page.addStyleTag({ content: '#grammar { color: #000 !important; } #highlight { visibility: hidden; }' });
@@ -141,20 +142,20 @@ try {
     for (const s of document.querySelectorAll('#highlight span')) if (!(s.textContent in out)) out[s.textContent] = s.className;
     return out;
   });
-  const want = { timesplit: 't-kw', '0.5': 't-num', eyes: 't-tag', '->': 't-op', '#ff0000': 't-col', ease: 't-param', '// the eyes go red': 't-com' };
+  const want = { timesplit: 't-kw', '0.5': 't-num', eyes: 't-tag', '->': 't-op', '#ff0000': 't-col', ease: 't-param', '// the eyes go red': 't-com', rotate: 't-fn' };
   const wrong = Object.entries(want).filter(([k, v]) => classes[k] !== v);
+  if (shots) await page.locator('#editor').screenshot({ path: join(shots, 'studio-code.png') });
   await editor.evaluate((g) => { g.scrollTop = 0; });
   await page.waitForTimeout(150);
   const top = await page.evaluate(() => Object.fromEntries([...document.querySelectorAll('#highlight .hl:first-child span, #highlight .hl:nth-child(2) span')].map((s) => [s.textContent, s.className])));
   if (top.scene !== 't-dir') wrong.push(['scene', top.scene]);
   if (top['face.svg'] !== 't-path') wrong.push(['face.svg', top['face.svg']]);
   if (top['# two seconds'] !== 't-com') wrong.push(['# two seconds', top['# two seconds']]);
-  check(wrong.length === 0, `tokens highlighted by class: rule head, number, tag, arrow, colour, named argument, comments, directive, path ${JSON.stringify(wrong)}`);
-  if (shots) await page.locator('#editor').screenshot({ path: join(shots, 'studio-code.png') });
+  check(wrong.length === 0, `tokens highlighted by class: rule head, number, tag, arrow, colour, named argument, comments, function, directive, path ${JSON.stringify(wrong)}`);
 
   // One injected error: marked on its line, its help on hover and at the caret.
   const typo = good.replace('animate(fill', 'animate(fil');
-  const typoLine = typo.split('\n').findIndex((l) => l.includes('animate(fil')) + 1;
+  const typoLine = typo.split('\n').findIndex((l) => l.includes('animate(fil,')) + 1;
   await editor.fill(typo);
   await page.waitForSelector('#diagnostics .diagnostic');
   await editor.evaluate((g) => { g.scrollTop = g.scrollHeight; });
