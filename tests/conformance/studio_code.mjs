@@ -240,6 +240,13 @@ try {
   const after = await page.evaluate(() => [selected, [...document.querySelectorAll('#layer-rows .layer.sel')].map((e) => +e.dataset.i)]);
   check(after[0] >= 0 && after[1].length === 1 && after[1][0] === after[0] && await page.$$eval('#overlay .box.sel.group', (b) => b.length) === 0,
     `a shape clicked in the preview leaves the group and is the one selected in the tree (#${after[1]})`);
+  // A press where nothing is drawn leaves a chosen group too.
+  await item('eyes').click();
+  const chosenBoxes = await page.$$eval('#overlay .box.sel.group', (b) => b.length);
+  await page.mouse.click(stage.x + stage.width * 20 / 400, stage.y + stage.height * 135 / 200);
+  await page.waitForTimeout(300);
+  const left = await page.evaluate(() => [document.querySelectorAll('#overlay .box.sel.group').length, document.querySelectorAll('#layer-rows .layer.sel').length]);
+  check(chosenBoxes === 2 && left[0] === 0 && left[1] === 0, `a press on nothing in the preview leaves the group (${chosenBoxes} boxes, then ${left[0]})`);
 
   // A 4 MiB paste: the editor draws the lines in view only (measured, not checked).
   const big = await page.evaluate(async () => {
