@@ -1,9 +1,10 @@
 //! The layer tree the page's shape list shows (`GET /api/layers`): the scene's own
 //! hierarchy, with the names the importer kept.
 //!
-//! An SVG scene keeps its groups in the node tree with their ids (synthetic ids dropped),
-//! so a named group holding units becomes a branch and an unnamed one is looked through
-//! (its units join the branch around it, as a designer never named it). A Lottie scene's
+//! An SVG scene keeps its groups in the node tree with their ids (synthetic ids dropped)
+//! and labels (`inkscape:label`, `data-name`), so a named group holding units becomes a
+//! branch and an unnamed one is looked through (its units join the branch around it, as
+//! a designer never named it). A Lottie scene's
 //! units are its layers, flat in the tree (each drawn at its world transform), and its
 //! hierarchy is the parenting the importer records as the names a unit follows
 //! ([`Shape::inherited`]): a unit whose nearest parent layer is another unit (a drawing or
@@ -17,8 +18,11 @@ use serde_json::{Value, json};
 
 /// A branch or leaf before it is flattened.
 struct Item {
-    /// The group's id, or `None` for a unit.
+    /// The group's id (its label when it has none), or `None` for a unit.
     name: Option<String>,
+    /// The name the designer gave the group besides its id: its label, or the name an
+    /// escaped id spells.
+    label: Option<String>,
     /// The unit this item is (a Lottie parent layer is both a unit and a branch).
     shape: Option<usize>,
     children: Vec<Item>,
@@ -32,6 +36,7 @@ fn items(g: &Group) -> Vec<Item> {
         if let Some(unit) = child.unit() {
             out.push(Item {
                 name: None,
+                label: None,
                 shape: Some(unit),
                 children: Vec::new(),
             });
@@ -42,11 +47,24 @@ fn items(g: &Group) -> Vec<Item> {
         if under.is_empty() {
             continue;
         }
-        if inner.id.is_empty() {
+        let label = inner.label.trim();
+        if inner.id.is_empty() && label.is_empty() {
             out.extend(under);
         } else {
+            let name = if inner.id.is_empty() {
+                label
+            } else {
+                &inner.id
+            };
+            // Illustrator escapes a layer's name into its id (`Layer_x0020_1`): the name
+            // as the designer wrote it goes beside the id.
+            let label = Some(label.to_string())
+                .filter(|l| !l.is_empty())
+                .or_else(|| gmotion::tagging::unescape_id(&inner.id))
+                .filter(|l| l != name);
             out.push(Item {
-                name: Some(inner.id.clone()),
+                name: Some(name.to_string()),
+                label,
                 shape: None,
                 children: under,
             });
@@ -115,6 +133,7 @@ fn nest(top: Vec<Item>, up: &[Option<usize>]) -> Vec<Item> {
     fn grow(i: usize, kids: &[Vec<usize>]) -> Item {
         Item {
             name: None,
+            label: None,
             shape: Some(i),
             children: kids[i].iter().map(|&k| grow(k, kids)).collect(),
         }
@@ -138,12 +157,9 @@ fn flatten(item: &Item, depth: usize, out: &mut Vec<Value>) -> Vec<usize> {
         shapes.extend(flatten(child, depth + 1, out));
     }
     shapes.sort_unstable();
-    // Illustrator escapes a layer's name into its id (`Layer_x0020_1`): the name as the
-    // designer wrote it goes beside the id.
-    let label = item.name.as_deref().and_then(gmotion::tagging::unescape_id);
     out[at] = json!({
         "name": item.name,
-        "label": label,
+        "label": item.label,
         "shape": item.shape,
         "depth": depth,
         "end": out.len(),
@@ -153,8 +169,9 @@ fn flatten(item: &Item, depth: usize, out: &mut Vec<Value>) -> Vec<usize> {
 }
 
 /// `scene`'s layer tree as `[{name, label, shape, depth, end, shapes}]` in pre-order (see
-/// `docs/studio.md`, "The API"): `name` a group's id (`null` for a unit), `label` the
-/// name an escaped id spells (`null` without an escape), `shape` the
+/// `docs/studio.md`, "The API"): `name` a group's id (its label without one; `null` for
+/// a unit), `label` the designer's other name for it (an Inkscape label, a `data-name`,
+/// the name an escaped id spells; `null` without one), `shape` the
 /// unit's index in `/api/state`'s `shapes` (`null` for a group), `end` the index after
 /// the entry's subtree, `shapes` every unit the entry selects (`null` for a leaf).
 pub(crate) fn layers_json(scene: &Scene) -> Value {
@@ -173,6 +190,7 @@ pub(crate) fn layers_json(scene: &Scene) -> Value {
     for (i, _) in seen.iter().enumerate().filter(|(_, s)| !**s) {
         let leaf = Item {
             name: None,
+            label: None,
             shape: Some(i),
             children: Vec::new(),
         };
@@ -240,6 +258,31 @@ mod tests {
         let layers = layers_json(&s);
         assert_eq!(layers[0]["name"], "Layer_x0020_1");
         assert_eq!(layers[0]["label"], "Layer 1");
+    }
+
+    #[test]
+    fn labels_name_groups_beside_their_ids() {
+        let s = scene(
+            r#"<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape" width="100" height="100">
+              <g id="layer1" inkscape:label="Background" inkscape:groupmode="layer"><rect x="1" y="1" width="5" height="5"/></g>
+              <g id="Left_Arm" data-name="Left Arm"><rect x="10" y="1" width="5" height="5"/></g>
+              <g id="plain"><rect x="20" y="1" width="5" height="5"/></g></svg>"#,
+        );
+        let layers = layers_json(&s);
+        let named: Vec<(&str, Option<&str>)> = layers
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter_map(|e| Some((e["name"].as_str()?, e["label"].as_str())))
+            .collect();
+        assert_eq!(
+            named,
+            vec![
+                ("layer1", Some("Background")),
+                ("Left_Arm", Some("Left Arm")),
+                ("plain", None),
+            ]
+        );
     }
 
     #[test]

@@ -7,7 +7,7 @@
 // marked on its line (gutter and squiggle) with its help shown on hover and at the caret;
 // clicking a diagnostic puts the caret on its place; three independent errors give three
 // marks, on the lines `gmotion check` names; the layer tree of a grouped SVG (its group
-// ids nested), collapsed and expanded by mouse and keys, a group selected in the
+// ids nested, a data-name shown with its id beside it), collapsed and expanded by mouse and keys, a group selected in the
 // preview, the timeline and the rule form; 8000 shapes in the tree, every one reachable
 // with a few dozen rows in the page. Prints (does not check) how long a 4 MiB paste takes
 // to draw. With $STUDIO_SHOTS set to a folder, saves the screenshots docs/studio.md shows.
@@ -32,7 +32,7 @@ writeFileSync(join(dir, 'face.svg'), `<svg xmlns="http://www.w3.org/2000/svg" wi
     <g id="eyes"><circle id="eye_l" cx="160" cy="60" r="12" fill="#222"/><circle id="eye_r" cx="240" cy="60" r="12" fill="#222"/></g>
     <rect id="mouth" x="160" y="100" width="80" height="12" fill="#c92a2a"/>
   </g>
-  <g id="ground"><rect id="grass" x="0" y="150" width="400" height="20" fill="#2b8a3e"/><rect id="soil" x="0" y="170" width="400" height="30" fill="#795548"/></g>
+  <g id="ground" data-name="the ground"><rect id="grass" x="0" y="150" width="400" height="20" fill="#2b8a3e"/><rect id="soil" x="0" y="170" width="400" height="30" fill="#795548"/></g>
 </svg>`);
 // A long grammar: 120 lines of comment before the rules, so the box scrolls.
 const header = 'scene face.svg\nduration 2s  # two seconds\n'
@@ -205,9 +205,10 @@ try {
   const tree = page.getByRole('tree', { name: 'layers' });
   const item = (name) => tree.getByRole('treeitem', { name, exact: true });
   await item('face').waitFor();
-  const levels = await Promise.all(['face', 'eyes', 'ground'].map((n) => item(n).getAttribute('aria-level')));
+  const levels = await Promise.all(['face', 'eyes', 'the ground'].map((n) => item(n).getAttribute('aria-level')));
+  const beside = await item('the ground').locator('.dim').textContent();
   const count = () => tree.getByRole('treeitem').count();
-  check(levels.join() === '1,2,1', `the tree shows the groups face > eyes and ground (levels ${levels})`);
+  check(levels.join() === '1,2,1' && /^ground · 2 shapes$/.test(beside), `the tree shows the groups face > eyes and "the ground" (its data-name; its id beside it: ${beside}) (levels ${levels})`);
   const open = await count();
   await item('face').locator('.twisty').click();
   const closed = await count();
