@@ -165,6 +165,10 @@ impl Node {
 pub struct Group {
     /// Element id (may be empty).
     pub id: String,
+    /// The name the designer gave the group besides its id (an Inkscape label, an
+    /// Illustrator `data-name`; may be empty): shown to people (the studio's layer tree),
+    /// never a name rules select by.
+    pub label: String,
     /// Transform relative to the parent.
     pub transform: Affine,
     /// Group opacity in `0..=1`.

@@ -240,7 +240,7 @@ enum Command {
         #[command(flatten)]
         import: ImportArgs,
     },
-    /// Open the studio: a local web editor (preview, timeline, shape list, grammar with
+    /// Open the studio: a local web editor (preview, timeline, layer tree, grammar with
     /// live diagnostics, rule creation, variations, export) served on 127.0.0.1; see
     /// docs/studio.md. Prints `studio: URL` first and runs until interrupted.
     #[command(

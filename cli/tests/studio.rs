@@ -426,6 +426,52 @@ fn a_lottie_scene_works_too() {
     assert!(lottie["layers"].as_array().is_some_and(|l| !l.is_empty()));
 }
 
+#[test]
+fn layers_give_the_scenes_groups_by_name() {
+    let dir = Studio::folder("layers");
+    let scene = dir.join("face.svg");
+    std::fs::write(
+        &scene,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="100" height="100">
+          <g id="face"><g id="eyes"><circle cx="30" cy="30" r="5"/><circle cx="70" cy="30" r="5"/></g>
+          <rect x="30" y="60" width="40" height="5"/></g><rect x="0" y="90" width="100" height="10"/></svg>"#,
+    )
+    .unwrap();
+    std::fs::write(dir.join("toy.gm"), "duration 1s\n").unwrap();
+    let s = Studio::start_on(dir, &scene);
+    let r = s.call("GET", "/api/layers", "");
+    assert_eq!(r.status, 200);
+    let body = r.json();
+    assert_eq!(body["version"], s.state()["version"]);
+    let rows: Vec<(Value, Value, Value)> = body["layers"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| (e["name"].clone(), e["depth"].clone(), e["shapes"].clone()))
+        .collect();
+    assert_eq!(
+        rows,
+        vec![
+            (json!("face"), json!(0), json!([0, 1, 2])),
+            (json!("eyes"), json!(1), json!([0, 1])),
+            (json!(null), json!(2), json!(null)),
+            (json!(null), json!(2), json!(null)),
+            (json!(null), json!(1), json!(null)),
+            (json!(null), json!(0), json!(null)),
+        ],
+        "{body}"
+    );
+    // The route needs the token like every other.
+    let refused = s.raw(
+        "GET",
+        "/api/layers",
+        &format!("127.0.0.1:{}", s.port),
+        None,
+        "",
+    );
+    assert_eq!(refused.status, 403);
+}
+
 /// Polls `/api/status` until `done` holds (10 s at most).
 fn wait_status(s: &Studio, what: &str, done: impl Fn(&Value) -> bool) -> Value {
     let start = Instant::now();

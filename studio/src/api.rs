@@ -151,6 +151,13 @@ fn route(ctx: &Ctx, request: &Request) -> Reply {
             "unsaved": live.unsaved(),
             "conflict": live.conflict(),
         })),
+        ("GET", "/layers") => {
+            let good = live.good();
+            Reply::json(&json!({
+                "version": live.version(),
+                "layers": crate::layers::layers_json(&good.rendered.anim.scene),
+            }))
+        }
         ("GET", "/grammar") => Reply::ok("text/plain; charset=utf-8", live.text()),
         ("PUT", "/grammar") => {
             // The server refuses bodies over `http::MAX_BODY` (4 MiB) before this.
@@ -362,8 +369,8 @@ fn route(ctx: &Ctx, request: &Request) -> Reply {
         ("GET", "/export/html") => export(live, &live.good(), "html", 0.0, Some("preview.html")),
         (
             _,
-            "/state" | "/status" | "/grammar" | "/save" | "/resolve" | "/retime" | "/offset"
-            | "/value" | "/rules" | "/boxes" | "/lottie" | "/smil" | "/frame.png",
+            "/state" | "/status" | "/layers" | "/grammar" | "/save" | "/resolve" | "/retime"
+            | "/offset" | "/value" | "/rules" | "/boxes" | "/lottie" | "/smil" | "/frame.png",
         ) => Reply::error(405, "method not allowed"),
         _ => Reply::error(404, "no such API route"),
     }
@@ -406,5 +413,29 @@ fn export(
             download,
         },
         Err(e) => Reply::error(422, &e),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::PAGE;
+
+    /// The page highlights the directives by name; its list is the grammar's.
+    #[test]
+    fn the_page_highlights_the_grammars_directives() {
+        let start = PAGE
+            .find("const DIRECTIVES = [")
+            .expect("the page lists the directives");
+        let list = &PAGE[start + "const DIRECTIVES = [".len()..];
+        let list = &list[..list.find(']').expect("the list ends")];
+        let page: Vec<&str> = list
+            .split(',')
+            .map(|name| name.trim().trim_matches('"'))
+            .collect();
+        let grammar: Vec<&str> = gmotion::grammar::DIRECTIVES
+            .iter()
+            .map(|d| d.name)
+            .collect();
+        assert_eq!(page, grammar);
     }
 }

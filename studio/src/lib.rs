@@ -17,6 +17,7 @@
 
 mod api;
 mod http;
+mod layers;
 mod live;
 mod offset;
 mod retime;

@@ -155,5 +155,7 @@ phase "studio: the editor in Chromium (tests/conformance/studio_editor.mjs)"
 node "$here/studio_editor.mjs" "$gm" || status=1
 phase "studio: the toy grammar recreated with the mouse and the form (tests/conformance/studio_toy.mjs)"
 node "$here/studio_toy.mjs" "$gm" || status=1
+phase "studio: the code editor and layer tree (tests/conformance/studio_code.mjs)"
+node "$here/studio_code.mjs" "$gm" || status=1
 echo "conformance: $((SECONDS - start)) s"
 exit $status

@@ -123,8 +123,8 @@ try {
   await page.waitForTimeout(300);
   const row = await page.$eval('#timeline .row.sel', (r) => r.querySelector('.name').textContent).catch(() => null);
   check(row === 's#0', `clicking a shape highlights its timeline row (${row})`);
-  const listed = await page.$eval('#shape-rows tr.sel', (r) => r.firstChild.textContent).catch(() => null);
-  check(listed === 's', 'and its line in the shape list');
+  const listed = await page.$eval('#layer-rows .layer.sel', (r) => r.getAttribute('aria-label')).catch(() => null);
+  check(listed === 's#0', `and its row in the layer tree (${listed})`);
 
   // Freeze the first variation, re-roll the others.
   await page.waitForSelector('#variations .cell');

@@ -488,8 +488,13 @@ impl<'s, 'a> Converter<'s, 'a> {
         if transparent {
             self.children(g, dst, inner);
         } else {
+            let label = elem
+                .and_then(|e| self.src.label_of(e))
+                .unwrap_or_default()
+                .to_string();
             let mut out = Group {
                 id,
+                label,
                 transform,
                 opacity,
                 clip_path,

@@ -819,6 +819,14 @@ impl<'a> Source<'a> {
         self.explicit(node, from, true)
     }
 
+    /// The name the designer gave `node` besides its id: its `inkscape:label`, else its
+    /// `data-name` (Illustrator's, when the id had to escape the name).
+    pub fn label_of<'s>(&'s self, node: Node<'s, 'a>) -> Option<&'s str> {
+        let nonempty = |v: Option<&'s str>| v.map(str::trim).filter(|v| !v.is_empty());
+        nonempty(node.attribute((INKSCAPE_NS, "label")))
+            .or_else(|| nonempty(node.attribute("data-name")))
+    }
+
     /// The explicit tag on `node`, reading `inkscape:label` only with `labels`.
     fn explicit<'s>(&'s self, node: Node<'s, 'a>, from: TagFrom, labels: bool) -> Option<&'s str> {
         if let Some(tag) = self.given.get(&node.id()).and_then(|g| g.tag.as_deref()) {

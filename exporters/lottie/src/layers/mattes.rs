@@ -101,6 +101,7 @@ pub(super) fn whiten(nodes: &[Node]) -> Vec<Node> {
         .filter_map(|n| match n {
             Node::Group(g) => Some(Node::Group(Group {
                 id: g.id.clone(),
+                label: g.label.clone(),
                 transform: g.transform,
                 opacity: 1.0,
                 clip_path: g.clip_path.clone(),
