@@ -642,6 +642,21 @@ mod tests {
         }
     }
 
+    /// Layers written over several runs make one list, in order, each once.
+    #[test]
+    fn runs_of_layers_join_into_one_list() {
+        let n = 2 * LAYERS_PER_WRITE as u32 + 1;
+        let parsed: serde_json::Value = serde_json::from_str(&text(document(n))).unwrap();
+        let names: Vec<&str> = parsed["layers"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|l| l["nm"].as_str().unwrap())
+            .collect();
+        let want: Vec<String> = (0..n).map(|i| format!("layer {i}")).collect();
+        assert_eq!(names, want);
+    }
+
     #[test]
     fn shapes_are_tagged_by_ty() {
         let s = Shape::Transform(Transform::empty());

@@ -519,8 +519,11 @@ impl<'a> Source<'a> {
             .descendants()
             .filter(|n| n.has_tag_name((SVG_NS, "style")))
         {
+            // Text nodes only: an element's `text()` is its first child's, which counted
+            // each rule twice (the limit was reached at half its rules).
             rules += style
                 .descendants()
+                .filter(|t| t.is_text())
                 .filter_map(|t| t.text())
                 .map(|t| t.matches('{').count())
                 .sum::<usize>();
@@ -530,7 +533,7 @@ impl<'a> Source<'a> {
                     style,
                     source_name,
                     &format!(
-                        "more than the limit of {max_css_rules} CSS rules (raise it with --limit css-rules=N)"
+                        "the `<style>` elements so far hold {rules} CSS rules (counted by their `{{`), more than the limit of {max_css_rules} (raise it with --limit css-rules=N)"
                     ),
                 ));
             }
@@ -565,7 +568,7 @@ impl<'a> Source<'a> {
                     node,
                     source_name,
                     &format!(
-                        "the paths so far have more than the limit of {max_segments} segments (raise it with --limit path-segments=N)"
+                        "the paths so far have {segments} segments (commands of `d`, points of `points`), more than the limit of {max_segments} (raise it with --limit path-segments=N)"
                     ),
                 ));
             }
@@ -1091,5 +1094,24 @@ mod tests {
             written,
             ["0", "7", "999", "1 000", "12 345", "999 000", "1 000 000"]
         );
+    }
+
+    /// Each CSS rule counts once against `css-rules` (an element's text was counted with
+    /// its text node's, so a style reached the limit at half its rules).
+    #[test]
+    fn css_rules_are_counted_once() {
+        let style = |n: usize| {
+            let rules: String = (0..n).map(|i| format!(".c{i}{{fill:red}}")).collect();
+            format!(r#"<svg xmlns="http://www.w3.org/2000/svg"><style>{rules}</style></svg>"#)
+        };
+        let policy = Policy {
+            max_css_rules: 3,
+            ..Policy::default()
+        };
+        assert!(Source::parse(&style(3), "t.svg", &policy).is_ok());
+        let Err(e) = Source::parse(&style(4), "t.svg", &policy) else {
+            panic!("four rules pass a limit of three");
+        };
+        assert!(e.to_string().contains("hold 4 CSS rules"), "{e}");
     }
 }
