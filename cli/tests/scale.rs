@@ -3,7 +3,7 @@
 //! two million nodes (each element and the line break after it), which the old default
 //! `xml-nodes` limit of one million refused; usvg's own element limit (a million) lets it
 //! through. The scene is imported and its units listed (`check --shapes`), the cheapest
-//! command that reads the whole scene; it takes 15–30 s on two shared cores.
+//! command that reads the whole scene; it takes about 30 s on two shared cores.
 
 use std::fmt::Write as _;
 use std::process::Command;
