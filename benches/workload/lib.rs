@@ -89,3 +89,37 @@ pub fn grammar(tags: usize, duration: f64, fps: f64) -> String {
     }
     g
 }
+
+/// An SVG of `n` filled 3 px squares in a grid 1000 wide, one `<rect data-tag="s">` a
+/// line: the scale benchmark's scene (issue 46), written as a designer's export would be.
+pub fn squares_svg(n: usize) -> String {
+    const COLUMNS: usize = 1000;
+    let rows = n.div_ceil(COLUMNS).max(1);
+    let (w, h) = (COLUMNS * 4, rows * 4);
+    let mut svg = String::with_capacity(80 * n + 200);
+    let _ = writeln!(
+        svg,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}">"#
+    );
+    for i in 0..n {
+        let (x, y) = ((i % COLUMNS) * 4, (i / COLUMNS) * 4);
+        let _ = writeln!(
+            svg,
+            r##"<rect data-tag="s" x="{x}" y="{y}" width="3" height="3" fill="#e4572e"/>"##
+        );
+    }
+    svg.push_str("</svg>\n");
+    svg
+}
+
+/// The scale benchmark's grammar over [`squares_svg`]'s squares: three slices, the first
+/// split again into a translation and its inverted twin, the last a rotation staggered
+/// by id, so every shape has its own delay.
+pub fn squares_grammar() -> String {
+    "duration 3s\nfps 30\n\
+     timesplit(0.4, 0.2, 0.4) : [all, s] -> [a, b, c]\n\
+     timesplit(0.5, 0.5) : [a, s] -> [a1, inv_a1]\n\
+     animate(affine, world, 0, translate(2, 0), ease=ease-in-out) : [a1, s] -> [t]\n\
+     animate(affine, local, 0.000001 * id, rotate(90)) : [c, s] -> [r]\n"
+        .to_string()
+}

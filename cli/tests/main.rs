@@ -32,6 +32,7 @@ mod images;
 mod lottie_import;
 mod lottie_text;
 mod markers;
+mod scale;
 // Every test here plays exports or reads the Lottie corpus.
 #[cfg(feature = "players")]
 mod pack;

@@ -60,7 +60,11 @@ pub const LIMITS: &[(&str, u64, &str)] = &[
         1 << 20,
         "total text XML entities expand to",
     ),
-    ("xml-nodes", 1_000_000, "XML nodes of an SVG"),
+    (
+        "xml-nodes",
+        gmotion_import_svg::MAX_XML_NODES as u64,
+        "XML nodes of an SVG (elements, the text between them, comments)",
+    ),
     (
         "css-rules",
         10_000,

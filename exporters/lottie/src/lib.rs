@@ -139,8 +139,8 @@ pub fn to_lottie(anim: &Animation, opts: &LottieOptions) -> Result<LottieOutput,
     to_lottie_text(anim, opts).map(|(text, warnings)| (text.into_string(), warnings))
 }
 
-/// [`to_lottie`] with the text left in the pieces it was written in, for writing to a
-/// file without joining them first ([`LottieText::write_to`]).
+/// [`to_lottie`] with the text not yet written: [`LottieText::write_to`] writes it to a
+/// file a run of layers at a time, never holding the whole text.
 pub fn to_lottie_text(
     anim: &Animation,
     opts: &LottieOptions,
@@ -264,7 +264,7 @@ fn write(src: Source, opts: &LottieOptions) -> Result<(LottieText, Vec<Warning>)
         assets: std::mem::take(&mut builder.assets),
         layers,
     };
-    let mut json = doc.into_json();
+    let mut json = LottieText::document(doc);
     if opts.slots.any() {
         json = with_slots(json, &mut builder.warnings);
     }

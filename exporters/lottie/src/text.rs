@@ -1,56 +1,61 @@
-//! Lottie JSON as it was written: the document's head, each layer and its tail as pieces
-//! of their own, rather than one string. A large export goes to its file straight from
-//! the pieces, a thousand to a system call, instead of first being copied into one
-//! allocation of its whole size: at the intersections scale that copy was 16 MB of fresh
-//! memory, faulted in page by page on the one thread left at the end of an export.
+//! Lottie JSON as the exporter hands it over: a text already written (a source written
+//! back, a document with slots or packed), or the document's model, written when its
+//! destination is known. A large export is written straight to its file a run of layers
+//! at a time ([`crate::model::Animation::write_to`]), each run freed once written, instead
+//! of first being turned into a text as large as the file (856 MB for 999 000 shapes).
 
 use std::io::{self, Write};
 
-/// Lottie JSON text, in pieces that make the document when joined in order.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+use crate::model::Animation;
+
+/// Lottie JSON, as text or as the document that writes it.
+#[derive(Clone, Debug)]
 pub struct LottieText {
-    pieces: Vec<Vec<u8>>,
+    held: Held,
+}
+
+#[derive(Clone, Debug)]
+enum Held {
+    Text(Vec<u8>),
+    Document(Box<Animation>),
 }
 
 impl LottieText {
-    /// The text made of `pieces`, each valid UTF-8 on its own.
-    pub(crate) fn new(pieces: Vec<Vec<u8>>) -> LottieText {
-        LottieText { pieces }
+    /// The text `doc` writes, written when asked for.
+    pub(crate) fn document(doc: Animation) -> LottieText {
+        LottieText {
+            held: Held::Document(Box::new(doc)),
+        }
     }
 
-    /// The length of the text in bytes.
-    pub fn len(&self) -> usize {
-        self.pieces.iter().map(Vec::len).sum()
-    }
-
-    /// How many pieces the text is held in.
-    pub fn pieces(&self) -> usize {
-        self.pieces.len()
-    }
-
-    /// Whether the text is empty.
-    pub fn is_empty(&self) -> bool {
-        self.pieces.iter().all(Vec::is_empty)
-    }
-
-    /// Writes the text to `out`. A writer that takes vectored writes (a file, or a
-    /// `BufWriter` over one) gets many pieces a call.
-    pub fn write_to(&self, out: &mut impl Write) -> io::Result<()> {
-        gmotion::atomic::write_pieces(out, self.pieces.iter().map(Vec::as_slice))
+    /// Writes the text to `out`, freeing what is written as it goes. A writer that takes
+    /// vectored writes (a file, or a `BufWriter` over one) gets many pieces a call.
+    pub fn write_to(self, out: &mut dyn Write) -> io::Result<()> {
+        match self.held {
+            Held::Text(text) => out.write_all(&text),
+            Held::Document(doc) => doc.write_to(out),
+        }
     }
 
     /// The text as one string.
     pub fn into_string(self) -> String {
-        let mut out = Vec::with_capacity(self.len());
-        for p in self.pieces {
-            out.extend_from_slice(&p);
-        }
-        String::from_utf8(out).expect("every piece is UTF-8 (serde_json writes UTF-8)")
+        let bytes = match self.held {
+            Held::Text(text) => text,
+            Held::Document(doc) => {
+                let mut out = Vec::new();
+                doc.write_to(&mut out)
+                    .expect("writing into memory does not fail");
+                out
+            }
+        };
+        String::from_utf8(bytes).expect("the text is UTF-8 (serde_json writes UTF-8)")
     }
 }
 
 impl From<String> for LottieText {
     fn from(s: String) -> LottieText {
-        LottieText::new(vec![s.into_bytes()])
+        LottieText {
+            held: Held::Text(s.into_bytes()),
+        }
     }
 }

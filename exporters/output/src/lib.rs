@@ -1012,22 +1012,25 @@ fn write_lottie<T: Into<lottie::LottieText>>(
         source,
     })?;
     let json: lottie::LottieText = json.into();
+    let io_error = |source| OutputError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
     if Format::of(path)? == Format::DotLottie {
-        let mut text = Vec::new();
-        json.write_to(&mut text).map_err(|source| OutputError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        // The exporter writes JSON text, so UTF-8; lossy only to stay total.
-        let bytes = packaged(path, &String::from_utf8_lossy(&text), package)?;
+        let bytes = packaged(path, &json.into_string(), package)?;
         match target {
             Target::File => write_file(path, &bytes)?,
             Target::Memory(out) => *out = bytes,
         }
         return Ok(warnings);
     }
-    let many = json.pieces() >= BACKGROUND_FREE_PIECES;
-    write_text(path, json, many, |t, mut out| t.write_to(&mut out), target)?;
+    // Streamed: the document goes to the file (or the bytes) a run of layers at a time.
+    match target {
+        Target::Memory(bytes) => json.write_to(bytes).map_err(io_error)?,
+        Target::File => {
+            gmotion::atomic::write_with(path, |out| json.write_to(out)).map_err(io_error)?;
+        }
+    }
     Ok(warnings)
 }
 
@@ -1077,7 +1080,7 @@ fn packaged(path: &Path, text: &str, package: Option<&Picked>) -> Result<Vec<u8>
     pkg.to_bytes().map_err(error)
 }
 
-/// From this many pieces a written Lottie or SVG text is freed on the thread pool.
+/// From this many pieces a written SVG text is freed on the thread pool.
 const BACKGROUND_FREE_PIECES: usize = 1000;
 
 fn write_file(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {

@@ -90,8 +90,8 @@ pub struct Policy {
     /// Most text XML entities may expand to in total (default 1 MiB;
     /// `--limit xml-entity-bytes=N`): a pre-check, since the XML parser has no such limit.
     pub max_entity_bytes: u64,
-    /// Most XML nodes (elements, text, attributes' owners) a document may have (default
-    /// 1 000 000; `--limit xml-nodes=N`).
+    /// Most XML nodes (elements, the text between them, comments) a document may have
+    /// (default [`MAX_XML_NODES`]; `--limit xml-nodes=N`).
     pub max_xml_nodes: u32,
     /// Most CSS rules the `<style>` elements of a document may hold together (default
     /// 10 000; `--limit css-rules=N`).
@@ -132,7 +132,7 @@ impl Default for Policy {
             max_file_bytes: gmotion::input::DEFAULT_MAX_INPUT_BYTES,
             max_svgz_bytes: 64 << 20,
             max_entity_bytes: 1 << 20,
-            max_xml_nodes: 1_000_000,
+            max_xml_nodes: MAX_XML_NODES,
             max_css_rules: 10_000,
             max_path_segments: MAX_PATH_SEGMENTS,
             max_text_chars: MAX_TEXT_CHARS,
@@ -144,6 +144,13 @@ impl Default for Policy {
         }
     }
 }
+
+/// The default of [`Policy::max_xml_nodes`]: four million, room for every document usvg
+/// accepts. usvg itself stops past a million elements (its fixed element limit), and a
+/// document has several XML nodes an element: one written a line has the line break's
+/// text after it, one indented beside a comment four nodes. At one million, a scene of
+/// 999 000 shapes written one a line was refused for its line breaks.
+pub const MAX_XML_NODES: u32 = 4_000_000;
 
 /// The default of [`Policy::max_path_segments`]: ten million segments (a 2-million-segment
 /// path, 17 MB of text, animates in under 3 s; each segment costs about 100 bytes through
@@ -378,22 +385,18 @@ fn parse_in(
             source_name: source_name.to_string(),
         },
         // The document passed `xml-nodes`; usvg refuses elements nested past a fixed depth
-        // (located by `too_deep`) and past a fixed million elements, which
-        // `<use>` reaches by multiplying what it references (ten `<use>`s of a group of ten
-        // `<use>`s …) and a plain document by having that many.
+        // (located by `too_deep`) and, with the same error, a tree of more than a fixed
+        // million nodes: its elements, each `<use>` counted again with a copy of what it
+        // references (ten `<use>`s of a group of ten `<use>`s …). The message says which
+        // limit it is and what the document holds, since usvg says neither.
         usvg::Error::ElementsLimitReached
         | usvg::Error::ParsingFailed(usvg::roxmltree::Error::NodesLimitReached) => {
             if let Some(deep) = src.too_deep(source_name) {
                 return deep;
             }
-            let why = if src.prepared.contains("<use") {
-                "once its `<use>` references are copied out"
-            } else {
-                "(it holds that many shapes and groups)"
-            };
             ImportError::Svg {
                 source_name: source_name.to_string(),
-                message: format!("the document has more than 1 000 000 elements {why}: usvg's fixed limit, which no `--limit` raises"),
+                message: src.past_element_limit(),
             }
         }
         e => ImportError::Svg {

@@ -205,6 +205,11 @@ fn xml_error(e: roxmltree::Error, source_name: &str) -> ImportError {
 /// (`usvg::parser::svgtree::parse`, a fixed bound against its recursion overflowing).
 const USVG_MAX_DEPTH: usize = 1024;
 
+/// usvg's element limit: it refuses a document whose own tree (every SVG element, each
+/// `<use>` once more with a copy of what it references, the root) grows past this many
+/// nodes (`usvg::parser::svgtree::parse`, a fixed bound no option raises).
+pub(super) const USVG_MAX_ELEMENTS: usize = 1_000_000;
+
 /// A document refused at `node`: `why`, after the node's line and column.
 fn refused_at(doc: &Document, node: roxmltree::Node, source_name: &str, why: &str) -> ImportError {
     let pos = doc.text_pos_at(node.range().start);
@@ -494,7 +499,7 @@ impl<'a> Source<'a> {
             roxmltree::Error::NodesLimitReached => ImportError::Encoding {
                 source_name: source_name.to_string(),
                 message: format!(
-                    "the document has more than the limit of {max_nodes} XML nodes (raise it with --limit xml-nodes=N)"
+                    "the document has more than the limit of {max_nodes} XML nodes, counting its elements, the text between them (whitespace too) and its comments (raise it with --limit xml-nodes=N)"
                 ),
             },
             e => xml_error(e, source_name),
@@ -514,8 +519,11 @@ impl<'a> Source<'a> {
             .descendants()
             .filter(|n| n.has_tag_name((SVG_NS, "style")))
         {
+            // Text nodes only: an element's `text()` is its first child's, which counted
+            // each rule twice (the limit was reached at half its rules).
             rules += style
                 .descendants()
+                .filter(|t| t.is_text())
                 .filter_map(|t| t.text())
                 .map(|t| t.matches('{').count())
                 .sum::<usize>();
@@ -525,7 +533,7 @@ impl<'a> Source<'a> {
                     style,
                     source_name,
                     &format!(
-                        "more than the limit of {max_css_rules} CSS rules (raise it with --limit css-rules=N)"
+                        "the `<style>` elements so far hold {rules} CSS rules (counted by their `{{`), more than the limit of {max_css_rules} (raise it with --limit css-rules=N)"
                     ),
                 ));
             }
@@ -560,7 +568,7 @@ impl<'a> Source<'a> {
                     node,
                     source_name,
                     &format!(
-                        "the paths so far have more than the limit of {max_segments} segments (raise it with --limit path-segments=N)"
+                        "the paths so far have {segments} segments (commands of `d`, points of `points`), more than the limit of {max_segments} (raise it with --limit path-segments=N)"
                     ),
                 ));
             }
@@ -757,6 +765,29 @@ impl<'a> Source<'a> {
                 deep.tag_name().name()
             ),
         ))
+    }
+
+    /// Why usvg refused the document past [`USVG_MAX_ELEMENTS`]: its elements and `<use>`s
+    /// counted here, since usvg's error counts nothing and names no limit.
+    pub fn past_element_limit(&self) -> String {
+        let (mut elements, mut uses) = (0usize, 0usize);
+        for n in self.doc.descendants().filter(|n| n.is_element()) {
+            elements += 1;
+            uses += usize::from(n.has_tag_name((SVG_NS, "use")));
+        }
+        let counted = if uses > 0 {
+            format!(
+                "the document has {} elements, {} of them `<use>`, which usvg counts again with a copy of what each references",
+                spaced(elements),
+                spaced(uses)
+            )
+        } else {
+            format!("the document has {} elements", spaced(elements))
+        };
+        format!(
+            "{counted}: past usvg's element limit of {} elements, a fixed limit which no `--limit` raises",
+            spaced(USVG_MAX_ELEMENTS)
+        )
     }
 
     /// Whether a usvg id is one this module invented.
@@ -1019,6 +1050,20 @@ impl<'a> Source<'a> {
     }
 }
 
+/// `n` with its digits in groups of three, as the documentation writes counts
+/// (`1 000 000`).
+fn spaced(n: usize) -> String {
+    let digits = n.to_string();
+    let mut out = String::with_capacity(digits.len() + digits.len() / 3);
+    for (k, c) in digits.chars().enumerate() {
+        if k > 0 && (digits.len() - k).is_multiple_of(3) {
+            out.push(' ');
+        }
+        out.push(c);
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1045,5 +1090,36 @@ mod tests {
         let src = Source::parse(text, "t.svg", &Policy::default()).unwrap();
         assert!(src.prepared.contains("id=\"__gm_0\""));
         assert!(!src.is_synthetic("__gm0"));
+    }
+
+    #[test]
+    fn counts_are_written_in_groups_of_three() {
+        let written: Vec<_> = [0, 7, 999, 1000, 12_345, 999_000, 1_000_000]
+            .into_iter()
+            .map(spaced)
+            .collect();
+        assert_eq!(
+            written,
+            ["0", "7", "999", "1 000", "12 345", "999 000", "1 000 000"]
+        );
+    }
+
+    /// Each CSS rule counts once against `css-rules` (an element's text was counted with
+    /// its text node's, so a style reached the limit at half its rules).
+    #[test]
+    fn css_rules_are_counted_once() {
+        let style = |n: usize| {
+            let rules: String = (0..n).map(|i| format!(".c{i}{{fill:red}}")).collect();
+            format!(r#"<svg xmlns="http://www.w3.org/2000/svg"><style>{rules}</style></svg>"#)
+        };
+        let policy = Policy {
+            max_css_rules: 3,
+            ..Policy::default()
+        };
+        assert!(Source::parse(&style(3), "t.svg", &policy).is_ok());
+        let Err(e) = Source::parse(&style(4), "t.svg", &policy) else {
+            panic!("four rules pass a limit of three");
+        };
+        assert!(e.to_string().contains("hold 4 CSS rules"), "{e}");
     }
 }
