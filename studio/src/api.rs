@@ -6,6 +6,7 @@ use std::sync::Arc;
 use gmotion::canvas::OutputSize;
 use serde_json::json;
 
+use crate::gate::Gate;
 use crate::http::{Request, Response};
 use crate::live::{Built, Live, Resolution, SaveError};
 
@@ -15,6 +16,8 @@ pub(crate) struct Ctx {
     pub live: Arc<Live>,
     pub port: u16,
     pub token: String,
+    /// What heavy requests take a pass from.
+    pub gate: Gate,
 }
 
 /// The page: one HTML file with its JS and CSS inline.
@@ -26,6 +29,8 @@ struct Reply {
     kind: &'static str,
     body: Vec<u8>,
     download: Option<&'static str>,
+    /// The methods a route allows, sent with a 405.
+    allow: Option<&'static str>,
 }
 
 impl Reply {
@@ -35,6 +40,7 @@ impl Reply {
             kind,
             body: body.into(),
             download: None,
+            allow: None,
         }
     }
 
@@ -48,6 +54,15 @@ impl Reply {
             kind: "application/json",
             body: json!({ "error": message }).to_string().into_bytes(),
             download: None,
+            allow: None,
+        }
+    }
+
+    /// A 405 naming the methods `allow`ed.
+    fn not_allowed(allow: &'static str) -> Reply {
+        Reply {
+            allow: Some(allow),
+            ..Reply::error(405, "method not allowed")
         }
     }
 }
@@ -62,9 +77,15 @@ fn param<'a>(query: &'a str, name: &str) -> Option<&'a str> {
         .map(|(_, v)| v)
 }
 
-/// Compares without stopping at the first difference.
+/// Compares in time that depends on the lengths only, not on where the first difference
+/// is (the token's length is no secret: 32 hex digits); `black_box` keeps the optimiser
+/// from turning the fold back into an early exit.
 fn same(a: &str, b: &str) -> bool {
-    a.len() == b.len() && a.bytes().zip(b.bytes()).fold(0u8, |d, (x, y)| d | (x ^ y)) == 0
+    let diff = a
+        .bytes()
+        .zip(b.bytes())
+        .fold(0u8, |d, (x, y)| d | std::hint::black_box(x ^ y));
+    a.len() == b.len() && std::hint::black_box(diff) == 0
 }
 
 /// Answers one request.
@@ -81,6 +102,9 @@ pub(crate) fn handle(ctx: &Ctx, request: &Request) -> Response {
                 .to_string(),
         ),
     ];
+    if let Some(methods) = reply.allow {
+        headers.push(("Allow", methods.to_string()));
+    }
     if let Some(name) = reply.download {
         headers.push((
             "Content-Disposition",
@@ -115,6 +139,7 @@ fn route(ctx: &Ctx, request: &Request) -> Reply {
                 gmotion_pipeline::html::LOTTIE_JS,
             );
         }
+        (_, "/" | "/lottie.min.js") => return Reply::not_allowed("GET"),
         _ => {}
     }
     if !path.starts_with("/api/") {
@@ -125,32 +150,38 @@ fn route(ctx: &Ctx, request: &Request) -> Reply {
         return Reply::error(403, "forbidden: a valid token is needed");
     }
     let live = &ctx.live;
-    match (method, &path["/api".len()..]) {
+    let route = &path["/api".len()..];
+    // Renders, exports and rebuilds wait for a pass; polling never does.
+    let _pass = heavy(method, route).then(|| ctx.gate.enter());
+    match (method, route) {
         ("GET", "/state") => {
-            let good = live.good();
-            let (shapes, timelines) = live.shapes_and_timelines(&good);
-            let scene = &good.rendered.anim.scene;
+            let now = live.snapshot();
+            let (shapes, timelines) = live.shapes_and_timelines(&now.good);
+            let scene = &now.good.rendered.anim.scene;
             Reply::json(&json!({
-                "version": live.version(),
-                "duration": good.rendered.anim.duration,
-                "fps": good.rendered.anim.fps,
+                "version": now.version,
+                "duration": now.good.rendered.anim.duration,
+                "fps": now.good.rendered.anim.fps,
                 "width": scene.width,
                 "height": scene.height,
                 "shapes": shapes,
                 "timelines": timelines,
-                "diagnostics": live.diagnostics_json(),
-                "grammar": live.text(),
-                "unsaved": live.unsaved(),
-                "conflict": live.conflict(),
+                "diagnostics": now.diagnostics,
+                "grammar": now.text,
+                "unsaved": now.unsaved,
+                "conflict": now.conflict,
             }))
         }
-        ("GET", "/status") => Reply::json(&json!({
-            "version": live.version(),
-            "diagnostics": live.diagnostics_json(),
-            "grammar": live.text(),
-            "unsaved": live.unsaved(),
-            "conflict": live.conflict(),
-        })),
+        ("GET", "/status") => {
+            let now = live.snapshot();
+            Reply::json(&json!({
+                "version": now.version,
+                "diagnostics": now.diagnostics,
+                "grammar": now.text,
+                "unsaved": now.unsaved,
+                "conflict": now.conflict,
+            }))
+        }
         ("GET", "/grammar") => Reply::ok("text/plain; charset=utf-8", live.text()),
         ("PUT", "/grammar") => {
             // The server refuses bodies over `http::MAX_BODY` (4 MiB) before this.
@@ -334,12 +365,27 @@ fn route(ctx: &Ctx, request: &Request) -> Reply {
         ("GET", "/export/smil") => export(live, &live.good(), "svg", 0.0, Some("animation.svg")),
         ("GET", "/export/gif") => export(live, &live.good(), "gif", 0.0, Some("animation.gif")),
         ("GET", "/export/html") => export(live, &live.good(), "html", 0.0, Some("preview.html")),
+        (_, "/grammar") => Reply::not_allowed("GET, PUT"),
+        (_, "/save" | "/resolve" | "/retime" | "/offset" | "/value") => Reply::not_allowed("POST"),
         (
             _,
-            "/state" | "/status" | "/grammar" | "/save" | "/resolve" | "/retime" | "/offset"
-            | "/value" | "/rules" | "/boxes" | "/lottie" | "/smil" | "/frame.png",
-        ) => Reply::error(405, "method not allowed"),
+            "/state" | "/status" | "/rules" | "/boxes" | "/lottie" | "/smil" | "/frame.png"
+            | "/export/lottie" | "/export/dotlottie" | "/export/smil" | "/export/gif"
+            | "/export/html",
+        ) => Reply::not_allowed("GET"),
         _ => Reply::error(404, "no such API route"),
+    }
+}
+
+/// Whether `route` (under `/api`) asked with `method` renders, exports or rebuilds: what
+/// takes a pass from the gate. The rest answer from the last build at once.
+fn heavy(method: &str, route: &str) -> bool {
+    match (method, route) {
+        ("GET", "/lottie" | "/smil" | "/frame.png" | "/rules") => true,
+        ("GET", r) => r.starts_with("/export/"),
+        ("PUT", "/grammar") => true,
+        ("POST", "/resolve" | "/retime" | "/offset" | "/value") => true,
+        _ => false,
     }
 }
 
@@ -365,6 +411,7 @@ fn export(
             },
             body,
             download,
+            allow: None,
         },
         Err(e) => Reply::error(422, &e),
     }

@@ -99,6 +99,21 @@ struct State {
     conflict: Option<String>,
 }
 
+/// The live state at one instant (see [`Live::snapshot`]).
+#[derive(Debug)]
+pub(crate) struct Snapshot {
+    pub version: u64,
+    /// The last animation that built.
+    pub good: Arc<Built>,
+    /// The text's diagnostics as JSON.
+    pub diagnostics: Value,
+    pub text: String,
+    /// Whether the text differs from the file's.
+    pub unsaved: bool,
+    /// The file's new text under unsaved edits, until resolved.
+    pub conflict: Option<String>,
+}
+
 /// Why [`Live::save`] did not write.
 #[derive(Debug)]
 pub enum SaveError {
@@ -357,6 +372,21 @@ impl Live {
         Ok(Arc::clone(&current))
     }
 
+    /// What the page polls, read under one lock so that the version, text and
+    /// diagnostics answered belong together (read one by one, an edit landing between two
+    /// reads paired a version with another version's text).
+    pub(crate) fn snapshot(&self) -> Snapshot {
+        let st = self.lock();
+        Snapshot {
+            version: st.version,
+            good: Arc::clone(&st.good),
+            diagnostics: Value::Array(st.diagnostics.iter().map(diagnostic_json).collect()),
+            text: st.text.clone(),
+            unsaved: st.text != st.disk,
+            conflict: st.conflict.clone(),
+        }
+    }
+
     /// The current version.
     pub fn version(&self) -> u64 {
         self.lock().version
@@ -365,17 +395,6 @@ impl Live {
     /// The current text.
     pub fn text(&self) -> String {
         self.lock().text.clone()
-    }
-
-    /// The current diagnostics as JSON.
-    pub(crate) fn diagnostics_json(&self) -> Value {
-        Value::Array(
-            self.lock()
-                .diagnostics
-                .iter()
-                .map(diagnostic_json)
-                .collect(),
-        )
     }
 
     /// The last animation that built.
