@@ -16,8 +16,11 @@ pub(crate) struct Ctx {
     pub live: Arc<Live>,
     pub port: u16,
     pub token: String,
-    /// What heavy requests take a pass from.
-    pub gate: Gate,
+    /// What frames, the Lottie document, rules and edits take a pass from.
+    pub work: Gate,
+    /// What whole exports (downloads, SMIL) take a pass from, one at a time: a GIF of a
+    /// long animation takes seconds, and frames and edits do not queue behind it.
+    pub exports: Gate,
 }
 
 /// The page: one HTML file with its JS and CSS inline.
@@ -152,7 +155,7 @@ fn route(ctx: &Ctx, request: &Request) -> Reply {
     let live = &ctx.live;
     let route = &path["/api".len()..];
     // Renders, exports and rebuilds wait for a pass; polling never does.
-    let _pass = heavy(method, route).then(|| ctx.gate.enter());
+    let _pass = lane(ctx, method, route).map(Gate::enter);
     match (method, route) {
         ("GET", "/state") => {
             let now = live.snapshot();
@@ -377,15 +380,17 @@ fn route(ctx: &Ctx, request: &Request) -> Reply {
     }
 }
 
-/// Whether `route` (under `/api`) asked with `method` renders, exports or rebuilds: what
-/// takes a pass from the gate. The rest answer from the last build at once.
-fn heavy(method: &str, route: &str) -> bool {
+/// The gate `route` (under `/api`) asked with `method` waits at: whole exports at
+/// `exports`, frames, the Lottie document, rules and rebuilds at `work`, the rest (which
+/// answer from the last build at once) at none.
+fn lane<'a>(ctx: &'a Ctx, method: &str, route: &str) -> Option<&'a Gate> {
     match (method, route) {
-        ("GET", "/lottie" | "/smil" | "/frame.png" | "/rules") => true,
-        ("GET", r) => r.starts_with("/export/"),
-        ("PUT", "/grammar") => true,
-        ("POST", "/resolve" | "/retime" | "/offset" | "/value") => true,
-        _ => false,
+        ("GET", "/smil") => Some(&ctx.exports),
+        ("GET", r) if r.starts_with("/export/") => Some(&ctx.exports),
+        ("GET", "/lottie" | "/frame.png" | "/rules")
+        | ("PUT", "/grammar")
+        | ("POST", "/resolve" | "/retime" | "/offset" | "/value") => Some(&ctx.work),
+        _ => None,
     }
 }
 

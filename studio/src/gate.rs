@@ -1,7 +1,7 @@
-//! The bound on heavy requests: exports, rendered frames, Lottie documents and edits that
-//! rebuild the animation take a pass from one [`Gate`], so at most a few run at once
-//! whatever the number of clients, and the light ones (`/api/status`, `/api/state`, the
-//! page) never wait for a pass.
+//! The bound on heavy requests: rendered frames, Lottie documents, rebuilds after an edit
+//! and exports take a pass from a [`Gate`], so at most a few run at once whatever the
+//! number of clients, and the light ones (`/api/status`, `/api/state`, the page) never
+//! wait for a pass.
 //!
 //! Why: no lock that polling needs is held while a build or an export runs (they work on
 //! an `Arc` of the last good animation, taken under a short lock), but with a thread per
@@ -38,7 +38,7 @@ impl Gate {
     /// A gate as wide as the machine's cores less one (at least one), which leaves a core
     /// for the light requests; the frame writer's own threads still use every core while
     /// a pass is out.
-    pub(crate) fn for_this_machine() -> Gate {
+    pub(crate) fn cores_less_one() -> Gate {
         let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
         Gate::new(cores.saturating_sub(1))
     }

@@ -83,7 +83,8 @@ impl Studio {
             live,
             port,
             token,
-            gate: gate::Gate::for_this_machine(),
+            work: gate::Gate::cores_less_one(),
+            exports: gate::Gate::new(1),
         };
         Ok(Studio {
             listener,
