@@ -483,3 +483,79 @@ fn reason(status: u16) -> &'static str {
         _ => "Error",
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The statuses answered to `input` on one connection, and the bodies of the 200s
+    /// (each the request as the handler saw it: method, target, `Host` and body).
+    fn exchange(input: &[u8]) -> (Vec<u16>, Vec<String>) {
+        let out = answer(input, &|r: &Request| Response {
+            status: 200,
+            headers: Vec::new(),
+            body: format!(
+                "{} {} {} {}",
+                r.method,
+                r.target,
+                r.header("Host").unwrap_or("-"),
+                String::from_utf8_lossy(&r.body)
+            )
+            .into_bytes(),
+        });
+        let mut rest = String::from_utf8(out).unwrap();
+        let (mut statuses, mut bodies) = (Vec::new(), Vec::new());
+        while let Some((head, tail)) = rest.split_once("\r\n\r\n") {
+            let length: usize = head
+                .lines()
+                .find_map(|l| l.strip_prefix("Content-Length: "))
+                .unwrap()
+                .parse()
+                .unwrap();
+            statuses.push(head["HTTP/1.1 ".len()..][..3].parse().unwrap());
+            if head.starts_with("HTTP/1.1 200") {
+                bodies.push(tail[..length].to_string());
+            }
+            rest = tail[length..].to_string();
+        }
+        (statuses, bodies)
+    }
+
+    #[test]
+    fn pipelined_requests_are_answered_in_order_until_one_is_refused() {
+        let (statuses, bodies) = exchange(
+            b"GET /a HTTP/1.1\r\nHost: h\r\n\r\n\
+              PUT /b HTTP/1.1\r\nHost: h\r\nContent-Length: 2\r\n\r\nhi\
+              GET /c HTTP/1.1\r\n\r\n\
+              GET /d HTTP/1.1\r\nHost: h\r\n\r\n",
+        );
+        // The third has no Host: refused, and the connection ends there.
+        assert_eq!(statuses, [200, 200, 400]);
+        assert_eq!(bodies, ["GET /a h ", "PUT /b h hi"]);
+    }
+
+    #[test]
+    fn an_absolute_target_names_the_host_and_keeps_the_path() {
+        let (statuses, bodies) =
+            exchange(b"GET http://127.0.0.1:9/api/status?x=1 HTTP/1.1\r\nHost: other\r\n\r\n");
+        assert_eq!(statuses, [200]);
+        assert_eq!(bodies, ["GET /api/status?x=1 127.0.0.1:9 "]);
+    }
+
+    #[test]
+    fn equal_content_lengths_are_one_and_a_list_of_them_too() {
+        let (statuses, bodies) = exchange(
+            b"PUT / HTTP/1.1\r\nHost: h\r\nContent-Length: 3\r\nContent-Length: 3, 3\r\n\r\nabc",
+        );
+        assert_eq!(statuses, [200]);
+        assert_eq!(bodies, ["PUT / h abc"]);
+    }
+
+    #[test]
+    fn http_1_0_closes_after_its_answer_unless_asked_to_stay() {
+        let two = b"GET /a HTTP/1.0\r\n\r\nGET /b HTTP/1.0\r\n\r\n";
+        assert_eq!(exchange(two).0, [200]);
+        let kept = b"GET /a HTTP/1.0\r\nConnection: keep-alive\r\n\r\nGET /b HTTP/1.0\r\n\r\n";
+        assert_eq!(exchange(kept).0, [200, 200]);
+    }
+}
