@@ -550,24 +550,40 @@ impl Live {
     /// read from it, whether or not the watcher has seen the change yet, so an edit made
     /// elsewhere is never overwritten without the page choosing to.
     pub fn save(&self) -> Result<&Path, SaveError> {
-        let mut st = self.lock();
-        if let Some(now) = read_text(&self.grammar_path)
-            && now != st.disk
-        {
-            if now != st.text {
-                st.conflict = Some(now);
+        // One save at a time, and none beside a build. The file is read and written outside
+        // the state's lock: the write ends in an fsync, and `/api/status` would wait for it.
+        let _b = self.building.lock().unwrap_or_else(|p| p.into_inner());
+        let now = read_text(&self.grammar_path);
+        let (text, before) = {
+            let mut st = self.lock();
+            if let Some(now) = now
+                && now != st.disk
+            {
+                if now != st.text {
+                    st.conflict = Some(now);
+                    return Err(SaveError::Changed);
+                }
+                // The file already holds this text: nothing would be lost.
+                st.disk = now;
+            }
+            if st.conflict.is_some() {
                 return Err(SaveError::Changed);
             }
-            // The file already holds this text: nothing would be lost.
-            st.disk = now;
+            // Counted as the file's text already, so that the watcher, seeing the file
+            // change under it, takes the change for this save and not for a conflict.
+            let text = st.text.clone();
+            let before = std::mem::replace(&mut st.disk, text.clone());
+            (text, before)
+        };
+        let written = gmotion::atomic::write_bytes(&self.grammar_path, text.as_bytes());
+        let mut st = self.lock();
+        if let Err(e) = written {
+            if st.disk == text {
+                st.disk = before;
+            }
+            return Err(SaveError::Io(e));
         }
-        if st.conflict.is_some() {
-            return Err(SaveError::Changed);
-        }
-        gmotion::atomic::write_bytes(&self.grammar_path, st.text.as_bytes())
-            .map_err(SaveError::Io)?;
         st.stamp = stamp(&self.grammar_path);
-        st.disk = st.text.clone();
         Ok(&self.grammar_path)
     }
 
