@@ -1,5 +1,7 @@
 //! A small HTTP/1.1 server over `std::net`: one thread per connection, keep-alive, bodies
-//! by `Content-Length` only.
+//! by `Content-Length` only. Everything it reads is bounded (connections, head, body, the
+//! time a request and an answer may take), and what HTTP/1.1 asks a server to refuse is
+//! refused with the status it names (`read_request`), the connection then closed.
 //!
 //! Why not a crate: `tiny_http` 0.12, which the studio used, hands connections to a pool
 //! that can queue a freshly accepted connection behind busy keep-alive ones (two accepts

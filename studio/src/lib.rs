@@ -12,7 +12,10 @@
 //! Security: the server binds 127.0.0.1 only; every `/api/*` request needs the random
 //! token of the session (query `token=` or header `X-Gmotion-Token`) and a `Host` header of
 //! `127.0.0.1:PORT` or `localhost:PORT` (a page on another site that rebinds its DNS name to
-//! 127.0.0.1 sends its own name as `Host`); anything else is answered 403.
+//! 127.0.0.1 sends its own name as `Host`); anything else is answered 403. Malformed
+//! requests are refused by the server with their 4xx or 5xx before any route runs
+//! (`http`), and renders, exports and rebuilds take turns (`gate`) so that polling never
+//! waits behind them.
 #![forbid(unsafe_code)]
 
 mod api;
