@@ -362,9 +362,11 @@ fn fifty_clients_edit_and_poll_while_exports_run() {
     assert!(rounds >= CLIENTS, "{rounds} rounds in all");
     assert!(gifs > 0, "no GIF finished");
     // Polling waits for no render, export or rebuild: a lock or a queue shared with them
-    // would put whole renders (tens of milliseconds each, a GIF seconds) into these.
+    // would put whole renders into these (a GIF export, 1.4 s here, is running most of the
+    // minute). Measured at 8–36 ms p99 on a 2-core host at load 20; the bounds leave room
+    // for a busy CI machine.
     assert!(p99 < Duration::from_millis(500), "p99 {p99:?}");
-    assert!(max < Duration::from_secs(2), "max {max:?}");
+    assert!(max < Duration::from_secs(3), "max {max:?}");
 }
 
 /// `/api/status` on a fresh connection: the answer, and how long it took.
