@@ -363,8 +363,8 @@ fn fifty_clients_edit_and_poll_while_exports_run() {
     assert!(gifs > 0, "no GIF finished");
     // Polling waits for no render, export or rebuild: a lock or a queue shared with them
     // would put whole renders into these (a GIF export, 1.4 s here, is running most of the
-    // minute). Measured at 8 ms p99 on a 2-core host at load 20 (36 ms with no gate); the bounds leave room
-    // for a busy CI machine.
+    // minute). Measured: 8 ms p99 on a 2-core host at load 20 (36 ms with no gate); the
+    // bounds leave room for a busy CI machine.
     assert!(p99 < Duration::from_millis(500), "p99 {p99:?}");
     assert!(max < Duration::from_secs(3), "max {max:?}");
 }
