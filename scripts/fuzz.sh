@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# Coverage-guided fuzzing of gmotion's five fuzz targets (fuzz/fuzz_targets/) with libFuzzer.
+# Coverage-guided fuzzing of gmotion's six fuzz targets (fuzz/fuzz_targets/) with libFuzzer.
 #
 #   bash scripts/fuzz.sh [SECONDS] [TARGET ...]
 #   bash scripts/fuzz.sh build          # only build the targets
 #
-# runs each TARGET (default: all five) for SECONDS (default 60) after seeding its corpus
+# runs each TARGET (default: all six) for SECONDS (default 60) after seeding its corpus
 # (fuzz/seed.sh) with the bundled examples, the resvg test SVGs, the Lottie corpus and every
 # regression case. A crash, a timeout (10 s, or FUZZ_TIMEOUT seconds) or more than 2 GB of
 # memory stops a target, writes the input to fuzz/artifacts/TARGET/ and makes this script
@@ -26,7 +26,7 @@ if [ "$secs" = build ]; then
     build_only=1
 fi
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(grammar svg targets lottie export)
+[ ${#targets[@]} -gt 0 ] || targets=(grammar svg targets lottie export studio)
 triple=$(rustc -vV | sed -n 's/^host: //p')
 export CARGO_TARGET_DIR=fuzz/target
 export RUSTFLAGS="-Cpasses=sancov-module -Cllvm-args=-sanitizer-coverage-level=4 \

@@ -46,6 +46,7 @@ mod rigs;
 mod size_and_length;
 mod smil_follow;
 mod studio;
+mod studio_load;
 // Every test here plays exports in the real players.
 #[cfg(feature = "players")]
 mod text;

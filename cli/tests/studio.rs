@@ -13,10 +13,10 @@ use serde_json::{Value, json};
 use crate::support::root;
 
 /// The studio process, killed when the test ends, passed or not.
-struct Studio {
+pub(crate) struct Studio {
     child: Child,
-    port: u16,
-    token: String,
+    pub(crate) port: u16,
+    pub(crate) token: String,
     dir: PathBuf,
 }
 
@@ -54,7 +54,7 @@ impl Studio {
     }
 
     /// Starts the studio on a copy of the toy example.
-    fn start(name: &str) -> Studio {
+    pub(crate) fn start(name: &str) -> Studio {
         let dir = Studio::folder(name);
         let scene = dir.join("toy.svg");
         Studio::start_on(dir, &scene)
@@ -170,7 +170,7 @@ fn refuses_without_token_or_with_a_foreign_host() {
     // Bad input is a 4xx, not a crash.
     assert_eq!(s.call("GET", "/api/frame.png?t=abc", "").status, 400);
     assert_eq!(s.call("GET", "/api/nothing", "").status, 404);
-    assert_eq!(s.call("DELETE", "/api/state", "").status, 405);
+    assert_eq!(s.call("POST", "/api/state", "").status, 405);
     assert_eq!(s.call("GET", "/", "").status, 200);
 }
 

@@ -6,6 +6,7 @@ use std::sync::Arc;
 use gmotion::canvas::OutputSize;
 use serde_json::json;
 
+use crate::gate::Gate;
 use crate::http::{Request, Response};
 use crate::live::{Built, Live, MAX_MERGE_LINES, MergeError, Resolution, SaveError};
 
@@ -15,6 +16,11 @@ pub(crate) struct Ctx {
     pub live: Arc<Live>,
     pub port: u16,
     pub token: String,
+    /// What frames, the Lottie document, rules and edits take a pass from.
+    pub work: Gate,
+    /// What whole exports (downloads, SMIL) take a pass from, one at a time: a GIF of a
+    /// long animation takes seconds, and frames and edits do not queue behind it.
+    pub exports: Gate,
 }
 
 /// The page: one HTML file with its JS and CSS inline.
@@ -26,6 +32,8 @@ struct Reply {
     kind: &'static str,
     body: Vec<u8>,
     download: Option<&'static str>,
+    /// The methods a route allows, sent with a 405.
+    allow: Option<&'static str>,
 }
 
 impl Reply {
@@ -35,6 +43,7 @@ impl Reply {
             kind,
             body: body.into(),
             download: None,
+            allow: None,
         }
     }
 
@@ -48,6 +57,15 @@ impl Reply {
             kind: "application/json",
             body: json!({ "error": message }).to_string().into_bytes(),
             download: None,
+            allow: None,
+        }
+    }
+
+    /// A 405 naming the methods `allow`ed.
+    fn not_allowed(allow: &'static str) -> Reply {
+        Reply {
+            allow: Some(allow),
+            ..Reply::error(405, "method not allowed")
         }
     }
 }
@@ -62,9 +80,15 @@ fn param<'a>(query: &'a str, name: &str) -> Option<&'a str> {
         .map(|(_, v)| v)
 }
 
-/// Compares without stopping at the first difference.
+/// Compares in time that depends on the lengths only, not on where the first difference
+/// is (the token's length is no secret: 32 hex digits); `black_box` keeps the optimiser
+/// from turning the fold back into an early exit.
 fn same(a: &str, b: &str) -> bool {
-    a.len() == b.len() && a.bytes().zip(b.bytes()).fold(0u8, |d, (x, y)| d | (x ^ y)) == 0
+    let diff = a
+        .bytes()
+        .zip(b.bytes())
+        .fold(0u8, |d, (x, y)| d | std::hint::black_box(x ^ y));
+    a.len() == b.len() && std::hint::black_box(diff) == 0
 }
 
 /// Answers one request.
@@ -81,6 +105,9 @@ pub(crate) fn handle(ctx: &Ctx, request: &Request) -> Response {
                 .to_string(),
         ),
     ];
+    if let Some(methods) = reply.allow {
+        headers.push(("Allow", methods.to_string()));
+    }
     if let Some(name) = reply.download {
         headers.push((
             "Content-Disposition",
@@ -115,6 +142,7 @@ fn route(ctx: &Ctx, request: &Request) -> Reply {
                 gmotion_pipeline::html::LOTTIE_JS,
             );
         }
+        (_, "/" | "/lottie.min.js") => return Reply::not_allowed("GET"),
         _ => {}
     }
     if !path.starts_with("/api/") {
@@ -125,32 +153,38 @@ fn route(ctx: &Ctx, request: &Request) -> Reply {
         return Reply::error(403, "forbidden: a valid token is needed");
     }
     let live = &ctx.live;
-    match (method, &path["/api".len()..]) {
+    let route = &path["/api".len()..];
+    // Renders, exports and rebuilds wait for a pass; polling never does.
+    let _pass = lane(ctx, method, route).map(Gate::enter);
+    match (method, route) {
         ("GET", "/state") => {
-            let good = live.good();
-            let (shapes, timelines) = live.shapes_and_timelines(&good);
-            let scene = &good.rendered.anim.scene;
+            let now = live.snapshot();
+            let (shapes, timelines) = live.shapes_and_timelines(&now.good);
+            let scene = &now.good.rendered.anim.scene;
             Reply::json(&json!({
-                "version": live.version(),
-                "duration": good.rendered.anim.duration,
-                "fps": good.rendered.anim.fps,
+                "version": now.version,
+                "duration": now.good.rendered.anim.duration,
+                "fps": now.good.rendered.anim.fps,
                 "width": scene.width,
                 "height": scene.height,
                 "shapes": shapes,
                 "timelines": timelines,
-                "diagnostics": live.diagnostics_json(),
-                "grammar": live.text(),
-                "unsaved": live.unsaved(),
-                "conflict": live.conflict(),
+                "diagnostics": now.diagnostics,
+                "grammar": now.text,
+                "unsaved": now.unsaved,
+                "conflict": now.conflict,
             }))
         }
-        ("GET", "/status") => Reply::json(&json!({
-            "version": live.version(),
-            "diagnostics": live.diagnostics_json(),
-            "grammar": live.text(),
-            "unsaved": live.unsaved(),
-            "conflict": live.conflict(),
-        })),
+        ("GET", "/status") => {
+            let now = live.snapshot();
+            Reply::json(&json!({
+                "version": now.version,
+                "diagnostics": now.diagnostics,
+                "grammar": now.text,
+                "unsaved": now.unsaved,
+                "conflict": now.conflict,
+            }))
+        }
         ("GET", "/layers") => {
             let good = live.good();
             Reply::json(&json!({
@@ -367,11 +401,14 @@ fn route(ctx: &Ctx, request: &Request) -> Reply {
         ("GET", "/export/smil") => export(live, &live.good(), "svg", 0.0, Some("animation.svg")),
         ("GET", "/export/gif") => export(live, &live.good(), "gif", 0.0, Some("animation.gif")),
         ("GET", "/export/html") => export(live, &live.good(), "html", 0.0, Some("preview.html")),
+        (_, "/grammar") => Reply::not_allowed("GET, PUT"),
+        (_, "/save" | "/resolve" | "/retime" | "/offset" | "/value") => Reply::not_allowed("POST"),
         (
             _,
-            "/state" | "/status" | "/layers" | "/grammar" | "/save" | "/resolve" | "/retime"
-            | "/offset" | "/value" | "/rules" | "/boxes" | "/lottie" | "/smil" | "/frame.png",
-        ) => Reply::error(405, "method not allowed"),
+            "/state" | "/status" | "/layers" | "/rules" | "/boxes" | "/lottie" | "/smil"
+            | "/frame.png" | "/export/lottie" | "/export/dotlottie" | "/export/smil"
+            | "/export/gif" | "/export/html",
+        ) => Reply::not_allowed("GET"),
         _ => Reply::error(404, "no such API route"),
     }
 }
@@ -387,6 +424,20 @@ fn not_utf8(e: std::str::Utf8Error, body: &[u8]) -> String {
         "the grammar is not UTF-8 text: line {line}, column {col} holds the byte {:#04x}",
         body[e.valid_up_to()]
     )
+}
+
+/// The gate `route` (under `/api`) asked with `method` waits at: whole exports at
+/// `exports`, frames, the Lottie document, rules and rebuilds at `work`, the rest (which
+/// answer from the last build at once) at none.
+fn lane<'a>(ctx: &'a Ctx, method: &str, route: &str) -> Option<&'a Gate> {
+    match (method, route) {
+        ("GET", "/smil") => Some(&ctx.exports),
+        ("GET", r) if r.starts_with("/export/") => Some(&ctx.exports),
+        ("GET", "/lottie" | "/frame.png" | "/rules")
+        | ("PUT", "/grammar")
+        | ("POST", "/resolve" | "/retime" | "/offset" | "/value") => Some(&ctx.work),
+        _ => None,
+    }
 }
 
 /// `built` written as `ext`, answered inline or as a download.
@@ -411,6 +462,7 @@ fn export(
             },
             body,
             download,
+            allow: None,
         },
         Err(e) => Reply::error(422, &e),
     }

@@ -12,10 +12,14 @@
 //! Security: the server binds 127.0.0.1 only; every `/api/*` request needs the random
 //! token of the session (query `token=` or header `X-Gmotion-Token`) and a `Host` header of
 //! `127.0.0.1:PORT` or `localhost:PORT` (a page on another site that rebinds its DNS name to
-//! 127.0.0.1 sends its own name as `Host`); anything else is answered 403.
+//! 127.0.0.1 sends its own name as `Host`); anything else is answered 403. Malformed
+//! requests are refused by the server with their 4xx or 5xx before any route runs
+//! (`http`), and renders, exports and rebuilds take turns (`gate`) so that polling never
+//! waits behind them.
 #![forbid(unsafe_code)]
 
 mod api;
+mod gate;
 mod http;
 mod layers;
 mod live;
@@ -54,14 +58,15 @@ pub struct Config {
 /// A bound studio server, not yet serving.
 pub struct Studio {
     listener: TcpListener,
-    live: Arc<Live>,
-    port: u16,
-    token: String,
+    /// The live state, the port and the token the routes check.
+    ctx: Arc<api::Ctx>,
 }
 
 impl std::fmt::Debug for Studio {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Studio").field("port", &self.port).finish()
+        f.debug_struct("Studio")
+            .field("port", &self.ctx.port)
+            .finish()
     }
 }
 
@@ -78,36 +83,50 @@ impl Studio {
         })?;
         let port = listener.local_addr()?.port();
         let live = Arc::new(Live::new(config)?);
-        Ok(Studio {
-            listener,
+        let ctx = api::Ctx {
             live,
             port,
             token,
+            work: gate::Gate::cores_less_one(),
+            exports: gate::Gate::new(1),
+        };
+        Ok(Studio {
+            listener,
+            ctx: Arc::new(ctx),
         })
     }
 
     /// The port bound.
     pub fn port(&self) -> u16 {
-        self.port
+        self.ctx.port
     }
 
     /// The page's address, token included.
     pub fn url(&self) -> String {
-        format!("http://127.0.0.1:{}/?token={}", self.port, self.token)
+        format!(
+            "http://127.0.0.1:{}/?token={}",
+            self.ctx.port, self.ctx.token
+        )
+    }
+
+    /// The bytes the server would send back for `input` arriving on one connection: each
+    /// request in it parsed and answered in order as [`Studio::serve`] answers them (the
+    /// same limits, refusals and routes, edits included), without a socket. For the fuzz
+    /// target, and for embedders that carry requests some other way.
+    pub fn answer(&self, input: &[u8]) -> Vec<u8> {
+        http::answer(input, &|request: &http::Request| {
+            api::handle(&self.ctx, request)
+        })
     }
 
     /// Serves until the process ends: a thread per connection and a thread that polls
     /// the grammar file.
     pub fn serve(self) -> io::Result<()> {
-        let live = Arc::clone(&self.live);
+        let live = Arc::clone(&self.ctx.live);
         thread::Builder::new()
             .name("studio-watch".into())
             .spawn(move || live.watch())?;
-        let ctx = api::Ctx {
-            live: self.live,
-            port: self.port,
-            token: self.token,
-        };
+        let ctx = self.ctx;
         http::serve(
             self.listener,
             Arc::new(move |request: &http::Request| api::handle(&ctx, request)),

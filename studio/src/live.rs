@@ -99,6 +99,21 @@ struct State {
     conflict: Option<String>,
 }
 
+/// The live state at one instant (see [`Live::snapshot`]).
+#[derive(Debug)]
+pub(crate) struct Snapshot {
+    pub version: u64,
+    /// The last animation that built.
+    pub good: Arc<Built>,
+    /// The text's diagnostics as JSON.
+    pub diagnostics: Value,
+    pub text: String,
+    /// Whether the text differs from the file's.
+    pub unsaved: bool,
+    /// The file's new text under unsaved edits, until resolved.
+    pub conflict: Option<String>,
+}
+
 /// Why [`Live::save`] did not write.
 #[derive(Debug)]
 pub enum SaveError {
@@ -457,6 +472,21 @@ impl Live {
         let _ = self.apply_forced(text);
     }
 
+    /// What the page polls, read under one lock so that the version, text and
+    /// diagnostics answered belong together (read one by one, an edit landing between two
+    /// reads paired a version with another version's text).
+    pub(crate) fn snapshot(&self) -> Snapshot {
+        let st = self.lock();
+        Snapshot {
+            version: st.version,
+            good: Arc::clone(&st.good),
+            diagnostics: Value::Array(st.diagnostics.iter().map(diagnostic_json).collect()),
+            text: st.text.clone(),
+            unsaved: st.text != st.disk,
+            conflict: st.conflict.clone(),
+        }
+    }
+
     /// The current version.
     pub fn version(&self) -> u64 {
         self.lock().version
@@ -465,17 +495,6 @@ impl Live {
     /// The current text.
     pub fn text(&self) -> String {
         self.lock().text.clone()
-    }
-
-    /// The current diagnostics as JSON.
-    pub(crate) fn diagnostics_json(&self) -> Value {
-        Value::Array(
-            self.lock()
-                .diagnostics
-                .iter()
-                .map(diagnostic_json)
-                .collect(),
-        )
     }
 
     /// The last animation that built.
@@ -656,24 +675,40 @@ impl Live {
     /// read from it, whether or not the watcher has seen the change yet, so an edit made
     /// elsewhere is never overwritten without the page choosing to.
     pub fn save(&self) -> Result<&Path, SaveError> {
-        let mut st = self.lock();
-        if let Some(now) = read_text(&self.grammar_path)
-            && now != st.disk
-        {
-            if now != st.text {
-                st.conflict = Some(now);
+        // One save at a time, and none beside a build. The file is read and written outside
+        // the state's lock: the write ends in an fsync, and `/api/status` would wait for it.
+        let _b = self.building.lock().unwrap_or_else(|p| p.into_inner());
+        let now = read_text(&self.grammar_path);
+        let (text, before) = {
+            let mut st = self.lock();
+            if let Some(now) = now
+                && now != st.disk
+            {
+                if now != st.text {
+                    st.conflict = Some(now);
+                    return Err(SaveError::Changed);
+                }
+                // The file already holds this text: nothing would be lost.
+                st.disk = now;
+            }
+            if st.conflict.is_some() {
                 return Err(SaveError::Changed);
             }
-            // The file already holds this text: nothing would be lost.
-            st.disk = now;
+            // Counted as the file's text already, so that the watcher, seeing the file
+            // change under it, takes the change for this save and not for a conflict.
+            let text = st.text.clone();
+            let before = std::mem::replace(&mut st.disk, text.clone());
+            (text, before)
+        };
+        let written = gmotion::atomic::write_bytes(&self.grammar_path, text.as_bytes());
+        let mut st = self.lock();
+        if let Err(e) = written {
+            if st.disk == text {
+                st.disk = before;
+            }
+            return Err(SaveError::Io(e));
         }
-        if st.conflict.is_some() {
-            return Err(SaveError::Changed);
-        }
-        gmotion::atomic::write_bytes(&self.grammar_path, st.text.as_bytes())
-            .map_err(SaveError::Io)?;
         st.stamp = stamp(&self.grammar_path);
-        st.disk = st.text.clone();
         Ok(&self.grammar_path)
     }
 
