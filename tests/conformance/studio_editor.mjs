@@ -548,6 +548,18 @@ try {
   await many.waitForTimeout(200);
   const lastRow = await many.$$eval('#rows .row .name', (ns) => ns.map((n) => n.textContent));
   check(lastRow.includes('r#999') && inPage < 60, `every row is reachable (${inPage} rows in the page; the last is ${lastRow[lastRow.length - 1]})`);
+  // Scrolled a few rows at a time (the rows still in view kept, those scrolled in added),
+  // up and down: the page holds the rows of the window in view, each once, in order.
+  let windowOk = true, seenWindow = '';
+  for (const step of [-90, -36, -18, -200, 54, 18, -500, 1000]) {
+    await many.$eval('#timeline', (tl, d) => { tl.scrollTop += d; }, step);
+    await many.waitForTimeout(60);
+    const idx = await many.$$eval('#rows .row', (rs) => rs.map((r) => +r.dataset.i));
+    const top = await many.$eval('#timeline', (tl) => Math.floor(tl.scrollTop / 18));
+    const contiguous = idx.every((v, k) => k === 0 || v === idx[k - 1] + 1);
+    if (!contiguous || !idx.includes(Math.min(999, top + 2))) { windowOk = false; seenWindow = `${idx[0]}…${idx[idx.length - 1]} at row ${top}`; }
+  }
+  check(windowOk, `scrolling keeps exactly the rows in view, each once, in order ${seenWindow}`);
 
   // An 800 × 800 scene: the preview fits, the timeline stays in view.
   const big = await browser.newPage({ viewport: { width: 1280, height: 800 }, deviceScaleFactor: 1 });
