@@ -30,19 +30,7 @@ fn scene(dir: &Path, header: &str, second_leaf: &str) -> PathBuf {
         ),
     )
     .unwrap();
-    let gm = dir.join("s.gm");
-    std::fs::write(
-        &gm,
-        format!(
-            "scene s.svg\nduration 2s\nfps 30\n{header}\n\
-             timesplit(0.5, 0.5) : [all, (leaf, stem)] -> [a, inv_a]\n\
-             animate(fill, local, 0, #f0c040) : [a, leaf] -> [ripen]\n\
-             animate(affine, local, 0, rotate(30)) : [a, stem] -> [turn]\n\
-             animate(opacity, local, 0, 0.5) : [turn, stem] -> [fade]\n"
-        ),
-    )
-    .unwrap();
-    gm
+    grammar(&dir.join("s.gm"), "s.svg", header)
 }
 
 fn animate(gm: &Path, out: &Path) -> String {
@@ -522,11 +510,16 @@ fn lottie_scene(dir: &Path, header: &str) -> PathBuf {
         "nm": "slots", "ddd": 0, "assets": [],
         "layers": [layer(1, "stem", stem), layer(2, "leaf", rect(70.0, 30.0)), layer(3, "leaf", rect(10.0, 50.0))]});
     std::fs::write(dir.join("scene.json"), doc.to_string()).unwrap();
-    let gm = dir.join("l.gm");
+    grammar(&dir.join("l.gm"), "scene.json", header)
+}
+
+/// Writes the grammar both scenes run at `gm`, on `scene`, `header` after its directives:
+/// the leaves' fill turns yellow and back, the stem turns and fades.
+fn grammar(gm: &Path, scene: &str, header: &str) -> PathBuf {
     std::fs::write(
-        &gm,
+        gm,
         format!(
-            "scene scene.json\nduration 2s\nfps 30\n{header}\n\
+            "scene {scene}\nduration 2s\nfps 30\n{header}\n\
              timesplit(0.5, 0.5) : [all, (leaf, stem)] -> [a, inv_a]\n\
              animate(fill, local, 0, #f0c040) : [a, leaf] -> [ripen]\n\
              animate(affine, local, 0, rotate(30)) : [a, stem] -> [turn]\n\
@@ -534,7 +527,7 @@ fn lottie_scene(dir: &Path, header: &str) -> PathBuf {
         ),
     )
     .unwrap();
-    gm
+    gm.to_path_buf()
 }
 
 /// On a Lottie scene (After Effects' layers, tagged by their names) the slots go on the

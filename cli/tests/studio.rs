@@ -128,6 +128,22 @@ impl Studio {
         self.raw(method, path, &host, Some(&self.token.clone()), body)
     }
 
+    /// Saves the grammar through the API and asserts that `gmotion check` accepts the file:
+    /// what the studio's edits wrote is a grammar the command line takes.
+    fn save_and_check(&self) {
+        self.call("POST", "/api/save", "");
+        let out = Command::new(env!("CARGO_BIN_EXE_gmotion"))
+            .arg("check")
+            .arg(self.dir.join("toy.gm"))
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+
     fn state(&self) -> Value {
         let r = self.call("GET", "/api/state", "");
         assert_eq!(r.status, 200);
@@ -899,17 +915,7 @@ fn retime_rewrites_the_timesplit_fractions_keeping_their_sum() {
     assert_eq!(s.call("POST", "/api/retime", "{}").status, 400);
     assert_eq!(s.call("POST", "/api/retime", "nonsense").status, 400);
     // What the API wrote, `gmotion check` accepts.
-    s.call("POST", "/api/save", "");
-    let out = Command::new(env!("CARGO_BIN_EXE_gmotion"))
-        .arg("check")
-        .arg(s.dir.join("toy.gm"))
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    s.save_and_check();
 }
 
 #[test]
@@ -1006,17 +1012,7 @@ fn moving_a_change_rewrites_its_offset_as_a_whole() {
     let far = offset(c1, 1, 1.6, 2.99);
     assert_eq!(far.status, 422, "{}", String::from_utf8_lossy(&far.body));
     assert_eq!(s.call("GET", "/api/grammar", "").body, before);
-    s.call("POST", "/api/save", "");
-    let out = Command::new(env!("CARGO_BIN_EXE_gmotion"))
-        .arg("check")
-        .arg(s.dir.join("toy.gm"))
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    s.save_and_check();
 }
 
 #[test]
@@ -1107,15 +1103,5 @@ fn a_rule_value_is_set_in_place_or_refused() {
     assert_eq!(s.call("GET", "/api/grammar", "").body, before);
     assert_eq!(set(line, "speed", "1").status, 400);
     assert_eq!(s.call("POST", "/api/value", "{}").status, 400);
-    s.call("POST", "/api/save", "");
-    let out = Command::new(env!("CARGO_BIN_EXE_gmotion"))
-        .arg("check")
-        .arg(s.dir.join("toy.gm"))
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    s.save_and_check();
 }

@@ -12,12 +12,11 @@
 // with a few dozen rows in the page. Prints (does not check) how long a 4 MiB paste takes
 // to draw. With $STUDIO_SHOTS set to a folder, saves the screenshots docs/studio.md shows.
 // Exits 1 on the first failed check.
-import { spawn, spawnSync } from 'node:child_process';
+import { spawnSync } from 'node:child_process';
 import { mkdtempSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
-import { createInterface } from 'node:readline';
-import { chromium } from 'playwright-core';
+import { launchChromium, startStudio } from './studio_harness.mjs';
 
 const gm = process.argv[2];
 if (!gm) {
@@ -50,19 +49,7 @@ writeFileSync(join(dir, 'many.svg'), '<svg xmlns="http://www.w3.org/2000/svg" wi
 writeFileSync(join(dir, 'many.gm'), 'duration 1s\n');
 
 const children = [];
-async function studio(scene, grammar) {
-  const child = spawn(gm, ['studio', '--no-open', '--port', '0', scene, grammar], { stdio: ['ignore', 'pipe', 'pipe'] });
-  children.push(child);
-  let err = '';
-  child.stderr.on('data', (d) => { err += d; });
-  const first = await new Promise((resolve, reject) => {
-    createInterface({ input: child.stdout }).once('line', resolve);
-    child.once('exit', (code) => reject(new Error(`gmotion studio exited (${code}): ${err}`)));
-  });
-  const m = /^studio: (http:\/\/127\.0\.0\.1:\d+\/\?token=[0-9a-f]+)$/.exec(first);
-  if (!m) throw new Error(`unexpected first line: ${first}`);
-  return m[1];
-}
+const studio = (scene, grammar) => startStudio(gm, scene, grammar, children);
 
 let failed = false;
 function check(ok, what) {
@@ -70,11 +57,7 @@ function check(ok, what) {
   if (!ok) failed = true;
 }
 
-const browser = await chromium.launch({
-  executablePath: '/usr/bin/chromium',
-  args: ['--headless', '--no-sandbox', '--disable-gpu', '--no-first-run',
-    '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-});
+const browser = await launchChromium();
 try {
   const page = await browser.newPage({ viewport: { width: 1280, height: 1000 }, deviceScaleFactor: 1 });
   const errors = [];

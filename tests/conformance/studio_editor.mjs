@@ -13,13 +13,12 @@
 // rule moves; an 800 × 800 scene leaves the timeline in view. With
 // $STUDIO_SHOTS set to a folder, saves the screenshots docs/studio.md shows. Exits 1 on
 // the first failed check.
-import { spawn, spawnSync } from 'node:child_process';
+import { spawnSync } from 'node:child_process';
 import { existsSync, mkdtempSync, readFileSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join, dirname } from 'node:path';
-import { createInterface } from 'node:readline';
 import { fileURLToPath } from 'node:url';
-import { chromium } from 'playwright-core';
+import { launchChromium, startStudio } from './studio_harness.mjs';
 
 const here = dirname(fileURLToPath(import.meta.url));
 const root = join(here, '..', '..');
@@ -41,19 +40,7 @@ writeFileSync(join(dir, 'big.svg'), '<svg xmlns="http://www.w3.org/2000/svg" wid
   + '<rect data-tag="r" x="100" y="100" width="600" height="600" fill="#17bebb"/></svg>');
 
 const children = [];
-async function studio(scene, grammar) {
-  const child = spawn(gm, ['studio', '--no-open', '--port', '0', scene, grammar], { stdio: ['ignore', 'pipe', 'pipe'] });
-  children.push(child);
-  let err = '';
-  child.stderr.on('data', (d) => { err += d; });
-  const first = await new Promise((resolve, reject) => {
-    createInterface({ input: child.stdout }).once('line', resolve);
-    child.once('exit', (code) => reject(new Error(`gmotion studio exited (${code}): ${err}`)));
-  });
-  const m = /^studio: (http:\/\/127\.0\.0\.1:\d+\/\?token=[0-9a-f]+)$/.exec(first);
-  if (!m) throw new Error(`unexpected first line: ${first}`);
-  return m[1];
-}
+const studio = (scene, grammar) => startStudio(gm, scene, grammar, children);
 
 let failed = false;
 function check(ok, what) {
@@ -62,11 +49,7 @@ function check(ok, what) {
 }
 const checkFile = (file) => spawnSync(gm, ['check', file], { encoding: 'utf8' });
 
-const browser = await chromium.launch({
-  executablePath: '/usr/bin/chromium',
-  args: ['--headless', '--no-sandbox', '--disable-gpu', '--no-first-run',
-    '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-});
+const browser = await launchChromium();
 try {
   const grammarFile = join(dir, 'new.gm');
   const url = await studio(join(dir, 'toy.svg'), grammarFile);

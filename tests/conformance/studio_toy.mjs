@@ -9,13 +9,12 @@
 // grammars/toy.gm's (both drawn by `gmotion animate … --time T`). Then a spatial rule
 // written with the form cuts the background into two pieces. Exits 1 on the first failed
 // check.
-import { spawn, spawnSync } from 'node:child_process';
+import { spawnSync } from 'node:child_process';
 import { mkdtempSync, readFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join, dirname } from 'node:path';
-import { createInterface } from 'node:readline';
 import { fileURLToPath } from 'node:url';
-import { chromium } from 'playwright-core';
+import { launchChromium, startStudio } from './studio_harness.mjs';
 
 const here = dirname(fileURLToPath(import.meta.url));
 const root = join(here, '..', '..');
@@ -34,21 +33,10 @@ function check(ok, what) {
   if (!ok) failed = true;
 }
 
-const child = spawn(gm, ['studio', '--no-open', '--port', '0', scene, grammarFile], { stdio: ['ignore', 'pipe', 'pipe'] });
-let stderr = '';
-child.stderr.on('data', (d) => { stderr += d; });
-const first = await new Promise((resolve, reject) => {
-  createInterface({ input: child.stdout }).once('line', resolve);
-  child.once('exit', (code) => reject(new Error(`gmotion studio exited (${code}): ${stderr}`)));
-});
-const url = /^studio: (\S+)$/.exec(first)?.[1];
-if (!url) throw new Error(`unexpected first line: ${first}`);
+const children = [];
+const url = await startStudio(gm, scene, grammarFile, children);
 
-const browser = await chromium.launch({
-  executablePath: '/usr/bin/chromium',
-  args: ['--headless', '--no-sandbox', '--disable-gpu', '--no-first-run',
-    '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-});
+const browser = await launchChromium();
 try {
   const page = await browser.newPage({ viewport: { width: 1280, height: 1000 }, deviceScaleFactor: 1 });
   const errors = [];
@@ -179,6 +167,6 @@ try {
   check(errors.length === 0, `no script errors ${errors.join('; ')}`);
 } finally {
   await browser.close();
-  child.kill();
+  children.forEach((c) => c.kill());
 }
 process.exit(failed ? 1 : 0);
