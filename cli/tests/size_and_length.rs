@@ -499,3 +499,42 @@ fn a_lottie_length_with_float_noise_is_whole_frames() {
     }
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// A canvas past the `pixels` limit is worth a warning only when an output is drawn at its
+/// size: with `--width` (or the grammar's `width`) no image is, and the warning (which asks
+/// for `--width`) would be wrong.
+#[test]
+fn a_huge_canvas_is_warned_of_only_when_drawn_at_its_size() {
+    let dir = out_dir("huge_canvas");
+    let scene = dir.join("huge.svg");
+    std::fs::write(
+        &scene,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="100000" height="50000" viewBox="0 0 100 50"><rect data-tag="s" width="10" height="10"/></svg>"#,
+    )
+    .unwrap();
+    let gm = dir.join("g.gm");
+    let run = |args: &[&str], grammar: &str| {
+        std::fs::write(&gm, grammar).unwrap();
+        let out = bin().args(args).output().expect("run gmotion");
+        let stderr = String::from_utf8_lossy(&out.stderr).to_string();
+        assert!(out.status.success(), "{args:?}: {stderr}");
+        stderr.contains("more than the limit of")
+    };
+    let (s, g) = (scene.to_str().unwrap(), gm.to_str().unwrap());
+    let png = dir.join("out.png");
+    let p = png.to_str().unwrap();
+    let json = dir.join("out.json");
+    let j = json.to_str().unwrap();
+    let move_it = "animate(affine, world, 0, translate(10, 0)) : [all, s] -> [m]\n";
+    assert!(run(&["convert", s, "-o", j], ""), "no output size: warned");
+    assert!(!run(&["convert", s, "-o", p, "--width", "64"], ""));
+    assert!(!run(&["convert", s, "-o", p, "--height", "32"], ""));
+    assert!(!run(&["animate", s, g, "-o", j, "--width", "64"], move_it));
+    let sized = format!("width 64\n{move_it}");
+    assert!(
+        !run(&["animate", s, g, "-o", p], &sized),
+        "the grammar's width"
+    );
+    assert!(run(&["animate", s, g, "-o", j], move_it));
+    assert_eq!(png_size(&png), (64, 32));
+}

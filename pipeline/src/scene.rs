@@ -34,6 +34,9 @@ pub struct ImportChoices {
     /// dotLottie scenes: the id of the animation to read (default: the package's initial
     /// animation, else its first).
     pub animation: Option<String>,
+    /// The front end sets the outputs' size (`--width`, `--height`): no image is drawn at
+    /// the canvas's own size, so a canvas past the `pixels` limit is not worth a warning.
+    pub sized: bool,
 }
 
 /// How to import a scene: as SVG, or as Lottie.
@@ -48,6 +51,9 @@ pub struct SceneOptions {
     reference_from: Option<(PathBuf, String, gmotion::grammar::ast::Span)>,
     /// dotLottie scenes: the animation to read ([`ImportChoices::animation`]).
     animation: Option<String>,
+    /// The outputs' size is set (by the front end or the grammar's `width`/`height`), not
+    /// the canvas's own: the importer need not warn of a canvas too big to draw.
+    sized: bool,
 }
 
 impl SceneOptions {
@@ -116,6 +122,7 @@ impl SceneOptions {
                 _ => None,
             },
             animation: choices.animation.clone(),
+            sized: choices.sized || settings.width.is_some() || settings.height.is_some(),
         })
     }
 }
@@ -202,7 +209,11 @@ impl Imported {
         if is_lottie(path) {
             return Imported::load_lottie(path, options, env);
         }
-        let imported = svg_import::load_with(path, &options.svg, &env.svg_policy())
+        let mut policy = env.svg_policy();
+        if options.sized {
+            policy.max_canvas_pixels = u64::MAX;
+        }
+        let imported = svg_import::load_with(path, &options.svg, &policy)
             .map_err(|e| Error::msg(e.to_string()))?;
         for w in &imported.warnings {
             (env.warn)(path, w);

@@ -40,8 +40,8 @@ impl Animate {
             outputs,
             time,
             run: run.overrides(),
+            choices: import.choices(render.width.is_some() || render.height.is_some()),
             render,
-            choices: import.choices(),
             theme: None,
         }
     }

@@ -29,7 +29,7 @@ impl Convert {
         Convert {
             time,
             render: render.clone(),
-            choices: import.choices(),
+            choices: import.choices(render.width.is_some() || render.height.is_some()),
         }
     }
 

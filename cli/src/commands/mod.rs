@@ -88,9 +88,9 @@ pub fn run(cmd: Command, ctx: &Ctx) -> Result<()> {
                 duration,
             },
             outputs: output,
+            choices: import.choices(render.width.is_some() || render.height.is_some()),
             time,
             render,
-            choices: import.choices(),
         }
         .run(ctx),
         Command::Studio {
@@ -104,7 +104,7 @@ pub fn run(cmd: Command, ctx: &Ctx) -> Result<()> {
             port,
             no_open,
             run: run.overrides(),
-            choices: import.choices(),
+            choices: import.choices(false),
         }
         .run(ctx),
         Command::Variations {
@@ -125,7 +125,7 @@ pub fn run(cmd: Command, ctx: &Ctx) -> Result<()> {
             time,
             width,
             theme,
-            choices: import.choices(),
+            choices: import.choices(true),
         }
         .run(ctx),
         Command::Check {
@@ -141,15 +141,16 @@ pub fn run(cmd: Command, ctx: &Ctx) -> Result<()> {
             shapes,
             json,
             run: run.overrides(),
-            choices: import.choices(),
+            choices: import.choices(false),
         }
         .run(ctx),
     }
 }
 
 impl ImportArgs {
-    /// The pipeline's import choices these flags make.
-    fn choices(&self) -> ImportChoices {
+    /// The pipeline's import choices these flags make; `sized`: the command's own flags
+    /// set the outputs' size (`--width`, `--height`).
+    fn choices(&self, sized: bool) -> ImportChoices {
         ImportChoices {
             tag_from: self.tag_from.map(|t| match t {
                 TagFromArg::Auto => gmotion::TagFrom::Auto,
@@ -167,6 +168,7 @@ impl ImportArgs {
             tags: self.tags.clone(),
             reference_time: self.reference_time,
             animation: self.animation.clone(),
+            sized,
         }
     }
 }
