@@ -75,9 +75,13 @@ try {
   await page.getByRole('spinbutton', { name: 'variation count' }).fill(String(variations));
   await page.getByRole('spinbutton', { name: 'variation count' }).dispatchEvent('change');
   const result = await page.evaluate(async (frames) => {
-    const long = [];
+    const long = [], frames_ = [];
     new PerformanceObserver((list) => list.getEntries().forEach((e) => long.push(e.duration)))
       .observe({ type: 'longtask', buffered: false });
+    // Long animation frames (over 50 ms of the main thread's work for one frame: scripts,
+    // style, layout and paint together), with what took the time.
+    new PerformanceObserver((list) => list.getEntries().forEach((e) => frames_.push(e)))
+      .observe({ type: 'long-animation-frame', buffered: false });
     const timeline = document.getElementById('timeline');
     const scrub = document.getElementById('scrub');
     const times = [];
@@ -93,7 +97,9 @@ try {
       };
       requestAnimationFrame(step);
     });
+    await new Promise((r) => setTimeout(r, 100));   // the last frame's entries delivered
     const gaps = times.slice(1).map((t, i) => t - times[i]).sort((a, b) => a - b);
+    const worstFrame = frames_.reduce((w, e) => (!w || e.duration > w.duration ? e : w), null);
     const at = (q) => gaps[Math.min(gaps.length - 1, Math.floor(q * gaps.length))];
     return {
       frames: gaps.length,
@@ -102,6 +108,15 @@ try {
       worst_ms: +gaps[gaps.length - 1].toFixed(1),
       long_tasks: long.length,
       worst_long_task_ms: long.length ? +Math.max(...long).toFixed(1) : 0,
+      long_frames: frames_.length,
+      worst_long_frame_ms: worstFrame ? +worstFrame.duration.toFixed(1) : 0,
+      // Where the worst long frame went: scripts (each by the function that ran), then
+      // style and layout, then the rest (paint, commit).
+      worst_long_frame: worstFrame && {
+        script_ms: +(worstFrame.renderStart ? worstFrame.renderStart - worstFrame.startTime : worstFrame.duration).toFixed(1),
+        style_layout_ms: +(worstFrame.styleAndLayoutStart ? worstFrame.startTime + worstFrame.duration - worstFrame.styleAndLayoutStart : 0).toFixed(1),
+        scripts: worstFrame.scripts.map((x) => `${x.invoker || x.sourceFunctionName || '?'} ${x.duration.toFixed(0)}`),
+      },
       rows_in_page: document.querySelectorAll('#rows .row').length,
     };
   }, frames);
