@@ -116,11 +116,15 @@ fn parents(scene: &Scene) -> Vec<Option<usize>> {
     up
 }
 
-/// For each unit, the Lottie layer it is a part of (its index among the root layers, and
-/// its name), when the units are parts (`--units groups`); `None` for a whole layer, an
-/// SVG unit, or when the scene's units are no longer the source's (a group grammar's
-/// spatial rules made others).
-fn part_layers(scene: &Scene, source: Option<&LottieSource>) -> Vec<Option<(usize, String)>> {
+/// A Lottie layer that parts belong to: its index among the root layers, the name a rule
+/// selects its parts by (its `nm` as a grammar name), and its `nm` as written when that
+/// differs.
+type PartLayer = (usize, String, Option<String>);
+
+/// For each unit, the Lottie layer it is a part of, when the units are parts (`--units
+/// groups`); `None` for a whole layer, an SVG unit, or when the scene's units are no
+/// longer the source's (a group grammar's spatial rules made others).
+fn part_layers(scene: &Scene, source: Option<&LottieSource>) -> Vec<Option<PartLayer>> {
     let mut out = vec![None; scene.shapes.len()];
     let Some(source) = source.filter(|s| s.units.len() == scene.shapes.len()) else {
         return out;
@@ -128,15 +132,10 @@ fn part_layers(scene: &Scene, source: Option<&LottieSource>) -> Vec<Option<(usiz
     for (slot, unit) in out.iter_mut().zip(&source.units) {
         let layer = unit.layers.first().copied().filter(|_| unit.part.is_some());
         *slot = layer.and_then(|l| {
-            let name = source.document.layers.get(l)?.nm.trim();
-            Some((
-                l,
-                if name.is_empty() {
-                    format!("layer {l}")
-                } else {
-                    name.to_string()
-                },
-            ))
+            let nm = source.document.layers.get(l)?.nm.trim();
+            let name = gmotion::tagging::grammar_name(nm).unwrap_or_else(|| format!("layer_{l}"));
+            let label = Some(nm.to_string()).filter(|n| !n.is_empty() && *n != name);
+            Some((l, name, label))
         });
     }
     out
@@ -144,7 +143,7 @@ fn part_layers(scene: &Scene, source: Option<&LottieSource>) -> Vec<Option<(usiz
 
 /// Gathers the top-level units that are parts of one Lottie layer under a branch named
 /// after it, where the first of them was.
-fn gather_parts(top: Vec<Item>, layer_of: &[Option<(usize, String)>]) -> Vec<Item> {
+fn gather_parts(top: Vec<Item>, layer_of: &[Option<PartLayer>]) -> Vec<Item> {
     if layer_of.iter().all(Option::is_none) {
         return top;
     }
@@ -155,14 +154,14 @@ fn gather_parts(top: Vec<Item>, layer_of: &[Option<(usize, String)>]) -> Vec<Ite
             .shape
             .filter(|_| item.children.is_empty())
             .and_then(|i| layer_of.get(i).cloned().flatten());
-        let Some((l, name)) = layer else {
+        let Some((l, name, label)) = layer else {
             out.push(item);
             continue;
         };
         let at = *branch_of.entry(l).or_insert_with(|| {
             out.push(Item {
                 name: Some(name),
-                label: None,
+                label,
                 shape: None,
                 children: Vec::new(),
             });
@@ -410,7 +409,7 @@ mod tests {
     }
 
     /// A Lottie document of a null `Rig`, a shape layer `Car` parented to it drawing two
-    /// top-level groups, and an unparented shape layer `Sun` drawing one, imported with
+    /// top-level groups, and an unparented shape layer `Sun Disc` drawing one, imported with
     /// `--units groups` (each group a unit).
     fn parts_scene() -> (Scene, LottieSource) {
         let fixed = |v: Value| json!({"a": 0, "k": v});
@@ -433,7 +432,7 @@ mod tests {
         };
         let doc = json!({"v": "5.7.0", "fr": 30, "ip": 0, "op": 60, "w": 100, "h": 100, "ddd": 0,
         "assets": [], "layers": [
-            layer("Sun", 3, None, json!([group("Disc", 20.0)])),
+            layer("Sun Disc", 3, None, json!([group("Disc", 20.0)])),
             {"ddd": 0, "ty": 3, "nm": "Rig", "ind": 1, "ip": 0, "op": 60, "st": 0, "sr": 1, "ks": ks, "ao": 0},
             layer("Car", 2, Some(1), json!([group("Body", 0.0), group("Wheel", -20.0)])),
         ]});
@@ -475,9 +474,17 @@ mod tests {
         got.drain(rig..rig + 4);
         assert_eq!(
             got,
-            [("Sun", 0), ("Disc", 1)].map(|(n, d)| (n.to_string(), d)),
+            [("Sun_Disc", 0), ("Disc", 1)].map(|(n, d)| (n.to_string(), d)),
             "{nested:#}"
         );
+        // The layer's name as written goes beside the name a rule selects it by.
+        let sun = nested
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|e| e["name"] == "Sun_Disc")
+            .unwrap();
+        assert_eq!(sun["label"], "Sun Disc");
         // Selecting the layer selects its parts.
         let car = nested
             .as_array()
