@@ -189,7 +189,10 @@ fn route(ctx: &Ctx, request: &Request) -> Reply {
             let good = live.good();
             Reply::json(&json!({
                 "version": live.version(),
-                "layers": crate::layers::layers_json(&good.rendered.anim.scene),
+                "layers": crate::layers::layers_json(
+                    &good.rendered.anim.scene,
+                    good.rendered.source.as_deref(),
+                ),
             }))
         }
         ("GET", "/grammar") => Reply::ok("text/plain; charset=utf-8", live.text()),

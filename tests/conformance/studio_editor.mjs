@@ -2,7 +2,8 @@
 // `node studio_editor.mjs path/to/gmotion`.
 //
 // Checks: `studio SCENE NEW.gm` creates the empty grammar; the timeline (a ruler that
-// seeks, Space and the arrows, a boundary dragged to retime, every row of 1000 reachable); rules written with the form
+// seeks, Space and the arrows, a boundary dragged to retime, every row of 1000 reachable, the
+// canvas drawing the bars under their slices and the playhead at the time); rules written with the form
 // alone (an inverted slice names its twin, a selected shape its unique alias) leave a
 // grammar `gmotion check` accepts; a click hits the shape where the frame shown draws it;
 // every independent error is listed with its help; an outside edit under unsaved edits is
@@ -19,6 +20,33 @@ import { tmpdir } from 'node:os';
 import { join, dirname } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { launchChromium, startStudio } from './studio_harness.mjs';
+
+// In the page: for the timeline row named `name`, whether the canvas shows each of its
+// forward slices' colour in the middle of the slice's element, and whether the playhead's
+// red is at the time shown (on the ruler, clear of the bars).
+function timelinePixels(name) {
+  const cv = document.getElementById('tl-canvas'), g = cv.getContext('2d');
+  const r = cv.getBoundingClientRect(), k = cv.width / r.width;
+  const at = (x, y) => [...g.getImageData(Math.floor((x - r.left) * k), Math.floor((y - r.top) * k), 1, 1).data];
+  const rgb = (css) => {
+    const probe = document.createElement('span');
+    probe.style.color = css;
+    document.body.appendChild(probe);
+    const c = getComputedStyle(probe).color.match(/\d+/g).map(Number);
+    probe.remove();
+    return c;
+  };
+  const near = (a, b) => a.slice(0, 3).every((v, i) => Math.abs(v - b[i]) <= 3);
+  const row = [...document.querySelectorAll('#rows .row')].find((x) => x.querySelector('.name').textContent === name);
+  const bars = [...row.querySelectorAll('.slice:not(.inv)')].map((el) => {
+    const b = el.getBoundingClientRect();
+    const got = at(b.left + b.width / 2, b.top + b.height - 3);
+    return { tag: el.textContent, ok: near(got, rgb(colour(el.textContent))), got: got.slice(0, 3).join(',') };
+  });
+  const ruler = document.getElementById('ruler').getBoundingClientRect();
+  const x = ruler.left + ruler.width * t / S.duration;
+  return { bars, playhead: near(at(x, ruler.top + 3), [0xe0, 0x31, 0x31]), readout: document.getElementById('readout').textContent };
+}
 
 const here = dirname(fileURLToPath(import.meta.url));
 const root = join(here, '..', '..');
@@ -261,6 +289,12 @@ try {
   const paused = await readout();
   await toy.waitForTimeout(300);
   check(!/^0\.000 /.test(playing) && paused === await readout(), `Space plays and pauses (${playing} → ${paused})`);
+
+  // The timeline is drawn on a canvas: each slice's bar in its tag's colour under the
+  // slice's element, the playhead where the time is.
+  const drawn = await toy.evaluate(timelinePixels, 's#0');
+  check(drawn.bars.length >= 1 && drawn.bars.every((b) => b.ok), `the canvas draws s#0's bars under their slices in their tags' colours (${JSON.stringify(drawn.bars)})`);
+  check(drawn.playhead, `the canvas draws the playhead at the time shown (${drawn.readout})`);
 
   // Zoom: twice in by the buttons, the tracks 4× as wide about the middle (the boundary
   // at 3 s of 6 stays put), a click on the zoomed ruler seeking the time under it,
@@ -531,6 +565,8 @@ try {
   await many.waitForTimeout(200);
   const lastRow = await many.$$eval('#rows .row .name', (ns) => ns.map((n) => n.textContent));
   check(lastRow.includes('r#999') && inPage < 60, `every row is reachable (${inPage} rows in the page; the last is ${lastRow[lastRow.length - 1]})`);
+  const bottom = await many.evaluate(timelinePixels, 'r#999');
+  check(bottom.bars.length > 0 && bottom.bars.every((b) => b.ok), `scrolled to the end, the canvas draws the last row's bars (${JSON.stringify(bottom.bars)})`);
   // Scrolled a few rows at a time (the rows still in view kept, those scrolled in added),
   // up and down: the page holds the rows of the window in view, each once, in order.
   let windowOk = true, seenWindow = '';

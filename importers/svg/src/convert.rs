@@ -478,7 +478,14 @@ impl<'s, 'a> Converter<'s, 'a> {
         };
         let outer_zip = zip.is_some().then(|| std::mem::replace(&mut self.zip, zip));
 
+        // A group the designer named (an Inkscape label, an Illustrator `data-name`) is
+        // kept even without an id of its own: its name is the layer tree's and a tag map's.
+        let label = elem
+            .and_then(|e| self.src.label_of(e))
+            .unwrap_or_default()
+            .to_string();
         let transparent = id.is_empty()
+            && label.is_empty()
             && transform == Affine::IDENTITY
             && opacity == 1.0
             && clip_path.is_none()
@@ -488,10 +495,6 @@ impl<'s, 'a> Converter<'s, 'a> {
         if transparent {
             self.children(g, dst, inner);
         } else {
-            let label = elem
-                .and_then(|e| self.src.label_of(e))
-                .unwrap_or_default()
-                .to_string();
             let mut out = Group {
                 id,
                 label,

@@ -317,6 +317,31 @@ fn inkscape_layers_name_but_do_not_group() {
 }
 
 #[test]
+fn a_named_group_without_id_or_transform_is_kept() {
+    // Inkscape names a group by its label and Illustrator by `data-name`, often with no
+    // id and no transform: the group stays in the tree with its name, its shapes in it.
+    let body = r#"
+        <g inkscape:label="wing"><rect width="2" height="2"/><rect x="3" width="2" height="2"/></g>
+        <g data-name="tail feathers"><rect x="6" width="2" height="2"/></g>
+        <g><rect x="9" width="2" height="2"/></g>"#;
+    for opts in [ImportOptions::default(), with(TagFrom::Auto, Units::Paths)] {
+        let scene = import(body, opts).scene;
+        let named: Vec<(&str, usize)> = scene
+            .root
+            .children
+            .iter()
+            .filter_map(|n| match n {
+                Node::Group(g) if !g.label.is_empty() => Some((g.label.as_str(), g.children.len())),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(named, [("wing", 2), ("tail feathers", 1)]);
+        // The unnamed group is still looked through: its rect is a child of the root.
+        assert_eq!(scene.root.children.len(), 3);
+    }
+}
+
+#[test]
 fn a_group_unit_is_tagged_by_what_makes_it_one() {
     let text = r##"<svg xmlns="http://www.w3.org/2000/svg" class="drawing" width="100" height="100">
         <defs><g id="bird" class="bird"><rect width="2" height="2"/><rect x="3" width="2" height="2"/></g></defs>
