@@ -572,9 +572,12 @@ try {
   let windowOk = true, seenWindow = '';
   for (const step of [-90, -36, -18, -200, 54, 18, -500, 1000]) {
     await many.$eval('#timeline', (tl, d) => { tl.scrollTop += d; }, step);
-    await many.waitForTimeout(60);
-    const idx = await many.$$eval('#rows .row', (rs) => rs.map((r) => +r.dataset.i));
+    // The rows follow a scroll once the page is idle (at most ~100 ms later): wait for the
+    // row in view to exist, then check the whole window.
     const top = await many.$eval('#timeline', (tl) => Math.floor(tl.scrollTop / 18));
+    await many.waitForFunction((want) => [...document.querySelectorAll('#rows .row')].some((r) => +r.dataset.i === want),
+      Math.min(999, top + 2), { timeout: 2000 }).catch(() => {});
+    const idx = await many.$$eval('#rows .row', (rs) => rs.map((r) => +r.dataset.i));
     const contiguous = idx.every((v, k) => k === 0 || v === idx[k - 1] + 1);
     if (!contiguous || !idx.includes(Math.min(999, top + 2))) { windowOk = false; seenWindow = `${idx[0]}…${idx[idx.length - 1]} at row ${top}`; }
   }
