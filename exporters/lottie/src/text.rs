@@ -1,30 +1,56 @@
 //! Lottie JSON as the exporter hands it over: a text already written (a source written
-//! back, a document with slots or packed), or the document's model, written when its
-//! destination is known. A large export is written straight to its file a run of layers
-//! at a time ([`crate::model::Animation::write_to`]), each run freed once written, instead
-//! of first being turned into a text as large as the file (856 MB for 999 000 shapes).
+//! back, a document with slots or packed), the document's model, written when its
+//! destination is known, or a document whose layers are built as they are written. A
+//! large export is written straight to its file a run of layers at a time
+//! ([`crate::model::Animation::write_to`]), each run freed once written, instead of first
+//! being turned into a text as large as the file (856 MB for 999 000 shapes); a large
+//! scene's layers are built a run at a time too ([`crate::layers::Builder::write_root`]).
 
+use std::fmt;
 use std::io::{self, Write};
 
 use crate::model::Animation;
 
-/// Lottie JSON, as text or as the document that writes it.
-#[derive(Clone, Debug)]
-pub struct LottieText {
-    held: Held,
+/// Writes a document whose layers are built as they are written.
+type Stream<'a> = Box<dyn FnOnce(&mut dyn Write) -> io::Result<()> + Send + 'a>;
+
+/// Lottie JSON, as text or as what writes it: it borrows the animation it is written
+/// from while its layers are still to be built.
+pub struct LottieText<'a> {
+    held: Held<'a>,
 }
 
-#[derive(Clone, Debug)]
-enum Held {
+enum Held<'a> {
     Text(Vec<u8>),
     Document(Box<Animation>),
+    Stream(Stream<'a>),
 }
 
-impl LottieText {
+impl fmt::Debug for LottieText<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let held = match &self.held {
+            Held::Text(text) => format!("{} bytes of text", text.len()),
+            Held::Document(doc) => format!("a document of {} layers", doc.layers.len()),
+            Held::Stream(_) => "a document built as it is written".to_string(),
+        };
+        f.debug_struct("LottieText").field("held", &held).finish()
+    }
+}
+
+impl<'a> LottieText<'a> {
     /// The text `doc` writes, written when asked for.
-    pub(crate) fn document(doc: Animation) -> LottieText {
+    pub(crate) fn document(doc: Animation) -> LottieText<'a> {
         LottieText {
             held: Held::Document(Box::new(doc)),
+        }
+    }
+
+    /// The text `write` writes, built as it is written.
+    pub(crate) fn stream(
+        write: impl FnOnce(&mut dyn Write) -> io::Result<()> + Send + 'a,
+    ) -> LottieText<'a> {
+        LottieText {
+            held: Held::Stream(Box::new(write)),
         }
     }
 
@@ -34,6 +60,7 @@ impl LottieText {
         match self.held {
             Held::Text(text) => out.write_all(&text),
             Held::Document(doc) => doc.write_to(out),
+            Held::Stream(write) => write(out),
         }
     }
 
@@ -41,9 +68,10 @@ impl LottieText {
     pub fn into_string(self) -> String {
         let bytes = match self.held {
             Held::Text(text) => text,
-            Held::Document(doc) => {
+            held => {
                 let mut out = Vec::new();
-                doc.write_to(&mut out)
+                LottieText { held }
+                    .write_to(&mut out)
                     .expect("writing into memory does not fail");
                 out
             }
@@ -52,8 +80,8 @@ impl LottieText {
     }
 }
 
-impl From<String> for LottieText {
-    fn from(s: String) -> LottieText {
+impl From<String> for LottieText<'_> {
+    fn from(s: String) -> Self {
         LottieText {
             held: Held::Text(s.into_bytes()),
         }

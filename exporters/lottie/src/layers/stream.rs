@@ -1,0 +1,140 @@
+//! The root's layers of a large scene built as the writer reaches them, a run of the
+//! root's children at a time, instead of all held before the first is written: at 999 000
+//! animated shapes the layers' models (904 bytes each) and texts (857) were most of the
+//! export's 6 GB.
+//!
+//! The root's layers are written topmost first, that is from its last child back, but
+//! numbered (`ind`) and their precompositions named (`comp_N`) from its first child on,
+//! and the document's head (its assets) precedes them. So the children are built twice:
+//! a first pass ([`Builder::plan_root`]) keeps what the head and the numbering need (the
+//! assets, the warnings, where each child's numbers start) and drops the layers; the
+//! second ([`Builder::write_root`]) builds them again a run at a time from the last run
+//! back, numbers them as planned and writes them. Each child is built on its own (as
+//! [`Builder::children_in_parallel`] builds it), so both passes build the same layers and
+//! the document is the same, byte for byte, as when it is built whole (tested).
+
+use std::io::{self, Write};
+
+use kurbo::Affine;
+use rayon::prelude::*;
+
+use super::{Builder, Env, Item, PARALLEL_CHILDREN, paints, renumber};
+use crate::model::{Layer, write_layers};
+
+/// How many of the root's children are built at a time, and the fewest for which the
+/// root is built in runs at all: a run's layers are a few megabytes, and below one run
+/// building twice would save nothing.
+pub(crate) const RUN: usize = 4096;
+
+/// What the first pass learned: enough to number the root's layers and write the head.
+pub(crate) struct Plan {
+    /// Per child of the root: the layer indices and the precompositions made before it.
+    starts: Vec<(u32, u32)>,
+    /// The highest index among the root's layers (0 when it has none).
+    pub max_ind: u32,
+    /// The root's transform, with which its children are drawn.
+    acc: Affine,
+    /// What applies to the root's children.
+    env: Env,
+}
+
+impl<'a> Builder<'a> {
+    /// The first pass over the root's children, for a root that is a plain group of at
+    /// least [`RUN`] children that each make only layers (animated shapes, named groups
+    /// of them): `None` for any other root, which is built whole ([`Builder::layers`]).
+    /// Takes every child's warnings and precompositions as the whole build would.
+    pub(crate) fn plan_root(&mut self, size: (u32, u32)) -> Option<Plan> {
+        let scene: &'a gmotion::scene::Scene = self.src.scene;
+        let root = &scene.root;
+        // The conditions under which `group` hands the root straight to `children`,
+        // which builds them in parallel.
+        let plain = root.unit.is_none()
+            && root.opacity > 0.0
+            && root.children.len() >= RUN.max(PARALLEL_CHILDREN)
+            && root.clip_path.is_none()
+            && root.mask.is_none()
+            && root.filter.is_none()
+            && !(root.opacity < 1.0 && paints(root) > 1)
+            && root.id.is_empty();
+        if !plain {
+            return None;
+        }
+        let env = Env {
+            alpha: root.opacity as f64,
+            unit: None,
+            to_canvas: Affine::IDENTITY,
+            size,
+        };
+        let acc = root.transform;
+        let seed = self.seed();
+        let mut starts = Vec::with_capacity(root.children.len());
+        let (mut next, mut max_ind) = (0u32, 0u32);
+        for run in root.children.chunks(RUN) {
+            let parts: Vec<_> = run.par_iter().map(|c| seed.part(c, acc, env)).collect();
+            for mut part in parts {
+                // Still shapes among the root's children are merged with their
+                // neighbours' into shape layers, across runs: built whole.
+                let mut layers = Vec::new();
+                for item in &part.items {
+                    match item {
+                        Item::Shape(_) => return None,
+                        Item::Layers(ls) => layers.extend(ls.iter().map(|l| l.ind)),
+                    }
+                }
+                let asset = self.adopt(&mut part);
+                max_ind = layers.into_iter().map(|i| i + next).fold(max_ind, u32::max);
+                starts.push((next, u32::try_from(asset).ok()?));
+                next += part.inds;
+            }
+        }
+        Some(Plan {
+            starts,
+            max_ind,
+            acc,
+            env,
+        })
+    }
+
+    /// The second pass: the root's layers, topmost first, written to `out` as
+    /// [`crate::model::Animation::write_with`] asks, numbered as `plan` says and parented
+    /// to `parent` (the null that fits the canvas to the output) when given.
+    pub(crate) fn write_root(
+        &self,
+        plan: &Plan,
+        parent: Option<u32>,
+        out: &mut dyn Write,
+    ) -> io::Result<usize> {
+        let children = &self.src.scene.root.children;
+        let seed = self.seed();
+        let mut written = 0;
+        let mut end = children.len();
+        while end > 0 {
+            let start = end.saturating_sub(RUN);
+            let built: Vec<Vec<Layer>> = (start..end)
+                .into_par_iter()
+                .map(|k| {
+                    let mut part = seed.part(&children[k], plan.acc, plan.env);
+                    let (ind, asset) = plan.starts[k];
+                    renumber(&mut part.items, ind, asset as usize);
+                    let mut layers = Vec::new();
+                    for item in part.items {
+                        if let Item::Layers(ls) = item {
+                            layers.extend(ls);
+                        }
+                    }
+                    if let Some(p) = parent {
+                        for l in layers.iter_mut().filter(|l| l.parent.is_none()) {
+                            l.parent = Some(p);
+                        }
+                    }
+                    layers
+                })
+                .collect();
+            // Bottom first in each child and from child to child: reversed, topmost first.
+            let run: Vec<Layer> = built.into_iter().flatten().rev().collect();
+            written = write_layers(out, written, run)?;
+            end = start;
+        }
+        Ok(written)
+    }
+}
