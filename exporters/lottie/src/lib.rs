@@ -159,6 +159,19 @@ pub fn to_lottie_text<'a>(
             shapes: anim.scene.shapes.len(),
         });
     }
+    let parts = Parts {
+        scene: &anim.scene,
+        tracks: &anim.tracks,
+        motions: motions(anim, opts.tolerance),
+        names: layer_names(&anim.scene),
+        fps: anim.fps,
+        op: anim.frame_count() as f64,
+    };
+    write(parts, opts, true)
+}
+
+/// Every shape's motion, as its layer keys it.
+fn motions(anim: &Animation, tolerance: f64) -> Vec<UnitMotion> {
     let frames = anim.frame_count();
     let bakes = Bakes::default();
     let motion = |(u, (track, shape)): (usize, (&Track, &Shape))| {
@@ -167,12 +180,12 @@ pub fn to_lottie_text<'a>(
             centroid: shape.centroid,
             strokes: anim.scene.unit_node(u).is_none_or(may_stroke),
         };
-        unit_motion(track, info, anim.fps, frames, opts.tolerance, &bakes)
+        unit_motion(track, info, anim.fps, frames, tolerance, &bakes)
     };
     // Shapes are independent, and baking what Lottie cannot say (skews, blends) samples and
     // fits every frame of a moving window: most of an export's time on large scenes. A
     // handful of shapes is not worth waking the thread pool for.
-    let motions: Vec<UnitMotion> = if anim.tracks.len() >= PARALLEL_UNITS {
+    if anim.tracks.len() >= PARALLEL_UNITS {
         (anim.tracks.par_iter().zip(&anim.scene.shapes))
             .enumerate()
             .map(motion)
@@ -184,18 +197,8 @@ pub fn to_lottie_text<'a>(
             .enumerate()
             .map(motion)
             .collect()
-    };
-    let parts = Parts {
-        scene: &anim.scene,
-        tracks: &anim.tracks,
-        motions,
-        names: layer_names(&anim.scene),
-        fps: anim.fps,
-        op: frames as f64,
-    };
-    write(parts, opts, true)
+    }
 }
-
 /// Writes a still scene as a one-frame Lottie.
 pub fn still_to_lottie(scene: &Scene, opts: &LottieOptions) -> Result<LottieOutput, LottieError> {
     let parts = Parts {

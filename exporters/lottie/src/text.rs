@@ -64,6 +64,12 @@ impl<'a> LottieText<'a> {
         }
     }
 
+    /// Whether the layers are built as they are written.
+    #[cfg(test)]
+    pub(crate) fn is_streamed(&self) -> bool {
+        matches!(self.held, Held::Stream(_))
+    }
+
     /// The text as one string.
     pub fn into_string(self) -> String {
         let bytes = match self.held {

@@ -138,3 +138,85 @@ impl<'a> Builder<'a> {
         Ok(written)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use std::fmt::Write as _;
+
+    use gmotion::canvas::OutputSize;
+
+    use crate::{LottieOptions, Parts, layer_names, motions, write};
+
+    /// `n` children of the root, every one an animated shape: squares, squares clipped
+    /// by a circle (a layer mask) or by a frame (a track matte, its `tp` a layer number),
+    /// and groups of two squares with group opacity (a precomposition, by `refId`).
+    fn scene(n: usize) -> String {
+        let mut svg = String::from(
+            r#"<svg xmlns="http://www.w3.org/2000/svg" width="1000" height="1000">
+<defs><clipPath id="one"><circle cx="5" cy="5" r="4"/></clipPath>
+<clipPath id="two"><path clip-rule="evenodd" d="M0 0h10v10h-10z M2 2h6v6h-6z"/></clipPath></defs>
+"#,
+        );
+        for i in 0..n {
+            let (x, y) = ((i % 100) * 10, (i / 100) * 10 % 1000);
+            let rect = format!(r##"x="{x}" y="{y}" width="8" height="8" fill="#e4572e""##);
+            let _ = match i % 4 {
+                0 => writeln!(svg, r#"<rect data-tag="s" {rect}/>"#),
+                1 => writeln!(svg, r#"<rect data-tag="s" clip-path="url(#one)" {rect}/>"#),
+                2 => writeln!(svg, r#"<rect data-tag="s" clip-path="url(#two)" {rect}/>"#),
+                _ => writeln!(
+                    svg,
+                    r#"<g id="g{i}" opacity="0.5"><rect data-tag="s" {rect}/><rect data-tag="s" {rect} transform="translate(1 1)"/></g>"#
+                ),
+            };
+        }
+        svg.push_str("</svg>\n");
+        svg
+    }
+
+    /// The document written as it is built is the document built whole, byte for byte,
+    /// over several runs of children (the last one partial), fitted to another size or
+    /// not; and it is indeed written as it is built.
+    #[test]
+    fn a_root_written_as_it_is_built_is_the_root_built_whole() {
+        let n = 2 * super::RUN + 100;
+        let imported =
+            gmotion_import_svg::parse(&scene(n), "many.svg", &Default::default()).unwrap();
+        let gm = gmotion::grammar::parse(
+            "duration 1s\nfps 10\n\
+             timesplit(0.5, 0.5) : [all, s] -> [a, b]\n\
+             animate(affine, world, 0, translate(2, 0)) : [a, s] -> [t]\n\
+             animate(opacity, local, 0.00001 * id, 0.5) : [b, s] -> [o]\n",
+        )
+        .unwrap();
+        let anim = gmotion::engine::run(imported.scene, &gm, &Default::default())
+            .unwrap()
+            .0;
+        assert!(anim.scene.root.children.len() >= n);
+        for size in [None, Some(500)] {
+            let opts = LottieOptions {
+                size: OutputSize {
+                    width: size,
+                    height: None,
+                },
+                ..LottieOptions::default()
+            };
+            let parts = || Parts {
+                scene: &anim.scene,
+                tracks: &anim.tracks,
+                motions: motions(&anim, opts.tolerance),
+                names: layer_names(&anim.scene),
+                fps: anim.fps,
+                op: anim.frame_count() as f64,
+            };
+            let (streamed, warned) = write(parts(), &opts, true).unwrap();
+            assert!(streamed.is_streamed(), "the root was built whole");
+            let (whole, warned_whole) = write(parts(), &opts, false).unwrap();
+            assert!(!whole.is_streamed());
+            let (streamed, whole) = (streamed.into_string(), whole.into_string());
+            assert!(whole.contains("\"tp\":") && whole.contains("\"refId\":"));
+            assert!(streamed == whole, "the documents differ ({size:?})");
+            assert_eq!(warned, warned_whole);
+        }
+    }
+}
