@@ -33,7 +33,7 @@ mod mattes;
 mod morph;
 mod paths;
 mod patterns;
-mod stream;
+pub(crate) mod stream;
 mod units;
 
 use std::sync::Arc;
@@ -166,8 +166,11 @@ pub struct Source<'a> {
     pub scene: &'a Scene,
     /// The shapes' tracks.
     pub tracks: &'a [Track],
-    /// The shapes' motions, as the layers key them.
+    /// The shapes' motions, as the layers key them, from shape `first_motion` on (all of
+    /// them, or those of the root's children being built: [`stream`]).
     pub motions: &'a [UnitMotion],
+    /// The shape whose motion is `motions[0]`.
+    pub first_motion: usize,
     /// The shapes' layer names ([`layer_names`]).
     pub names: &'a [String],
     /// Frames per second.
@@ -234,7 +237,8 @@ impl<'a> Builder<'a> {
     }
 
     fn motion(&self, unit: usize) -> Option<&'a UnitMotion> {
-        self.src.motions.get(unit).filter(|m| m.is_animated())
+        let k = unit.checked_sub(self.src.first_motion)?;
+        self.src.motions.get(k).filter(|m| m.is_animated())
     }
 
     fn node(&mut self, node: &Node, acc: Affine, env: Env, comp: &mut Comp) {
@@ -271,7 +275,7 @@ impl<'a> Builder<'a> {
         let parts: Vec<Part> = g
             .children
             .par_iter()
-            .map(|child| seed.part(child, acc, env))
+            .map(|child| seed.part(child, acc, env, true))
             .collect();
         for mut part in parts {
             let ind = comp.next_ind;
@@ -626,8 +630,8 @@ struct Seed<'a> {
 
 impl Seed<'_> {
     /// `child` built on its own, numbered from 0 and naming its precompositions from
-    /// `comp_0`.
-    fn part(self, child: &Node, acc: Affine, env: Env) -> Part {
+    /// `comp_0`; its finished layers written (`seal`) when they will be.
+    fn part(self, child: &Node, acc: Affine, env: Env, seal: bool) -> Part {
         let mut b = Builder {
             src: self.src,
             tolerance: self.tolerance,
@@ -638,7 +642,7 @@ impl Seed<'_> {
         };
         let mut sub = Comp::new(0);
         b.node(child, acc, env, &mut sub);
-        if env.unit.is_none() {
+        if seal && env.unit.is_none() {
             // Outside an animated shape, a composition's finished layers change later
             // only in their numbering and parent (an animated shape's own layers get its
             // opacity), so they can be written now.

@@ -50,6 +50,8 @@ mod restyle;
 pub mod slots;
 mod text;
 
+use std::ops::Range;
+
 use rayon::prelude::*;
 
 use animate::{Bakes, UnitInfo, UnitMotion, may_stroke, unit_motion};
@@ -58,7 +60,7 @@ use gmotion::canvas::{Fit, OutputSize, pixels};
 use gmotion::engine::markers::Marker;
 use gmotion::engine::slots::SlotKinds;
 use gmotion::motion::{Animation, Track};
-use gmotion::scene::{Scene, Shape};
+use gmotion::scene::Scene;
 use layers::Source;
 pub use layers::layer_names;
 pub use text::LottieText;
@@ -162,7 +164,9 @@ pub fn to_lottie_text<'a>(
     let parts = Parts {
         scene: &anim.scene,
         tracks: &anim.tracks,
-        motions: motions(anim, opts.tolerance),
+        baked_from: Some((anim, opts.tolerance)),
+        bakes: Bakes::default(),
+        motions: Vec::new(),
         names: layer_names(&anim.scene),
         fps: anim.fps,
         op: anim.frame_count() as f64,
@@ -170,40 +174,13 @@ pub fn to_lottie_text<'a>(
     write(parts, opts, true)
 }
 
-/// Every shape's motion, as its layer keys it.
-fn motions(anim: &Animation, tolerance: f64) -> Vec<UnitMotion> {
-    let frames = anim.frame_count();
-    let bakes = Bakes::default();
-    let motion = |(u, (track, shape)): (usize, (&Track, &Shape))| {
-        let info = UnitInfo {
-            bbox: shape.bbox,
-            centroid: shape.centroid,
-            strokes: anim.scene.unit_node(u).is_none_or(may_stroke),
-        };
-        unit_motion(track, info, anim.fps, frames, tolerance, &bakes)
-    };
-    // Shapes are independent, and baking what Lottie cannot say (skews, blends) samples and
-    // fits every frame of a moving window: most of an export's time on large scenes. A
-    // handful of shapes is not worth waking the thread pool for.
-    if anim.tracks.len() >= PARALLEL_UNITS {
-        (anim.tracks.par_iter().zip(&anim.scene.shapes))
-            .enumerate()
-            .map(motion)
-            .collect()
-    } else {
-        anim.tracks
-            .iter()
-            .zip(&anim.scene.shapes)
-            .enumerate()
-            .map(motion)
-            .collect()
-    }
-}
 /// Writes a still scene as a one-frame Lottie.
 pub fn still_to_lottie(scene: &Scene, opts: &LottieOptions) -> Result<LottieOutput, LottieError> {
     let parts = Parts {
         scene,
         tracks: &[],
+        baked_from: None,
+        bakes: Bakes::default(),
         motions: Vec::new(),
         names: layer_names(scene),
         fps: 30.0,
@@ -217,6 +194,13 @@ pub fn still_to_lottie(scene: &Scene, opts: &LottieOptions) -> Result<LottieOutp
 struct Parts<'a> {
     scene: &'a Scene,
     tracks: &'a [Track],
+    /// The animation whose tracks the motions are baked from, and within what tolerance
+    /// (none for a still).
+    baked_from: Option<(&'a Animation, f64)>,
+    /// The bakes shared by shapes that move alike.
+    bakes: Bakes,
+    /// Every shape's motion, once [`Parts::bake_all`] baked them (a root built as it is
+    /// written bakes its children's a run at a time instead: [`Parts::bake`]).
     motions: Vec<UnitMotion>,
     names: Vec<String>,
     fps: f64,
@@ -229,10 +213,50 @@ impl Parts<'_> {
             scene: self.scene,
             tracks: self.tracks,
             motions: &self.motions,
+            first_motion: 0,
             names: &self.names,
             fps: self.fps,
             op: self.op,
         }
+    }
+
+    /// The motions of the shapes `units`, as their layers key them.
+    fn bake(&self, units: Range<usize>) -> Vec<UnitMotion> {
+        let Some((anim, tolerance)) = self.baked_from else {
+            return Vec::new();
+        };
+        let n = anim.tracks.len();
+        let units = units.start.min(n)..units.end.min(n);
+        let frames = anim.frame_count();
+        let motion = |u: usize| {
+            let shape = &anim.scene.shapes[u];
+            let info = UnitInfo {
+                bbox: shape.bbox,
+                centroid: shape.centroid,
+                strokes: anim.scene.unit_node(u).is_none_or(may_stroke),
+            };
+            unit_motion(
+                &anim.tracks[u],
+                info,
+                anim.fps,
+                frames,
+                tolerance,
+                &self.bakes,
+            )
+        };
+        // Shapes are independent, and baking what Lottie cannot say (skews, blends)
+        // samples and fits every frame of a moving window: most of an export's time on
+        // large scenes. A handful of shapes is not worth waking the thread pool for.
+        if units.len() >= PARALLEL_UNITS {
+            units.into_par_iter().map(motion).collect()
+        } else {
+            units.map(motion).collect()
+        }
+    }
+
+    /// Bakes every shape's motion.
+    fn bake_all(&mut self) {
+        self.motions = self.bake(0..self.tracks.len());
     }
 
     /// Frees the motions: many (every shape's keys, 7 ms at the intersections scale) on
@@ -249,7 +273,7 @@ impl Parts<'_> {
 /// is written ([`layers::Builder::plan_root`]) rather than before, when the document is
 /// not rewritten afterwards (slots, packing).
 fn write<'a>(
-    parts: Parts<'a>,
+    mut parts: Parts<'a>,
     opts: &LottieOptions,
     stream: bool,
 ) -> Result<(LottieText<'a>, Vec<Warning>), LottieError> {
@@ -275,22 +299,31 @@ fn write<'a>(
     } else {
         0.25
     };
-    let mut builder = layers::Builder::new(parts.source(), tolerance);
-    builder.slots = opts.slots;
     // Precompositions are as large as the canvas in whole pixels (and a margin): drawn at
     // the canvas's own scale, inside the null that `fit_layers` adds.
     let canvas = (pixels(w), pixels(h));
-    let plan = match stream && !opts.slots.any() && !opts.pack {
-        true => builder.plan_root(canvas),
+    let planned = match stream && !opts.slots.any() && !opts.pack {
+        true => {
+            let mut builder = layers::Builder::new(parts.source(), tolerance);
+            builder.slots = opts.slots;
+            let plan = builder.plan_root(canvas, &|units| parts.bake(units));
+            plan.map(|plan| (plan, builder.assets, builder.warnings))
+        }
         false => None,
     };
-    let mut layers = Vec::new();
-    if plan.is_none() {
-        layers = builder.layers(canvas);
-        if fitted {
-            fit_layers(&mut layers, &fit, op);
+    let (plan, layers, assets, mut warnings) = match planned {
+        Some((plan, assets, warnings)) => (Some(plan), Vec::new(), assets, warnings),
+        None => {
+            parts.bake_all();
+            let mut builder = layers::Builder::new(parts.source(), tolerance);
+            builder.slots = opts.slots;
+            let mut layers = builder.layers(canvas);
+            if fitted {
+                fit_layers(&mut layers, &fit, op);
+            }
+            (None, layers, builder.assets, builder.warnings)
         }
-    }
+    };
     let size = (fit.width, fit.height);
     let doc = model::Animation {
         v: "5.7.0",
@@ -305,10 +338,9 @@ fn write<'a>(
             .iter()
             .map(|m| model::MarkerOut::of(m, 0.0, fps))
             .collect(),
-        assets: std::mem::take(&mut builder.assets),
+        assets,
         layers,
     };
-    let mut warnings = std::mem::take(&mut builder.warnings);
     let json = match plan {
         None => {
             parts.free();
@@ -328,15 +360,12 @@ fn write<'a>(
             LottieText::stream(move |out| {
                 let builder = layers::Builder::new(parts.source(), tolerance);
                 doc.write_with(out, |out| {
-                    let written = builder.write_root(&plan, null, out)?;
+                    let written = builder.write_root(&plan, null, &|u| parts.bake(u), out)?;
                     if let Some(ind) = null {
                         model::write_layers(out, written, vec![fit_null(ind, &fit, op)])?;
                     }
                     Ok(())
-                })?;
-                drop(builder);
-                parts.free();
-                Ok(())
+                })
             })
         }
     };

@@ -18,8 +18,16 @@ use std::io::{self, Write};
 use kurbo::Affine;
 use rayon::prelude::*;
 
-use super::{Builder, Env, Item, PARALLEL_CHILDREN, paints, renumber};
+use std::ops::Range;
+
+use gmotion::scene::Node;
+
+use super::{Builder, Env, Item, PARALLEL_CHILDREN, Seed, Source, paints, renumber};
+use crate::animate::UnitMotion;
 use crate::model::{Layer, write_layers};
+
+/// Bakes the motions of a range of shapes ([`Source::motions`]).
+pub(crate) type Bake<'b> = dyn Fn(Range<usize>) -> Vec<UnitMotion> + Sync + 'b;
 
 /// How many of the root's children are built at a time, and the fewest for which the
 /// root is built in runs at all: a run's layers are a few megabytes, and below one run
@@ -43,7 +51,9 @@ impl<'a> Builder<'a> {
     /// least [`RUN`] children that each make only layers (animated shapes, named groups
     /// of them): `None` for any other root, which is built whole ([`Builder::layers`]).
     /// Takes every child's warnings and precompositions as the whole build would.
-    pub(crate) fn plan_root(&mut self, size: (u32, u32)) -> Option<Plan> {
+    /// The root's children's motions are baked by `bake` a run at a time, as in
+    /// [`Builder::write_root`], rather than all held.
+    pub(crate) fn plan_root(&mut self, size: (u32, u32), bake: &Bake) -> Option<Plan> {
         let scene: &'a gmotion::scene::Scene = self.src.scene;
         let root = &scene.root;
         // The conditions under which `group` hands the root straight to `children`,
@@ -66,11 +76,16 @@ impl<'a> Builder<'a> {
             size,
         };
         let acc = root.transform;
-        let seed = self.seed();
         let mut starts = Vec::with_capacity(root.children.len());
         let (mut next, mut max_ind) = (0u32, 0u32);
         for run in root.children.chunks(RUN) {
-            let parts: Vec<_> = run.par_iter().map(|c| seed.part(c, acc, env)).collect();
+            let units = units_in(run);
+            let motions = bake(units.clone());
+            let seed = self.seed_for(&motions, units.start);
+            // Only counted and dropped: not written.
+            let parts: Vec<_> = (run.par_iter())
+                .map(|c| seed.part(c, acc, env, false))
+                .collect();
             for mut part in parts {
                 // Still shapes among the root's children are merged with their
                 // neighbours' into shape layers, across runs: built whole.
@@ -95,6 +110,21 @@ impl<'a> Builder<'a> {
         })
     }
 
+    /// What builds a part with `motions`, the motions of the shapes from `first` on.
+    fn seed_for<'m>(&self, motions: &'m [UnitMotion], first: usize) -> Seed<'m>
+    where
+        'a: 'm,
+    {
+        Seed {
+            src: Source {
+                motions,
+                first_motion: first,
+                ..self.src
+            },
+            ..self.seed()
+        }
+    }
+
     /// The second pass: the root's layers, topmost first, written to `out` as
     /// [`crate::model::Animation::write_with`] asks, numbered as `plan` says and parented
     /// to `parent` (the null that fits the canvas to the output) when given.
@@ -102,18 +132,22 @@ impl<'a> Builder<'a> {
         &self,
         plan: &Plan,
         parent: Option<u32>,
+        bake: &Bake,
         out: &mut dyn Write,
     ) -> io::Result<usize> {
         let children = &self.src.scene.root.children;
-        let seed = self.seed();
         let mut written = 0;
         let mut end = children.len();
         while end > 0 {
-            let start = end.saturating_sub(RUN);
+            // Runs start where the first pass's did, so each bakes the same shapes.
+            let start = (end - 1) / RUN * RUN;
+            let units = units_in(&children[start..end]);
+            let motions = bake(units.clone());
+            let seed = self.seed_for(&motions, units.start);
             let built: Vec<Vec<Layer>> = (start..end)
                 .into_par_iter()
                 .map(|k| {
-                    let mut part = seed.part(&children[k], plan.acc, plan.env);
+                    let mut part = seed.part(&children[k], plan.acc, plan.env, true);
                     let (ind, asset) = plan.starts[k];
                     renumber(&mut part.items, ind, asset as usize);
                     let mut layers = Vec::new();
@@ -139,13 +173,30 @@ impl<'a> Builder<'a> {
     }
 }
 
+/// The shapes `nodes` hold (the units of their nodes and of every node inside), as the
+/// range from the first to one past the last.
+fn units_in(nodes: &[Node]) -> Range<usize> {
+    fn walk(node: &Node, lo: &mut usize, hi: &mut usize) {
+        if let Some(u) = node.unit() {
+            *lo = (*lo).min(u);
+            *hi = (*hi).max(u + 1);
+        }
+        if let Node::Group(g) = node {
+            g.children.iter().for_each(|c| walk(c, lo, hi));
+        }
+    }
+    let (mut lo, mut hi) = (usize::MAX, 0);
+    nodes.iter().for_each(|n| walk(n, &mut lo, &mut hi));
+    lo.min(hi)..hi
+}
+
 #[cfg(test)]
 mod tests {
     use std::fmt::Write as _;
 
     use gmotion::canvas::OutputSize;
 
-    use crate::{LottieOptions, Parts, layer_names, motions, write};
+    use crate::{LottieOptions, Parts, layer_names, write};
 
     /// `n` children of the root, every one an animated shape: squares, squares clipped
     /// by a circle (a layer mask) or by a frame (a track matte, its `tp` a layer number),
@@ -204,7 +255,9 @@ mod tests {
             let parts = || Parts {
                 scene: &anim.scene,
                 tracks: &anim.tracks,
-                motions: motions(&anim, opts.tolerance),
+                baked_from: Some((&anim, opts.tolerance)),
+                bakes: Default::default(),
+                motions: Vec::new(),
                 names: layer_names(&anim.scene),
                 fps: anim.fps,
                 op: anim.frame_count() as f64,
