@@ -302,17 +302,34 @@ fn write<'a>(
     // Precompositions are as large as the canvas in whole pixels (and a margin): drawn at
     // the canvas's own scale, inside the null that `fit_layers` adds.
     let canvas = (pixels(w), pixels(h));
-    let planned = match stream && !opts.slots.any() && !opts.pack {
-        true => {
-            let mut builder = layers::Builder::new(parts.source(), tolerance);
-            builder.slots = opts.slots;
-            let plan = builder.plan_root(canvas, &|units| parts.bake(units));
-            plan.map(|plan| (plan, builder.assets, builder.warnings))
+    // A large root is built as it is written: once, its runs' text spilled to a
+    // temporary file and copied to the output in reverse; or, when its layers take the
+    // parent that fits the canvas (numbered after them all), or the file cannot be
+    // written, twice ([`layers::Builder::plan_root`]).
+    let mut streamable = stream && !opts.slots.any() && !opts.pack;
+    let mut built = None;
+    if streamable
+        && !fitted
+        && let Ok(mut spill) = text::Spill::create()
+    {
+        let mut builder = layers::Builder::new(parts.source(), tolerance);
+        builder.slots = opts.slots;
+        match builder.spill_root(canvas, &|units| parts.bake(units), spill.file()) {
+            Ok(Some(runs)) => {
+                built = Some((Root::Spilled(spill, runs), builder.assets, builder.warnings));
+            }
+            Ok(None) => streamable = false,
+            Err(_) => {}
         }
-        false => None,
-    };
-    let (plan, layers, assets, mut warnings) = match planned {
-        Some((plan, assets, warnings)) => (Some(plan), Vec::new(), assets, warnings),
+    }
+    if built.is_none() && streamable {
+        let mut builder = layers::Builder::new(parts.source(), tolerance);
+        builder.slots = opts.slots;
+        let plan = builder.plan_root(canvas, &|units| parts.bake(units));
+        built = plan.map(|plan| (Root::Planned(plan), builder.assets, builder.warnings));
+    }
+    let (root, layers, assets, mut warnings) = match built {
+        Some((root, assets, warnings)) => (root, Vec::new(), assets, warnings),
         None => {
             parts.bake_all();
             let mut builder = layers::Builder::new(parts.source(), tolerance);
@@ -321,7 +338,7 @@ fn write<'a>(
             if fitted {
                 fit_layers(&mut layers, &fit, op);
             }
-            (None, layers, builder.assets, builder.warnings)
+            (Root::Whole, layers, builder.assets, builder.warnings)
         }
     };
     let size = (fit.width, fit.height);
@@ -341,8 +358,9 @@ fn write<'a>(
         assets,
         layers,
     };
-    let json = match plan {
-        None => {
+    let json = match root {
+        Root::Spilled(spill, runs) => LottieText::spilled(doc, spill, runs),
+        Root::Whole => {
             parts.free();
             let mut json = LottieText::document(doc);
             if opts.slots.any() {
@@ -353,7 +371,7 @@ fn write<'a>(
             }
             json
         }
-        Some(plan) => {
+        Root::Planned(plan) => {
             // The null that fits the canvas is numbered after the root's layers and is
             // their parent, as `fit_layers` makes it.
             let null = fitted.then_some(plan.max_ind + 1);
@@ -374,6 +392,16 @@ fn write<'a>(
     let mut seen = std::collections::HashSet::new();
     warnings.retain(|w| seen.insert(w.clone()));
     Ok((json, warnings.into_iter().map(Warning::from).collect()))
+}
+
+/// How the root's layers are held until written.
+enum Root {
+    /// In the document.
+    Whole,
+    /// To be built as they are written.
+    Planned(layers::stream::Plan),
+    /// Written to a temporary file, a run of them at a time: each run's length there.
+    Spilled(text::Spill, Vec<u64>),
 }
 
 /// `json` with its slot marks written as slots ([`slots::write`]), what that leaves out

@@ -54,28 +54,9 @@ impl<'a> Builder<'a> {
     /// The root's children's motions are baked by `bake` a run at a time, as in
     /// [`Builder::write_root`], rather than all held.
     pub(crate) fn plan_root(&mut self, size: (u32, u32), bake: &Bake) -> Option<Plan> {
+        let (acc, env) = self.plain_root(size)?;
         let scene: &'a gmotion::scene::Scene = self.src.scene;
         let root = &scene.root;
-        // The conditions under which `group` hands the root straight to `children`,
-        // which builds them in parallel.
-        let plain = root.unit.is_none()
-            && root.opacity > 0.0
-            && root.children.len() >= RUN.max(PARALLEL_CHILDREN)
-            && root.clip_path.is_none()
-            && root.mask.is_none()
-            && root.filter.is_none()
-            && !(root.opacity < 1.0 && paints(root) > 1)
-            && root.id.is_empty();
-        if !plain {
-            return None;
-        }
-        let env = Env {
-            alpha: root.opacity as f64,
-            unit: None,
-            to_canvas: Affine::IDENTITY,
-            size,
-        };
-        let acc = root.transform;
         let mut starts = Vec::with_capacity(root.children.len());
         let (mut next, mut max_ind) = (0u32, 0u32);
         for run in root.children.chunks(RUN) {
@@ -108,6 +89,78 @@ impl<'a> Builder<'a> {
             acc,
             env,
         })
+    }
+
+    /// The transform and the settings the root's children are drawn with, for a root that
+    /// is a plain group of at least [`RUN`] children (one that `group` hands straight to
+    /// `children`, which builds them in parallel); `None` for any other.
+    fn plain_root(&self, size: (u32, u32)) -> Option<(Affine, Env)> {
+        let root = &self.src.scene.root;
+        let plain = root.unit.is_none()
+            && root.opacity > 0.0
+            && root.children.len() >= RUN.max(PARALLEL_CHILDREN)
+            && root.clip_path.is_none()
+            && root.mask.is_none()
+            && root.filter.is_none()
+            && !(root.opacity < 1.0 && paints(root) > 1)
+            && root.id.is_empty();
+        let env = Env {
+            alpha: root.opacity as f64,
+            unit: None,
+            to_canvas: Affine::IDENTITY,
+            size,
+        };
+        plain.then_some((root.transform, env))
+    }
+
+    /// The root's layers built once, a run of children at a time from the first, for a
+    /// root that [`Builder::plan_root`] would plan and layers that need no parent: each
+    /// run's text, topmost first and each layer after a comma, is written to `spill` and
+    /// the run freed. Returns the length of each run's text in `spill`, first run first;
+    /// `None` for a root built otherwise. Takes every child's warnings and
+    /// precompositions as the whole build would.
+    pub(crate) fn spill_root(
+        &mut self,
+        size: (u32, u32),
+        bake: &Bake,
+        spill: &mut dyn Write,
+    ) -> io::Result<Option<Vec<u64>>> {
+        let Some((acc, env)) = self.plain_root(size) else {
+            return Ok(None);
+        };
+        let scene: &'a gmotion::scene::Scene = self.src.scene;
+        let mut runs = Vec::new();
+        let mut next = 0u32;
+        for run in scene.root.children.chunks(RUN) {
+            let units = units_in(run);
+            let motions = bake(units.clone());
+            let seed = self.seed_for(&motions, units.start);
+            let parts: Vec<_> = (run.par_iter())
+                .map(|c| seed.part(c, acc, env, true))
+                .collect();
+            let mut layers = Vec::new();
+            for mut part in parts {
+                // As in `plan_root`: still shapes are merged across children.
+                if part.items.iter().any(|i| matches!(i, Item::Shape(_))) {
+                    return Ok(None);
+                }
+                let asset = self.adopt(&mut part);
+                renumber(&mut part.items, next, asset);
+                next += part.inds;
+                for item in part.items {
+                    if let Item::Layers(ls) = item {
+                        layers.extend(ls);
+                    }
+                }
+            }
+            // Bottom first in each child and from child to child: reversed, topmost
+            // first; each after a comma (as any but the document's first layer).
+            layers.reverse();
+            let mut counted = Counted { out: spill, n: 0 };
+            write_layers(&mut counted, 1, layers)?;
+            runs.push(counted.n);
+        }
+        Ok(Some(runs))
     }
 
     /// What builds a part with `motions`, the motions of the shapes from `first` on.
@@ -173,6 +226,30 @@ impl<'a> Builder<'a> {
     }
 }
 
+/// A writer that counts the bytes written through it.
+struct Counted<'w> {
+    out: &'w mut dyn Write,
+    n: u64,
+}
+
+impl Write for Counted<'_> {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        let n = self.out.write(buf)?;
+        self.n += n as u64;
+        Ok(n)
+    }
+
+    fn write_vectored(&mut self, bufs: &[io::IoSlice<'_>]) -> io::Result<usize> {
+        let n = self.out.write_vectored(bufs)?;
+        self.n += n as u64;
+        Ok(n)
+    }
+
+    fn flush(&mut self) -> io::Result<()> {
+        self.out.flush()
+    }
+}
+
 /// The shapes `nodes` hold (the units of their nodes and of every node inside), as the
 /// range from the first to one past the last.
 fn units_in(nodes: &[Node]) -> Range<usize> {
@@ -225,9 +302,9 @@ mod tests {
         svg
     }
 
-    /// The document written as it is built is the document built whole, byte for byte,
-    /// over several runs of children (the last one partial), fitted to another size or
-    /// not; and it is indeed written as it is built.
+    /// The document written as it is built, once through a file or twice, is the
+    /// document built whole, byte for byte, over several runs of children (the last one
+    /// partial); and it is indeed written as it is built.
     #[test]
     fn a_root_written_as_it_is_built_is_the_root_built_whole() {
         let n = 2 * super::RUN + 100;
@@ -244,7 +321,9 @@ mod tests {
             .unwrap()
             .0;
         assert!(anim.scene.root.children.len() >= n);
-        for size in [None, Some(500)] {
+        // Fitted to another size, the root's layers take the fitting null as their parent,
+        // numbered after them all: built twice. Else built once, through a file.
+        for (size, held) in [(None, "spilled"), (Some(500), "stream")] {
             let opts = LottieOptions {
                 size: OutputSize {
                     width: size,
@@ -263,9 +342,9 @@ mod tests {
                 op: anim.frame_count() as f64,
             };
             let (streamed, warned) = write(parts(), &opts, true).unwrap();
-            assert!(streamed.is_streamed(), "the root was built whole");
+            assert_eq!(streamed.held(), held, "the root was built otherwise");
             let (whole, warned_whole) = write(parts(), &opts, false).unwrap();
-            assert!(!whole.is_streamed());
+            assert_eq!(whole.held(), "document");
             let (streamed, whole) = (streamed.into_string(), whole.into_string());
             assert!(whole.contains("\"tp\":") && whole.contains("\"refId\":"));
             assert!(streamed == whole, "the documents differ ({size:?})");
