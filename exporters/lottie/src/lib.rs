@@ -269,9 +269,9 @@ impl Parts<'_> {
     }
 }
 
-/// The document `parts` make. With `stream`, a large root's layers are built as the text
-/// is written ([`layers::Builder::plan_root`]) rather than before, when the document is
-/// not rewritten afterwards (slots, packing).
+/// The document `parts` make. With `stream`, a large root's layers are built a run at a
+/// time, through a temporary file or as the text is written ([`layers::stream`]), rather
+/// than all before, when the document is not rewritten afterwards (slots, packing).
 fn write<'a>(
     mut parts: Parts<'a>,
     opts: &LottieOptions,

@@ -5,12 +5,16 @@
 //!
 //! The root's layers are written topmost first, that is from its last child back, but
 //! numbered (`ind`) and their precompositions named (`comp_N`) from its first child on,
-//! and the document's head (its assets) precedes them. So the children are built twice:
-//! a first pass ([`Builder::plan_root`]) keeps what the head and the numbering need (the
+//! and the document's head (its assets) precedes them. So the children are built from the
+//! first on, a run at a time, and each run's text goes to a temporary file
+//! ([`Builder::spill_root`]), copied to the output last run first once the head is known.
+//! When the layers' parent is the null that fits the canvas to another size, numbered
+//! after them all, or no temporary file can be written, they are built twice instead: a
+//! first pass ([`Builder::plan_root`]) keeps what the head and the numbering need (the
 //! assets, the warnings, where each child's numbers start) and drops the layers; the
 //! second ([`Builder::write_root`]) builds them again a run at a time from the last run
 //! back, numbers them as planned and writes them. Each child is built on its own (as
-//! [`Builder::children_in_parallel`] builds it), so both passes build the same layers and
+//! [`Builder::children_in_parallel`] builds it), so every way builds the same layers and
 //! the document is the same, byte for byte, as when it is built whole (tested).
 
 use std::io::{self, Write};
