@@ -4,9 +4,13 @@
 //! `xml-nodes` limit of one million refused; usvg's own element limit (a million) lets it
 //! through. The scene is imported and its units listed (`check --shapes`), the cheapest
 //! command that reads the whole scene; it takes about 30 s on two shared cores.
+//!
+//! And the memory a Lottie export of many shapes takes: the peak resident memory of
+//! `gmotion animate` on 100 000 animated squares, read from `/proc` while it runs (the
+//! kernel's high-water mark, so a sample missed near the end misses no earlier peak).
 
 use std::fmt::Write as _;
-use std::process::Command;
+use std::process::{Command, Stdio};
 
 /// `n` squares in a grid 1000 wide, one a line.
 fn squares(n: usize) -> String {
@@ -43,4 +47,72 @@ fn a_scene_of_999_000_shapes_is_accepted_with_the_default_limits() {
     let first = listed.lines().next().unwrap_or_default();
     assert!(first.ends_with(": 999000 units (4000 × 4000)"), "{first}");
     assert!(listed.contains("\n  s:998999  box [3996.0, 3992.0, 3999.0, 3995.0]"));
+}
+
+/// The most resident memory, in kilobytes, `gmotion animate` may take to write 100 000
+/// animated squares as Lottie. It took 670–760 MB when every layer was built before the
+/// first was written, and takes 300–370 MB now that a large root's layers and motions are
+/// made a run at a time (docs/performance.md, "A million shapes").
+#[cfg(target_os = "linux")]
+const LOTTIE_100K_KB: u64 = 520_000;
+
+/// The `VmHWM` (peak resident memory) line of `/proc/PID/status`, in kilobytes; `None`
+/// once the process has ended.
+#[cfg(target_os = "linux")]
+fn peak_kb(pid: u32) -> Option<u64> {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    line.split_whitespace().nth(1)?.parse().ok()
+}
+
+#[cfg(target_os = "linux")]
+#[test]
+fn a_lottie_export_of_100_000_shapes_stays_within_its_memory_bound() {
+    let dir = crate::support::case_dir("scale", "memory");
+    let (scene, gm, out) = (
+        dir.join("squares.svg"),
+        dir.join("squares.gm"),
+        dir.join("squares.json"),
+    );
+    std::fs::write(&scene, squares(100_000)).unwrap();
+    std::fs::write(
+        &gm,
+        "duration 3s\nfps 30\n\
+         timesplit(0.4, 0.2, 0.4) : [all, s] -> [a, b, c]\n\
+         timesplit(0.5, 0.5) : [a, s] -> [a1, inv_a1]\n\
+         animate(affine, world, 0, translate(2, 0), ease=ease-in-out) : [a1, s] -> [t]\n\
+         animate(affine, local, 0.000001 * id, rotate(90)) : [c, s] -> [r]\n",
+    )
+    .unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_gmotion"))
+        .arg("animate")
+        .args([&scene, &gm])
+        .arg("-o")
+        .arg(&out)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut peak = 0;
+    let status = loop {
+        if let Some(kb) = peak_kb(child.id()) {
+            peak = peak.max(kb);
+        }
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    };
+    let mut err = String::new();
+    std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+    let written = std::fs::metadata(&out).map(|m| m.len()).unwrap_or(0);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(status.success(), "refused:\n{err}");
+    // 85 MB of Lottie: the whole document was written.
+    assert!(written > 80_000_000, "{written} bytes written");
+    assert!(peak > 0, "no memory was read from /proc");
+    assert!(
+        peak <= LOTTIE_100K_KB,
+        "the export peaked at {peak} KB, past its bound of {LOTTIE_100K_KB} KB"
+    );
 }

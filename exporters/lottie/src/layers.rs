@@ -33,6 +33,7 @@ mod mattes;
 mod morph;
 mod paths;
 mod patterns;
+pub(crate) mod stream;
 mod units;
 
 use std::sync::Arc;
@@ -165,8 +166,11 @@ pub struct Source<'a> {
     pub scene: &'a Scene,
     /// The shapes' tracks.
     pub tracks: &'a [Track],
-    /// The shapes' motions, as the layers key them.
+    /// The shapes' motions, as the layers key them, from shape `first_motion` on (all of
+    /// them, or those of the root's children being built: [`stream`]).
     pub motions: &'a [UnitMotion],
+    /// The shape whose motion is `motions[0]`.
+    pub first_motion: usize,
     /// The shapes' layer names ([`layer_names`]).
     pub names: &'a [String],
     /// Frames per second.
@@ -233,7 +237,8 @@ impl<'a> Builder<'a> {
     }
 
     fn motion(&self, unit: usize) -> Option<&'a UnitMotion> {
-        self.src.motions.get(unit).filter(|m| m.is_animated())
+        let k = unit.checked_sub(self.src.first_motion)?;
+        self.src.motions.get(k).filter(|m| m.is_animated())
     }
 
     fn node(&mut self, node: &Node, acc: Affine, env: Env, comp: &mut Comp) {
@@ -266,69 +271,51 @@ impl<'a> Builder<'a> {
     /// shifted alike, and to assets (by `refId`) of its own, all renamed alike; warnings
     /// keep their order. So the document is the same on any number of threads (tested).
     fn children_in_parallel(&mut self, g: &Group, acc: Affine, env: Env, comp: &mut Comp) {
-        let (src, tolerance, margin, slots) = (self.src, self.tolerance, self.margin, self.slots);
+        let seed = self.seed();
         let parts: Vec<Part> = g
             .children
             .par_iter()
-            .map(|child| {
-                let mut b = Builder {
-                    src,
-                    tolerance,
-                    margin,
-                    warnings: Vec::new(),
-                    assets: Vec::new(),
-                    slots,
-                };
-                let mut sub = Comp::new(0);
-                b.node(child, acc, env, &mut sub);
-                if env.unit.is_none() {
-                    // Outside an animated shape, a composition's finished layers change
-                    // later only in their numbering and parent (an animated shape's own
-                    // layers get its opacity), so they can be written now.
-                    for item in &mut sub.items {
-                        if let Item::Layers(ls) = item {
-                            ls.iter_mut().for_each(Layer::seal);
-                        }
-                    }
-                }
-                Part {
-                    items: sub.items,
-                    inds: sub.next_ind,
-                    warnings: b.warnings,
-                    assets: b.assets,
-                }
-            })
+            .map(|child| seed.part(child, acc, env, true))
             .collect();
         for mut part in parts {
-            let (ind, asset) = (comp.next_ind, self.next_comp());
-            for item in &mut part.items {
-                if let Item::Layers(ls) = item {
-                    for l in ls {
-                        l.ind += ind;
-                        l.parent = l.parent.map(|p| p + ind);
-                        l.tp = l.tp.map(|p| p + ind);
-                        rename_asset(&mut l.ref_id, asset);
-                    }
-                }
-            }
-            if asset > 0 {
-                for a in &mut part.assets {
-                    rename_asset_id(&mut a.id, asset);
-                    for l in &mut a.layers {
-                        rename_asset(&mut l.ref_id, asset);
-                    }
-                }
-            }
+            let ind = comp.next_ind;
+            let asset = self.adopt(&mut part);
+            renumber(&mut part.items, ind, asset);
             comp.next_ind += part.inds;
             comp.items.append(&mut part.items);
-            self.warnings.append(&mut part.warnings);
-            for a in part.assets {
-                // Image assets are named by their content: one copy of each.
-                if a.image.is_none() || !self.assets.iter().any(|b| b.id == a.id) {
-                    self.assets.push(a);
+        }
+    }
+
+    /// What a part needs of this builder to be built on its own thread.
+    fn seed(&self) -> Seed<'a> {
+        Seed {
+            src: self.src,
+            tolerance: self.tolerance,
+            margin: self.margin,
+            slots: self.slots,
+        }
+    }
+
+    /// Takes `part`'s warnings, and its precompositions renamed after those made so far:
+    /// returns the shift its layers' references to them take ([`renumber`]).
+    fn adopt(&mut self, part: &mut Part) -> usize {
+        let asset = self.next_comp();
+        if asset > 0 {
+            for a in &mut part.assets {
+                rename_asset_id(&mut a.id, asset);
+                for l in &mut a.layers {
+                    rename_asset(&mut l.ref_id, asset);
                 }
             }
         }
+        self.warnings.append(&mut part.warnings);
+        for a in std::mem::take(&mut part.assets) {
+            // Image assets are named by their content: one copy of each.
+            if a.image.is_none() || !self.assets.iter().any(|b| b.id == a.id) {
+                self.assets.push(a);
+            }
+        }
+        asset
     }
 
     // ----- groups -----------------------------------------------------------------
@@ -630,6 +617,64 @@ struct Part {
     warnings: Vec<String>,
     /// Its precompositions, named from `comp_0`.
     assets: Vec<Asset>,
+}
+
+/// What [`Builder::children_in_parallel`] hands each thread: a builder's settings.
+#[derive(Clone, Copy)]
+struct Seed<'a> {
+    src: Source<'a>,
+    tolerance: f64,
+    margin: f64,
+    slots: SlotKinds,
+}
+
+impl Seed<'_> {
+    /// `child` built on its own, numbered from 0 and naming its precompositions from
+    /// `comp_0`; its finished layers written (`seal`) when they will be.
+    fn part(self, child: &Node, acc: Affine, env: Env, seal: bool) -> Part {
+        let mut b = Builder {
+            src: self.src,
+            tolerance: self.tolerance,
+            margin: self.margin,
+            warnings: Vec::new(),
+            assets: Vec::new(),
+            slots: self.slots,
+        };
+        let mut sub = Comp::new(0);
+        b.node(child, acc, env, &mut sub);
+        if seal && env.unit.is_none() {
+            // Outside an animated shape, a composition's finished layers change later
+            // only in their numbering and parent (an animated shape's own layers get its
+            // opacity), so they can be written now.
+            for item in &mut sub.items {
+                if let Item::Layers(ls) = item {
+                    ls.iter_mut().for_each(Layer::seal);
+                }
+            }
+        }
+        Part {
+            items: sub.items,
+            inds: sub.next_ind,
+            warnings: b.warnings,
+            assets: b.assets,
+        }
+    }
+}
+
+/// Numbers a part's layers after the `ind` layers and `asset` precompositions made before
+/// it: they refer (by `parent`, `tp`) only to layers of the same part, all shifted alike,
+/// and to assets (by `refId`) of its own, all renamed alike.
+fn renumber(items: &mut [Item], ind: u32, asset: usize) {
+    for item in items {
+        if let Item::Layers(ls) = item {
+            for l in ls {
+                l.ind += ind;
+                l.parent = l.parent.map(|p| p + ind);
+                l.tp = l.tp.map(|p| p + ind);
+                rename_asset(&mut l.ref_id, asset);
+            }
+        }
+    }
 }
 
 /// The `k`-th precomposition's id.

@@ -50,6 +50,8 @@ mod restyle;
 pub mod slots;
 mod text;
 
+use std::ops::Range;
+
 use rayon::prelude::*;
 
 use animate::{Bakes, UnitInfo, UnitMotion, may_stroke, unit_motion};
@@ -58,7 +60,7 @@ use gmotion::canvas::{Fit, OutputSize, pixels};
 use gmotion::engine::markers::Marker;
 use gmotion::engine::slots::SlotKinds;
 use gmotion::motion::{Animation, Track};
-use gmotion::scene::{Scene, Shape};
+use gmotion::scene::Scene;
 use layers::Source;
 pub use layers::layer_names;
 pub use text::LottieText;
@@ -140,11 +142,12 @@ pub fn to_lottie(anim: &Animation, opts: &LottieOptions) -> Result<LottieOutput,
 }
 
 /// [`to_lottie`] with the text not yet written: [`LottieText::write_to`] writes it to a
-/// file a run of layers at a time, never holding the whole text.
-pub fn to_lottie_text(
-    anim: &Animation,
+/// file a run of layers at a time, never holding the whole text, and for a large scene
+/// builds the layers as it writes them, so they are never all held either.
+pub fn to_lottie_text<'a>(
+    anim: &'a Animation,
     opts: &LottieOptions,
-) -> Result<(LottieText, Vec<Warning>), LottieError> {
+) -> Result<(LottieText<'a>, Vec<Warning>), LottieError> {
     if !(anim.fps.is_finite() && anim.fps > 0.0 && anim.duration.is_finite() && anim.duration > 0.0)
     {
         return Err(LottieError::Timing {
@@ -158,68 +161,124 @@ pub fn to_lottie_text(
             shapes: anim.scene.shapes.len(),
         });
     }
-    let frames = anim.frame_count();
-    let bakes = Bakes::default();
-    let motion = |(u, (track, shape)): (usize, (&Track, &Shape))| {
-        let info = UnitInfo {
-            bbox: shape.bbox,
-            centroid: shape.centroid,
-            strokes: anim.scene.unit_node(u).is_none_or(may_stroke),
-        };
-        unit_motion(track, info, anim.fps, frames, opts.tolerance, &bakes)
-    };
-    // Shapes are independent, and baking what Lottie cannot say (skews, blends) samples and
-    // fits every frame of a moving window: most of an export's time on large scenes. A
-    // handful of shapes is not worth waking the thread pool for.
-    let motions: Vec<UnitMotion> = if anim.tracks.len() >= PARALLEL_UNITS {
-        (anim.tracks.par_iter().zip(&anim.scene.shapes))
-            .enumerate()
-            .map(motion)
-            .collect()
-    } else {
-        anim.tracks
-            .iter()
-            .zip(&anim.scene.shapes)
-            .enumerate()
-            .map(motion)
-            .collect()
-    };
-    let names = layer_names(&anim.scene);
-    let src = Source {
+    let parts = Parts {
         scene: &anim.scene,
         tracks: &anim.tracks,
-        motions: &motions,
-        names: &names,
+        baked_from: Some((anim, opts.tolerance)),
+        bakes: Bakes::default(),
+        motions: Vec::new(),
+        names: layer_names(&anim.scene),
         fps: anim.fps,
-        op: frames as f64,
+        op: anim.frame_count() as f64,
     };
-    let written = write(src, opts);
-    // The layers hold what they need of the motions: freeing many (every shape's keys,
-    // 7 ms at the intersections scale) is left to the thread pool, while the caller
-    // writes the text.
-    if motions.len() >= PARALLEL_UNITS {
-        rayon::spawn(move || drop(motions));
-    }
-    written
+    write(parts, opts, true)
 }
 
 /// Writes a still scene as a one-frame Lottie.
 pub fn still_to_lottie(scene: &Scene, opts: &LottieOptions) -> Result<LottieOutput, LottieError> {
-    let names = layer_names(scene);
-    let src = Source {
+    let parts = Parts {
         scene,
         tracks: &[],
-        motions: &[],
-        names: &names,
+        baked_from: None,
+        bakes: Bakes::default(),
+        motions: Vec::new(),
+        names: layer_names(scene),
         fps: 30.0,
         op: 1.0,
     };
-    write(src, opts).map(|(text, warnings)| (text.into_string(), warnings))
+    write(parts, opts, false).map(|(text, warnings)| (text.into_string(), warnings))
 }
 
-fn write(src: Source, opts: &LottieOptions) -> Result<(LottieText, Vec<Warning>), LottieError> {
-    let (w, h) = (src.scene.width, src.scene.height);
-    let (fps, op) = (src.fps, src.op);
+/// What a document's layers are built from ([`Source`]), owning the motions and names,
+/// which a document written as it is built ([`write`]) needs until it is written.
+struct Parts<'a> {
+    scene: &'a Scene,
+    tracks: &'a [Track],
+    /// The animation whose tracks the motions are baked from, and within what tolerance
+    /// (none for a still).
+    baked_from: Option<(&'a Animation, f64)>,
+    /// The bakes shared by shapes that move alike.
+    bakes: Bakes,
+    /// Every shape's motion, once [`Parts::bake_all`] baked them (a root built as it is
+    /// written bakes its children's a run at a time instead: [`Parts::bake`]).
+    motions: Vec<UnitMotion>,
+    names: Vec<String>,
+    fps: f64,
+    op: f64,
+}
+
+impl Parts<'_> {
+    fn source(&self) -> Source<'_> {
+        Source {
+            scene: self.scene,
+            tracks: self.tracks,
+            motions: &self.motions,
+            first_motion: 0,
+            names: &self.names,
+            fps: self.fps,
+            op: self.op,
+        }
+    }
+
+    /// The motions of the shapes `units`, as their layers key them.
+    fn bake(&self, units: Range<usize>) -> Vec<UnitMotion> {
+        let Some((anim, tolerance)) = self.baked_from else {
+            return Vec::new();
+        };
+        let n = anim.tracks.len();
+        let units = units.start.min(n)..units.end.min(n);
+        let frames = anim.frame_count();
+        let motion = |u: usize| {
+            let shape = &anim.scene.shapes[u];
+            let info = UnitInfo {
+                bbox: shape.bbox,
+                centroid: shape.centroid,
+                strokes: anim.scene.unit_node(u).is_none_or(may_stroke),
+            };
+            unit_motion(
+                &anim.tracks[u],
+                info,
+                anim.fps,
+                frames,
+                tolerance,
+                &self.bakes,
+            )
+        };
+        // Shapes are independent, and baking what Lottie cannot say (skews, blends)
+        // samples and fits every frame of a moving window: most of an export's time on
+        // large scenes. A handful of shapes is not worth waking the thread pool for.
+        if units.len() >= PARALLEL_UNITS {
+            units.into_par_iter().map(motion).collect()
+        } else {
+            units.map(motion).collect()
+        }
+    }
+
+    /// Bakes every shape's motion.
+    fn bake_all(&mut self) {
+        self.motions = self.bake(0..self.tracks.len());
+    }
+
+    /// Frees the motions: many (every shape's keys, 7 ms at the intersections scale) on
+    /// the thread pool, while the caller writes or returns.
+    fn free(self) {
+        let motions = self.motions;
+        if motions.len() >= PARALLEL_UNITS {
+            rayon::spawn(move || drop(motions));
+        }
+    }
+}
+
+/// The document `parts` make. With `stream`, a large root's layers are built a run at a
+/// time, through a temporary file or as the text is written ([`layers::stream`]), rather
+/// than all before, when the document is not rewritten afterwards (slots, packing).
+fn write<'a>(
+    mut parts: Parts<'a>,
+    opts: &LottieOptions,
+    stream: bool,
+) -> Result<(LottieText<'a>, Vec<Warning>), LottieError> {
+    let (w, h) = (parts.scene.width, parts.scene.height);
+    let (fps, op) = (parts.fps, parts.op);
     if !(w.is_finite() && h.is_finite() && w > 0.0 && h > 0.0) {
         return Err(LottieError::Size {
             width: w,
@@ -234,19 +293,54 @@ fn write(src: Source, opts: &LottieOptions) -> Result<(LottieText, Vec<Warning>)
             height: h,
         });
     };
+    let fitted = fit.scale != 1.0 || fit.offset != kurbo::Vec2::ZERO;
     let tolerance = if opts.tolerance.is_finite() && opts.tolerance > 0.0 {
         opts.tolerance
     } else {
         0.25
     };
-    let mut builder = layers::Builder::new(src, tolerance);
-    builder.slots = opts.slots;
     // Precompositions are as large as the canvas in whole pixels (and a margin): drawn at
     // the canvas's own scale, inside the null that `fit_layers` adds.
-    let mut layers = builder.layers((pixels(w), pixels(h)));
-    if fit.scale != 1.0 || fit.offset != kurbo::Vec2::ZERO {
-        fit_layers(&mut layers, &fit, op);
+    let canvas = (pixels(w), pixels(h));
+    // A large root is built as it is written: once, its runs' text spilled to a
+    // temporary file and copied to the output in reverse; or, when its layers take the
+    // parent that fits the canvas (numbered after them all), or the file cannot be
+    // written, twice ([`layers::Builder::plan_root`]).
+    let mut streamable = stream && !opts.slots.any() && !opts.pack;
+    let mut built = None;
+    if streamable
+        && !fitted
+        && let Ok(mut spill) = text::Spill::create()
+    {
+        let mut builder = layers::Builder::new(parts.source(), tolerance);
+        builder.slots = opts.slots;
+        match builder.spill_root(canvas, &|units| parts.bake(units), spill.file()) {
+            Ok(Some(runs)) => {
+                built = Some((Root::Spilled(spill, runs), builder.assets, builder.warnings));
+            }
+            Ok(None) => streamable = false,
+            Err(_) => {}
+        }
     }
+    if built.is_none() && streamable {
+        let mut builder = layers::Builder::new(parts.source(), tolerance);
+        builder.slots = opts.slots;
+        let plan = builder.plan_root(canvas, &|units| parts.bake(units));
+        built = plan.map(|plan| (Root::Planned(plan), builder.assets, builder.warnings));
+    }
+    let (root, layers, assets, mut warnings) = match built {
+        Some((root, assets, warnings)) => (root, Vec::new(), assets, warnings),
+        None => {
+            parts.bake_all();
+            let mut builder = layers::Builder::new(parts.source(), tolerance);
+            builder.slots = opts.slots;
+            let mut layers = builder.layers(canvas);
+            if fitted {
+                fit_layers(&mut layers, &fit, op);
+            }
+            (Root::Whole, layers, builder.assets, builder.warnings)
+        }
+    };
     let size = (fit.width, fit.height);
     let doc = model::Animation {
         v: "5.7.0",
@@ -261,29 +355,58 @@ fn write(src: Source, opts: &LottieOptions) -> Result<(LottieText, Vec<Warning>)
             .iter()
             .map(|m| model::MarkerOut::of(m, 0.0, fps))
             .collect(),
-        assets: std::mem::take(&mut builder.assets),
+        assets,
         layers,
     };
-    let mut json = LottieText::document(doc);
-    if opts.slots.any() {
-        json = with_slots(json, &mut builder.warnings);
-    }
-    if opts.pack {
-        json = packed(json);
-    }
+    let json = match root {
+        Root::Spilled(spill, runs) => LottieText::spilled(doc, spill, runs),
+        Root::Whole => {
+            parts.free();
+            let mut json = LottieText::document(doc);
+            if opts.slots.any() {
+                json = with_slots(json, &mut warnings);
+            }
+            if opts.pack {
+                json = packed(json);
+            }
+            json
+        }
+        Root::Planned(plan) => {
+            // The null that fits the canvas is numbered after the root's layers and is
+            // their parent, as `fit_layers` makes it.
+            let null = fitted.then_some(plan.max_ind + 1);
+            LottieText::stream(move |out| {
+                let builder = layers::Builder::new(parts.source(), tolerance);
+                doc.write_with(out, |out| {
+                    let written = builder.write_root(&plan, null, &|u| parts.bake(u), out)?;
+                    if let Some(ind) = null {
+                        model::write_layers(out, written, vec![fit_null(ind, &fit, op)])?;
+                    }
+                    Ok(())
+                })
+            })
+        }
+    };
     // Some warnings are about the document rather than one element (effects, for one):
     // each is said once.
     let mut seen = std::collections::HashSet::new();
-    builder.warnings.retain(|w| seen.insert(w.clone()));
-    Ok((
-        json,
-        builder.warnings.into_iter().map(Warning::from).collect(),
-    ))
+    warnings.retain(|w| seen.insert(w.clone()));
+    Ok((json, warnings.into_iter().map(Warning::from).collect()))
+}
+
+/// How the root's layers are held until written.
+enum Root {
+    /// In the document.
+    Whole,
+    /// To be built as they are written.
+    Planned(layers::stream::Plan),
+    /// Written to a temporary file, a run of them at a time: each run's length there.
+    Spilled(text::Spill, Vec<u64>),
 }
 
 /// `json` with its slot marks written as slots ([`slots::write`]), what that leaves out
 /// added to `warnings`.
-fn with_slots(json: LottieText, warnings: &mut Vec<String>) -> LottieText {
+fn with_slots<'a>(json: LottieText<'a>, warnings: &mut Vec<String>) -> LottieText<'a> {
     let text = json.into_string();
     // The builder writes JSON, so this parses; were it not to, the document is kept as
     // written (its marks unknown keys players skip) and the slots are said to be missing.
@@ -300,7 +423,7 @@ fn with_slots(json: LottieText, warnings: &mut Vec<String>) -> LottieText {
 }
 
 /// `json` with runs of plain layers packed into one ([`pack_json`]).
-fn packed(json: LottieText) -> LottieText {
+fn packed(json: LottieText<'_>) -> LottieText<'_> {
     LottieText::from(pack_json(json.into_string()))
 }
 
@@ -323,11 +446,17 @@ pub fn pack_json(text: String) -> String {
 /// through a null parent that scales and moves them (exact for every layer whatever its
 /// own transform).
 fn fit_layers(layers: &mut Vec<model::Layer>, fit: &Fit, op: f64) {
-    use model::{Layer, LayerKind, N, Prop, WriteLayer};
     let ind = layers.iter().map(|l| l.ind).max().unwrap_or(0) + 1;
     for l in layers.iter_mut().filter(|l| l.parent.is_none()) {
         l.parent = Some(ind);
     }
+    layers.push(fit_null(ind, fit, op));
+}
+
+/// The null layer numbered `ind` that scales and moves the root layers where `fit` puts
+/// the canvas.
+fn fit_null(ind: u32, fit: &Fit, op: f64) -> model::Layer {
+    use model::{Layer, LayerKind, N, Prop, WriteLayer};
     let mut null = Layer::new(LayerKind::Null, "output".to_string(), ind, 0.0, op);
     null.ks.s = Some(Prop::vec(vec![
         N::fine(fit.scale * 100.0),
@@ -337,5 +466,5 @@ fn fit_layers(layers: &mut Vec<model::Layer>, fit: &Fit, op: f64) {
         N::coord(fit.offset.x),
         N::coord(fit.offset.y),
     ]));
-    layers.push(null);
+    null
 }

@@ -44,30 +44,32 @@ pub struct Animation {
 
 impl Animation {
     /// Writes the document as JSON to `out`, its layers a run of [`LAYERS_PER_WRITE`] at a
-    /// time: each run's layers are written in parallel, each to its own buffer and dropped
-    /// there (at the intersections scale, 8214 layers, one thread writing into one
-    /// doubling string, then freeing the model, was a fifth of the export), handed to
-    /// `out` and freed before the next run is written. The whole text is never held: for
-    /// 999 000 shapes it was 856 MB.
-    pub fn write_to(mut self, mut out: &mut dyn Write) -> io::Result<()> {
-        use rayon::prelude::*;
-        out.write_all(&self.head())?;
-        let mut layers = std::mem::take(&mut self.layers).into_iter().enumerate();
-        loop {
-            let run: Vec<(usize, Layer)> = layers.by_ref().take(LAYERS_PER_WRITE).collect();
-            if run.is_empty() {
-                break;
+    /// time ([`write_layers`]), each run freed before the next is written. The whole text
+    /// is never held: for 999 000 shapes it was 856 MB.
+    pub fn write_to(mut self, out: &mut dyn Write) -> io::Result<()> {
+        let mut layers = std::mem::take(&mut self.layers).into_iter();
+        self.write_with(out, |out| {
+            let mut written = 0;
+            loop {
+                let run: Vec<Layer> = layers.by_ref().take(LAYERS_PER_WRITE).collect();
+                if run.is_empty() {
+                    return Ok(());
+                }
+                written = write_layers(out, written, run)?;
             }
-            let pieces: Vec<[Vec<u8>; 2]> = run.into_par_iter().map(layer_pieces).collect();
-            gmotion::atomic::write_pieces(
-                &mut out,
-                pieces
-                    .iter()
-                    .flatten()
-                    .filter(|p| !p.is_empty())
-                    .map(Vec::as_slice),
-            )?;
-        }
+        })
+    }
+
+    /// Writes the document as JSON to `out` with the layers `layers` writes (with
+    /// [`write_layers`]) in place of its own, which are left out: how a large scene's
+    /// layers are written as they are built ([`crate::layers::Builder::write_root`]).
+    pub(crate) fn write_with(
+        &self,
+        out: &mut dyn Write,
+        layers: impl FnOnce(&mut dyn Write) -> io::Result<()>,
+    ) -> io::Result<()> {
+        out.write_all(&self.head())?;
+        layers(out)?;
         out.write_all(b"]}")
     }
 
@@ -103,6 +105,34 @@ impl Animation {
 /// How many layers [`Animation::write_to`] writes at a time: enough to keep every thread
 /// busy and make few system calls, few enough that a run's text stays a few megabytes.
 const LAYERS_PER_WRITE: usize = 4096;
+
+/// Writes `run`, the layers of the document's list after the `written` already written,
+/// to `out`: each layer in parallel to its own buffer and dropped there (at the
+/// intersections scale, 8214 layers, one thread writing into one doubling string, then
+/// freeing the model, was a fifth of the export), then handed to `out` and freed. Returns
+/// the layers written so far.
+pub(crate) fn write_layers(
+    mut out: &mut dyn Write,
+    written: usize,
+    run: Vec<Layer>,
+) -> io::Result<usize> {
+    use rayon::prelude::*;
+    let n = run.len();
+    let pieces: Vec<[Vec<u8>; 2]> = run
+        .into_par_iter()
+        .enumerate()
+        .map(|(k, l)| layer_pieces((written + k, l)))
+        .collect();
+    gmotion::atomic::write_pieces(
+        &mut out,
+        pieces
+            .iter()
+            .flatten()
+            .filter(|p| !p.is_empty())
+            .map(Vec::as_slice),
+    )?;
+    Ok(written + n)
+}
 
 /// The `k`th layer's text (a comma before all but the first), in two pieces: its head,
 /// and its sealed tail, which is most of its text and is passed on rather than copied

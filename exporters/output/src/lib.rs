@@ -1001,7 +1001,7 @@ fn lottie_options(opts: &Options, markers: &[Marker]) -> LottieOptions {
 
 /// Writes an exporter's Lottie (or says why it refused) and passes its warnings on: the
 /// JSON itself, or for a `.lottie` path the JSON packaged ([`packaged`], over `package`).
-fn write_lottie<T: Into<lottie::LottieText>>(
+fn write_lottie<'a, T: Into<lottie::LottieText<'a>>>(
     path: &Path,
     exported: Result<(T, Vec<Warning>), lottie::LottieError>,
     target: Target,
@@ -1011,7 +1011,7 @@ fn write_lottie<T: Into<lottie::LottieText>>(
         path: path.to_path_buf(),
         source,
     })?;
-    let json: lottie::LottieText = json.into();
+    let json: lottie::LottieText<'a> = json.into();
     let io_error = |source| OutputError::Io {
         path: path.to_path_buf(),
         source,
