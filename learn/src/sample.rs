@@ -1,0 +1,238 @@
+//! Sampling: every unit's world motion relative to the reference frame, its opacity and
+//! its paint, at every frame of the composition, as the player draws them.
+
+use gmotion::scene::{Node, Paint, Scene};
+use gmotion_pipeline::LottieSource;
+use kurbo::{Affine, PathEl, Point};
+
+use crate::LearnError;
+
+/// How many points of a unit's drawing are followed to measure its error in pixels.
+const MAX_POINTS: usize = 24;
+
+/// One unit's samples, one entry per frame.
+#[derive(Clone, Debug)]
+pub struct UnitSamples {
+    /// The unit's world motion since the reference frame (`world(f) · world(ref)⁻¹`).
+    pub motion: Vec<Affine>,
+    /// Its opacity (the product of the opacities of the groups down to it).
+    pub opacity: Vec<f64>,
+    /// Its representative solid fill colour, if it has one (RGBA, 0 … 1).
+    pub fill: Vec<Option<[f32; 4]>>,
+    /// Points of its drawing at the reference frame, on the canvas.
+    pub points: Vec<Point>,
+    /// The largest distance, over the frames, between the points as drawn and as the unit's
+    /// motion alone carries them: what moves inside the unit (paths, inner layers).
+    pub inner_px: f64,
+    /// Its centroid at the reference frame (the `local` pivot).
+    pub centroid: Point,
+}
+
+/// Every unit sampled at every frame of `src`.
+pub fn sample(
+    src: &LottieSource,
+    reference: &Scene,
+    max_samples: u64,
+) -> Result<Vec<UnitSamples>, LearnError> {
+    let doc = &src.document;
+    let frames = ((doc.op - doc.ip).ceil().max(1.0)) as usize;
+    let units = reference.shapes.len();
+    let samples = (frames as u64).saturating_mul(units as u64);
+    if samples > max_samples {
+        return Err(LearnError::Limit(format!(
+            "{units} units × {frames} frames = {samples} samples, more than the limit of {max_samples} (raise it with --limit learn-samples=N)"
+        )));
+    }
+    let ref_world: Vec<Affine> = (0..units).map(|u| world(reference, u)).collect();
+    let ref_points: Vec<Vec<Point>> = (0..units).map(|u| points(reference, u)).collect();
+    let mut out: Vec<UnitSamples> = reference
+        .shapes
+        .iter()
+        .enumerate()
+        .map(|(u, s)| UnitSamples {
+            motion: Vec::with_capacity(frames),
+            opacity: Vec::with_capacity(frames),
+            fill: Vec::with_capacity(frames),
+            points: ref_points[u].clone(),
+            inner_px: 0.0,
+            centroid: s.centroid,
+        })
+        .collect();
+    for f in 0..frames {
+        let (scene, _) = src
+            .scene_at(doc.ip + f as f64)
+            .map_err(|e| LearnError::Input(e.to_string()))?;
+        for (u, s) in out.iter_mut().enumerate() {
+            let w = world(&scene, u);
+            let r = ref_world[u];
+            let m = if r.determinant().abs() < 1e-12 {
+                Affine::IDENTITY
+            } else {
+                w * r.inverse()
+            };
+            let now = points(&scene, u);
+            let m = if now.len() == s.points.len() {
+                // The motion may live inside the layer (a group's transform): when the
+                // layer's own does not carry the drawing, the affine that best does.
+                let off = |m: Affine| {
+                    s.points
+                        .iter()
+                        .zip(&now)
+                        .map(|(p, q)| (m * *p - *q).hypot())
+                        .fold(0.0, f64::max)
+                };
+                let m = match best_affine(&s.points, &now) {
+                    Some(fit) if off(m) > 1e-3 && off(fit) < off(m) => fit,
+                    _ => m,
+                };
+                s.inner_px = s.inner_px.max(off(m));
+                m
+            } else {
+                s.inner_px = f64::INFINITY;
+                m
+            };
+            s.motion.push(m);
+            s.opacity.push(opacity(&scene, u));
+            s.fill.push(fill(&scene, u));
+        }
+    }
+    Ok(out)
+}
+
+/// The nodes from the root down to unit `u`'s node, the unit's own last.
+fn chain(scene: &Scene, u: usize) -> Vec<&Node> {
+    let mut out = Vec::new();
+    let path = &scene.shapes[u].node_path;
+    for i in 1..=path.len() {
+        if let Some(n) = scene.root.node_at(&path[..i]) {
+            out.push(n);
+        }
+    }
+    out
+}
+
+/// Unit `u`'s world transform: the groups' transforms from the root down to it, its own
+/// included.
+fn world(scene: &Scene, u: usize) -> Affine {
+    let mut m = scene.root.transform;
+    for n in chain(scene, u) {
+        if let Node::Group(g) = n {
+            m *= g.transform;
+        }
+    }
+    m
+}
+
+/// Unit `u`'s opacity: the product of the opacities of the groups down to it.
+fn opacity(scene: &Scene, u: usize) -> f64 {
+    let mut o = f64::from(scene.root.opacity);
+    for n in chain(scene, u) {
+        if let Node::Group(g) = n {
+            o *= f64::from(g.opacity);
+        }
+    }
+    o
+}
+
+/// Unit `u`'s first solid fill colour.
+fn fill(scene: &Scene, u: usize) -> Option<[f32; 4]> {
+    fn first(n: &Node) -> Option<[f32; 4]> {
+        match n {
+            Node::Path(p) => match p.fill.as_ref().map(|f| (&f.paint, f.opacity)) {
+                Some((Paint::Solid(c), o)) => Some([c.r, c.g, c.b, o]),
+                _ => None,
+            },
+            Node::Group(g) => g.children.iter().find_map(first),
+            Node::Image(_) => None,
+        }
+    }
+    chain(scene, u).last().and_then(|n| first(n))
+}
+
+/// Up to [`MAX_POINTS`] on-curve points of unit `u`'s drawing, on the canvas, spread over
+/// all its paths (the same points at every frame: the tree keeps its shape).
+fn points(scene: &Scene, u: usize) -> Vec<Point> {
+    fn collect(n: &Node, m: Affine, out: &mut Vec<Point>) {
+        match n {
+            Node::Path(p) => {
+                for el in p.path.elements() {
+                    match *el {
+                        PathEl::MoveTo(q)
+                        | PathEl::LineTo(q)
+                        | PathEl::QuadTo(_, q)
+                        | PathEl::CurveTo(_, _, q) => out.push(m * q),
+                        PathEl::ClosePath => {}
+                    }
+                }
+            }
+            Node::Group(g) => {
+                let m = m * g.transform;
+                for c in &g.children {
+                    collect(c, m, out);
+                }
+            }
+            Node::Image(i) => {
+                let r = i.rect();
+                out.extend([m * Point::new(r.x0, r.y0), m * Point::new(r.x1, r.y1)]);
+            }
+        }
+    }
+    let nodes = chain(scene, u);
+    let Some(last) = nodes.last() else {
+        return Vec::new();
+    };
+    // The transform above the unit's own node.
+    let mut m = scene.root.transform;
+    for n in &nodes[..nodes.len() - 1] {
+        if let Node::Group(g) = n {
+            m *= g.transform;
+        }
+    }
+    let mut all = Vec::new();
+    collect(last, m, &mut all);
+    if all.len() <= MAX_POINTS {
+        return all;
+    }
+    let step = all.len() as f64 / MAX_POINTS as f64;
+    (0..MAX_POINTS)
+        .map(|i| all[(i as f64 * step) as usize])
+        .collect()
+}
+
+/// The affine map taking `from` onto `to` with the least squared error, when the points
+/// span the plane.
+fn best_affine(from: &[Point], to: &[Point]) -> Option<Affine> {
+    // Normal equations of [x y 1]·(a, c, e) = x' (and likewise for y'), centred for
+    // conditioning.
+    let n = from.len() as f64;
+    if from.len() < 3 {
+        return None;
+    }
+    let c = from.iter().fold(kurbo::Vec2::ZERO, |a, p| a + p.to_vec2()) / n;
+    let d = to.iter().fold(kurbo::Vec2::ZERO, |a, p| a + p.to_vec2()) / n;
+    let (mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0);
+    let (mut ux, mut uy, mut vx, mut vy) = (0.0, 0.0, 0.0, 0.0);
+    for (p, q) in from.iter().zip(to) {
+        let (x, y) = (p.x - c.x, p.y - c.y);
+        let (qx, qy) = (q.x - d.x, q.y - d.y);
+        sxx += x * x;
+        sxy += x * y;
+        syy += y * y;
+        ux += x * qx;
+        uy += y * qx;
+        vx += x * qy;
+        vy += y * qy;
+    }
+    let det = sxx * syy - sxy * sxy;
+    if det.abs() <= 1e-9 * (sxx * syy).max(1e-12) {
+        return None;
+    }
+    let a = (ux * syy - uy * sxy) / det;
+    let cc = (uy * sxx - ux * sxy) / det;
+    let b = (vx * syy - vy * sxy) / det;
+    let dd = (vy * sxx - vx * sxy) / det;
+    // q − d = L (p − c)  ⇒  q = L p + (d − L c).
+    let e = d.x - (a * c.x + cc * c.y);
+    let f = d.y - (b * c.x + dd * c.y);
+    Some(Affine::new([a, b, cc, dd, e, f]))
+}
