@@ -12,7 +12,7 @@ use crate::sample::UnitSamples;
 /// Two frames whose points move less than this (pixels) hold: keyframed holds are exact.
 const HOLD_PX: f64 = 1e-3;
 
-/// Opacity changes smaller than this hold.
+/// Opacity or colour changes smaller than this hold.
 const HOLD_OPACITY: f64 = 1e-4;
 
 /// Where a piece's motion turns and scales about.
@@ -40,9 +40,23 @@ pub struct Move {
 pub enum Change {
     /// An affine motion: its components (about the pivot) and the pivot.
     Affine(Vec<Component>, Pivot),
-    /// The opacity factor becomes this.
-    Opacity(f64),
+    /// The opacity factor, the fill colour or both change to these.
+    Paint(Paint),
 }
+
+/// A change of paint: the opacity factor and the fill colour (RGB, 0 … 1) it ends at,
+/// each only when it changes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Paint {
+    /// The opacity factor's end value.
+    pub opacity: Option<f64>,
+    /// The fill colour's end value.
+    pub fill: Option<[f64; 3]>,
+}
+
+/// The paint values the model tracks: the opacity factor, then the fill's red, green and
+/// blue.
+pub type PaintValue = [f64; 4];
 
 /// A slice of a unit's timeline: a span, and the piece it plays, if any.
 #[derive(Clone, Debug)]
@@ -53,7 +67,7 @@ pub struct Slice {
     pub t1: f64,
     /// Its motion; `None` holds.
     pub play: Option<Move>,
-    /// The opacity slices inside it (empty when the opacity holds through it).
+    /// The paint slices inside it (empty when opacity and fill hold through it).
     pub inner: Vec<Slice>,
     /// When it is the inverted twin of an earlier slice (`inv_…`), that slice's index: it
     /// plays that slice's change backwards, ending its offset before its own end.
@@ -67,7 +81,7 @@ pub struct Fitted {
     pub slices: Vec<Slice>,
     /// The largest error in pixels of the learned motion over every frame.
     pub max_px: f64,
-    /// The largest opacity error over every frame.
+    /// The largest opacity or fill channel error over every frame (0 … 1).
     pub max_opacity: f64,
 }
 
@@ -178,7 +192,7 @@ fn components(a: Affine, pivot: Point, turn: f64) -> Vec<Component> {
     out
 }
 
-/// Fits one unit: its affine pieces, then its opacity pieces inside them.
+/// Fits one unit: its affine pieces, then its paint pieces inside them.
 pub fn fit(unit: &UnitSamples, clock: Clock, tol_px: f64, tol_opacity: f64) -> Fitted {
     let pts = points_of(unit);
     let n = unit.motion.len();
@@ -262,7 +276,7 @@ pub fn fit(unit: &UnitSamples, clock: Clock, tol_px: f64, tol_opacity: f64) -> F
  twin_of: None,
         });
     }
-    fit_opacity(unit, clock, tol_opacity, &eases, &mut slices);
+    fit_paint(unit, clock, tol_opacity, &eases, &mut slices);
     let (max_px, max_opacity) = errors(unit, &pts, clock, &slices);
     Fitted {
         slices,
@@ -471,34 +485,73 @@ pub fn base_opacity(unit: &UnitSamples) -> f64 {
     unit.opacity.first().copied().unwrap_or(1.0)
 }
 
-/// Fits the opacity factor inside each slice (a whole-animation slice when the unit does
-/// not move), as holds and linear or eased changes.
-fn fit_opacity(
+/// The paint values of every frame: the opacity factor against the still's opacity, and
+/// the fill colour when the unit has one colour of fill (else black, which never changes).
+pub fn paint_values(unit: &UnitSamples) -> Vec<PaintValue> {
+    let base = base_opacity(unit);
+    unit.opacity
+        .iter()
+        .zip(&unit.fill)
+        .map(|(o, c)| {
+            let rgb = match (unit.one_fill, c) {
+                (true, Some(c)) => [f64::from(c[0]), f64::from(c[1]), f64::from(c[2])],
+                _ => [0.0; 3],
+            };
+            [if base > 0.0 { o / base } else { 0.0 }, rgb[0], rgb[1], rgb[2]]
+        })
+        .collect()
+}
+
+/// The largest channel difference of two paint values.
+fn paint_off(a: &PaintValue, b: &PaintValue) -> f64 {
+    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+}
+
+/// `a` blended towards `b` by `p`.
+fn paint_lerp(a: &PaintValue, b: &PaintValue, p: f64) -> PaintValue {
+    std::array::from_fn(|i| a[i] + (b[i] - a[i]) * p)
+}
+
+/// The paint value a change leads to from `from`.
+fn paint_after(from: &PaintValue, change: &Paint) -> PaintValue {
+    let mut v = *from;
+    if let Some(o) = change.opacity {
+        v[0] = o;
+    }
+    if let Some(c) = change.fill {
+        v[1..].copy_from_slice(&c);
+    }
+    v
+}
+
+/// Fits the paint (opacity factor and fill) inside each slice (a whole-animation slice
+/// when the unit does not move), as holds and changes with an easing of the language.
+fn fit_paint(
     unit: &UnitSamples,
     clock: Clock,
     tol: f64,
     eases: &[Easing],
     slices: &mut Vec<Slice>,
 ) {
-    let base = base_opacity(unit);
-    if base <= 0.0 {
+    let values = paint_values(unit);
+    let Some(first) = values.first().copied() else {
+        return;
+    };
+    if base_opacity(unit) <= 0.0 || values.iter().all(|v| paint_off(v, &first) <= HOLD_OPACITY) {
         return;
     }
-    let n = unit.opacity.len();
-    let factor: Vec<f64> = unit.opacity.iter().map(|o| o / base).collect();
-    if factor.iter().all(|v| (v - 1.0).abs() <= HOLD_OPACITY) {
-        return;
-    }
+    let n = values.len();
     if slices.is_empty() {
         slices.push(Slice {
             t0: 0.0,
             t1: clock.duration,
             play: None,
             inner: Vec::new(),
- twin_of: None,
+            twin_of: None,
         });
     }
-    let mut value = 1.0;
+    // What the model shows: the still's values at first.
+    let mut value = [1.0, first[1], first[2], first[3]];
     for slice in slices.iter_mut() {
         let r = frames_in(clock, slice.t0, slice.t1, n);
         let (lo, hi) = (*r.start(), *r.end());
@@ -506,21 +559,21 @@ fn fit_opacity(
         let mut inner = Vec::new();
         let mut f = lo;
         while f < hi {
-            if (factor[f + 1] - factor[f]).abs() <= HOLD_OPACITY
-                && (factor[f] - value).abs() <= tol
+            if paint_off(&values[f + 1], &values[f]) <= HOLD_OPACITY
+                && paint_off(&values[f], &value) <= tol
             {
                 f += 1;
                 continue;
             }
             let mut b = f + 1;
-            while b < hi && (factor[b + 1] - factor[b]).abs() > HOLD_OPACITY {
+            while b < hi && paint_off(&values[b + 1], &values[b]) > HOLD_OPACITY {
                 b += 1;
             }
             let mut a = f;
             while a < b {
                 let mut done = None;
                 for e in (a + 1..=b).rev() {
-                    let target = factor[e];
+                    let target = values[e];
                     let mut best: Option<(f64, Easing)> = None;
                     for ease in eases {
                         let s_t = clock.time(a as f64);
@@ -528,7 +581,7 @@ fn fit_opacity(
                         let worst = (a..=e)
                             .map(|g| {
                                 let p = progress(ease, s_t, e_t, clock.time(g as f64));
-                                (value + (target - value) * p - factor[g]).abs()
+                                paint_off(&paint_lerp(&value, &target, p), &values[g])
                             })
                             .fold(0.0, f64::max);
                         if worst <= tol && best.as_ref().is_none_or(|(w, _)| worst < *w - 1e-12)
@@ -549,18 +602,24 @@ fn fit_opacity(
                 };
                 let s_t = clock.time(a as f64).max(at);
                 let e_t = clock.time(e as f64);
+                let change = Paint {
+                    opacity: ((target[0] - value[0]).abs() > HOLD_OPACITY).then_some(target[0]),
+                    fill: (paint_off(&[0.0, target[1], target[2], target[3]], &[0.0, value[1], value[2], value[3]])
+                        > HOLD_OPACITY)
+                        .then_some([target[1], target[2], target[3]]),
+                };
                 inner.push(Slice {
                     t0: at,
                     t1: e_t,
                     play: Some(Move {
                         delay: s_t - at,
                         ease,
-                        change: Change::Opacity(target),
+                        change: Change::Paint(change),
                     }),
                     inner: Vec::new(),
- twin_of: None,
+                    twin_of: None,
                 });
-                value = target;
+                value = paint_after(&value, &change);
                 at = e_t;
                 a = e;
             }
@@ -573,7 +632,7 @@ fn fit_opacity(
                     t1: slice.t1,
                     play: None,
                     inner: Vec::new(),
- twin_of: None,
+                    twin_of: None,
                 });
             }
             slice.inner = inner;
@@ -585,9 +644,10 @@ fn fit_opacity(
 /// the engine composes consecutive slices: each change applies on top of the state the
 /// previous one ended in, and an inverted twin plays its slice's change backwards about
 /// the same pivot.
-pub fn model_at(unit: &UnitSamples, slices: &[Slice], t: f64) -> (Affine, f64) {
+pub fn model_at(unit: &UnitSamples, slices: &[Slice], t: f64) -> (Affine, PaintValue) {
     let mut state = Affine::IDENTITY;
-    let mut value = 1.0;
+    let first = paint_values(unit).first().copied().unwrap_or([1.0, 0.0, 0.0, 0.0]);
+    let mut value = [1.0, first[1], first[2], first[3]];
     // Each slice's pivot point, for its twin.
     let mut pivots: Vec<Point> = Vec::with_capacity(slices.len());
     for slice in slices {
@@ -629,18 +689,18 @@ pub fn model_at(unit: &UnitSamples, slices: &[Slice], t: f64) -> (Affine, f64) {
             if let Some(Move {
                 delay,
                 ease,
-                change: Change::Opacity(target),
+                change: Change::Paint(change),
             }) = &inner.play
             {
                 if t < inner.t0 {
                     break;
                 }
                 let p = progress(ease, inner.t0 + delay, inner.t1, t);
-                let v = value + (target - value) * p;
+                let target = paint_after(&value, change);
                 if t < inner.t1 {
-                    return (here, v);
+                    return (here, paint_lerp(&value, &target, p));
                 }
-                value = *target;
+                value = target;
             }
         }
         if t < slice.t1 {
@@ -728,11 +788,16 @@ pub fn points_of(unit: &UnitSamples) -> Vec<Point> {
 /// inside the unit, which no slice can explain).
 pub fn errors(unit: &UnitSamples, pts: &[Point], clock: Clock, slices: &[Slice]) -> (f64, f64) {
     let base = base_opacity(unit);
+    let values = paint_values(unit);
     let mut worst = (0.0f64, 0.0f64);
     for (f, m) in unit.motion.iter().enumerate() {
-        let (a, o) = model_at(unit, slices, clock.time(f as f64));
+        let (a, v) = model_at(unit, slices, clock.time(f as f64));
         worst.0 = worst.0.max(px(pts, a, *m));
-        worst.1 = worst.1.max((o * base - unit.opacity[f]).abs());
+        // Opacity is compared as drawn (the factor times the still's opacity).
+        let mut want = values[f];
+        want[0] = unit.opacity[f];
+        let got = [v[0] * base, v[1], v[2], v[3]];
+        worst.1 = worst.1.max(paint_off(&got, &want));
     }
     worst.0 = worst.0.max(unit.inner_px);
     worst

@@ -76,17 +76,19 @@ impl Report {
                     why.push(if smp.opacity.first().is_some_and(|o| *o <= 0.0) {
                         "it is hidden at frame 0 and appears later, which an opacity factor on the still cannot raise".to_string()
                     } else {
-                        format!("opacity off by up to {:.3}", f.max_opacity)
+                        format!("opacity or fill off by up to {:.3}", f.max_opacity)
                     });
                 }
                 if f.max_px > opts.tolerance && why.is_empty() {
                     why.push(format!("motion off by up to {:.2} px", f.max_px));
                 }
                 let fills = smp.fill.iter().filter_map(|c| *c).collect::<Vec<_>>();
-                if fills.windows(2).any(|w| {
-                    w[0].iter().zip(&w[1]).any(|(a, b)| (a - b).abs() > 1.0 / 255.0)
-                }) {
-                    why.push("its fill colour changes, which `learn` does not fit yet".to_string());
+                if !smp.one_fill
+                    && fills.windows(2).any(|w| {
+                        w[0].iter().zip(&w[1]).any(|(a, b)| (a - b).abs() > 1.0 / 255.0)
+                    })
+                {
+                    why.push("its fills change colour but it paints several colours, which one fill change cannot say".to_string());
                 }
                 UnitReport {
                     name: format!("{}:{}", s.tag, s.id),

@@ -6,7 +6,7 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
 use gmotion::motion::Component;
-use gmotion::scene::{Node, Scene};
+use gmotion::scene::{Node, Paint, Scene};
 use gmotion::signals::Easing;
 
 use crate::Options;
@@ -26,8 +26,8 @@ pub struct RuleSet {
     pub stagger: Option<String>,
 }
 
-/// The still scene: the art at the reference frame, each unit's opacity that of frame 0
-/// (what the learned opacity changes start from).
+/// The still scene: the art at the reference frame, each unit's opacity and (for a unit of
+/// one fill colour) its fill those of frame 0, what the learned paint changes start from.
 pub fn still_scene(reference: &Scene, samples: &[UnitSamples]) -> Scene {
     let mut still = reference.clone();
     for (u, s) in samples.iter().enumerate() {
@@ -47,8 +47,28 @@ pub fn still_scene(reference: &Scene, samples: &[UnitSamples]) -> Scene {
                 0.0
             };
         }
+        if let (true, Some(Some(c)), Some(node)) =
+            (s.one_fill, s.fill.first(), still.root.node_at_mut(&path))
+        {
+            recolour(node, [c[0], c[1], c[2]]);
+        }
     }
     still
+}
+
+/// Paints every solid fill under `node` in `rgb`.
+fn recolour(node: &mut Node, rgb: [f32; 3]) {
+    match node {
+        Node::Path(p) => {
+            if let Some(f) = p.fill.as_mut()
+                && let Paint::Solid(c) = &mut f.paint
+            {
+                (c.r, c.g, c.b) = (rgb[0], rgb[1], rgb[2]);
+            }
+        }
+        Node::Group(g) => g.children.iter_mut().for_each(|c| recolour(c, rgb)),
+        Node::Image(_) => {}
+    }
 }
 
 /// A number as the grammar writes it: at most `digits` decimals, no trailing zeros.
@@ -219,8 +239,17 @@ fn same_changes(a: &[Slice], b: &[Slice], opts: &Options) -> bool {
                         (Change::Affine(c, pv), Change::Affine(d, qv)) => {
                             pv == qv && comps_close(c, d, opts.tolerance * 0.5)
                         }
-                        (Change::Opacity(u), Change::Opacity(v)) => {
-                            (u - v).abs() <= opts.opacity_tolerance * 0.5
+                        (Change::Paint(u), Change::Paint(v)) => {
+                            let near = |a: f64, b: f64| (a - b).abs() <= opts.opacity_tolerance * 0.5;
+                            match ((u.opacity, v.opacity), (u.fill, v.fill)) {
+                                ((None, None) | (Some(_), Some(_)), (None, None) | (Some(_), Some(_))) => {
+                                    u.opacity.zip(v.opacity).is_none_or(|(a, b)| near(a, b))
+                                        && u.fill.zip(v.fill).is_none_or(|(a, b)| {
+                                            a.iter().zip(&b).all(|(x, y)| near(*x, *y))
+                                        })
+                                }
+                                _ => false,
+                            }
                         }
                         _ => false,
                     }
@@ -470,30 +499,49 @@ fn rule_set(out: &mut String, tag: &str, slices: &[Slice], times: &SetTimes, clo
             continue;
         }
         let (fractions, delays) = &layout.inner[k];
-        let outs: Vec<String> = (0..s.inner.len()).map(|l| format!("p{k}_{l}")).collect();
-        let _ = writeln!(
-            out,
-            "timesplit({}) : [{}, {tag}] -> [{}]",
-            fractions.join(", "),
-            current[k],
-            outs.join(", ")
-        );
-        rules += 1;
+        let one = s.inner.len() == 1;
+        if !one {
+            let outs: Vec<String> = (0..s.inner.len()).map(|l| format!("p{k}_{l}")).collect();
+            let _ = writeln!(
+                out,
+                "timesplit({}) : [{}, {tag}] -> [{}]",
+                fractions.join(", "),
+                current[k],
+                outs.join(", ")
+            );
+            rules += 1;
+        }
         for (l, i) in s.inner.iter().enumerate() {
             if let Some(Move {
                 ease,
-                change: Change::Opacity(v),
+                change: Change::Paint(change),
                 ..
             }) = &i.play
             {
                 let ease = ease_text(ease).map_or(String::new(), |e| format!(", ease={e}"));
-                let _ = writeln!(
-                    out,
-                    "animate(opacity, local, {}, {}{ease}) : [p{k}_{l}, {tag}] -> [o{k}_{l}]",
-                    delays[l],
-                    num(*v, 4)
-                );
-                rules += 1;
+                // One paint slice is the whole slice: no split.
+                let mut slice = if one { current[k].clone() } else { format!("p{k}_{l}") };
+                if let Some(v) = change.opacity {
+                    let _ = writeln!(
+                        out,
+                        "animate(opacity, local, {}, {}{ease}) : [{slice}, {tag}] -> [o{k}_{l}]",
+                        delays[l],
+                        num(v, 4)
+                    );
+                    slice = format!("o{k}_{l}");
+                    rules += 1;
+                }
+                if let Some([r, g, b]) = change.fill {
+                    let _ = writeln!(
+                        out,
+                        "animate(fill, local, {}, rgb({}, {}, {}){ease}) : [{slice}, {tag}] -> [f{k}_{l}]",
+                        delays[l],
+                        num(r * 255.0, 2),
+                        num(g * 255.0, 2),
+                        num(b * 255.0, 2)
+                    );
+                    rules += 1;
+                }
             }
         }
     }

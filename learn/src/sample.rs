@@ -26,6 +26,9 @@ pub struct UnitSamples {
     pub inner_px: f64,
     /// Its centroid at the reference frame (the `local` pivot).
     pub centroid: Point,
+    /// Whether all its solid fills have one colour at the reference frame (a fill change
+    /// of the grammar tints them all to one colour).
+    pub one_fill: bool,
 }
 
 /// Every unit sampled at every frame of `src`.
@@ -56,6 +59,7 @@ pub fn sample(
             points: ref_points[u].clone(),
             inner_px: 0.0,
             centroid: s.centroid,
+            one_fill: fill_colours(reference, u) <= 1,
         })
         .collect();
     for f in 0..frames {
@@ -147,6 +151,31 @@ fn fill(scene: &Scene, u: usize) -> Option<[f32; 4]> {
         }
     }
     chain(scene, u).last().and_then(|n| first(n))
+}
+
+/// How many different solid fill colours unit `u` paints (gradients count as two).
+fn fill_colours(scene: &Scene, u: usize) -> usize {
+    fn visit(n: &Node, out: &mut Vec<[u32; 3]>) {
+        match n {
+            Node::Path(p) => match p.fill.as_ref().map(|f| &f.paint) {
+                Some(Paint::Solid(c)) => {
+                    let key = [c.r.to_bits(), c.g.to_bits(), c.b.to_bits()];
+                    if !out.contains(&key) {
+                        out.push(key);
+                    }
+                }
+                Some(_) => out.extend([[u32::MAX; 3], [0; 3]]),
+                None => {}
+            },
+            Node::Group(g) => g.children.iter().for_each(|c| visit(c, out)),
+            Node::Image(_) => {}
+        }
+    }
+    let mut out = Vec::new();
+    if let Some(n) = chain(scene, u).last() {
+        visit(n, &mut out);
+    }
+    out.len()
 }
 
 /// Up to [`MAX_POINTS`] on-curve points of unit `u`'s drawing, on the canvas, spread over
