@@ -194,6 +194,29 @@ fn components(a: Affine, pivot: Point, turn: f64) -> Vec<Component> {
 
 /// Fits one unit: its affine pieces, then its paint pieces inside them.
 pub fn fit(unit: &UnitSamples, clock: Clock, tol_px: f64, tol_opacity: f64) -> Fitted {
+    let fitted = fit_with(unit, clock, tol_px, tol_opacity, true);
+    // A twin plays its slice's rules backwards and can take no paint change of its own:
+    // where paint changes during a twin or its slice, the unit is fitted without twins.
+    let painted_twin = fitted.slices.iter().any(|s| {
+        s.twin_of.is_some_and(|i| {
+            !s.inner.is_empty() || fitted.slices.get(i).is_some_and(|f| !f.inner.is_empty())
+        })
+    });
+    if painted_twin {
+        fit_with(unit, clock, tol_px, tol_opacity, false)
+    } else {
+        fitted
+    }
+}
+
+/// [`fit`], finding inverted twins or not.
+fn fit_with(
+    unit: &UnitSamples,
+    clock: Clock,
+    tol_px: f64,
+    tol_opacity: f64,
+    with_twins: bool,
+) -> Fitted {
     let pts = points_of(unit);
     let n = unit.motion.len();
     let eases = easings();
@@ -219,8 +242,9 @@ pub fn fit(unit: &UnitSamples, clock: Clock, tol_px: f64, tol_opacity: f64) -> F
         let mut a = f;
         let mut start_sub = held_before;
         while a < b {
-            if let Some((added, end_state, end)) =
-                try_twin(unit, &pts, clock, &slices, at, a, start_sub, tol_px)
+            if let Some((added, end_state, end)) = with_twins
+                .then(|| try_twin(unit, &pts, clock, &slices, at, a, start_sub, tol_px))
+                .flatten()
             {
                 slices.extend(added);
                 state = end_state;

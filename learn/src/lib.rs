@@ -140,10 +140,13 @@ pub fn learn(
             LearnError::Limit(m) => LearnError::Limit(format!("{name}: error: {m}")),
         })?;
     if samples.iter().all(|s| {
-        s.motion.windows(2).all(|w| w[0] == w[1]) && s.opacity.windows(2).all(|w| w[0] == w[1])
+        s.motion.windows(2).all(|w| w[0] == w[1])
+            && s.opacity.windows(2).all(|w| w[0] == w[1])
+            && s.fill.windows(2).all(|w| w[0] == w[1])
+            && s.inner_px <= 1e-9
     }) {
         return Err(LearnError::Input(format!(
-            "{name}: error: the animation is static: no layer moves or fades over its {} frames, so there is no motion to learn",
+            "{name}: error: the animation is static: no layer moves, fades, changes colour or changes shape over its {} frames, so there is no motion to learn",
             samples.first().map_or(0, |s| s.motion.len())
         )));
     }

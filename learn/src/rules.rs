@@ -40,33 +40,38 @@ pub fn still_scene(reference: &Scene, samples: &[UnitSamples]) -> Scene {
                 above *= f64::from(g.opacity);
             }
         }
-        if let Some(Node::Group(g)) = still.root.node_at_mut(&path) {
-            g.opacity = if above > 0.0 {
-                (base / above).clamp(0.0, 1.0) as f32
-            } else {
-                0.0
-            };
-        }
-        if let (true, Some(Some(c)), Some(node)) =
-            (s.one_fill, s.fill.first(), still.root.node_at_mut(&path))
-        {
-            recolour(node, [c[0], c[1], c[2]]);
+        // Frame 0's opacity goes on the unit's own group (the groups inside it down to
+        // its first path, and a one-colour fill, made opaque), its fill on the paths.
+        let fill = s.fill.first().copied().flatten().filter(|_| s.one_fill);
+        if let Some(node) = still.root.node_at_mut(&path) {
+            crate::sample::clear_route_opacity(node);
+            if let Some(c) = fill {
+                recolour(node, [c[0], c[1], c[2], 1.0]);
+            }
+            if let Node::Group(g) = node {
+                g.opacity = if above > 0.0 {
+                    (base / above).clamp(0.0, 1.0) as f32
+                } else {
+                    0.0
+                };
+            }
         }
     }
     still
 }
 
-/// Paints every solid fill under `node` in `rgb`.
-fn recolour(node: &mut Node, rgb: [f32; 3]) {
+/// Paints every solid fill under `node` in `rgba` (the fill's colour and opacity).
+fn recolour(node: &mut Node, rgba: [f32; 4]) {
     match node {
         Node::Path(p) => {
             if let Some(f) = p.fill.as_mut()
                 && let Paint::Solid(c) = &mut f.paint
             {
-                (c.r, c.g, c.b) = (rgb[0], rgb[1], rgb[2]);
+                (c.r, c.g, c.b) = (rgba[0], rgba[1], rgba[2]);
+                f.opacity = rgba[3];
             }
         }
-        Node::Group(g) => g.children.iter_mut().for_each(|c| recolour(c, rgb)),
+        Node::Group(g) => g.children.iter_mut().for_each(|c| recolour(c, rgba)),
         Node::Image(_) => {}
     }
 }

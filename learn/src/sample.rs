@@ -15,7 +15,8 @@ const MAX_POINTS: usize = 24;
 pub struct UnitSamples {
     /// The unit's world motion since the reference frame (`world(f) · world(ref)⁻¹`).
     pub motion: Vec<Affine>,
-    /// Its opacity (the product of the opacities of the groups down to it).
+    /// Its opacity: the product of the opacities of the groups down to it, times its fill's
+    /// opacity when it paints one fill colour.
     pub opacity: Vec<f64>,
     /// Its representative solid fill colour, if it has one (RGBA, 0 … 1).
     pub fill: Vec<Option<[f32; 4]>>,
@@ -96,8 +97,15 @@ pub fn sample(
                 m
             };
             s.motion.push(m);
-            s.opacity.push(opacity(&scene, u));
-            s.fill.push(fill(&scene, u));
+            let fill = fill(&scene, u);
+            // A one-colour unit's fill opacity is part of how opaque it is drawn (an
+            // exporter may write an opacity change there rather than on the layer).
+            let fill_opacity = match (s.one_fill, fill) {
+                (true, Some(c)) => f64::from(c[3]),
+                _ => 1.0,
+            };
+            s.opacity.push(opacity(&scene, u) * fill_opacity);
+            s.fill.push(fill);
         }
     }
     Ok(out)
@@ -127,15 +135,44 @@ fn world(scene: &Scene, u: usize) -> Affine {
     m
 }
 
-/// Unit `u`'s opacity: the product of the opacities of the groups down to it.
+/// Unit `u`'s opacity as its first path is drawn: the product of the opacities of the
+/// groups down to that path (an exporter may fade a group inside the unit's layer).
 fn opacity(scene: &Scene, u: usize) -> f64 {
     let mut o = f64::from(scene.root.opacity);
-    for n in chain(scene, u) {
+    let nodes = chain(scene, u);
+    for n in &nodes {
         if let Node::Group(g) = n {
             o *= f64::from(g.opacity);
         }
     }
+    // Below the unit's node, down to its first path.
+    let mut at = nodes.last().copied();
+    while let Some(Node::Group(g)) = at {
+        at = g.children.iter().find(|c| has_path(c));
+        if let Some(Node::Group(inner)) = at {
+            o *= f64::from(inner.opacity);
+        }
+    }
     o
+}
+
+/// Whether `n` draws a path.
+fn has_path(n: &Node) -> bool {
+    match n {
+        Node::Path(_) => true,
+        Node::Group(g) => g.children.iter().any(has_path),
+        Node::Image(_) => false,
+    }
+}
+
+/// Sets the opacity of the groups from unit `node` down to its first path to 1, and
+/// what the still scene moves onto the unit's own opacity.
+pub fn clear_route_opacity(node: &mut Node) {
+    let mut at = Some(node);
+    while let Some(Node::Group(g)) = at {
+        g.opacity = 1.0;
+        at = g.children.iter_mut().find(|c| has_path(c));
+    }
 }
 
 /// Unit `u`'s first solid fill colour.
