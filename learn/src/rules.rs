@@ -395,23 +395,13 @@ pub fn write(
         }
         for u in units {
             let shape = &still.shapes[u];
-            let address = if count(tag) == 1 {
+            // How the still scene will name it: the Lottie writer names a layer after its
+            // tag when that is unique and has no counter, else `tag N` (N = id + 1), which
+            // reads back as the tag with the alias `tag_N`.
+            let address = if count(tag) == 1 && gmotion::tagging::strip_counter(tag) == tag {
                 tag.to_string()
             } else {
-                // The layer's own name (`c_2`) takes it alone.
-                shape
-                    .aliases
-                    .iter()
-                    .find(|a| {
-                        still
-                            .shapes
-                            .iter()
-                            .filter(|s| s.tags().any(|t| t == a.as_str()))
-                            .count()
-                            == 1
-                    })
-                    .cloned()
-                    .unwrap_or_else(|| tag.to_string())
+                format!("{tag}_{}", shape.id + 1)
             };
             let rules = rule_set(
                 &mut body,
