@@ -282,7 +282,7 @@ fn fit_with(
                     ..mv
                 }),
                 inner: Vec::new(),
- twin_of: None,
+                twin_of: None,
             });
             state = end_state;
             at = e_t;
@@ -297,7 +297,7 @@ fn fit_with(
             t1: clock.duration,
             play: None,
             inner: Vec::new(),
- twin_of: None,
+            twin_of: None,
         });
     }
     fit_paint(unit, clock, tol_opacity, &eases, &mut slices);
@@ -425,7 +425,10 @@ fn fit_piece(
     let mut pivots = if translation {
         vec![(Pivot::World(Point::ORIGIN), Point::ORIGIN)]
     } else {
-        vec![(Pivot::Local, centre), (Pivot::World(Point::ORIGIN), Point::ORIGIN)]
+        vec![
+            (Pivot::Local, centre),
+            (Pivot::World(Point::ORIGIN), Point::ORIGIN),
+        ]
     };
     let [m00, m10, m01, m11, bx, by] = delta.as_coeffs();
     let (i00, i01, i10, i11) = (1.0 - m00, -m01, -m10, 1.0 - m11);
@@ -521,14 +524,22 @@ pub fn paint_values(unit: &UnitSamples) -> Vec<PaintValue> {
                 (true, Some(c)) => [f64::from(c[0]), f64::from(c[1]), f64::from(c[2])],
                 _ => [0.0; 3],
             };
-            [if base > 0.0 { o / base } else { 0.0 }, rgb[0], rgb[1], rgb[2]]
+            [
+                if base > 0.0 { o / base } else { 0.0 },
+                rgb[0],
+                rgb[1],
+                rgb[2],
+            ]
         })
         .collect()
 }
 
 /// The largest channel difference of two paint values.
 fn paint_off(a: &PaintValue, b: &PaintValue) -> f64 {
-    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
 }
 
 /// `a` blended towards `b` by `p`.
@@ -608,8 +619,7 @@ fn fit_paint(
                                 paint_off(&paint_lerp(&value, &target, p), &values[g])
                             })
                             .fold(0.0, f64::max);
-                        if worst <= tol && best.as_ref().is_none_or(|(w, _)| worst < *w - 1e-12)
-                        {
+                        if worst <= tol && best.as_ref().is_none_or(|(w, _)| worst < *w - 1e-12) {
                             best = Some((worst, ease.clone()));
                         }
                     }
@@ -628,8 +638,10 @@ fn fit_paint(
                 let e_t = clock.time(e as f64);
                 let change = Paint {
                     opacity: ((target[0] - value[0]).abs() > HOLD_OPACITY).then_some(target[0]),
-                    fill: (paint_off(&[0.0, target[1], target[2], target[3]], &[0.0, value[1], value[2], value[3]])
-                        > HOLD_OPACITY)
+                    fill: (paint_off(
+                        &[0.0, target[1], target[2], target[3]],
+                        &[0.0, value[1], value[2], value[3]],
+                    ) > HOLD_OPACITY)
                         .then_some([target[1], target[2], target[3]]),
                 };
                 inner.push(Slice {
@@ -670,7 +682,10 @@ fn fit_paint(
 /// the same pivot.
 pub fn model_at(unit: &UnitSamples, slices: &[Slice], t: f64) -> (Affine, PaintValue) {
     let mut state = Affine::IDENTITY;
-    let first = paint_values(unit).first().copied().unwrap_or([1.0, 0.0, 0.0, 0.0]);
+    let first = paint_values(unit)
+        .first()
+        .copied()
+        .unwrap_or([1.0, 0.0, 0.0, 0.0]);
     let mut value = [1.0, first[1], first[2], first[3]];
     // Each slice's pivot point, for its twin.
     let mut pivots: Vec<Point> = Vec::with_capacity(slices.len());
@@ -681,10 +696,7 @@ pub fn model_at(unit: &UnitSamples, slices: &[Slice], t: f64) -> (Affine, PaintV
             Some(i) => slices.get(i).map(|s| (s, true)),
             None => Some((slice, false)),
         };
-        if let Some((
-            src,
-            twin,
-        )) = forward
+        if let Some((src, twin)) = forward
             && let Some(Move {
                 delay,
                 ease,
@@ -692,7 +704,10 @@ pub fn model_at(unit: &UnitSamples, slices: &[Slice], t: f64) -> (Affine, PaintV
             }) = &src.play
         {
             point = match (twin, pivot) {
-                (true, _) => pivots.get(slice.twin_of.unwrap_or(0)).copied().unwrap_or(Point::ORIGIN),
+                (true, _) => pivots
+                    .get(slice.twin_of.unwrap_or(0))
+                    .copied()
+                    .unwrap_or(Point::ORIGIN),
                 (false, Pivot::Local) => state * unit.centroid,
                 (false, Pivot::World(p)) => *p,
             };
@@ -744,7 +759,13 @@ pub fn twins(unit: &UnitSamples, clock: Clock, tol: f64, fitted: &mut Fitted) {
         let movable = |s: &Slice| {
             s.inner.is_empty()
                 && s.twin_of.is_none()
-                && matches!(s.play, Some(Move { change: Change::Affine(..), .. }))
+                && matches!(
+                    s.play,
+                    Some(Move {
+                        change: Change::Affine(..),
+                        ..
+                    })
+                )
         };
         if !movable(cur) {
             j += 1;

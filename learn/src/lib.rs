@@ -116,7 +116,8 @@ pub fn learn(
     }
     let options = SceneOptions::new(&ImportChoices::default(), None, env)
         .map_err(|e| LearnError::Input(e.to_string()))?;
-    let imported = Imported::load(path, &options, env).map_err(|e| LearnError::Input(e.to_string()))?;
+    let imported =
+        Imported::load(path, &options, env).map_err(|e| LearnError::Input(e.to_string()))?;
     let Some(src) = imported.source.as_deref() else {
         return Err(LearnError::Input(format!(
             "{name}: error: not a Lottie animation"
@@ -134,11 +135,10 @@ pub fn learn(
             opts.max_units
         )));
     }
-    let samples = sample::sample(src, &imported.scene, opts.max_samples)
-        .map_err(|e| match e {
-            LearnError::Input(m) => LearnError::Input(format!("{name}: error: {m}")),
-            LearnError::Limit(m) => LearnError::Limit(format!("{name}: error: {m}")),
-        })?;
+    let samples = sample::sample(src, &imported.scene, opts.max_samples).map_err(|e| match e {
+        LearnError::Input(m) => LearnError::Input(format!("{name}: error: {m}")),
+        LearnError::Limit(m) => LearnError::Limit(format!("{name}: error: {m}")),
+    })?;
     if samples.iter().all(|s| {
         s.motion.windows(2).all(|w| w[0] == w[1])
             && s.opacity.windows(2).all(|w| w[0] == w[1])
@@ -163,15 +163,9 @@ pub fn learn(
         })
         .collect();
     let unmodelled = report::unmodelled(src);
-    let still = rules::still_scene(&imported.scene, &samples);
-    let (grammar, rules) = rules::write(
-        &still,
-        &samples,
-        &fitted,
-        clock,
-        still_name,
-        opts,
-    );
+    let svg = still_name.to_ascii_lowercase().ends_with(".svg");
+    let still = rules::still_scene(&imported.scene, &samples, svg);
+    let (grammar, rules) = rules::write(&still, &samples, &fitted, clock, still_name, svg, opts);
     let report = Report::new(&still, &fitted, rules, &unmodelled, &samples, opts, clock);
     Ok(Learned {
         grammar,

@@ -139,7 +139,13 @@ impl fmt::Display for Report {
                 .iter()
                 .filter_map(|&u| self.units.get(u).map(|r| r.name.as_str()))
                 .collect();
-            write!(f, "  [{}] {} rules, covers {}", s.tags, s.rules, names.join(" "))?;
+            write!(
+                f,
+                "  [{}] {} rules, covers {}",
+                s.tags,
+                s.rules,
+                names.join(" ")
+            )?;
             if let Some(st) = &s.stagger {
                 write!(f, " (stagger: offset {st})")?;
             }
@@ -158,7 +164,10 @@ impl fmt::Display for Report {
             writeln!(f)?;
         }
         if !self.unmodelled.is_empty() {
-            writeln!(f, "not modelled (kept as plain per-unit motion, as sampled):")?;
+            writeln!(
+                f,
+                "not modelled (kept as plain per-unit motion, as sampled):"
+            )?;
             for m in &self.unmodelled {
                 writeln!(f, "  {m}")?;
             }
@@ -167,7 +176,10 @@ impl fmt::Display for Report {
         if bad == 0 {
             writeln!(f, "every unit within the tolerance")
         } else {
-            writeln!(f, "{bad} units not explained within the tolerance (see above)")
+            writeln!(
+                f,
+                "{bad} units not explained within the tolerance (see above)"
+            )
         }
     }
 }

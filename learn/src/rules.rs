@@ -28,8 +28,20 @@ pub struct RuleSet {
 
 /// The still scene: the art at the reference frame, each unit's opacity and (for a unit of
 /// one fill colour) its fill those of frame 0, what the learned paint changes start from.
-pub fn still_scene(reference: &Scene, samples: &[UnitSamples]) -> Scene {
+///
+/// For an SVG still (`svg`), each unit's group gets the id its tag reads back from
+/// ([`svg_id`]), as SVG keeps no layer names.
+pub fn still_scene(reference: &Scene, samples: &[UnitSamples], svg: bool) -> Scene {
     let mut still = reference.clone();
+    if svg {
+        let ids: Vec<String> = (0..still.shapes.len()).map(|u| svg_id(&still, u)).collect();
+        for (u, id) in ids.into_iter().enumerate() {
+            let path = still.shapes[u].node_path.clone();
+            if let Some(Node::Group(g)) = still.root.node_at_mut(&path) {
+                g.id = id;
+            }
+        }
+    }
     for (u, s) in samples.iter().enumerate() {
         let path = still.shapes[u].node_path.clone();
         let base = fit::base_opacity(s);
@@ -58,6 +70,26 @@ pub fn still_scene(reference: &Scene, samples: &[UnitSamples]) -> Scene {
         }
     }
     still
+}
+
+/// Whether unit `u` is the only one of its tag, with a tag that has no counter: it is
+/// then named by its tag alone.
+fn alone(scene: &Scene, u: usize) -> bool {
+    let tag = &scene.shapes[u].tag;
+    scene.shapes.iter().filter(|s| s.tag == *tag).count() == 1
+        && gmotion::tagging::strip_counter(tag) == tag
+}
+
+/// The id of unit `u`'s group in an SVG still: its tag alone, else `tag_N_` (N = id + 1),
+/// Illustrator's copy suffix, which the SVG importer reads back as the tag (with
+/// `units groups`) and keeps as an alias naming the unit alone.
+fn svg_id(scene: &Scene, u: usize) -> String {
+    let s = &scene.shapes[u];
+    if alone(scene, u) {
+        s.tag.clone()
+    } else {
+        format!("{}_{}_", s.tag, s.id + 1)
+    }
 }
 
 /// Paints every solid fill under `node` in `rgba` (the fill's colour and opacity).
@@ -245,9 +277,13 @@ fn same_changes(a: &[Slice], b: &[Slice], opts: &Options) -> bool {
                             pv == qv && comps_close(c, d, opts.tolerance * 0.5)
                         }
                         (Change::Paint(u), Change::Paint(v)) => {
-                            let near = |a: f64, b: f64| (a - b).abs() <= opts.opacity_tolerance * 0.5;
+                            let near =
+                                |a: f64, b: f64| (a - b).abs() <= opts.opacity_tolerance * 0.5;
                             match ((u.opacity, v.opacity), (u.fill, v.fill)) {
-                                ((None, None) | (Some(_), Some(_)), (None, None) | (Some(_), Some(_))) => {
+                                (
+                                    (None, None) | (Some(_), Some(_)),
+                                    (None, None) | (Some(_), Some(_)),
+                                ) => {
                                     u.opacity.zip(v.opacity).is_none_or(|(a, b)| near(a, b))
                                         && u.fill.zip(v.fill).is_none_or(|(a, b)| {
                                             a.iter().zip(&b).all(|(x, y)| near(*x, *y))
@@ -325,9 +361,16 @@ fn share(
         let times: Vec<f64> = lines.iter().map(|(a, b)| a + b * id as f64).collect();
         let slices = with_times(first, &times);
         // Every slice must keep a length and its offset must fit in it.
-        if slices.iter().chain(slices.iter().flat_map(|s| &s.inner)).any(|s| {
-            s.t1 - s.t0 <= 1e-9 || s.play.as_ref().is_some_and(|m| m.delay < -1e-9 || m.delay >= s.t1 - s.t0)
-        }) {
+        if slices
+            .iter()
+            .chain(slices.iter().flat_map(|s| &s.inner))
+            .any(|s| {
+                s.t1 - s.t0 <= 1e-9
+                    || s.play
+                        .as_ref()
+                        .is_some_and(|m| m.delay < -1e-9 || m.delay >= s.t1 - s.t0)
+            })
+        {
             return None;
         }
         let pts = fit::points_of(&samples[u]);
@@ -349,6 +392,7 @@ pub fn write(
     fitted: &[Fitted],
     clock: Clock,
     still_name: &str,
+    svg: bool,
     opts: &Options,
 ) -> (String, Vec<RuleSet>) {
     // Units by tag, in id order.
@@ -395,11 +439,14 @@ pub fn write(
         }
         for u in units {
             let shape = &still.shapes[u];
-            // How the still scene will name it: the Lottie writer names a layer after its
+            // How the still scene will name it. The Lottie writer names a layer after its
             // tag when that is unique and has no counter, else `tag N` (N = id + 1), which
-            // reads back as the tag with the alias `tag_N`.
-            let address = if count(tag) == 1 && gmotion::tagging::strip_counter(tag) == tag {
+            // reads back as the tag with the alias `tag_N`; an SVG still has the group
+            // ids of [`svg_id`].
+            let address = if alone(still, u) {
                 tag.to_string()
+            } else if svg {
+                svg_id(still, u)
             } else {
                 format!("{tag}_{}", shape.id + 1)
             };
@@ -429,6 +476,10 @@ pub fn write(
     let _ = writeln!(head, "scene \"{}\"", still_name.replace('"', "\\\""));
     let _ = writeln!(head, "duration {}s", num(clock.duration, 6));
     let _ = writeln!(head, "fps {}", num(clock.fps, 6));
+    if svg {
+        // Each unit is a group of the still SVG, tagged by its id.
+        let _ = writeln!(head, "units groups");
+    }
     head.push('\n');
     head.push_str(&body);
     (head, sets)
@@ -443,7 +494,13 @@ enum SetTimes<'a> {
 }
 
 /// Writes the rules of one set on shape tag `tag`; returns how many.
-fn rule_set(out: &mut String, tag: &str, slices: &[Slice], times: &SetTimes, clock: Clock) -> usize {
+fn rule_set(
+    out: &mut String,
+    tag: &str,
+    slices: &[Slice],
+    times: &SetTimes,
+    clock: Clock,
+) -> usize {
     let duration = clock.duration;
     let lines: Vec<(f64, f64)> = match times {
         SetTimes::Own => times_of(slices).into_iter().map(|t| (t, 0.0)).collect(),
@@ -467,7 +524,13 @@ fn rule_set(out: &mut String, tag: &str, slices: &[Slice], times: &SetTimes, clo
         rules += 1;
     }
     let mut current: Vec<String> = (0..slices.len())
-        .map(|k| if whole { "all".to_string() } else { format!("p{k}") })
+        .map(|k| {
+            if whole {
+                "all".to_string()
+            } else {
+                format!("p{k}")
+            }
+        })
         .collect();
     for (k, s) in slices.iter().enumerate() {
         if let Some(Move {
@@ -476,7 +539,11 @@ fn rule_set(out: &mut String, tag: &str, slices: &[Slice], times: &SetTimes, clo
             ..
         }) = &s.play
         {
-            let ref_ = if *pivot == Pivot::Local { "local" } else { "world" };
+            let ref_ = if *pivot == Pivot::Local {
+                "local"
+            } else {
+                "world"
+            };
             let ease = ease_text(ease).map_or(String::new(), |e| format!(", ease={e}"));
             let _ = writeln!(
                 out,
@@ -515,7 +582,11 @@ fn rule_set(out: &mut String, tag: &str, slices: &[Slice], times: &SetTimes, clo
             {
                 let ease = ease_text(ease).map_or(String::new(), |e| format!(", ease={e}"));
                 // One paint slice is the whole slice: no split.
-                let mut slice = if one { current[k].clone() } else { format!("p{k}_{l}") };
+                let mut slice = if one {
+                    current[k].clone()
+                } else {
+                    format!("p{k}_{l}")
+                };
                 if let Some(v) = change.opacity {
                     let _ = writeln!(
                         out,
@@ -566,7 +637,11 @@ impl Times {
         for (j, s) in slices.iter().enumerate() {
             let mut fr = Vec::new();
             let mut de = Vec::new();
-            let start = if j == 0 { (0.0, 0.0) } else { lines[2 * (j - 1)] };
+            let start = if j == 0 {
+                (0.0, 0.0)
+            } else {
+                lines[2 * (j - 1)]
+            };
             let mut prev = start;
             for _ in &s.inner {
                 let end = lines[k];

@@ -65,8 +65,9 @@ impl Learn {
             max_samples: env.limits.get("learn-samples"),
             ..Default::default()
         };
-        let learned = gmotion_learn::learn(&self.input, &scene_name(&self.output, &still), env, &opts)
-            .map_err(|e| CliError::msg(e.to_string()))?;
+        let learned =
+            gmotion_learn::learn(&self.input, &scene_name(&self.output, &still), env, &opts)
+                .map_err(|e| CliError::msg(e.to_string()))?;
         let staging = gmotion::atomic::Staging::begin();
         let warnings = if ext == "json" {
             let anim = learned.still_animation(learned.duration, learned.fps);
