@@ -21,6 +21,7 @@ use std::path::Path;
 use gmotion::motion::{Animation, AttrSeg, Track};
 use gmotion::scene::Scene;
 use gmotion_pipeline::{Env, ImportChoices, Imported, SceneOptions};
+use rayon::prelude::*;
 
 pub use report::Report;
 
@@ -155,7 +156,7 @@ pub fn learn(
         duration: src.duration(),
     };
     let fitted: Vec<fit::Fitted> = samples
-        .iter()
+        .par_iter()
         .map(|s| {
             let mut f = fit::fit(s, clock, opts.tolerance, opts.opacity_tolerance);
             fit::twins(s, clock, opts.tolerance, &mut f);

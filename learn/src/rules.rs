@@ -409,33 +409,34 @@ pub fn write(
         units.sort_by_key(|&u| still.shapes[u].id);
         let ids: Vec<usize> = units.iter().map(|&u| still.shapes[u].id).collect();
         // A shared set must cover every shape of the tag (the rules take them all).
-        if units.len() > 1 && units.len() == count(tag) {
-            if let Some(lines) = share(&units, &ids, samples, fitted, clock, opts) {
-                let texts: Vec<String> = lines
-                    .iter()
-                    .map(|(a, b)| linear(*a, *b, TIME_DIGITS))
-                    .collect();
-                let stagger = texts
-                    .iter()
-                    .skip(1)
-                    .step_by(2)
-                    .find(|t| t.contains("id"))
-                    .cloned();
-                let rules = rule_set(
-                    &mut body,
-                    tag,
-                    &fitted[units[0]].slices,
-                    &SetTimes::Shared(&lines),
-                    clock,
-                );
-                sets.push(RuleSet {
-                    tags: tag.to_string(),
-                    units,
-                    rules,
-                    stagger,
-                });
-                continue;
-            }
+        if units.len() > 1
+            && units.len() == count(tag)
+            && let Some(lines) = share(&units, &ids, samples, fitted, clock, opts)
+        {
+            let texts: Vec<String> = lines
+                .iter()
+                .map(|(a, b)| linear(*a, *b, TIME_DIGITS))
+                .collect();
+            let stagger = texts
+                .iter()
+                .skip(1)
+                .step_by(2)
+                .find(|t| t.contains("id"))
+                .cloned();
+            let rules = rule_set(
+                &mut body,
+                tag,
+                &fitted[units[0]].slices,
+                &SetTimes::Shared(&lines),
+                clock,
+            );
+            sets.push(RuleSet {
+                tags: tag.to_string(),
+                units,
+                rules,
+                stagger,
+            });
+            continue;
         }
         for u in units {
             let shape = &still.shapes[u];
@@ -476,6 +477,11 @@ pub fn write(
     let _ = writeln!(head, "scene \"{}\"", still_name.replace('"', "\\\""));
     let _ = writeln!(head, "duration {}s", num(clock.duration, 6));
     let _ = writeln!(head, "fps {}", num(clock.fps, 6));
+    // Each rule rewrites its units once: more rules than the default bound of expansion
+    // steps need a larger one (at most the `steps` limit's default).
+    if total >= 5_000 {
+        let _ = writeln!(head, "max_steps {}", (2 * total + 100).min(100_000));
+    }
     if svg {
         // Each unit is a group of the still SVG, tagged by its id.
         let _ = writeln!(head, "units groups");

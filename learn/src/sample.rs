@@ -4,6 +4,7 @@
 use gmotion::scene::{Node, Paint, Scene};
 use gmotion_pipeline::LottieSource;
 use kurbo::{Affine, PathEl, Point};
+use rayon::prelude::*;
 
 use crate::LearnError;
 
@@ -63,52 +64,85 @@ pub fn sample(
             one_fill: fill_colours(reference, u) <= 1,
         })
         .collect();
-    for f in 0..frames {
-        let (scene, _) = src
-            .scene_at(doc.ip + f as f64)
-            .map_err(|e| LearnError::Input(e.to_string()))?;
-        for (u, s) in out.iter_mut().enumerate() {
-            let w = world(&scene, u);
-            let r = ref_world[u];
-            let m = if r.determinant().abs() < 1e-12 {
-                Affine::IDENTITY
-            } else {
-                w * r.inverse()
-            };
-            let now = points(&scene, u);
-            let m = if now.len() == s.points.len() {
-                // The motion may live inside the layer (a group's transform): when the
-                // layer's own does not carry the drawing, the affine that best does.
-                let off = |m: Affine| {
-                    s.points
-                        .iter()
-                        .zip(&now)
-                        .map(|(p, q)| (m * *p - *q).hypot())
-                        .fold(0.0, f64::max)
-                };
-                let m = match best_affine(&s.points, &now) {
-                    Some(fit) if off(m) > 1e-3 && off(fit) < off(m) => fit,
-                    _ => m,
-                };
-                s.inner_px = s.inner_px.max(off(m));
-                m
-            } else {
-                s.inner_px = f64::INFINITY;
-                m
-            };
-            s.motion.push(m);
-            let fill = fill(&scene, u);
-            // A one-colour unit's fill opacity is part of how opaque it is drawn (an
-            // exporter may write an opacity change there rather than on the layer).
-            let fill_opacity = match (s.one_fill, fill) {
-                (true, Some(c)) => f64::from(c[3]),
-                _ => 1.0,
-            };
-            s.opacity.push(opacity(&scene, u) * fill_opacity);
-            s.fill.push(fill);
+    // Frames are drawn in parallel, a few at a time (a frame of every unit is small; all
+    // frames of a large file at once would not be).
+    let chunk = rayon::current_num_threads().max(1) * 2;
+    let mut f0 = 0;
+    while f0 < frames {
+        let f1 = (f0 + chunk).min(frames);
+        let drawn: Vec<Result<Vec<Sample>, LearnError>> = (f0..f1)
+            .into_par_iter()
+            .map(|f| {
+                let (scene, _) = src
+                    .scene_at(doc.ip + f as f64)
+                    .map_err(|e| LearnError::Input(e.to_string()))?;
+                Ok((0..units)
+                    .map(|u| sample_unit(&scene, u, ref_world[u], &out[u]))
+                    .collect())
+            })
+            .collect();
+        for frame in drawn {
+            for (s, smp) in out.iter_mut().zip(frame?) {
+                s.inner_px = s.inner_px.max(smp.inner_px);
+                s.motion.push(smp.motion);
+                s.opacity.push(smp.opacity);
+                s.fill.push(smp.fill);
+            }
         }
+        f0 = f1;
     }
     Ok(out)
+}
+
+/// One unit at one frame.
+struct Sample {
+    motion: Affine,
+    inner_px: f64,
+    opacity: f64,
+    fill: Option<[f32; 4]>,
+}
+
+/// Unit `u` of `scene` (one frame) against its reference-frame world transform `r` and
+/// points (in `s`).
+fn sample_unit(scene: &Scene, u: usize, r: Affine, s: &UnitSamples) -> Sample {
+    let w = world(scene, u);
+    let m = if r.determinant().abs() < 1e-12 {
+        Affine::IDENTITY
+    } else {
+        w * r.inverse()
+    };
+    let now = points(scene, u);
+    let (m, inner_px) = if now.len() == s.points.len() {
+        // The motion may live inside the layer (a group's transform): when the layer's
+        // own does not carry the drawing, the affine that best does.
+        let off = |m: Affine| {
+            s.points
+                .iter()
+                .zip(&now)
+                .map(|(p, q)| (m * *p - *q).hypot())
+                .fold(0.0, f64::max)
+        };
+        let m = match best_affine(&s.points, &now) {
+            Some(fit) if off(m) > 1e-3 && off(fit) < off(m) => fit,
+            _ => m,
+        };
+        (m, off(m))
+    } else {
+        (m, f64::INFINITY)
+    };
+    let fill = fill(scene, u);
+    // A one-colour unit's fill opacity is part of how opaque it is drawn (an exporter may
+    // write an opacity change there rather than on the layer).
+    let fill_opacity = match (s.one_fill, fill) {
+        (true, Some(c)) => f64::from(c[3]),
+        _ => 1.0,
+    };
+    Sample {
+        motion: m,
+        inner_px,
+        opacity: opacity(scene, u) * fill_opacity,
+        fill,
+    }
 }
 
 /// The nodes from the root down to unit `u`'s node, the unit's own last.
