@@ -258,19 +258,32 @@ fn fit_with(
                 a = next;
                 continue;
             }
-            let mut found = None;
-            for e in (a + 1..=b).rev() {
-                let end_sub = held_after && e == b;
-                if let Some(fit) = fit_piece(
-                    &pts, unit, &eases, clock, state, a, e, start_sub, end_sub, tol_px,
-                ) {
-                    found = Some((e, fit));
-                    break;
-                }
-                if e == a + 1 {
-                    found = Some((e, exact_step(&pts, unit, clock, state, a, e)));
-                }
-            }
+            // The whole run if it fits, else the longest piece that does (a single frame
+            // always fits).
+            // The piece found is fitted again over every sub-frame start and end, for the
+            // least error (a stagger's starts must come out exact to be shared).
+            let try_fit = |e: usize, exhaustive: bool| {
+                fit_piece(
+                    &pts,
+                    unit,
+                    &eases,
+                    clock,
+                    state,
+                    a,
+                    e,
+                    start_sub,
+                    held_after && e == b,
+                    tol_px,
+                    exhaustive,
+                )
+            };
+            let end = (a + 1..=b).rev().find(|&e| try_fit(e, false).is_some());
+            let found = Some(
+                match end.and_then(|e| try_fit(e, true).map(|fit| (e, fit))) {
+                    Some(f) => f,
+                    None => (a + 1, exact_step(unit, clock, state, a, a + 1)),
+                },
+            );
             let Some((e, (s_t, e_t, mv, end_state))) = found else {
                 break;
             };
@@ -402,6 +415,7 @@ fn fit_piece(
     start_sub: bool,
     end_sub: bool,
     tol: f64,
+    exhaustive: bool,
 ) -> Option<PieceFit> {
     let target = unit.motion[e];
     let delta = target * state.inverse();
@@ -441,53 +455,64 @@ fn fit_piece(
     }
     let subs_s: &[f64] = if start_sub { &SUBFRAME } else { &SUBFRAME[..1] };
     let subs_e: &[f64] = if end_sub { &SUBFRAME } else { &SUBFRAME[..1] };
+    // Whole frames first, then starts and ends ever further between frames: searching,
+    // the first that fits is taken (each costs every pivot and easing over every frame);
+    // `exhaustive`, the best of all.
+    let mut pairs: Vec<(f64, f64)> = subs_s
+        .iter()
+        .flat_map(|ds| subs_e.iter().map(move |de| (*ds, *de)))
+        .collect();
+    pairs.sort_by(|x, y| (x.0 + x.1).total_cmp(&(y.0 + y.1)));
+    let comps: Vec<Vec<Component>> = pivots
+        .iter()
+        .map(|(_, point)| components(delta, *point, turn))
+        .collect();
+    // The middle and quarter frames first: a candidate that fails mostly fails there, and
+    // most candidates fail.
+    let len = e - a;
+    let first = [a + len / 2, a + len / 4, a + 3 * len / 4];
+    let mut order: Vec<usize> = first.to_vec();
+    order.extend((a..=e).filter(|g| !first.contains(g)));
     let mut best: Option<(f64, PieceFit)> = None;
-    for (pivot, point) in &pivots {
-        let comps = components(delta, *point, turn);
-        for ease in eases {
-            for ds in subs_s {
-                for de in subs_e {
-                    let s_t = clock.time(a as f64 + ds);
-                    let e_t = clock.time(e as f64 - de);
-                    if e_t <= s_t + 1e-9 {
-                        continue;
-                    }
-                    let mut worst = 0.0f64;
-                    for g in a..=e {
-                        let p = progress(ease, s_t, e_t, clock.time(g as f64));
-                        let m = change_at(&comps, *point, p) * state;
-                        worst = worst.max(px(pts, m, unit.motion[g]));
-                        if worst > tol {
-                            break;
-                        }
-                    }
-                    // A later candidate must be clearly better: float noise must not trade the
-                    // local pivot (which units share) for an equal world one.
-                    if worst <= tol && best.as_ref().is_none_or(|(w, _)| worst < *w - 1e-6) {
-                        let end = change_at(&comps, *point, 1.0) * state;
-                        let mv = Move {
-                            delay: 0.0,
-                            ease: ease.clone(),
-                            change: Change::Affine(comps.clone(), *pivot),
-                        };
-                        best = Some((worst, (s_t, e_t, mv, end)));
+    for (ds, de) in pairs {
+        let s_t = clock.time(a as f64 + ds);
+        let e_t = clock.time(e as f64 - de);
+        if e_t <= s_t + 1e-9 {
+            continue;
+        }
+        for ((pivot, point), comps) in pivots.iter().zip(&comps) {
+            for ease in eases {
+                let mut worst = 0.0f64;
+                for &g in &order {
+                    let p = progress(ease, s_t, e_t, clock.time(g as f64));
+                    let m = change_at(comps, *point, p) * state;
+                    worst = worst.max(px(pts, m, unit.motion[g]));
+                    if worst > tol {
+                        break;
                     }
                 }
+                // A later candidate must be clearly better: float noise must not trade the
+                // local pivot (which units share) for an equal world one.
+                if worst <= tol && best.as_ref().is_none_or(|(w, _)| worst < *w - 1e-6) {
+                    let end = change_at(comps, *point, 1.0) * state;
+                    let mv = Move {
+                        delay: 0.0,
+                        ease: ease.clone(),
+                        change: Change::Affine(comps.clone(), *pivot),
+                    };
+                    best = Some((worst, (s_t, e_t, mv, end)));
+                }
             }
+        }
+        if best.is_some() && !exhaustive {
+            break;
         }
     }
     best.map(|(_, f)| f)
 }
 
 /// One frame's change, linear: exact at both frames whatever it is.
-fn exact_step(
-    _pts: &[Point],
-    unit: &UnitSamples,
-    clock: Clock,
-    state: Affine,
-    a: usize,
-    e: usize,
-) -> PieceFit {
+fn exact_step(unit: &UnitSamples, clock: Clock, state: Affine, a: usize, e: usize) -> PieceFit {
     let delta = unit.motion[e] * state.inverse();
     let comps = vec![Component::Matrix(delta)];
     let mv = Move {

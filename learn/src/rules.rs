@@ -30,7 +30,7 @@ pub struct RuleSet {
 /// one fill colour) its fill those of frame 0, what the learned paint changes start from.
 ///
 /// For an SVG still (`svg`), each unit's group gets the id its tag reads back from
-/// ([`svg_id`]), as SVG keeps no layer names.
+/// (`tag`, or `tag_N_` when others share it), as SVG keeps no layer names.
 pub fn still_scene(reference: &Scene, samples: &[UnitSamples], svg: bool) -> Scene {
     let mut still = reference.clone();
     if svg {
