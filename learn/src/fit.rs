@@ -549,8 +549,10 @@ pub fn paint_values(unit: &UnitSamples) -> Vec<PaintValue> {
                 (true, Some(c)) => [f64::from(c[0]), f64::from(c[1]), f64::from(c[2])],
                 _ => [0.0; 3],
             };
+            // The factor can only lower the still's opacity: a unit more opaque later than
+            // at frame 0 is off there, and reported.
             [
-                if base > 0.0 { o / base } else { 0.0 },
+                if base > 0.0 { (o / base).min(1.0) } else { 0.0 },
                 rgb[0],
                 rgb[1],
                 rgb[2],

@@ -73,8 +73,12 @@ impl Report {
                     });
                 }
                 if f.max_opacity > opts.opacity_tolerance {
-                    why.push(if smp.opacity.first().is_some_and(|o| *o <= 0.0) {
+                    let first = smp.opacity.first().copied().unwrap_or(1.0);
+                    let most = smp.opacity.iter().copied().fold(0.0, f64::max);
+                    why.push(if first <= 0.0 && most > 0.0 {
                         "it is hidden at frame 0 and appears later, which an opacity factor on the still cannot raise".to_string()
+                    } else if most > first + opts.opacity_tolerance {
+                        format!("it is more opaque later ({most:.2}) than at frame 0 ({first:.2}), which an opacity factor on the still cannot raise")
                     } else {
                         format!("opacity or fill off by up to {:.3}", f.max_opacity)
                     });
