@@ -145,6 +145,7 @@ pub fn learn(
             && s.opacity.windows(2).all(|w| w[0] == w[1])
             && s.fill.windows(2).all(|w| w[0] == w[1])
             && s.inner_px <= 1e-9
+            && !s.stroke_changes
     }) {
         return Err(LearnError::Input(format!(
             "{name}: error: the animation is static: no layer moves, fades, changes colour or changes shape over its {} frames, so there is no motion to learn",

@@ -86,6 +86,9 @@ impl Report {
                 if f.max_px > opts.tolerance && why.is_empty() {
                     why.push(format!("motion off by up to {:.2} px", f.max_px));
                 }
+                if smp.stroke_changes {
+                    why.push("its stroke's colour, opacity or width changes, which `learn` does not fit yet".to_string());
+                }
                 let fills = smp.fill.iter().filter_map(|c| *c).collect::<Vec<_>>();
                 if !smp.one_fill
                     && fills.windows(2).any(|w| {

@@ -21,6 +21,9 @@ pub struct UnitSamples {
     pub opacity: Vec<f64>,
     /// Its representative solid fill colour, if it has one (RGBA, 0 … 1).
     pub fill: Vec<Option<[f32; 4]>>,
+    /// Whether its first solid stroke's colour, opacity or width changes over the frames
+    /// (not learned yet: reported).
+    pub stroke_changes: bool,
     /// Points of its drawing at the reference frame, on the canvas.
     pub points: Vec<Point>,
     /// The largest distance, over the frames, between the points as drawn and as the unit's
@@ -58,6 +61,7 @@ pub fn sample(
             motion: Vec::with_capacity(frames),
             opacity: Vec::with_capacity(frames),
             fill: Vec::with_capacity(frames),
+            stroke_changes: false,
             points: ref_points[u].clone(),
             inner_px: 0.0,
             centroid: s.centroid,
@@ -67,6 +71,8 @@ pub fn sample(
     // Frames are drawn in parallel, a few at a time (a frame of every unit is small; all
     // frames of a large file at once would not be).
     let chunk = rayon::current_num_threads().max(1) * 2;
+    // Each unit's stroke at frame 0, what later frames are compared with.
+    let mut first_stroke: Vec<Option<[f32; 5]>> = vec![None; units];
     let mut f0 = 0;
     while f0 < frames {
         let f1 = (f0 + chunk).min(frames);
@@ -82,8 +88,15 @@ pub fn sample(
             })
             .collect();
         for frame in drawn {
-            for (s, smp) in out.iter_mut().zip(frame?) {
+            for (u, (s, smp)) in out.iter_mut().zip(frame?).enumerate() {
+                if f0 == 0 && s.motion.is_empty() {
+                    first_stroke[u] = smp.stroke;
+                }
                 s.inner_px = s.inner_px.max(smp.inner_px);
+                s.stroke_changes |= match (first_stroke[u], smp.stroke) {
+                    (Some(a), Some(b)) => a.iter().zip(&b).any(|(x, y)| (x - y).abs() > 1e-4),
+                    (a, b) => a.is_some() != b.is_some(),
+                };
                 s.motion.push(smp.motion);
                 s.opacity.push(smp.opacity);
                 s.fill.push(smp.fill);
@@ -100,6 +113,7 @@ struct Sample {
     inner_px: f64,
     opacity: f64,
     fill: Option<[f32; 4]>,
+    stroke: Option<[f32; 5]>,
 }
 
 /// Unit `u` of `scene` (one frame) against its reference-frame world transform `r` and
@@ -142,6 +156,7 @@ fn sample_unit(scene: &Scene, u: usize, r: Affine, s: &UnitSamples) -> Sample {
         inner_px,
         opacity: opacity(scene, u) * fill_opacity,
         fill,
+        stroke: stroke(scene, u),
     }
 }
 
@@ -216,6 +231,24 @@ fn fill(scene: &Scene, u: usize) -> Option<[f32; 4]> {
             Node::Path(p) => match p.fill.as_ref().map(|f| (&f.paint, f.opacity)) {
                 Some((Paint::Solid(c), o)) => Some([c.r, c.g, c.b, o]),
                 _ => None,
+            },
+            Node::Group(g) => g.children.iter().find_map(first),
+            Node::Image(_) => None,
+        }
+    }
+    chain(scene, u).last().and_then(|n| first(n))
+}
+
+/// Unit `u`'s first solid stroke: colour, opacity and width.
+fn stroke(scene: &Scene, u: usize) -> Option<[f32; 5]> {
+    fn first(n: &Node) -> Option<[f32; 5]> {
+        match n {
+            Node::Path(p) => match p.stroke.as_ref() {
+                Some(st) => match &st.paint {
+                    Paint::Solid(c) => Some([c.r, c.g, c.b, st.opacity, st.width as f32]),
+                    _ => None,
+                },
+                None => None,
             },
             Node::Group(g) => g.children.iter().find_map(first),
             Node::Image(_) => None,
