@@ -25,7 +25,8 @@ pub struct Learn {
 }
 
 impl Learn {
-    /// Learns, writes the grammar and the still scene (all or nothing), then the report.
+    /// Learns, writes the grammar, the still scene and a report file (all or nothing), or
+    /// prints the report.
     pub fn run(self, ctx: &Ctx) -> Result<()> {
         if !(self.tolerance.is_finite() && self.tolerance > 0.0) {
             return Err(CliError::msg(format!(
@@ -85,13 +86,16 @@ impl Learn {
             report::warn(&still, &w);
         }
         write_atomic(&self.output, learned.grammar.as_bytes())?;
+        let text = learned.report.to_string();
+        let to_file = self.report.as_ref().filter(|r| r.as_os_str() != "-");
+        if let Some(r) = to_file {
+            write_atomic(r, text.as_bytes())?;
+        }
         staging
             .commit()
             .map_err(|e| CliError::msg(format!("cannot put the outputs in place: {e}")))?;
-        let text = learned.report.to_string();
-        match &self.report {
-            Some(r) if r.as_os_str() != "-" => write_atomic(r, text.as_bytes())?,
-            _ => report::out(&text)?,
+        if to_file.is_none() {
+            report::out(&text)?;
         }
         Ok(())
     }
