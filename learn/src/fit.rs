@@ -275,6 +275,9 @@ fn fit_with(
                     held_after && e == b,
                     tol_px,
                     exhaustive,
+                    // A fitted cubic costs a search of its own: tried on the whole run and
+                    // on the piece found, not on every length the search tries.
+                    exhaustive || (e == b && a == f),
                 )
             };
             let end = (a + 1..=b).rev().find(|&e| try_fit(e, false).is_some());
@@ -416,6 +419,7 @@ fn fit_piece(
     end_sub: bool,
     tol: f64,
     exhaustive: bool,
+    cubic: bool,
 ) -> Option<PieceFit> {
     let target = unit.motion[e];
     let delta = target * state.inverse();
@@ -457,7 +461,7 @@ fn fit_piece(
     let subs_e: &[f64] = if end_sub { &SUBFRAME } else { &SUBFRAME[..1] };
     // Whole frames first, then starts and ends ever further between frames: searching,
     // the first that fits is taken (each costs every pivot and easing over every frame);
-    // `exhaustive`, the best of all.
+    // `exhaustive`, the best of all. `cubic`: a cubic fitted to the piece is tried too.
     let mut pairs: Vec<(f64, f64)> = subs_s
         .iter()
         .flat_map(|ds| subs_e.iter().map(move |de| (*ds, *de)))
@@ -481,10 +485,24 @@ fn fit_piece(
             continue;
         }
         for ((pivot, point), comps) in pivots.iter().zip(&comps) {
-            for ease in eases {
+            // The named easings first; when none fits, a cubic fitted to the piece's own
+            // progress (After Effects' keyframe influences are any cubic).
+            // (On whole frames only: keyframes sit on frames.)
+            let fitted = |found: bool| {
+                (cubic && !found && ds == 0.0 && de == 0.0)
+                    .then(|| {
+                        fitted_cubic(pts, unit, comps, *point, state, (a, e), (s_t, e_t), clock)
+                    })
+                    .flatten()
+            };
+            let mut tried: Vec<Easing> = eases.to_vec();
+            let mut k = 0;
+            while k < tried.len() {
+                let ease = tried[k].clone();
+                k += 1;
                 let mut worst = 0.0f64;
                 for &g in &order {
-                    let p = progress(ease, s_t, e_t, clock.time(g as f64));
+                    let p = progress(&ease, s_t, e_t, clock.time(g as f64));
                     let m = change_at(comps, *point, p) * state;
                     worst = worst.max(px(pts, m, unit.motion[g]));
                     if worst > tol {
@@ -502,6 +520,11 @@ fn fit_piece(
                     };
                     best = Some((worst, (s_t, e_t, mv, end)));
                 }
+                if k == eases.len()
+                    && let Some(c) = fitted(best.is_some())
+                {
+                    tried.push(c);
+                }
             }
         }
         if best.is_some() && !exhaustive {
@@ -509,6 +532,82 @@ fn fit_piece(
         }
     }
     best.map(|(_, f)| f)
+}
+
+/// A cubic Bézier easing fitted to the progress the frames `a ..= e` show along the
+/// change `comps` about `point` from `state` (each frame's progress the one whose drawing
+/// is nearest), running over `s_t ..= e_t`: coordinate descent from After Effects' Easy
+/// Ease on the largest progress error. `None` when the piece is too short to say.
+#[allow(clippy::too_many_arguments)]
+fn fitted_cubic(
+    pts: &[Point],
+    unit: &UnitSamples,
+    comps: &[Component],
+    point: Point,
+    state: Affine,
+    (a, e): (usize, usize),
+    (s_t, e_t): (f64, f64),
+    clock: Clock,
+) -> Option<Easing> {
+    if e < a + 3 || e_t <= s_t {
+        return None;
+    }
+    // Each inner frame's progress, by golden-section search (the error along the change
+    // has one minimum for the moves `learn` writes).
+    let samples: Vec<(f64, f64)> = (a + 1..e)
+        .filter_map(|g| {
+            let u = (clock.time(g as f64) - s_t) / (e_t - s_t);
+            if !(0.0..=1.0).contains(&u) {
+                return None;
+            }
+            let off = |p: f64| px(pts, change_at(comps, point, p) * state, unit.motion[g]);
+            let (mut lo, mut hi) = (-0.5f64, 1.5f64);
+            let r = (5f64.sqrt() - 1.0) / 2.0;
+            for _ in 0..40 {
+                let (m1, m2) = (hi - r * (hi - lo), lo + r * (hi - lo));
+                if off(m1) < off(m2) {
+                    hi = m2;
+                } else {
+                    lo = m1;
+                }
+            }
+            Some((u, (lo + hi) / 2.0))
+        })
+        .collect();
+    if samples.len() < 2 {
+        return None;
+    }
+    let cost = |c: &[f64; 4]| {
+        let ease = Easing::CubicBezier(*c);
+        samples
+            .iter()
+            .map(|(u, p)| (ease.apply(*u) - p).abs())
+            .fold(0.0, f64::max)
+    };
+    let mut c = [0.333, 0.0, 0.667, 1.0];
+    let mut now = cost(&c);
+    let mut step = 0.2;
+    while step > 0.002 {
+        let mut moved = false;
+        for i in 0..4 {
+            for dir in [-1.0, 1.0] {
+                let mut t = c;
+                t[i] += dir * step;
+                // x in [0, 1] (a function of time), y free within reason (overshoot).
+                let (lo, hi) = if i % 2 == 0 { (0.0, 1.0) } else { (-1.0, 2.0) };
+                t[i] = t[i].clamp(lo, hi);
+                let v = cost(&t);
+                if v < now {
+                    (c, now, moved) = (t, v, true);
+                }
+            }
+        }
+        if !moved {
+            step /= 2.0;
+        }
+    }
+    let round = |x: f64| (x * 1000.0).round() / 1000.0;
+    Some(Easing::CubicBezier(c.map(round)))
 }
 
 /// One frame's change, linear: exact at both frames whatever it is.
