@@ -53,7 +53,7 @@ struct Cli {
     /// Raise or lower a limit, `NAME=N` (repeatable): input-bytes, svgz-bytes,
     /// xml-entity-bytes, xml-nodes, css-rules, path-segments, text-chars, text-spans,
     /// filter-pixels, image-pixels, frames, pixels, animation-pixels, steps, pieces,
-    /// spatial-seconds (see the README's "Limits").
+    /// spatial-seconds, learn-units, learn-samples (see the README's "Limits").
     #[arg(long = "limit", value_name = "NAME=N", global = true)]
     limits: Vec<String>,
     /// A folder whose files an SVG (`<image href>`) or a Lottie file (linked image
@@ -207,6 +207,34 @@ enum Command {
         #[command(flatten)]
         import: ImportArgs,
     },
+    /// Learn a grammar from a keyframed animation (a Lottie .json or .lottie, from After
+    /// Effects or gmotion's own export): writes a still scene (the art at the reference
+    /// frame, its layers' names as tags) and a timeslice grammar naming it, such that
+    /// `gmotion animate LEARNED.gm` plays the animation again within the tolerance; the
+    /// units of one tag that move alike up to a stagger share one rule set. Prints a
+    /// report: each unit's error, the rules and what could not be explained.
+    #[command(
+        override_usage = "gmotion learn [OPTIONS] <ANIMATION> -o <LEARNED.gm>",
+        after_help = "Examples:\n  gmotion learn intro.json -o intro.gm              # intro.gm + intro.json beside it\n  gmotion learn intro.json -o intro.gm --scene art.svg --report report.txt\n  gmotion animate intro.gm -o again.json"
+    )]
+    Learn {
+        /// The animation: a Lottie file (.json) or a dotLottie package (.lottie).
+        #[arg(value_name = "ANIMATION")]
+        input: PathBuf,
+        /// The grammar to write (.gm).
+        #[arg(short, long, value_name = "LEARNED.gm")]
+        output: PathBuf,
+        /// The still scene to write: a Lottie without animation (.json, the default: the
+        /// grammar's name with .json) or an SVG (.svg).
+        #[arg(long, value_name = "STILL")]
+        scene: Option<PathBuf>,
+        /// The largest error accepted, in pixels of the composition.
+        #[arg(long, default_value_t = 0.25, value_name = "PX")]
+        tolerance: f64,
+        /// Where to write the report: a file, or `-` for standard output (the default).
+        #[arg(long, value_name = "FILE|-")]
+        report: Option<PathBuf>,
+    },
     /// Render N variations of a grammar (seeds S, S+1, …) at one instant: a contact sheet
     /// (`.png`, each frame labelled with its seed) or a folder with one `seed_S.png` each.
     #[command(
@@ -298,7 +326,9 @@ impl Command {
                 (files.iter_mut().collect(), graph.iter_mut().collect())
             }
             Command::Variations { files, output, .. } => (files.iter_mut().collect(), vec![output]),
-            Command::Demo { .. }
+            // Its three outputs go to files it names itself (the report's `-` is its own).
+            Command::Learn { .. }
+            | Command::Demo { .. }
             | Command::Studio { .. }
             | Command::Completions { .. }
             | Command::Man => (Vec::new(), Vec::new()),
@@ -531,7 +561,10 @@ fn main() -> ExitCode {
     let summary = !batch
         && !matches!(
             cli.command,
-            Command::Check { .. } | Command::Demo { .. } | Command::Variations { .. }
+            Command::Check { .. }
+                | Command::Demo { .. }
+                | Command::Variations { .. }
+                | Command::Learn { .. }
         );
     let fonts = gmotion_import_svg::fonts::FontOptions {
         dirs: cli.font_dirs,

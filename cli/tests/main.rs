@@ -29,6 +29,7 @@ mod fuzz;
 #[cfg(feature = "players")]
 mod hierarchy;
 mod images;
+mod learn;
 mod lottie_import;
 mod lottie_text;
 mod markers;

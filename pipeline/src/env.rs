@@ -121,6 +121,12 @@ pub const LIMITS: &[(&str, u64, &str)] = &[
         60,
         "seconds a group grammar's expansion may run (a rule feeding itself on shapes costly to cut)",
     ),
+    ("learn-units", 10_000, "units (layers) `gmotion learn` fits"),
+    (
+        "learn-samples",
+        5_000_000,
+        "samples `gmotion learn` takes (units × frames of the animation)",
+    ),
 ];
 
 /// The limits in force.

@@ -7,6 +7,7 @@ mod animate;
 mod check;
 mod convert;
 mod demo;
+mod learn;
 mod studio;
 mod transitions;
 mod variations;
@@ -105,6 +106,20 @@ pub fn run(cmd: Command, ctx: &Ctx) -> Result<()> {
             no_open,
             run: run.overrides(),
             choices: import.choices(false),
+        }
+        .run(ctx),
+        Command::Learn {
+            input,
+            output,
+            scene,
+            tolerance,
+            report,
+        } => learn::Learn {
+            input,
+            output,
+            scene,
+            tolerance,
+            report,
         }
         .run(ctx),
         Command::Variations {

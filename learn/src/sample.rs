@@ -1,0 +1,371 @@
+//! Sampling: every unit's world motion relative to the reference frame, its opacity and
+//! its paint, at every frame of the composition, as the player draws them.
+
+use gmotion::scene::{Node, Paint, Scene};
+use gmotion_pipeline::LottieSource;
+use kurbo::{Affine, PathEl, Point};
+use rayon::prelude::*;
+
+use crate::LearnError;
+
+/// How many points of a unit's drawing are followed to measure its error in pixels.
+const MAX_POINTS: usize = 24;
+
+/// One unit's samples, one entry per frame.
+#[derive(Clone, Debug)]
+pub struct UnitSamples {
+    /// The unit's world motion since the reference frame (`world(f) · world(ref)⁻¹`).
+    pub motion: Vec<Affine>,
+    /// Its opacity: the product of the opacities of the groups down to it, times its fill's
+    /// opacity when it paints one fill colour.
+    pub opacity: Vec<f64>,
+    /// Its representative solid fill colour, if it has one (RGBA, 0 … 1).
+    pub fill: Vec<Option<[f32; 4]>>,
+    /// Whether its first solid stroke's colour, opacity or width changes over the frames
+    /// (not learned yet: reported).
+    pub stroke_changes: bool,
+    /// Points of its drawing at the reference frame, on the canvas.
+    pub points: Vec<Point>,
+    /// The largest distance, over the frames, between the points as drawn and as the unit's
+    /// motion alone carries them: what moves inside the unit (paths, inner layers).
+    pub inner_px: f64,
+    /// Its centroid at the reference frame (the `local` pivot).
+    pub centroid: Point,
+    /// Whether all its solid fills have one colour at the reference frame (a fill change
+    /// of the grammar tints them all to one colour).
+    pub one_fill: bool,
+}
+
+/// Every unit sampled at every frame of `src`.
+pub fn sample(
+    src: &LottieSource,
+    reference: &Scene,
+    max_samples: u64,
+) -> Result<Vec<UnitSamples>, LearnError> {
+    let doc = &src.document;
+    let frames = ((doc.op - doc.ip).ceil().max(1.0)) as usize;
+    let units = reference.shapes.len();
+    let samples = (frames as u64).saturating_mul(units as u64);
+    if samples > max_samples {
+        return Err(LearnError::Limit(format!(
+            "{units} units × {frames} frames = {samples} samples, more than the limit of {max_samples} (raise it with --limit learn-samples=N)"
+        )));
+    }
+    let ref_world: Vec<Affine> = (0..units).map(|u| world(reference, u)).collect();
+    let ref_points: Vec<Vec<Point>> = (0..units).map(|u| points(reference, u)).collect();
+    let mut out: Vec<UnitSamples> = reference
+        .shapes
+        .iter()
+        .enumerate()
+        .map(|(u, s)| UnitSamples {
+            motion: Vec::with_capacity(frames),
+            opacity: Vec::with_capacity(frames),
+            fill: Vec::with_capacity(frames),
+            stroke_changes: false,
+            points: ref_points[u].clone(),
+            inner_px: 0.0,
+            centroid: s.centroid,
+            one_fill: fill_colours(reference, u) <= 1,
+        })
+        .collect();
+    // Frames are drawn in parallel, a few at a time (a frame of every unit is small; all
+    // frames of a large file at once would not be).
+    let chunk = rayon::current_num_threads().max(1) * 2;
+    // Each unit's stroke at frame 0, what later frames are compared with.
+    let mut first_stroke: Vec<Option<[f32; 5]>> = vec![None; units];
+    let mut f0 = 0;
+    while f0 < frames {
+        let f1 = (f0 + chunk).min(frames);
+        let drawn: Vec<Result<Vec<Sample>, LearnError>> = (f0..f1)
+            .into_par_iter()
+            .map(|f| {
+                let (scene, _) = src
+                    .scene_at(doc.ip + f as f64)
+                    .map_err(|e| LearnError::Input(e.to_string()))?;
+                Ok((0..units)
+                    .map(|u| sample_unit(&scene, u, ref_world[u], &out[u]))
+                    .collect())
+            })
+            .collect();
+        for frame in drawn {
+            for (u, (s, smp)) in out.iter_mut().zip(frame?).enumerate() {
+                if f0 == 0 && s.motion.is_empty() {
+                    first_stroke[u] = smp.stroke;
+                }
+                s.inner_px = s.inner_px.max(smp.inner_px);
+                s.stroke_changes |= match (first_stroke[u], smp.stroke) {
+                    (Some(a), Some(b)) => a.iter().zip(&b).any(|(x, y)| (x - y).abs() > 1e-4),
+                    (a, b) => a.is_some() != b.is_some(),
+                };
+                s.motion.push(smp.motion);
+                s.opacity.push(smp.opacity);
+                s.fill.push(smp.fill);
+            }
+        }
+        f0 = f1;
+    }
+    Ok(out)
+}
+
+/// One unit at one frame.
+struct Sample {
+    motion: Affine,
+    inner_px: f64,
+    opacity: f64,
+    fill: Option<[f32; 4]>,
+    stroke: Option<[f32; 5]>,
+}
+
+/// Unit `u` of `scene` (one frame) against its reference-frame world transform `r` and
+/// points (in `s`).
+fn sample_unit(scene: &Scene, u: usize, r: Affine, s: &UnitSamples) -> Sample {
+    let w = world(scene, u);
+    let m = if r.determinant().abs() < 1e-12 {
+        Affine::IDENTITY
+    } else {
+        w * r.inverse()
+    };
+    let now = points(scene, u);
+    let (m, inner_px) = if now.len() == s.points.len() {
+        // The motion may live inside the layer (a group's transform): when the layer's
+        // own does not carry the drawing, the affine that best does.
+        let off = |m: Affine| {
+            s.points
+                .iter()
+                .zip(&now)
+                .map(|(p, q)| (m * *p - *q).hypot())
+                .fold(0.0, f64::max)
+        };
+        let m = match best_affine(&s.points, &now) {
+            Some(fit) if off(m) > 1e-3 && off(fit) < off(m) => fit,
+            _ => m,
+        };
+        (m, off(m))
+    } else {
+        (m, f64::INFINITY)
+    };
+    let fill = fill(scene, u);
+    // A one-colour unit's fill opacity is part of how opaque it is drawn (an exporter may
+    // write an opacity change there rather than on the layer).
+    let fill_opacity = match (s.one_fill, fill) {
+        (true, Some(c)) => f64::from(c[3]),
+        _ => 1.0,
+    };
+    Sample {
+        motion: m,
+        inner_px,
+        opacity: opacity(scene, u) * fill_opacity,
+        fill,
+        stroke: stroke(scene, u),
+    }
+}
+
+/// The nodes from the root down to unit `u`'s node, the unit's own last.
+fn chain(scene: &Scene, u: usize) -> Vec<&Node> {
+    let mut out = Vec::new();
+    let path = &scene.shapes[u].node_path;
+    for i in 1..=path.len() {
+        if let Some(n) = scene.root.node_at(&path[..i]) {
+            out.push(n);
+        }
+    }
+    out
+}
+
+/// Unit `u`'s world transform: the groups' transforms from the root down to it, its own
+/// included.
+fn world(scene: &Scene, u: usize) -> Affine {
+    let mut m = scene.root.transform;
+    for n in chain(scene, u) {
+        if let Node::Group(g) = n {
+            m *= g.transform;
+        }
+    }
+    m
+}
+
+/// Unit `u`'s opacity as its first path is drawn: the product of the opacities of the
+/// groups down to that path (an exporter may fade a group inside the unit's layer).
+fn opacity(scene: &Scene, u: usize) -> f64 {
+    let mut o = f64::from(scene.root.opacity);
+    let nodes = chain(scene, u);
+    for n in &nodes {
+        if let Node::Group(g) = n {
+            o *= f64::from(g.opacity);
+        }
+    }
+    // Below the unit's node, down to its first path.
+    let mut at = nodes.last().copied();
+    while let Some(Node::Group(g)) = at {
+        at = g.children.iter().find(|c| has_path(c));
+        if let Some(Node::Group(inner)) = at {
+            o *= f64::from(inner.opacity);
+        }
+    }
+    o
+}
+
+/// Whether `n` draws a path.
+fn has_path(n: &Node) -> bool {
+    match n {
+        Node::Path(_) => true,
+        Node::Group(g) => g.children.iter().any(has_path),
+        Node::Image(_) => false,
+    }
+}
+
+/// Sets the opacity of the groups from unit `node` down to its first path to 1, and
+/// what the still scene moves onto the unit's own opacity.
+pub fn clear_route_opacity(node: &mut Node) {
+    let mut at = Some(node);
+    while let Some(Node::Group(g)) = at {
+        g.opacity = 1.0;
+        at = g.children.iter_mut().find(|c| has_path(c));
+    }
+}
+
+/// Unit `u`'s first solid fill colour.
+fn fill(scene: &Scene, u: usize) -> Option<[f32; 4]> {
+    fn first(n: &Node) -> Option<[f32; 4]> {
+        match n {
+            Node::Path(p) => match p.fill.as_ref().map(|f| (&f.paint, f.opacity)) {
+                Some((Paint::Solid(c), o)) => Some([c.r, c.g, c.b, o]),
+                _ => None,
+            },
+            Node::Group(g) => g.children.iter().find_map(first),
+            Node::Image(_) => None,
+        }
+    }
+    chain(scene, u).last().and_then(|n| first(n))
+}
+
+/// Unit `u`'s first solid stroke: colour, opacity and width.
+fn stroke(scene: &Scene, u: usize) -> Option<[f32; 5]> {
+    fn first(n: &Node) -> Option<[f32; 5]> {
+        match n {
+            Node::Path(p) => match p.stroke.as_ref() {
+                Some(st) => match &st.paint {
+                    Paint::Solid(c) => Some([c.r, c.g, c.b, st.opacity, st.width as f32]),
+                    _ => None,
+                },
+                None => None,
+            },
+            Node::Group(g) => g.children.iter().find_map(first),
+            Node::Image(_) => None,
+        }
+    }
+    chain(scene, u).last().and_then(|n| first(n))
+}
+
+/// How many different solid fill colours unit `u` paints (gradients count as two).
+fn fill_colours(scene: &Scene, u: usize) -> usize {
+    fn visit(n: &Node, out: &mut Vec<[u32; 3]>) {
+        match n {
+            Node::Path(p) => match p.fill.as_ref().map(|f| &f.paint) {
+                Some(Paint::Solid(c)) => {
+                    let key = [c.r.to_bits(), c.g.to_bits(), c.b.to_bits()];
+                    if !out.contains(&key) {
+                        out.push(key);
+                    }
+                }
+                Some(_) => out.extend([[u32::MAX; 3], [0; 3]]),
+                None => {}
+            },
+            Node::Group(g) => g.children.iter().for_each(|c| visit(c, out)),
+            Node::Image(_) => {}
+        }
+    }
+    let mut out = Vec::new();
+    if let Some(n) = chain(scene, u).last() {
+        visit(n, &mut out);
+    }
+    out.len()
+}
+
+/// Up to [`MAX_POINTS`] on-curve points of unit `u`'s drawing, on the canvas, spread over
+/// all its paths (the same points at every frame: the tree keeps its shape).
+fn points(scene: &Scene, u: usize) -> Vec<Point> {
+    fn collect(n: &Node, m: Affine, out: &mut Vec<Point>) {
+        match n {
+            Node::Path(p) => {
+                for el in p.path.elements() {
+                    match *el {
+                        PathEl::MoveTo(q)
+                        | PathEl::LineTo(q)
+                        | PathEl::QuadTo(_, q)
+                        | PathEl::CurveTo(_, _, q) => out.push(m * q),
+                        PathEl::ClosePath => {}
+                    }
+                }
+            }
+            Node::Group(g) => {
+                let m = m * g.transform;
+                for c in &g.children {
+                    collect(c, m, out);
+                }
+            }
+            Node::Image(i) => {
+                let r = i.rect();
+                out.extend([m * Point::new(r.x0, r.y0), m * Point::new(r.x1, r.y1)]);
+            }
+        }
+    }
+    let nodes = chain(scene, u);
+    let Some(last) = nodes.last() else {
+        return Vec::new();
+    };
+    // The transform above the unit's own node.
+    let mut m = scene.root.transform;
+    for n in &nodes[..nodes.len() - 1] {
+        if let Node::Group(g) = n {
+            m *= g.transform;
+        }
+    }
+    let mut all = Vec::new();
+    collect(last, m, &mut all);
+    if all.len() <= MAX_POINTS {
+        return all;
+    }
+    let step = all.len() as f64 / MAX_POINTS as f64;
+    (0..MAX_POINTS)
+        .map(|i| all[(i as f64 * step) as usize])
+        .collect()
+}
+
+/// The affine map taking `from` onto `to` with the least squared error, when the points
+/// span the plane.
+fn best_affine(from: &[Point], to: &[Point]) -> Option<Affine> {
+    // Normal equations of [x y 1]·(a, c, e) = x' (and likewise for y'), centred for
+    // conditioning.
+    let n = from.len() as f64;
+    if from.len() < 3 {
+        return None;
+    }
+    let c = from.iter().fold(kurbo::Vec2::ZERO, |a, p| a + p.to_vec2()) / n;
+    let d = to.iter().fold(kurbo::Vec2::ZERO, |a, p| a + p.to_vec2()) / n;
+    let (mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0);
+    let (mut ux, mut uy, mut vx, mut vy) = (0.0, 0.0, 0.0, 0.0);
+    for (p, q) in from.iter().zip(to) {
+        let (x, y) = (p.x - c.x, p.y - c.y);
+        let (qx, qy) = (q.x - d.x, q.y - d.y);
+        sxx += x * x;
+        sxy += x * y;
+        syy += y * y;
+        ux += x * qx;
+        uy += y * qx;
+        vx += x * qy;
+        vy += y * qy;
+    }
+    let det = sxx * syy - sxy * sxy;
+    if det.abs() <= 1e-9 * (sxx * syy).max(1e-12) {
+        return None;
+    }
+    let a = (ux * syy - uy * sxy) / det;
+    let cc = (uy * sxx - ux * sxy) / det;
+    let b = (vx * syy - vy * sxy) / det;
+    let dd = (vy * sxx - vx * sxy) / det;
+    // q − d = L (p − c)  ⇒  q = L p + (d − L c).
+    let e = d.x - (a * c.x + cc * c.y);
+    let f = d.y - (b * c.x + dd * c.y);
+    Some(Affine::new([a, b, cc, dd, e, f]))
+}
