@@ -285,6 +285,11 @@ enum Command {
         /// Do not open a browser.
         #[arg(long)]
         no_open: bool,
+        /// Start from an animation instead of a blank grammar: learn GRAMMAR (which must not
+        /// exist yet, or be empty) and its still scene from ANIMATION, as `gmotion learn`
+        /// does, then open them.
+        #[arg(long, value_name = "ANIMATION")]
+        learn: Option<PathBuf>,
         #[command(flatten)]
         run: RunArgs,
         #[command(flatten)]

@@ -62,10 +62,15 @@ impl Studio {
 
     /// Starts the studio on `scene` and the toy grammar in `dir` (removed at the end).
     fn start_on(dir: PathBuf, scene: &std::path::Path) -> Studio {
+        let args = [scene.as_os_str(), dir.join("toy.gm").as_os_str()].map(|a| a.to_owned());
+        Studio::start_with(dir, &args)
+    }
+
+    /// Starts `gmotion studio --no-open --port 0 ARGS` in `dir` (removed at the end).
+    fn start_with(dir: PathBuf, args: &[std::ffi::OsString]) -> Studio {
         let mut child = Command::new(env!("CARGO_BIN_EXE_gmotion"))
             .args(["studio", "--no-open", "--port", "0"])
-            .arg(scene)
-            .arg(dir.join("toy.gm"))
+            .args(args)
             .stdout(Stdio::piped())
             .stderr(Stdio::inherit())
             .spawn()
@@ -1104,4 +1109,62 @@ fn a_rule_value_is_set_in_place_or_refused() {
     assert_eq!(set(line, "speed", "1").status, 400);
     assert_eq!(s.call("POST", "/api/value", "{}").status, 400);
     s.save_and_check();
+}
+
+/// `studio --learn ANIMATION NEW.gm` starts from a designer's own animation (issue 45, item
+/// 5): the grammar and its still scene are learned, written and opened, the grammar the
+/// studio shows is the file's, and it runs with no error; an existing grammar with text in
+/// it, or a scene given besides, is refused and nothing is written.
+#[test]
+fn learn_opens_an_animation_as_a_grammar() {
+    let dir = Studio::folder("learn");
+    let exported = Command::new(env!("CARGO_BIN_EXE_gmotion"))
+        .arg("animate")
+        .arg(dir.join("toy.gm"))
+        .arg("-o")
+        .arg(dir.join("moving.json"))
+        .output()
+        .unwrap();
+    assert!(exported.status.success());
+    let refused = |args: &[&str], what: &str| {
+        let out = Command::new(env!("CARGO_BIN_EXE_gmotion"))
+            .args(["studio", "--no-open", "--port", "0", "--learn"])
+            .args(args.iter().map(|a| dir.join(a)))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !out.status.success() && err.contains(what),
+            "{args:?}: {err}"
+        );
+    };
+    // toy.gm holds the hand-written grammar: never replaced.
+    let hand = std::fs::read_to_string(dir.join("toy.gm")).unwrap();
+    refused(&["moving.json", "toy.gm"], "exists and is not empty");
+    assert_eq!(std::fs::read_to_string(dir.join("toy.gm")).unwrap(), hand);
+    refused(
+        &["moving.json", "toy.svg", "new.gm"],
+        "give only the grammar",
+    );
+    assert!(!dir.join("new.gm").exists() && !dir.join("new.json").exists());
+
+    let args = ["--learn", "moving.json", "new.gm"].map(|a| {
+        if a.starts_with("--") {
+            a.into()
+        } else {
+            dir.join(a).into_os_string()
+        }
+    });
+    let s = Studio::start_with(dir.clone(), &args);
+    let learned = std::fs::read_to_string(dir.join("new.gm")).unwrap();
+    assert!(dir.join("new.json").exists(), "the still scene is written");
+    assert!(
+        learned.contains("scene \"new.json\"") && learned.contains("0.15 * id"),
+        "{learned}"
+    );
+    let st = s.state();
+    assert_eq!(st["grammar"], learned.as_str());
+    assert_eq!(st["diagnostics"].as_array().map(Vec::len), Some(0), "{st}");
+    // The toy's square and four circles, and its background, as units of the still scene.
+    assert_eq!(st["shapes"].as_array().unwrap().len(), 6, "{st}");
 }

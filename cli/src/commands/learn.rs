@@ -22,6 +22,9 @@ pub struct Learn {
     pub tolerance: f64,
     /// Where the report goes (`-` or none: standard output).
     pub report: Option<PathBuf>,
+    /// A report for standard output goes to standard error instead (the studio's first
+    /// line of output is its address).
+    pub report_to_stderr: bool,
 }
 
 impl Learn {
@@ -95,7 +98,11 @@ impl Learn {
             .commit()
             .map_err(|e| CliError::msg(format!("cannot put the outputs in place: {e}")))?;
         if to_file.is_none() {
-            report::out(&text)?;
+            if self.report_to_stderr {
+                eprint!("{text}");
+            } else {
+                report::out(&text)?;
+            }
         }
         Ok(())
     }

@@ -98,12 +98,14 @@ pub fn run(cmd: Command, ctx: &Ctx) -> Result<()> {
             files,
             port,
             no_open,
+            learn,
             run,
             import,
         } => studio::StudioJob {
             files: Files::of(&files, Order::SceneFirst)?,
             port,
             no_open,
+            learn,
             run: run.overrides(),
             choices: import.choices(false),
         }
@@ -120,6 +122,7 @@ pub fn run(cmd: Command, ctx: &Ctx) -> Result<()> {
             scene,
             tolerance,
             report,
+            report_to_stderr: false,
         }
         .run(ctx),
         Command::Variations {

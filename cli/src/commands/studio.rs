@@ -1,5 +1,7 @@
 //! `gmotion studio`: the local web editor on a grammar and its scene.
 
+use std::path::{Path, PathBuf};
+
 use gmotion_pipeline::{ImportChoices, Imported, Overrides, Project, Rescene, SceneOptions};
 
 use super::check::hint_tags;
@@ -14,6 +16,8 @@ pub struct StudioJob {
     pub port: u16,
     /// Do not open a browser.
     pub no_open: bool,
+    /// `--learn ANIMATION`: the grammar and its still scene learned from it first.
+    pub learn: Option<PathBuf>,
     /// `--seed`, `--fps`, `--max-steps`.
     pub run: Overrides,
     /// How to import the scene.
@@ -26,7 +30,9 @@ impl StudioJob {
     pub fn run(self, ctx: &Ctx) -> Result<()> {
         let env = &ctx.env;
         let (scene, grammar_path) = (self.files.scene(), &self.files.grammar);
-        if scene.is_some() {
+        if let Some(animation) = &self.learn {
+            learn_first(animation, scene, grammar_path, ctx)?;
+        } else if scene.is_some() {
             create_empty(grammar_path)?;
         }
         let imported = match (
@@ -79,6 +85,40 @@ impl StudioJob {
             .serve()
             .map_err(|e| CliError::msg(format!("studio: {e}")))
     }
+}
+
+/// `--learn`: writes `grammar` and its still scene learned from `animation` (gMotion's
+/// first future work: start from a designer's own animation, not a blank grammar). The
+/// grammar names its scene, so none may be given; an existing grammar with any text in it
+/// is never replaced.
+fn learn_first(
+    animation: &Path,
+    scene: Option<&Path>,
+    grammar: &Path,
+    ctx: &super::Ctx,
+) -> Result<()> {
+    if let Some(s) = scene {
+        return Err(CliError::msg(format!(
+            "{}: error: --learn writes the still scene the learned grammar names; give only the grammar to write (`gmotion studio --learn ANIMATION NEW.gm`)",
+            s.display()
+        )));
+    }
+    let existing = std::fs::metadata(grammar).map(|m| m.len()).unwrap_or(0);
+    if existing > 0 {
+        return Err(CliError::msg(format!(
+            "{}: error: the grammar exists and is not empty; --learn writes a new grammar (name another file)",
+            grammar.display()
+        )));
+    }
+    super::learn::Learn {
+        input: animation.to_path_buf(),
+        output: grammar.to_path_buf(),
+        scene: None,
+        tolerance: crate::DEFAULT_TOLERANCE,
+        report: None,
+        report_to_stderr: true,
+    }
+    .run(ctx)
 }
 
 /// Creates `path` empty when it does not exist, so a session can start from an empty
