@@ -1,0 +1,238 @@
+//! `gmotion-learn` on animations made from grammars whose meaning is known: what it learns
+//! is checked against properties of the language (docs/grammar.md), not against text it
+//! printed before. A stagger `b · id` comes back as `b * id`; every named easing comes back
+//! as itself; a slice and its inverted twin come back as a twin; a unit that does not move
+//! changes nothing in what is learned of the others; and learning is a fixed point: the
+//! learned grammar's own animation is learned as the same grammar.
+//!
+//! The animations are exported to Lottie by the pipeline (the same writer as `gmotion
+//! animate`); that the learned grammars play like their originals in real players is
+//! checked end to end by the command line's tests (`cli/tests/learn.rs`).
+
+use std::path::{Path, PathBuf};
+
+use gmotion::canvas::OutputSize;
+use gmotion_learn::{Learned, Options, learn};
+use gmotion_pipeline::{Env, ImportChoices, Overrides, Project, Writer};
+
+/// A fresh folder for one test's files.
+fn fresh_dir(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("gmotion-learn-{test}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a temporary folder");
+    dir
+}
+
+/// `n` 20 px squares tagged `s` in a row, and a still circle `c` when `circle`.
+fn squares(n: usize, circle: bool) -> String {
+    let mut svg = String::from(
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="400" height="200" viewBox="0 0 400 200">"#,
+    );
+    for i in 0..n {
+        svg.push_str(&format!(
+            r##"<rect data-tag="s" x="{}" y="20" width="20" height="20" fill="#d33"/>"##,
+            20 + 40 * i
+        ));
+    }
+    if circle {
+        svg.push_str(r##"<circle data-tag="c" cx="300" cy="150" r="20" fill="#36c"/>"##);
+    }
+    svg.push_str("</svg>");
+    svg
+}
+
+/// Runs `grammar` on `svg` (both written into `dir` under `name`) and writes its Lottie.
+fn export(dir: &Path, name: &str, svg: &str, grammar: &str) -> PathBuf {
+    std::fs::write(dir.join(format!("{name}.svg")), svg).unwrap();
+    let gm = dir.join(format!("{name}.gm"));
+    std::fs::write(&gm, format!("scene {name}.svg\n{grammar}")).unwrap();
+    run_to_lottie(&gm, &dir.join(format!("{name}.json")))
+}
+
+/// Runs the grammar at `gm` and writes its animation as Lottie to `out`.
+fn run_to_lottie(gm: &Path, out: &Path) -> PathBuf {
+    let env = Env::default();
+    let project = Project::load(None, gm, &ImportChoices::default(), &env)
+        .unwrap_or_else(|e| panic!("{}: {e}", gm.display()));
+    let run = Overrides::default().run_options(&env.limits).unwrap();
+    let rendered = project.run(&run, false).expect("the grammar runs");
+    Writer::new(OutputSize::default(), &env.limits)
+        .write(&rendered, out, &|| {})
+        .expect("the Lottie is written");
+    out.to_path_buf()
+}
+
+/// Learns the Lottie at `json`, its still scene to be named `still.json`.
+fn learned(json: &Path) -> Learned {
+    learn(json, "still.json", &Env::default(), &Options::default())
+        .unwrap_or_else(|e| panic!("{}: {e}", json.display()))
+}
+
+/// The learned grammar's rules (no comments, directives or blank lines).
+fn rules(l: &Learned) -> Vec<&str> {
+    l.grammar
+        .lines()
+        .filter(|line| line.contains("->"))
+        .collect()
+}
+
+/// Writes what was learned beside `dir/NAME` (the grammar and its still scene) and
+/// returns the grammar's path, ready to run.
+fn write_learned(dir: &Path, l: &Learned) -> PathBuf {
+    let anim = l.still_animation(l.duration, l.fps);
+    gmotion_output::write(&anim, &dir.join("still.json"), &Default::default())
+        .expect("the still scene is written");
+    let gm = dir.join("learned.gm");
+    std::fs::write(&gm, &l.grammar).unwrap();
+    gm
+}
+
+#[test]
+fn a_stagger_comes_back_as_an_offset_in_id() {
+    let dir = fresh_dir("stagger");
+    for b in [0.1, 0.25, 0.4] {
+        let json = export(
+            &dir,
+            "row",
+            &squares(5, false),
+            &format!(
+                "duration 4s\nfps 30\n\
+                 timesplit(0.6, 0.4) : [all, s] -> [a, rest]\n\
+                 animate(affine, world, {b} * id, translate(0, 100), ease=ease-in-out) : [a, s] -> [m]\n"
+            ),
+        );
+        let l = learned(&json);
+        assert_eq!(l.report.unexplained().count(), 0, "b = {b}: {}", l.report);
+        let moves: Vec<_> = rules(&l)
+            .into_iter()
+            .filter(|r| r.starts_with("animate"))
+            .collect();
+        assert_eq!(
+            moves.len(),
+            1,
+            "b = {b}: one rule for the five squares\n{}",
+            l.grammar
+        );
+        assert!(
+            moves[0].contains(&format!("{b} * id")),
+            "b = {b}: the stagger\n{}",
+            l.grammar
+        );
+    }
+}
+
+#[test]
+fn every_named_easing_comes_back_as_itself() {
+    let dir = fresh_dir("easings");
+    for ease in ["linear", "ease", "ease-in", "ease-out", "ease-in-out"] {
+        let json = export(
+            &dir,
+            "one",
+            &squares(1, false),
+            &format!(
+                "duration 2s\nfps 30\n\
+                 timesplit(0.75, 0.25) : [all, s] -> [a, rest]\n\
+                 animate(affine, world, 0, translate(200, 0), ease={ease}) : [a, s] -> [m]\n"
+            ),
+        );
+        let l = learned(&json);
+        assert_eq!(l.report.unexplained().count(), 0, "{ease}: {}", l.report);
+        let moves: Vec<_> = rules(&l)
+            .into_iter()
+            .filter(|r| r.starts_with("animate"))
+            .collect();
+        assert_eq!(moves.len(), 1, "{ease}\n{}", l.grammar);
+        // `linear` is the default and may be left out.
+        let named = if ease == "linear" {
+            !moves[0].contains("ease=") || moves[0].contains("ease=linear")
+        } else {
+            moves[0].contains(&format!("ease={ease})"))
+                || moves[0].contains(&format!("ease={ease},"))
+        };
+        assert!(named, "{ease}: {}", moves[0]);
+    }
+}
+
+#[test]
+fn a_slice_and_its_inverted_twin_come_back_as_a_twin() {
+    let dir = fresh_dir("twin");
+    let json = export(
+        &dir,
+        "twin",
+        &squares(1, false),
+        "duration 2s\nfps 30\n\
+         timesplit(0.5, 0.5) : [all, s] -> [a, inv_a]\n\
+         animate(affine, local, 0, rotate(90) scale(1.5), ease=ease-out) : [a, s] -> [m]\n",
+    );
+    let l = learned(&json);
+    assert_eq!(l.report.unexplained().count(), 0, "{}", l.report);
+    let split = rules(&l)
+        .into_iter()
+        .find(|r| r.starts_with("timesplit"))
+        .unwrap_or_else(|| panic!("a timesplit\n{}", l.grammar));
+    assert!(
+        split.contains("inv_"),
+        "the second half is the first's twin: {split}"
+    );
+    assert_eq!(
+        rules(&l)
+            .iter()
+            .filter(|r| r.starts_with("animate"))
+            .count(),
+        1,
+        "one change, played forwards then backwards\n{}",
+        l.grammar
+    );
+}
+
+#[test]
+fn a_still_unit_elsewhere_changes_nothing_learned_of_the_others() {
+    let dir = fresh_dir("locality");
+    let grammar = "duration 3s\nfps 30\n\
+                   timesplit(0.5, 0.5) : [all, s] -> [a, inv_a]\n\
+                   animate(affine, world, 0.2 * id, translate(0, 80)) : [a, s] -> [m]\n";
+    let alone = learned(&export(&dir, "alone", &squares(4, false), grammar));
+    let with = learned(&export(&dir, "with", &squares(4, true), grammar));
+    assert_eq!(with.report.unexplained().count(), 0, "{}", with.report);
+    let of_s = |l: &Learned| -> Vec<String> {
+        rules(l)
+            .into_iter()
+            .filter(|r| r.contains(", s]"))
+            .map(str::to_string)
+            .collect()
+    };
+    assert!(!of_s(&alone).is_empty(), "{}", alone.grammar);
+    assert_eq!(of_s(&alone), of_s(&with));
+    assert!(
+        !rules(&with).iter().any(|r| r.contains(", c]")),
+        "the still circle gets no rule\n{}",
+        with.grammar
+    );
+}
+
+#[test]
+fn learning_its_own_grammar_again_gives_the_same_grammar() {
+    let dir = fresh_dir("fixed_point");
+    let json = export(
+        &dir,
+        "toy",
+        &squares(3, true),
+        "duration 4s\nfps 30\n\
+         timesplit(0.5, 0.5) : [all, (s, c)] -> [a, inv_a]\n\
+         animate(affine, world, 0, translate(0, 100), ease=ease-in-out) : [a, s] -> [down]\n\
+         timesplit(0.4, 0.6) : [a, c] -> [b, d]\n\
+         animate(affine, local, 0, scale(0.5)) : [b, c] -> [small]\n\
+         animate(opacity, local, 0, 0.5) : [d, c] -> [faded]\n",
+    );
+    let first = learned(&json);
+    assert_eq!(first.report.unexplained().count(), 0, "{}", first.report);
+    let gm = write_learned(&dir, &first);
+    let again = learned(&run_to_lottie(&gm, &dir.join("again.json")));
+    assert_eq!(
+        rules(&again),
+        rules(&first),
+        "{}\n---\n{}",
+        first.grammar,
+        again.grammar
+    );
+}
