@@ -157,5 +157,7 @@ phase "studio: the toy grammar recreated with the mouse and the form (tests/conf
 node "$here/studio_toy.mjs" "$gm" || status=1
 phase "studio: the code editor and layer tree (tests/conformance/studio_code.mjs)"
 node "$here/studio_code.mjs" "$gm" || status=1
+phase "studio: started from an After Effects file by learn (tests/conformance/studio_learn.mjs)"
+node "$here/studio_learn.mjs" "$gm" || status=1
 echo "conformance: $((SECONDS - start)) s"
 exit $status

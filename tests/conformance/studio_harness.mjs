@@ -7,7 +7,12 @@ import { chromium } from 'playwright-core';
 // the process to `children` (for the caller to stop) and returns the page's address, token
 // included, from the first line it prints.
 export async function startStudio(gm, scene, grammar, children) {
-  const child = spawn(gm, ['studio', '--no-open', '--port', '0', scene, grammar], { stdio: ['ignore', 'pipe', 'pipe'] });
+  return startStudioWith(gm, [scene, grammar], children);
+}
+
+// Starts `gmotion studio --no-open --port 0 ARGS` as startStudio does.
+export async function startStudioWith(gm, args, children) {
+  const child = spawn(gm, ['studio', '--no-open', '--port', '0', ...args], { stdio: ['ignore', 'pipe', 'pipe'] });
   children.push(child);
   let err = '';
   child.stderr.on('data', (d) => { err += d; });
