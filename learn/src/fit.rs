@@ -484,6 +484,9 @@ fn fit_piece(
         if e_t <= s_t + 1e-9 {
             continue;
         }
+        // Each easing's progress at each frame, shared by the pivots: solving a cubic
+        // Bézier's x is most of the search's time.
+        let mut memo = vec![f64::NAN; eases.len() * (len + 1)];
         for ((pivot, point), comps) in pivots.iter().zip(&comps) {
             // The named easings first; when none fits, a cubic fitted to the piece's own
             // progress (After Effects' keyframe influences are any cubic).
@@ -502,7 +505,15 @@ fn fit_piece(
                 k += 1;
                 let mut worst = 0.0f64;
                 for &g in &order {
-                    let p = progress(&ease, s_t, e_t, clock.time(g as f64));
+                    let p = match memo.get_mut((k - 1) * (len + 1) + (g - a)) {
+                        Some(m) if k <= eases.len() => {
+                            if m.is_nan() {
+                                *m = progress(&ease, s_t, e_t, clock.time(g as f64));
+                            }
+                            *m
+                        }
+                        _ => progress(&ease, s_t, e_t, clock.time(g as f64)),
+                    };
                     let m = change_at(comps, *point, p) * state;
                     worst = worst.max(px(pts, m, unit.motion[g]));
                     if worst > tol {
@@ -639,25 +650,27 @@ pub fn base_opacity(unit: &UnitSamples) -> f64 {
 /// The paint values of every frame: the opacity factor against the still's opacity, and
 /// the fill colour when the unit has one colour of fill (else black, which never changes).
 pub fn paint_values(unit: &UnitSamples) -> Vec<PaintValue> {
-    let base = base_opacity(unit);
-    unit.opacity
-        .iter()
-        .zip(&unit.fill)
-        .map(|(o, c)| {
-            let rgb = match (unit.one_fill, c) {
-                (true, Some(c)) => [f64::from(c[0]), f64::from(c[1]), f64::from(c[2])],
-                _ => [0.0; 3],
-            };
-            // The factor can only lower the still's opacity: a unit more opaque later than
-            // at frame 0 is off there, and reported.
-            [
-                if base > 0.0 { (o / base).min(1.0) } else { 0.0 },
-                rgb[0],
-                rgb[1],
-                rgb[2],
-            ]
-        })
+    (0..unit.opacity.len().min(unit.fill.len()))
+        .map(|f| paint_value(unit, f))
         .collect()
+}
+
+/// Frame `f`'s paint value (see [`paint_values`]).
+fn paint_value(unit: &UnitSamples, f: usize) -> PaintValue {
+    let base = base_opacity(unit);
+    let o = unit.opacity[f];
+    let rgb = match (unit.one_fill, unit.fill[f]) {
+        (true, Some(c)) => [f64::from(c[0]), f64::from(c[1]), f64::from(c[2])],
+        _ => [0.0; 3],
+    };
+    // The factor can only lower the still's opacity: a unit more opaque later than at
+    // frame 0 is off there, and reported.
+    [
+        if base > 0.0 { (o / base).min(1.0) } else { 0.0 },
+        rgb[0],
+        rgb[1],
+        rgb[2],
+    ]
 }
 
 /// The largest channel difference of two paint values.
@@ -808,10 +821,12 @@ fn fit_paint(
 /// the same pivot.
 pub fn model_at(unit: &UnitSamples, slices: &[Slice], t: f64) -> (Affine, PaintValue) {
     let mut state = Affine::IDENTITY;
-    let first = paint_values(unit)
-        .first()
-        .copied()
-        .unwrap_or([1.0, 0.0, 0.0, 0.0]);
+    // Frame 0's value alone: this runs for every frame of every candidate checked.
+    let first = if unit.opacity.is_empty() || unit.fill.is_empty() {
+        [1.0, 0.0, 0.0, 0.0]
+    } else {
+        paint_value(unit, 0)
+    };
     let mut value = [1.0, first[1], first[2], first[3]];
     // Each slice's pivot point, for its twin.
     let mut pivots: Vec<Point> = Vec::with_capacity(slices.len());
@@ -934,6 +949,16 @@ pub fn twins(unit: &UnitSamples, clock: Clock, tol: f64, fitted: &mut Fitted) {
             cand[j].t1 = end;
             cand[j].twin_of = Some(i);
             cand[j].play = None;
+            // The twin's own frames first, stopping at the first one off: most candidates
+            // fail there, and the whole unit's errors cost every frame times every slice.
+            let limit = tol.max(fitted.max_px);
+            let own = frames_in(clock, cand[j].t0, cand[j].t1, unit.motion.len());
+            if own.into_iter().any(|g| {
+                let (m, _) = model_at(unit, &cand, clock.time(g as f64));
+                px(&pts, m, unit.motion[g]) > limit
+            }) {
+                continue;
+            }
             let (px, op) = errors(unit, &pts, clock, &cand);
             if px <= tol.max(fitted.max_px) && op <= fitted.max_opacity + 1e-9 {
                 fitted.slices = cand;
