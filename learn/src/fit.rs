@@ -574,12 +574,21 @@ fn fitted_cubic(
             let off = |p: f64| px(pts, change_at(comps, point, p) * state, unit.motion[g]);
             let (mut lo, mut hi) = (-0.5f64, 1.5f64);
             let r = (5f64.sqrt() - 1.0) / 2.0;
+            // Each step keeps one of its two probes as the next step's other one: one
+            // drawing compared per step, not two.
+            let (mut m1, mut m2) = (hi - r * (hi - lo), lo + r * (hi - lo));
+            let (mut f1, mut f2) = (off(m1), off(m2));
             for _ in 0..40 {
-                let (m1, m2) = (hi - r * (hi - lo), lo + r * (hi - lo));
-                if off(m1) < off(m2) {
+                if f1 < f2 {
                     hi = m2;
+                    (m2, f2) = (m1, f1);
+                    m1 = hi - r * (hi - lo);
+                    f1 = off(m1);
                 } else {
                     lo = m1;
+                    (m1, f1) = (m2, f2);
+                    m2 = lo + r * (hi - lo);
+                    f2 = off(m2);
                 }
             }
             Some((u, (lo + hi) / 2.0))
@@ -588,15 +597,21 @@ fn fitted_cubic(
     if samples.len() < 2 {
         return None;
     }
-    let cost = |c: &[f64; 4]| {
+    // The largest progress error, or `None` as soon as it reaches `bound`: most steps of
+    // the descent are worse, and are known to be within a few samples.
+    let cost = |c: &[f64; 4], bound: f64| {
         let ease = Easing::CubicBezier(*c);
-        samples
-            .iter()
-            .map(|(u, p)| (ease.apply(*u) - p).abs())
-            .fold(0.0, f64::max)
+        let mut worst = 0.0f64;
+        for (u, p) in &samples {
+            worst = worst.max((ease.apply(*u) - p).abs());
+            if worst >= bound {
+                return None;
+            }
+        }
+        Some(worst)
     };
     let mut c = [0.333, 0.0, 0.667, 1.0];
-    let mut now = cost(&c);
+    let mut now = cost(&c, f64::INFINITY).unwrap_or(f64::INFINITY);
     let mut step = 0.2;
     while step > 0.002 {
         let mut moved = false;
@@ -607,8 +622,7 @@ fn fitted_cubic(
                 // x in [0, 1] (a function of time), y free within reason (overshoot).
                 let (lo, hi) = if i % 2 == 0 { (0.0, 1.0) } else { (-1.0, 2.0) };
                 t[i] = t[i].clamp(lo, hi);
-                let v = cost(&t);
-                if v < now {
+                if let Some(v) = cost(&t, now) {
                     (c, now, moved) = (t, v, true);
                 }
             }
