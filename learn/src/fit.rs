@@ -484,6 +484,9 @@ fn fit_piece(
         if e_t <= s_t + 1e-9 {
             continue;
         }
+        // Each easing's progress at each frame, shared by the pivots: solving a cubic
+        // Bézier's x is most of the search's time.
+        let mut memo = vec![f64::NAN; eases.len() * (len + 1)];
         for ((pivot, point), comps) in pivots.iter().zip(&comps) {
             // The named easings first; when none fits, a cubic fitted to the piece's own
             // progress (After Effects' keyframe influences are any cubic).
@@ -502,7 +505,15 @@ fn fit_piece(
                 k += 1;
                 let mut worst = 0.0f64;
                 for &g in &order {
-                    let p = progress(&ease, s_t, e_t, clock.time(g as f64));
+                    let p = match memo.get_mut((k - 1) * (len + 1) + (g - a)) {
+                        Some(m) if k <= eases.len() => {
+                            if m.is_nan() {
+                                *m = progress(&ease, s_t, e_t, clock.time(g as f64));
+                            }
+                            *m
+                        }
+                        _ => progress(&ease, s_t, e_t, clock.time(g as f64)),
+                    };
                     let m = change_at(comps, *point, p) * state;
                     worst = worst.max(px(pts, m, unit.motion[g]));
                     if worst > tol {
@@ -563,12 +574,21 @@ fn fitted_cubic(
             let off = |p: f64| px(pts, change_at(comps, point, p) * state, unit.motion[g]);
             let (mut lo, mut hi) = (-0.5f64, 1.5f64);
             let r = (5f64.sqrt() - 1.0) / 2.0;
+            // Each step keeps one of its two probes as the next step's other one: one
+            // drawing compared per step, not two.
+            let (mut m1, mut m2) = (hi - r * (hi - lo), lo + r * (hi - lo));
+            let (mut f1, mut f2) = (off(m1), off(m2));
             for _ in 0..40 {
-                let (m1, m2) = (hi - r * (hi - lo), lo + r * (hi - lo));
-                if off(m1) < off(m2) {
+                if f1 < f2 {
                     hi = m2;
+                    (m2, f2) = (m1, f1);
+                    m1 = hi - r * (hi - lo);
+                    f1 = off(m1);
                 } else {
                     lo = m1;
+                    (m1, f1) = (m2, f2);
+                    m2 = lo + r * (hi - lo);
+                    f2 = off(m2);
                 }
             }
             Some((u, (lo + hi) / 2.0))
@@ -577,15 +597,21 @@ fn fitted_cubic(
     if samples.len() < 2 {
         return None;
     }
-    let cost = |c: &[f64; 4]| {
+    // The largest progress error, or `None` as soon as it reaches `bound`: most steps of
+    // the descent are worse, and are known to be within a few samples.
+    let cost = |c: &[f64; 4], bound: f64| {
         let ease = Easing::CubicBezier(*c);
-        samples
-            .iter()
-            .map(|(u, p)| (ease.apply(*u) - p).abs())
-            .fold(0.0, f64::max)
+        let mut worst = 0.0f64;
+        for (u, p) in &samples {
+            worst = worst.max((ease.apply(*u) - p).abs());
+            if worst >= bound {
+                return None;
+            }
+        }
+        Some(worst)
     };
     let mut c = [0.333, 0.0, 0.667, 1.0];
-    let mut now = cost(&c);
+    let mut now = cost(&c, f64::INFINITY).unwrap_or(f64::INFINITY);
     let mut step = 0.2;
     while step > 0.002 {
         let mut moved = false;
@@ -596,8 +622,7 @@ fn fitted_cubic(
                 // x in [0, 1] (a function of time), y free within reason (overshoot).
                 let (lo, hi) = if i % 2 == 0 { (0.0, 1.0) } else { (-1.0, 2.0) };
                 t[i] = t[i].clamp(lo, hi);
-                let v = cost(&t);
-                if v < now {
+                if let Some(v) = cost(&t, now) {
                     (c, now, moved) = (t, v, true);
                 }
             }
@@ -639,25 +664,27 @@ pub fn base_opacity(unit: &UnitSamples) -> f64 {
 /// The paint values of every frame: the opacity factor against the still's opacity, and
 /// the fill colour when the unit has one colour of fill (else black, which never changes).
 pub fn paint_values(unit: &UnitSamples) -> Vec<PaintValue> {
-    let base = base_opacity(unit);
-    unit.opacity
-        .iter()
-        .zip(&unit.fill)
-        .map(|(o, c)| {
-            let rgb = match (unit.one_fill, c) {
-                (true, Some(c)) => [f64::from(c[0]), f64::from(c[1]), f64::from(c[2])],
-                _ => [0.0; 3],
-            };
-            // The factor can only lower the still's opacity: a unit more opaque later than
-            // at frame 0 is off there, and reported.
-            [
-                if base > 0.0 { (o / base).min(1.0) } else { 0.0 },
-                rgb[0],
-                rgb[1],
-                rgb[2],
-            ]
-        })
+    (0..unit.opacity.len().min(unit.fill.len()))
+        .map(|f| paint_value(unit, f))
         .collect()
+}
+
+/// Frame `f`'s paint value (see [`paint_values`]).
+fn paint_value(unit: &UnitSamples, f: usize) -> PaintValue {
+    let base = base_opacity(unit);
+    let o = unit.opacity[f];
+    let rgb = match (unit.one_fill, unit.fill[f]) {
+        (true, Some(c)) => [f64::from(c[0]), f64::from(c[1]), f64::from(c[2])],
+        _ => [0.0; 3],
+    };
+    // The factor can only lower the still's opacity: a unit more opaque later than at
+    // frame 0 is off there, and reported.
+    [
+        if base > 0.0 { (o / base).min(1.0) } else { 0.0 },
+        rgb[0],
+        rgb[1],
+        rgb[2],
+    ]
 }
 
 /// The largest channel difference of two paint values.
@@ -808,10 +835,12 @@ fn fit_paint(
 /// the same pivot.
 pub fn model_at(unit: &UnitSamples, slices: &[Slice], t: f64) -> (Affine, PaintValue) {
     let mut state = Affine::IDENTITY;
-    let first = paint_values(unit)
-        .first()
-        .copied()
-        .unwrap_or([1.0, 0.0, 0.0, 0.0]);
+    // Frame 0's value alone: this runs for every frame of every candidate checked.
+    let first = if unit.opacity.is_empty() || unit.fill.is_empty() {
+        [1.0, 0.0, 0.0, 0.0]
+    } else {
+        paint_value(unit, 0)
+    };
     let mut value = [1.0, first[1], first[2], first[3]];
     // Each slice's pivot point, for its twin.
     let mut pivots: Vec<Point> = Vec::with_capacity(slices.len());
@@ -934,6 +963,16 @@ pub fn twins(unit: &UnitSamples, clock: Clock, tol: f64, fitted: &mut Fitted) {
             cand[j].t1 = end;
             cand[j].twin_of = Some(i);
             cand[j].play = None;
+            // The twin's own frames first, stopping at the first one off: most candidates
+            // fail there, and the whole unit's errors cost every frame times every slice.
+            let limit = tol.max(fitted.max_px);
+            let own = frames_in(clock, cand[j].t0, cand[j].t1, unit.motion.len());
+            if own.into_iter().any(|g| {
+                let (m, _) = model_at(unit, &cand, clock.time(g as f64));
+                px(&pts, m, unit.motion[g]) > limit
+            }) {
+                continue;
+            }
             let (px, op) = errors(unit, &pts, clock, &cand);
             if px <= tol.max(fitted.max_px) && op <= fitted.max_opacity + 1e-9 {
                 fitted.slices = cand;
