@@ -119,6 +119,37 @@ fn num(x: f64, digits: usize) -> String {
     if s == "-0" { "0".to_string() } else { s }
 }
 
+/// Fractions that sum to 1 as a person would write them: each but the last with the
+/// fewest decimals that stay within 1e-7 of it (a boundary moves by far less than a frame:
+/// 1e-7 of a 10 s animation is a microsecond), the last what the others leave, so that the
+/// sum stays 1 as `timesplit` asks (±1e-6). Frame times divided by a frame rate such as
+/// 29.97 would otherwise be written 0.24999999 for a quarter.
+fn tidy(fractions: &[f64]) -> Vec<String> {
+    let shortest = |x: f64, eps: f64| {
+        (1..=9)
+            .map(|d| num(x, d))
+            .find(|t| t.parse::<f64>().is_ok_and(|v| (v - x).abs() <= eps))
+            .unwrap_or_else(|| num(x, 9))
+    };
+    let Some((_, init)) = fractions.split_last() else {
+        return Vec::new();
+    };
+    let mut out: Vec<String> = init.iter().map(|&x| shortest(x, 1e-7)).collect();
+    let taken: f64 = out.iter().filter_map(|t| t.parse::<f64>().ok()).sum();
+    let last = shortest(1.0 - taken, 1e-9);
+    // Every fraction must stay above 0: a sliver (a slice of less than 1e-7 of the
+    // whole) is written exactly as measured, the others with it.
+    if out
+        .iter()
+        .chain([&last])
+        .any(|t| t.parse::<f64>().is_ok_and(|v| v <= 0.0))
+    {
+        return fractions.iter().map(|&x| num(x, 9)).collect();
+    }
+    out.push(last);
+    out
+}
+
 /// `a + b·id` as written.
 fn linear(a: f64, b: f64, digits: usize) -> String {
     let b_text = num(b.abs(), digits);
@@ -624,24 +655,28 @@ fn rule_set(
 impl Times {
     /// The written times of `slices` from their lines (layout of [`times_of`]).
     fn of(slices: &[Slice], lines: &[(f64, f64)], duration: f64) -> Times {
-        let mut fractions = Vec::new();
+        let mut parts = Vec::new();
         let mut delays = Vec::new();
         let mut k = 0;
         let mut prev = (0.0, 0.0);
         for _ in slices {
             let end = lines[k];
-            fractions.push(linear(
-                (end.0 - prev.0) / duration,
-                (end.1 - prev.1) / duration,
-                9,
-            ));
+            parts.push((end.0 - prev.0) / duration);
+            parts.push((end.1 - prev.1) / duration);
             delays.push(linear(lines[k + 1].0, lines[k + 1].1, TIME_DIGITS));
             prev = end;
             k += 2;
         }
+        let plain: Vec<f64> = parts.chunks(2).map(|p| p[0]).collect();
+        let fractions = if parts.chunks(2).all(|p| num(p[1].abs(), 9) == "0") {
+            tidy(&plain)
+        } else {
+            parts.chunks(2).map(|p| linear(p[0], p[1], 9)).collect()
+        };
         let mut inner = Vec::new();
         for (j, s) in slices.iter().enumerate() {
             let mut fr = Vec::new();
+            let mut fixed = Vec::new();
             let mut de = Vec::new();
             let start = if j == 0 {
                 (0.0, 0.0)
@@ -655,6 +690,7 @@ impl Times {
                 fr.push(if b.abs() < 1e-12 && lines[2 * j].1 == start.1 {
                     // A fixed length: its fraction of the fixed parent.
                     let parent = lines[2 * j].0 - start.0;
+                    fixed.push(a / parent);
                     num(a / parent, 9)
                 } else {
                     format!("({}) / d", linear(a, b, TIME_DIGITS))
@@ -663,6 +699,9 @@ impl Times {
                 prev = end;
                 k += 2;
             }
+            if fixed.len() == fr.len() {
+                fr = tidy(&fixed);
+            }
             inner.push((fr, de));
         }
         Times {
@@ -670,5 +709,36 @@ impl Times {
             delays,
             inner,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::tidy;
+
+    fn sum(t: &[String]) -> f64 {
+        t.iter().map(|x| x.parse::<f64>().unwrap()).sum()
+    }
+
+    #[test]
+    fn fractions_are_written_as_a_person_would_and_still_sum_to_one() {
+        let t = tidy(&[0.24999999, 0.24999999, 0.50000002]);
+        assert_eq!(t, ["0.25", "0.25", "0.5"]);
+        let t = tidy(&[0.1, 0.2, 0.7]);
+        assert_eq!(t, ["0.1", "0.2", "0.7"]);
+        // Thirds cannot be short: what is kept is within 1e-7, and the sum is 1.
+        let t = tidy(&[1.0 / 3.0; 3]);
+        assert!(
+            t.iter()
+                .all(|x| (x.parse::<f64>().unwrap() - 1.0 / 3.0).abs() <= 1e-7)
+        );
+        assert!((sum(&t) - 1.0).abs() <= 1e-9, "{t:?}");
+    }
+
+    #[test]
+    fn a_sliver_is_kept_as_measured_never_rounded_to_zero() {
+        let t = tidy(&[0.49999998, 0.49999998, 0.000000041]);
+        assert!(t.iter().all(|x| x.parse::<f64>().unwrap() > 0.0), "{t:?}");
+        assert!((sum(&t) - 1.0).abs() <= 1e-6, "{t:?}");
     }
 }
