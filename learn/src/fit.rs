@@ -307,7 +307,14 @@ fn fit_with(
         }
         f = b;
     }
-    if !slices.is_empty() && at < clock.duration - 1e-9 {
+    // A change that ends within a microsecond of the end (frame times from a rate such as
+    // 29.97 land a few tens of nanoseconds short) ends at the end, instead of leaving a
+    // sliver of a hold that the grammar would have to write as a fraction of 4e-8.
+    if let Some(last) = slices.last_mut()
+        && clock.duration - at < 1e-6
+    {
+        last.t1 = clock.duration;
+    } else if !slices.is_empty() {
         slices.push(Slice {
             t0: at,
             t1: clock.duration,

@@ -236,3 +236,28 @@ fn learning_its_own_grammar_again_gives_the_same_grammar() {
         again.grammar
     );
 }
+
+/// The fitter cuts time in eighths of a frame: no slice may be shorter (a frame rate such
+/// as 29.97 must not leave slivers of a few nanoseconds at the end), and the fractions are
+/// written short (a quarter is `0.25`). On the Bodymovin file the command line's tests use.
+#[test]
+fn an_after_effects_timeline_is_cut_in_whole_pieces_written_short() {
+    let json = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../cli/tests/data/learn/material_wave_loading.json");
+    let l = learned(&json);
+    assert_eq!(l.report.unexplained().count(), 0, "{}", l.report);
+    let eighth = 1.0 / (8.0 * l.fps);
+    for split in rules(&l)
+        .into_iter()
+        .filter(|r| r.starts_with("timesplit("))
+    {
+        let args = &split["timesplit(".len()..split.find(')').unwrap()];
+        for f in args.split(", ") {
+            let f: f64 = f
+                .parse()
+                .unwrap_or_else(|_| panic!("a plain fraction: {split}"));
+            assert!(f * l.duration >= eighth - 1e-9, "a sliver: {split}");
+            assert!(f.to_string().len() <= 6, "a fraction written long: {split}");
+        }
+    }
+}
