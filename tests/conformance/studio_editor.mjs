@@ -38,10 +38,13 @@ function timelinePixels(name) {
   };
   const near = (a, b) => a.slice(0, 3).every((v, i) => Math.abs(v - b[i]) <= 3);
   const row = [...document.querySelectorAll('#rows .row')].find((x) => x.querySelector('.name').textContent === name);
+  // Three points across each bar, two of which must be its tag's colour: the playhead
+  // (2 px wide, moving while the page plays) can cover one of them, never two.
   const bars = [...row.querySelectorAll('.slice:not(.inv)')].map((el) => {
     const b = el.getBoundingClientRect();
-    const got = at(b.left + b.width / 2, b.top + b.height - 3);
-    return { tag: el.textContent, ok: near(got, rgb(colour(el.textContent))), got: got.slice(0, 3).join(',') };
+    const want = rgb(colour(el.textContent));
+    const got = [0.25, 0.5, 0.75].map((f) => at(b.left + b.width * f, b.top + b.height - 3));
+    return { tag: el.textContent, ok: got.filter((c) => near(c, want)).length >= 2, got: got.map((c) => c.slice(0, 3).join(',')).join(' ') };
   });
   const ruler = document.getElementById('ruler').getBoundingClientRect();
   const x = ruler.left + ruler.width * t / S.duration;
