@@ -178,6 +178,18 @@ fn an_after_effects_file_round_trips() {
     assert_plays_alike("after-effects", &dir);
 }
 
+/// A precomposition clips its content to its rectangle; here the content moves inside it
+/// (the layer stays), so the clip must not move with the learned motion: with it, the
+/// square rolling in from outside was cut away and never showed.
+#[cfg(feature = "players")]
+#[test]
+fn content_moving_inside_a_precomposition_is_not_cut_by_its_clip() {
+    let dir = out_dir("precomposition");
+    std::fs::copy(data("square_wheel.json"), dir.join("orig.json")).unwrap();
+    learn_and_replay(&dir);
+    assert_plays_alike("precomposition", &dir);
+}
+
 /// Runs `gmotion` in `dir` expecting failure; returns its standard error.
 fn fails(dir: &Path, args: &[&str]) -> String {
     let out = Command::new(env!("CARGO_BIN_EXE_gmotion"))

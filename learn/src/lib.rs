@@ -11,6 +11,7 @@
 
 #![forbid(unsafe_code)]
 
+pub mod clip;
 pub mod fit;
 pub mod report;
 pub mod rules;

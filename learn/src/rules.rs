@@ -43,6 +43,7 @@ pub fn still_scene(reference: &Scene, samples: &[UnitSamples], svg: bool) -> Sce
         }
     }
     for (u, s) in samples.iter().enumerate() {
+        crate::clip::drop_canvas_clips(&mut still, u);
         let path = still.shapes[u].node_path.clone();
         let base = fit::base_opacity(s);
         // The opacities above the unit's own node.
