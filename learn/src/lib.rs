@@ -15,6 +15,7 @@ pub mod fit;
 pub mod report;
 pub mod rules;
 pub mod sample;
+pub mod trim;
 
 use std::path::Path;
 
@@ -73,6 +74,8 @@ pub struct Learned {
     pub grammar: String,
     /// The still scene: the art at the reference frame, each unit tagged, no motion.
     pub still: Scene,
+    /// Whether the grammar names the still as SVG (`units groups`), else as Lottie.
+    pub still_svg: bool,
     /// Per unit errors, the rules and what could not be explained.
     pub report: Report,
     /// The animation's length in seconds.
@@ -109,6 +112,31 @@ pub fn learn(
     env: &Env,
     opts: &Options,
 ) -> Result<Learned, LearnError> {
+    learn_still(path, still_name, None, env, opts)
+}
+
+/// Learns the animation at `path` with no still scene named: the grammar's `scene`
+/// directive says `json_name` (a Lottie still), or `svg_name` when the grammar animates
+/// what the Lottie writer cannot layer onto a Lottie still (trim paths); then
+/// [`Learned::still_svg`] is set.
+pub fn learn_default(
+    path: &Path,
+    json_name: &str,
+    svg_name: &str,
+    env: &Env,
+    opts: &Options,
+) -> Result<Learned, LearnError> {
+    learn_still(path, json_name, Some(svg_name), env, opts)
+}
+
+/// [`learn`], with the SVG still's name to take instead when trims are learned.
+fn learn_still(
+    path: &Path,
+    still_name: &str,
+    svg_name: Option<&str>,
+    env: &Env,
+    opts: &Options,
+) -> Result<Learned, LearnError> {
     let name = path.display().to_string();
     if !gmotion_pipeline::scene::is_lottie(path) {
         return Err(LearnError::Input(format!(
@@ -136,7 +164,19 @@ pub fn learn(
             opts.max_units
         )));
     }
-    let samples = sample::sample(src, &imported.scene, opts.max_samples).map_err(|e| match e {
+    // Trimmed strokes are learned from the trims' own values; the motion is sampled on
+    // the document without them, and the still draws the whole strokes.
+    let (trims, untrimmed) = trim::find(src);
+    let mut reference = imported.scene.clone();
+    if let Some(whole) = &untrimmed {
+        reference.root = whole
+            .scene_at(src.frame)
+            .map_err(|e| LearnError::Input(format!("{name}: error: {}", e.message)))?
+            .0
+            .root;
+    }
+    let played = untrimmed.as_ref().unwrap_or(src);
+    let samples = sample::sample(played, &reference, opts.max_samples).map_err(|e| match e {
         LearnError::Input(m) => LearnError::Input(format!("{name}: error: {m}")),
         LearnError::Limit(m) => LearnError::Limit(format!("{name}: error: {m}")),
     })?;
@@ -146,7 +186,8 @@ pub fn learn(
             && s.fill.windows(2).all(|w| w[0] == w[1])
             && s.inner_px <= 1e-9
             && !s.stroke_changes
-    }) {
+    }) && trims.iter().flatten().all(|t| !t.changes())
+    {
         return Err(LearnError::Input(format!(
             "{name}: error: the animation is static: no layer moves, fades, changes colour or changes shape over its {} frames, so there is no motion to learn",
             samples.first().map_or(0, |s| s.motion.len())
@@ -165,13 +206,58 @@ pub fn learn(
         })
         .collect();
     let unmodelled = report::unmodelled(src);
-    let svg = still_name.to_ascii_lowercase().ends_with(".svg");
-    let still = rules::still_scene(&imported.scene, &samples, svg);
-    let (grammar, rules) = rules::write(&still, &samples, &fitted, clock, still_name, svg, opts);
-    let report = Report::new(&still, &fitted, rules, &unmodelled, &samples, opts, clock);
+    // Each changing trim fitted within the tolerance as a fraction of its stroke's length.
+    let lengths: Vec<f64> = reference
+        .shapes
+        .iter()
+        .map(|s| {
+            reference
+                .root
+                .node_at(&s.node_path)
+                .map_or(0.0, |n| trim::stroke_length(n, s.parent_transform))
+        })
+        .collect();
+    let trim_fits: Vec<Option<trim::Fitted>> = trims
+        .iter()
+        .zip(&lengths)
+        .map(|(t, &len)| {
+            let t = t.as_ref().filter(|t| t.problem.is_none() && t.changes())?;
+            trim::fit(t, clock, opts.tolerance / len.max(1e-9))
+        })
+        .collect();
+    // The Lottie writer layers no trim onto a Lottie still: a grammar with trim rules
+    // takes the SVG still when none was named.
+    let (still_name, svg) = match svg_name {
+        Some(n) if trim_fits.iter().flatten().next().is_some() => (n, true),
+        _ => (still_name, still_name.to_ascii_lowercase().ends_with(".svg")),
+    };
+    let still = rules::still_scene(&reference, &samples, svg);
+    let (grammar, rules) = rules::write(
+        &still, &samples, &fitted, &trim_fits, clock, still_name, svg, opts,
+    );
+    let mut report = Report::new(&still, &fitted, rules, &unmodelled, &samples, opts, clock);
+    for (u, t) in trims.iter().enumerate() {
+        let Some(t) = t.as_ref().filter(|t| t.changes()) else {
+            continue;
+        };
+        let why = match (&t.problem, &trim_fits[u]) {
+            (Some(p), _) => Some(p.clone()),
+            (None, None) => Some("its stroke starts trimmed and is not drawn back to the whole stroke by one eased change, which the still (whole strokes) cannot start from".to_string()),
+            (None, Some(_)) if !fitted[u].slices.is_empty() => Some("its trim paths change while it also moves or changes paint, which `learn` does not combine yet".to_string()),
+            (None, Some(f)) => {
+                let px = f.max_off * lengths[u];
+                report.units[u].max_px = report.units[u].max_px.max(px);
+                (px > opts.tolerance).then(|| format!("its trim is off by up to {px:.2} px"))
+            }
+        };
+        if let Some(why) = why {
+            report.explain(u, why);
+        }
+    }
     Ok(Learned {
         grammar,
         still,
+        still_svg: svg,
         report,
         duration: clock.duration,
         fps: clock.fps,

@@ -116,6 +116,16 @@ impl Report {
         }
     }
 
+    /// Marks unit `u` as not explained, for `why` (added to what was found already).
+    pub fn explain(&mut self, u: usize, why: String) {
+        if let Some(r) = self.units.get_mut(u) {
+            r.unexplained = Some(match r.unexplained.take() {
+                Some(w) => format!("{w}; {why}"),
+                None => why,
+            });
+        }
+    }
+
     /// How many rules the grammar has.
     pub fn rule_count(&self) -> usize {
         self.sets.iter().map(|s| s.rules).sum()

@@ -109,7 +109,7 @@ fn recolour(node: &mut Node, rgba: [f32; 4]) {
 }
 
 /// A number as the grammar writes it: at most `digits` decimals, no trailing zeros.
-fn num(x: f64, digits: usize) -> String {
+pub(crate) fn num(x: f64, digits: usize) -> String {
     let s = format!("{x:.digits$}");
     let s = if s.contains('.') {
         s.trim_end_matches('0').trim_end_matches('.').to_string()
@@ -124,7 +124,7 @@ fn num(x: f64, digits: usize) -> String {
 /// 1e-7 of a 10 s animation is a microsecond), the last what the others leave, so that the
 /// sum stays 1 as `timesplit` asks (±1e-6). Frame times divided by a frame rate such as
 /// 29.97 would otherwise be written 0.24999999 for a quarter.
-fn tidy(fractions: &[f64]) -> Vec<String> {
+pub(crate) fn tidy(fractions: &[f64]) -> Vec<String> {
     let shortest = |x: f64, eps: f64| {
         (1..=9)
             .map(|d| num(x, d))
@@ -166,7 +166,7 @@ fn linear(a: f64, b: f64, digits: usize) -> String {
 }
 
 /// An easing as the grammar writes it (`None` for linear, the default).
-fn ease_text(e: &Easing) -> Option<String> {
+pub(crate) fn ease_text(e: &Easing) -> Option<String> {
     if *e == Easing::Linear {
         return None;
     }
@@ -416,11 +416,28 @@ fn share(
     Some(lines)
 }
 
-/// The grammar for the still scene `still` and the fitted units, and its rule sets.
+/// How the still scene names unit `u`, alone. The Lottie writer names a layer after its
+/// tag when that is unique and has no counter, else `tag N` (N = id + 1), which reads back
+/// as the tag with the alias `tag_N`; an SVG still has the group ids of [`svg_id`].
+fn address(still: &Scene, u: usize, svg: bool) -> String {
+    let shape = &still.shapes[u];
+    if alone(still, u) {
+        shape.tag.clone()
+    } else if svg {
+        svg_id(still, u)
+    } else {
+        format!("{}_{}", shape.tag, shape.id + 1)
+    }
+}
+
+/// The grammar for the still scene `still` and the fitted units (their trims, learned
+/// apart, in `trims`), and its rule sets.
+#[allow(clippy::too_many_arguments)]
 pub fn write(
     still: &Scene,
     samples: &[UnitSamples],
     fitted: &[Fitted],
+    trims: &[Option<crate::trim::Fitted>],
     clock: Clock,
     still_name: &str,
     svg: bool,
@@ -470,18 +487,7 @@ pub fn write(
             continue;
         }
         for u in units {
-            let shape = &still.shapes[u];
-            // How the still scene will name it. The Lottie writer names a layer after its
-            // tag when that is unique and has no counter, else `tag N` (N = id + 1), which
-            // reads back as the tag with the alias `tag_N`; an SVG still has the group
-            // ids of [`svg_id`].
-            let address = if alone(still, u) {
-                tag.to_string()
-            } else if svg {
-                svg_id(still, u)
-            } else {
-                format!("{tag}_{}", shape.id + 1)
-            };
+            let address = address(still, u, svg);
             let rules = rule_set(
                 &mut body,
                 &address,
@@ -489,6 +495,21 @@ pub fn write(
                 &SetTimes::Own,
                 clock,
             );
+            sets.push(RuleSet {
+                tags: address,
+                units: vec![u],
+                rules,
+                stagger: None,
+            });
+        }
+    }
+    // A unit drawn on or off by trim paths, and otherwise still, gets its trim rules.
+    for (u, t) in trims.iter().enumerate() {
+        if let Some(t) = t
+            && fitted[u].slices.is_empty()
+        {
+            let address = address(still, u, svg);
+            let rules = crate::trim::write(&mut body, &address, t, clock);
             sets.push(RuleSet {
                 tags: address,
                 units: vec![u],

@@ -261,3 +261,66 @@ fn an_after_effects_timeline_is_cut_in_whole_pieces_written_short() {
         }
     }
 }
+
+/// A 240 px stroked line tagged `l` (no fill: a trim draws strokes only).
+fn line() -> String {
+    r##"<svg xmlns="http://www.w3.org/2000/svg" width="300" height="100" viewBox="0 0 300 100"><path data-tag="l" d="M 30 50 L 270 50" fill="none" stroke="#333" stroke-width="8"/></svg>"##.to_string()
+}
+
+/// The learned grammar's trim rules.
+fn trims(l: &Learned) -> Vec<&str> {
+    rules(l)
+        .into_iter()
+        .filter(|r| r.starts_with("animate(trim,"))
+        .collect()
+}
+
+#[test]
+fn a_trim_drawn_on_from_nothing_comes_back_as_a_draw_on() {
+    let dir = fresh_dir("draw_on");
+    let json = export(
+        &dir,
+        "on",
+        &line(),
+        "duration 2s\nfps 30\n\
+         timesplit(0.5, 0.5) : [all, l] -> [a, rest]\n\
+         animate(trim, local, 0, (0, 0), ease=ease-out) : [a, l] -> [inv_on]\n",
+    );
+    let l = learned(&json);
+    assert_eq!(l.report.unexplained().count(), 0, "{}", l.report);
+    let t = trims(&l);
+    // The stroke starts empty and is drawn on: an inverted change from (0, 0), with the
+    // easing written (played backwards, ease-out draws on as ease-in would forwards).
+    assert_eq!(t.len(), 1, "{}", l.grammar);
+    assert!(t[0].contains("(0, 0)"), "{}", t[0]);
+    assert!(t[0].contains("ease=ease-out"), "{}", t[0]);
+    assert!(t[0].contains("-> [inv_"), "an inverted slice: {}", t[0]);
+}
+
+#[test]
+fn a_trim_drawn_off_comes_back_and_learning_it_again_is_a_fixed_point() {
+    let dir = fresh_dir("draw_off");
+    let json = export(
+        &dir,
+        "off",
+        &line(),
+        "duration 3s\nfps 30\n\
+         timesplit(0.4, 0.6) : [all, l] -> [rest, b]\n\
+         animate(trim, local, 0.3, (1, 1), ease=ease-in) : [b, l] -> [gone]\n",
+    );
+    let first = learned(&json);
+    assert_eq!(first.report.unexplained().count(), 0, "{}", first.report);
+    let t = trims(&first);
+    assert_eq!(t.len(), 1, "{}", first.grammar);
+    assert!(t[0].contains("(1, 1)"), "{}", t[0]);
+    assert!(t[0].contains("ease=ease-in"), "{}", t[0]);
+    let gm = write_learned(&dir, &first);
+    let again = learned(&run_to_lottie(&gm, &dir.join("again.json")));
+    assert_eq!(
+        rules(&again),
+        rules(&first),
+        "{}\n---\n{}",
+        first.grammar,
+        again.grammar
+    );
+}
