@@ -12,8 +12,8 @@
 use std::path::{Path, PathBuf};
 
 use gmotion::canvas::OutputSize;
-use gmotion_learn::{Learned, Options, learn};
-use gmotion_pipeline::{Env, ImportChoices, Overrides, Project, Writer};
+use gmotion_learn::{Learned, Options, learn, learn_default};
+use gmotion_pipeline::{Env, ImportChoices, Imported, Overrides, Project, Writer};
 
 /// A fresh folder for one test's files.
 fn fresh_dir(test: &str) -> PathBuf {
@@ -308,13 +308,31 @@ fn a_trim_drawn_off_comes_back_and_learning_it_again_is_a_fixed_point() {
          timesplit(0.4, 0.6) : [all, l] -> [rest, b]\n\
          animate(trim, local, 0.3, (1, 1), ease=ease-in) : [b, l] -> [gone]\n",
     );
-    let first = learned(&json);
+    // No still named: a grammar with trims names an SVG still, which holds them.
+    let first = learn_default(
+        &json,
+        "still.json",
+        "still.svg",
+        &Env::default(),
+        &Options::default(),
+    )
+    .unwrap();
+    assert!(first.still_svg, "{}", first.grammar);
     assert_eq!(first.report.unexplained().count(), 0, "{}", first.report);
     let t = trims(&first);
     assert_eq!(t.len(), 1, "{}", first.grammar);
     assert!(t[0].contains("(1, 1)"), "{}", t[0]);
     assert!(t[0].contains("ease=ease-in"), "{}", t[0]);
-    let gm = write_learned(&dir, &first);
+    let imported = Imported {
+        scene: first.still.clone(),
+        source: None,
+        package: None,
+    };
+    Writer::new(OutputSize::default(), &Env::default().limits)
+        .write_still(&imported, &dir.join("still.svg"))
+        .expect("the SVG still is written");
+    let gm = dir.join("learned.gm");
+    std::fs::write(&gm, &first.grammar).unwrap();
     let again = learned(&run_to_lottie(&gm, &dir.join("again.json")));
     assert_eq!(
         rules(&again),
