@@ -72,6 +72,12 @@ fn ten_frames(lottie: &serde_json::Value) -> Vec<f64> {
 /// so that a learned grammar doing nothing cannot pass.
 #[cfg(feature = "players")]
 fn assert_plays_alike(case: &str, dir: &Path) {
+    assert_plays_within(case, dir, 0.005);
+}
+
+/// [`assert_plays_alike`] within `bound` (a share of the pixels) at every frame.
+#[cfg(feature = "players")]
+fn assert_plays_within(case: &str, dir: &Path, bound: f64) {
     let orig = std::fs::read_to_string(dir.join("orig.json")).unwrap();
     let back = std::fs::read_to_string(dir.join("back.json")).unwrap();
     let doc: serde_json::Value = serde_json::from_str(&orig).unwrap();
@@ -98,7 +104,7 @@ fn assert_plays_alike(case: &str, dir: &Path) {
         let got = load(&frame_path(&b, Player::Rlottie, f));
         moved |= gmotion_export_raster::compare(&first, &want, 32) > 0.001;
         let off = gmotion_export_raster::compare(&want, &got, 32);
-        if off > 0.005 {
+        if off > bound {
             failures.push(format!("frame {f}: {:.2}% of pixels off", off * 100.0));
         }
     }
@@ -157,6 +163,30 @@ fn a_trimmed_example_round_trips_in_rlottie() {
         "the draw-on is a trim change:\n{grammar}"
     );
     assert_plays_alike("checkmark", &dir);
+}
+
+/// logo_morph: the badge's outline changes while it turns (keyed path data under a
+/// rotating group) and is learned as morphs nested in its motion's slices, within the
+/// tolerance. Its corner dots are one layer of four paths, which a morph to path data
+/// cannot say (one path): they stay reported, and the round trip is held to 1.5 % of the
+/// pixels (8 % before the morphs were learned; the dots are most of what is left).
+#[cfg(feature = "players")]
+#[test]
+fn a_morphing_example_round_trips_in_rlottie() {
+    let dir = out_dir("logo_morph");
+    export_example(&dir, "logo_morph");
+    let report = learn_and_replay(&dir);
+    let badge = report
+        .lines()
+        .find(|l| l.trim_start().starts_with("circle:0"))
+        .unwrap_or_else(|| panic!("the badge's line: {report}"));
+    assert!(!badge.contains("NOT EXPLAINED"), "{report}");
+    let grammar = std::fs::read_to_string(dir.join("learned.gm")).unwrap();
+    assert!(
+        grammar.contains("animate(morph, world,"),
+        "the outline is morphed:\n{grammar}"
+    );
+    assert_plays_within("logo_morph", &dir, 0.015);
 }
 
 #[test]

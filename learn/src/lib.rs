@@ -12,6 +12,7 @@
 #![forbid(unsafe_code)]
 
 pub mod fit;
+pub mod outline;
 pub mod report;
 pub mod rules;
 pub mod sample;
@@ -117,7 +118,7 @@ pub fn learn(
 
 /// Learns the animation at `path` with no still scene named: the grammar's `scene`
 /// directive says `json_name` (a Lottie still), or `svg_name` when the grammar animates
-/// what the Lottie writer cannot layer onto a Lottie still (trim paths); then
+/// what the Lottie writer cannot layer onto a Lottie still (trim paths, morphs); then
 /// [`Learned::still_svg`] is set.
 pub fn learn_default(
     path: &Path,
@@ -129,7 +130,7 @@ pub fn learn_default(
     learn_still(path, json_name, Some(svg_name), env, opts)
 }
 
-/// [`learn`], with the SVG still's name to take instead when trims are learned.
+/// [`learn`], with the SVG still's name to take instead when trims or morphs are learned.
 fn learn_still(
     path: &Path,
     still_name: &str,
@@ -197,14 +198,39 @@ fn learn_still(
         fps: src.fps(),
         duration: src.duration(),
     };
-    let fitted: Vec<fit::Fitted> = samples
+    let morphing =
+        |s: &sample::UnitSamples| s.outline.as_ref().is_some_and(|o| !o.frames.is_empty());
+    let mut fitted: Vec<fit::Fitted> = samples
         .par_iter()
         .map(|s| {
+            if morphing(s) {
+                return fit::fit_with(s, clock, opts.tolerance, opts.opacity_tolerance, false);
+            }
             let mut f = fit::fit(s, clock, opts.tolerance, opts.opacity_tolerance);
             fit::twins(s, clock, opts.tolerance, &mut f);
             f
         })
         .collect();
+    // Outlines that change: morphs nested in the slices' leaves; what is left of the change
+    // inside the unit is then the morphs' error.
+    let morphs: Vec<Option<outline::Fitted>> = samples
+        .par_iter()
+        .zip(&fitted)
+        .map(|(s, f)| {
+            let o = s.outline.as_ref().filter(|_| morphing(s))?;
+            outline::fit(o, &outline::leaves(&f.slices, clock), clock, opts.tolerance)
+        })
+        .collect();
+    let mut samples = samples;
+    for (u, m) in morphs.iter().enumerate() {
+        if let Some(m) = m {
+            samples[u].inner_px = m.max_px;
+            let pts = fit::points_of(&samples[u]);
+            let (px, op) = fit::errors(&samples[u], &pts, clock, &fitted[u].slices);
+            fitted[u].max_px = px;
+            fitted[u].max_opacity = op;
+        }
+    }
     let unmodelled = report::unmodelled(src);
     // Each changing trim fitted within the tolerance as a fraction of its stroke's length.
     let lengths: Vec<f64> = reference
@@ -225,15 +251,30 @@ fn learn_still(
             trim::fit(t, clock, opts.tolerance / len.max(1e-9))
         })
         .collect();
-    // The Lottie writer layers no trim onto a Lottie still: a grammar with trim rules
-    // takes the SVG still when none was named.
+    // The Lottie writer layers no trim and no morph onto a Lottie still: a grammar with
+    // either takes the SVG still when none was named.
+    let needs_svg =
+        trim_fits.iter().flatten().next().is_some() || morphs.iter().flatten().next().is_some();
     let (still_name, svg) = match svg_name {
-        Some(n) if trim_fits.iter().flatten().next().is_some() => (n, true),
-        _ => (still_name, still_name.to_ascii_lowercase().ends_with(".svg")),
+        Some(n) if needs_svg => (n, true),
+        _ => (
+            still_name,
+            still_name.to_ascii_lowercase().ends_with(".svg"),
+        ),
     };
-    let still = rules::still_scene(&reference, &samples, svg);
+    let mut still = rules::still_scene(&reference, &samples, svg);
+    // A morphing unit's still draws its frame-0 outline, where its morphs start.
+    for (u, m) in morphs.iter().enumerate() {
+        let first = samples[u].outline.as_ref().and_then(|o| o.frames.first());
+        if let (Some(_), Some(first)) = (m, first) {
+            let path = still.shapes[u].node_path.clone();
+            if let Some(node) = still.root.node_at_mut(&path) {
+                outline::set_path(node, first);
+            }
+        }
+    }
     let (grammar, rules) = rules::write(
-        &still, &samples, &fitted, &trim_fits, clock, still_name, svg, opts,
+        &still, &samples, &fitted, &trim_fits, &morphs, clock, still_name, svg, opts,
     );
     let mut report = Report::new(&still, &fitted, rules, &unmodelled, &samples, opts, clock);
     for (u, t) in trims.iter().enumerate() {

@@ -438,6 +438,7 @@ pub fn write(
     samples: &[UnitSamples],
     fitted: &[Fitted],
     trims: &[Option<crate::trim::Fitted>],
+    morphs: &[Option<crate::outline::Fitted>],
     clock: Clock,
     still_name: &str,
     svg: bool,
@@ -459,6 +460,7 @@ pub fn write(
         // A shared set must cover every shape of the tag (the rules take them all).
         if units.len() > 1
             && units.len() == count(tag)
+            && units.iter().all(|&u| morphs[u].is_none())
             && let Some(lines) = share(&units, &ids, samples, fitted, clock, opts)
         {
             let texts: Vec<String> = lines
@@ -477,6 +479,7 @@ pub fn write(
                 &fitted[units[0]].slices,
                 &SetTimes::Shared(&lines),
                 clock,
+                None,
             );
             sets.push(RuleSet {
                 tags: tag.to_string(),
@@ -494,6 +497,7 @@ pub fn write(
                 &fitted[u].slices,
                 &SetTimes::Own,
                 clock,
+                morphs[u].as_ref(),
             );
             sets.push(RuleSet {
                 tags: address,
@@ -510,6 +514,26 @@ pub fn write(
         {
             let address = address(still, u, svg);
             let rules = crate::trim::write(&mut body, &address, t, clock);
+            sets.push(RuleSet {
+                tags: address,
+                units: vec![u],
+                rules,
+                stagger: None,
+            });
+        }
+    }
+    // A unit whose outline changes, and otherwise still, gets its morph rules.
+    for (u, m) in morphs.iter().enumerate() {
+        if let Some(m) = m
+            && fitted[u].slices.is_empty()
+            && trims[u].is_none()
+        {
+            let address = address(still, u, svg);
+            let mut rules = 0;
+            for (i, pieces) in m.leaves.iter().enumerate() {
+                rules += crate::outline::write(&mut body, "all", &address, i, pieces);
+            }
+            body.push('\n');
             sets.push(RuleSet {
                 tags: address,
                 units: vec![u],
@@ -558,6 +582,7 @@ fn rule_set(
     slices: &[Slice],
     times: &SetTimes,
     clock: Clock,
+    morph: Option<&crate::outline::Fitted>,
 ) -> usize {
     let duration = clock.duration;
     let lines: Vec<(f64, f64)> = match times {
@@ -614,10 +639,13 @@ fn rule_set(
             rules += 1;
         }
     }
+    // The name each leaf of the slices ends with (see `outline::leaves`), for the morphs.
+    let mut leaves: Vec<Vec<String>> = current.iter().map(|c| vec![c.clone()]).collect();
     for (k, s) in slices.iter().enumerate() {
         if s.inner.is_empty() {
             continue;
         }
+        leaves[k].clear();
         let (fractions, delays) = &layout.inner[k];
         let one = s.inner.len() == 1;
         if !one {
@@ -664,9 +692,22 @@ fn rule_set(
                         num(g * 255.0, 2),
                         num(b * 255.0, 2)
                     );
+                    slice = format!("f{k}_{l}");
                     rules += 1;
                 }
+                leaves[k].push(slice);
+            } else {
+                leaves[k].push(if one {
+                    current[k].clone()
+                } else {
+                    format!("p{k}_{l}")
+                });
             }
+        }
+    }
+    if let Some(m) = morph {
+        for (i, (name, pieces)) in leaves.iter().flatten().zip(&m.leaves).enumerate() {
+            rules += crate::outline::write(out, name, tag, i, pieces);
         }
     }
     out.push('\n');

@@ -3,7 +3,7 @@
 
 use gmotion::scene::{Node, Paint, Scene};
 use gmotion_pipeline::LottieSource;
-use kurbo::{Affine, PathEl, Point};
+use kurbo::{Affine, BezPath, PathEl, Point};
 use rayon::prelude::*;
 
 use crate::LearnError;
@@ -34,7 +34,26 @@ pub struct UnitSamples {
     /// Whether all its solid fills have one colour at the reference frame (a fill change
     /// of the grammar tints them all to one colour).
     pub one_fill: bool,
+    /// For a unit drawn by one path whose outline changes (a morph, keyed path data): its
+    /// path at the reference frame placed on the canvas (`world`), and its outline at every
+    /// frame in the path's own coordinates (empty while it has not changed, and for every
+    /// other unit). Its motion is then the path's own world transform, so that the motion
+    /// and the outline together carry the drawing exactly.
+    pub outline: Option<Outline>,
 }
+
+/// A one-path unit's outline over the frames ([`UnitSamples::outline`]).
+#[derive(Clone, Debug)]
+pub struct Outline {
+    /// The path's world transform at the reference frame: where a target outline is drawn.
+    pub world: Affine,
+    /// The path at every frame, in its own coordinates; empty when it never changes.
+    pub frames: Vec<BezPath>,
+}
+
+/// The most outline points kept over all units and frames (16 bytes each): past it, later
+/// units' changing outlines are not recorded (and stay reported as changing inside).
+const MAX_OUTLINE_POINTS: usize = 8_000_000;
 
 /// Every unit sampled at every frame of `src`.
 pub fn sample(
@@ -66,8 +85,16 @@ pub fn sample(
             inner_px: 0.0,
             centroid: s.centroid,
             one_fill: fill_colours(reference, u) <= 1,
+            outline: one_path(reference, u).map(|(world, _)| Outline {
+                world,
+                frames: Vec::new(),
+            }),
         })
         .collect();
+    let ref_paths: Vec<Option<BezPath>> = (0..units)
+        .map(|u| one_path(reference, u).map(|(_, p)| p))
+        .collect();
+    let mut outline_points = 0usize;
     // Frames are drawn in parallel, a few at a time (a frame of every unit is small; all
     // frames of a large file at once would not be).
     let chunk = rayon::current_num_threads().max(1) * 2;
@@ -97,6 +124,25 @@ pub fn sample(
                     (Some(a), Some(b)) => a.iter().zip(&b).any(|(x, y)| (x - y).abs() > 1e-4),
                     (a, b) => a.is_some() != b.is_some(),
                 };
+                if let (Some(o), Some(reference)) = (s.outline.as_mut(), &ref_paths[u]) {
+                    match smp.outline {
+                        Some(now) if !same_structure(&now, reference) => s.outline = None,
+                        Some(now) if !o.frames.is_empty() => o.frames.push(now),
+                        Some(now) if now != *reference => {
+                            let size = now.elements().len() * 3 * frames;
+                            if outline_points + size <= MAX_OUTLINE_POINTS {
+                                outline_points += size;
+                                o.frames = vec![reference.clone(); s.motion.len()];
+                                o.frames.push(now);
+                            } else {
+                                s.outline = None;
+                            }
+                        }
+                        Some(_) => {}
+                        // Its structure changed: no outline can be said.
+                        None => s.outline = None,
+                    }
+                }
                 s.motion.push(smp.motion);
                 s.opacity.push(smp.opacity);
                 s.fill.push(smp.fill);
@@ -114,6 +160,9 @@ struct Sample {
     opacity: f64,
     fill: Option<[f32; 4]>,
     stroke: Option<[f32; 5]>,
+    /// A one-path unit's path in its own coordinates, when it has the reference's
+    /// structure.
+    outline: Option<BezPath>,
 }
 
 /// Unit `u` of `scene` (one frame) against its reference-frame world transform `r` and
@@ -126,6 +175,13 @@ fn sample_unit(scene: &Scene, u: usize, r: Affine, s: &UnitSamples) -> Sample {
         w * r.inverse()
     };
     let now = points(scene, u);
+    // A one-path unit moves with its path's own world transform (an exporter may turn a
+    // group inside the layer), whatever its outline does.
+    let path = s.outline.as_ref().and_then(|o| {
+        let (world, path) = one_path(scene, u)?;
+        (o.world.determinant().abs() >= 1e-12).then(|| (world * o.world.inverse(), path))
+    });
+    let m = path.as_ref().map_or(m, |(m, _)| *m);
     let (m, inner_px) = if now.len() == s.points.len() {
         // The motion may live inside the layer (a group's transform): when the layer's
         // own does not carry the drawing, the affine that best does.
@@ -137,7 +193,7 @@ fn sample_unit(scene: &Scene, u: usize, r: Affine, s: &UnitSamples) -> Sample {
                 .fold(0.0, f64::max)
         };
         let m = match best_affine(&s.points, &now) {
-            Some(fit) if off(m) > 1e-3 && off(fit) < off(m) => fit,
+            Some(fit) if path.is_none() && off(m) > 1e-3 && off(fit) < off(m) => fit,
             _ => m,
         };
         (m, off(m))
@@ -157,7 +213,78 @@ fn sample_unit(scene: &Scene, u: usize, r: Affine, s: &UnitSamples) -> Sample {
         opacity: opacity(scene, u) * fill_opacity,
         fill,
         stroke: stroke(scene, u),
+        outline: path.map(|(_, p)| p),
     }
+}
+
+/// Whether two paths have the same elements, one for one (a morph between them moves
+/// each point straight to its partner, as path keyframes interpolate).
+fn same_structure(a: &BezPath, b: &BezPath) -> bool {
+    a.elements().len() == b.elements().len()
+        && a.elements()
+            .iter()
+            .zip(b.elements())
+            .all(|(x, y)| std::mem::discriminant(x) == std::mem::discriminant(y))
+}
+
+/// When unit `u` draws one path (and no image): that path's world transform and its
+/// outline in its own coordinates.
+fn one_path(scene: &Scene, u: usize) -> Option<(Affine, BezPath)> {
+    fn find<'a>(n: &'a Node, m: Affine, out: &mut Vec<(Affine, &'a BezPath)>) -> bool {
+        match n {
+            Node::Path(p) => {
+                out.push((m, &p.path));
+                true
+            }
+            Node::Group(g) => g.children.iter().all(|c| find(c, m * g.transform, out)),
+            Node::Image(_) => false,
+        }
+    }
+    let nodes = chain(scene, u);
+    let (last, above) = nodes.split_last()?;
+    let mut m = scene.root.transform;
+    for n in above {
+        if let Node::Group(g) = n {
+            m *= g.transform;
+        }
+    }
+    let mut found = Vec::new();
+    if !find(last, m, &mut found) || found.len() != 1 {
+        return None;
+    }
+    let (world, path) = found[0];
+    Some((world, cubic_form(path)))
+}
+
+/// `path` with every segment a cubic, a line's control points on its ends: a Lottie path
+/// writes a corner as a vertex without tangents, which the player draws as a line, and
+/// interpolates between keys as a cubic whose tangents grow from nothing; so its frames
+/// keep one structure, and a morph between two of them moves the same points.
+fn cubic_form(path: &BezPath) -> BezPath {
+    let mut out = BezPath::new();
+    let mut at = Point::ORIGIN;
+    for el in path.elements() {
+        match *el {
+            PathEl::MoveTo(p) => {
+                out.move_to(p);
+                at = p;
+            }
+            PathEl::LineTo(p) => {
+                out.curve_to(at, p, p);
+                at = p;
+            }
+            PathEl::QuadTo(q, p) => {
+                out.curve_to(at + (q - at) * (2.0 / 3.0), p + (q - p) * (2.0 / 3.0), p);
+                at = p;
+            }
+            PathEl::CurveTo(a, b, p) => {
+                out.curve_to(a, b, p);
+                at = p;
+            }
+            PathEl::ClosePath => out.close_path(),
+        }
+    }
+    out
 }
 
 /// The nodes from the root down to unit `u`'s node, the unit's own last.

@@ -342,3 +342,41 @@ fn a_trim_drawn_off_comes_back_and_learning_it_again_is_a_fixed_point() {
         again.grammar
     );
 }
+
+#[test]
+fn an_outline_that_changes_comes_back_as_a_morph() {
+    let dir = fresh_dir("morph");
+    let json = export(
+        &dir,
+        "morph",
+        &squares(1, false),
+        "duration 2s\nfps 30\n\
+         timesplit(0.25, 0.5, 0.25) : [all, s] -> [rest, a, after]\n\
+         animate(morph, world, 0, \"M 30 10 L 50 30 L 30 50 L 10 30 Z\", ease=ease-in-out) : [a, s] -> [m]\n",
+    );
+    let l = learn_default(
+        &json,
+        "still.json",
+        "still.svg",
+        &Env::default(),
+        &Options::default(),
+    )
+    .unwrap();
+    assert_eq!(l.report.unexplained().count(), 0, "{}", l.report);
+    // A morph is written natively only onto an SVG still.
+    assert!(l.still_svg, "{}", l.grammar);
+    let morphs: Vec<&str> = rules(&l)
+        .into_iter()
+        .filter(|r| r.starts_with("animate(morph,"))
+        .collect();
+    // The engine brings both outlines to one structure by cutting them at the union of
+    // their vertices' fractions of the length, which moves the in-between off the straight
+    // vertex paths the exported keys take: the change may take a few pieces, each within
+    // the tolerance, all inside the slice that morphs.
+    assert!(!morphs.is_empty(), "a morph\n{}", l.grammar);
+    assert!(
+        !rules(&l).iter().any(|r| r.starts_with("animate(affine,")),
+        "nothing moves the square: its outline changes\n{}",
+        l.grammar
+    );
+}
