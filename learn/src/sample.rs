@@ -351,10 +351,32 @@ pub fn clear_route_opacity(node: &mut Node) {
     }
 }
 
-/// Unit `u`'s first solid fill colour.
+/// Whether a path's fill covers anything: a fill on an outline of no area (a line, as
+/// an exporter may keep a stroke's centre line beside its outlined stroke) paints nothing,
+/// so its colour is not the unit's.
+fn fills_area(p: &gmotion::scene::PathNode) -> bool {
+    use kurbo::Shape as _;
+    // Each subpath closed, as a fill closes it.
+    let mut closed = BezPath::new();
+    for el in p.path.elements() {
+        if matches!(el, PathEl::MoveTo(_))
+            && !matches!(closed.elements().last(), None | Some(PathEl::ClosePath))
+        {
+            closed.close_path();
+        }
+        closed.push(*el);
+    }
+    if !matches!(closed.elements().last(), None | Some(PathEl::ClosePath)) {
+        closed.close_path();
+    }
+    p.fill.is_some() && closed.area().abs() > 1e-9
+}
+
+/// Unit `u`'s first solid fill colour (of a path whose fill covers anything).
 fn fill(scene: &Scene, u: usize) -> Option<[f32; 4]> {
     fn first(n: &Node) -> Option<[f32; 4]> {
         match n {
+            Node::Path(p) if !fills_area(p) => None,
             Node::Path(p) => match p.fill.as_ref().map(|f| (&f.paint, f.opacity)) {
                 Some((Paint::Solid(c), o)) => Some([c.r, c.g, c.b, o]),
                 _ => None,
@@ -388,6 +410,7 @@ fn stroke(scene: &Scene, u: usize) -> Option<[f32; 5]> {
 fn fill_colours(scene: &Scene, u: usize) -> usize {
     fn visit(n: &Node, out: &mut Vec<[u32; 3]>) {
         match n {
+            Node::Path(p) if !fills_area(p) => {}
             Node::Path(p) => match p.fill.as_ref().map(|f| &f.paint) {
                 Some(Paint::Solid(c)) => {
                     let key = [c.r.to_bits(), c.g.to_bits(), c.b.to_bits()];

@@ -380,3 +380,26 @@ fn an_outline_that_changes_comes_back_as_a_morph() {
         l.grammar
     );
 }
+
+#[test]
+fn a_fill_on_a_line_paints_nothing_and_does_not_hide_the_unit_s_colour() {
+    // A unit of a filled shape and a filled line (no area: an exporter keeps a stroke's
+    // centre line so beside its outline): one colour is painted, and its change is learned.
+    let dir = fresh_dir("line_fill");
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="200" height="100" viewBox="0 0 200 100"><g data-tag="t"><path d="M 30 20 L 30 60" fill="#000"/><rect x="40" y="20" width="20" height="40" fill="#d33"/></g></svg>"##;
+    let json = export(
+        &dir,
+        "tint",
+        svg,
+        "duration 2s\nfps 30\n\
+         timesplit(0.5, 0.5) : [all, t] -> [a, rest]\n\
+         animate(fill, local, 0, #3366cc) : [a, t] -> [blue]\n",
+    );
+    let l = learned(&json);
+    assert_eq!(l.report.unexplained().count(), 0, "{}", l.report);
+    assert!(
+        rules(&l).iter().any(|r| r.starts_with("animate(fill,")),
+        "{}",
+        l.grammar
+    );
+}
