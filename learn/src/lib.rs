@@ -16,6 +16,7 @@ pub mod outline;
 pub mod report;
 pub mod rules;
 pub mod sample;
+pub mod stroke;
 pub mod trim;
 
 use std::path::Path;
@@ -198,12 +199,15 @@ fn learn_still(
         fps: src.fps(),
         duration: src.duration(),
     };
+    // Morphs and stroke changes are nested in the leaves of a unit's slices, which a twin
+    // would play backwards: such a unit is fitted without twins.
     let morphing =
         |s: &sample::UnitSamples| s.outline.as_ref().is_some_and(|o| !o.frames.is_empty());
+    let stroking = |s: &sample::UnitSamples| stroke::values(&s.stroke).is_some();
     let mut fitted: Vec<fit::Fitted> = samples
         .par_iter()
         .map(|s| {
-            if morphing(s) {
+            if morphing(s) || stroking(s) {
                 return fit::fit_with(s, clock, opts.tolerance, opts.opacity_tolerance, false);
             }
             let mut f = fit::fit(s, clock, opts.tolerance, opts.opacity_tolerance);
@@ -221,7 +225,27 @@ fn learn_still(
             outline::fit(o, &outline::leaves(&f.slices, clock), clock, opts.tolerance)
         })
         .collect();
+    // Strokes that change, nested likewise (a unit with morphs keeps its stroke as drawn).
+    let strokes: Vec<Option<stroke::Fitted>> = samples
+        .par_iter()
+        .zip(&fitted)
+        .zip(&morphs)
+        .map(|((s, f), m)| {
+            let v = stroke::values(&s.stroke).filter(|_| m.is_none())?;
+            let leaves = outline::leaves(&f.slices, clock);
+            stroke::fit(&v, &leaves, clock, opts.opacity_tolerance, opts.tolerance)
+        })
+        .collect();
     let mut samples = samples;
+    // A stroke learned within the tolerances is explained: the report names the others.
+    for (u, st) in strokes.iter().enumerate() {
+        if let Some(st) = st
+            && st.max_colour <= opts.opacity_tolerance
+            && st.max_width <= opts.tolerance
+        {
+            samples[u].stroke_changes = false;
+        }
+    }
     for (u, m) in morphs.iter().enumerate() {
         if let Some(m) = m {
             samples[u].inner_px = m.max_px;
@@ -273,10 +297,25 @@ fn learn_still(
             }
         }
     }
+    // A unit whose stroke changes draws frame 0's stroke in the still.
+    for (u, st) in strokes.iter().enumerate() {
+        if let Some(st) = st {
+            let path = still.shapes[u].node_path.clone();
+            if let Some(node) = still.root.node_at_mut(&path) {
+                stroke::restroke(node, &st.first);
+            }
+        }
+    }
     let (grammar, rules) = rules::write(
-        &still, &samples, &fitted, &trim_fits, &morphs, clock, still_name, svg, opts,
+        &still, &samples, &fitted, &trim_fits, &morphs, &strokes, clock, still_name, svg, opts,
     );
     let mut report = Report::new(&still, &fitted, rules, &unmodelled, &samples, opts, clock);
+    for (u, st) in strokes.iter().enumerate() {
+        if let Some(st) = st {
+            report.units[u].max_opacity = report.units[u].max_opacity.max(st.max_colour);
+            report.units[u].max_px = report.units[u].max_px.max(st.max_width);
+        }
+    }
     for (u, t) in trims.iter().enumerate() {
         let Some(t) = t.as_ref().filter(|t| t.changes()) else {
             continue;

@@ -87,7 +87,7 @@ impl Report {
                     why.push(format!("motion off by up to {:.2} px", f.max_px));
                 }
                 if smp.stroke_changes {
-                    why.push("its stroke's colour, opacity or width changes, which `learn` does not fit yet".to_string());
+                    why.push("its stroke changes in a way `learn` does not fit within the tolerance (its opacity, a stroke appearing or going, or a stroke change beside a morph)".to_string());
                 }
                 let fills = smp.fill.iter().filter_map(|c| *c).collect::<Vec<_>>();
                 if !smp.one_fill

@@ -439,6 +439,7 @@ pub fn write(
     fitted: &[Fitted],
     trims: &[Option<crate::trim::Fitted>],
     morphs: &[Option<crate::outline::Fitted>],
+    strokes: &[Option<crate::stroke::Fitted>],
     clock: Clock,
     still_name: &str,
     svg: bool,
@@ -460,7 +461,9 @@ pub fn write(
         // A shared set must cover every shape of the tag (the rules take them all).
         if units.len() > 1
             && units.len() == count(tag)
-            && units.iter().all(|&u| morphs[u].is_none())
+            && units
+                .iter()
+                .all(|&u| morphs[u].is_none() && strokes[u].is_none())
             && let Some(lines) = share(&units, &ids, samples, fitted, clock, opts)
         {
             let texts: Vec<String> = lines
@@ -480,6 +483,7 @@ pub fn write(
                 &SetTimes::Shared(&lines),
                 clock,
                 None,
+                None,
             );
             sets.push(RuleSet {
                 tags: tag.to_string(),
@@ -498,6 +502,7 @@ pub fn write(
                 &SetTimes::Own,
                 clock,
                 morphs[u].as_ref(),
+                strokes[u].as_ref(),
             );
             sets.push(RuleSet {
                 tags: address,
@@ -532,6 +537,27 @@ pub fn write(
             let mut rules = 0;
             for (i, pieces) in m.leaves.iter().enumerate() {
                 rules += crate::outline::write(&mut body, "all", &address, i, pieces);
+            }
+            body.push('\n');
+            sets.push(RuleSet {
+                tags: address,
+                units: vec![u],
+                rules,
+                stagger: None,
+            });
+        }
+    }
+    // Likewise a still unit whose stroke changes.
+    for (u, st) in strokes.iter().enumerate() {
+        if let Some(st) = st
+            && fitted[u].slices.is_empty()
+            && trims[u].is_none()
+            && morphs[u].is_none()
+        {
+            let address = address(still, u, svg);
+            let mut rules = 0;
+            for (i, pieces) in st.leaves.iter().enumerate() {
+                rules += crate::stroke::write(&mut body, "all", &address, i, pieces);
             }
             body.push('\n');
             sets.push(RuleSet {
@@ -583,6 +609,7 @@ fn rule_set(
     times: &SetTimes,
     clock: Clock,
     morph: Option<&crate::outline::Fitted>,
+    stroke: Option<&crate::stroke::Fitted>,
 ) -> usize {
     let duration = clock.duration;
     let lines: Vec<(f64, f64)> = match times {
@@ -708,6 +735,10 @@ fn rule_set(
     if let Some(m) = morph {
         for (i, (name, pieces)) in leaves.iter().flatten().zip(&m.leaves).enumerate() {
             rules += crate::outline::write(out, name, tag, i, pieces);
+        }
+    } else if let Some(st) = stroke {
+        for (i, (name, pieces)) in leaves.iter().flatten().zip(&st.leaves).enumerate() {
+            rules += crate::stroke::write(out, name, tag, i, pieces);
         }
     }
     out.push('\n');

@@ -21,9 +21,11 @@ pub struct UnitSamples {
     pub opacity: Vec<f64>,
     /// Its representative solid fill colour, if it has one (RGBA, 0 … 1).
     pub fill: Vec<Option<[f32; 4]>>,
-    /// Whether its first solid stroke's colour, opacity or width changes over the frames
-    /// (not learned yet: reported).
+    /// Whether its first solid stroke's colour, opacity or width changes over the frames.
     pub stroke_changes: bool,
+    /// Its first solid stroke at every frame (RGB, opacity, width) while it changes (empty
+    /// when it holds).
+    pub stroke: Vec<Option<[f32; 5]>>,
     /// Points of its drawing at the reference frame, on the canvas.
     pub points: Vec<Point>,
     /// The largest distance, over the frames, between the points as drawn and as the unit's
@@ -81,6 +83,7 @@ pub fn sample(
             opacity: Vec::with_capacity(frames),
             fill: Vec::with_capacity(frames),
             stroke_changes: false,
+            stroke: Vec::new(),
             points: ref_points[u].clone(),
             inner_px: 0.0,
             centroid: s.centroid,
@@ -120,10 +123,18 @@ pub fn sample(
                     first_stroke[u] = smp.stroke;
                 }
                 s.inner_px = s.inner_px.max(smp.inner_px);
-                s.stroke_changes |= match (first_stroke[u], smp.stroke) {
+                let changed = match (first_stroke[u], smp.stroke) {
                     (Some(a), Some(b)) => a.iter().zip(&b).any(|(x, y)| (x - y).abs() > 1e-4),
                     (a, b) => a.is_some() != b.is_some(),
                 };
+                if changed && !s.stroke_changes {
+                    // Kept from the first change on (frames before it held frame 0's).
+                    s.stroke = vec![first_stroke[u]; s.motion.len()];
+                }
+                s.stroke_changes |= changed;
+                if s.stroke_changes {
+                    s.stroke.push(smp.stroke);
+                }
                 if let (Some(o), Some(reference)) = (s.outline.as_mut(), &ref_paths[u]) {
                     match smp.outline {
                         Some(now) if !same_structure(&now, reference) => s.outline = None,

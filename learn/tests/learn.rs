@@ -403,3 +403,26 @@ fn a_fill_on_a_line_paints_nothing_and_does_not_hide_the_unit_s_colour() {
         l.grammar
     );
 }
+
+#[test]
+fn a_stroke_width_and_colour_ramp_comes_back() {
+    let dir = fresh_dir("stroke");
+    let json = export(
+        &dir,
+        "ramp",
+        &line(),
+        "duration 2s\nfps 30\n\
+         timesplit(0.25, 0.75) : [all, l] -> [rest, a]\n\
+         animate(stroke-width, local, 0, 20, ease=ease-in-out) : [a, l] -> [thick]\n\
+         animate(border, local, 0, #3366cc, ease=ease-in-out) : [thick, l] -> [blue]\n",
+    );
+    let l = learned(&json);
+    assert_eq!(l.report.unexplained().count(), 0, "{}", l.report);
+    let has = |start: &str, value: &str| {
+        rules(&l)
+            .iter()
+            .any(|r| r.starts_with(start) && r.contains(value) && r.contains("ease=ease-in-out"))
+    };
+    assert!(has("animate(stroke-width,", ", 20,"), "{}", l.grammar);
+    assert!(has("animate(border,", "rgb(51, 102, 204)"), "{}", l.grammar);
+}
