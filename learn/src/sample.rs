@@ -118,7 +118,24 @@ pub fn sample(
             })
             .collect();
         for frame in drawn {
-            for (u, (s, smp)) in out.iter_mut().zip(frame?).enumerate() {
+            for (u, (s, mut smp)) in out.iter_mut().zip(frame?).enumerate() {
+                // A unit seen at frame 0 that later draws nothing is invisible then: it
+                // keeps where it was, its paint and its outline, at opacity 0 (what the
+                // grammar can say: a fade, not a removal). One absent from frame 0 on
+                // would have the still drawn at opacity 0, which no rule raises: it is
+                // sampled as drawn.
+                if smp.absent && s.opacity.first().is_some_and(|o| *o > 0.0) {
+                    smp.motion = s.motion.last().copied().unwrap_or(Affine::IDENTITY);
+                    smp.inner_px = 0.0;
+                    smp.opacity = 0.0;
+                    smp.fill = s.fill.last().copied().flatten();
+                    smp.stroke = s.stroke.last().copied().flatten().or(first_stroke[u]);
+                    smp.outline = s
+                        .outline
+                        .as_ref()
+                        .and_then(|o| o.frames.last().cloned())
+                        .or_else(|| ref_paths[u].clone());
+                }
                 if f0 == 0 && s.motion.is_empty() {
                     first_stroke[u] = smp.stroke;
                 }
@@ -174,6 +191,8 @@ struct Sample {
     /// A one-path unit's path in its own coordinates, when it has the reference's
     /// structure.
     outline: Option<BezPath>,
+    /// Whether the unit draws nothing at this frame.
+    absent: bool,
 }
 
 /// Unit `u` of `scene` (one frame) against its reference-frame world transform `r` and
@@ -211,6 +230,9 @@ fn sample_unit(scene: &Scene, u: usize, r: Affine, s: &UnitSamples) -> Sample {
     } else {
         (m, f64::INFINITY)
     };
+    // A unit that draws nothing at this frame (its layer out of its time, or faded out)
+    // is as if drawn at opacity 0; the merge keeps the rest of its state.
+    let absent = now.is_empty() && !s.points.is_empty();
     let fill = fill(scene, u);
     // A one-colour unit's fill opacity is part of how opaque it is drawn (an exporter may
     // write an opacity change there rather than on the layer).
@@ -225,6 +247,7 @@ fn sample_unit(scene: &Scene, u: usize, r: Affine, s: &UnitSamples) -> Sample {
         fill,
         stroke: stroke(scene, u),
         outline: path.map(|(_, p)| p),
+        absent,
     }
 }
 

@@ -426,3 +426,28 @@ fn a_stroke_width_and_colour_ramp_comes_back() {
     assert!(has("animate(stroke-width,", ", 20,"), "{}", l.grammar);
     assert!(has("animate(border,", "rgb(51, 102, 204)"), "{}", l.grammar);
 }
+
+#[test]
+fn a_unit_that_fades_out_and_goes_is_learned_as_a_fade() {
+    // Faded to nothing, the square draws nothing (a layer the player leaves out): those
+    // frames are an opacity of 0, not a drawing that changes structure.
+    let dir = fresh_dir("gone");
+    let json = export(
+        &dir,
+        "gone",
+        &squares(1, false),
+        "duration 2s\nfps 30\n\
+         timesplit(0.5, 0.5) : [all, s] -> [a, rest]\n\
+         animate(affine, world, 0, translate(100, 0)) : [a, s] -> [m]\n\
+         animate(opacity, local, 0, 0) : [m, s] -> [gone]\n",
+    );
+    let l = learned(&json);
+    assert_eq!(l.report.unexplained().count(), 0, "{}", l.report);
+    assert!(
+        rules(&l)
+            .iter()
+            .any(|r| r.starts_with("animate(opacity,") && r.contains(", 0)")),
+        "{}",
+        l.grammar
+    );
+}
