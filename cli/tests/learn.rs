@@ -189,6 +189,25 @@ fn a_morphing_example_round_trips_in_rlottie() {
     assert_plays_within("logo_morph", &dir, 0.015);
 }
 
+/// A grammar with trims learned onto a Lottie still named with `--scene` is written, with a
+/// warning that `animate` cannot layer the trims onto it; with no `--scene` the still is
+/// SVG.
+#[test]
+fn trims_onto_a_named_lottie_still_are_warned_of() {
+    let dir = out_dir("checkmark-json");
+    export_example(&dir, "checkmark");
+    let out = Command::new(env!("CARGO_BIN_EXE_gmotion"))
+        .current_dir(&dir)
+        .args(["learn", "orig.json", "-o", "l.gm", "--scene", "l.json"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("name an SVG still"), "{err}");
+    gmotion(&dir, &["learn", "orig.json", "-o", "d.gm"]);
+    assert!(dir.join("d.svg").is_file() && !dir.join("d.json").exists());
+}
+
 #[test]
 fn the_learned_toy_is_as_short_as_the_hand_written_one() {
     let dir = out_dir("toy-short");

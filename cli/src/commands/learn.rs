@@ -112,6 +112,18 @@ impl Learn {
         for w in warnings {
             report::warn(&still, &w);
         }
+        // A Lottie still named with --scene cannot carry trims or morphs: `animate` would
+        // leave them out.
+        if !learned.still_svg
+            && ["animate(trim,", "animate(morph,"]
+                .iter()
+                .any(|r| learned.grammar.contains(r))
+        {
+            report::warn(
+                &still,
+                "the grammar trims or morphs units, which `animate` does not layer onto a Lottie still; name an SVG still (--scene STILL.svg) to keep them",
+            );
+        }
         write_atomic(&self.output, learned.grammar.as_bytes())?;
         let text = learned.report.to_string();
         let to_file = self.report.as_ref().filter(|r| r.as_os_str() != "-");
