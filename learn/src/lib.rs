@@ -7,7 +7,10 @@
 //! change points and fits each piece as one `animate` with an easing of the language;
 //! [`rules`] turns the pieces into rules, shared by the units of one tag whose pieces
 //! agree up to a stagger fitted to `id`, and writes the grammar; [`report`] says how well
-//! each unit is reproduced and what could not be explained.
+//! each unit is reproduced and what could not be explained. What changes besides motion
+//! and fill has a module each: [`trim`] (trim paths, read from the document), [`outline`]
+//! (a one-path unit's outline, as morphs) and [`stroke`] (stroke colour and width), the
+//! last two nested in the leaves of a unit's slices.
 
 #![forbid(unsafe_code)]
 
