@@ -209,8 +209,9 @@ pub fn fit(unit: &UnitSamples, clock: Clock, tol_px: f64, tol_opacity: f64) -> F
     }
 }
 
-/// [`fit`], finding inverted twins or not.
-fn fit_with(
+/// [`fit`], finding inverted twins or not (a unit whose outline changes has none: its
+/// morphs are nested in its slices, which a twin would play backwards).
+pub fn fit_with(
     unit: &UnitSamples,
     clock: Clock,
     tol_px: f64,

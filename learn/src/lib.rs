@@ -7,15 +7,21 @@
 //! change points and fits each piece as one `animate` with an easing of the language;
 //! [`rules`] turns the pieces into rules, shared by the units of one tag whose pieces
 //! agree up to a stagger fitted to `id`, and writes the grammar; [`report`] says how well
-//! each unit is reproduced and what could not be explained.
+//! each unit is reproduced and what could not be explained. What changes besides motion
+//! and fill has a module each: [`trim`] (trim paths, read from the document), [`outline`]
+//! (a one-path unit's outline, as morphs) and [`stroke`] (stroke colour and width), the
+//! last two nested in the leaves of a unit's slices.
 
 #![forbid(unsafe_code)]
 
 pub mod clip;
 pub mod fit;
+pub mod outline;
 pub mod report;
 pub mod rules;
 pub mod sample;
+pub mod stroke;
+pub mod trim;
 
 use std::path::Path;
 
@@ -74,6 +80,8 @@ pub struct Learned {
     pub grammar: String,
     /// The still scene: the art at the reference frame, each unit tagged, no motion.
     pub still: Scene,
+    /// Whether the grammar names the still as SVG (`units groups`), else as Lottie.
+    pub still_svg: bool,
     /// Per unit errors, the rules and what could not be explained.
     pub report: Report,
     /// The animation's length in seconds.
@@ -110,6 +118,31 @@ pub fn learn(
     env: &Env,
     opts: &Options,
 ) -> Result<Learned, LearnError> {
+    learn_still(path, still_name, None, env, opts)
+}
+
+/// Learns the animation at `path` with no still scene named: the grammar's `scene`
+/// directive says `json_name` (a Lottie still), or `svg_name` when the grammar animates
+/// what the Lottie writer cannot layer onto a Lottie still (trim paths, morphs); then
+/// [`Learned::still_svg`] is set.
+pub fn learn_default(
+    path: &Path,
+    json_name: &str,
+    svg_name: &str,
+    env: &Env,
+    opts: &Options,
+) -> Result<Learned, LearnError> {
+    learn_still(path, json_name, Some(svg_name), env, opts)
+}
+
+/// [`learn`], with the SVG still's name to take instead when trims or morphs are learned.
+fn learn_still(
+    path: &Path,
+    still_name: &str,
+    svg_name: Option<&str>,
+    env: &Env,
+    opts: &Options,
+) -> Result<Learned, LearnError> {
     let name = path.display().to_string();
     if !gmotion_pipeline::scene::is_lottie(path) {
         return Err(LearnError::Input(format!(
@@ -137,7 +170,19 @@ pub fn learn(
             opts.max_units
         )));
     }
-    let samples = sample::sample(src, &imported.scene, opts.max_samples).map_err(|e| match e {
+    // Trimmed strokes are learned from the trims' own values; the motion is sampled on
+    // the document without them, and the still draws the whole strokes.
+    let (trims, untrimmed) = trim::find(src);
+    let mut reference = imported.scene.clone();
+    if let Some(whole) = &untrimmed {
+        reference.root = whole
+            .scene_at(src.frame)
+            .map_err(|e| LearnError::Input(format!("{name}: error: {}", e.message)))?
+            .0
+            .root;
+    }
+    let played = untrimmed.as_ref().unwrap_or(src);
+    let samples = sample::sample(played, &reference, opts.max_samples).map_err(|e| match e {
         LearnError::Input(m) => LearnError::Input(format!("{name}: error: {m}")),
         LearnError::Limit(m) => LearnError::Limit(format!("{name}: error: {m}")),
     })?;
@@ -147,7 +192,8 @@ pub fn learn(
             && s.fill.windows(2).all(|w| w[0] == w[1])
             && s.inner_px <= 1e-9
             && !s.stroke_changes
-    }) {
+    }) && trims.iter().flatten().all(|t| !t.changes())
+    {
         return Err(LearnError::Input(format!(
             "{name}: error: the animation is static: no layer moves, fades, changes colour or changes shape over its {} frames, so there is no motion to learn",
             samples.first().map_or(0, |s| s.motion.len())
@@ -157,22 +203,145 @@ pub fn learn(
         fps: src.fps(),
         duration: src.duration(),
     };
-    let fitted: Vec<fit::Fitted> = samples
+    // Morphs and stroke changes are nested in the leaves of a unit's slices, which a twin
+    // would play backwards: such a unit is fitted without twins.
+    let morphing =
+        |s: &sample::UnitSamples| s.outline.as_ref().is_some_and(|o| !o.frames.is_empty());
+    let stroking = |s: &sample::UnitSamples| stroke::values(&s.stroke).is_some();
+    let mut fitted: Vec<fit::Fitted> = samples
         .par_iter()
         .map(|s| {
+            if morphing(s) || stroking(s) {
+                return fit::fit_with(s, clock, opts.tolerance, opts.opacity_tolerance, false);
+            }
             let mut f = fit::fit(s, clock, opts.tolerance, opts.opacity_tolerance);
             fit::twins(s, clock, opts.tolerance, &mut f);
             f
         })
         .collect();
+    // Outlines that change: morphs nested in the slices' leaves; what is left of the change
+    // inside the unit is then the morphs' error.
+    let morphs: Vec<Option<outline::Fitted>> = samples
+        .par_iter()
+        .zip(&fitted)
+        .map(|(s, f)| {
+            let o = s.outline.as_ref().filter(|_| morphing(s))?;
+            outline::fit(o, &outline::leaves(&f.slices, clock), clock, opts.tolerance)
+        })
+        .collect();
+    // Strokes that change, nested likewise (a unit with morphs keeps its stroke as drawn).
+    let strokes: Vec<Option<stroke::Fitted>> = samples
+        .par_iter()
+        .zip(&fitted)
+        .zip(&morphs)
+        .map(|((s, f), m)| {
+            let v = stroke::values(&s.stroke).filter(|_| m.is_none())?;
+            let leaves = outline::leaves(&f.slices, clock);
+            stroke::fit(&v, &leaves, clock, opts.opacity_tolerance, opts.tolerance)
+        })
+        .collect();
+    let mut samples = samples;
+    // A stroke learned within the tolerances is explained: the report names the others.
+    for (u, st) in strokes.iter().enumerate() {
+        if let Some(st) = st
+            && st.max_colour <= opts.opacity_tolerance
+            && st.max_width <= opts.tolerance
+        {
+            samples[u].stroke_changes = false;
+        }
+    }
+    for (u, m) in morphs.iter().enumerate() {
+        if let Some(m) = m {
+            samples[u].inner_px = m.max_px;
+            let pts = fit::points_of(&samples[u]);
+            let (px, op) = fit::errors(&samples[u], &pts, clock, &fitted[u].slices);
+            fitted[u].max_px = px;
+            fitted[u].max_opacity = op;
+        }
+    }
     let unmodelled = report::unmodelled(src);
-    let svg = still_name.to_ascii_lowercase().ends_with(".svg");
-    let still = rules::still_scene(&imported.scene, &samples, svg);
-    let (grammar, rules) = rules::write(&still, &samples, &fitted, clock, still_name, svg, opts);
-    let report = Report::new(&still, &fitted, rules, &unmodelled, &samples, opts, clock);
+    // Each changing trim fitted within the tolerance as a fraction of its stroke's length.
+    let lengths: Vec<f64> = reference
+        .shapes
+        .iter()
+        .map(|s| {
+            reference
+                .root
+                .node_at(&s.node_path)
+                .map_or(0.0, |n| trim::stroke_length(n, s.parent_transform))
+        })
+        .collect();
+    let trim_fits: Vec<Option<trim::Fitted>> = trims
+        .iter()
+        .zip(&lengths)
+        .map(|(t, &len)| {
+            let t = t.as_ref().filter(|t| t.problem.is_none() && t.changes())?;
+            trim::fit(t, clock, opts.tolerance / len.max(1e-9))
+        })
+        .collect();
+    // The Lottie writer layers no trim and no morph onto a Lottie still: a grammar with
+    // either takes the SVG still when none was named.
+    let needs_svg =
+        trim_fits.iter().flatten().next().is_some() || morphs.iter().flatten().next().is_some();
+    let (still_name, svg) = match svg_name {
+        Some(n) if needs_svg => (n, true),
+        _ => (
+            still_name,
+            still_name.to_ascii_lowercase().ends_with(".svg"),
+        ),
+    };
+    let mut still = rules::still_scene(&reference, &samples, svg);
+    // A morphing unit's still draws its frame-0 outline, where its morphs start.
+    for (u, m) in morphs.iter().enumerate() {
+        let first = samples[u].outline.as_ref().and_then(|o| o.frames.first());
+        if let (Some(_), Some(first)) = (m, first) {
+            let path = still.shapes[u].node_path.clone();
+            if let Some(node) = still.root.node_at_mut(&path) {
+                outline::set_path(node, first);
+            }
+        }
+    }
+    // A unit whose stroke changes draws frame 0's stroke in the still.
+    for (u, st) in strokes.iter().enumerate() {
+        if let Some(st) = st {
+            let path = still.shapes[u].node_path.clone();
+            if let Some(node) = still.root.node_at_mut(&path) {
+                stroke::restroke(node, &st.first);
+            }
+        }
+    }
+    let (grammar, rules) = rules::write(
+        &still, &samples, &fitted, &trim_fits, &morphs, &strokes, clock, still_name, svg, opts,
+    );
+    let mut report = Report::new(&still, &fitted, rules, &unmodelled, &samples, opts, clock);
+    for (u, st) in strokes.iter().enumerate() {
+        if let Some(st) = st {
+            report.units[u].max_opacity = report.units[u].max_opacity.max(st.max_colour);
+            report.units[u].max_px = report.units[u].max_px.max(st.max_width);
+        }
+    }
+    for (u, t) in trims.iter().enumerate() {
+        let Some(t) = t.as_ref().filter(|t| t.changes()) else {
+            continue;
+        };
+        let why = match (&t.problem, &trim_fits[u]) {
+            (Some(p), _) => Some(p.clone()),
+            (None, None) => Some("its stroke starts trimmed and is not drawn back to the whole stroke by one eased change, which the still (whole strokes) cannot start from".to_string()),
+            (None, Some(_)) if !fitted[u].slices.is_empty() => Some("its trim paths change while it also moves or changes paint, which `learn` does not combine yet".to_string()),
+            (None, Some(f)) => {
+                let px = f.max_off * lengths[u];
+                report.units[u].max_px = report.units[u].max_px.max(px);
+                (px > opts.tolerance).then(|| format!("its trim is off by up to {px:.2} px"))
+            }
+        };
+        if let Some(why) = why {
+            report.explain(u, why);
+        }
+    }
     Ok(Learned {
         grammar,
         still,
+        still_svg: svg,
         report,
         duration: clock.duration,
         fps: clock.fps,

@@ -87,7 +87,7 @@ impl Report {
                     why.push(format!("motion off by up to {:.2} px", f.max_px));
                 }
                 if smp.stroke_changes {
-                    why.push("its stroke's colour, opacity or width changes, which `learn` does not fit yet".to_string());
+                    why.push("its stroke changes in a way `learn` does not fit within the tolerance (its opacity, a stroke appearing or going, or a stroke change beside a morph)".to_string());
                 }
                 let fills = smp.fill.iter().filter_map(|c| *c).collect::<Vec<_>>();
                 if !smp.one_fill
@@ -113,6 +113,16 @@ impl Report {
             tolerance: opts.tolerance,
             frames: samples.first().map_or(0, |s| s.motion.len()),
             fps: clock.fps,
+        }
+    }
+
+    /// Marks unit `u` as not explained, for `why` (added to what was found already).
+    pub fn explain(&mut self, u: usize, why: String) {
+        if let Some(r) = self.units.get_mut(u) {
+            r.unexplained = Some(match r.unexplained.take() {
+                Some(w) => format!("{w}; {why}"),
+                None => why,
+            });
         }
     }
 

@@ -110,7 +110,7 @@ fn recolour(node: &mut Node, rgba: [f32; 4]) {
 }
 
 /// A number as the grammar writes it: at most `digits` decimals, no trailing zeros.
-fn num(x: f64, digits: usize) -> String {
+pub(crate) fn num(x: f64, digits: usize) -> String {
     let s = format!("{x:.digits$}");
     let s = if s.contains('.') {
         s.trim_end_matches('0').trim_end_matches('.').to_string()
@@ -125,7 +125,7 @@ fn num(x: f64, digits: usize) -> String {
 /// 1e-7 of a 10 s animation is a microsecond), the last what the others leave, so that the
 /// sum stays 1 as `timesplit` asks (±1e-6). Frame times divided by a frame rate such as
 /// 29.97 would otherwise be written 0.24999999 for a quarter.
-fn tidy(fractions: &[f64]) -> Vec<String> {
+pub(crate) fn tidy(fractions: &[f64]) -> Vec<String> {
     let shortest = |x: f64, eps: f64| {
         (1..=9)
             .map(|d| num(x, d))
@@ -167,7 +167,7 @@ fn linear(a: f64, b: f64, digits: usize) -> String {
 }
 
 /// An easing as the grammar writes it (`None` for linear, the default).
-fn ease_text(e: &Easing) -> Option<String> {
+pub(crate) fn ease_text(e: &Easing) -> Option<String> {
     if *e == Easing::Linear {
         return None;
     }
@@ -417,11 +417,30 @@ fn share(
     Some(lines)
 }
 
-/// The grammar for the still scene `still` and the fitted units, and its rule sets.
+/// How the still scene names unit `u`, alone. The Lottie writer names a layer after its
+/// tag when that is unique and has no counter, else `tag N` (N = id + 1), which reads back
+/// as the tag with the alias `tag_N`; an SVG still has the group ids of [`svg_id`].
+fn address(still: &Scene, u: usize, svg: bool) -> String {
+    let shape = &still.shapes[u];
+    if alone(still, u) {
+        shape.tag.clone()
+    } else if svg {
+        svg_id(still, u)
+    } else {
+        format!("{}_{}", shape.tag, shape.id + 1)
+    }
+}
+
+/// The grammar for the still scene `still` and the fitted units (their trims, learned
+/// apart, in `trims`), and its rule sets.
+#[allow(clippy::too_many_arguments)]
 pub fn write(
     still: &Scene,
     samples: &[UnitSamples],
     fitted: &[Fitted],
+    trims: &[Option<crate::trim::Fitted>],
+    morphs: &[Option<crate::outline::Fitted>],
+    strokes: &[Option<crate::stroke::Fitted>],
     clock: Clock,
     still_name: &str,
     svg: bool,
@@ -443,6 +462,9 @@ pub fn write(
         // A shared set must cover every shape of the tag (the rules take them all).
         if units.len() > 1
             && units.len() == count(tag)
+            && units
+                .iter()
+                .all(|&u| morphs[u].is_none() && strokes[u].is_none())
             && let Some(lines) = share(&units, &ids, samples, fitted, clock, opts)
         {
             let texts: Vec<String> = lines
@@ -461,6 +483,8 @@ pub fn write(
                 &fitted[units[0]].slices,
                 &SetTimes::Shared(&lines),
                 clock,
+                None,
+                None,
             );
             sets.push(RuleSet {
                 tags: tag.to_string(),
@@ -471,25 +495,72 @@ pub fn write(
             continue;
         }
         for u in units {
-            let shape = &still.shapes[u];
-            // How the still scene will name it. The Lottie writer names a layer after its
-            // tag when that is unique and has no counter, else `tag N` (N = id + 1), which
-            // reads back as the tag with the alias `tag_N`; an SVG still has the group
-            // ids of [`svg_id`].
-            let address = if alone(still, u) {
-                tag.to_string()
-            } else if svg {
-                svg_id(still, u)
-            } else {
-                format!("{tag}_{}", shape.id + 1)
-            };
+            let address = address(still, u, svg);
             let rules = rule_set(
                 &mut body,
                 &address,
                 &fitted[u].slices,
                 &SetTimes::Own,
                 clock,
+                morphs[u].as_ref(),
+                strokes[u].as_ref(),
             );
+            sets.push(RuleSet {
+                tags: address,
+                units: vec![u],
+                rules,
+                stagger: None,
+            });
+        }
+    }
+    // A unit drawn on or off by trim paths, and otherwise still, gets its trim rules.
+    for (u, t) in trims.iter().enumerate() {
+        if let Some(t) = t
+            && fitted[u].slices.is_empty()
+        {
+            let address = address(still, u, svg);
+            let rules = crate::trim::write(&mut body, &address, t, clock);
+            sets.push(RuleSet {
+                tags: address,
+                units: vec![u],
+                rules,
+                stagger: None,
+            });
+        }
+    }
+    // A unit whose outline changes, and otherwise still, gets its morph rules.
+    for (u, m) in morphs.iter().enumerate() {
+        if let Some(m) = m
+            && fitted[u].slices.is_empty()
+            && trims[u].is_none()
+        {
+            let address = address(still, u, svg);
+            let mut rules = 0;
+            for (i, pieces) in m.leaves.iter().enumerate() {
+                rules += crate::outline::write(&mut body, "all", &address, i, pieces);
+            }
+            body.push('\n');
+            sets.push(RuleSet {
+                tags: address,
+                units: vec![u],
+                rules,
+                stagger: None,
+            });
+        }
+    }
+    // Likewise a still unit whose stroke changes.
+    for (u, st) in strokes.iter().enumerate() {
+        if let Some(st) = st
+            && fitted[u].slices.is_empty()
+            && trims[u].is_none()
+            && morphs[u].is_none()
+        {
+            let address = address(still, u, svg);
+            let mut rules = 0;
+            for (i, pieces) in st.leaves.iter().enumerate() {
+                rules += crate::stroke::write(&mut body, "all", &address, i, pieces);
+            }
+            body.push('\n');
             sets.push(RuleSet {
                 tags: address,
                 units: vec![u],
@@ -538,6 +609,8 @@ fn rule_set(
     slices: &[Slice],
     times: &SetTimes,
     clock: Clock,
+    morph: Option<&crate::outline::Fitted>,
+    stroke: Option<&crate::stroke::Fitted>,
 ) -> usize {
     let duration = clock.duration;
     let lines: Vec<(f64, f64)> = match times {
@@ -594,10 +667,13 @@ fn rule_set(
             rules += 1;
         }
     }
+    // The name each leaf of the slices ends with (see `outline::leaves`), for the morphs.
+    let mut leaves: Vec<Vec<String>> = current.iter().map(|c| vec![c.clone()]).collect();
     for (k, s) in slices.iter().enumerate() {
         if s.inner.is_empty() {
             continue;
         }
+        leaves[k].clear();
         let (fractions, delays) = &layout.inner[k];
         let one = s.inner.len() == 1;
         if !one {
@@ -644,9 +720,26 @@ fn rule_set(
                         num(g * 255.0, 2),
                         num(b * 255.0, 2)
                     );
+                    slice = format!("f{k}_{l}");
                     rules += 1;
                 }
+                leaves[k].push(slice);
+            } else {
+                leaves[k].push(if one {
+                    current[k].clone()
+                } else {
+                    format!("p{k}_{l}")
+                });
             }
+        }
+    }
+    if let Some(m) = morph {
+        for (i, (name, pieces)) in leaves.iter().flatten().zip(&m.leaves).enumerate() {
+            rules += crate::outline::write(out, name, tag, i, pieces);
+        }
+    } else if let Some(st) = stroke {
+        for (i, (name, pieces)) in leaves.iter().flatten().zip(&st.leaves).enumerate() {
+            rules += crate::stroke::write(out, name, tag, i, pieces);
         }
     }
     out.push('\n');

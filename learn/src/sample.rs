@@ -3,7 +3,7 @@
 
 use gmotion::scene::{Node, Paint, Scene};
 use gmotion_pipeline::LottieSource;
-use kurbo::{Affine, PathEl, Point};
+use kurbo::{Affine, BezPath, PathEl, Point};
 use rayon::prelude::*;
 
 use crate::LearnError;
@@ -21,9 +21,11 @@ pub struct UnitSamples {
     pub opacity: Vec<f64>,
     /// Its representative solid fill colour, if it has one (RGBA, 0 … 1).
     pub fill: Vec<Option<[f32; 4]>>,
-    /// Whether its first solid stroke's colour, opacity or width changes over the frames
-    /// (not learned yet: reported).
+    /// Whether its first solid stroke's colour, opacity or width changes over the frames.
     pub stroke_changes: bool,
+    /// Its first solid stroke at every frame (RGB, opacity, width) while it changes (empty
+    /// when it holds).
+    pub stroke: Vec<Option<[f32; 5]>>,
     /// Points of its drawing at the reference frame, on the canvas.
     pub points: Vec<Point>,
     /// The largest distance, over the frames, between the points as drawn and as the unit's
@@ -34,7 +36,26 @@ pub struct UnitSamples {
     /// Whether all its solid fills have one colour at the reference frame (a fill change
     /// of the grammar tints them all to one colour).
     pub one_fill: bool,
+    /// For a unit drawn by one path whose outline changes (a morph, keyed path data): its
+    /// path at the reference frame placed on the canvas (`world`), and its outline at every
+    /// frame in the path's own coordinates (empty while it has not changed, and for every
+    /// other unit). Its motion is then the path's own world transform, so that the motion
+    /// and the outline together carry the drawing exactly.
+    pub outline: Option<Outline>,
 }
+
+/// A one-path unit's outline over the frames ([`UnitSamples::outline`]).
+#[derive(Clone, Debug)]
+pub struct Outline {
+    /// The path's world transform at the reference frame: where a target outline is drawn.
+    pub world: Affine,
+    /// The path at every frame, in its own coordinates; empty when it never changes.
+    pub frames: Vec<BezPath>,
+}
+
+/// The most outline points kept over all units and frames (16 bytes each): past it, later
+/// units' changing outlines are not recorded (and stay reported as changing inside).
+const MAX_OUTLINE_POINTS: usize = 8_000_000;
 
 /// Every unit sampled at every frame of `src`.
 pub fn sample(
@@ -62,12 +83,21 @@ pub fn sample(
             opacity: Vec::with_capacity(frames),
             fill: Vec::with_capacity(frames),
             stroke_changes: false,
+            stroke: Vec::new(),
             points: ref_points[u].clone(),
             inner_px: 0.0,
             centroid: s.centroid,
             one_fill: fill_colours(reference, u) <= 1,
+            outline: one_path(reference, u).map(|(world, _)| Outline {
+                world,
+                frames: Vec::new(),
+            }),
         })
         .collect();
+    let ref_paths: Vec<Option<BezPath>> = (0..units)
+        .map(|u| one_path(reference, u).map(|(_, p)| p))
+        .collect();
+    let mut outline_points = 0usize;
     // Frames are drawn in parallel, a few at a time (a frame of every unit is small; all
     // frames of a large file at once would not be).
     let chunk = rayon::current_num_threads().max(1) * 2;
@@ -88,15 +118,59 @@ pub fn sample(
             })
             .collect();
         for frame in drawn {
-            for (u, (s, smp)) in out.iter_mut().zip(frame?).enumerate() {
+            for (u, (s, mut smp)) in out.iter_mut().zip(frame?).enumerate() {
+                // A unit seen at frame 0 that later draws nothing is invisible then: it
+                // keeps where it was, its paint and its outline, at opacity 0 (what the
+                // grammar can say: a fade, not a removal). One absent from frame 0 on
+                // would have the still drawn at opacity 0, which no rule raises: it is
+                // sampled as drawn.
+                if smp.absent && s.opacity.first().is_some_and(|o| *o > 0.0) {
+                    smp.motion = s.motion.last().copied().unwrap_or(Affine::IDENTITY);
+                    smp.inner_px = 0.0;
+                    smp.opacity = 0.0;
+                    smp.fill = s.fill.last().copied().flatten();
+                    smp.stroke = s.stroke.last().copied().flatten().or(first_stroke[u]);
+                    smp.outline = s
+                        .outline
+                        .as_ref()
+                        .and_then(|o| o.frames.last().cloned())
+                        .or_else(|| ref_paths[u].clone());
+                }
                 if f0 == 0 && s.motion.is_empty() {
                     first_stroke[u] = smp.stroke;
                 }
                 s.inner_px = s.inner_px.max(smp.inner_px);
-                s.stroke_changes |= match (first_stroke[u], smp.stroke) {
+                let changed = match (first_stroke[u], smp.stroke) {
                     (Some(a), Some(b)) => a.iter().zip(&b).any(|(x, y)| (x - y).abs() > 1e-4),
                     (a, b) => a.is_some() != b.is_some(),
                 };
+                if changed && !s.stroke_changes {
+                    // Kept from the first change on (frames before it held frame 0's).
+                    s.stroke = vec![first_stroke[u]; s.motion.len()];
+                }
+                s.stroke_changes |= changed;
+                if s.stroke_changes {
+                    s.stroke.push(smp.stroke);
+                }
+                if let (Some(o), Some(reference)) = (s.outline.as_mut(), &ref_paths[u]) {
+                    match smp.outline {
+                        Some(now) if !same_structure(&now, reference) => s.outline = None,
+                        Some(now) if !o.frames.is_empty() => o.frames.push(now),
+                        Some(now) if now != *reference => {
+                            let size = now.elements().len() * 3 * frames;
+                            if outline_points + size <= MAX_OUTLINE_POINTS {
+                                outline_points += size;
+                                o.frames = vec![reference.clone(); s.motion.len()];
+                                o.frames.push(now);
+                            } else {
+                                s.outline = None;
+                            }
+                        }
+                        Some(_) => {}
+                        // Its structure changed: no outline can be said.
+                        None => s.outline = None,
+                    }
+                }
                 s.motion.push(smp.motion);
                 s.opacity.push(smp.opacity);
                 s.fill.push(smp.fill);
@@ -114,6 +188,11 @@ struct Sample {
     opacity: f64,
     fill: Option<[f32; 4]>,
     stroke: Option<[f32; 5]>,
+    /// A one-path unit's path in its own coordinates, when it has the reference's
+    /// structure.
+    outline: Option<BezPath>,
+    /// Whether the unit draws nothing at this frame.
+    absent: bool,
 }
 
 /// Unit `u` of `scene` (one frame) against its reference-frame world transform `r` and
@@ -126,6 +205,13 @@ fn sample_unit(scene: &Scene, u: usize, r: Affine, s: &UnitSamples) -> Sample {
         w * r.inverse()
     };
     let now = points(scene, u);
+    // A one-path unit moves with its path's own world transform (an exporter may turn a
+    // group inside the layer), whatever its outline does.
+    let path = s.outline.as_ref().and_then(|o| {
+        let (world, path) = one_path(scene, u)?;
+        (o.world.determinant().abs() >= 1e-12).then(|| (world * o.world.inverse(), path))
+    });
+    let m = path.as_ref().map_or(m, |(m, _)| *m);
     let (m, inner_px) = if now.len() == s.points.len() {
         // The motion may live inside the layer (a group's transform): when the layer's
         // own does not carry the drawing, the affine that best does.
@@ -137,13 +223,16 @@ fn sample_unit(scene: &Scene, u: usize, r: Affine, s: &UnitSamples) -> Sample {
                 .fold(0.0, f64::max)
         };
         let m = match best_affine(&s.points, &now) {
-            Some(fit) if off(m) > 1e-3 && off(fit) < off(m) => fit,
+            Some(fit) if path.is_none() && off(m) > 1e-3 && off(fit) < off(m) => fit,
             _ => m,
         };
         (m, off(m))
     } else {
         (m, f64::INFINITY)
     };
+    // A unit that draws nothing at this frame (its layer out of its time, or faded out)
+    // is as if drawn at opacity 0; the merge keeps the rest of its state.
+    let absent = now.is_empty() && !s.points.is_empty();
     let fill = fill(scene, u);
     // A one-colour unit's fill opacity is part of how opaque it is drawn (an exporter may
     // write an opacity change there rather than on the layer).
@@ -157,7 +246,79 @@ fn sample_unit(scene: &Scene, u: usize, r: Affine, s: &UnitSamples) -> Sample {
         opacity: opacity(scene, u) * fill_opacity,
         fill,
         stroke: stroke(scene, u),
+        outline: path.map(|(_, p)| p),
+        absent,
     }
+}
+
+/// Whether two paths have the same elements, one for one (a morph between them moves
+/// each point straight to its partner, as path keyframes interpolate).
+fn same_structure(a: &BezPath, b: &BezPath) -> bool {
+    a.elements().len() == b.elements().len()
+        && a.elements()
+            .iter()
+            .zip(b.elements())
+            .all(|(x, y)| std::mem::discriminant(x) == std::mem::discriminant(y))
+}
+
+/// When unit `u` draws one path (and no image): that path's world transform and its
+/// outline in its own coordinates.
+fn one_path(scene: &Scene, u: usize) -> Option<(Affine, BezPath)> {
+    fn find<'a>(n: &'a Node, m: Affine, out: &mut Vec<(Affine, &'a BezPath)>) -> bool {
+        match n {
+            Node::Path(p) => {
+                out.push((m, &p.path));
+                true
+            }
+            Node::Group(g) => g.children.iter().all(|c| find(c, m * g.transform, out)),
+            Node::Image(_) => false,
+        }
+    }
+    let nodes = chain(scene, u);
+    let (last, above) = nodes.split_last()?;
+    let mut m = scene.root.transform;
+    for n in above {
+        if let Node::Group(g) = n {
+            m *= g.transform;
+        }
+    }
+    let mut found = Vec::new();
+    if !find(last, m, &mut found) || found.len() != 1 {
+        return None;
+    }
+    let (world, path) = found[0];
+    Some((world, cubic_form(path)))
+}
+
+/// `path` with every segment a cubic, a line's control points on its ends: a Lottie path
+/// writes a corner as a vertex without tangents, which the player draws as a line, and
+/// interpolates between keys as a cubic whose tangents grow from nothing; so its frames
+/// keep one structure, and a morph between two of them moves the same points.
+fn cubic_form(path: &BezPath) -> BezPath {
+    let mut out = BezPath::new();
+    let mut at = Point::ORIGIN;
+    for el in path.elements() {
+        match *el {
+            PathEl::MoveTo(p) => {
+                out.move_to(p);
+                at = p;
+            }
+            PathEl::LineTo(p) => {
+                out.curve_to(at, p, p);
+                at = p;
+            }
+            PathEl::QuadTo(q, p) => {
+                out.curve_to(at + (q - at) * (2.0 / 3.0), p + (q - p) * (2.0 / 3.0), p);
+                at = p;
+            }
+            PathEl::CurveTo(a, b, p) => {
+                out.curve_to(a, b, p);
+                at = p;
+            }
+            PathEl::ClosePath => out.close_path(),
+        }
+    }
+    out
 }
 
 /// The nodes from the root down to unit `u`'s node, the unit's own last.
@@ -224,10 +385,32 @@ pub fn clear_route_opacity(node: &mut Node) {
     }
 }
 
-/// Unit `u`'s first solid fill colour.
+/// Whether a path's fill covers anything: a fill on an outline of no area (a line, as
+/// an exporter may keep a stroke's centre line beside its outlined stroke) paints nothing,
+/// so its colour is not the unit's.
+fn fills_area(p: &gmotion::scene::PathNode) -> bool {
+    use kurbo::Shape as _;
+    // Each subpath closed, as a fill closes it.
+    let mut closed = BezPath::new();
+    for el in p.path.elements() {
+        if matches!(el, PathEl::MoveTo(_))
+            && !matches!(closed.elements().last(), None | Some(PathEl::ClosePath))
+        {
+            closed.close_path();
+        }
+        closed.push(*el);
+    }
+    if !matches!(closed.elements().last(), None | Some(PathEl::ClosePath)) {
+        closed.close_path();
+    }
+    p.fill.is_some() && closed.area().abs() > 1e-9
+}
+
+/// Unit `u`'s first solid fill colour (of a path whose fill covers anything).
 fn fill(scene: &Scene, u: usize) -> Option<[f32; 4]> {
     fn first(n: &Node) -> Option<[f32; 4]> {
         match n {
+            Node::Path(p) if !fills_area(p) => None,
             Node::Path(p) => match p.fill.as_ref().map(|f| (&f.paint, f.opacity)) {
                 Some((Paint::Solid(c), o)) => Some([c.r, c.g, c.b, o]),
                 _ => None,
@@ -261,6 +444,7 @@ fn stroke(scene: &Scene, u: usize) -> Option<[f32; 5]> {
 fn fill_colours(scene: &Scene, u: usize) -> usize {
     fn visit(n: &Node, out: &mut Vec<[u32; 3]>) {
         match n {
+            Node::Path(p) if !fills_area(p) => {}
             Node::Path(p) => match p.fill.as_ref().map(|f| &f.paint) {
                 Some(Paint::Solid(c)) => {
                     let key = [c.r.to_bits(), c.g.to_bits(), c.b.to_bits()];

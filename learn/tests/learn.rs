@@ -12,8 +12,8 @@
 use std::path::{Path, PathBuf};
 
 use gmotion::canvas::OutputSize;
-use gmotion_learn::{Learned, Options, learn};
-use gmotion_pipeline::{Env, ImportChoices, Overrides, Project, Writer};
+use gmotion_learn::{Learned, Options, learn, learn_default};
+use gmotion_pipeline::{Env, ImportChoices, Imported, Overrides, Project, Writer};
 
 /// A fresh folder for one test's files.
 fn fresh_dir(test: &str) -> PathBuf {
@@ -260,4 +260,194 @@ fn an_after_effects_timeline_is_cut_in_whole_pieces_written_short() {
             assert!(f.to_string().len() <= 6, "a fraction written long: {split}");
         }
     }
+}
+
+/// A 240 px stroked line tagged `l` (no fill: a trim draws strokes only).
+fn line() -> String {
+    r##"<svg xmlns="http://www.w3.org/2000/svg" width="300" height="100" viewBox="0 0 300 100"><path data-tag="l" d="M 30 50 L 270 50" fill="none" stroke="#333" stroke-width="8"/></svg>"##.to_string()
+}
+
+/// The learned grammar's trim rules.
+fn trims(l: &Learned) -> Vec<&str> {
+    rules(l)
+        .into_iter()
+        .filter(|r| r.starts_with("animate(trim,"))
+        .collect()
+}
+
+#[test]
+fn a_trim_drawn_on_from_nothing_comes_back_as_a_draw_on() {
+    let dir = fresh_dir("draw_on");
+    let json = export(
+        &dir,
+        "on",
+        &line(),
+        "duration 2s\nfps 30\n\
+         timesplit(0.5, 0.5) : [all, l] -> [a, rest]\n\
+         animate(trim, local, 0, (0, 0), ease=ease-out) : [a, l] -> [inv_on]\n",
+    );
+    let l = learned(&json);
+    assert_eq!(l.report.unexplained().count(), 0, "{}", l.report);
+    let t = trims(&l);
+    // The stroke starts empty and is drawn on: an inverted change from (0, 0), with the
+    // easing written (played backwards, ease-out draws on as ease-in would forwards).
+    assert_eq!(t.len(), 1, "{}", l.grammar);
+    assert!(t[0].contains("(0, 0)"), "{}", t[0]);
+    assert!(t[0].contains("ease=ease-out"), "{}", t[0]);
+    assert!(t[0].contains("-> [inv_"), "an inverted slice: {}", t[0]);
+}
+
+#[test]
+fn a_trim_drawn_off_comes_back_and_learning_it_again_is_a_fixed_point() {
+    let dir = fresh_dir("draw_off");
+    let json = export(
+        &dir,
+        "off",
+        &line(),
+        "duration 3s\nfps 30\n\
+         timesplit(0.4, 0.6) : [all, l] -> [rest, b]\n\
+         animate(trim, local, 0.3, (1, 1), ease=ease-in) : [b, l] -> [gone]\n",
+    );
+    // No still named: a grammar with trims names an SVG still, which holds them.
+    let first = learn_default(
+        &json,
+        "still.json",
+        "still.svg",
+        &Env::default(),
+        &Options::default(),
+    )
+    .unwrap();
+    assert!(first.still_svg, "{}", first.grammar);
+    assert_eq!(first.report.unexplained().count(), 0, "{}", first.report);
+    let t = trims(&first);
+    assert_eq!(t.len(), 1, "{}", first.grammar);
+    assert!(t[0].contains("(1, 1)"), "{}", t[0]);
+    assert!(t[0].contains("ease=ease-in"), "{}", t[0]);
+    let imported = Imported {
+        scene: first.still.clone(),
+        source: None,
+        package: None,
+    };
+    Writer::new(OutputSize::default(), &Env::default().limits)
+        .write_still(&imported, &dir.join("still.svg"))
+        .expect("the SVG still is written");
+    let gm = dir.join("learned.gm");
+    std::fs::write(&gm, &first.grammar).unwrap();
+    let again = learned(&run_to_lottie(&gm, &dir.join("again.json")));
+    assert_eq!(
+        rules(&again),
+        rules(&first),
+        "{}\n---\n{}",
+        first.grammar,
+        again.grammar
+    );
+}
+
+#[test]
+fn an_outline_that_changes_comes_back_as_a_morph() {
+    let dir = fresh_dir("morph");
+    let json = export(
+        &dir,
+        "morph",
+        &squares(1, false),
+        "duration 2s\nfps 30\n\
+         timesplit(0.25, 0.5, 0.25) : [all, s] -> [rest, a, after]\n\
+         animate(morph, world, 0, \"M 30 10 L 50 30 L 30 50 L 10 30 Z\", ease=ease-in-out) : [a, s] -> [m]\n",
+    );
+    let l = learn_default(
+        &json,
+        "still.json",
+        "still.svg",
+        &Env::default(),
+        &Options::default(),
+    )
+    .unwrap();
+    assert_eq!(l.report.unexplained().count(), 0, "{}", l.report);
+    // A morph is written natively only onto an SVG still.
+    assert!(l.still_svg, "{}", l.grammar);
+    let morphs: Vec<&str> = rules(&l)
+        .into_iter()
+        .filter(|r| r.starts_with("animate(morph,"))
+        .collect();
+    // The engine brings both outlines to one structure by cutting them at the union of
+    // their vertices' fractions of the length, which moves the in-between off the straight
+    // vertex paths the exported keys take: the change may take a few pieces, each within
+    // the tolerance, all inside the slice that morphs.
+    assert!(!morphs.is_empty(), "a morph\n{}", l.grammar);
+    assert!(
+        !rules(&l).iter().any(|r| r.starts_with("animate(affine,")),
+        "nothing moves the square: its outline changes\n{}",
+        l.grammar
+    );
+}
+
+#[test]
+fn a_fill_on_a_line_paints_nothing_and_does_not_hide_the_unit_s_colour() {
+    // A unit of a filled shape and a filled line (no area: an exporter keeps a stroke's
+    // centre line so beside its outline): one colour is painted, and its change is learned.
+    let dir = fresh_dir("line_fill");
+    let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" width="200" height="100" viewBox="0 0 200 100"><g data-tag="t"><path d="M 30 20 L 30 60" fill="#000"/><rect x="40" y="20" width="20" height="40" fill="#d33"/></g></svg>"##;
+    let json = export(
+        &dir,
+        "tint",
+        svg,
+        "duration 2s\nfps 30\n\
+         timesplit(0.5, 0.5) : [all, t] -> [a, rest]\n\
+         animate(fill, local, 0, #3366cc) : [a, t] -> [blue]\n",
+    );
+    let l = learned(&json);
+    assert_eq!(l.report.unexplained().count(), 0, "{}", l.report);
+    assert!(
+        rules(&l).iter().any(|r| r.starts_with("animate(fill,")),
+        "{}",
+        l.grammar
+    );
+}
+
+#[test]
+fn a_stroke_width_and_colour_ramp_comes_back() {
+    let dir = fresh_dir("stroke");
+    let json = export(
+        &dir,
+        "ramp",
+        &line(),
+        "duration 2s\nfps 30\n\
+         timesplit(0.25, 0.75) : [all, l] -> [rest, a]\n\
+         animate(stroke-width, local, 0, 20, ease=ease-in-out) : [a, l] -> [thick]\n\
+         animate(border, local, 0, #3366cc, ease=ease-in-out) : [thick, l] -> [blue]\n",
+    );
+    let l = learned(&json);
+    assert_eq!(l.report.unexplained().count(), 0, "{}", l.report);
+    let has = |start: &str, value: &str| {
+        rules(&l)
+            .iter()
+            .any(|r| r.starts_with(start) && r.contains(value) && r.contains("ease=ease-in-out"))
+    };
+    assert!(has("animate(stroke-width,", ", 20,"), "{}", l.grammar);
+    assert!(has("animate(border,", "rgb(51, 102, 204)"), "{}", l.grammar);
+}
+
+#[test]
+fn a_unit_that_fades_out_and_goes_is_learned_as_a_fade() {
+    // Faded to nothing, the square draws nothing (a layer the player leaves out): those
+    // frames are an opacity of 0, not a drawing that changes structure.
+    let dir = fresh_dir("gone");
+    let json = export(
+        &dir,
+        "gone",
+        &squares(1, false),
+        "duration 2s\nfps 30\n\
+         timesplit(0.5, 0.5) : [all, s] -> [a, rest]\n\
+         animate(affine, world, 0, translate(100, 0)) : [a, s] -> [m]\n\
+         animate(opacity, local, 0, 0) : [m, s] -> [gone]\n",
+    );
+    let l = learned(&json);
+    assert_eq!(l.report.unexplained().count(), 0, "{}", l.report);
+    assert!(
+        rules(&l)
+            .iter()
+            .any(|r| r.starts_with("animate(opacity,") && r.contains(", 0)")),
+        "{}",
+        l.grammar
+    );
 }

@@ -69,11 +69,35 @@ impl Learn {
             max_samples: env.limits.get("learn-samples"),
             ..Default::default()
         };
-        let learned =
+        let learned = if self.scene.is_some() {
             gmotion_learn::learn(&self.input, &scene_name(&self.output, &still), env, &opts)
-                .map_err(|e| CliError::msg(e.to_string()))?;
+        } else {
+            // No still named: a Lottie, or an SVG when the grammar needs one (trims).
+            let svg = still.with_extension("svg");
+            gmotion_learn::learn_default(
+                &self.input,
+                &scene_name(&self.output, &still),
+                &scene_name(&self.output, &svg),
+                env,
+                &opts,
+            )
+        }
+        .map_err(|e| CliError::msg(e.to_string()))?;
+        let still = if learned.still_svg && self.scene.is_none() {
+            let svg = still.with_extension("svg");
+            if same_file(&svg, &self.input) {
+                return Err(CliError::msg(format!(
+                    "{}: error: would overwrite the animation being learned; name another output",
+                    self.input.display()
+                )));
+            }
+            check_writable(&svg)?;
+            svg
+        } else {
+            still
+        };
         let staging = gmotion::atomic::Staging::begin();
-        let warnings = if ext == "json" {
+        let warnings = if !learned.still_svg {
             let anim = learned.still_animation(learned.duration, learned.fps);
             gmotion_output::write(&anim, &still, &gmotion_output::Options::default())
                 .map_err(|e| CliError::msg(e.to_string()))?
@@ -87,6 +111,18 @@ impl Learn {
         };
         for w in warnings {
             report::warn(&still, &w);
+        }
+        // A Lottie still named with --scene cannot carry trims or morphs: `animate` would
+        // leave them out.
+        if !learned.still_svg
+            && ["animate(trim,", "animate(morph,"]
+                .iter()
+                .any(|r| learned.grammar.contains(r))
+        {
+            report::warn(
+                &still,
+                "the grammar trims or morphs units, which `animate` does not layer onto a Lottie still; name an SVG still (--scene STILL.svg) to keep them",
+            );
         }
         write_atomic(&self.output, learned.grammar.as_bytes())?;
         let text = learned.report.to_string();
@@ -108,7 +144,8 @@ impl Learn {
     }
 
     /// The still scene's path: `--scene`, else the grammar's with `.json` (or
-    /// `.still.json` when that is the animation itself).
+    /// `.still.json` when that is the animation itself; `.svg` in place of `.json` when
+    /// the grammar needs an SVG still, chosen after learning).
     fn still_path(&self) -> Result<PathBuf> {
         if let Some(s) = &self.scene {
             return Ok(s.clone());
