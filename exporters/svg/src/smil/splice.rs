@@ -229,14 +229,12 @@ pub fn attr<'s>(tag: &'s str, name: &str) -> Option<(std::ops::Range<usize>, &'s
 }
 
 /// The elements that carry an id, by id (the first one when an id repeats).
-pub fn elements_by_id(svg: &str) -> HashMap<String, Element> {
+pub fn elements_by_id<'s>(svg: &'s str) -> HashMap<&'s str, Element> {
     let mut found = HashMap::new();
     let mut open: Vec<Tag> = Vec::new();
-    let finish = |t: Tag, end: usize, found: &mut HashMap<String, Element>| {
+    let finish = |t: Tag, end: usize, found: &mut HashMap<&'s str, Element>| {
         if let Some((_, id)) = attr(&svg[t.start..t.end], "id") {
-            found
-                .entry(id.to_string())
-                .or_insert(Element { tag: t, end });
+            found.entry(id).or_insert(Element { tag: t, end });
         }
     };
     for t in tags(svg) {
@@ -261,15 +259,11 @@ pub struct Edits {
 }
 
 impl Edits {
-    /// Replaces `range` by `text`.
+    /// Replaces `range` by `text` (an empty range inserts it; insertions at one offset keep
+    /// the order they were made in).
     pub fn replace(&mut self, range: std::ops::Range<usize>, text: String) {
         self.list.push((range.start, range.end, self.seq, text));
         self.seq += 1;
-    }
-
-    /// Inserts `text` at `at`; insertions at one offset keep the order they were made in.
-    pub fn insert(&mut self, at: usize, text: String) {
-        self.replace(at..at, text);
     }
 
     /// The edited document. Replaced ranges must not overlap.
@@ -314,10 +308,10 @@ mod tests {
     #[test]
     fn edits_apply_in_order() {
         let mut e = Edits::default();
-        e.insert(3, "b".into());
+        e.replace(3..3, "b".into());
         e.replace(1..2, "X".into());
-        e.insert(3, "c".into());
-        e.insert(0, "<".into());
+        e.replace(3..3, "c".into());
+        e.replace(0..0, "<".into());
         assert_eq!(e.apply("0123".into()).into_string(), "<0X2bc3");
     }
 }
