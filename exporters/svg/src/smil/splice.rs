@@ -11,7 +11,7 @@ use foldhash::{HashMap, HashMapExt, HashSet, HashSetExt};
 use kurbo::Affine;
 
 use super::SmilText;
-use crate::frame::scene_svg;
+use crate::frame::{IdsByNode, node_key, scene_svg_with_ids};
 use gmotion::scene::{Group, Node, PathNode, Scene};
 
 /// A path inside one or more animated units, with what the splice needs to animate it.
@@ -40,7 +40,8 @@ pub struct Marked<'a> {
     pub taken: HashSet<String>,
 }
 
-/// Writes `scene` with ids on the unit nodes of `units` and on every path inside them.
+/// Writes `scene` with ids on the unit nodes of `units` and on every path inside them
+/// (given to the writer by node: the scene is not copied).
 pub fn mark<'a>(scene: &'a Scene, units: &HashSet<usize>) -> Marked<'a> {
     let mut count: HashMap<&str, usize> = HashMap::new();
     count_ids(&scene.root, &mut count);
@@ -52,27 +53,12 @@ pub fn mark<'a>(scene: &'a Scene, units: &HashSet<usize>) -> Marked<'a> {
         unit_ids: HashMap::new(),
         paths: Vec::new(),
         markers: HashSet::new(),
+        ids: IdsByNode::default(),
     };
-    let mut root = scene.root.clone();
-    st.group(
-        &scene.root,
-        &mut root,
-        scene.root.transform,
-        &mut Vec::new(),
-    );
-    let (unit_ids, paths, markers) = (st.unit_ids, st.paths, st.markers);
-    // Field by field: `..scene.clone()` would copy the whole tree once more. The static
-    // document writes no frame, so it reads no shapes.
-    let marked = Scene {
-        root,
-        width: scene.width,
-        height: scene.height,
-        shapes: Vec::new(),
-        time: None,
-        keys: Vec::new(),
-    };
+    st.group(&scene.root, scene.root.transform, &mut Vec::new());
+    let (unit_ids, paths, markers, ids) = (st.unit_ids, st.paths, st.markers, st.ids);
     Marked {
-        svg: scene_svg(&marked),
+        svg: scene_svg_with_ids(scene, Some(&ids)),
         unit_ids,
         paths,
         markers,
@@ -102,6 +88,8 @@ struct MarkState<'a, 'c> {
     unit_ids: HashMap<usize, String>,
     paths: Vec<MarkedPath<'a>>,
     markers: HashSet<String>,
+    /// The ids the document is written with, by node.
+    ids: IdsByNode,
 }
 
 impl<'a> MarkState<'a, '_> {
@@ -119,29 +107,27 @@ impl<'a> MarkState<'a, '_> {
         (name, true)
     }
 
-    /// Walks `orig` and its copy `out` together; `abs` maps the group's content to the canvas.
-    fn group(&mut self, orig: &'a Group, out: &mut Group, abs: Affine, inside: &mut Vec<usize>) {
-        for (o, n) in orig.children.iter().zip(out.children.iter_mut()) {
-            let unit = o.unit().filter(|u| self.units.contains(u));
+    /// Walks `g`'s content; `abs` maps it to the canvas.
+    fn group(&mut self, g: &'a Group, abs: Affine, inside: &mut Vec<usize>) {
+        for node in &g.children {
+            let unit = node.unit().filter(|u| self.units.contains(u));
             if let Some(u) = unit {
-                let (id, _) = self.findable(o.id(), &format!("u{u}"));
-                set_id(n, &id);
+                let (id, _) = self.findable(node.id(), &format!("u{u}"));
+                self.ids.insert(key_of(node), id.clone());
                 self.unit_ids.insert(u, id);
                 inside.push(u);
             }
-            match (o, n) {
-                (Node::Group(og), Node::Group(ng)) => {
-                    self.group(og, ng, abs * og.transform, inside)
-                }
-                (Node::Path(op), Node::Path(np)) if !inside.is_empty() => {
+            match node {
+                Node::Group(h) => self.group(h, abs * h.transform, inside),
+                Node::Path(p) if !inside.is_empty() => {
                     let hint = format!("p{}", self.paths.len());
                     let id = match unit {
                         Some(u) => self.unit_ids[&u].clone(),
-                        None => self.findable(&op.id, &hint).0,
+                        None => self.findable(&p.id, &hint).0,
                     };
-                    np.id.clone_from(&id);
+                    self.ids.insert(node_key(p), id.clone());
                     self.paths.push(MarkedPath {
-                        path: op,
+                        path: p,
                         id,
                         abs,
                         units: inside.clone(),
@@ -156,11 +142,12 @@ impl<'a> MarkState<'a, '_> {
     }
 }
 
-fn set_id(n: &mut Node, id: &str) {
-    match n {
-        Node::Group(g) => id.clone_into(&mut g.id),
-        Node::Path(p) => id.clone_into(&mut p.id),
-        Node::Image(i) => id.clone_into(&mut i.id),
+/// The key [`IdsByNode`] knows `node` by: its group's, path's or image's address.
+fn key_of(node: &Node) -> usize {
+    match node {
+        Node::Group(g) => node_key(g),
+        Node::Path(p) => node_key(p),
+        Node::Image(i) => node_key(i),
     }
 }
 
