@@ -25,7 +25,7 @@ use gmotion::Warning;
 
 /// Animated elements made and written at a time: enough to keep every thread busy, few
 /// enough that a run's text is a few megabytes.
-const RUN: usize = 4096;
+const RUN: usize = 1024;
 
 /// Who made an edit, in the order the whole-document writer made them: edits at one
 /// offset apply in this order.
