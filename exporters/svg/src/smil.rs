@@ -346,8 +346,10 @@ struct UnitGroups {
 struct Defs<'m> {
     /// Their text.
     text: String,
-    /// The ids the marked document uses besides its elements' (markers, def names).
-    marked: &'m HashSet<String>,
+    /// The scene's node ids, which the marked document may use.
+    node_ids: &'m HashMap<&'m str, usize>,
+    /// The markers, which it may use too.
+    markers: &'m HashSet<&'m str>,
     /// The marked document's elements, by id.
     els: &'m HashMap<&'m str, Element>,
     /// The ids given to copies so far.
@@ -358,7 +360,10 @@ impl Defs<'_> {
     /// Whether `id` is in use (looked up where it is kept: copying every id of a large
     /// document into one set took milliseconds on the export's one serial thread).
     fn taken(&self, id: &str) -> bool {
-        self.marked.contains(id) || self.els.contains_key(id) || self.given.contains(id)
+        self.node_ids.contains_key(id)
+            || self.markers.contains(id)
+            || self.els.contains_key(id)
+            || self.given.contains(id)
     }
 }
 

@@ -18,8 +18,8 @@ use gmotion::scene::{Group, Node, PathNode, Scene};
 pub struct MarkedPath<'a> {
     /// The path in the original scene.
     pub path: &'a PathNode,
-    /// The id that finds it in the written document.
-    pub id: String,
+    /// Its element (an index into [`Marked::elements`]).
+    pub element: usize,
     /// Transform from the path's coordinates to the canvas at rest.
     pub abs: Affine,
     /// The units it lies in, outermost first.
@@ -30,14 +30,17 @@ pub struct MarkedPath<'a> {
 pub struct Marked<'a> {
     /// `scene_svg`'s text of the marked scene.
     pub svg: String,
-    /// Id of each unit's node, by unit index.
-    pub unit_ids: HashMap<usize, String>,
+    /// The ids of the elements made findable, in document order, each with whether it is
+    /// a marker (to remove when splicing).
+    pub elements: Vec<(String, bool)>,
+    /// Each animated unit with its element (an index into `elements`), in document order.
+    pub units: Vec<(usize, usize)>,
     /// Paths inside units, in document order.
     pub paths: Vec<MarkedPath<'a>>,
-    /// Ids that exist only to be found, to remove when splicing.
-    pub markers: HashSet<String>,
-    /// Every id in the document (to name new elements without collisions).
-    pub taken: HashSet<String>,
+    /// The scene's own node ids, with how many nodes carry each: with the markers (in
+    /// `elements`), every node id in the document (to name new elements without
+    /// collisions).
+    pub node_ids: HashMap<&'a str, usize>,
 }
 
 /// Writes `scene` with ids on the unit nodes of `units` and on every path inside them
@@ -45,24 +48,29 @@ pub struct Marked<'a> {
 pub fn mark<'a>(scene: &'a Scene, units: &HashSet<usize>) -> Marked<'a> {
     let mut count: HashMap<&str, usize> = HashMap::new();
     count_ids(&scene.root, &mut count);
-    let mut taken: HashSet<String> = count.keys().map(|s| s.to_string()).collect();
     let mut st = MarkState {
         units,
         count: &count,
-        taken: &mut taken,
-        unit_ids: HashMap::new(),
+        elements: Vec::new(),
+        marked_units: Vec::new(),
         paths: Vec::new(),
         markers: HashSet::new(),
         ids: IdsByNode::default(),
     };
     st.group(&scene.root, scene.root.transform, &mut Vec::new());
-    let (unit_ids, paths, markers, ids) = (st.unit_ids, st.paths, st.markers, st.ids);
-    Marked {
-        svg: scene_svg_with_ids(scene, Some(&ids)),
-        unit_ids,
+    let svg = scene_svg_with_ids(scene, Some(&st.ids));
+    let MarkState {
+        elements,
+        marked_units: units,
         paths,
-        markers,
-        taken,
+        ..
+    } = st;
+    Marked {
+        svg,
+        elements,
+        units,
+        paths,
+        node_ids: count,
     }
 }
 
@@ -84,8 +92,8 @@ fn count_ids<'s>(g: &'s Group, count: &mut HashMap<&'s str, usize>) {
 struct MarkState<'a, 'c> {
     units: &'c HashSet<usize>,
     count: &'c HashMap<&'a str, usize>,
-    taken: &'c mut HashSet<String>,
-    unit_ids: HashMap<usize, String>,
+    elements: Vec<(String, bool)>,
+    marked_units: Vec<(usize, usize)>,
     paths: Vec<MarkedPath<'a>>,
     markers: HashSet<String>,
     /// The ids the document is written with, by node.
@@ -93,42 +101,46 @@ struct MarkState<'a, 'c> {
 }
 
 impl<'a> MarkState<'a, '_> {
-    /// The id to find a node by: its own when unique, else a fresh marker.
-    fn findable(&mut self, own: &str, hint: &str) -> (String, bool) {
-        if !own.is_empty() && self.count.get(own) == Some(&1) {
-            return (own.to_string(), false);
-        }
-        let mut name = format!("gmotion-{hint}");
-        while self.taken.contains(&name) {
-            name.push('_');
-        }
-        self.taken.insert(name.clone());
-        self.markers.insert(name.clone());
-        (name, true)
+    /// Makes the node `key` findable by an id: its own when unique, else a fresh marker;
+    /// returns its element's index.
+    fn findable(&mut self, key: usize, own: &str, hint: &str) -> usize {
+        let (id, marker) = if !own.is_empty() && self.count.get(own) == Some(&1) {
+            (own.to_string(), false)
+        } else {
+            let mut name = format!("gmotion-{hint}");
+            while self.count.contains_key(name.as_str()) || self.markers.contains(&name) {
+                name.push('_');
+            }
+            self.markers.insert(name.clone());
+            (name, true)
+        };
+        self.ids.insert(key, id.clone());
+        self.elements.push((id, marker));
+        self.elements.len() - 1
     }
 
     /// Walks `g`'s content; `abs` maps it to the canvas.
     fn group(&mut self, g: &'a Group, abs: Affine, inside: &mut Vec<usize>) {
         for node in &g.children {
             let unit = node.unit().filter(|u| self.units.contains(u));
+            let mut element = None;
             if let Some(u) = unit {
-                let (id, _) = self.findable(node.id(), &format!("u{u}"));
-                self.ids.insert(key_of(node), id.clone());
-                self.unit_ids.insert(u, id);
+                let e = self.findable(key_of(node), node.id(), &format!("u{u}"));
+                self.marked_units.push((u, e));
+                element = Some(e);
                 inside.push(u);
             }
             match node {
                 Node::Group(h) => self.group(h, abs * h.transform, inside),
                 Node::Path(p) if !inside.is_empty() => {
                     let hint = format!("p{}", self.paths.len());
-                    let id = match unit {
-                        Some(u) => self.unit_ids[&u].clone(),
-                        None => self.findable(&p.id, &hint).0,
+                    let element = match element {
+                        Some(e) => e,
+                        None => self.findable(node_key(p), &p.id, &hint),
                     };
-                    self.ids.insert(node_key(p), id.clone());
                     self.paths.push(MarkedPath {
                         path: p,
-                        id,
+                        element,
                         abs,
                         units: inside.clone(),
                     });
@@ -238,6 +250,51 @@ pub fn elements_by_id<'s>(svg: &'s str) -> HashMap<&'s str, Element> {
     found
 }
 
+/// The elements whose ids are `ids`, listed in the order they are written (each id
+/// once), found in one pass over the document instead of through a map of every element
+/// (whose look-ups, a cache miss each, made a large export slower per shape than a small
+/// one). An id not met in that order is looked for by [`elements_by_id`], as before.
+pub fn locate(svg: &str, ids: &[&str]) -> Vec<Option<Element>> {
+    let mut found: Vec<Option<Element>> = vec![None; ids.len()];
+    let mut next = 0;
+    let mut open: Vec<(Tag, Option<usize>)> = Vec::new();
+    let mut finish = |t: Tag, end: usize, at: Option<usize>| {
+        if let Some(i) = at {
+            found[i] = Some(Element { tag: t, end });
+        }
+    };
+    for t in tags(svg) {
+        if t.closing {
+            if let Some((o, at)) = open.pop() {
+                finish(o, t.end, at);
+            }
+            continue;
+        }
+        if svg[t.start..].starts_with("<?") {
+            continue;
+        }
+        let at = ids
+            .get(next)
+            .filter(|&&id| attr(&svg[t.start..t.end], "id").is_some_and(|(_, v)| v == id))
+            .map(|_| {
+                next += 1;
+                next - 1
+            });
+        if t.empty {
+            finish(t, t.end, at);
+        } else {
+            open.push((t, at));
+        }
+    }
+    if next < ids.len() {
+        let els = elements_by_id(svg);
+        for (slot, id) in found.iter_mut().zip(ids).skip(next) {
+            *slot = els.get(id).copied();
+        }
+    }
+    found
+}
+
 /// Text edits on a document: insertions and replacements at byte offsets.
 #[derive(Default)]
 pub struct Edits {
@@ -280,6 +337,34 @@ mod tests {
         );
         let y = els["y"];
         assert_eq!(attr(&doc[y.tag.start..y.tag.end], "d").unwrap().1, "M0 0");
+    }
+
+    #[test]
+    fn elements_are_located_in_one_pass_or_by_id() {
+        let doc = "<svg>\n<defs>\n<g id=\"b\"/>\n</defs>\n<g id=\"a\">\n<path id=\"b\"/>\n</g>\n<path id=\"c\"/>\n</svg>\n";
+        let text = |e: Option<Element>| e.map(|e| &doc[e.tag.start..e.end]);
+        // In the order written: each found after the one before.
+        let found = locate(doc, &["a", "b", "c"]);
+        let texts: Vec<_> = found.into_iter().map(text).collect();
+        assert_eq!(
+            texts,
+            [
+                Some("<g id=\"a\">\n<path id=\"b\"/>\n</g>"),
+                Some("<path id=\"b\"/>"),
+                Some("<path id=\"c\"/>")
+            ]
+        );
+        // Out of order, or missing: by id, the first element that has it.
+        let found = locate(doc, &["c", "a", "x"]);
+        let texts: Vec<_> = found.into_iter().map(text).collect();
+        assert_eq!(
+            texts,
+            [
+                Some("<path id=\"c\"/>"),
+                Some("<g id=\"a\">\n<path id=\"b\"/>\n</g>"),
+                None
+            ]
+        );
     }
 
     #[test]

@@ -14,12 +14,9 @@ use std::io::{self, Write};
 use std::ops::Range;
 
 use foldhash::HashSet;
-use rayon::prelude::*;
 
 use super::splice::{self, Element, attr as tag_attr};
-use super::{
-    Defs, PARALLEL_ITEMS, Part, SmilReport, UnitGroups, Writer, changes, par_map, uses_paint_server,
-};
+use super::{Defs, Part, SmilReport, UnitGroups, Writer, changes, par_map, uses_paint_server};
 use crate::frame::output_size_edit;
 use gmotion::Warning;
 
@@ -101,17 +98,26 @@ impl Writer<'_> {
             found
         });
         let marked = splice::mark(&anim.scene, &units.iter().copied().collect());
-        let els = splice::elements_by_id(&marked.svg);
         let svg = marked.svg.as_str();
+        let found = {
+            let ids: Vec<&str> = marked.elements.iter().map(|(id, _)| id.as_str()).collect();
+            splice::locate(svg, &ids)
+        };
+        // The definitions the paths' paints refer to, by id: the head's elements.
+        let els = splice::elements_by_id(&svg[..svg.find("</defs>").unwrap_or(0)]);
         let mut report = Report::default();
         report.take(lost, None);
 
         // Where each animated element is; a unit whose node was not written is not
         // animated (and its groups are not made).
+        let mut unit_element: Vec<Option<usize>> = vec![None; anim.tracks.len()];
+        for &(u, e) in &marked.units {
+            unit_element[u] = Some(e);
+        }
         let mut anchors: Vec<(usize, Anchor)> = Vec::with_capacity(units.len());
         let mut unit_els: Vec<Option<Element>> = Vec::with_capacity(units.len());
         for (i, &u) in units.iter().enumerate() {
-            let el = marked.unit_ids.get(&u).and_then(|id| els.get(id.as_str()));
+            let el = unit_element[u].and_then(|e| found[e]);
             match el {
                 Some(el) => anchors.push((el.tag.start, Anchor::Unit(i))),
                 None => {
@@ -120,26 +126,35 @@ impl Writer<'_> {
                     report.take(part, Some(Maker::Unit(u, 0)));
                 }
             }
-            unit_els.push(el.copied());
+            unit_els.push(el);
         }
+        drop(unit_element);
 
         let mut pending: BinaryHeap<Edit> = BinaryHeap::new();
         // A tinted gradient or pattern is copied under a fresh id, and ids are handed out
         // in document order: paths painted with one are written first, in order, and their
-        // definitions go into the head.
+        // definitions go into the head. The copies' ids avoid the markers too.
+        let servers = marked.paths.iter().any(|mp| uses_paint_server(mp.path));
+        let markers: HashSet<&str> = marked
+            .elements
+            .iter()
+            .filter(|(_, marker)| servers && *marker)
+            .map(|(id, _)| id.as_str())
+            .collect();
         let mut defs = Defs {
             text: String::new(),
-            marked: &marked.taken,
+            node_ids: &marked.node_ids,
+            markers: &markers,
             els: &els,
             given: HashSet::default(),
         };
         for (i, mp) in marked.paths.iter().enumerate() {
-            let Some(el) = els.get(mp.id.as_str()) else {
+            let Some(el) = found[mp.element] else {
                 continue;
             };
             if uses_paint_server(mp.path) {
                 let mut part = Part::default();
-                self.path(mp, el, svg, &els, &mut part, Some(&mut defs));
+                self.path(mp, &el, svg, &els, &mut part, Some(&mut defs));
                 report.take_edits(part, i, &mut pending);
             } else {
                 anchors.push((el.tag.start, Anchor::Path(i)));
@@ -172,16 +187,17 @@ impl Writer<'_> {
             });
         }
         // The range of each marker's ` id="…"`, quotes included, in document order.
-        let marker_range = |id: &String| {
-            let el = els.get(id.as_str())?;
+        let marker_range = |(&(_, marker), el): (&(String, bool), &Option<Element>)| {
+            let el = el.filter(|_| marker)?;
             let (r, _) = tag_attr(&svg[el.tag.start..el.tag.end], "id")?;
             Some(el.tag.start + r.start - 5..el.tag.start + r.end + 1)
         };
-        let mut markers: Vec<Range<usize>> = if marked.markers.len() >= PARALLEL_ITEMS {
-            marked.markers.par_iter().filter_map(marker_range).collect()
-        } else {
-            marked.markers.iter().filter_map(marker_range).collect()
-        };
+        let mut markers: Vec<Range<usize>> = marked
+            .elements
+            .iter()
+            .zip(&found)
+            .filter_map(marker_range)
+            .collect();
         markers.sort_by_key(|r| r.start);
         let mut markers = markers.into_iter().peekable();
 
@@ -204,7 +220,7 @@ impl Writer<'_> {
                 Anchor::Path(i) => {
                     let mp = &marked.paths[i];
                     let mut part = Part::default();
-                    if let Some(el) = els.get(mp.id.as_str()) {
+                    if let Some(el) = &found[mp.element] {
                         self.path(mp, el, svg, &els, &mut part, None);
                     }
                     (part, Maker::Path(i, 0))
