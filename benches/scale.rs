@@ -58,11 +58,11 @@ fn lottie(anim: &Animation) {
         .expect("a sink takes all");
 }
 
-/// Writes `anim` as SMIL to a sink.
+/// Writes `anim` as SMIL to a sink, streamed as the command streams it to its file.
 fn smil(anim: &Animation) {
     let opts = gmotion_export_svg::smil::SmilOptions::default();
-    let doc = gmotion_export_svg::smil::smil_document(anim, &opts).expect("it exports");
-    doc.svg
+    let writer = gmotion_export_svg::smil::SmilWriter::new(anim, &opts).expect("it exports");
+    writer
         .write_to(&mut std::io::sink())
         .expect("a sink takes all");
 }

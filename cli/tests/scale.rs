@@ -5,9 +5,10 @@
 //! through. The scene is imported and its units listed (`check --shapes`), the cheapest
 //! command that reads the whole scene; it takes about 30 s on two shared cores.
 //!
-//! And the memory a Lottie export of many shapes takes: the peak resident memory of
-//! `gmotion animate` on 100 000 animated squares, read from `/proc` while it runs (the
-//! kernel's high-water mark, so a sample missed near the end misses no earlier peak).
+//! And the memory an export of many shapes takes: the peak resident memory of `gmotion
+//! animate` on 100 000 animated squares to Lottie, and on squares whose animated SVG is far
+//! larger than their scene, read from `/proc` while it runs (the kernel's high-water mark,
+//! so a sample missed near the end misses no earlier peak).
 
 use std::fmt::Write as _;
 use std::process::{Command, Stdio};
@@ -65,6 +66,38 @@ fn peak_kb(pid: u32) -> Option<u64> {
     line.split_whitespace().nth(1)?.parse().ok()
 }
 
+/// Runs `gmotion animate scene gm -o out`, reading its peak resident memory (kilobytes)
+/// from `/proc` while it runs; returns whether it succeeded, the peak and its stderr.
+#[cfg(target_os = "linux")]
+fn animate_peak(
+    scene: &std::path::Path,
+    gm: &std::path::Path,
+    out: &std::path::Path,
+) -> (bool, u64, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_gmotion"))
+        .arg("animate")
+        .args([scene, gm])
+        .arg("-o")
+        .arg(out)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut peak = 0;
+    let status = loop {
+        if let Some(kb) = peak_kb(child.id()) {
+            peak = peak.max(kb);
+        }
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    };
+    let mut err = String::new();
+    std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+    (status.success(), peak, err)
+}
+
 #[cfg(target_os = "linux")]
 #[test]
 fn a_lottie_export_of_100_000_shapes_stays_within_its_memory_bound() {
@@ -84,35 +117,51 @@ fn a_lottie_export_of_100_000_shapes_stays_within_its_memory_bound() {
          animate(affine, local, 0.000001 * id, rotate(90)) : [c, s] -> [r]\n",
     )
     .unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_gmotion"))
-        .arg("animate")
-        .args([&scene, &gm])
-        .arg("-o")
-        .arg(&out)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut peak = 0;
-    let status = loop {
-        if let Some(kb) = peak_kb(child.id()) {
-            peak = peak.max(kb);
-        }
-        if let Some(status) = child.try_wait().unwrap() {
-            break status;
-        }
-        std::thread::sleep(std::time::Duration::from_millis(5));
-    };
-    let mut err = String::new();
-    std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+    let (ok, peak, err) = animate_peak(&scene, &gm, &out);
     let written = std::fs::metadata(&out).map(|m| m.len()).unwrap_or(0);
     let _ = std::fs::remove_dir_all(&dir);
-    assert!(status.success(), "refused:\n{err}");
+    assert!(ok, "refused:\n{err}");
     // 85 MB of Lottie: the whole document was written.
     assert!(written > 80_000_000, "{written} bytes written");
     assert!(peak > 0, "no memory was read from /proc");
     assert!(
         peak <= LOTTIE_100K_KB,
         "the export peaked at {peak} KB, past its bound of {LOTTIE_100K_KB} KB"
+    );
+}
+
+/// An animated SVG is streamed to its file: 10 000 squares each moving in 200 steps make a
+/// 130 MB document (13 KB of keys a shape), far more than the scene and its tracks, and the
+/// command must peak under the document's own size. It peaked at about 207 MB when the
+/// document was put together whole before it was written, and at about 71 MB streamed
+/// (docs/performance.md, "A million shapes").
+#[cfg(target_os = "linux")]
+#[test]
+fn a_smil_export_peaks_under_the_size_of_its_document() {
+    let dir = crate::support::case_dir("scale", "smil-memory");
+    let (scene, gm, out) = (
+        dir.join("squares.svg"),
+        dir.join("steps.gm"),
+        dir.join("animated.svg"),
+    );
+    std::fs::write(&scene, squares(10_000)).unwrap();
+    std::fs::write(
+        &gm,
+        "duration 3s\nfps 30\n\
+         timesplit(0.5, 0.5) : [all, s] -> [a, inv_a]\n\
+         animate(affine, world, 0, translate(2, 0), ease=steps(200)) : [a, s] -> [t]\n",
+    )
+    .unwrap();
+    let (ok, peak, err) = animate_peak(&scene, &gm, &out);
+    let written = std::fs::metadata(&out).map(|m| m.len()).unwrap_or(0);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(ok, "refused:\n{err}");
+    // Every shape's 400 keys were written.
+    assert!(written > 120_000_000, "{written} bytes written");
+    assert!(peak > 0, "no memory was read from /proc");
+    assert!(
+        peak * 1024 < written,
+        "the export peaked at {peak} KB, past the {} KB of the document it wrote",
+        written / 1024
     );
 }

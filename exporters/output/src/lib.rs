@@ -679,10 +679,8 @@ fn write_staged(
             );
         }
         Format::Svg => {
-            let (svg, warnings) = smil_pieces(anim, stage.source, path, opts)?;
-            let many = svg.edits() >= BACKGROUND_FREE_PIECES;
-            write_text(path, svg, many, |t, mut out| t.write_to(&mut out), target)?;
-            return Ok(warnings);
+            let svg = smil_out(anim, stage.source, path, opts)?;
+            return write_smil(path, &svg, target);
         }
     };
     written.map_err(raster_err)?;
@@ -820,18 +818,31 @@ pub fn smil_text(
     opts: &Options,
 ) -> Result<(String, Vec<Warning>), OutputError> {
     let (source, said) = lasting(anim, source);
-    let (svg, mut warnings) = smil_pieces(anim, source.as_deref(), path, opts)?;
+    let svg = smil_out(anim, source.as_deref(), path, opts)?;
+    let mut bytes = Vec::new();
+    let mut warnings = write_smil(path, &svg, Target::Memory(&mut bytes))?;
     warnings.extend(said);
-    Ok((svg.into_string(), warnings))
+    // Written from strings: always UTF-8.
+    let text = String::from_utf8(bytes)
+        .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned());
+    Ok((text, warnings))
 }
 
-/// [`smil_text`] as it was put together, to be written without being joined first.
-fn smil_pieces(
-    anim: &Animation,
+/// The animated SVG an `.svg` output holds, checked and not yet written.
+enum SmilOut<'a> {
+    /// A flipbook's text, written whole.
+    Text(String),
+    /// The animation, written as it is made.
+    Stream(smil::SmilWriter<'a>),
+}
+
+/// [`smil_text`]'s document, ready to be written to `path` (named in errors).
+fn smil_out<'a>(
+    anim: &'a Animation,
     source: Option<&LottieSource>,
     path: &Path,
     opts: &Options,
-) -> Result<(smil::SmilText, Vec<Warning>), OutputError> {
+) -> Result<SmilOut<'a>, OutputError> {
     if let Some(src) = source
         && (rides(anim, src) || flipbook::moves(src))
     {
@@ -839,18 +850,40 @@ fn smil_pieces(
             anim,
             source: Some(src),
         };
-        return Ok((flipbook::smil(stage, path, opts)?.into(), Vec::new()));
+        return Ok(SmilOut::Text(flipbook::smil(stage, path, opts)?));
     }
     let sopts = smil::SmilOptions {
         tolerance: opts.tolerance,
         size: opts.size,
         ..Default::default()
     };
-    let doc = smil::smil_document(anim, &sopts).map_err(|source| OutputError::Smil {
+    let writer = smil::SmilWriter::new(anim, &sopts).map_err(|source| OutputError::Smil {
         path: path.to_path_buf(),
         source,
     })?;
-    Ok((doc.svg, doc.warnings))
+    Ok(SmilOut::Stream(writer))
+}
+
+/// Writes `svg` to `path` (or `target`'s memory); returns its warnings. The animation is
+/// streamed to the (temporary, then renamed) file as it is made.
+fn write_smil(path: &Path, svg: &SmilOut<'_>, target: Target) -> Result<Vec<Warning>, OutputError> {
+    let mut warnings = Vec::new();
+    let mut write = |out: &mut dyn std::io::Write| match svg {
+        SmilOut::Text(text) => out.write_all(text.as_bytes()),
+        SmilOut::Stream(writer) => {
+            warnings = writer.write_to(out)?.warnings;
+            Ok(())
+        }
+    };
+    let written = match target {
+        Target::Memory(bytes) => write(bytes),
+        Target::File => gmotion::atomic::write_with(path, |out| write(out)),
+    };
+    written.map_err(|source| OutputError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    Ok(warnings)
 }
 
 /// [`write_still`] for a scene imported from `source`: a `.json` output is the source
@@ -1034,33 +1067,6 @@ fn write_lottie<'a, T: Into<lottie::LottieText<'a>>>(
     Ok(warnings)
 }
 
-/// Writes `text`, held in pieces, to `path` (or `target`'s memory) with `write`. Freeing
-/// a large document's thousands of pieces (`many`) takes milliseconds: done on the thread
-/// pool while the file is synced, not before the caller gets control back.
-fn write_text<T: Send + 'static>(
-    path: &Path,
-    text: T,
-    many: bool,
-    write: impl FnOnce(&T, &mut dyn std::io::Write) -> std::io::Result<()>,
-    target: Target,
-) -> Result<(), OutputError> {
-    let io_error = |source| OutputError::Io {
-        path: path.to_path_buf(),
-        source,
-    };
-    if let Target::Memory(bytes) = target {
-        return write(&text, bytes).map_err(io_error);
-    }
-    gmotion::atomic::write_with(path, |out| {
-        write(&text, out)?;
-        if many {
-            rayon::spawn(move || drop(text));
-        }
-        Ok(())
-    })
-    .map_err(io_error)
-}
-
 /// The dotLottie package a `.lottie` output at `path` holds: the Lottie `text` put into
 /// `package` in place of the animation the scene was read from, or alone in a new package
 /// under an id made from the file name.
@@ -1079,9 +1085,6 @@ fn packaged(path: &Path, text: &str, package: Option<&Picked>) -> Result<Vec<u8>
     pkg.put_animation(&id, text).map_err(error)?;
     pkg.to_bytes().map_err(error)
 }
-
-/// From this many pieces a written SVG text is freed on the thread pool.
-const BACKGROUND_FREE_PIECES: usize = 1000;
 
 fn write_file(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
     gmotion::atomic::write_bytes(path, bytes).map_err(|source| OutputError::Io {

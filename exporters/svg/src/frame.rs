@@ -22,7 +22,7 @@
 mod defs;
 mod number;
 
-use foldhash::{HashSet, HashSetExt};
+use foldhash::{HashMap, HashSet, HashSetExt};
 
 use kurbo::{Affine, BezPath, PathEl, Point, Rect};
 
@@ -87,18 +87,41 @@ pub fn output_size_edit(svg: &str, fit: &Fit) -> Option<(std::ops::Range<usize>,
 
 /// The scene as a static SVG document, with its node ids.
 pub fn scene_svg(scene: &Scene) -> String {
-    let mut ids = HashSet::new();
-    collect_ids(&scene.root, &mut ids);
+    scene_svg_with_ids(scene, None)
+}
+
+/// Ids that replace a scene's own, by node: the address of the node's [`Group`],
+/// [`PathNode`] or [`ImageNode`] in the scene (the SMIL writer's marks, given this way
+/// rather than on a copy of the whole tree).
+pub(crate) type IdsByNode = HashMap<usize, String>;
+
+/// The address [`IdsByNode`] knows a node by.
+pub(crate) fn node_key<T>(node: &T) -> usize {
+    std::ptr::from_ref(node) as usize
+}
+
+/// [`scene_svg`] with the nodes `ids` names written under those ids instead of their own
+/// (what the scene with its ids so changed would write).
+pub(crate) fn scene_svg_with_ids(scene: &Scene, ids: Option<&IdsByNode>) -> String {
+    let mut names = HashSet::new();
+    collect_ids(&scene.root, ids, &mut names);
     let writer = Writer {
         scene,
         frame: None,
         out: String::with_capacity(4096),
-        defs: Defs::with_names(Names::new(ids)),
+        defs: Defs::with_names(Names::new(names)),
         deform: Vec::new(),
         morph: None,
         written_ids: Some(HashSet::new()),
+        ids,
     };
     writer.document()
+}
+
+/// The id `node` is written with: its own (`own`) unless `ids` names it.
+fn id_of<'a, T>(ids: Option<&'a IdsByNode>, node: &T, own: &'a str) -> &'a str {
+    ids.and_then(|m| m.get(&node_key(node)))
+        .map_or(own, String::as_str)
 }
 
 /// The animation's frame at time `t` (seconds) as an SVG document.
@@ -147,21 +170,23 @@ pub fn frame_with_ids<'a>(
         deform: Vec::new(),
         morph: None,
         written_ids: None,
+        ids: None,
     };
     writer.document()
 }
 
-fn collect_ids(g: &Group, ids: &mut HashSet<String>) {
-    if !g.id.is_empty() {
-        ids.insert(g.id.clone());
-    }
+fn collect_ids(g: &Group, by_node: Option<&IdsByNode>, ids: &mut HashSet<String>) {
+    let add = |ids: &mut HashSet<String>, id: &str| {
+        if !id.is_empty() {
+            ids.insert(id.to_string());
+        }
+    };
+    add(ids, id_of(by_node, g, &g.id));
     for child in &g.children {
         match child {
-            Node::Group(h) => collect_ids(h, ids),
-            Node::Path(_) | Node::Image(_) if !child.id().is_empty() => {
-                ids.insert(child.id().to_string());
-            }
-            Node::Path(_) | Node::Image(_) => {}
+            Node::Group(h) => collect_ids(h, by_node, ids),
+            Node::Path(p) => add(ids, id_of(by_node, p, &p.id)),
+            Node::Image(i) => add(ids, id_of(by_node, i, &i.id)),
         }
     }
 }
@@ -240,32 +265,37 @@ struct Writer<'a> {
     morph: Option<(Vec<BezPath>, usize)>,
     /// Node ids written so far (`None` when ids are not written: frames and defs).
     written_ids: Option<HashSet<&'a str>>,
+    /// Ids written in place of the nodes' own.
+    ids: Option<&'a IdsByNode>,
 }
 
 impl<'a> Writer<'a> {
     fn document(mut self) -> String {
         let root = &self.scene.root;
         self.group(root, Ctx::REST);
-        let body = std::mem::take(&mut self.out);
+        let mut body = std::mem::take(&mut self.out);
         self.written_ids = None;
         self.write_defs();
         let defs = std::mem::take(&mut self.out);
 
-        let mut doc = String::with_capacity(body.len() + defs.len() + 160);
-        doc.push_str(ROOT);
-        attr_num(&mut doc, "width", self.scene.width);
-        attr_num(&mut doc, "height", self.scene.height);
-        doc.push_str(" viewBox=\"0 0 ");
-        point(&mut doc, Point::new(self.scene.width, self.scene.height));
-        doc.push_str("\">\n");
+        let mut head = String::with_capacity(defs.len() + 160);
+        head.push_str(ROOT);
+        attr_num(&mut head, "width", self.scene.width);
+        attr_num(&mut head, "height", self.scene.height);
+        head.push_str(" viewBox=\"0 0 ");
+        point(&mut head, Point::new(self.scene.width, self.scene.height));
+        head.push_str("\">\n");
         if !defs.is_empty() {
-            doc.push_str("<defs>\n");
-            doc.push_str(&defs);
-            doc.push_str("</defs>\n");
+            head.push_str("<defs>\n");
+            head.push_str(&defs);
+            head.push_str("</defs>\n");
         }
-        doc.push_str(&body);
-        doc.push_str("</svg>\n");
-        doc
+        // The head goes in front of the body in place: a copy of a large scene's body
+        // would hold its text twice (the SMIL writer's peak at a million shapes).
+        body.reserve_exact(head.len() + "</svg>\n".len());
+        body.insert_str(0, &head);
+        body.push_str("</svg>\n");
+        body
     }
 
     fn id_attr(&mut self, id: &'a str) {
@@ -365,17 +395,18 @@ impl<'a> Writer<'a> {
     }
 
     fn group(&mut self, g: &'a Group, ctx: Ctx) {
+        let id = id_of(self.ids, g, &g.id);
         let bare = g.transform == Affine::IDENTITY
             && g.opacity == 1.0
             && g.clip_path.is_none()
             && g.mask.is_none()
             && g.filter.is_none()
-            && (g.id.is_empty() || self.written_ids.is_none());
+            && (id.is_empty() || self.written_ids.is_none());
         if bare {
             return self.group_content(g, ctx);
         }
         self.out.push_str("<g");
-        self.id_attr(&g.id);
+        self.id_attr(id);
         attr_transform(&mut self.out, "transform", g.transform);
         if g.opacity != 1.0 {
             attr_num(&mut self.out, "opacity", g.opacity as f64);
@@ -483,7 +514,7 @@ impl<'a> Writer<'a> {
         self.out.push_str("<path");
         // A split path keeps its id on the fill (ids are unique).
         if which != Paints::Stroke || p.fill.is_none() {
-            self.id_attr(&p.id);
+            self.id_attr(id_of(self.ids, p, &p.id));
         }
         self.out.push_str(" d=\"");
         self.path_data(path, deform);
@@ -547,7 +578,7 @@ impl<'a> Writer<'a> {
     /// recolours paints, and an image has none) and its rectangle under per-vertex motion.
     fn image(&mut self, i: &'a ImageNode) {
         self.out.push_str("<image");
-        self.id_attr(&i.id);
+        self.id_attr(id_of(self.ids, i, &i.id));
         attr_num(&mut self.out, "width", i.width);
         attr_num(&mut self.out, "height", i.height);
         // The groups around the image already fit it to its viewport.

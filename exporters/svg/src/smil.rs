@@ -32,6 +32,7 @@ mod merge;
 mod morph;
 mod paint;
 mod splice;
+mod stream;
 mod text;
 mod transform;
 mod xml;
@@ -43,7 +44,6 @@ use foldhash::{HashMap, HashSet};
 use kurbo::Point;
 use rayon::prelude::*;
 
-use crate::frame::output_size_edit;
 use attr::Bake;
 use gmotion::Warning;
 use gmotion::canvas::OutputSize;
@@ -133,151 +133,74 @@ pub fn to_smil(anim: &Animation, opts: &SmilOptions) -> Result<(String, Vec<Warn
 
 /// Like [`to_smil`], also counting what was written exactly and what was baked.
 pub fn smil_document(anim: &Animation, opts: &SmilOptions) -> Result<SmilDocument, SmilError> {
-    validate(anim, opts)?;
-    let w = Writer {
-        anim,
-        // Every output lasts the duration rounded to whole frames (`gmotion::canvas`), the
-        // SVG too: it loops when the Lottie and the GIF do.
-        clock: Clock {
-            dur: anim.length(),
-            looping: anim.looping,
-        },
-        opts,
-    };
-    let mut doc = SmilDocument {
-        svg: SmilText::default(),
-        warnings: Vec::new(),
-        exact_segments: 0,
-        baked_segments: 0,
-    };
-    let mut edits = Edits::default();
-    // Units and paths are written apart, in parallel, each into its own part; the parts
-    // are then taken in document order, so the text is the same on any thread count.
-    let mut take = |part: Part| {
-        for (unit, message) in part.warnings {
-            let s = &anim.scene.shapes[unit];
-            doc.warnings
-                .push(Warning::about(format!("{}:{}", s.tag, s.id), message));
-        }
-        doc.exact_segments += part.exact;
-        doc.baked_segments += part.baked;
-        for (range, text) in part.edits {
-            edits.replace(range, text);
-        }
-    };
-    let dur = anim.length();
-    let mut units: Vec<usize> = (0..anim.tracks.len())
-        .filter(|&u| changes(&anim.tracks[u], dur))
-        .collect();
-    let mut lost = Part::default();
-    units.retain(|&u| {
-        let found = anim.scene.unit_node(u).is_some();
-        if !found {
-            lost.warn(u, "its node is not in the scene tree; not animated".into());
-        }
-        found
-    });
-    take(lost);
-    // A unit's groups do not depend on where its element lands in the marked document:
-    // they are written while the document is marked (a serial pass, a tenth of a large
-    // export), and placed once it is.
-    let ((marked, els), unit_groups) = rayon::join(
-        || {
-            let marked = splice::mark(&anim.scene, &units.iter().copied().collect());
-            let els = splice::elements_by_id(&marked.svg);
-            (marked, els)
-        },
-        || {
-            par_map(&units, |&u| {
-                let mut part = Part::default();
-                let groups = w.unit(u, &mut part);
-                (part, groups)
-            })
-        },
-    );
-    let mut defs = Defs {
-        text: String::new(),
-        marked: &marked.taken,
-        els: &els,
-        given: HashSet::default(),
-    };
-    // Each unit's groups go around its element, found by id (on the thread pool for a large
-    // document: the look-ups were most of this serial stretch).
-    let place = |(&u, (mut part, groups)): (&usize, (Part, Option<UnitGroups>))| {
-        match marked.unit_ids.get(&u).and_then(|id| els.get(id)) {
-            Some(el) => {
-                if let Some(groups) = groups {
-                    part.insert(el.tag.start, groups.open);
-                    part.insert(el.end, "\n</g>".repeat(groups.depth));
-                }
-            }
-            None => {
-                part = Part::default();
-                part.warn(u, "its node was not written; not animated".into());
-            }
-        }
-        part
-    };
-    let placed: Vec<Part> = if units.len() >= PARALLEL_ITEMS {
-        units.par_iter().zip(unit_groups).map(place).collect()
-    } else {
-        units.iter().zip(unit_groups).map(place).collect()
-    };
-    placed.into_iter().for_each(&mut take);
-    // A tinted gradient or pattern is copied under a fresh id, and ids are handed out in
-    // document order: paths painted with one are written afterwards, in order.
-    let path_parts: Vec<Option<Part>> = par_map(&marked.paths, |mp| {
-        let el = els.get(&mp.id)?;
-        if uses_paint_server(mp.path) {
-            return None;
-        }
-        let mut part = Part::default();
-        w.path(mp, el, &marked.svg, &els, &mut part, None);
-        Some(part)
-    });
-    for (mp, part) in marked.paths.iter().zip(path_parts) {
-        match (part, els.get(&mp.id)) {
-            (Some(part), _) => take(part),
-            (None, Some(el)) => {
-                let mut part = Part::default();
-                w.path(mp, el, &marked.svg, &els, &mut part, Some(&mut defs));
-                take(part);
-            }
-            (None, None) => {}
-        }
+    let writer = SmilWriter::new(anim, opts)?;
+    let mut bytes = Vec::new();
+    let report = writer
+        .write_to(&mut bytes)
+        .expect("writing to memory cannot fail");
+    let text = String::from_utf8(bytes).expect("the document is written from strings");
+    Ok(SmilDocument {
+        svg: SmilText::from(text),
+        warnings: report.warnings,
+        exact_segments: report.exact_segments,
+        baked_segments: report.baked_segments,
+    })
+}
+
+/// What writing an animated SVG reports: [`SmilDocument`] without the text, which went to
+/// the writer.
+#[derive(Clone, Debug, Default)]
+pub struct SmilReport {
+    /// What the document does not show as gmotion renders it.
+    pub warnings: Vec<Warning>,
+    /// Motion segments written exactly.
+    pub exact_segments: usize,
+    /// Motion segments and attribute changes that were sampled and reduced.
+    pub baked_segments: usize,
+}
+
+/// An animation checked and ready to be written as an animated SVG, streamed: the
+/// document goes to its writer a run of elements at a time, each run's animation made
+/// just before it is written and freed after, so a large export never holds its whole
+/// text (nor every unit's animation) at once.
+pub struct SmilWriter<'a> {
+    anim: &'a Animation,
+    opts: SmilOptions,
+}
+
+impl<'a> SmilWriter<'a> {
+    /// Checks `anim` and `opts` (the errors [`smil_document`] gives) without writing
+    /// anything, so that a caller can refuse before it creates a file.
+    pub fn new(anim: &'a Animation, opts: &SmilOptions) -> Result<SmilWriter<'a>, SmilError> {
+        validate(anim, opts)?;
+        Ok(SmilWriter {
+            anim,
+            opts: opts.clone(),
+        })
     }
-    // The range of each marker's ` id="…"`, quotes included, found on the thread pool
-    // (a large document has thousands); the order is the edits' own once sorted.
-    let marker_range = |id: &String| {
-        let el = els.get(id)?;
-        let (r, _) = tag_attr(&marked.svg[el.tag.start..el.tag.end], "id")?;
-        Some(el.tag.start + r.start - 5..el.tag.start + r.end + 1)
-    };
-    let markers: Vec<std::ops::Range<usize>> = if marked.markers.len() >= PARALLEL_ITEMS {
-        marked.markers.par_iter().filter_map(marker_range).collect()
-    } else {
-        marked.markers.iter().filter_map(marker_range).collect()
-    };
-    for range in markers {
-        edits.replace(range, String::new());
+
+    /// Writes the document to `out`, the same bytes [`smil_document`] holds.
+    pub fn write_to(&self, out: &mut dyn std::io::Write) -> std::io::Result<SmilReport> {
+        let w = Writer {
+            anim: self.anim,
+            // Every output lasts the duration rounded to whole frames (`gmotion::canvas`),
+            // the SVG too: it loops when the Lottie and the GIF do.
+            clock: Clock {
+                dur: self.anim.length(),
+                looping: self.anim.looping,
+            },
+            opts: &self.opts,
+        };
+        w.document(out)
     }
-    if !defs.text.is_empty() {
-        match marked.svg.find("</defs>") {
-            Some(at) => edits.insert(at, defs.text),
-            None => {
-                let at = marked.svg.find(">\n").map_or(0, |i| i + 2);
-                edits.insert(at, format!("<defs>\n{}</defs>\n", defs.text));
-            }
-        }
+}
+
+impl std::fmt::Debug for SmilWriter<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SmilWriter")
+            .field("opts", &self.opts)
+            .finish_non_exhaustive()
     }
-    if let Some(fit) = opts.size.fit(anim.scene.width, anim.scene.height)
-        && !fit.is_canvas()
-        && let Some((range, text)) = output_size_edit(&marked.svg, &fit)
-    {
-        edits.replace(range, text);
-    }
-    doc.svg = edits.apply(marked.svg);
-    Ok(doc)
 }
 
 fn validate(anim: &Animation, opts: &SmilOptions) -> Result<(), SmilError> {
@@ -423,10 +346,12 @@ struct UnitGroups {
 struct Defs<'m> {
     /// Their text.
     text: String,
-    /// The ids the marked document uses besides its elements' (markers, def names).
-    marked: &'m HashSet<String>,
+    /// The scene's node ids, which the marked document may use.
+    node_ids: &'m HashMap<&'m str, usize>,
+    /// The markers, which it may use too.
+    markers: &'m HashSet<&'m str>,
     /// The marked document's elements, by id.
-    els: &'m HashMap<String, Element>,
+    els: &'m HashMap<&'m str, Element>,
     /// The ids given to copies so far.
     given: HashSet<String>,
 }
@@ -435,7 +360,10 @@ impl Defs<'_> {
     /// Whether `id` is in use (looked up where it is kept: copying every id of a large
     /// document into one set took milliseconds on the export's one serial thread).
     fn taken(&self, id: &str) -> bool {
-        self.marked.contains(id) || self.els.contains_key(id) || self.given.contains(id)
+        self.node_ids.contains_key(id)
+            || self.markers.contains(id)
+            || self.els.contains_key(id)
+            || self.given.contains(id)
     }
 }
 
@@ -583,7 +511,7 @@ impl Writer<'_> {
         mp: &MarkedPath<'_>,
         el: &Element,
         svg: &str,
-        els: &HashMap<String, Element>,
+        els: &HashMap<&str, Element>,
         part: &mut Part,
         mut defs: Option<&mut Defs>,
     ) {
@@ -985,7 +913,7 @@ struct PaintRef<'s> {
     /// The static document.
     svg: &'s str,
     /// Its elements by id.
-    els: &'s HashMap<String, Element>,
+    els: &'s HashMap<&'s str, Element>,
 }
 
 /// The paths of a group's content in document order (the order the writer writes them).

@@ -11,15 +11,15 @@ use foldhash::{HashMap, HashMapExt, HashSet, HashSetExt};
 use kurbo::Affine;
 
 use super::SmilText;
-use crate::frame::scene_svg;
+use crate::frame::{IdsByNode, node_key, scene_svg_with_ids};
 use gmotion::scene::{Group, Node, PathNode, Scene};
 
 /// A path inside one or more animated units, with what the splice needs to animate it.
 pub struct MarkedPath<'a> {
     /// The path in the original scene.
     pub path: &'a PathNode,
-    /// The id that finds it in the written document.
-    pub id: String,
+    /// Its element (an index into [`Marked::elements`]).
+    pub element: usize,
     /// Transform from the path's coordinates to the canvas at rest.
     pub abs: Affine,
     /// The units it lies in, outermost first.
@@ -30,53 +30,47 @@ pub struct MarkedPath<'a> {
 pub struct Marked<'a> {
     /// `scene_svg`'s text of the marked scene.
     pub svg: String,
-    /// Id of each unit's node, by unit index.
-    pub unit_ids: HashMap<usize, String>,
+    /// The ids of the elements made findable, in document order, each with whether it is
+    /// a marker (to remove when splicing).
+    pub elements: Vec<(String, bool)>,
+    /// Each animated unit with its element (an index into `elements`), in document order.
+    pub units: Vec<(usize, usize)>,
     /// Paths inside units, in document order.
     pub paths: Vec<MarkedPath<'a>>,
-    /// Ids that exist only to be found, to remove when splicing.
-    pub markers: HashSet<String>,
-    /// Every id in the document (to name new elements without collisions).
-    pub taken: HashSet<String>,
+    /// The scene's own node ids, with how many nodes carry each: with the markers (in
+    /// `elements`), every node id in the document (to name new elements without
+    /// collisions).
+    pub node_ids: HashMap<&'a str, usize>,
 }
 
-/// Writes `scene` with ids on the unit nodes of `units` and on every path inside them.
+/// Writes `scene` with ids on the unit nodes of `units` and on every path inside them
+/// (given to the writer by node: the scene is not copied).
 pub fn mark<'a>(scene: &'a Scene, units: &HashSet<usize>) -> Marked<'a> {
     let mut count: HashMap<&str, usize> = HashMap::new();
     count_ids(&scene.root, &mut count);
-    let mut taken: HashSet<String> = count.keys().map(|s| s.to_string()).collect();
     let mut st = MarkState {
         units,
         count: &count,
-        taken: &mut taken,
-        unit_ids: HashMap::new(),
+        elements: Vec::new(),
+        marked_units: Vec::new(),
         paths: Vec::new(),
         markers: HashSet::new(),
+        ids: IdsByNode::default(),
     };
-    let mut root = scene.root.clone();
-    st.group(
-        &scene.root,
-        &mut root,
-        scene.root.transform,
-        &mut Vec::new(),
-    );
-    let (unit_ids, paths, markers) = (st.unit_ids, st.paths, st.markers);
-    // Field by field: `..scene.clone()` would copy the whole tree once more. The static
-    // document writes no frame, so it reads no shapes.
-    let marked = Scene {
-        root,
-        width: scene.width,
-        height: scene.height,
-        shapes: Vec::new(),
-        time: None,
-        keys: Vec::new(),
-    };
-    Marked {
-        svg: scene_svg(&marked),
-        unit_ids,
+    st.group(&scene.root, scene.root.transform, &mut Vec::new());
+    let svg = scene_svg_with_ids(scene, Some(&st.ids));
+    let MarkState {
+        elements,
+        marked_units: units,
         paths,
-        markers,
-        taken,
+        ..
+    } = st;
+    Marked {
+        svg,
+        elements,
+        units,
+        paths,
+        node_ids: count,
     }
 }
 
@@ -98,51 +92,55 @@ fn count_ids<'s>(g: &'s Group, count: &mut HashMap<&'s str, usize>) {
 struct MarkState<'a, 'c> {
     units: &'c HashSet<usize>,
     count: &'c HashMap<&'a str, usize>,
-    taken: &'c mut HashSet<String>,
-    unit_ids: HashMap<usize, String>,
+    elements: Vec<(String, bool)>,
+    marked_units: Vec<(usize, usize)>,
     paths: Vec<MarkedPath<'a>>,
     markers: HashSet<String>,
+    /// The ids the document is written with, by node.
+    ids: IdsByNode,
 }
 
 impl<'a> MarkState<'a, '_> {
-    /// The id to find a node by: its own when unique, else a fresh marker.
-    fn findable(&mut self, own: &str, hint: &str) -> (String, bool) {
-        if !own.is_empty() && self.count.get(own) == Some(&1) {
-            return (own.to_string(), false);
-        }
-        let mut name = format!("gmotion-{hint}");
-        while self.taken.contains(&name) {
-            name.push('_');
-        }
-        self.taken.insert(name.clone());
-        self.markers.insert(name.clone());
-        (name, true)
+    /// Makes the node `key` findable by an id: its own when unique, else a fresh marker;
+    /// returns its element's index.
+    fn findable(&mut self, key: usize, own: &str, hint: &str) -> usize {
+        let (id, marker) = if !own.is_empty() && self.count.get(own) == Some(&1) {
+            (own.to_string(), false)
+        } else {
+            let mut name = format!("gmotion-{hint}");
+            while self.count.contains_key(name.as_str()) || self.markers.contains(&name) {
+                name.push('_');
+            }
+            self.markers.insert(name.clone());
+            (name, true)
+        };
+        self.ids.insert(key, id.clone());
+        self.elements.push((id, marker));
+        self.elements.len() - 1
     }
 
-    /// Walks `orig` and its copy `out` together; `abs` maps the group's content to the canvas.
-    fn group(&mut self, orig: &'a Group, out: &mut Group, abs: Affine, inside: &mut Vec<usize>) {
-        for (o, n) in orig.children.iter().zip(out.children.iter_mut()) {
-            let unit = o.unit().filter(|u| self.units.contains(u));
+    /// Walks `g`'s content; `abs` maps it to the canvas.
+    fn group(&mut self, g: &'a Group, abs: Affine, inside: &mut Vec<usize>) {
+        for node in &g.children {
+            let unit = node.unit().filter(|u| self.units.contains(u));
+            let mut element = None;
             if let Some(u) = unit {
-                let (id, _) = self.findable(o.id(), &format!("u{u}"));
-                set_id(n, &id);
-                self.unit_ids.insert(u, id);
+                let e = self.findable(key_of(node), node.id(), &format!("u{u}"));
+                self.marked_units.push((u, e));
+                element = Some(e);
                 inside.push(u);
             }
-            match (o, n) {
-                (Node::Group(og), Node::Group(ng)) => {
-                    self.group(og, ng, abs * og.transform, inside)
-                }
-                (Node::Path(op), Node::Path(np)) if !inside.is_empty() => {
+            match node {
+                Node::Group(h) => self.group(h, abs * h.transform, inside),
+                Node::Path(p) if !inside.is_empty() => {
                     let hint = format!("p{}", self.paths.len());
-                    let id = match unit {
-                        Some(u) => self.unit_ids[&u].clone(),
-                        None => self.findable(&op.id, &hint).0,
+                    let element = match element {
+                        Some(e) => e,
+                        None => self.findable(node_key(p), &p.id, &hint),
                     };
-                    np.id.clone_from(&id);
                     self.paths.push(MarkedPath {
-                        path: op,
-                        id,
+                        path: p,
+                        element,
                         abs,
                         units: inside.clone(),
                     });
@@ -156,11 +154,12 @@ impl<'a> MarkState<'a, '_> {
     }
 }
 
-fn set_id(n: &mut Node, id: &str) {
-    match n {
-        Node::Group(g) => id.clone_into(&mut g.id),
-        Node::Path(p) => id.clone_into(&mut p.id),
-        Node::Image(i) => id.clone_into(&mut i.id),
+/// The key [`IdsByNode`] knows `node` by: its group's, path's or image's address.
+fn key_of(node: &Node) -> usize {
+    match node {
+        Node::Group(g) => node_key(g),
+        Node::Path(p) => node_key(p),
+        Node::Image(i) => node_key(i),
     }
 }
 
@@ -229,14 +228,12 @@ pub fn attr<'s>(tag: &'s str, name: &str) -> Option<(std::ops::Range<usize>, &'s
 }
 
 /// The elements that carry an id, by id (the first one when an id repeats).
-pub fn elements_by_id(svg: &str) -> HashMap<String, Element> {
+pub fn elements_by_id<'s>(svg: &'s str) -> HashMap<&'s str, Element> {
     let mut found = HashMap::new();
     let mut open: Vec<Tag> = Vec::new();
-    let finish = |t: Tag, end: usize, found: &mut HashMap<String, Element>| {
+    let finish = |t: Tag, end: usize, found: &mut HashMap<&'s str, Element>| {
         if let Some((_, id)) = attr(&svg[t.start..t.end], "id") {
-            found
-                .entry(id.to_string())
-                .or_insert(Element { tag: t, end });
+            found.entry(id).or_insert(Element { tag: t, end });
         }
     };
     for t in tags(svg) {
@@ -253,6 +250,51 @@ pub fn elements_by_id(svg: &str) -> HashMap<String, Element> {
     found
 }
 
+/// The elements whose ids are `ids`, listed in the order they are written (each id
+/// once), found in one pass over the document instead of through a map of every element
+/// (whose look-ups, a cache miss each, made a large export slower per shape than a small
+/// one). An id not met in that order is looked for by [`elements_by_id`], as before.
+pub fn locate(svg: &str, ids: &[&str]) -> Vec<Option<Element>> {
+    let mut found: Vec<Option<Element>> = vec![None; ids.len()];
+    let mut next = 0;
+    let mut open: Vec<(Tag, Option<usize>)> = Vec::new();
+    let mut finish = |t: Tag, end: usize, at: Option<usize>| {
+        if let Some(i) = at {
+            found[i] = Some(Element { tag: t, end });
+        }
+    };
+    for t in tags(svg) {
+        if t.closing {
+            if let Some((o, at)) = open.pop() {
+                finish(o, t.end, at);
+            }
+            continue;
+        }
+        if svg[t.start..].starts_with("<?") {
+            continue;
+        }
+        let at = ids
+            .get(next)
+            .filter(|&&id| attr(&svg[t.start..t.end], "id").is_some_and(|(_, v)| v == id))
+            .map(|_| {
+                next += 1;
+                next - 1
+            });
+        if t.empty {
+            finish(t, t.end, at);
+        } else {
+            open.push((t, at));
+        }
+    }
+    if next < ids.len() {
+        let els = elements_by_id(svg);
+        for (slot, id) in found.iter_mut().zip(ids).skip(next) {
+            *slot = els.get(id).copied();
+        }
+    }
+    found
+}
+
 /// Text edits on a document: insertions and replacements at byte offsets.
 #[derive(Default)]
 pub struct Edits {
@@ -261,15 +303,11 @@ pub struct Edits {
 }
 
 impl Edits {
-    /// Replaces `range` by `text`.
+    /// Replaces `range` by `text` (an empty range inserts it; insertions at one offset keep
+    /// the order they were made in).
     pub fn replace(&mut self, range: std::ops::Range<usize>, text: String) {
         self.list.push((range.start, range.end, self.seq, text));
         self.seq += 1;
-    }
-
-    /// Inserts `text` at `at`; insertions at one offset keep the order they were made in.
-    pub fn insert(&mut self, at: usize, text: String) {
-        self.replace(at..at, text);
     }
 
     /// The edited document. Replaced ranges must not overlap.
@@ -302,6 +340,34 @@ mod tests {
     }
 
     #[test]
+    fn elements_are_located_in_one_pass_or_by_id() {
+        let doc = "<svg>\n<defs>\n<g id=\"b\"/>\n</defs>\n<g id=\"a\">\n<path id=\"b\"/>\n</g>\n<path id=\"c\"/>\n</svg>\n";
+        let text = |e: Option<Element>| e.map(|e| &doc[e.tag.start..e.end]);
+        // In the order written: each found after the one before.
+        let found = locate(doc, &["a", "b", "c"]);
+        let texts: Vec<_> = found.into_iter().map(text).collect();
+        assert_eq!(
+            texts,
+            [
+                Some("<g id=\"a\">\n<path id=\"b\"/>\n</g>"),
+                Some("<path id=\"b\"/>"),
+                Some("<path id=\"c\"/>")
+            ]
+        );
+        // Out of order, or missing: by id, the first element that has it.
+        let found = locate(doc, &["c", "a", "x"]);
+        let texts: Vec<_> = found.into_iter().map(text).collect();
+        assert_eq!(
+            texts,
+            [
+                Some("<path id=\"c\"/>"),
+                Some("<g id=\"a\">\n<path id=\"b\"/>\n</g>"),
+                None
+            ]
+        );
+    }
+
+    #[test]
     fn an_attribute_is_found_by_its_whole_name() {
         let tag = "<path data-id=\"a\" xid=\"b\" title=\"id=c\" id=\"d\" idx=\"e\"/>";
         let (range, value) = attr(tag, "id").unwrap();
@@ -314,10 +380,10 @@ mod tests {
     #[test]
     fn edits_apply_in_order() {
         let mut e = Edits::default();
-        e.insert(3, "b".into());
+        e.replace(3..3, "b".into());
         e.replace(1..2, "X".into());
-        e.insert(3, "c".into());
-        e.insert(0, "<".into());
+        e.replace(3..3, "c".into());
+        e.replace(0..0, "<".into());
         assert_eq!(e.apply("0123".into()).into_string(), "<0X2bc3");
     }
 }

@@ -1,8 +1,6 @@
-//! An animated SVG as it was put together: the static document and the animation spliced
-//! into it, rather than one string. A large export goes to its file straight from these
-//! pieces, instead of first being copied into one allocation of its whole size: at the
-//! intersections scale that copy was 12.8 MB of fresh memory, faulted in page by page on
-//! the one thread left at the end of an export.
+//! An animated SVG as a document and the edits spliced into it, rather than one string:
+//! what [`super::smil_document`] returns, and how a tinted copy of a definition is put
+//! together. A large export is not held at all: [`super::SmilWriter`] streams it.
 
 use std::io::{self, Write};
 
