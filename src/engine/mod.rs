@@ -322,18 +322,7 @@ fn run_here(
         (compile::track(&scene.shapes[si], &timeline), spans)
     })?;
     let slices = slices.into_inner();
-    // Taken apart in place (the tracks reuse the pairs' allocation): unzipped into two
-    // new vectors, the pairs and the tracks were held together at the expansion's peak,
-    // 360 MB at 999 000 shapes.
-    let mut spans = Vec::new();
-    let mut tracks: Vec<_> = (compiled.into_iter())
-        .map(|(track, s)| {
-            if want_markers {
-                spans.push(s);
-            }
-            track
-        })
-        .collect();
+    let (mut tracks, spans): (Vec<_>, Vec<_>) = compiled.into_iter().unzip();
     let markers = match want_markers {
         true => markers::collect(
             &marker_names,
