@@ -380,7 +380,10 @@ fn parse_in(
         uopt.fontdb = fonts::database(&policy.fonts);
         uopt.font_resolver = fonts::resolver(&policy.fonts);
     }
-    let tree = usvg::Tree::from_str(&src.prepared, &uopt).map_err(|e| match e {
+    let tree = src.aside(source_name, |prepared| {
+        usvg::Tree::from_str(prepared, &uopt)
+    })?;
+    let tree = tree.map_err(|e| match e {
         usvg::Error::InvalidSize => ImportError::Size {
             source_name: source_name.to_string(),
         },
@@ -405,6 +408,9 @@ fn parse_in(
         },
     })?;
 
+    // The key shapes read the text prepared for usvg; it is freed once they are found.
+    let keys = keys::key_shapes(&src, &uopt, opts);
+    src.prepared = std::borrow::Cow::Borrowed("");
     let mut converted = convert::convert(&tree, &src, opts, &uopt.fontdb, policy);
     converted.warnings.extend(unmatched);
     converted.warnings.extend(src.unlinked.iter().cloned());
@@ -419,15 +425,21 @@ fn parse_in(
             },
         ));
     }
+    let (width, height) = (tree.size().width() as f64, tree.size().height() as f64);
+    // Nothing below reads usvg's tree or the source document: both are freed before the
+    // units are measured, the import's last and largest step (at 999 000 shapes they
+    // held about a gigabyte beside the scene).
+    drop(tree);
+    drop(src);
     let mut shapes = Vec::with_capacity(converted.units.len());
     let mut counts: std::collections::HashMap<String, usize> = Default::default();
     let mut scene = Scene {
-        width: tree.size().width() as f64,
-        height: tree.size().height() as f64,
+        width,
+        height,
         root: converted.root,
         shapes: Vec::new(),
         time: None,
-        keys: keys::key_shapes(&src, &uopt, opts),
+        keys,
     };
     // The converter registers only units that hold a path, so a measure exists; the
     // fallback keeps `Node::unit` indices aligned should that ever change.
