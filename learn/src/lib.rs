@@ -15,6 +15,7 @@ pub mod fit;
 pub mod report;
 pub mod rules;
 pub mod sample;
+pub mod share;
 
 use std::path::Path;
 

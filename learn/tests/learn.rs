@@ -261,3 +261,139 @@ fn an_after_effects_timeline_is_cut_in_whole_pieces_written_short() {
         }
     }
 }
+
+/// Squares tagged by `tags` (one per square, cycled) at the x positions `xs`, 20 px wide.
+fn squares_at(xs: &[f64], tags: &[&str]) -> String {
+    let mut svg = String::from(
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="400" height="200" viewBox="0 0 400 200">"#,
+    );
+    for (i, x) in xs.iter().enumerate() {
+        svg.push_str(&format!(
+            r##"<rect data-tag="{}" x="{x}" y="20" width="20" height="20" fill="#d33"/>"##,
+            tags[i % tags.len()]
+        ));
+    }
+    svg.push_str("</svg>");
+    svg
+}
+
+/// The number `NAME` is multiplied by in `rule` (`… 0.004 * cx …`), if any.
+fn coefficient(rule: &str, name: &str) -> Option<f64> {
+    let at = rule.find(&format!(" * {name}"))?;
+    let before = &rule[..at];
+    let start = before
+        .rfind(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .map_or(0, |i| i + 1);
+    before[start..].parse().ok()
+}
+
+/// Learns `json`, plays the learned grammar again and learns that: the same rules come
+/// back only if `animate` gives the shape's variables the values `learn` fitted them with.
+fn learned_twice(dir: &Path, json: &Path) -> (Learned, Learned) {
+    let first = learned(json);
+    let gm = write_learned(dir, &first);
+    let again = learned(&run_to_lottie(&gm, &dir.join("again.json")));
+    (first, again)
+}
+
+#[test]
+fn a_stagger_along_x_comes_back_as_an_offset_in_cx() {
+    let dir = fresh_dir("stagger_cx");
+    // Document order is not left to right: the stagger is no line in `id`.
+    let json = export(
+        &dir,
+        "row",
+        &squares_at(&[20.0, 300.0, 100.0, 220.0, 60.0], &["s"]),
+        "duration 4s\nfps 30\n\
+         timesplit(0.6, 0.4) : [all, s] -> [a, rest]\n\
+         animate(affine, world, 0.004 * cx, translate(0, 100), ease=ease-in-out) : [a, s] -> [m]\n",
+    );
+    let (l, again) = learned_twice(&dir, &json);
+    assert_eq!(l.report.unexplained().count(), 0, "{}", l.report);
+    let moves: Vec<_> = rules(&l)
+        .into_iter()
+        .filter(|r| r.starts_with("animate"))
+        .collect();
+    assert_eq!(
+        moves.len(),
+        1,
+        "one rule for the five squares\n{}",
+        l.grammar
+    );
+    let b = coefficient(moves[0], "cx").unwrap_or_else(|| panic!("a stagger in cx: {}", moves[0]));
+    assert!((b - 0.004).abs() < 1e-5, "{}", moves[0]);
+    assert_eq!(
+        rules(&again),
+        rules(&l),
+        "{}\n---\n{}",
+        l.grammar,
+        again.grammar
+    );
+}
+
+#[test]
+fn a_translation_growing_with_id_comes_back_as_one_rule() {
+    let dir = fresh_dir("amount_id");
+    let json = export(
+        &dir,
+        "row",
+        &squares(5, false),
+        "duration 3s\nfps 30\n\
+         timesplit(0.5, 0.5) : [all, s] -> [a, rest]\n\
+         animate(affine, world, 0, translate(0, 20 + 25 * id), ease=ease-out) : [a, s] -> [m]\n",
+    );
+    let (l, again) = learned_twice(&dir, &json);
+    assert_eq!(l.report.unexplained().count(), 0, "{}", l.report);
+    let moves: Vec<_> = rules(&l)
+        .into_iter()
+        .filter(|r| r.starts_with("animate"))
+        .collect();
+    assert_eq!(
+        moves.len(),
+        1,
+        "one rule for the five squares\n{}",
+        l.grammar
+    );
+    assert!(
+        moves[0].contains("translate(0, 20 + 25 * id)"),
+        "{}",
+        moves[0]
+    );
+    assert_eq!(
+        rules(&again),
+        rules(&l),
+        "{}\n---\n{}",
+        l.grammar,
+        again.grammar
+    );
+}
+
+#[test]
+fn tags_that_move_alike_share_one_rule_set_on_the_tuple_of_them() {
+    let dir = fresh_dir("tuple");
+    let json = export(
+        &dir,
+        "two",
+        &squares_at(&[20.0, 80.0, 140.0, 200.0, 260.0, 320.0], &["s", "t"]),
+        "duration 4s\nfps 30\n\
+         timesplit(0.5, 0.5) : [all, (s, t)] -> [a, inv_a]\n\
+         animate(affine, local, 0.2 * k, rotate(90), ease=ease-in) : [a, (s, t)] -> [m]\n",
+    );
+    let (l, again) = learned_twice(&dir, &json);
+    assert_eq!(l.report.unexplained().count(), 0, "{}", l.report);
+    assert_eq!(
+        l.report.sets.len(),
+        1,
+        "one set for both tags\n{}",
+        l.grammar
+    );
+    assert_eq!(rules(&l).len(), 2, "{}", l.grammar);
+    assert!(rules(&l)[1].contains("(s, t)]"), "{}", l.grammar);
+    assert_eq!(
+        rules(&again),
+        rules(&l),
+        "{}\n---\n{}",
+        l.grammar,
+        again.grammar
+    );
+}
