@@ -294,7 +294,7 @@ pub fn write(
             .step_by(2)
             .find(|(e, _)| !e.is_constant())
             .map(|(e, k)| e.text(k.digits()));
-        let rules = rule_set(body, &tags, &shared.template, &shared.exprs, clock);
+        let rules = rule_set(body, &tags, &shared.template, &shared.exprs, clock, false);
         RuleSet {
             tags,
             units,
@@ -338,6 +338,9 @@ pub fn write(
         let (rigs, drawn): (Vec<usize>, Vec<usize>) =
             units.iter().partition(|&&u| still.shapes[u].rig);
         let mut own = units.clone();
+        // Units of a tag whose shared set is not theirs: they keep rules of their own,
+        // which take their timeline first.
+        let mut exceptions: Vec<usize> = Vec::new();
         if done.contains(&tag) {
             own = rigs;
         } else if drawn.len() > 1 && whole(tag, &units) {
@@ -345,6 +348,25 @@ pub fn write(
             if let Some(shared) = share::share(&drawn, &vars, samples, fitted, clock, opts) {
                 sets.push(shared_set(&mut body, tag.to_string(), drawn, shared));
                 own = rigs;
+            } else if let Some(class) = largest_class(&drawn, fitted)
+                && class.len() < drawn.len()
+            {
+                // The most units that say the same kinds of change share a set; `k`
+                // still counts every drawing the set's rules take.
+                let cvars: Vec<Vars> = class
+                    .iter()
+                    .filter_map(|u| drawn.iter().position(|v| v == u).map(|i| vars[i]))
+                    .collect();
+                if let Some(shared) = share::share(&class, &cvars, samples, fitted, clock, opts) {
+                    exceptions = drawn
+                        .iter()
+                        .copied()
+                        .filter(|u| !class.contains(u))
+                        .collect();
+                    sets.push(shared_set(&mut body, tag.to_string(), class, shared));
+                    own = rigs;
+                    own.extend(&exceptions);
+                }
             }
         }
         for u in own {
@@ -364,7 +386,14 @@ pub fn write(
                 .into_iter()
                 .map(|(x, k)| (Expr::constant(x), k))
                 .collect();
-            let rules = rule_set(&mut body, &address, &fitted[u].slices, &own, clock);
+            let rules = rule_set(
+                &mut body,
+                &address,
+                &fitted[u].slices,
+                &own,
+                clock,
+                exceptions.contains(&u),
+            );
             sets.push(RuleSet {
                 tags: address,
                 units: vec![u],
@@ -398,15 +427,49 @@ pub fn write(
     (head, sets)
 }
 
+/// The largest class of `units` whose slices say the same kinds of change (at least
+/// two units), in `units`' order.
+fn largest_class(units: &[usize], fitted: &[Fitted]) -> Option<Vec<usize>> {
+    let mut classes: Vec<Vec<usize>> = Vec::new();
+    for &u in units {
+        match classes
+            .iter_mut()
+            .find(|c| share::same_kinds(&fitted[c[0]].slices, &fitted[u].slices))
+        {
+            Some(c) => c.push(u),
+            None => classes.push(vec![u]),
+        }
+    }
+    classes
+        .into_iter()
+        .filter(|c| c.len() > 1)
+        .max_by_key(|c| c.len())
+}
+
 /// Writes the rules of one set on shape tag `tag` (a tag, or a tuple of tags), its
-/// numbers `exprs` (the layout of [`share::numbers`]); returns how many.
+/// numbers `exprs` (the layout of [`share::numbers`]); returns how many. An exception to
+/// a set shared by the rest of its tag (`exception`) names its slices after `tag` (the
+/// shared rules must not take them) and takes the whole timeline first (`priority=1`).
 fn rule_set(
     out: &mut String,
     tag: &str,
     slices: &[Slice],
     exprs: &[(Expr, Kind)],
     clock: Clock,
+    exception: bool,
 ) -> usize {
+    let pre = if exception {
+        format!("{tag}_")
+    } else {
+        String::new()
+    };
+    let prio = |slice: &str| {
+        if exception && slice == "all" {
+            " priority=1"
+        } else {
+            ""
+        }
+    };
     let n_times = 2 * (slices.len() + slices.iter().map(|s| s.inner.len()).sum::<usize>());
     let (times, values) = exprs.split_at(n_times.min(exprs.len()));
     let times: Vec<Expr> = times.iter().map(|(e, _)| e.clone()).collect();
@@ -415,17 +478,18 @@ fn rule_set(
     let mut vals = values.iter();
     let mut rules = 0;
     let name = |k: usize| match slices[k].twin_of {
-        Some(i) => format!("inv_p{i}"),
-        None => format!("p{k}"),
+        Some(i) => format!("inv_{pre}p{i}"),
+        None => format!("{pre}p{k}"),
     };
     let whole = slices.len() == 1;
     if !whole {
         let outs: Vec<String> = (0..slices.len()).map(name).collect();
         let _ = writeln!(
             out,
-            "timesplit({}) : [all, {tag}] -> [{}]",
+            "timesplit({}) : [all, {tag}] -> [{}]{}",
             layout.fractions.join(", "),
-            outs.join(", ")
+            outs.join(", "),
+            prio("all")
         );
         rules += 1;
     }
@@ -434,7 +498,7 @@ fn rule_set(
             if whole {
                 "all".to_string()
             } else {
-                format!("p{k}")
+                format!("{pre}p{k}")
             }
         })
         .collect();
@@ -453,12 +517,13 @@ fn rule_set(
         let ease = ease_text(&m.ease).map_or(String::new(), |e| format!(", ease={e}"));
         let _ = writeln!(
             out,
-            "animate(affine, {ref_}, {}, {}{ease}) : [{}, {tag}] -> [m{k}]",
+            "animate(affine, {ref_}, {}, {}{ease}) : [{}, {tag}] -> [{pre}m{k}]{}",
             layout.delays[k],
             transform_text(comps, *pivot, &mut vals),
-            current[k]
+            current[k],
+            prio(&current[k])
         );
-        current[k] = format!("m{k}");
+        current[k] = format!("{pre}m{k}");
         rules += 1;
     }
     for (k, s) in slices.iter().enumerate() {
@@ -468,13 +533,16 @@ fn rule_set(
         let (fractions, delays) = &layout.inner[k];
         let one = s.inner.len() == 1;
         if !one {
-            let outs: Vec<String> = (0..s.inner.len()).map(|l| format!("p{k}_{l}")).collect();
+            let outs: Vec<String> = (0..s.inner.len())
+                .map(|l| format!("{pre}p{k}_{l}"))
+                .collect();
             let _ = writeln!(
                 out,
-                "timesplit({}) : [{}, {tag}] -> [{}]",
+                "timesplit({}) : [{}, {tag}] -> [{}]{}",
                 fractions.join(", "),
                 current[k],
-                outs.join(", ")
+                outs.join(", "),
+                prio(&current[k])
             );
             rules += 1;
         }
@@ -490,32 +558,31 @@ fn rule_set(
                 let mut slice = if one {
                     current[k].clone()
                 } else {
-                    format!("p{k}_{l}")
+                    format!("{pre}p{k}_{l}")
                 };
                 if change.opacity.is_some()
                     && let Some((v, kind)) = vals.next()
                 {
                     let _ = writeln!(
                         out,
-                        "animate(opacity, local, {}, {}{ease}) : [{slice}, {tag}] -> [o{k}_{l}]",
+                        "animate(opacity, local, {}, {}{ease}) : [{slice}, {tag}] -> [{pre}o{k}_{l}]{}",
                         delays[l],
-                        v.text(kind.digits())
+                        v.text(kind.digits()),
+                        prio(&slice)
                     );
-                    slice = format!("o{k}_{l}");
+                    slice = format!("{pre}o{k}_{l}");
                     rules += 1;
                 }
                 if change.fill.is_some() {
                     let rgb: Vec<String> = (0..3)
-                        .map(|_| {
-                            vals.next()
-                                .map_or("0".into(), |(e, _)| e.times(255.0).text(2))
-                        })
+                        .map(|_| vals.next().map_or("0".into(), |(e, k)| e.text(k.digits())))
                         .collect();
                     let _ = writeln!(
                         out,
-                        "animate(fill, local, {}, rgb({}){ease}) : [{slice}, {tag}] -> [f{k}_{l}]",
+                        "animate(fill, local, {}, rgb({}){ease}) : [{slice}, {tag}] -> [{pre}f{k}_{l}]{}",
                         delays[l],
-                        rgb.join(", ")
+                        rgb.join(", "),
+                        prio(&slice)
                     );
                     rules += 1;
                 }

@@ -201,7 +201,7 @@ pub enum Kind {
     Factor,
     /// An opacity, 0 … 1.
     Paint,
-    /// A colour channel, 0 … 1 (written times 255, to two decimals).
+    /// A colour channel, 0 … 255 (as `rgb(…)` writes it).
     Colour,
 }
 
@@ -209,8 +209,9 @@ impl Kind {
     /// Decimals written.
     pub fn digits(self) -> usize {
         match self {
-            Kind::Time | Kind::Factor | Kind::Colour => 6,
+            Kind::Time | Kind::Factor => 6,
             Kind::Px | Kind::Angle | Kind::Paint => 4,
+            Kind::Colour => 2,
         }
     }
 
@@ -222,7 +223,8 @@ impl Kind {
             Kind::Px => opts.tolerance * 0.25,
             Kind::Angle => 0.01,
             Kind::Factor => 1e-4,
-            Kind::Paint | Kind::Colour => opts.opacity_tolerance * 0.25,
+            Kind::Paint => opts.opacity_tolerance * 0.25,
+            Kind::Colour => opts.opacity_tolerance * 0.25 * 255.0,
         }
     }
 }
@@ -270,7 +272,7 @@ pub fn numbers(slices: &[Slice]) -> Vec<(f64, Kind)> {
                     v.push((o, Kind::Paint));
                 }
                 if let Some(c) = p.fill {
-                    v.extend(c.iter().map(|x| (*x, Kind::Colour)));
+                    v.extend(c.iter().map(|x| (x * 255.0, Kind::Colour)));
                 }
             }
         }
@@ -353,7 +355,7 @@ pub fn with_numbers(template: &[Slice], nums: &[f64]) -> Vec<Slice> {
                     *o = next();
                 }
                 if let Some(c) = &mut p.fill {
-                    *c = std::array::from_fn(|_| next());
+                    *c = std::array::from_fn(|_| next() / 255.0);
                 }
             }
         }
@@ -533,6 +535,15 @@ pub fn share(
     for (&u, v) in units.iter().zip(vars) {
         let nums: Vec<f64> = exprs.iter().map(|(e, _)| e.eval(v)).collect();
         let slices = with_numbers(&template, &nums);
+        // Opacities and colours must stay in their ranges (`animate` refuses others).
+        let in_range = |(x, k): (&f64, &(Expr, Kind))| match k.1 {
+            Kind::Paint => (0.0..=1.0).contains(x),
+            Kind::Colour => (0.0..=255.0).contains(x),
+            _ => true,
+        };
+        if !nums.iter().zip(&exprs).all(in_range) {
+            return None;
+        }
         // Every slice must keep a length and its offset must fit in it.
         if slices
             .iter()
