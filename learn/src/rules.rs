@@ -12,7 +12,7 @@ use gmotion::signals::Easing;
 use crate::Options;
 use crate::fit::{self, Change, Clock, Fitted, Move, Pivot, Slice};
 use crate::sample::UnitSamples;
-use crate::share::{self, Expr, Kind, Shared, Vars};
+use crate::share::{self, Expr, Kind, Shared, Var, Vars};
 
 /// One rule set of the grammar: the units it covers and how many rules it has.
 #[derive(Clone, Debug)]
@@ -294,7 +294,15 @@ pub fn write(
             .step_by(2)
             .find(|(e, _)| !e.is_constant())
             .map(|(e, k)| e.text(k.digits()));
-        let rules = rule_set(body, &tags, &shared.template, &shared.exprs, clock, false);
+        let range = |v: Var| shared.range(v);
+        let rules = rule_set(
+            body,
+            &tags,
+            &shared.template,
+            (&shared.exprs, &range),
+            clock,
+            false,
+        );
         RuleSet {
             tags,
             units,
@@ -390,7 +398,7 @@ pub fn write(
                 &mut body,
                 &address,
                 &fitted[u].slices,
-                &own,
+                (&own, &|_| 0.0),
                 clock,
                 exceptions.contains(&u),
             );
@@ -454,7 +462,7 @@ fn rule_set(
     out: &mut String,
     tag: &str,
     slices: &[Slice],
-    exprs: &[(Expr, Kind)],
+    (exprs, range): (&[(Expr, Kind)], &dyn Fn(Var) -> f64),
     clock: Clock,
     exception: bool,
 ) -> usize {
@@ -473,7 +481,7 @@ fn rule_set(
     let n_times = 2 * (slices.len() + slices.iter().map(|s| s.inner.len()).sum::<usize>());
     let (times, values) = exprs.split_at(n_times.min(exprs.len()));
     let times: Vec<Expr> = times.iter().map(|(e, _)| e.clone()).collect();
-    let layout = Times::of(slices, &times, clock.duration);
+    let layout = Times::of(slices, &times, clock, range);
     // The moves' values, level-1 moves first, as [`share::numbers`] lists them.
     let mut vals = values.iter();
     let mut rules = 0;
@@ -596,7 +604,12 @@ fn rule_set(
 impl Times {
     /// The written times of `slices` from their expressions (the times of
     /// [`share::numbers`]: per level-1 slice its end and offset, then the inner ones').
-    fn of(slices: &[Slice], times: &[Expr], duration: f64) -> Times {
+    ///
+    /// Fractions that vary are written as short as keeps every boundary within a
+    /// ten-thousandth of a frame over the units (`range`: each variable's largest
+    /// magnitude), the last what the others leave, so that they sum to 1 exactly.
+    fn of(slices: &[Slice], times: &[Expr], clock: Clock, range: &dyn Fn(Var) -> f64) -> Times {
+        let duration = clock.duration;
         let zero = Expr::constant(0.0);
         let at = |k: usize| times.get(k).unwrap_or(&zero);
         let mut parts = Vec::new();
@@ -613,7 +626,19 @@ impl Times {
         let fractions = if parts.iter().all(|p| p.is_constant()) {
             tidy(&parts.iter().map(|p| p.c).collect::<Vec<_>>())
         } else {
-            parts.iter().map(|p| p.text(9)).collect()
+            let eps = 1e-4 / (clock.fps * duration);
+            let mut written: Vec<Expr> = Vec::new();
+            let mut left = Expr::constant(1.0);
+            for (i, p) in parts.iter().enumerate() {
+                let e = if i + 1 == parts.len() {
+                    left.clone()
+                } else {
+                    p.rounded_within(eps, range)
+                };
+                left = left.plus(-1.0, &e);
+                written.push(e);
+            }
+            written.iter().map(|p| p.text(9)).collect()
         };
         let mut inner = Vec::new();
         for (j, s) in slices.iter().enumerate() {

@@ -153,6 +153,27 @@ impl Expr {
         out
     }
 
+    /// Rounded to the fewest decimals that keep its value within `eps` wherever its
+    /// variables stay within `range`.
+    pub fn rounded_within(&self, eps: f64, range: &dyn Fn(Var) -> f64) -> Expr {
+        let share = eps / (self.terms.len() + 1) as f64;
+        let short = |x: f64, m: f64| {
+            (0..=12)
+                .map(|d| parse(&crate::rules::num(x, d)))
+                .find(|r| (r - x).abs() * m <= share)
+                .unwrap_or(x)
+        };
+        Expr {
+            c: short(self.c, 1.0),
+            terms: self
+                .terms
+                .iter()
+                .map(|(v, b)| (*v, short(*b, range(*v).max(1.0))))
+                .filter(|(_, b)| *b != 0.0)
+                .collect(),
+        }
+    }
+
     /// As the grammar writes it (coefficients as they are: round first).
     pub fn text(&self, digits: usize) -> String {
         let mut out = String::new();
@@ -486,6 +507,16 @@ pub struct Shared {
     pub template: Vec<Slice>,
     /// Every number of the set (the layout of [`numbers`]) as an expression.
     pub exprs: Vec<(Expr, Kind)>,
+    /// The largest magnitude of each variable over the units (`id`, `k`, `cx`, `cy`,
+    /// distance), what a coefficient's rounding is weighed by.
+    pub range: [f64; 5],
+}
+
+impl Shared {
+    /// The largest magnitude of `v` over the units.
+    pub fn range(&self, v: Var) -> f64 {
+        self.range[v as usize]
+    }
 }
 
 /// Tries to share one rule set among `units`, whose variables are `vars`: the same kinds
@@ -566,5 +597,9 @@ pub fn share(
             return None;
         }
     }
-    Some(Shared { template, exprs })
+    Some(Shared {
+        template,
+        exprs,
+        range: [Var::Id, Var::K, Var::Cx, Var::Cy, Var::Dist].map(range),
+    })
 }

@@ -237,9 +237,30 @@ fn learning_its_own_grammar_again_gives_the_same_grammar() {
     );
 }
 
+/// `c`, `b * id`, `c + b * id` or `c - b * id` at `id`.
+fn linear_in_id(text: &str, id: f64) -> Option<f64> {
+    let (c, rest) = match text.find(" * id") {
+        None => return text.parse().ok(),
+        Some(at) => (&text[..at], &text[at + " * id".len()..]),
+    };
+    if !rest.is_empty() {
+        return None;
+    }
+    Some(match c.rsplit_once(' ') {
+        None => c.parse::<f64>().ok()? * id,
+        Some((head, b)) => {
+            let b: f64 = b.parse().ok()?;
+            let (a, sign) = head.rsplit_once(' ')?;
+            let a: f64 = a.parse().ok()?;
+            if sign == "-" { a - b * id } else { a + b * id }
+        }
+    })
+}
+
 /// The fitter cuts time in eighths of a frame: no slice may be shorter (a frame rate such
 /// as 29.97 must not leave slivers of a few nanoseconds at the end), and the fractions are
-/// written short (a quarter is `0.25`). On the Bodymovin file the command line's tests use.
+/// written short (a quarter is `0.25`, a stagger of an eighth `0.125 * id`). On the
+/// Bodymovin file the command line's tests use, whose first dots share one set.
 #[test]
 fn an_after_effects_timeline_is_cut_in_whole_pieces_written_short() {
     let json = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -247,19 +268,31 @@ fn an_after_effects_timeline_is_cut_in_whole_pieces_written_short() {
     let l = learned(&json);
     assert_eq!(l.report.unexplained().count(), 0, "{}", l.report);
     let eighth = 1.0 / (8.0 * l.fps);
+    let mut shared = 0;
     for split in rules(&l)
         .into_iter()
         .filter(|r| r.starts_with("timesplit("))
     {
         let args = &split["timesplit(".len()..split.find(')').unwrap()];
+        let tag = &split[split.find("[all, ").unwrap() + 6..split.find("] ->").unwrap()];
+        let set = l.report.sets.iter().find(|s| s.tags == tag).unwrap();
+        shared += usize::from(set.units.len() > 1);
         for f in args.split(", ") {
-            let f: f64 = f
-                .parse()
-                .unwrap_or_else(|_| panic!("a plain fraction: {split}"));
-            assert!(f * l.duration >= eighth - 1e-9, "a sliver: {split}");
-            assert!(f.to_string().len() <= 6, "a fraction written long: {split}");
+            for number in f
+                .split([' ', '*', '+', '-'])
+                .filter(|t| !t.is_empty() && *t != "id")
+            {
+                assert!(number.len() <= 6, "a fraction written long: {split}");
+            }
+            for &u in &set.units {
+                let id = l.still.shapes[u].id as f64;
+                let f = linear_in_id(f, id)
+                    .unwrap_or_else(|| panic!("a fraction linear in id: {split}"));
+                assert!(f * l.duration >= eighth - 1e-9, "a sliver: {split}");
+            }
         }
     }
+    assert_eq!(shared, 1, "the first dots share a set\n{}", l.grammar);
 }
 
 /// Squares tagged by `tags` (one per square, cycled) at the x positions `xs`, 20 px wide.
