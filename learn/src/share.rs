@@ -212,8 +212,10 @@ fn parse(t: &str) -> f64 {
 /// What a number of a rule measures: how finely it is fitted and written.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Kind {
-    /// A time in seconds (a slice boundary or an offset).
+    /// A time in seconds: an offset.
     Time,
+    /// A slice's end, in seconds (written as fractions of the duration).
+    End,
     /// A length in pixels (a translation, a pivot, a matrix's translation).
     Px,
     /// An angle in degrees (a rotation, a skew).
@@ -230,7 +232,7 @@ impl Kind {
     /// Decimals written.
     pub fn digits(self) -> usize {
         match self {
-            Kind::Time | Kind::Factor => 6,
+            Kind::Time | Kind::End | Kind::Factor => 6,
             Kind::Px | Kind::Angle | Kind::Paint => 4,
             Kind::Colour => 2,
         }
@@ -240,7 +242,7 @@ impl Kind {
     /// simpler model within it wins over a closer, more complex one).
     fn slack(self, clock: Clock, opts: &Options) -> f64 {
         match self {
-            Kind::Time => 0.25 / clock.fps,
+            Kind::Time | Kind::End => 0.25 / clock.fps,
             Kind::Px => opts.tolerance * 0.25,
             Kind::Angle => 0.01,
             Kind::Factor => 1e-4,
@@ -257,12 +259,12 @@ pub fn numbers(slices: &[Slice]) -> Vec<(f64, Kind)> {
     let mut v = Vec::new();
     let delay = |s: &Slice| s.play.as_ref().map_or(0.0, |m| m.delay);
     for s in slices {
-        v.push((s.t1, Kind::Time));
+        v.push((s.t1, Kind::End));
         v.push((delay(s), Kind::Time));
     }
     for s in slices {
         for i in &s.inner {
-            v.push((i.t1, Kind::Time));
+            v.push((i.t1, Kind::End));
             v.push((delay(i), Kind::Time));
         }
     }
@@ -554,52 +556,102 @@ pub fn share(
     }
     let all: Vec<Vec<(f64, Kind)>> = units.iter().map(|&u| numbers(&fitted[u].slices)).collect();
     let range = |v: Var| vars.iter().map(|u| u.get(v).abs()).fold(0.0, f64::max);
-    let exprs: Vec<(Expr, Kind)> = (0..all[0].len())
-        .map(|j| {
-            let kind = all[0][j].1;
-            let ys: Vec<f64> = all.iter().map(|n| n[j].0).collect();
-            let e = fit_expr(vars, &ys, kind.slack(clock, opts));
-            // As written, so the check below sees what `animate` will.
-            (e.rounded(kind.digits(), &range), kind)
+    let mut fits = Vec::with_capacity(all[0].len());
+    for j in 0..all[0].len() {
+        let kind = all[0][j].1;
+        let ys: Vec<f64> = all.iter().map(|n| n[j].0).collect();
+        let slack = kind.slack(clock, opts);
+        let e = fit_expr(vars, &ys, slack);
+        fits.push((e, kind, slack));
+    }
+    // Written as a person would (`0.06 * id`, not `-0.000238 + 0.06002506 * id`): each
+    // varying number as short as keeps it within half its slack over the units; when that does
+    // not play within the tolerance, to the digits it is written with.
+    let short: Vec<(Expr, Kind)> = fits
+        .iter()
+        .map(|(e, k, slack)| {
+            // A constant is written to its digits: the ends of the timeline stay put.
+            if e.terms.is_empty() {
+                (e.rounded(k.digits(), &range), *k)
+            } else if *k == Kind::End {
+                // Short as the fraction of the duration `timesplit` writes.
+                let d = clock.duration;
+                let f = e.times(1.0 / d).rounded_within(slack / 2.0 / d, &range);
+                (f.times(d), *k)
+            } else {
+                (e.rounded_within(slack / 2.0, &range), *k)
+            }
         })
         .collect();
-    for (&u, v) in units.iter().zip(vars) {
-        let nums: Vec<f64> = exprs.iter().map(|(e, _)| e.eval(v)).collect();
-        let slices = with_numbers(&template, &nums);
-        // Opacities and colours must stay in their ranges (`animate` refuses others).
-        let in_range = |(x, k): (&f64, &(Expr, Kind))| match k.1 {
-            Kind::Paint => (0.0..=1.0).contains(x),
-            Kind::Colour => (0.0..=255.0).contains(x),
-            _ => true,
-        };
-        if !nums.iter().zip(&exprs).all(in_range) {
-            return None;
-        }
-        // Every slice must keep a length and its offset must fit in it.
-        if slices
+    let fine: Vec<(Expr, Kind)> = fits
+        .iter()
+        .map(|(e, k, _)| (e.rounded(k.digits(), &range), *k))
+        .collect();
+    let plays = |exprs: &[(Expr, Kind)]| {
+        units
             .iter()
-            .chain(slices.iter().flat_map(|s| &s.inner))
-            .any(|s| {
-                s.t1 - s.t0 <= 1e-9
-                    || s.play
-                        .as_ref()
-                        .is_some_and(|m| m.delay < -1e-9 || m.delay >= s.t1 - s.t0)
-            })
-        {
-            return None;
-        }
-        let pts = fit::points_of(&samples[u]);
-        let (px, op) = fit::errors(&samples[u], &pts, clock, &slices);
-        let own = &fitted[u];
-        if px > opts.tolerance.max(own.max_px) + 1e-9
-            || op > opts.opacity_tolerance.max(own.max_opacity) + 1e-9
-        {
-            return None;
-        }
-    }
+            .zip(vars)
+            .all(|(&u, v)| plays_within(u, v, exprs, &template, samples, fitted, clock, opts))
+    };
+    let exprs = if plays(&short) {
+        short
+    } else if fine != short && plays(&fine) {
+        fine
+    } else {
+        return None;
+    };
     Some(Shared {
         template,
         exprs,
         range: [Var::Id, Var::K, Var::Cx, Var::Cy, Var::Dist].map(range),
     })
+}
+
+/// Whether unit `u` (variables `v`), played with the numbers `exprs` give it on
+/// `template`, stays within the tolerance (or its own plain fit's error, when that was
+/// larger), every slice keeping a length, opacities and colours in range.
+#[allow(clippy::too_many_arguments)]
+fn plays_within(
+    u: usize,
+    v: &Vars,
+    exprs: &[(Expr, Kind)],
+    template: &[Slice],
+    samples: &[UnitSamples],
+    fitted: &[Fitted],
+    clock: Clock,
+    opts: &Options,
+) -> bool {
+    let nums: Vec<f64> = exprs.iter().map(|(e, _)| e.eval(v)).collect();
+    let slices = with_numbers(template, &nums);
+    // Opacities and colours must stay in their ranges (`animate` refuses others).
+    let in_range = |(x, k): (&f64, &(Expr, Kind))| match k.1 {
+        Kind::Paint => (0.0..=1.0).contains(x),
+        Kind::Colour => (0.0..=255.0).contains(x),
+        _ => true,
+    };
+    if !nums.iter().zip(exprs).all(in_range) {
+        return false;
+    }
+    // Every slice must keep a length and its offset must fit in it.
+    if slices
+        .iter()
+        .chain(slices.iter().flat_map(|s| &s.inner))
+        .any(|s| {
+            s.t1 - s.t0 <= 1e-9
+                || s.play
+                    .as_ref()
+                    .is_some_and(|m| m.delay < -1e-9 || m.delay >= s.t1 - s.t0)
+        })
+    {
+        return false;
+    }
+    let pts = fit::points_of(&samples[u]);
+    let (px, op) = fit::errors(&samples[u], &pts, clock, &slices);
+    let own = &fitted[u];
+    if px > opts.tolerance.max(own.max_px) + 1e-9
+        || op > opts.opacity_tolerance.max(own.max_opacity) + 1e-9
+    {
+        return false;
+    }
+    true
 }
