@@ -435,6 +435,10 @@ pub fn write(
     (head, sets)
 }
 
+/// Each variable's largest magnitude over a set's units, what its numbers' rounding is
+/// weighed by.
+type Range<'a> = &'a dyn Fn(Var) -> f64;
+
 /// The largest class of `units` whose slices say the same kinds of change (at least
 /// two units), in `units`' order.
 fn largest_class(units: &[usize], fitted: &[Fitted]) -> Option<Vec<usize>> {
@@ -462,7 +466,7 @@ fn rule_set(
     out: &mut String,
     tag: &str,
     slices: &[Slice],
-    (exprs, range): (&[(Expr, Kind)], &dyn Fn(Var) -> f64),
+    (exprs, range): (&[(Expr, Kind)], Range),
     clock: Clock,
     exception: bool,
 ) -> usize {

@@ -462,11 +462,12 @@ fn least_squares(vars: &[Vars], model: &[Var], ys: &[f64]) -> Option<Expr> {
         if a[col][col].abs() <= 1e-9 * scale {
             return None;
         }
-        for r in 0..m {
+        let pivot = a[col].clone();
+        for (r, row) in a.iter_mut().enumerate() {
             if r != col {
-                let f = a[r][col] / a[col][col];
-                for j in col..=m {
-                    a[r][j] -= f * a[col][j];
+                let f = row[col] / pivot[col];
+                for (x, p) in row.iter_mut().zip(&pivot).skip(col) {
+                    *x -= f * p;
                 }
             }
         }
@@ -562,30 +563,32 @@ pub fn share(
         let ys: Vec<f64> = all.iter().map(|n| n[j].0).collect();
         let slack = kind.slack(clock, opts);
         let e = fit_expr(vars, &ys, slack);
-        fits.push((e, kind, slack));
+        fits.push((e, kind, slack, ys));
     }
-    // Written as a person would (`0.06 * id`, not `-0.000238 + 0.06002506 * id`): each
-    // varying number as short as keeps it within half its slack over the units; when that does
-    // not play within the tolerance, to the digits it is written with.
+    // Written as a person would (`0.12 * id`, not `0.00119 + 0.1193452 * id`, the units'
+    // own numbers being cut at eighths of a frame): each varying number with the fewest
+    // decimals that stay as close to the units' numbers as the fit, or within half its
+    // slack; when that does not play within the tolerance, to the digits it is written with.
     let short: Vec<(Expr, Kind)> = fits
         .iter()
-        .map(|(e, k, slack)| {
+        .map(|(e, k, slack, ys)| {
             // A constant is written to its digits: the ends of the timeline stay put.
             if e.terms.is_empty() {
                 (e.rounded(k.digits(), &range), *k)
             } else if *k == Kind::End {
                 // Short as the fraction of the duration `timesplit` writes.
                 let d = clock.duration;
-                let f = e.times(1.0 / d).rounded_within(slack / 2.0 / d, &range);
+                let fr: Vec<f64> = ys.iter().map(|y| y / d).collect();
+                let f = shortest_fit(&e.times(1.0 / d), vars, &fr, slack / 2.0 / d, &range);
                 (f.times(d), *k)
             } else {
-                (e.rounded_within(slack / 2.0, &range), *k)
+                (shortest_fit(e, vars, ys, slack / 2.0, &range), *k)
             }
         })
         .collect();
     let fine: Vec<(Expr, Kind)> = fits
         .iter()
-        .map(|(e, k, _)| (e.rounded(k.digits(), &range), *k))
+        .map(|(e, k, _, _)| (e.rounded(k.digits(), &range), *k))
         .collect();
     let plays = |exprs: &[(Expr, Kind)]| {
         units
@@ -605,6 +608,41 @@ pub fn share(
         exprs,
         range: [Var::Id, Var::K, Var::Cx, Var::Cy, Var::Dist].map(range),
     })
+}
+
+/// `e` with the fewest decimals (a coefficient with as many more as its variable's range
+/// has digits) whose largest distance from the units' numbers `ys` is at most `e`'s own,
+/// or `slack`.
+fn shortest_fit(
+    e: &Expr,
+    vars: &[Vars],
+    ys: &[f64],
+    slack: f64,
+    range: &dyn Fn(Var) -> f64,
+) -> Expr {
+    let off = |x: &Expr| {
+        vars.iter()
+            .zip(ys)
+            .map(|(v, y)| (x.eval(v) - y).abs())
+            .fold(0.0, f64::max)
+    };
+    let bound = off(e).max(slack);
+    for d in 0..=12usize {
+        let r = |x: f64, extra: usize| parse(&crate::rules::num(x, d + extra));
+        let cand = Expr {
+            c: r(e.c, 0),
+            terms: e
+                .terms
+                .iter()
+                .map(|(v, b)| (*v, r(*b, range(*v).max(1.0).log10().ceil() as usize)))
+                .filter(|(_, b)| *b != 0.0)
+                .collect(),
+        };
+        if off(&cand) <= bound {
+            return cand;
+        }
+    }
+    e.clone()
 }
 
 /// Whether unit `u` (variables `v`), played with the numbers `exprs` give it on
