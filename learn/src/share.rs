@@ -480,8 +480,10 @@ fn least_squares(vars: &[Vars], model: &[Var], ys: &[f64]) -> Option<Expr> {
     })
 }
 
-/// The simplest model of `ys` over the units within `slack`, else the closest.
-fn fit_expr(vars: &[Vars], ys: &[f64], slack: f64) -> Expr {
+/// The simplest model of `ys` over the units within `slack` (else the closest), and the
+/// closest (a simpler one on a tie).
+fn fit_expr(vars: &[Vars], ys: &[f64], slack: f64) -> (Expr, Expr) {
+    let mut simplest = None;
     let mut best: Option<(f64, Expr)> = None;
     for model in MODELS {
         let Some(e) = least_squares(vars, model, ys) else {
@@ -492,14 +494,15 @@ fn fit_expr(vars: &[Vars], ys: &[f64], slack: f64) -> Expr {
             .zip(ys)
             .map(|(u, y)| (e.eval(u) - y).abs())
             .fold(0.0, f64::max);
-        if worst <= slack {
-            return e;
+        if worst <= slack && simplest.is_none() {
+            simplest = Some(e.clone());
         }
-        if best.as_ref().is_none_or(|(w, _)| worst < *w - 1e-12) {
+        if best.as_ref().is_none_or(|(w, _)| worst < *w - 1e-9) {
             best = Some((worst, e));
         }
     }
-    best.map_or(Expr::constant(ys[0]), |(_, e)| e)
+    let closest = best.map_or(Expr::constant(ys[0]), |(_, e)| e);
+    (simplest.unwrap_or_else(|| closest.clone()), closest)
 }
 
 /// One rule set shared by several units: the slices of the first, to be played with the
@@ -562,16 +565,17 @@ pub fn share(
         let kind = all[0][j].1;
         let ys: Vec<f64> = all.iter().map(|n| n[j].0).collect();
         let slack = kind.slack(clock, opts);
-        let e = fit_expr(vars, &ys, slack);
-        fits.push((e, kind, slack, ys));
+        let (e, closest) = fit_expr(vars, &ys, slack);
+        fits.push((e, kind, slack, ys, closest));
     }
     // Written as a person would (`0.12 * id`, not `0.00119 + 0.1193452 * id`, the units'
     // own numbers being cut at eighths of a frame): each varying number with the fewest
     // decimals that stay as close to the units' numbers as the fit, or within half its
-    // slack; when that does not play within the tolerance, to the digits it is written with.
+    // slack; when that does not play within the tolerance, the closest expression to the
+    // digits it is written with.
     let short: Vec<(Expr, Kind)> = fits
         .iter()
-        .map(|(e, k, slack, ys)| {
+        .map(|(e, k, slack, ys, _)| {
             // A constant is written to its digits: the ends of the timeline stay put.
             if e.terms.is_empty() {
                 (e.rounded(k.digits(), &range), *k)
@@ -588,7 +592,7 @@ pub fn share(
         .collect();
     let fine: Vec<(Expr, Kind)> = fits
         .iter()
-        .map(|(e, k, _, _)| (e.rounded(k.digits(), &range), *k))
+        .map(|(_, k, _, _, closest)| (closest.rounded(k.digits(), &range), *k))
         .collect();
     let plays = |exprs: &[(Expr, Kind)]| {
         units
@@ -686,10 +690,11 @@ fn plays_within(
     let pts = fit::points_of(&samples[u]);
     let (px, op) = fit::errors(&samples[u], &pts, clock, &slices);
     let own = &fitted[u];
-    if px > opts.tolerance.max(own.max_px) + 1e-9
-        || op > opts.opacity_tolerance.max(own.max_opacity) + 1e-9
-    {
-        return false;
-    }
-    true
+    // A unit its own rules already leave off may be off by a hundredth of the tolerance
+    // more: the shared numbers are written rounded, its own ones were checked exact.
+    let bound = |tol: f64, own: f64| {
+        if own > tol { own + 0.01 * tol } else { tol }
+    };
+    px <= bound(opts.tolerance, own.max_px) + 1e-9
+        && op <= bound(opts.opacity_tolerance, own.max_opacity) + 1e-9
 }
