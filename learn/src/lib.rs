@@ -168,7 +168,14 @@ pub fn learn(
     let unmodelled = report::unmodelled(src);
     let svg = still_name.to_ascii_lowercase().ends_with(".svg");
     let still = rules::still_scene(&imported.scene, &samples, svg);
-    let (grammar, rules) = rules::write(&still, &samples, &fitted, clock, still_name, svg, opts);
+    let (grammar, rules, played) =
+        rules::write(&still, &samples, &fitted, clock, still_name, svg, opts);
+    // The report says how each unit plays as written: a shared set's numbers, not its own.
+    let mut fitted = fitted;
+    for (u, px, op) in played {
+        fitted[u].max_px = px;
+        fitted[u].max_opacity = op;
+    }
     let report = Report::new(&still, &fitted, rules, &unmodelled, &samples, opts, clock);
     Ok(Learned {
         grammar,

@@ -249,7 +249,12 @@ fn vars_of(still: &Scene, units: &[usize]) -> Vec<Vars> {
         .collect()
 }
 
-/// The grammar for the still scene `still` and the fitted units, and its rule sets.
+/// The errors of one unit (its index, largest pixel and opacity errors) as the shared set
+/// that covers it plays it.
+pub type Played = (usize, f64, f64);
+
+/// The grammar for the still scene `still` and the fitted units, its rule sets, and the
+/// errors of the units that shared sets cover, as those play them.
 pub fn write(
     still: &Scene,
     samples: &[UnitSamples],
@@ -258,7 +263,7 @@ pub fn write(
     still_name: &str,
     svg: bool,
     opts: &Options,
-) -> (String, Vec<RuleSet>) {
+) -> (String, Vec<RuleSet>, Vec<Played>) {
     // Units by tag, in id order.
     let mut by_tag: BTreeMap<&str, Vec<usize>> = BTreeMap::new();
     for (u, s) in still.shapes.iter().enumerate() {
@@ -285,7 +290,15 @@ pub fn write(
     };
     let mut body = String::new();
     let mut sets = Vec::new();
-    let shared_set = |body: &mut String, tags: String, units: Vec<usize>, shared: Shared| {
+    // The errors of the units in shared sets, as those play them.
+    let mut played: Vec<Played> = Vec::new();
+    let mut shared_set = |body: &mut String, tags: String, units: Vec<usize>, shared: Shared| {
+        played.extend(
+            units
+                .iter()
+                .zip(&shared.errors)
+                .map(|(&u, &(px, op))| (u, px, op)),
+        );
         let stagger = shared
             .exprs
             .iter()
@@ -432,7 +445,7 @@ pub fn write(
     }
     head.push('\n');
     head.push_str(&body);
-    (head, sets)
+    (head, sets, played)
 }
 
 /// Each variable's largest magnitude over a set's units, what its numbers' rounding is

@@ -513,6 +513,9 @@ pub struct Shared {
     pub template: Vec<Slice>,
     /// Every number of the set (the layout of [`numbers`]) as an expression.
     pub exprs: Vec<(Expr, Kind)>,
+    /// Each unit's largest pixel and opacity errors as the set plays it, in the order of
+    /// the units shared.
+    pub errors: Vec<(f64, f64)>,
     /// The largest magnitude of each variable over the units (`id`, `k`, `cx`, `cy`,
     /// distance), what a coefficient's rounding is weighed by.
     pub range: [f64; 5],
@@ -594,20 +597,22 @@ pub fn share(
         .iter()
         .map(|(_, k, _, _, closest)| (closest.rounded(k.digits(), &range), *k))
         .collect();
-    let plays = |exprs: &[(Expr, Kind)]| {
+    let plays = |exprs: &[(Expr, Kind)]| -> Option<Vec<(f64, f64)>> {
         units
             .iter()
             .zip(vars)
-            .all(|(&u, v)| plays_within(u, v, exprs, &template, samples, fitted, clock, opts))
+            .map(|(&u, v)| plays_within(u, v, exprs, &template, samples, fitted, clock, opts))
+            .collect()
     };
-    let exprs = if plays(&short) {
-        short
-    } else if fine != short && plays(&fine) {
-        fine
+    let (exprs, errors) = if let Some(e) = plays(&short) {
+        (short, e)
+    } else if let Some(e) = (fine != short).then(|| plays(&fine)).flatten() {
+        (fine, e)
     } else {
         return None;
     };
     Some(Shared {
+        errors,
         template,
         exprs,
         range: [Var::Id, Var::K, Var::Cx, Var::Cy, Var::Dist].map(range),
@@ -651,7 +656,8 @@ fn shortest_fit(
 
 /// Whether unit `u` (variables `v`), played with the numbers `exprs` give it on
 /// `template`, stays within the tolerance (or its own plain fit's error, when that was
-/// larger), every slice keeping a length, opacities and colours in range.
+/// larger), every slice keeping a length, opacities and colours in range: its largest
+/// pixel and opacity errors if so.
 #[allow(clippy::too_many_arguments)]
 fn plays_within(
     u: usize,
@@ -662,7 +668,7 @@ fn plays_within(
     fitted: &[Fitted],
     clock: Clock,
     opts: &Options,
-) -> bool {
+) -> Option<(f64, f64)> {
     let nums: Vec<f64> = exprs.iter().map(|(e, _)| e.eval(v)).collect();
     let slices = with_numbers(template, &nums);
     // Opacities and colours must stay in their ranges (`animate` refuses others).
@@ -672,7 +678,7 @@ fn plays_within(
         _ => true,
     };
     if !nums.iter().zip(exprs).all(in_range) {
-        return false;
+        return None;
     }
     // Every slice must keep a length and its offset must fit in it.
     if slices
@@ -685,7 +691,7 @@ fn plays_within(
                     .is_some_and(|m| m.delay < -1e-9 || m.delay >= s.t1 - s.t0)
         })
     {
-        return false;
+        return None;
     }
     let pts = fit::points_of(&samples[u]);
     let (px, op) = fit::errors(&samples[u], &pts, clock, &slices);
@@ -695,6 +701,7 @@ fn plays_within(
     let bound = |tol: f64, own: f64| {
         if own > tol { own + 0.01 * tol } else { tol }
     };
-    px <= bound(opts.tolerance, own.max_px) + 1e-9
-        && op <= bound(opts.opacity_tolerance, own.max_opacity) + 1e-9
+    (px <= bound(opts.tolerance, own.max_px) + 1e-9
+        && op <= bound(opts.opacity_tolerance, own.max_opacity) + 1e-9)
+        .then_some((px, op))
 }
