@@ -5,9 +5,10 @@
 //! The steps, one module each: [`sample`] plays the file and records every unit's world
 //! motion, opacity and fill at every frame; [`fit`] cuts each unit's timeline at its
 //! change points and fits each piece as one `animate` with an easing of the language;
-//! [`rules`] turns the pieces into rules, shared by the units of one tag whose pieces
-//! agree up to a stagger fitted to `id`, and writes the grammar; [`report`] says how well
-//! each unit is reproduced and what could not be explained.
+//! [`share`] fits one rule set to units whose pieces say the same kinds of change, each
+//! number an expression of the shape (`id`, `k`, `cx`, `cy`, distance); [`rules`] groups
+//! the units (tuples of tags, a tag, most of a tag) and writes the grammar; [`report`]
+//! says how well each unit is reproduced and what could not be explained.
 
 #![forbid(unsafe_code)]
 

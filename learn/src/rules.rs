@@ -1,6 +1,6 @@
-//! Rules, not copies: the fitted slices written as a grammar, the units of one tag sharing
-//! one rule set when their slices agree up to a stagger (times and offsets `a + b·id`,
-//! fitted by least squares and kept only when every unit stays within the tolerance).
+//! Rules, not copies: the fitted slices written as a grammar, units grouped into shared
+//! rule sets ([`crate::share`]) on a tuple of tags, a tag, or most of a tag (the others
+//! keeping rules of their own at a higher priority).
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
