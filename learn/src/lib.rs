@@ -5,12 +5,14 @@
 //! The steps, one module each: [`sample`] plays the file and records every unit's world
 //! motion, opacity and fill at every frame; [`fit`] cuts each unit's timeline at its
 //! change points and fits each piece as one `animate` with an easing of the language;
-//! [`rules`] turns the pieces into rules, shared by the units of one tag whose pieces
-//! agree up to a stagger fitted to `id`, and writes the grammar; [`report`] says how well
-//! each unit is reproduced and what could not be explained. What changes besides motion
-//! and fill has a module each: [`trim`] (trim paths, read from the document), [`outline`]
-//! (a one-path unit's outline, as morphs) and [`stroke`] (stroke colour and width), the
-//! last two nested in the leaves of a unit's slices.
+//! [`share`] fits one rule set to units whose pieces say the same kinds of change, each
+//! number an expression of the shape (`id`, `k`, `cx`, `cy`, distance); [`rules`] groups
+//! the units (tuples of tags, a tag, most of a tag) and writes the grammar; [`report`]
+//! says how well each unit is reproduced and what could not be explained. What changes
+//! besides motion and fill has a module each: [`trim`] (trim paths, read from the
+//! document), [`outline`] (a one-path unit's outline, as morphs) and [`stroke`] (stroke
+//! colour and width), the last two nested in the leaves of a unit's slices; [`clip`]
+//! keeps a precomposition's clip from moving with its content.
 
 #![forbid(unsafe_code)]
 
@@ -20,6 +22,7 @@ pub mod outline;
 pub mod report;
 pub mod rules;
 pub mod sample;
+pub mod share;
 pub mod stroke;
 pub mod trim;
 
@@ -310,9 +313,14 @@ fn learn_still(
             }
         }
     }
-    let (grammar, rules) = rules::write(
+    let (grammar, rules, played) = rules::write(
         &still, &samples, &fitted, &trim_fits, &morphs, &strokes, clock, still_name, svg, opts,
     );
+    // The report says how each unit plays as written: a shared set's numbers, not its own.
+    for (u, px, op) in played {
+        fitted[u].max_px = px;
+        fitted[u].max_opacity = op;
+    }
     let mut report = Report::new(&still, &fitted, rules, &unmodelled, &samples, opts, clock);
     for (u, st) in strokes.iter().enumerate() {
         if let Some(st) = st {

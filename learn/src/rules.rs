@@ -1,6 +1,6 @@
-//! Rules, not copies: the fitted slices written as a grammar, the units of one tag sharing
-//! one rule set when their slices agree up to a stagger (times and offsets `a + b·id`,
-//! fitted by least squares and kept only when every unit stays within the tolerance).
+//! Rules, not copies: the fitted slices written as a grammar, units grouped into shared
+//! rule sets ([`crate::share`]) on a tuple of tags, a tag, or most of a tag (the others
+//! keeping rules of their own at a higher priority).
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -12,6 +12,7 @@ use gmotion::signals::Easing;
 use crate::Options;
 use crate::fit::{self, Change, Clock, Fitted, Move, Pivot, Slice};
 use crate::sample::UnitSamples;
+use crate::share::{self, Expr, Kind, Shared, Var, Vars};
 
 /// One rule set of the grammar: the units it covers and how many rules it has.
 #[derive(Clone, Debug)]
@@ -151,21 +152,6 @@ pub(crate) fn tidy(fractions: &[f64]) -> Vec<String> {
     out
 }
 
-/// `a + b·id` as written.
-fn linear(a: f64, b: f64, digits: usize) -> String {
-    let b_text = num(b.abs(), digits);
-    if b_text == "0" {
-        return num(a, digits);
-    }
-    let a_text = num(a, digits);
-    let sign = if b < 0.0 { "-" } else { "+" };
-    if a_text == "0" && b > 0.0 {
-        format!("{b_text} * id")
-    } else {
-        format!("{a_text} {sign} {b_text} * id")
-    }
-}
-
 /// An easing as the grammar writes it (`None` for linear, the default).
 pub(crate) fn ease_text(e: &Easing) -> Option<String> {
     if *e == Easing::Linear {
@@ -188,37 +174,44 @@ pub(crate) fn ease_text(e: &Easing) -> Option<String> {
     }
 }
 
-/// A transform's components as written.
-fn transform_text(comps: &[Component], pivot: Pivot) -> String {
+/// A transform's components as written, their numbers taken from `vals` (the layout of
+/// [`share::numbers`]: the components', then a world pivot's point).
+fn transform_text<'a>(
+    comps: &[Component],
+    pivot: Pivot,
+    vals: &mut impl Iterator<Item = &'a (Expr, Kind)>,
+) -> String {
+    let mut next = || {
+        vals.next()
+            .map_or_else(|| "0".to_string(), |(e, k)| e.text(k.digits()))
+    };
     let mut parts: Vec<String> = comps
         .iter()
         .map(|c| match *c {
-            Component::Translate(v) => format!("translate({}, {})", num(v.x, 4), num(v.y, 4)),
-            Component::Rotate(a) => format!("rotate({})", num(a, 4)),
-            Component::Scale(k) => format!("scale({}, {})", num(k.x, 6), num(k.y, 6)),
-            Component::Skew(x, y) => format!("skew({}, {})", num(x, 4), num(y, 4)),
-            Component::Matrix(m) => {
-                let c = m.as_coeffs();
-                format!(
-                    "matrix({}, {}, {}, {}, {}, {})",
-                    num(c[0], 6),
-                    num(c[1], 6),
-                    num(c[2], 6),
-                    num(c[3], 6),
-                    num(c[4], 4),
-                    num(c[5], 4)
-                )
+            Component::Translate(_) => format!("translate({}, {})", next(), next()),
+            Component::Rotate(_) => format!("rotate({})", next()),
+            Component::Scale(_) => format!("scale({}, {})", next(), next()),
+            Component::Skew(..) => format!("skew({}, {})", next(), next()),
+            Component::Matrix(_) => {
+                let m: Vec<String> = (0..6).map(|_| next()).collect();
+                format!("matrix({})", m.join(", "))
             }
         })
         .collect();
     if parts.is_empty() {
         parts.push("translate(0, 0)".into());
     }
-    if let Pivot::World(p) = pivot
-        && (p.x != 0.0 || p.y != 0.0)
+    if let Pivot::World(_) = pivot
+        && let (Some((x, kx)), Some((y, ky))) = (vals.next(), vals.next())
+        && !(x.is_constant() && x.c == 0.0 && y.is_constant() && y.c == 0.0)
     {
-        parts.insert(0, format!("translate({}, {})", num(p.x, 4), num(p.y, 4)));
-        parts.push(format!("translate({}, {})", num(-p.x, 4), num(-p.y, 4)));
+        let (dx, dy) = (kx.digits(), ky.digits());
+        parts.insert(0, format!("translate({}, {})", x.text(dx), y.text(dy)));
+        parts.push(format!(
+            "translate({}, {})",
+            x.times(-1.0).text(dx),
+            y.times(-1.0).text(dy)
+        ));
     }
     parts.join(" ")
 }
@@ -234,187 +227,27 @@ struct Times {
     inner: Vec<(Vec<String>, Vec<String>)>,
 }
 
-/// A unit's times, as numbers in the layout [`Times`] writes: level-1 boundaries and
-/// delays, then per slice the inner boundaries and delays.
-fn times_of(slices: &[Slice]) -> Vec<f64> {
-    let mut v = Vec::new();
-    for s in slices {
-        v.push(s.t1);
-        v.push(s.play.as_ref().map_or(0.0, |m| m.delay));
-    }
-    for s in slices {
-        for i in &s.inner {
-            v.push(i.t1);
-            v.push(i.play.as_ref().map_or(0.0, |m| m.delay));
-        }
-    }
-    v
-}
-
-/// Writes `slices` back with new times (the layout of [`times_of`]).
-fn with_times(slices: &[Slice], times: &[f64]) -> Vec<Slice> {
-    let mut out = slices.to_vec();
-    let mut k = 0;
-    let mut t0 = 0.0;
-    for s in out.iter_mut() {
-        s.t0 = t0;
-        s.t1 = times[k];
-        if let Some(m) = &mut s.play {
-            m.delay = times[k + 1];
-        }
-        k += 2;
-        t0 = s.t1;
-    }
-    for s in out.iter_mut() {
-        let mut t0 = s.t0;
-        for i in s.inner.iter_mut() {
-            i.t0 = t0;
-            i.t1 = times[k];
-            if let Some(m) = &mut i.play {
-                m.delay = times[k + 1];
-            }
-            k += 2;
-            t0 = i.t1;
-        }
-    }
-    out
-}
-
-/// Whether two units' slices say the same changes (times aside).
-fn same_changes(a: &[Slice], b: &[Slice], opts: &Options) -> bool {
-    fn comps_close(x: &[Component], y: &[Component], tol: f64) -> bool {
-        x.len() == y.len()
-            && x.iter().zip(y).all(|(p, q)| match (p, q) {
-                (Component::Translate(u), Component::Translate(v)) => (*u - *v).hypot() <= tol,
-                (Component::Rotate(u), Component::Rotate(v)) => (u - v).abs() <= 1e-3,
-                (Component::Scale(u), Component::Scale(v)) => (*u - *v).hypot() <= 1e-4,
-                (Component::Skew(a, b), Component::Skew(c, d)) => {
-                    (a - c).abs() <= 1e-3 && (b - d).abs() <= 1e-3
-                }
-                (Component::Matrix(u), Component::Matrix(v)) => u
-                    .as_coeffs()
-                    .iter()
-                    .zip(v.as_coeffs())
-                    .all(|(p, q)| (p - q).abs() <= 1e-4),
-                _ => false,
-            })
-    }
-    fn play_same(x: &Option<Move>, y: &Option<Move>, opts: &Options) -> bool {
-        match (x, y) {
-            (None, None) => true,
-            (Some(p), Some(q)) => {
-                p.ease == q.ease
-                    && match (&p.change, &q.change) {
-                        (Change::Affine(c, pv), Change::Affine(d, qv)) => {
-                            pv == qv && comps_close(c, d, opts.tolerance * 0.5)
-                        }
-                        (Change::Paint(u), Change::Paint(v)) => {
-                            let near =
-                                |a: f64, b: f64| (a - b).abs() <= opts.opacity_tolerance * 0.5;
-                            match ((u.opacity, v.opacity), (u.fill, v.fill)) {
-                                (
-                                    (None, None) | (Some(_), Some(_)),
-                                    (None, None) | (Some(_), Some(_)),
-                                ) => {
-                                    u.opacity.zip(v.opacity).is_none_or(|(a, b)| near(a, b))
-                                        && u.fill.zip(v.fill).is_none_or(|(a, b)| {
-                                            a.iter().zip(&b).all(|(x, y)| near(*x, *y))
-                                        })
-                                }
-                                _ => false,
-                            }
-                        }
-                        _ => false,
-                    }
-            }
-            _ => false,
-        }
-    }
-    a.len() == b.len()
-        && a.iter().zip(b).all(|(s, t)| {
-            s.twin_of == t.twin_of
-                && play_same(&s.play, &t.play, opts)
-                && s.inner.len() == t.inner.len()
-                && s.inner
-                    .iter()
-                    .zip(&t.inner)
-                    .all(|(i, j)| play_same(&i.play, &j.play, opts))
-        })
-}
-
-/// Least squares `y ≈ a + b·x`.
-fn fit_line(xs: &[f64], ys: &[f64]) -> (f64, f64) {
-    let n = xs.len() as f64;
-    let mx = xs.iter().sum::<f64>() / n;
-    let my = ys.iter().sum::<f64>() / n;
-    let sxx: f64 = xs.iter().map(|x| (x - mx) * (x - mx)).sum();
-    if sxx <= 0.0 {
-        return (my, 0.0);
-    }
-    let sxy: f64 = xs.iter().zip(ys).map(|(x, y)| (x - mx) * (y - my)).sum();
-    let b = sxy / sxx;
-    (my - b * mx, b)
-}
-
 /// Digits of times written (seconds): far below a frame.
 const TIME_DIGITS: usize = 6;
 
-/// Tries to share one rule set among `units` (one tag, ids 0…): the same changes, times
-/// fitted as `a + b·id`. The shared times, as (a, b) pairs, when every unit stays within
-/// the tolerance with them.
-fn share(
-    units: &[usize],
-    ids: &[usize],
-    samples: &[UnitSamples],
-    fitted: &[Fitted],
-    clock: Clock,
-    opts: &Options,
-) -> Option<Vec<(f64, f64)>> {
-    let first = &fitted[units[0]].slices;
-    if first.is_empty()
-        || !units
-            .iter()
-            .all(|&u| same_changes(first, &fitted[u].slices, opts))
-    {
-        return None;
-    }
-    let xs: Vec<f64> = ids.iter().map(|&i| i as f64).collect();
-    let all: Vec<Vec<f64>> = units.iter().map(|&u| times_of(&fitted[u].slices)).collect();
-    let lines: Vec<(f64, f64)> = (0..all[0].len())
-        .map(|k| {
-            let ys: Vec<f64> = all.iter().map(|t| t[k]).collect();
-            let (a, b) = fit_line(&xs, &ys);
-            // As written, so the check below sees what `animate` will.
-            let r = |x: f64| num(x, TIME_DIGITS).parse().unwrap_or(x);
-            (r(a), r(b))
+/// How units are told apart in a shared set: `k` counts them in paint order.
+fn vars_of(still: &Scene, units: &[usize]) -> Vec<Vars> {
+    let mut by_z: Vec<usize> = units.to_vec();
+    by_z.sort_by_key(|&u| still.shapes[u].z);
+    units
+        .iter()
+        .map(|&u| {
+            let s = &still.shapes[u];
+            let c = s.centroid;
+            Vars {
+                id: s.id as f64,
+                k: by_z.iter().position(|&v| v == u).unwrap_or(0) as f64,
+                cx: c.x,
+                cy: c.y,
+                dist: (c.x - still.width / 2.0).hypot(c.y - still.height / 2.0),
+            }
         })
-        .collect();
-    for (&u, &id) in units.iter().zip(ids) {
-        let times: Vec<f64> = lines.iter().map(|(a, b)| a + b * id as f64).collect();
-        let slices = with_times(first, &times);
-        // Every slice must keep a length and its offset must fit in it.
-        if slices
-            .iter()
-            .chain(slices.iter().flat_map(|s| &s.inner))
-            .any(|s| {
-                s.t1 - s.t0 <= 1e-9
-                    || s.play
-                        .as_ref()
-                        .is_some_and(|m| m.delay < -1e-9 || m.delay >= s.t1 - s.t0)
-            })
-        {
-            return None;
-        }
-        let pts = fit::points_of(&samples[u]);
-        let (px, op) = fit::errors(&samples[u], &pts, clock, &slices);
-        let own = &fitted[u];
-        if px > opts.tolerance.max(own.max_px) + 1e-9
-            || op > opts.opacity_tolerance.max(own.max_opacity) + 1e-9
-        {
-            return None;
-        }
-    }
-    Some(lines)
+        .collect()
 }
 
 /// How the still scene names unit `u`, alone. The Lottie writer names a layer after its
@@ -431,8 +264,13 @@ fn address(still: &Scene, u: usize, svg: bool) -> String {
     }
 }
 
-/// The grammar for the still scene `still` and the fitted units (their trims, learned
-/// apart, in `trims`), and its rule sets.
+/// The errors of one unit (its index, largest pixel and opacity errors) as the shared set
+/// that covers it plays it.
+pub type Played = (usize, f64, f64);
+
+/// The grammar for the still scene `still` and the fitted units (their trims, morphs and
+/// strokes, learned apart), its rule sets, and the errors of the units that shared sets
+/// cover, as those play them.
 #[allow(clippy::too_many_arguments)]
 pub fn write(
     still: &Scene,
@@ -445,7 +283,7 @@ pub fn write(
     still_name: &str,
     svg: bool,
     opts: &Options,
-) -> (String, Vec<RuleSet>) {
+) -> (String, Vec<RuleSet>, Vec<Played>) {
     // Units by tag, in id order.
     let mut by_tag: BTreeMap<&str, Vec<usize>> = BTreeMap::new();
     for (u, s) in still.shapes.iter().enumerate() {
@@ -453,57 +291,144 @@ pub fn write(
             by_tag.entry(s.tag.as_str()).or_default().push(u);
         }
     }
-    let count = |tag: &str| still.shapes.iter().filter(|s| s.tag == tag).count();
+    for units in by_tag.values_mut() {
+        units.sort_by_key(|&u| still.shapes[u].id);
+    }
+    // A shared set must cover every drawing of its tags: its first rule takes them all
+    // through `all`, which takes no rig (and `k` counts drawings only), so rigs keep
+    // rules of their own.
+    let drawings = |tag: &str| {
+        still
+            .shapes
+            .iter()
+            .filter(|s| s.tag == tag && !s.rig)
+            .count()
+    };
+    // Morphs and strokes are nested in a unit's own slices: such a unit shares no set.
+    let plain = |u: usize| morphs[u].is_none() && strokes[u].is_none();
+    let whole = |tag: &str, units: &[usize]| {
+        let moving = units.iter().filter(|&&u| !still.shapes[u].rig).count();
+        moving > 0 && moving == drawings(tag) && units.iter().all(|&u| plain(u))
+    };
     let mut body = String::new();
     let mut sets = Vec::new();
-    for (tag, mut units) in by_tag {
-        units.sort_by_key(|&u| still.shapes[u].id);
-        let ids: Vec<usize> = units.iter().map(|&u| still.shapes[u].id).collect();
-        // A shared set must cover every shape of the tag (the rules take them all).
-        if units.len() > 1
-            && units.len() == count(tag)
-            && units
+    // The errors of the units in shared sets, as those play them.
+    let mut played: Vec<Played> = Vec::new();
+    let mut shared_set = |body: &mut String, tags: String, units: Vec<usize>, shared: Shared| {
+        played.extend(
+            units
                 .iter()
-                .all(|&u| morphs[u].is_none() && strokes[u].is_none())
-            && let Some(lines) = share(&units, &ids, samples, fitted, clock, opts)
-        {
-            let texts: Vec<String> = lines
-                .iter()
-                .map(|(a, b)| linear(*a, *b, TIME_DIGITS))
-                .collect();
-            let stagger = texts
-                .iter()
-                .skip(1)
-                .step_by(2)
-                .find(|t| t.contains("id"))
-                .cloned();
-            let rules = rule_set(
-                &mut body,
-                tag,
-                &fitted[units[0]].slices,
-                &SetTimes::Shared(&lines),
-                clock,
-                None,
-                None,
-            );
-            sets.push(RuleSet {
-                tags: tag.to_string(),
-                units,
-                rules,
-                stagger,
-            });
+                .zip(&shared.errors)
+                .map(|(&u, &(px, op))| (u, px, op)),
+        );
+        let stagger = shared
+            .exprs
+            .iter()
+            .take(2 * shared.template.len())
+            .skip(1)
+            .step_by(2)
+            .find(|(e, _)| !e.is_constant())
+            .map(|(e, k)| e.text(k.digits()));
+        let range = |v: Var| shared.range(v);
+        let rules = rule_set(
+            body,
+            &tags,
+            &shared.template,
+            (&shared.exprs, &range),
+            clock,
+            UnitPart::default(),
+        );
+        RuleSet {
+            tags,
+            units,
+            rules,
+            stagger,
+        }
+    };
+    // Tags whose units say the same kinds of change share one set on the tuple of them
+    // when they can (`k`, `cx`, `cy` tell their units apart across tags).
+    let mut done: Vec<&str> = Vec::new();
+    let tags: Vec<&str> = by_tag.keys().copied().collect();
+    for (i, &tag) in tags.iter().enumerate() {
+        if done.contains(&tag) || !whole(tag, &by_tag[tag]) {
             continue;
         }
-        for u in units {
+        let first = &fitted[by_tag[tag][0]].slices;
+        let cluster: Vec<&str> = std::iter::once(tag)
+            .chain(tags[i + 1..].iter().copied().filter(|t| {
+                !done.contains(t)
+                    && whole(t, &by_tag[t])
+                    && share::same_kinds(first, &fitted[by_tag[t][0]].slices)
+            }))
+            .collect();
+        if cluster.len() < 2 {
+            continue;
+        }
+        let mut units: Vec<usize> = cluster
+            .iter()
+            .flat_map(|t| by_tag[t].iter().copied())
+            .filter(|&u| !still.shapes[u].rig)
+            .collect();
+        units.sort_by_key(|&u| still.shapes[u].z);
+        let vars = vars_of(still, &units);
+        if let Some(shared) = share::share(&units, &vars, samples, fitted, clock, opts) {
+            let tags = format!("({})", cluster.join(", "));
+            sets.push(shared_set(&mut body, tags, units, shared));
+            done.extend(cluster);
+        }
+    }
+    for (tag, units) in by_tag {
+        let (rigs, drawn): (Vec<usize>, Vec<usize>) =
+            units.iter().partition(|&&u| still.shapes[u].rig);
+        let mut own = units.clone();
+        // Units of a tag whose shared set is not theirs: they keep rules of their own,
+        // which take their timeline first.
+        let mut exceptions: Vec<usize> = Vec::new();
+        if done.contains(&tag) {
+            own = rigs;
+        } else if drawn.len() > 1 && whole(tag, &units) {
+            let vars = vars_of(still, &drawn);
+            if let Some(shared) = share::share(&drawn, &vars, samples, fitted, clock, opts) {
+                sets.push(shared_set(&mut body, tag.to_string(), drawn, shared));
+                own = rigs;
+            } else if let Some(class) = largest_class(&drawn, fitted)
+                && class.len() < drawn.len()
+            {
+                // The most units that say the same kinds of change share a set; `k`
+                // still counts every drawing the set's rules take.
+                let cvars: Vec<Vars> = class
+                    .iter()
+                    .filter_map(|u| drawn.iter().position(|v| v == u).map(|i| vars[i]))
+                    .collect();
+                if let Some(shared) = share::share(&class, &cvars, samples, fitted, clock, opts) {
+                    exceptions = drawn
+                        .iter()
+                        .copied()
+                        .filter(|u| !class.contains(u))
+                        .collect();
+                    sets.push(shared_set(&mut body, tag.to_string(), class, shared));
+                    own = rigs;
+                    own.extend(&exceptions);
+                }
+            }
+        }
+        for u in own {
             let address = address(still, u, svg);
+            let own: Vec<(Expr, Kind)> = share::numbers(&fitted[u].slices)
+                .into_iter()
+                .map(|(x, k)| (Expr::constant(x), k))
+                .collect();
             let rules = rule_set(
                 &mut body,
                 &address,
                 &fitted[u].slices,
-                &SetTimes::Own,
+                (&own, &|_| 0.0),
                 clock,
-                morphs[u].as_ref(),
-                strokes[u].as_ref(),
+                UnitPart {
+                    exception: exceptions.contains(&u),
+                    morph: morphs[u].as_ref(),
+                    stroke: strokes[u].as_ref(),
+                },
             );
             sets.push(RuleSet {
                 tags: address,
@@ -591,46 +516,95 @@ pub fn write(
     }
     head.push('\n');
     head.push_str(&body);
-    (head, sets)
+    (head, sets, played)
 }
 
-/// Where a rule set's times come from.
-enum SetTimes<'a> {
-    /// The unit's own slices.
-    Own,
-    /// Shared lines `a + b·id`, in the layout of [`times_of`].
-    Shared(&'a [(f64, f64)]),
+/// Each variable's largest magnitude over a set's units, what its numbers' rounding is
+/// weighed by.
+type Range<'a> = &'a dyn Fn(Var) -> f64;
+
+/// The largest class of `units` whose slices say the same kinds of change (at least
+/// two units), in `units`' order.
+fn largest_class(units: &[usize], fitted: &[Fitted]) -> Option<Vec<usize>> {
+    let mut classes: Vec<Vec<usize>> = Vec::new();
+    for &u in units {
+        match classes
+            .iter_mut()
+            .find(|c| share::same_kinds(&fitted[c[0]].slices, &fitted[u].slices))
+        {
+            Some(c) => c.push(u),
+            None => classes.push(vec![u]),
+        }
+    }
+    classes
+        .into_iter()
+        .filter(|c| c.len() > 1)
+        .max_by_key(|c| c.len())
 }
 
-/// Writes the rules of one set on shape tag `tag`; returns how many.
+/// What one unit's own rule set adds to what a shared one writes: its slices named after
+/// it when it is an exception to its tag's shared set, and the changes nested in the
+/// leaves of its slices.
+#[derive(Clone, Copy, Default)]
+struct UnitPart<'a> {
+    /// Whether the unit is an exception to its tag's shared set.
+    exception: bool,
+    /// Its outline's morphs.
+    morph: Option<&'a crate::outline::Fitted>,
+    /// Its stroke's changes.
+    stroke: Option<&'a crate::stroke::Fitted>,
+}
+
+/// Writes the rules of one set on shape tag `tag` (a tag, or a tuple of tags), its
+/// numbers `exprs` (the layout of [`share::numbers`]); returns how many. An exception to
+/// a set shared by the rest of its tag (`unit.exception`) names its slices after `tag` (the
+/// shared rules must not take them) and takes the whole timeline first (`priority=1`);
+/// its morphs and stroke changes are written nested in the leaves of its slices.
 fn rule_set(
     out: &mut String,
     tag: &str,
     slices: &[Slice],
-    times: &SetTimes,
+    (exprs, range): (&[(Expr, Kind)], Range),
     clock: Clock,
-    morph: Option<&crate::outline::Fitted>,
-    stroke: Option<&crate::stroke::Fitted>,
+    unit: UnitPart,
 ) -> usize {
-    let duration = clock.duration;
-    let lines: Vec<(f64, f64)> = match times {
-        SetTimes::Own => times_of(slices).into_iter().map(|t| (t, 0.0)).collect(),
-        SetTimes::Shared(l) => l.to_vec(),
+    let UnitPart {
+        exception,
+        morph,
+        stroke,
+    } = unit;
+    let pre = if exception {
+        format!("{tag}_")
+    } else {
+        String::new()
     };
-    let layout = Times::of(slices, &lines, duration);
+    let prio = |slice: &str| {
+        if exception && slice == "all" {
+            " priority=1"
+        } else {
+            ""
+        }
+    };
+    let n_times = 2 * (slices.len() + slices.iter().map(|s| s.inner.len()).sum::<usize>());
+    let (times, values) = exprs.split_at(n_times.min(exprs.len()));
+    let times: Vec<Expr> = times.iter().map(|(e, _)| e.clone()).collect();
+    let layout = Times::of(slices, &times, clock, range);
+    // The moves' values, level-1 moves first, as [`share::numbers`] lists them.
+    let mut vals = values.iter();
     let mut rules = 0;
     let name = |k: usize| match slices[k].twin_of {
-        Some(i) => format!("inv_p{i}"),
-        None => format!("p{k}"),
+        Some(i) => format!("inv_{pre}p{i}"),
+        None => format!("{pre}p{k}"),
     };
     let whole = slices.len() == 1;
     if !whole {
         let outs: Vec<String> = (0..slices.len()).map(name).collect();
         let _ = writeln!(
             out,
-            "timesplit({}) : [all, {tag}] -> [{}]",
+            "timesplit({}) : [all, {tag}] -> [{}]{}",
             layout.fractions.join(", "),
-            outs.join(", ")
+            outs.join(", "),
+            prio("all")
         );
         rules += 1;
     }
@@ -639,33 +613,33 @@ fn rule_set(
             if whole {
                 "all".to_string()
             } else {
-                format!("p{k}")
+                format!("{pre}p{k}")
             }
         })
         .collect();
     for (k, s) in slices.iter().enumerate() {
-        if let Some(Move {
-            ease,
-            change: Change::Affine(comps, pivot),
-            ..
-        }) = &s.play
-        {
-            let ref_ = if *pivot == Pivot::Local {
-                "local"
-            } else {
-                "world"
-            };
-            let ease = ease_text(ease).map_or(String::new(), |e| format!(", ease={e}"));
-            let _ = writeln!(
-                out,
-                "animate(affine, {ref_}, {}, {}{ease}) : [{}, {tag}] -> [m{k}]",
-                layout.delays[k],
-                transform_text(comps, *pivot),
-                current[k]
-            );
-            current[k] = format!("m{k}");
-            rules += 1;
-        }
+        let Some(m) = &s.play else { continue };
+        // Only affine moves play at level 1; anything else would be skipped, its numbers
+        // with it.
+        let Change::Affine(comps, pivot) = &m.change else {
+            continue;
+        };
+        let ref_ = if *pivot == Pivot::Local {
+            "local"
+        } else {
+            "world"
+        };
+        let ease = ease_text(&m.ease).map_or(String::new(), |e| format!(", ease={e}"));
+        let _ = writeln!(
+            out,
+            "animate(affine, {ref_}, {}, {}{ease}) : [{}, {tag}] -> [{pre}m{k}]{}",
+            layout.delays[k],
+            transform_text(comps, *pivot, &mut vals),
+            current[k],
+            prio(&current[k])
+        );
+        current[k] = format!("{pre}m{k}");
+        rules += 1;
     }
     // The name each leaf of the slices ends with (see `outline::leaves`), for the morphs.
     let mut leaves: Vec<Vec<String>> = current.iter().map(|c| vec![c.clone()]).collect();
@@ -677,13 +651,16 @@ fn rule_set(
         let (fractions, delays) = &layout.inner[k];
         let one = s.inner.len() == 1;
         if !one {
-            let outs: Vec<String> = (0..s.inner.len()).map(|l| format!("p{k}_{l}")).collect();
+            let outs: Vec<String> = (0..s.inner.len())
+                .map(|l| format!("{pre}p{k}_{l}"))
+                .collect();
             let _ = writeln!(
                 out,
-                "timesplit({}) : [{}, {tag}] -> [{}]",
+                "timesplit({}) : [{}, {tag}] -> [{}]{}",
                 fractions.join(", "),
                 current[k],
-                outs.join(", ")
+                outs.join(", "),
+                prio(&current[k])
             );
             rules += 1;
         }
@@ -699,28 +676,33 @@ fn rule_set(
                 let mut slice = if one {
                     current[k].clone()
                 } else {
-                    format!("p{k}_{l}")
+                    format!("{pre}p{k}_{l}")
                 };
-                if let Some(v) = change.opacity {
+                if change.opacity.is_some()
+                    && let Some((v, kind)) = vals.next()
+                {
                     let _ = writeln!(
                         out,
-                        "animate(opacity, local, {}, {}{ease}) : [{slice}, {tag}] -> [o{k}_{l}]",
+                        "animate(opacity, local, {}, {}{ease}) : [{slice}, {tag}] -> [{pre}o{k}_{l}]{}",
                         delays[l],
-                        num(v, 4)
+                        v.text(kind.digits()),
+                        prio(&slice)
                     );
-                    slice = format!("o{k}_{l}");
+                    slice = format!("{pre}o{k}_{l}");
                     rules += 1;
                 }
-                if let Some([r, g, b]) = change.fill {
+                if change.fill.is_some() {
+                    let rgb: Vec<String> = (0..3)
+                        .map(|_| vals.next().map_or("0".into(), |(e, k)| e.text(k.digits())))
+                        .collect();
                     let _ = writeln!(
                         out,
-                        "animate(fill, local, {}, rgb({}, {}, {}){ease}) : [{slice}, {tag}] -> [f{k}_{l}]",
+                        "animate(fill, local, {}, rgb({}){ease}) : [{slice}, {tag}] -> [{pre}f{k}_{l}]{}",
                         delays[l],
-                        num(r * 255.0, 2),
-                        num(g * 255.0, 2),
-                        num(b * 255.0, 2)
+                        rgb.join(", "),
+                        prio(&slice)
                     );
-                    slice = format!("f{k}_{l}");
+                    slice = format!("{pre}f{k}_{l}");
                     rules += 1;
                 }
                 leaves[k].push(slice);
@@ -728,7 +710,7 @@ fn rule_set(
                 leaves[k].push(if one {
                     current[k].clone()
                 } else {
-                    format!("p{k}_{l}")
+                    format!("{pre}p{k}_{l}")
                 });
             }
         }
@@ -747,25 +729,43 @@ fn rule_set(
 }
 
 impl Times {
-    /// The written times of `slices` from their lines (layout of [`times_of`]).
-    fn of(slices: &[Slice], lines: &[(f64, f64)], duration: f64) -> Times {
+    /// The written times of `slices` from their expressions (the times of
+    /// [`share::numbers`]: per level-1 slice its end and offset, then the inner ones').
+    ///
+    /// Fractions that vary are written as short as keeps every boundary within a
+    /// ten-thousandth of a frame over the units (`range`: each variable's largest
+    /// magnitude), the last what the others leave, so that they sum to 1 exactly.
+    fn of(slices: &[Slice], times: &[Expr], clock: Clock, range: &dyn Fn(Var) -> f64) -> Times {
+        let duration = clock.duration;
+        let zero = Expr::constant(0.0);
+        let at = |k: usize| times.get(k).unwrap_or(&zero);
         let mut parts = Vec::new();
         let mut delays = Vec::new();
         let mut k = 0;
-        let mut prev = (0.0, 0.0);
+        let mut prev = zero.clone();
         for _ in slices {
-            let end = lines[k];
-            parts.push((end.0 - prev.0) / duration);
-            parts.push((end.1 - prev.1) / duration);
-            delays.push(linear(lines[k + 1].0, lines[k + 1].1, TIME_DIGITS));
-            prev = end;
+            let end = at(k);
+            parts.push(end.plus(-1.0, &prev).times(1.0 / duration));
+            delays.push(at(k + 1).text(TIME_DIGITS));
+            prev = end.clone();
             k += 2;
         }
-        let plain: Vec<f64> = parts.chunks(2).map(|p| p[0]).collect();
-        let fractions = if parts.chunks(2).all(|p| num(p[1].abs(), 9) == "0") {
-            tidy(&plain)
+        let fractions = if parts.iter().all(|p| p.is_constant()) {
+            tidy(&parts.iter().map(|p| p.c).collect::<Vec<_>>())
         } else {
-            parts.chunks(2).map(|p| linear(p[0], p[1], 9)).collect()
+            let eps = 1e-4 / (clock.fps * duration);
+            let mut written: Vec<Expr> = Vec::new();
+            let mut left = Expr::constant(1.0);
+            for (i, p) in parts.iter().enumerate() {
+                let e = if i + 1 == parts.len() {
+                    left.clone()
+                } else {
+                    p.rounded_within(eps, range)
+                };
+                left = left.plus(-1.0, &e);
+                written.push(e);
+            }
+            written.iter().map(|p| p.text(9)).collect()
         };
         let mut inner = Vec::new();
         for (j, s) in slices.iter().enumerate() {
@@ -773,24 +773,24 @@ impl Times {
             let mut fixed = Vec::new();
             let mut de = Vec::new();
             let start = if j == 0 {
-                (0.0, 0.0)
+                zero.clone()
             } else {
-                lines[2 * (j - 1)]
+                at(2 * (j - 1)).clone()
             };
+            let parent = at(2 * j).plus(-1.0, &start);
             let mut prev = start;
             for _ in &s.inner {
-                let end = lines[k];
-                let (a, b) = (end.0 - prev.0, end.1 - prev.1);
-                fr.push(if b.abs() < 1e-12 && lines[2 * j].1 == start.1 {
+                let end = at(k);
+                let len = end.plus(-1.0, &prev);
+                fr.push(if len.is_constant() && parent.is_constant() {
                     // A fixed length: its fraction of the fixed parent.
-                    let parent = lines[2 * j].0 - start.0;
-                    fixed.push(a / parent);
-                    num(a / parent, 9)
+                    fixed.push(len.c / parent.c);
+                    num(len.c / parent.c, 9)
                 } else {
-                    format!("({}) / d", linear(a, b, TIME_DIGITS))
+                    format!("({}) / d", len.text(TIME_DIGITS))
                 });
-                de.push(linear(lines[k + 1].0, lines[k + 1].1, TIME_DIGITS));
-                prev = end;
+                de.push(at(k + 1).text(TIME_DIGITS));
+                prev = end.clone();
                 k += 2;
             }
             if fixed.len() == fr.len() {

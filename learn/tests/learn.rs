@@ -237,9 +237,30 @@ fn learning_its_own_grammar_again_gives_the_same_grammar() {
     );
 }
 
+/// `c`, `b * id`, `c + b * id` or `c - b * id` at `id`.
+fn linear_in_id(text: &str, id: f64) -> Option<f64> {
+    let (c, rest) = match text.find(" * id") {
+        None => return text.parse().ok(),
+        Some(at) => (&text[..at], &text[at + " * id".len()..]),
+    };
+    if !rest.is_empty() {
+        return None;
+    }
+    Some(match c.rsplit_once(' ') {
+        None => c.parse::<f64>().ok()? * id,
+        Some((head, b)) => {
+            let b: f64 = b.parse().ok()?;
+            let (a, sign) = head.rsplit_once(' ')?;
+            let a: f64 = a.parse().ok()?;
+            if sign == "-" { a - b * id } else { a + b * id }
+        }
+    })
+}
+
 /// The fitter cuts time in eighths of a frame: no slice may be shorter (a frame rate such
 /// as 29.97 must not leave slivers of a few nanoseconds at the end), and the fractions are
-/// written short (a quarter is `0.25`). On the Bodymovin file the command line's tests use.
+/// written short (a quarter is `0.25`, a stagger of an eighth `0.125 * id`). On the
+/// Bodymovin file the command line's tests use, whose first dots share one set.
 #[test]
 fn an_after_effects_timeline_is_cut_in_whole_pieces_written_short() {
     let json = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -247,19 +268,167 @@ fn an_after_effects_timeline_is_cut_in_whole_pieces_written_short() {
     let l = learned(&json);
     assert_eq!(l.report.unexplained().count(), 0, "{}", l.report);
     let eighth = 1.0 / (8.0 * l.fps);
+    let mut shared = 0;
     for split in rules(&l)
         .into_iter()
         .filter(|r| r.starts_with("timesplit("))
     {
         let args = &split["timesplit(".len()..split.find(')').unwrap()];
+        let tag = &split[split.find("[all, ").unwrap() + 6..split.find("] ->").unwrap()];
+        let set = l.report.sets.iter().find(|s| s.tags == tag).unwrap();
+        shared += usize::from(set.units.len() > 1);
         for f in args.split(", ") {
-            let f: f64 = f
-                .parse()
-                .unwrap_or_else(|_| panic!("a plain fraction: {split}"));
-            assert!(f * l.duration >= eighth - 1e-9, "a sliver: {split}");
-            assert!(f.to_string().len() <= 6, "a fraction written long: {split}");
+            for number in f
+                .split([' ', '*', '+', '-'])
+                .filter(|t| !t.is_empty() && *t != "id")
+            {
+                assert!(number.len() <= 6, "a fraction written long: {split}");
+            }
+            for &u in &set.units {
+                let id = l.still.shapes[u].id as f64;
+                let f = linear_in_id(f, id)
+                    .unwrap_or_else(|| panic!("a fraction linear in id: {split}"));
+                assert!(f * l.duration >= eighth - 1e-9, "a sliver: {split}");
+            }
         }
     }
+    assert_eq!(shared, 1, "the first dots share a set\n{}", l.grammar);
+}
+
+/// Squares tagged by `tags` (one per square, cycled) at the x positions `xs`, 20 px wide.
+fn squares_at(xs: &[f64], tags: &[&str]) -> String {
+    let mut svg = String::from(
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="400" height="200" viewBox="0 0 400 200">"#,
+    );
+    for (i, x) in xs.iter().enumerate() {
+        svg.push_str(&format!(
+            r##"<rect data-tag="{}" x="{x}" y="20" width="20" height="20" fill="#d33"/>"##,
+            tags[i % tags.len()]
+        ));
+    }
+    svg.push_str("</svg>");
+    svg
+}
+
+/// The number `NAME` is multiplied by in `rule` (`… 0.004 * cx …`), if any.
+fn coefficient(rule: &str, name: &str) -> Option<f64> {
+    let at = rule.find(&format!(" * {name}"))?;
+    let before = &rule[..at];
+    let start = before
+        .rfind(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .map_or(0, |i| i + 1);
+    before[start..].parse().ok()
+}
+
+/// Learns `json`, plays the learned grammar again and learns that: the same rules come
+/// back only if `animate` gives the shape's variables the values `learn` fitted them with.
+fn learned_twice(dir: &Path, json: &Path) -> (Learned, Learned) {
+    let first = learned(json);
+    let gm = write_learned(dir, &first);
+    let again = learned(&run_to_lottie(&gm, &dir.join("again.json")));
+    (first, again)
+}
+
+#[test]
+fn a_stagger_along_x_comes_back_as_an_offset_in_cx() {
+    let dir = fresh_dir("stagger_cx");
+    // Document order is not left to right: the stagger is no line in `id`.
+    let json = export(
+        &dir,
+        "row",
+        &squares_at(&[20.0, 300.0, 100.0, 220.0, 60.0], &["s"]),
+        "duration 4s\nfps 30\n\
+         timesplit(0.6, 0.4) : [all, s] -> [a, rest]\n\
+         animate(affine, world, 0.004 * cx, translate(0, 100), ease=ease-in-out) : [a, s] -> [m]\n",
+    );
+    let (l, again) = learned_twice(&dir, &json);
+    assert_eq!(l.report.unexplained().count(), 0, "{}", l.report);
+    let moves: Vec<_> = rules(&l)
+        .into_iter()
+        .filter(|r| r.starts_with("animate"))
+        .collect();
+    assert_eq!(
+        moves.len(),
+        1,
+        "one rule for the five squares\n{}",
+        l.grammar
+    );
+    let b = coefficient(moves[0], "cx").unwrap_or_else(|| panic!("a stagger in cx: {}", moves[0]));
+    assert!((b - 0.004).abs() < 1e-5, "{}", moves[0]);
+    assert_eq!(
+        rules(&again),
+        rules(&l),
+        "{}\n---\n{}",
+        l.grammar,
+        again.grammar
+    );
+}
+
+#[test]
+fn a_translation_growing_with_id_comes_back_as_one_rule() {
+    let dir = fresh_dir("amount_id");
+    let json = export(
+        &dir,
+        "row",
+        &squares(5, false),
+        "duration 3s\nfps 30\n\
+         timesplit(0.5, 0.5) : [all, s] -> [a, rest]\n\
+         animate(affine, world, 0, translate(0, 20 + 25 * id), ease=ease-out) : [a, s] -> [m]\n",
+    );
+    let (l, again) = learned_twice(&dir, &json);
+    assert_eq!(l.report.unexplained().count(), 0, "{}", l.report);
+    let moves: Vec<_> = rules(&l)
+        .into_iter()
+        .filter(|r| r.starts_with("animate"))
+        .collect();
+    assert_eq!(
+        moves.len(),
+        1,
+        "one rule for the five squares\n{}",
+        l.grammar
+    );
+    assert!(
+        moves[0].contains("translate(0, 20 + 25 * id)"),
+        "{}",
+        moves[0]
+    );
+    assert_eq!(
+        rules(&again),
+        rules(&l),
+        "{}\n---\n{}",
+        l.grammar,
+        again.grammar
+    );
+}
+
+#[test]
+fn tags_that_move_alike_share_one_rule_set_on_the_tuple_of_them() {
+    let dir = fresh_dir("tuple");
+    let json = export(
+        &dir,
+        "two",
+        &squares_at(&[20.0, 80.0, 140.0, 200.0, 260.0, 320.0], &["s", "t"]),
+        "duration 4s\nfps 30\n\
+         timesplit(0.5, 0.5) : [all, (s, t)] -> [a, inv_a]\n\
+         animate(affine, local, 0.2 * k, rotate(90), ease=ease-in) : [a, (s, t)] -> [m]\n",
+    );
+    let (l, again) = learned_twice(&dir, &json);
+    assert_eq!(l.report.unexplained().count(), 0, "{}", l.report);
+    assert_eq!(
+        l.report.sets.len(),
+        1,
+        "one set for both tags\n{}",
+        l.grammar
+    );
+    assert_eq!(rules(&l).len(), 2, "{}", l.grammar);
+    assert!(rules(&l)[1].contains("(s, t)]"), "{}", l.grammar);
+    assert_eq!(
+        rules(&again),
+        rules(&l),
+        "{}\n---\n{}",
+        l.grammar,
+        again.grammar
+    );
 }
 
 /// A 240 px stroked line tagged `l` (no fill: a trim draws strokes only).
