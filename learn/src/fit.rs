@@ -100,8 +100,9 @@ impl Clock {
     }
 }
 
-/// The easings tried on every piece, simplest first (a tie keeps the first).
-fn easings() -> Vec<Easing> {
+/// The easings tried on every piece, simplest first (a tie keeps the first); trims,
+/// outlines and strokes try the same.
+pub(crate) fn easings() -> Vec<Easing> {
     let mut v = vec![Easing::Linear];
     for name in ["ease", "ease-in", "ease-out", "ease-in-out"] {
         if let Ok(e) = Easing::from_call(name, &[]) {

@@ -141,24 +141,6 @@ fn between(a: &BezPath, b: &BezPath, p: f64) -> BezPath {
     )
 }
 
-/// The easings tried, simplest first.
-fn easings() -> Vec<Easing> {
-    let mut v = vec![Easing::Linear];
-    for name in ["ease", "ease-in", "ease-out", "ease-in-out"] {
-        if let Ok(e) = Easing::from_call(name, &[]) {
-            v.push(e);
-        }
-    }
-    for c in [
-        [0.333, 0.0, 0.667, 1.0],
-        [0.333, 0.0, 0.833, 0.833],
-        [0.167, 0.167, 0.667, 1.0],
-    ] {
-        v.push(Easing::CubicBezier(c));
-    }
-    v
-}
-
 /// Fits the outline of `o` as morph pieces inside each of `leaves`, within `tol` pixels;
 /// the still draws frame 0's outline. `None` when the outline never changes.
 pub fn fit(o: &Outline, leaves: &[(f64, f64)], clock: Clock, tol: f64) -> Option<Fitted> {
@@ -169,7 +151,7 @@ pub fn fit(o: &Outline, leaves: &[(f64, f64)], clock: Clock, tol: f64) -> Option
     let placed: Vec<BezPath> = o.frames.iter().map(|p| o.world * p.clone()).collect();
     let drawn: Vec<Vec<Point>> = placed.iter().map(samples).collect();
     let time = |f: usize| f as f64 / clock.fps;
-    let eases = easings();
+    let eases = crate::fit::easings();
     let mut state = placed[0].clone();
     let mut state_pts = drawn[0].clone();
     let mut out = Vec::with_capacity(leaves.len());

@@ -438,61 +438,36 @@ pub fn write(
             });
         }
     }
-    // A unit drawn on or off by trim paths, and otherwise still, gets its trim rules.
-    for (u, t) in trims.iter().enumerate() {
-        if let Some(t) = t
-            && fitted[u].slices.is_empty()
-        {
-            let address = address(still, u, svg);
-            let rules = crate::trim::write(&mut body, &address, t, clock);
-            sets.push(RuleSet {
-                tags: address,
-                units: vec![u],
-                rules,
-                stagger: None,
-            });
+    // A unit that otherwise holds still gets the rules of its trim, else of its outline's
+    // morphs, else of its stroke's changes (each fitted only where the one before is not).
+    for u in 0..still.shapes.len() {
+        if !fitted[u].slices.is_empty() {
+            continue;
         }
-    }
-    // A unit whose outline changes, and otherwise still, gets its morph rules.
-    for (u, m) in morphs.iter().enumerate() {
-        if let Some(m) = m
-            && fitted[u].slices.is_empty()
-            && trims[u].is_none()
-        {
-            let address = address(still, u, svg);
-            let mut rules = 0;
-            for (i, pieces) in m.leaves.iter().enumerate() {
-                rules += crate::outline::write(&mut body, "all", &address, i, pieces);
-            }
+        let address = address(still, u, svg);
+        let rules = if let Some(t) = &trims[u] {
+            crate::trim::write(&mut body, &address, t, clock)
+        } else if let Some(m) = &morphs[u] {
+            let rules = (m.leaves.iter().enumerate())
+                .map(|(i, pieces)| crate::outline::write(&mut body, "all", &address, i, pieces))
+                .sum();
             body.push('\n');
-            sets.push(RuleSet {
-                tags: address,
-                units: vec![u],
-                rules,
-                stagger: None,
-            });
-        }
-    }
-    // Likewise a still unit whose stroke changes.
-    for (u, st) in strokes.iter().enumerate() {
-        if let Some(st) = st
-            && fitted[u].slices.is_empty()
-            && trims[u].is_none()
-            && morphs[u].is_none()
-        {
-            let address = address(still, u, svg);
-            let mut rules = 0;
-            for (i, pieces) in st.leaves.iter().enumerate() {
-                rules += crate::stroke::write(&mut body, "all", &address, i, pieces);
-            }
+            rules
+        } else if let Some(st) = &strokes[u] {
+            let rules = (st.leaves.iter().enumerate())
+                .map(|(i, pieces)| crate::stroke::write(&mut body, "all", &address, i, pieces))
+                .sum();
             body.push('\n');
-            sets.push(RuleSet {
-                tags: address,
-                units: vec![u],
-                rules,
-                stagger: None,
-            });
-        }
+            rules
+        } else {
+            continue;
+        };
+        sets.push(RuleSet {
+            tags: address,
+            units: vec![u],
+            rules,
+            stagger: None,
+        });
     }
     let total: usize = sets.iter().map(|s| s.rules).sum();
     let mut head = String::new();

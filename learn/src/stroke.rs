@@ -68,24 +68,6 @@ fn lerp(a: &Value, b: &Value, p: f64) -> Value {
     std::array::from_fn(|i| a[i] + (b[i] - a[i]) * p)
 }
 
-/// The easings tried, simplest first.
-fn easings() -> Vec<Easing> {
-    let mut v = vec![Easing::Linear];
-    for name in ["ease", "ease-in", "ease-out", "ease-in-out"] {
-        if let Ok(e) = Easing::from_call(name, &[]) {
-            v.push(e);
-        }
-    }
-    for c in [
-        [0.333, 0.0, 0.667, 1.0],
-        [0.333, 0.0, 0.833, 0.833],
-        [0.167, 0.167, 0.667, 1.0],
-    ] {
-        v.push(Easing::CubicBezier(c));
-    }
-    v
-}
-
 /// Fits the stroke `v` (one value per frame) as changes inside each of `leaves`, within
 /// `colour` (a channel) and `width`; `None` when it never changes.
 pub fn fit(
@@ -100,7 +82,7 @@ pub fn fit(
         return None;
     }
     let time = |f: usize| f as f64 / clock.fps;
-    let eases = easings();
+    let eases = crate::fit::easings();
     let mut state = v[0];
     let mut out = Vec::with_capacity(leaves.len());
     for &(t0, t1) in leaves {

@@ -185,24 +185,6 @@ pub struct Fitted {
     pub max_off: f64,
 }
 
-/// The easings tried, simplest first (as the motion's, [`crate::fit`]).
-fn easings() -> Vec<Easing> {
-    let mut v = vec![Easing::Linear];
-    for name in ["ease", "ease-in", "ease-out", "ease-in-out"] {
-        if let Ok(e) = Easing::from_call(name, &[]) {
-            v.push(e);
-        }
-    }
-    for c in [
-        [0.333, 0.0, 0.667, 1.0],
-        [0.333, 0.0, 0.833, 0.833],
-        [0.167, 0.167, 0.667, 1.0],
-    ] {
-        v.push(Easing::CubicBezier(c));
-    }
-    v
-}
-
 /// The learned trim's value at `t`.
 pub fn model_at(pieces: &[Piece], t: f64) -> Value {
     let mut value = REST;
@@ -248,7 +230,7 @@ pub fn fit(trim: &UnitTrim, clock: Clock, tol: f64) -> Option<Fitted> {
     let v = &trim.values;
     let n = v.len();
     let time = |f: usize| f as f64 / clock.fps;
-    let eases = easings();
+    let eases = crate::fit::easings();
     let mut pieces = Vec::new();
     let mut state = REST;
     let mut at = 0.0;
