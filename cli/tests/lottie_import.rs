@@ -2171,3 +2171,45 @@ fn a_lottie_file_plays_to_gif_frames_and_png() {
     }
     assert_eq!(count, 60);
 }
+
+/// What the Lottie writer cannot yet lay onto a Lottie source's layers (a morph of a
+/// layer's outline, a trim) is left out with a warning naming the unit, never silently.
+#[test]
+fn morphs_and_trims_onto_a_lottie_source_are_warned_of() {
+    let dir = out_dir("left-out");
+    let layers = json!([rect_layer(
+        "box",
+        1,
+        None,
+        [100.0, 100.0],
+        [40.0, 40.0],
+        [0.2, 0.4, 0.8]
+    )]);
+    write_json(&dir, "scene.json", &doc(layers, json!([])));
+    for (name, rule, said) in [
+        (
+            "morph",
+            r#"animate(morph, local, 0, "M80 80 L120 80 L100 120 Z") : [a, box] -> [m]"#,
+            "box:0: a morph is not yet layered onto a Lottie source; left out",
+        ),
+        (
+            "trim",
+            "animate(trim, local, 0, (0, 0.5)) : [a, box] -> [m]",
+            "box:0: a trim is not yet layered onto a Lottie source; left out",
+        ),
+    ] {
+        let grammar = format!(
+            "scene \"scene.json\"\nduration 2s\nfps 30\nloop false\ntimesplit(0.5, 0.5) : [all, box] -> [a, b]\n{rule}\n"
+        );
+        std::fs::write(dir.join(format!("{name}.gm")), grammar).unwrap();
+        let (ok, _, err) = run(bin().current_dir(&dir).args([
+            "animate",
+            &format!("{name}.gm"),
+            "-o",
+            &format!("{name}.json"),
+        ]));
+        assert!(ok, "{err}");
+        assert!(err.contains(said), "{name}: {err}");
+        assert!(dir.join(format!("{name}.json")).is_file());
+    }
+}

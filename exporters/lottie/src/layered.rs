@@ -112,12 +112,19 @@ pub fn over_source(
             // The source's own paint is kept as it is: no stroke is outlined here.
             strokes: false,
         };
+        let name = format!("{}:{}", shape.tag, shape.id);
+        // A morph is not motion of the unit's layer: said here, whether or not it moves.
+        if !track.morphs.is_empty() {
+            warnings.push(Warning::about(
+                name.clone(),
+                "a morph is not yet layered onto a Lottie source; left out",
+            ));
+        }
         let motion = unit_motion(track, info, fr, frames, opts.tolerance, &bakes);
         if !motion.is_animated() {
             continue;
         }
         let unit = &source.units[u];
-        let name = format!("{}:{}", shape.tag, shape.id);
         if !motion.trim.is_empty() {
             warnings.push(Warning::about(
                 name.clone(),
